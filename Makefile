@@ -1,0 +1,68 @@
+# tofradar: two commands do all set-up on a fresh machine.
+#   make run   - install into .venv, then open the GUI on the demo project
+#                (or run the headless demo where no display exists)
+#   make test  - install (with test extras and the system packages GUI tests need), run every check
+SHELL := /bin/bash
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.installed
+DEMO := resources/examples/office.json
+
+# Debian packages: Xvfb for the GUI tests, the xcb libraries Qt's xcb plugin loads, Mesa for VTK.
+SYSDEPS := xvfb xauth imagemagick libxcb-icccm4 libxcb-image0 libxcb-keysyms1 libxcb-randr0 \
+	libxcb-render-util0 libxcb-shape0 libxcb-xinerama0 libxcb-xkb1 libxkbcommon-x11-0 \
+	libxcb-cursor0 libegl1 libgl1 libegl-mesa0 libgl1-mesa-dri libglx-mesa0 libdbus-1-3 \
+	libfontconfig1
+
+.PHONY: run test install sysdeps lint typecheck importlint pytest-core pytest-gui bench report clean
+
+$(STAMP): pyproject.toml
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e '.[test]'
+	touch $(STAMP)
+
+install: $(STAMP)
+
+run: $(STAMP)
+	@if [ -n "$$DISPLAY" ] || [ -n "$$WAYLAND_DISPLAY" ]; then \
+		$(VENV)/bin/tofradar gui $(DEMO); \
+	else \
+		echo "No display found: running the headless demo instead (dataset and previews in out/)."; \
+		mkdir -p out && $(VENV)/bin/tofradar run $(DEMO) --out out/demo.h5 --frames 10 \
+			--seed 1 --overwrite --preview out/preview; \
+	fi
+
+sysdeps:
+	@missing=""; for p in $(SYSDEPS); do \
+		dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+		echo "Installing system packages:$$missing"; \
+		if [ "$$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi; \
+		$$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing >/dev/null; \
+	fi
+
+lint: $(STAMP)
+	$(VENV)/bin/ruff check simcore app tests benchmarks
+
+typecheck: $(STAMP)
+	$(VENV)/bin/mypy
+
+importlint: $(STAMP)
+	$(VENV)/bin/lint-imports
+
+pytest-core: $(STAMP)
+	env -u DISPLAY $(PY) -m pytest -m "not gui" -q
+
+pytest-gui: $(STAMP) sysdeps
+	xvfb-run -a -s "-screen 0 1920x1080x24" $(PY) -m pytest -m gui -q
+
+test: $(STAMP) sysdeps lint typecheck importlint pytest-core pytest-gui
+
+bench: $(STAMP)
+	$(VENV)/bin/tofradar bench
+
+clean:
+	rm -rf $(VENV) out .pytest_cache .mypy_cache .ruff_cache

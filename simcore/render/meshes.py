@@ -1,0 +1,178 @@
+"""Triangle meshes of scene objects, built once per geometry in the object's local frame."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkPolyData
+from vtkmodules.vtkFiltersCore import vtkPolyDataNormals, vtkTriangleFilter
+from vtkmodules.vtkFiltersSources import (
+    vtkCubeSource,
+    vtkCylinderSource,
+    vtkPlaneSource,
+    vtkSphereSource,
+)
+from vtkmodules.vtkIOGeometry import vtkOBJReader, vtkSTLReader
+from vtkmodules.vtkIOPLY import vtkPLYReader
+
+from simcore.scene.geometry import (
+    Box,
+    CornerReflector,
+    Cylinder,
+    Geometry,
+    Mesh,
+    Plane,
+    PointTarget,
+    Sphere,
+    corner_reflector_axes,
+)
+from simcore.scene.project_io import resolve_mesh_path
+
+SPHERE_THETA_RESOLUTION = 160
+SPHERE_PHI_RESOLUTION = 80
+CYLINDER_RESOLUTION = 128
+
+
+@dataclass(frozen=True)
+class TriangleMesh:
+    """Triangles of one object in its local frame.
+
+    Attributes
+    ----------
+    points : ndarray, shape (points, 3)
+        Vertex positions (m).
+    normals : ndarray, shape (points, 3)
+        Unit vertex normals (shared vertices of smooth surfaces, split at sharp edges).
+    triangles : ndarray, shape (triangles, 3), int64
+        Vertex indices of each triangle.
+    """
+
+    points: NDArray[np.float64]
+    normals: NDArray[np.float64]
+    triangles: NDArray[np.int64]
+
+    def to_polydata(self) -> vtkPolyData:
+        """Build a VTK polydata of the triangles (for rendering)."""
+        from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
+        from vtkmodules.vtkCommonCore import vtkPoints
+        from vtkmodules.vtkCommonDataModel import vtkCellArray
+
+        pts = vtkPoints()
+        pts.SetData(numpy_to_vtk(np.ascontiguousarray(self.points), deep=1))
+        cells = vtkCellArray()
+        offsets = np.arange(0, 3 * len(self.triangles) + 1, 3, dtype=np.int64)
+        cells.SetData(
+            numpy_to_vtkIdTypeArray(offsets, deep=1),
+            numpy_to_vtkIdTypeArray(np.ascontiguousarray(self.triangles.ravel()), deep=1),
+        )
+        poly = vtkPolyData()
+        poly.SetPoints(pts)
+        poly.SetPolys(cells)
+        return poly
+
+
+class MeshError(ValueError):
+    """A mesh file could not be read or has no triangles."""
+
+
+def _from_polydata(poly: vtkPolyData, *, smooth: bool) -> TriangleMesh:
+    tri = vtkTriangleFilter()
+    tri.SetInputData(poly)
+    tri.PassLinesOff()
+    tri.PassVertsOff()
+    normals = vtkPolyDataNormals()
+    normals.SetInputConnection(tri.GetOutputPort())
+    normals.SetSplitting(not smooth)
+    normals.SetFeatureAngle(40.0)
+    normals.ConsistencyOn()
+    normals.ComputePointNormalsOn()
+    normals.ComputeCellNormalsOff()
+    normals.Update()
+    out = normals.GetOutput()
+    if out.GetNumberOfPolys() == 0:
+        raise MeshError("mesh has no triangles")
+    conn = vtk_to_numpy(out.GetPolys().GetConnectivityArray()).astype(np.int64)
+    points = vtk_to_numpy(out.GetPoints().GetData()).astype(np.float64)
+    vnormals = vtk_to_numpy(out.GetPointData().GetNormals()).astype(np.float64)
+    return TriangleMesh(points, vnormals, conn.reshape(-1, 3))
+
+
+def _corner_reflector(geom: CornerReflector) -> TriangleMesh:
+    e = corner_reflector_axes() * geom.edge_m
+    points, normals, tris = [], [], []
+    for k, (i, j) in enumerate(((0, 1), (1, 2), (2, 0))):
+        n = np.cross(e[i], e[j])
+        n /= np.linalg.norm(n)
+        points += [np.zeros(3), e[i], e[j]]
+        normals += [n, n, n]
+        tris.append([3 * k, 3 * k + 1, 3 * k + 2])
+    return TriangleMesh(np.array(points), np.array(normals), np.array(tris, dtype=np.int64))
+
+
+def _read_mesh_file(path: Path) -> vtkPolyData:
+    readers = {".stl": vtkSTLReader, ".obj": vtkOBJReader, ".ply": vtkPLYReader}
+    reader_cls = readers.get(path.suffix.lower())
+    if reader_cls is None:
+        raise MeshError(f"{path}: unsupported mesh format {path.suffix!r}")
+    if not path.is_file():
+        raise MeshError(f"{path}: mesh file not found")
+    reader = reader_cls()
+    reader.SetFileName(str(path))
+    reader.Update()
+    poly = reader.GetOutput()
+    if poly is None or poly.GetNumberOfCells() == 0:
+        raise MeshError(f"{path}: no surface found in the file")
+    return poly
+
+
+def build_mesh(geometry: Geometry, *, base_dir: Path | None = None) -> TriangleMesh | None:
+    """Triangulate a geometry in its local frame; ``None`` for point targets (no surface)."""
+    if isinstance(geometry, PointTarget):
+        return None
+    if isinstance(geometry, CornerReflector):
+        return _corner_reflector(geometry)
+    if isinstance(geometry, Box):
+        src = vtkCubeSource()
+        src.SetXLength(geometry.size_m[0])
+        src.SetYLength(geometry.size_m[1])
+        src.SetZLength(geometry.size_m[2])
+        src.Update()
+        return _from_polydata(src.GetOutput(), smooth=False)
+    if isinstance(geometry, Sphere):
+        src = vtkSphereSource()
+        src.SetRadius(geometry.radius_m)
+        src.SetThetaResolution(SPHERE_THETA_RESOLUTION)
+        src.SetPhiResolution(SPHERE_PHI_RESOLUTION)
+        src.Update()
+        mesh = _from_polydata(src.GetOutput(), smooth=True)
+        # Exact sphere normals instead of averaged facet normals.
+        n = mesh.points / np.linalg.norm(mesh.points, axis=1, keepdims=True)
+        return TriangleMesh(mesh.points, n, mesh.triangles)
+    if isinstance(geometry, Cylinder):
+        src = vtkCylinderSource()
+        src.SetRadius(geometry.radius_m)
+        src.SetHeight(geometry.height_m)
+        src.SetResolution(CYLINDER_RESOLUTION)
+        src.CappingOn()
+        src.Update()
+        mesh = _from_polydata(src.GetOutput(), smooth=False)
+        # vtkCylinderSource's axis is y; ours is z: rotate +90° about x.
+        rot = np.array([[1.0, 0, 0], [0, 0, -1.0], [0, 1.0, 0]])
+        return TriangleMesh(mesh.points @ rot.T, mesh.normals @ rot.T, mesh.triangles)
+    if isinstance(geometry, Plane):
+        sx, sy = geometry.size_m
+        src = vtkPlaneSource()
+        src.SetOrigin(-sx / 2, -sy / 2, 0)
+        src.SetPoint1(sx / 2, -sy / 2, 0)
+        src.SetPoint2(-sx / 2, sy / 2, 0)
+        src.Update()
+        return _from_polydata(src.GetOutput(), smooth=False)
+    if isinstance(geometry, Mesh):
+        path = resolve_mesh_path(base_dir or Path.cwd(), geometry.path)
+        mesh = _from_polydata(_read_mesh_file(path), smooth=False)
+        return TriangleMesh(mesh.points * geometry.scale, mesh.normals, mesh.triangles)
+    raise TypeError(f"unsupported geometry {type(geometry).__name__}")

@@ -1,0 +1,159 @@
+"""Rigid motion: constant linear and angular velocity, or keyframed paths.
+
+Conventions: positions in metres (world frame), Euler angles ``rotation_deg`` are extrinsic
+rotations about the world x, y, z axes applied in that order (``R = Rz @ Ry @ Rx``); angular
+velocities are in degrees per second about world axes through the object's origin.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+from pydantic import Field, model_validator
+from scipy.spatial.transform import Rotation, Slerp
+
+from simcore.scene.base import Finite, Model, NonNegative, Vec3
+
+
+class Pose(Model):
+    """Position (m) and extrinsic x-y-z Euler rotation (degrees)."""
+
+    position_m: Vec3 = (0.0, 0.0, 0.0)
+    rotation_deg: Vec3 = (0.0, 0.0, 0.0)
+
+    def rotation(self) -> Rotation:
+        """Return the rotation as a scipy :class:`Rotation`."""
+        return Rotation.from_euler("xyz", self.rotation_deg, degrees=True)
+
+    def matrix(self) -> NDArray[np.float64]:
+        """Return the 4×4 homogeneous transform (local → parent)."""
+        return make_transform(self.rotation().as_matrix(), np.asarray(self.position_m))
+
+
+class Keyframe(Model):
+    """An offset from the base pose at a time: position added, rotation applied after."""
+
+    time_s: NonNegative
+    position_m: Vec3 = (0.0, 0.0, 0.0)
+    rotation_deg: Vec3 = (0.0, 0.0, 0.0)
+
+
+class Motion(Model):
+    """Rigid motion of an object or of the sensor rig.
+
+    Either constant velocities (``velocity_mps``, ``angular_velocity_dps``) or a list of
+    keyframes with linear interpolation of position and spherical interpolation of
+    rotation; ``repeat`` says what happens after the last keyframe.
+    """
+
+    velocity_mps: Vec3 = (0.0, 0.0, 0.0)
+    angular_velocity_dps: Vec3 = (0.0, 0.0, 0.0)
+    keyframes: list[Keyframe] = Field(default_factory=list)
+    repeat: Literal["hold", "loop", "back_and_forth"] = "hold"
+
+    @model_validator(mode="after")
+    def _check(self) -> Motion:
+        if self.keyframes:
+            times = [k.time_s for k in self.keyframes]
+            if any(b <= a for a, b in zip(times, times[1:])):
+                raise ValueError(f"keyframe times must be strictly increasing, got {times}")
+            if any(self.velocity_mps) or any(self.angular_velocity_dps):
+                raise ValueError(
+                    "use either keyframes or constant velocities, not both "
+                    "(set velocity_mps and angular_velocity_dps to 0 or remove the keyframes)"
+                )
+        return self
+
+    @property
+    def is_static(self) -> bool:
+        """True when the motion never changes the pose."""
+        return not self.keyframes and not any(self.velocity_mps) and not any(
+            self.angular_velocity_dps
+        )
+
+
+@dataclass(frozen=True)
+class RigidState:
+    """World transform and velocities of a rigid body at one instant.
+
+    Attributes
+    ----------
+    transform : ndarray, shape (4, 4)
+        Local → world homogeneous transform.
+    velocity_mps : ndarray, shape (3,)
+        Linear velocity of the body's origin (world frame, m/s).
+    angular_velocity_rps : ndarray, shape (3,)
+        Angular velocity (world frame, rad/s) about the body's origin.
+    """
+
+    transform: NDArray[np.float64]
+    velocity_mps: NDArray[np.float64]
+    angular_velocity_rps: NDArray[np.float64]
+
+    @property
+    def origin(self) -> NDArray[np.float64]:
+        """Position of the body's origin in the world (m)."""
+        return self.transform[:3, 3]
+
+    def point_velocity(self, points: NDArray[np.floating]) -> NDArray[np.float64]:
+        """Velocity (m/s) of world points rigidly attached to the body, shape (..., 3)."""
+        return self.velocity_mps + np.cross(self.angular_velocity_rps, points - self.origin)
+
+
+def make_transform(rotation: NDArray[np.floating], translation: NDArray[np.floating]) -> NDArray[
+    np.float64
+]:
+    """Build a 4×4 homogeneous transform from a 3×3 rotation and a translation."""
+    out = np.eye(4)
+    out[:3, :3] = rotation
+    out[:3, 3] = translation
+    return out
+
+
+def _keyframe_time(times: NDArray[np.float64], t: float, repeat: str) -> tuple[float, float]:
+    """Map time ``t`` into the keyframe span; return (local time, direction sign)."""
+    t0, t1 = float(times[0]), float(times[-1])
+    span = t1 - t0
+    if t <= t0 or span == 0.0:
+        return t0, 0.0 if t < t0 else 1.0
+    if repeat == "hold":
+        return (t, 1.0) if t < t1 else (t1, 0.0)
+    if repeat == "loop":
+        return t0 + (t - t0) % span, 1.0
+    phase = (t - t0) % (2.0 * span)
+    return (t0 + phase, 1.0) if phase < span else (t1 - (phase - span), -1.0)
+
+
+def rigid_state(pose: Pose, motion: Motion, t: float) -> RigidState:
+    """Evaluate the pose and exact velocities of a body at time ``t`` (s)."""
+    base_r = pose.rotation()
+    base_p = np.asarray(pose.position_m, dtype=np.float64)
+    if not motion.keyframes:
+        v = np.asarray(motion.velocity_mps, dtype=np.float64)
+        w = np.deg2rad(np.asarray(motion.angular_velocity_dps, dtype=np.float64))
+        rot = Rotation.from_rotvec(w * t) * base_r
+        return RigidState(make_transform(rot.as_matrix(), base_p + v * t), v, w)
+
+    times = np.array([k.time_s for k in motion.keyframes])
+    offsets = np.array([k.position_m for k in motion.keyframes], dtype=np.float64)
+    rots = Rotation.from_euler("xyz", [k.rotation_deg for k in motion.keyframes], degrees=True)
+    if len(times) == 1:
+        rot = rots[0] * base_r
+        return RigidState(make_transform(rot.as_matrix(), base_p + offsets[0]), np.zeros(3),
+                          np.zeros(3))
+    tl, sign = _keyframe_time(times, t, motion.repeat)
+    i = int(np.clip(np.searchsorted(times, tl, side="right") - 1, 0, len(times) - 2))
+    dt = times[i + 1] - times[i]
+    s = (tl - times[i]) / dt
+    position = offsets[i] + s * (offsets[i + 1] - offsets[i])
+    rot_offset = Slerp(times[i : i + 2], rots[i : i + 2])([tl])[0]
+    velocity = sign * (offsets[i + 1] - offsets[i]) / dt
+    angular = sign * (rots[i + 1] * rots[i].inv()).as_rotvec() / dt
+    rot = rot_offset * base_r
+    return RigidState(make_transform(rot.as_matrix(), base_p + position), velocity, angular)
+
+
+__all__ = ["Finite", "Keyframe", "Motion", "Pose", "RigidState", "make_transform", "rigid_state"]

@@ -1,0 +1,106 @@
+"""Scene snapshot: the state of every object and sensor at one instant.
+
+A snapshot is the single source of truth for one frame: every sensor output of a frame is
+computed from the snapshot taken at the frame's timestamp.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simcore.scene.model import Project
+from simcore.scene.motion import RigidState, make_transform, rigid_state
+
+#: Sensor body frame (x forward, y left, z up) → optical frame (x right, y down, z forward).
+#: Columns are the optical axes expressed in body coordinates.
+BODY_FROM_OPTICAL = np.array(
+    [
+        [0.0, 0.0, 1.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, -1.0, 0.0],
+    ]
+)
+
+
+@dataclass(frozen=True)
+class SensorState:
+    """World pose of a sensor's optical frame and the velocity of its origin.
+
+    Attributes
+    ----------
+    transform : ndarray, shape (4, 4)
+        Optical frame (x right, y down, z forward) → world.
+    velocity_mps : ndarray, shape (3,)
+        World velocity of the sensor's origin (m/s).
+    angular_velocity_rps : ndarray, shape (3,)
+        World angular velocity of the rig (rad/s).
+    """
+
+    transform: NDArray[np.float64]
+    velocity_mps: NDArray[np.float64]
+    angular_velocity_rps: NDArray[np.float64]
+
+    @property
+    def position(self) -> NDArray[np.float64]:
+        """World position of the sensor (m)."""
+        return self.transform[:3, 3]
+
+    @property
+    def rotation(self) -> NDArray[np.float64]:
+        """Rotation optical → world, shape (3, 3)."""
+        return self.transform[:3, :3]
+
+
+@dataclass(frozen=True)
+class SceneSnapshot:
+    """State of the whole scene at ``time_s``.
+
+    Attributes
+    ----------
+    time_s : float
+        Timestamp shared by every sensor output of the frame.
+    objects : list of RigidState
+        One state per project object, in project order.
+    rig : RigidState
+        The sensor rig's body frame.
+    tof, radar : SensorState
+        Optical-frame poses of the two sensors.
+    """
+
+    time_s: float
+    objects: list[RigidState]
+    rig: RigidState
+    tof: SensorState
+    radar: SensorState
+
+    def object_transforms(self) -> NDArray[np.float64]:
+        """World transforms of all objects, shape (objects, 4, 4)."""
+        if not self.objects:
+            return np.zeros((0, 4, 4))
+        return np.stack([s.transform for s in self.objects])
+
+
+def _sensor_state(rig: RigidState, mount: NDArray[np.float64]) -> SensorState:
+    optical = make_transform(BODY_FROM_OPTICAL, np.zeros(3))
+    transform = rig.transform @ mount @ optical
+    position = transform[:3, 3]
+    return SensorState(
+        transform=transform,
+        velocity_mps=rig.point_velocity(position),
+        angular_velocity_rps=rig.angular_velocity_rps,
+    )
+
+
+def take_snapshot(project: Project, t: float) -> SceneSnapshot:
+    """Evaluate every object's and sensor's pose and velocity at time ``t`` (s)."""
+    rig = rigid_state(project.rig.pose, project.rig.motion, t)
+    return SceneSnapshot(
+        time_s=float(t),
+        objects=[rigid_state(o.pose, o.motion, t) for o in project.objects],
+        rig=rig,
+        tof=_sensor_state(rig, project.rig.tof.pose_on_rig.matrix()),
+        radar=_sensor_state(rig, project.rig.radar.pose_on_rig.matrix()),
+    )

@@ -1,0 +1,1 @@
+"""Sensor models: AMCW ToF camera and FMCW radar front end."""
