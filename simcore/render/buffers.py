@@ -92,10 +92,10 @@ def downsample_ground_truth(
     """
     h, w = buffers.shape
     hs, ws = h // factor, w // factor
-    ids = buffers.object_id[: hs * factor, : ws * factor].reshape(hs, factor, ws, factor)
-    rng = buffers.range_m[: hs * factor, : ws * factor].reshape(hs, factor, ws, factor)
-    ids = ids.transpose(0, 2, 1, 3).reshape(hs, ws, -1)
-    rng = rng.transpose(0, 2, 1, 3).reshape(hs, ws, -1)
+    ids = (buffers.object_id[: hs * factor, : ws * factor].reshape(hs, factor, ws, factor)
+           .transpose(0, 2, 1, 3).reshape(hs, ws, -1))
+    rng = (buffers.range_m[: hs * factor, : ws * factor].reshape(hs, factor, ws, factor)
+           .transpose(0, 2, 1, 3).reshape(hs, ws, -1))
     counts = (ids[..., :, None] == ids[..., None, :]).sum(axis=-1)
     # Prefer the most frequent id; among equals the nearest surface (background = +inf).
     key = counts * 1e6 - np.nan_to_num(rng, nan=1e5)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -120,7 +121,7 @@ def _read_mesh_file(path: Path) -> vtkPolyData:
         raise MeshError(f"{path}: unsupported mesh format {path.suffix!r}")
     if not path.is_file():
         raise MeshError(f"{path}: mesh file not found")
-    reader = reader_cls()
+    reader: Any = reader_cls()
     reader.SetFileName(str(path))
     reader.Update()
     poly = reader.GetOutput()

@@ -15,8 +15,10 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL backend)
 from numpy.typing import NDArray
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
@@ -28,10 +30,10 @@ from vtkmodules.vtkRenderingCore import (
     vtkRenderWindow,
 )
 
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL backend)
 from simcore.render.buffers import BANDS, RenderBuffers
 from simcore.render.camera import PinholeIntrinsics
 from simcore.render.meshes import TriangleMesh, build_mesh
+from simcore.scene.geometry import Sphere
 from simcore.scene.materials import band_response
 from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
@@ -44,7 +46,7 @@ MAX_TRIANGLES = 2**24 - 2
 
 def _vtk_matrix(m: NDArray[np.float64]) -> vtkMatrix4x4:
     out = vtkMatrix4x4()
-    out.DeepCopy(np.asarray(m, dtype=np.float64).ravel())
+    out.DeepCopy([float(x) for x in np.asarray(m, dtype=np.float64).ravel()])
     return out
 
 
@@ -98,7 +100,7 @@ class _Geometry:
                                                                        NDArray[np.float64]]:
         """Vertex positions and normals of every object in the world frame."""
         pts, nrm = [], []
-        for mesh, t in zip(self.meshes, transforms):
+        for mesh, t in zip(self.meshes, transforms, strict=True):
             if mesh is None:
                 continue
             pts.append(mesh.points @ t[:3, :3].T + t[:3, 3])
@@ -155,7 +157,7 @@ class _IndexPass:
         if self._size != (intr.width, intr.height):
             self.window.SetSize(intr.width, intr.height)
             self._size = (intr.width, intr.height)
-        for actor, t, vis in zip(self.actors, transforms, visible):
+        for actor, t, vis in zip(self.actors, transforms, visible, strict=True):
             if actor is None:
                 continue
             actor.SetVisibility(bool(vis))
@@ -170,7 +172,7 @@ class _IndexPass:
         cam.SetUseExplicitProjectionTransformMatrix(True)
         self.window.Render()
         self.window.GetRGBACharPixelData(0, 0, intr.width - 1, intr.height - 1, 0,
-                                         self._pixels)
+                                         self._pixels, 0)
         rgba = vtk_to_numpy(self._pixels).reshape(intr.height, intr.width, 4)[::-1]
         index = (rgba[..., 0].astype(np.int64) << 16) | (rgba[..., 1].astype(np.int64) << 8) \
             | rgba[..., 2].astype(np.int64)
@@ -206,6 +208,10 @@ class SceneRenderer:
         self.render_count = 0
         materials = material_table(project)
         self._ids = np.array([o.id for o in project.objects], dtype=np.int32)
+        # Spheres are refined analytically: exact range and normal, not the facet's.
+        self._sphere_radius = np.array(
+            [o.geometry.radius_m if isinstance(o.geometry, Sphere) else 0.0
+             for o in project.objects])
         self._params: dict[str, dict[str, NDArray[np.float64]]] = {}
         self._opacity: dict[str, NDArray[np.float64]] = {}
         for band in BANDS:
@@ -221,7 +227,7 @@ class SceneRenderer:
     def visible_in(self, band: str) -> list[bool]:
         """Which objects are drawn in ``band``'s pass (opacity > 0 and a surface)."""
         return [bool(op > 0) and mesh is not None
-                for op, mesh in zip(self._opacity[band], self.geometry.meshes)]
+                for op, mesh in zip(self._opacity[band], self.geometry.meshes, strict=True)]
 
     def render(self, snapshot: SceneSnapshot, band: str, intrinsics: PinholeIntrinsics
                ) -> RenderBuffers:
@@ -268,11 +274,13 @@ class SceneRenderer:
         n = ((1 - uc - vc)[:, None] * vnormals[corners[:, 0]] + uc[:, None]
              * vnormals[corners[:, 1]] + vc[:, None] * vnormals[corners[:, 2]])
         n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+        obj = self.geometry.triangle_object[tri]
+        if self._sphere_radius.any():
+            self._refine_spheres(obj, origin, d, transforms, t, n)
         n *= np.where(np.einsum("ij,ij->i", n, d) > 0, -1.0, 1.0)[:, None]
         dnorm = np.linalg.norm(d, axis=1)
         cos_inc = np.clip(-np.einsum("ij,ij->i", n, d) / dnorm, 0.0, 1.0)
         points_world = origin + t[:, None] * d
-        obj = self.geometry.triangle_object[tri]
 
         # Exact rigid-body velocity of each surface point relative to the sensor origin.
         states = snapshot.objects
@@ -288,10 +296,10 @@ class SceneRenderer:
         hit_idx = np.flatnonzero(hit)[ok]
         sel = ok
 
-        def image(values: NDArray[np.floating], fill: float, dtype: type = np.float32,
-                  channels: int = 0) -> NDArray[np.generic]:
+        def image(values: NDArray[Any], fill: float, dtype: type = np.float32,
+                  channels: int = 0) -> NDArray[Any]:
             shape = (h * w, channels) if channels else (h * w,)
-            out = np.full(shape, fill, dtype=dtype)
+            out: NDArray[Any] = np.full(shape, fill, dtype=dtype)
             out[hit_idx] = values[sel]
             return out.reshape((h, w, channels) if channels else (h, w))
 
@@ -312,6 +320,26 @@ class SceneRenderer:
             velocity_mps=image(v_rel @ rot, 0.0, channels=3),
             radial_velocity_mps=image(radial, 0.0),
         )
+
+    def _refine_spheres(self, obj: NDArray[np.int64], origin: NDArray[np.float64],
+                        d: NDArray[np.float64], transforms: NDArray[np.float64],
+                        t: NDArray[np.float64], n: NDArray[np.float64]) -> None:
+        """Replace facet hits on spheres by the exact ray–sphere intersection (in place)."""
+        radius = self._sphere_radius[obj]
+        sel = np.flatnonzero(radius > 0)
+        if not len(sel):
+            return
+        centre = transforms[obj[sel], :3, 3]
+        ds = d[sel]
+        oc = origin - centre
+        a = np.einsum("ij,ij->i", ds, ds)
+        b = np.einsum("ij,ij->i", ds, oc)
+        c = np.einsum("ij,ij->i", oc, oc) - radius[sel] ** 2
+        disc = b * b - a * c
+        ok = disc >= 0          # rays through the facets but past the true limb keep the facet
+        sel, root = sel[ok], (-b[ok] - np.sqrt(disc[ok])) / a[ok]
+        t[sel] = root
+        n[sel] = (origin + root[:, None] * d[sel] - centre[ok]) / radius[sel][:, None]
 
     def close(self) -> None:
         """Release the offscreen windows."""

@@ -6,10 +6,16 @@ event per changed field), so that GUI views can listen to the same objects the C
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
-from psygnal import EventedModel
 from pydantic import ConfigDict, Field
+
+if TYPE_CHECKING:
+    # The pydantic mypy plugin does not see through psygnal's metaclass; type-check the
+    # models as the pydantic models they are.
+    from pydantic import BaseModel as EventedModel
+else:
+    from psygnal import EventedModel
 
 
 class Model(EventedModel):

@@ -58,7 +58,7 @@ class Motion(Model):
     def _check(self) -> Motion:
         if self.keyframes:
             times = [k.time_s for k in self.keyframes]
-            if any(b <= a for a, b in zip(times, times[1:])):
+            if any(b <= a for a, b in zip(times, times[1:], strict=False)):
                 raise ValueError(f"keyframe times must be strictly increasing, got {times}")
             if any(self.velocity_mps) or any(self.angular_velocity_dps):
                 raise ValueError(

@@ -66,21 +66,28 @@ def format_validation_error(exc: ValidationError) -> list[str]:
     return problems
 
 
-def migrate(data: dict[str, Any], source: str = "project") -> dict[str, Any]:
-    """Upgrade a project document to :data:`FORMAT_VERSION` through :data:`MIGRATIONS`."""
+def migrate(data: dict[str, Any], source: str = "project", *,
+            migrations: dict[int, Migration] | None = None,
+            current: int = FORMAT_VERSION) -> dict[str, Any]:
+    """Upgrade a project document to version ``current`` through ``migrations``.
+
+    ``migrations`` defaults to :data:`MIGRATIONS`; ``migrations[n]`` turns a version-``n``
+    document into a version-``n + 1`` one.
+    """
+    migrations = MIGRATIONS if migrations is None else migrations
     version = data.get("format_version")
     if not isinstance(version, int) or isinstance(version, bool):
         raise ProjectError(source, [f"format_version: must be an integer (got {_short(version)})"])
-    if version > FORMAT_VERSION:
+    if version > current:
         raise ProjectError(
             source,
             [f"format_version: {version} is newer than this tofradar supports "
-             f"({FORMAT_VERSION}); upgrade tofradar to open it"],
+             f"({current}); upgrade tofradar to open it"],
         )
-    if version < 1:
-        raise ProjectError(source, [f"format_version: must be >= 1 (got {version})"])
-    while version < FORMAT_VERSION:
-        data = MIGRATIONS[version](dict(data))
+    while version < current:
+        if version not in migrations:
+            raise ProjectError(source, [f"format_version: {version} is not a known version"])
+        data = migrations[version](dict(data))
         version += 1
         data["format_version"] = version
     return data
@@ -126,7 +133,8 @@ def project_from_dict(data: Any, *, source: str = "project", base_dir: Path | No
                       ) -> Project:
     """Validate, migrate and check a parsed project document."""
     if not isinstance(data, dict):
-        raise ProjectError(source, [f"(document): expected a JSON object, got {type(data).__name__}"])
+        kind = type(data).__name__
+        raise ProjectError(source, [f"(document): expected a JSON object, got {kind}"])
     data = migrate(data, source)
     try:
         project = Project.model_validate(data)

@@ -1,0 +1,185 @@
+"""The ``tofradar`` command line: gui, run, validate, bench."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from simcore.scene.project_io import ProjectError, load_project, project_to_json
+
+
+class CliError(Exception):
+    """An error reported to the user as one line, with exit status 2."""
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value}")
+    return value
+
+
+def _non_negative_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {value}")
+    return value
+
+
+def cmd_validate(args: argparse.Namespace) -> int:
+    """Check a project file; print OK or the list of problems."""
+    project = load_project(args.project)
+    print(f"OK: {args.project} ({len(project.objects)} objects, format_version "
+          f"{project.format_version})")
+    return 0
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    """Render frames of a project headlessly into an HDF5 dataset."""
+    import numpy as np
+    from tqdm import tqdm
+
+    from simcore.io.hdf5_writer import DatasetExistsError, DatasetWriter
+    from simcore.io.previews import save_previews
+    from simcore.pipeline import Simulator
+
+    project_path = Path(args.project)
+    project = load_project(project_path)
+    seed = project.seed if args.seed is None else args.seed
+    n_frames = args.frames if args.frames is not None else project.timeline.n_frames
+    out = Path(args.out)
+    if out.exists() and out.is_dir():
+        raise CliError(f"--out {out} is a directory; give a file name such as {out}/run.h5")
+    try:
+        writer = DatasetWriter(out, project_json=project_to_json(project), seed=seed,
+                               overwrite=args.overwrite)
+    except DatasetExistsError as exc:
+        raise CliError(str(exc)) from None
+    with writer, Simulator(project, base_dir=project_path.parent, seed=seed) as sim:
+        writer.write_static({
+            "/objects/names": (np.array([o.name for o in project.objects]), ""),
+            "/objects/ids": (np.array([o.id for o in project.objects]), "1"),
+        })
+        bar = tqdm(range(n_frames), desc="frames", unit="frame", file=sys.stderr,
+                   disable=args.quiet)
+        for index in bar:
+            frame = sim.frame(index)
+            writer.append(frame.hdf5_items())
+            if args.preview:
+                save_previews(Path(args.preview), index, {
+                    "tof_gt_range": (frame.tof_gt_range, "viridis"),
+                    "radar_gt_range": (frame.radar_buffers.range_m, "viridis"),
+                })
+    print(f"wrote {n_frames} frames to {out}")
+    return 0
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+    """Time every pipeline stage over a number of frames."""
+    import numpy as np
+
+    from simcore.pipeline import Simulator
+    from simcore.resources import example_path
+
+    project_path = Path(args.project) if args.project else example_path("office")
+    project = load_project(project_path)
+    with Simulator(project, base_dir=project_path.parent) as sim:
+        sim.frame(0)  # warm-up: window creation, shader compilation
+        times: dict[str, list[float]] = {}
+        for i in range(args.frames):
+            frame = sim.frame(i % sim.n_frames)
+            for k, v in frame.timings_ms.items():
+                times.setdefault(k, []).append(v)
+    stages = {k: float(np.median(v)) for k, v in times.items()}
+    frame_ms = stages.pop("total")
+    result = {"project": str(project_path), "frames": args.frames,
+              "frame_ms_median": frame_ms, "fps": 1e3 / frame_ms, "stages_ms": stages}
+    if args.json:
+        print(json.dumps(result))
+    else:
+        print(f"{project_path.name}: {args.frames} frames, median {frame_ms:.1f} ms/frame "
+              f"({result['fps']:.2f} frames/s)")
+        for k, v in stages.items():
+            print(f"  {k:<14} {v:8.2f} ms")
+    return 0
+
+
+def cmd_gui(args: argparse.Namespace) -> int:
+    """Open the desktop GUI."""
+    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        raise CliError("no display found (DISPLAY is not set); the GUI needs one. "
+                       "Use 'tofradar run PROJECT --out FILE.h5' for headless work.")
+    if args.project:
+        load_project(args.project)  # report a bad file here, before Qt starts
+    from app.main import main as gui_main
+
+    return gui_main(args.project)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``tofradar`` command."""
+    parser = argparse.ArgumentParser(
+        prog="tofradar",
+        description="Synchronized AMCW ToF camera and FMCW radar simulation from one 3D scene.",
+    )
+    sub = parser.add_subparsers(dest="command")
+    p = sub.add_parser("gui", help="open the desktop GUI (default)")
+    p.add_argument("project", nargs="?", help="project file to open")
+    p.set_defaults(func=cmd_gui)
+
+    p = sub.add_parser("run", help="render frames headlessly into an HDF5 dataset")
+    p.add_argument("project", help="project JSON file")
+    p.add_argument("--out", required=True, help="output HDF5 file")
+    p.add_argument("--frames", type=_positive_int, help="number of frames (default: timeline)")
+    p.add_argument("--seed", type=_non_negative_int, help="random seed (default: project seed)")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
+    p.add_argument("--preview", metavar="DIR", help="also write PNG previews into DIR")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("validate", help="check a project file")
+    p.add_argument("project", help="project JSON file")
+    p.set_defaults(func=cmd_validate)
+
+    p = sub.add_parser("bench", help="frame-time benchmark per stage")
+    p.add_argument("project", nargs="?", help="project (default: bundled office.json)")
+    p.add_argument("--frames", type=_positive_int, default=30, help="frames to time")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=cmd_bench)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``tofradar`` console script."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        args = parser.parse_args(["gui", *(argv or [])])
+    try:
+        return int(args.func(args))
+    except ProjectError as exc:
+        print(f"tofradar: error: {exc}", file=sys.stderr)
+        return 2
+    except CliError as exc:
+        print(f"tofradar: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("tofradar: interrupted", file=sys.stderr)
+        return 130
+    except OSError as exc:
+        print(f"tofradar: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

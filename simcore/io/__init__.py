@@ -1,0 +1,1 @@
+"""Dataset writers (HDF5) and exports (PNG previews)."""

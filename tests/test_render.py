@@ -1,0 +1,122 @@
+"""Headless renderer against analytic geometry."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import wall_project
+
+from simcore.render import PinholeIntrinsics
+from simcore.scene import Box, Motion, Plane, Pose, Project, SceneObject, Sphere
+from simcore.scene.model import SensorRig
+from simcore.scene.snapshot import take_snapshot
+
+TOF = PinholeIntrinsics.from_fov(448, 342, 62, 45)
+RADAR = PinholeIntrinsics.from_fov(1000, 342, 100)
+
+
+def unit_rays(intr: PinholeIntrinsics) -> np.ndarray:
+    rays = intr.ray_directions()
+    return rays / np.linalg.norm(rays, axis=-1, keepdims=True)
+
+
+@pytest.mark.parametrize(("band", "intr"), [("tof", TOF), ("radar", RADAR)])
+def test_wall_range_matches_analytic_per_pixel(make_renderer, band, intr):
+    project = wall_project(2.0)
+    buf = make_renderer(project).render(take_snapshot(project, 0.0), band, intr)
+    assert buf.valid.all(), "the wall fills the whole field of view"
+    # A plane at z = 2 in the optical frame: range = 2 / cos(off-axis angle).
+    expected = 2.0 / unit_rays(intr)[..., 2]
+    np.testing.assert_allclose(buf.range_m, expected, atol=1e-3, rtol=0)
+    np.testing.assert_allclose(buf.points_m[..., 2], 2.0, atol=1e-3)
+    np.testing.assert_allclose(buf.normals, np.broadcast_to([0, 0, -1.0], buf.normals.shape),
+                               atol=1e-6)
+    np.testing.assert_allclose(buf.cos_incidence, unit_rays(intr)[..., 2], atol=1e-5)
+
+
+def test_sphere_silhouette_and_range(make_renderer):
+    radius, dist = 0.5, 3.0
+    project = Project(objects=[SceneObject(id=3, name="ball", geometry=Sphere(radius_m=radius),
+                                           pose=Pose(position_m=(dist, 0.2, -0.1)))])
+    buf = make_renderer(project).render(take_snapshot(project, 0.0), "tof", TOF)
+    centre = np.array([-0.2, 0.1, dist])  # optical frame: x right (= -y world), y down
+    d = unit_rays(TOF)
+    along = d @ centre
+    miss2 = np.sum(centre**2) - along**2
+    hit = miss2 < radius**2
+    # Silhouette: any disagreement lies within one pixel of the analytic limb.
+    pixel_angle = 1.0 / TOF.fx
+    limb_distance = np.abs(np.sqrt(np.maximum(miss2, 0)) - radius) / along.clip(1e-9)
+    disagree = hit != buf.valid
+    assert disagree.sum() < 0.01 * hit.sum()
+    assert np.all(limb_distance[disagree] < 1.5 * pixel_angle)
+    both = hit & buf.valid
+    expected = along - np.sqrt(np.maximum(radius**2 - miss2, 0))
+    assert np.max(np.abs(buf.range_m[both] - expected[both])) < 1e-3
+    assert set(np.unique(buf.object_id[buf.valid])) == {3}
+
+
+def test_radar_transparent_object_absent_from_radar_pass(make_renderer):
+    project = Project(objects=[
+        SceneObject(id=1, name="wall", geometry=Box(size_m=(0.2, 40, 30)),
+                    pose=Pose(position_m=(4.1, 0, 0)), material="concrete"),
+        SceneObject(id=2, name="box", geometry=Box(size_m=(0.3, 0.6, 0.6)),
+                    pose=Pose(position_m=(2.0, 0, 0)), material="paper"),
+        SceneObject(id=3, name="pane", geometry=Box(size_m=(0.01, 0.6, 0.6)),
+                    pose=Pose(position_m=(1.0, 1.0, 0)), material="glass"),
+    ])
+    renderer = make_renderer(project)
+    snap = take_snapshot(project, 0.0)
+    tof = renderer.render(snap, "tof", TOF)
+    radar = renderer.render(snap, "radar", RADAR)
+    assert 2 in tof.object_id and 2 not in radar.object_id
+    assert 3 in radar.object_id and 3 not in tof.object_id
+    # Behind the paper box the radar sees the wall at 4 m on boresight.
+    r, c = RADAR.height // 2, RADAR.width // 2
+    assert radar.object_id[r, c] == 1
+    assert abs(radar.range_m[r, c] - 4.0) < 2e-3
+    assert abs(tof.range_m[TOF.height // 2, TOF.width // 2] - 1.85) < 2e-3
+
+
+def test_moving_plate_radial_velocity(make_renderer):
+    v = np.array([1.5, -0.4, 0.3])
+    project = Project(objects=[SceneObject(
+        id=1, name="plate", geometry=Plane(size_m=(3.0, 3.0)),
+        pose=Pose(position_m=(2.0, 0, 0), rotation_deg=(0, 90, 0)),
+        motion=Motion(velocity_mps=tuple(v)))])
+    buf = make_renderer(project).render(take_snapshot(project, 0.0), "tof", TOF)
+    world_from_optical = take_snapshot(project, 0.0).tof.rotation
+    dirs = unit_rays(TOF) @ world_from_optical.T
+    expected = dirs @ v
+    assert buf.valid.sum() > 1000
+    np.testing.assert_allclose(buf.radial_velocity_mps[buf.valid], expected[buf.valid],
+                               atol=1e-5)
+
+
+def test_rotating_plate_and_moving_rig_velocity(make_renderer):
+    w = np.array([0.0, 0.0, 0.8])          # rad/s about world z through the plate centre
+    v_rig = np.array([0.5, 0.2, 0.0])
+    centre = np.array([2.5, 0.0, 0.0])
+    project = Project(
+        objects=[SceneObject(id=1, name="plate", geometry=Plane(size_m=(2.0, 2.0)),
+                             pose=Pose(position_m=tuple(centre), rotation_deg=(0, 90, 0)),
+                             motion=Motion(angular_velocity_dps=tuple(np.rad2deg(w))))],
+        rig=SensorRig(motion=Motion(velocity_mps=tuple(v_rig))),
+    )
+    buf = make_renderer(project).render(take_snapshot(project, 0.0), "tof", TOF)
+    rot = take_snapshot(project, 0.0).tof.rotation
+    dirs = unit_rays(TOF) @ rot.T
+    points = buf.range_m[..., None] * dirs
+    expected = np.einsum("hwk,hwk->hw", np.cross(w, points - centre) - v_rig, dirs)
+    np.testing.assert_allclose(buf.radial_velocity_mps[buf.valid], expected[buf.valid],
+                               atol=1e-5)
+
+
+def test_render_window_is_reused(make_renderer):
+    project = wall_project(2.0)
+    renderer = make_renderer(project)
+    renderer.render(take_snapshot(project, 0.0), "tof", TOF)
+    window = renderer._passes["tof"].window
+    renderer.render(take_snapshot(project, 0.1), "tof", TOF)
+    assert renderer._passes["tof"].window is window
+    assert renderer.render_count == 2

@@ -1,0 +1,61 @@
+"""Regenerate the bundled example projects in canonical form: .venv/bin/python tools/make_examples.py."""
+import numpy as np
+from simcore.scene import *
+from simcore.scene.model import SensorRig
+from simcore.sensors.tof_config import TofCameraConfig
+from simcore.sensors.radar_config import RadarConfig
+from simcore.scene.project_io import save_project
+
+def rig(height=1.0):
+    return SensorRig(pose=Pose(position_m=(0, 0, height)),
+                     tof=TofCameraConfig(pose_on_rig=Pose(position_m=(0, 0.03, 0))),
+                     radar=RadarConfig(pose_on_rig=Pose(position_m=(0, -0.03, 0))))
+
+# wall.json
+wall = Project(name="wall", description="A flat concrete wall 2.0 m in front of the rig, normal to the boresight, larger than both fields of view.",
+    timeline=Timeline(frame_rate_hz=10, duration_s=0.5),
+    objects=[SceneObject(id=1, name="wall", geometry=Box(size_m=(0.2, 12.0, 8.0)), pose=Pose(position_m=(2.1, 0, 1.0)), material="concrete")],
+    rig=rig(1.0))
+save_project(wall, "resources/examples/wall.json")
+
+# point_targets.json
+objs = []
+radar_y = -0.03
+for i, (r, az) in enumerate([(1.5, -20.0), (3.0, 0.0), (4.5, 25.0)]):
+    a = np.deg2rad(az)
+    pos = (round(r*np.cos(a), 6), round(radar_y - r*np.sin(a), 6), 1.0)
+    motion = Motion(velocity_mps=(1.0, 0.0, 0.0)) if az == 0.0 else Motion()
+    objs.append(SceneObject(id=i+1, name=f"corner_{i+1}", geometry=CornerReflector(edge_m=0.06),
+        pose=Pose(position_m=pos, rotation_deg=(0.0, -90.0, -az)), material="radar_retroreflector", motion=motion))
+pt = Project(name="point_targets", description="Three radar corner reflectors (edge 6 cm) at 1.5/3.0/4.5 m and -20/0/+25 deg azimuth from the radar boresight at its height; the middle one moves radially away at 1.0 m/s.",
+    timeline=Timeline(frame_rate_hz=10, duration_s=1.0), objects=objs, rig=rig(1.0))
+save_project(pt, "resources/examples/point_targets.json")
+
+# office.json
+O = []
+def add(name, geom, pos, mat, rot=(0,0,0), motion=None):
+    O.append(SceneObject(id=len(O)+1, name=name, geometry=geom, pose=Pose(position_m=pos, rotation_deg=rot), material=mat, motion=motion or Motion()))
+add("floor", Box(size_m=(6.0, 5.0, 0.1)), (2.5, 0, -0.05), "concrete")
+add("ceiling", Box(size_m=(6.0, 5.0, 0.1)), (2.5, 0, 3.05), "white_paint")
+add("back_wall", Box(size_m=(0.2, 5.0, 3.0)), (5.6, 0, 1.5), "white_paint")
+add("left_wall", Box(size_m=(6.0, 0.2, 3.0)), (2.5, 2.6, 1.5), "white_paint")
+add("right_wall", Box(size_m=(6.0, 0.2, 3.0)), (2.5, -2.6, 1.5), "white_paint")
+# desk 1 (left) and desk 2 (right)
+for k, y in ((1, 1.3), (2, -1.4)):
+    x = 3.2
+    add(f"desk{k}_top", Box(size_m=(0.8, 1.4, 0.04)), (x, y, 0.74), "wood")
+    for j, (dx, dy) in enumerate(((-0.35, -0.65), (-0.35, 0.65), (0.35, -0.65), (0.35, 0.65))):
+        add(f"desk{k}_leg{j+1}", Box(size_m=(0.05, 0.05, 0.72)), (x+dx, y+dy, 0.36), "aluminium")
+add("chair_seat", Box(size_m=(0.45, 0.45, 0.06)), (2.4, 0.9, 0.46), "fabric")
+add("chair_backrest", Box(size_m=(0.05, 0.45, 0.5)), (2.65, 0.9, 0.78), "black_plastic")
+add("chair_post", Cylinder(radius_m=0.025, height_m=0.43), (2.4, 0.9, 0.215), "aluminium")
+add("metal_plate", Box(size_m=(0.01, 0.5, 0.4)), (5.49, 0.6, 1.3), "aluminium")
+add("book", Box(size_m=(0.22, 0.16, 0.04)), (3.0, 1.2, 0.78), "paper", rot=(0, 0, 15))
+add("ir_retroreflector", Box(size_m=(0.01, 0.12, 0.12)), (3.3, -1.0, 0.82), "ir_retroreflector_tape")
+add("corner_reflector", CornerReflector(edge_m=0.08), (3.4, -1.6, 0.85), "radar_retroreflector", rot=(0, -90, -25))
+add("paper_box", Box(size_m=(0.3, 0.4, 0.3)), (3.0, -1.55, 0.91), "paper")
+add("person", Cylinder(radius_m=0.18, height_m=1.7), (4.2, 0.2, 0.85), "skin", motion=Motion(keyframes=[Keyframe(time_s=0.0), Keyframe(time_s=2.0, position_m=(-1.0, -0.6, 0.0))], repeat="back_and_forth"))
+office = Project(name="office", description="An office: desks, chair, metal plate, a book, a near-IR retroreflector on a desk, a radar corner reflector hidden behind a radar-transparent paper box, a walking person; the sensor rig looks in from the door.",
+    timeline=Timeline(frame_rate_hz=10, duration_s=4.0), objects=O, rig=rig(1.2))
+save_project(office, "resources/examples/office.json")
+print(len(O))
