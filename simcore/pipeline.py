@@ -7,6 +7,7 @@ frames (the renderer's windows and meshes).
 
 from __future__ import annotations
 
+import json
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -35,6 +36,25 @@ def radar_render_intrinsics(project: Project) -> PinholeIntrinsics:
     """Render grid of the radar pass (square pixels over the configured horizontal FOV)."""
     cfg = project.rig.radar
     return PinholeIntrinsics.from_fov(cfg.render_width, cfg.render_height, cfg.render_fov_h_deg)
+
+
+def render_key(project: Project) -> str:
+    """Everything a render pass depends on, as text: equal keys → renders can be re-used.
+
+    Radar waveform, antennas, noise and DSP settings are not part of it, so editing them
+    re-runs only the stages after rendering.
+    """
+    radar = project.rig.radar
+    return json.dumps({
+        "objects": [o.model_dump(mode="json") for o in project.objects],
+        "materials": [m.model_dump(mode="json") for m in project.materials],
+        "rig_pose": project.rig.pose.model_dump(mode="json"),
+        "rig_motion": project.rig.motion.model_dump(mode="json"),
+        "tof": project.rig.tof.model_dump(mode="json"),
+        "radar_pose": radar.pose_on_rig.model_dump(mode="json"),
+        "radar_grid": [radar.render_width, radar.render_height, radar.render_fov_h_deg],
+        "timeline": project.timeline.model_dump(mode="json"),
+    }, sort_keys=True)
 
 
 def frame_rng(seed: int, index: int) -> np.random.Generator:
@@ -90,9 +110,20 @@ class Simulator:
     """Runs frames of a project; keeps the renderer (windows, meshes) across frames."""
 
     def __init__(self, project: Project, *, base_dir: Path | None = None, seed: int | None = None):
-        self.project = project
         self.seed = project.seed if seed is None else seed
         self.renderer = SceneRenderer(project, base_dir=base_dir)
+        self._render_key = ""
+        self._render_cache: dict[int, tuple[SceneSnapshot, RenderBuffers, RenderBuffers]] = {}
+        self.set_project(project)
+
+    def set_project(self, project: Project) -> None:
+        """Follow an edited project; keep cached renders when nothing they depend on changed."""
+        key = render_key(project)
+        if key != self._render_key:
+            self.renderer.set_project(project)
+            self._render_cache.clear()
+            self._render_key = key
+        self.project = project
         self.tof_intrinsics = tof_render_intrinsics(project)
         self.radar_intrinsics = radar_render_intrinsics(project)
 
@@ -112,12 +143,17 @@ class Simulator:
             timings[name] = (time.perf_counter() - start) * 1e3
 
         t = self.project.timeline.frame_time(index)
-        with stage("snapshot"):
-            snap = take_snapshot(self.project, t)
-        with stage("render_tof"):
-            tof_buf = self.renderer.render(snap, "tof", self.tof_intrinsics)
-        with stage("render_radar"):
-            radar_buf = self.renderer.render(snap, "radar", self.radar_intrinsics)
+        if index in self._render_cache:
+            snap, tof_buf, radar_buf = self._render_cache[index]
+        else:
+            with stage("snapshot"):
+                snap = take_snapshot(self.project, t)
+            with stage("render_tof"):
+                tof_buf = self.renderer.render(snap, "tof", self.tof_intrinsics)
+            with stage("render_radar"):
+                radar_buf = self.renderer.render(snap, "radar", self.radar_intrinsics)
+            # Keep the latest frame's renders: edits that do not change them re-use them.
+            self._render_cache = {index: (snap, tof_buf, radar_buf)}
         with stage("ground_truth"):
             gt_range, gt_id = downsample_ground_truth(tof_buf, self.project.rig.tof.supersampling)
         timings["total"] = sum(timings.values())

@@ -124,6 +124,14 @@ class _IndexPass:
         self.renderer.SetAutomaticLightCreation(False)
         self.window.AddRenderer(self.renderer)
         self.actors: list[vtkActor | None] = []
+        self.set_geometry(geometry)
+        self._size: tuple[int, int] | None = None
+        self._pixels = vtkUnsignedCharArray()
+
+    def set_geometry(self, geometry: _Geometry) -> None:
+        """Replace the actors (one per object) by those of ``geometry``."""
+        self.renderer.RemoveAllViewProps()
+        self.actors = []
         for index, mesh in enumerate(geometry.meshes):
             if mesh is None:
                 self.actors.append(None)
@@ -148,8 +156,6 @@ class _IndexPass:
             prop.BackfaceCullingOff()
             self.renderer.AddActor(actor)
             self.actors.append(actor)
-        self._size: tuple[int, int] | None = None
-        self._pixels = vtkUnsignedCharArray()
 
     def render(self, intr: PinholeIntrinsics, sensor: SensorState,
                transforms: NDArray[np.float64], visible: list[bool]) -> NDArray[np.int64]:
@@ -201,11 +207,28 @@ class SceneRenderer:
 
     def __init__(self, project: Project, *, base_dir: Path | None = None):
         _silence_vtk_display_warning()
-        self.project = project
-        self.geometry = _Geometry([build_mesh(o.geometry, base_dir=base_dir)
-                                   for o in project.objects])
+        self.base_dir = base_dir
         self._passes: dict[str, _IndexPass] = {}
+        self._mesh_cache: dict[str, TriangleMesh | None] = {}
         self.render_count = 0
+        self.set_project(project)
+
+    def set_project(self, project: Project) -> None:
+        """Follow an edited project: re-triangulate only geometries that changed.
+
+        Poses and motion need nothing here (they come with each snapshot); materials and
+        the object list are re-read; the offscreen windows are kept.
+        """
+        meshes = []
+        for obj in project.objects:
+            key = obj.geometry.model_dump_json()
+            if key not in self._mesh_cache:
+                self._mesh_cache[key] = build_mesh(obj.geometry, base_dir=self.base_dir)
+            meshes.append(self._mesh_cache[key])
+        self.project = project
+        self.geometry = _Geometry(meshes)
+        for index_pass in self._passes.values():
+            index_pass.set_geometry(self.geometry)
         materials = material_table(project)
         self._ids = np.array([o.id for o in project.objects], dtype=np.int32)
         # Spheres are refined analytically: exact range and normal, not the facet's.
