@@ -8,8 +8,12 @@ import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from simcore.scene.project_io import ProjectError, load_project, project_to_json
+
+if TYPE_CHECKING:
+    from simcore.runner import FrameResult
 
 
 class CliError(Exception):
@@ -36,6 +40,16 @@ def _non_negative_int(text: str) -> int:
     return value
 
 
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}") from None
+    if not (value > 0 and value < float("inf")):
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {text}")
+    return value
+
+
 def cmd_validate(args: argparse.Namespace) -> int:
     """Check a project file; print OK or the list of problems."""
     project = load_project(args.project)
@@ -46,42 +60,66 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 def cmd_run(args: argparse.Namespace) -> int:
     """Render frames of a project headlessly into an HDF5 dataset."""
-    import numpy as np
     from tqdm import tqdm
 
-    from simcore.io.hdf5_writer import DatasetExistsError, DatasetWriter
-    from simcore.io.previews import save_previews
-    from simcore.pipeline import Simulator
+    from simcore.io.hdf5_writer import DatasetExistsError, ResumeError
+    from simcore.runner import frame_count, run_dataset
 
     project_path = Path(args.project)
     project = load_project(project_path)
     seed = project.seed if args.seed is None else args.seed
-    n_frames = args.frames if args.frames is not None else project.timeline.n_frames
+    n_frames = frame_count(args.frames, args.duration, project.timeline.frame_rate_hz,
+                           project.timeline.n_frames)
     out = Path(args.out)
-    if out.exists() and out.is_dir():
+    if out.is_dir():
         raise CliError(f"--out {out} is a directory; give a file name such as {out}/run.h5")
+    if args.resume and args.overwrite:
+        raise CliError("--resume and --overwrite exclude each other")
+    bar = tqdm(total=n_frames, desc="frames", unit="frame", file=sys.stderr,
+               disable=args.quiet)
+
+    def progress(done: int, total: int, result: FrameResult) -> bool:
+        bar.n = done
+        bar.refresh()
+        if args.preview:
+            _write_previews(Path(args.preview), result)
+        return True
+
     try:
-        writer = DatasetWriter(out, project_json=project_to_json(project), seed=seed,
-                               overwrite=args.overwrite)
-    except DatasetExistsError as exc:
+        report = run_dataset(project_to_json(project), project_path.parent, out,
+                             n_frames=n_frames, seed=seed, overwrite=args.overwrite,
+                             resume=args.resume, workers=args.workers,
+                             scheduler=args.scheduler, on_frame=progress)
+    except (DatasetExistsError, ResumeError) as exc:
         raise CliError(str(exc)) from None
-    with writer, Simulator(project, base_dir=project_path.parent, seed=seed) as sim:
-        writer.write_static({
-            "/objects/names": (np.array([o.name for o in project.objects]), ""),
-            "/objects/ids": (np.array([o.id for o in project.objects]), "1"),
-        })
-        bar = tqdm(range(n_frames), desc="frames", unit="frame", file=sys.stderr,
-                   disable=args.quiet)
-        for index in bar:
-            frame = sim.frame(index)
-            writer.append(frame.hdf5_items())
-            if args.preview:
-                save_previews(Path(args.preview), index, {
-                    "tof_gt_range": (frame.tof_gt_range, "viridis"),
-                    "radar_gt_range": (frame.radar_buffers.range_m, "viridis"),
-                })
-    print(f"wrote {n_frames} frames to {out}")
+    finally:
+        bar.close()
+    if report.interrupted:
+        print(f"interrupted: {report.frames_done} of {n_frames} frames are in {out}; "
+              f"continue with --resume", file=sys.stderr)
+        return 130
+    print(f"wrote frames {report.first_frame}..{report.frames_done - 1} to {out}"
+          if report.frames_done > report.first_frame else f"{out} already has {n_frames} frames")
     return 0
+
+
+def _write_previews(preview_dir: Path, result: FrameResult) -> None:
+    """PNG previews of one computed frame."""
+    from simcore.io.previews import save_previews
+
+    images = {name: (result.items[path][0], cmap) for name, path, cmap in PREVIEWS
+              if path in result.items}
+    save_previews(preview_dir, result.index, images)
+
+
+#: (file name part, dataset path, colour map) of the PNG previews.
+PREVIEWS = [
+    ("tof_gt_range", "/tof/gt_range", "viridis"),
+    ("tof_depth", "/tof/depth", "viridis"),
+    ("tof_amplitude", "/tof/amplitude", "gray"),
+    ("radar_range_doppler", "/radar/range_doppler", "magma"),
+    ("radar_range_azimuth", "/radar/range_azimuth", "magma"),
+]
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
@@ -141,8 +179,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("project", help="project JSON file")
     p.add_argument("--out", required=True, help="output HDF5 file")
     p.add_argument("--frames", type=_positive_int, help="number of frames (default: timeline)")
+    p.add_argument("--duration", type=_positive_float, metavar="S",
+                   help="simulated seconds (frames = S × frame rate)")
     p.add_argument("--seed", type=_non_negative_int, help="random seed (default: project seed)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
+    p.add_argument("--resume", action="store_true",
+                   help="continue an interrupted run of the same project and seed")
+    p.add_argument("--workers", type=_positive_int, default=1,
+                   help="local worker processes (default 1)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run frames on Dask: 'local' for an embedded cluster of --workers "
+                        "processes, or a scheduler address such as tcp://host:8786")
     p.add_argument("--preview", metavar="DIR", help="also write PNG previews into DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_run)

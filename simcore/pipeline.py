@@ -13,6 +13,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -105,6 +106,10 @@ class Frame:
             "/tof/gt_object_id": (self.tof_gt_object_id, "1"),
         }
 
+    def table_rows(self) -> dict[str, NDArray[Any]]:
+        """Records this frame adds to growing tables (path → structured array)."""
+        return {}
+
 
 class Simulator:
     """Runs frames of a project; keeps the renderer (windows, meshes) across frames."""
@@ -126,6 +131,14 @@ class Simulator:
         self.project = project
         self.tof_intrinsics = tof_render_intrinsics(project)
         self.radar_intrinsics = radar_render_intrinsics(project)
+
+    def static_items(self) -> H5Items:
+        """Run-constant datasets: object names and ids (and sensor axes)."""
+        objects = self.project.objects
+        return {
+            "/objects/names": (np.array([o.name for o in objects], dtype=str), ""),
+            "/objects/ids": (np.array([o.id for o in objects], dtype=np.int32), "1"),
+        }
 
     @property
     def n_frames(self) -> int:

@@ -29,6 +29,10 @@ class DatasetExistsError(FileExistsError):
     """The output file exists and overwriting was not requested."""
 
 
+class ResumeError(ValueError):
+    """An existing file cannot be continued with ``--resume``."""
+
+
 class DatasetWriter:
     """Append frames to an HDF5 dataset file.
 
@@ -45,11 +49,16 @@ class DatasetWriter:
     """
 
     def __init__(self, path: str | os.PathLike[str], *, project_json: str, seed: int,
-                 overwrite: bool = False):
+                 overwrite: bool = False, resume: bool = False,
+                 extra_meta: dict[str, Any] | None = None):
         self.path = Path(path)
+        if resume and self.path.exists():
+            self._open_for_resume(project_json, seed)
+            return
         if self.path.exists() and not overwrite:
             raise DatasetExistsError(
-                f"{self.path} already exists; use --overwrite to replace it"
+                f"{self.path} already exists; use --overwrite to replace it or --resume to "
+                "continue it"
             )
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.file = h5py.File(self.path, "w")
@@ -60,7 +69,47 @@ class DatasetWriter:
         meta.attrs["tofradar_version"] = simcore.__version__
         meta.attrs["seed"] = seed
         meta.attrs["n_frames"] = 0
+        for key, value in (extra_meta or {}).items():
+            meta.attrs[key] = value
         self.n_frames = 0
+
+    def _open_for_resume(self, project_json: str, seed: int) -> None:
+        try:
+            self.file = h5py.File(self.path, "a")
+        except OSError as exc:
+            raise ResumeError(f"cannot resume {self.path}: not a readable HDF5 file ({exc})"
+                              ) from None
+        meta = self.file.get("meta")
+        if meta is None or "n_frames" not in meta.attrs:
+            self.file.close()
+            raise ResumeError(f"cannot resume {self.path}: it is not a tofradar dataset")
+        if meta.attrs["project_json"] != project_json or int(meta.attrs["seed"]) != seed:
+            self.file.close()
+            raise ResumeError(f"cannot resume {self.path}: it was written from a different "
+                              "project or seed")
+        self.n_frames = int(meta.attrs["n_frames"])
+        self._truncate()
+
+    def _frame_datasets(self) -> list[h5py.Dataset]:
+        found: list[h5py.Dataset] = []
+
+        def visit(name: str, obj: object) -> None:
+            if isinstance(obj, h5py.Dataset) and obj.maxshape and obj.maxshape[0] is None \
+                    and obj.attrs.get("per_frame", False):
+                found.append(obj)
+
+        self.file.visititems(visit)
+        return found
+
+    def _truncate(self) -> None:
+        """Drop anything written past ``n_frames`` (a frame interrupted half-way)."""
+        for ds in self._frame_datasets():
+            if ds.attrs.get("table", False):
+                keep = ds.fields("frame")[:] < self.n_frames if len(ds) else np.zeros(0, bool)
+                if not keep.all():
+                    ds.resize(int(np.count_nonzero(keep)), axis=0)
+            elif ds.shape[0] != self.n_frames:
+                ds.resize(self.n_frames, axis=0)
 
     def write_static(self, items: dict[str, tuple[NDArray[Any], str]]) -> None:
         """Write run-constant arrays (axes, names) once, with their units."""
@@ -85,6 +134,7 @@ class DatasetWriter:
                     **(COMPRESSION if arr.size > 64 else {}),
                 )
                 ds.attrs["unit"] = unit
+                ds.attrs["per_frame"] = True
             ds = self.file[path]
             if ds.shape[1:] != arr.shape:
                 raise ValueError(f"{path}: frame shape {arr.shape} != dataset {ds.shape[1:]}")
@@ -95,19 +145,25 @@ class DatasetWriter:
         self.file.flush()
 
     def append_rows(self, path: str, rows: NDArray[Any], *, unit: str = "") -> None:
-        """Append records to a growing 1-D table (e.g. ``/radar/detections``)."""
+        """Append records of the current frame to a growing table (e.g. detections).
+
+        Call before :meth:`append` of the same frame; ``rows`` must have a ``frame`` field.
+        """
         if path not in self.file:
             ds = self.file.create_dataset(path, shape=(0,), maxshape=(None,), dtype=rows.dtype,
                                           chunks=(1024,), **COMPRESSION)
             ds.attrs["unit"] = unit
+            ds.attrs["per_frame"] = True
+            ds.attrs["table"] = True
         ds = self.file[path]
         start = ds.shape[0]
         ds.resize(start + len(rows), axis=0)
         ds[start:] = rows
 
     def close(self) -> None:
-        """Flush and close the file."""
+        """Drop any half-written frame, flush and close the file."""
         if self.file.id.valid:
+            self._truncate()
             self.file.close()
 
     def __enter__(self) -> DatasetWriter:
