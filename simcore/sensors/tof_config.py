@@ -1,18 +1,46 @@
-"""Configuration of the AMCW Time-of-Flight camera."""
+"""Configuration of the AMCW Time-of-Flight camera.
+
+The physics parameters follow one radiometric chain (see ``docs/physics_tof.md``): the
+camera's own illumination (``illumination_power_w``, spread evenly over the field of view)
+lights a surface at range R; the surface returns ``f(θ)/π`` of the irradiance per
+steradian (the ToF-band material response); each pixel collects it through a lens of
+f-number N over its pitch p during ``exposure_time_s`` per correlation sample, with
+quantum efficiency η. This gives the mean signal electrons of one correlation sample::
+
+    S = P f p² T η λ / (4 N² Ω_ill R² h c)
+
+With the defaults a white Lambertian wall (f = 1) at 1 m gives
+``signal_electrons_at_1m`` ≈ 17 900 e⁻ per sample, well below the 40 000 e⁻ full well,
+while near-IR retroreflective tape (f ≈ 60) at 3 m exceeds it and saturates.
+"""
 
 from __future__ import annotations
 
-from pydantic import Field
+import math
+from collections.abc import Callable
+from math import gcd
+from typing import TYPE_CHECKING
+
+from pydantic import Field, model_validator
 
 from simcore.scene.base import Model
 from simcore.scene.motion import Pose
 
+if TYPE_CHECKING:  # the render package imports the scene model, which imports this module
+    from simcore.render.camera import PinholeIntrinsics
+
+SPEED_OF_LIGHT = 299_792_458.0
+PLANCK = 6.626_070_15e-34
+#: Largest f / gcd(f1, f2) accepted for two-frequency unwrapping (number of wrap candidates).
+MAX_UNWRAP_RATIO = 256
+
 
 class TofCameraConfig(Model):
-    """AMCW ToF camera: resolution, field of view, mounting pose and modulation.
+    """AMCW ToF camera: resolution, field of view, mounting pose, modulation and physics.
 
     ``pose_on_rig`` uses the rig's body convention (x forward, y left, z up); the camera's
-    optical frame (x right, y down, z forward) is derived from it.
+    optical frame (x right, y down, z forward) is derived from it. Defaults are the
+    :func:`pmd_pico_flexx` preset.
     """
 
     preset: str = "pmd_pico_flexx"
@@ -26,3 +54,150 @@ class TofCameraConfig(Model):
         default_factory=lambda: [20e6], min_length=1, max_length=2
     )
     wavelength_nm: float = Field(850.0, gt=0)
+
+    # --- illumination and optics -------------------------------------------------------
+    illumination_power_w: float = Field(
+        1.0, gt=0, allow_inf_nan=False,
+        description="mean optical power of the modulated illumination during exposure (W), "
+                    "spread evenly over the camera's field of view")
+    exposure_time_s: float = Field(
+        250e-6, gt=0, allow_inf_nan=False,
+        description="integration time of each of the four correlation samples (s)")
+    f_number: float = Field(1.2, gt=0, allow_inf_nan=False, description="lens f-number N")
+    pixel_pitch_um: float = Field(17.5, gt=0, allow_inf_nan=False)
+    quantum_efficiency: float = Field(0.25, gt=0, le=1, allow_inf_nan=False)
+    demodulation_contrast: float = Field(
+        0.8, gt=0, le=1, allow_inf_nan=False,
+        description="modulated fraction m of the signal: C_i = S (1 + m cos(φ + iπ/2)) + B")
+    ambient_irradiance_w_m2: float = Field(
+        0.05, ge=0, allow_inf_nan=False,
+        description="ambient light on the scene within the camera's optical band (W/m²)")
+
+    # --- pixel and read-out ------------------------------------------------------------
+    full_well_electrons: float = Field(
+        40_000.0, gt=0, allow_inf_nan=False,
+        description="saturation level of one correlation sample (e⁻)")
+    conversion_gain_dn_per_electron: float = Field(
+        0.1, gt=0, allow_inf_nan=False, description="read-out gain (DN per e⁻)")
+    adc_bits: int = Field(12, ge=1, le=24)
+    read_noise_electrons: float = Field(20.0, ge=0, allow_inf_nan=False)
+    crosstalk_sigma_px: float = Field(
+        0.5, ge=0, le=20, allow_inf_nan=False,
+        description="σ of the Gaussian cross-talk kernel on the correlation images (pixels)")
+    min_amplitude_dn: float = Field(
+        20.0, ge=0, allow_inf_nan=False,
+        description="pixels with a smaller demodulated amplitude are invalid (DN)")
+
+    @model_validator(mode="after")
+    def _check_frequencies(self) -> TofCameraConfig:
+        freqs = self.modulation_frequencies_hz
+        if any(not (f > 0 and math.isfinite(f)) for f in freqs):
+            raise ValueError("modulation_frequencies_hz must be positive and finite")
+        if len(freqs) == 2:
+            if round(freqs[0]) == round(freqs[1]):
+                raise ValueError("the two modulation frequencies must differ")
+            if round(freqs[0]) < 1 or round(freqs[1]) < 1:
+                raise ValueError("modulation frequencies must be at least 1 Hz")
+            common = gcd(round(freqs[0]), round(freqs[1]))
+            if max(freqs) / common > MAX_UNWRAP_RATIO:
+                raise ValueError(
+                    f"modulation_frequencies_hz {freqs}: their greatest common divisor "
+                    f"({common} Hz) is too small for unwrapping (f/gcd must be at most "
+                    f"{MAX_UNWRAP_RATIO}); choose frequencies with a larger common divisor")
+        return self
+
+    # --- geometry ----------------------------------------------------------------------
+    def intrinsics(self) -> PinholeIntrinsics:
+        """Pinhole intrinsics of the sensor pixel grid (``width`` × ``height``)."""
+        from simcore.render.camera import PinholeIntrinsics
+
+        return PinholeIntrinsics.from_fov(self.width, self.height, self.fov_h_deg,
+                                          self.fov_v_deg)
+
+    def render_intrinsics(self) -> PinholeIntrinsics:
+        """Supersampled render grid: ``supersampling``² sub-pixels tile each sensor pixel."""
+        return self.intrinsics().scaled(self.supersampling)
+
+    @property
+    def illumination_solid_angle_sr(self) -> float:
+        """Solid angle of the rectangular field of view that the illumination fills (sr)."""
+        a = math.radians(self.fov_h_deg) / 2
+        b = math.radians(self.fov_v_deg) / 2
+        return 4.0 * math.asin(math.sin(a) * math.sin(b))
+
+    # --- radiometry --------------------------------------------------------------------
+    @property
+    def electrons_per_radiance(self) -> float:
+        """Electrons per correlation sample per unit scene radiance (e⁻ per W m⁻² sr⁻¹).
+
+        Pixel étendue ``π p² / (4 N²)`` (flat field: the illumination profile is assumed
+        to compensate lens vignetting) times exposure, quantum efficiency and photons/J.
+        """
+        pitch = self.pixel_pitch_um * 1e-6
+        etendue = math.pi * pitch**2 / (4.0 * self.f_number**2)
+        photons_per_joule = self.wavelength_nm * 1e-9 / (PLANCK * SPEED_OF_LIGHT)
+        return etendue * self.exposure_time_s * self.quantum_efficiency * photons_per_joule
+
+    @property
+    def signal_electrons_at_1m(self) -> float:
+        """Mean signal electrons per sample from a response-1 surface at 1 m (e⁻).
+
+        A surface of ToF-band response ``f`` at range ``R`` gives
+        ``signal_electrons_at_1m * f / R²``.
+        """
+        radiant_intensity = self.illumination_power_w / self.illumination_solid_angle_sr
+        return radiant_intensity / math.pi * self.electrons_per_radiance
+
+    @property
+    def ambient_electrons(self) -> float:
+        """Ambient electrons per sample from a response-1 surface (e⁻), times ``f``."""
+        return self.ambient_irradiance_w_m2 / math.pi * self.electrons_per_radiance
+
+    @property
+    def adc_max_dn(self) -> int:
+        """Largest ADC code (DN)."""
+        return int(2**self.adc_bits - 1)
+
+    # --- modulation --------------------------------------------------------------------
+    @property
+    def unambiguous_range_m(self) -> float:
+        """Unambiguous range c / (2 f) of the first modulation frequency (m)."""
+        return SPEED_OF_LIGHT / (2.0 * self.modulation_frequencies_hz[0])
+
+    @property
+    def combined_unambiguous_range_m(self) -> float:
+        """Unambiguous range after unwrapping: c / (2 gcd(f1, f2)) (m; frequencies in Hz).
+
+        Equals :attr:`unambiguous_range_m` with one frequency.
+        """
+        freqs = self.modulation_frequencies_hz
+        if len(freqs) == 1:
+            return self.unambiguous_range_m
+        return SPEED_OF_LIGHT / (2.0 * gcd(round(freqs[0]), round(freqs[1])))
+
+
+def pmd_pico_flexx() -> TofCameraConfig:
+    """PMD CamBoard pico flexx: 224×171 px, 62°×45°, 20 MHz (7.5 m unambiguous), 850 nm."""
+    return TofCameraConfig(
+        preset="pmd_pico_flexx",
+        width=224,
+        height=171,
+        fov_h_deg=62.0,
+        fov_v_deg=45.0,
+        supersampling=2,
+        modulation_frequencies_hz=[20e6],
+        wavelength_nm=850.0,
+    )
+
+
+#: Named ToF camera presets: name → factory returning a fresh config.
+TOF_PRESETS: dict[str, Callable[[], TofCameraConfig]] = {"pmd_pico_flexx": pmd_pico_flexx}
+
+
+def tof_preset(name: str) -> TofCameraConfig:
+    """Return a fresh config of the preset called ``name`` (ValueError if unknown)."""
+    try:
+        return TOF_PRESETS[name]()
+    except KeyError:
+        raise ValueError(
+            f"unknown ToF preset {name!r}; expected one of {sorted(TOF_PRESETS)}") from None

@@ -1,0 +1,328 @@
+"""AMCW Time-of-Flight camera model: render buffers → correlation samples → depth.
+
+The chain, per frame (equations and limits in ``docs/physics_tof.md``):
+
+1. Per render sub-pixel, the mean signal electrons of one correlation sample
+   ``S = S₁ f / R²`` (``S₁`` = :attr:`TofCameraConfig.signal_electrons_at_1m`, ``f`` the
+   ToF-band material response including the incidence angle, ``R`` the range; the camera
+   is the illuminator), the ambient electrons ``B = B₁ f`` and the phase
+   ``φ = 4π f_mod R / c``.
+2. Four correlation samples ``C_i = S (1 + m cos(φ + iπ/2)) + B`` — i.e.
+   ``A/2 cos(φ + iπ/2) + offset`` with ``A = 2 m S`` — averaged over the sub-pixels of each
+   sensor pixel *before* the phase is estimated (flying pixels at depth edges).
+3. Cross-talk: a radially symmetric Gaussian of σ = ``crosstalk_sigma_px`` on the four
+   correlation images.
+4. Noise (optional): shot noise of variance ``C_i`` (e⁻), read noise, ADC quantisation.
+5. Saturation: a sample at or above the full well (or the ADC's top code) makes the pixel
+   invalid; samples are clipped there.
+6. ``φ̂ = atan2(C3 − C1, C0 − C2)``, ``d̂ = c φ̂ / (4π f_mod)`` in ``[0, c/(2 f_mod))``,
+   amplitude ``√((C3 − C1)² + (C0 − C2)²)``; too dark (amplitude below
+   ``min_amplitude_dn``) or saturated → invalid, depth 0.
+7. With two modulation frequencies, the two wrapped depths are unwrapped jointly
+   (:func:`unwrap_two_frequencies`).
+
+Dtype policy: sub-pixel phases are computed in float64 (cheap, and the phase of a 37 m
+range needs more than float32's 7 digits to stay well under a millimetre); every
+sensor-resolution image is float32, whose rounding (≤ 1e-7 relative) is far below the
+1 cm depth budget.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from math import gcd
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.ndimage import gaussian_filter
+
+from simcore.render.buffers import RenderBuffers, downsample_ground_truth
+from simcore.sensors.tof_config import SPEED_OF_LIGHT, TofCameraConfig
+
+#: Float dtype of every sensor-resolution ToF image.
+FLOAT = np.float32
+#: Ranges below this are treated as this (m), to keep 1/R² finite.
+MIN_RANGE_M = 1e-3
+
+
+def as_float(values: NDArray[np.floating]) -> NDArray[np.float32]:
+    """Cast to the ToF model's image dtype (float32, see the module docstring)."""
+    return np.asarray(values, dtype=FLOAT)
+
+
+def unambiguous_range_m(frequency_hz: float) -> float:
+    """Unambiguous range ``c / (2 f)`` of one modulation frequency (m)."""
+    return SPEED_OF_LIGHT / (2.0 * frequency_hz)
+
+
+@dataclass(frozen=True)
+class TofOutput:
+    """One frame of the ToF camera, all images at sensor resolution (H, W).
+
+    Attributes
+    ----------
+    depth_m : ndarray, shape (H, W), float32
+        Measured radial distance along each pixel's ray (m); 0 where not ``valid``.
+        Wrapped into ``[0, c/(2 f1))`` with one frequency, unwrapped into
+        ``[0, c/(2 gcd(f1, f2)))`` with two.
+    amplitude : ndarray, shape (H, W), float32
+        Demodulated amplitude ``√((C3 − C1)² + (C0 − C2)²)`` of the first frequency (DN).
+    intensity : ndarray, shape (H, W), float32
+        Grey value: mean of the four correlation samples of the first frequency (DN),
+        signal plus ambient light.
+    valid : ndarray, shape (H, W), bool
+        Neither saturated nor too dark (at every modulation frequency).
+    saturated : ndarray, shape (H, W), bool
+        A correlation sample reached the full well or the ADC's top code.
+    correlation : ndarray, shape (4, H, W), float32
+        The four raw correlation samples ``C0..C3`` of the first frequency (DN), axis 0
+        is the phase step ``i`` of ``cos(φ + iπ/2)``.
+    gt_range : ndarray, shape (H, W), float32
+        Ground-truth range (m), NaN where no surface.
+    gt_object_id : ndarray, shape (H, W), int32
+        Ground-truth object id, −1 where no surface.
+    """
+
+    depth_m: NDArray[np.float32]
+    amplitude: NDArray[np.float32]
+    intensity: NDArray[np.float32]
+    valid: NDArray[np.bool_]
+    saturated: NDArray[np.bool_]
+    correlation: NDArray[np.float32]
+    gt_range: NDArray[np.float32]
+    gt_object_id: NDArray[np.int32]
+
+    def hdf5_items(self) -> dict[str, tuple[NDArray[np.generic], str]]:
+        """Per-frame datasets of the HDF5 layout: path → (array without frame axis, unit)."""
+        return {
+            "/tof/depth": (self.depth_m, "m"),
+            "/tof/amplitude": (self.amplitude, "DN"),
+            "/tof/intensity": (self.intensity, "DN"),
+            "/tof/valid": (self.valid, "1"),
+            "/tof/correlation": (self.correlation, "DN"),
+            "/tof/gt_range": (self.gt_range, "m"),
+            "/tof/gt_object_id": (self.gt_object_id, "1"),
+        }
+
+
+def _block_mean(image: NDArray[np.float64], factor: int) -> NDArray[np.float64]:
+    """Mean over ``factor × factor`` blocks: shape (H·k, W·k) → (H, W)."""
+    if factor == 1:
+        return image
+    # Summing the k² strided views is several times faster than reshape(...).mean(axis).
+    total = image[0::factor, 0::factor].copy()
+    for i in range(factor):
+        for j in range(factor):
+            if i or j:
+                total += image[i::factor, j::factor]
+    return total / factor**2
+
+
+def _crosstalk(images: NDArray[np.float32], sigma_px: float) -> NDArray[np.float32]:
+    """Gaussian cross-talk over the last two axes of ``images`` (…, H, W)."""
+    if sigma_px <= 0:
+        return images
+    sigma = (0.0,) * (images.ndim - 2) + (sigma_px, sigma_px)
+    return as_float(gaussian_filter(images, sigma=sigma, mode="reflect"))
+
+
+def _read_out(correlation_e: NDArray[np.float32], config: TofCameraConfig, *,
+              rng: np.random.Generator, noise: bool
+              ) -> tuple[NDArray[np.float32], NDArray[np.bool_]]:
+    """Noise, saturation and ADC of the correlation samples.
+
+    Parameters
+    ----------
+    correlation_e : ndarray, shape (4, H, W), float32
+        Noise-free correlation samples (e⁻).
+
+    Returns
+    -------
+    correlation_dn : ndarray, shape (4, H, W), float32
+        Read-out samples (DN), clipped to ``[0, adc_max_dn]``; quantised when ``noise``.
+    saturated : ndarray, shape (H, W), bool
+        Some sample reached the full well or the ADC's top code.
+    """
+    c = correlation_e
+    if noise:
+        # Shot noise (Poisson, Gaussian approximation: variance = mean e⁻) and read noise.
+        std = np.sqrt(np.maximum(c, 0.0) + FLOAT(config.read_noise_electrons) ** 2)
+        c = as_float(c + std * rng.standard_normal(c.shape, dtype=FLOAT))
+    full_well = FLOAT(config.full_well_electrons)
+    saturated = np.any(c >= full_well, axis=0)
+    dn = np.minimum(c, full_well) * FLOAT(config.conversion_gain_dn_per_electron)
+    if noise:
+        dn = np.round(dn)
+    adc_max = FLOAT(config.adc_max_dn)
+    saturated |= np.any(dn >= adc_max, axis=0)
+    return as_float(np.clip(dn, 0.0, adc_max)), saturated
+
+
+def _demodulate(correlation: NDArray[np.float32], frequency_hz: float
+                ) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+    """Four-phase demodulation.
+
+    Parameters
+    ----------
+    correlation : ndarray, shape (4, H, W)
+        ``C_i = A/2 cos(φ + iπ/2) + offset``.
+    frequency_hz : float
+        Modulation frequency.
+
+    Returns
+    -------
+    depth : ndarray, shape (H, W), float32
+        ``c φ̂ / (4π f)`` wrapped into ``[0, c/(2f))`` (m).
+    amplitude : ndarray, shape (H, W), float32
+        ``√((C3 − C1)² + (C0 − C2)²)`` (= A, units of ``correlation``).
+    """
+    num = correlation[3] - correlation[1]      # A sin φ
+    den = correlation[0] - correlation[2]      # A cos φ
+    phase = np.mod(np.arctan2(num, den), FLOAT(2 * np.pi))
+    max_range = unambiguous_range_m(frequency_hz)
+    depth = phase * FLOAT(max_range / (2 * np.pi))
+    depth = np.where(depth >= FLOAT(max_range), FLOAT(0.0), depth)
+    return as_float(depth), as_float(np.hypot(num, den))
+
+
+def unwrap_two_frequencies(depth1_m: NDArray[np.floating], depth2_m: NDArray[np.floating],
+                           frequency1_hz: float, frequency2_hz: float) -> NDArray[np.float32]:
+    """Unwrap two wrapped depth images measured at two modulation frequencies.
+
+    The true distance ``d`` satisfies ``d = d1 + n1 R1 = d2 + n2 R2`` with
+    ``R_k = c / (2 f_k)``. Over the combined unambiguous range
+    ``R = c / (2 g)``, ``g = gcd(f1, f2)`` (frequencies rounded to whole Hz), there are
+    ``f1 / g`` candidates ``n1``. For each, ``n2`` is the nearest integer making the two
+    estimates agree; the candidate with the smallest disagreement wins, and its two
+    estimates are averaged with inverse-variance weights ``f_k²`` (equal phase noise gives
+    depth noise ∝ 1/f_k). The result is wrapped into ``[0, R)``.
+
+    Limit: a wrong candidate disagrees by at least ``c g / (2 f1 f2)``, so unwrapping is
+    exact while ``|e1 − e2| < c g / (4 f1 f2)`` (e_k the depth errors; 0.94 m for 20 and
+    16 MHz); distances beyond ``R`` alias back into ``[0, R)``.
+
+    Parameters
+    ----------
+    depth1_m, depth2_m : ndarray, shape (H, W)
+        Wrapped depths in ``[0, R1)`` and ``[0, R2)`` (m).
+    frequency1_hz, frequency2_hz : float
+        The two modulation frequencies (Hz).
+
+    Returns
+    -------
+    ndarray, shape (H, W), float32
+        Unwrapped depth in ``[0, c / (2 gcd(f1, f2)))`` (m).
+    """
+    f1, f2 = round(frequency1_hz), round(frequency2_hz)
+    common = gcd(f1, f2)
+    r1, r2 = unambiguous_range_m(frequency1_hz), unambiguous_range_m(frequency2_hz)
+    r_max = SPEED_OF_LIGHT / (2.0 * common)
+    d1 = np.asarray(depth1_m, dtype=np.float64)
+    d2 = np.asarray(depth2_m, dtype=np.float64)
+    w1, w2 = f1**2 / (f1**2 + f2**2), f2**2 / (f1**2 + f2**2)
+    best_err = np.full(d1.shape, np.inf)
+    best = np.zeros(d1.shape)
+    for n1 in range(f1 // common):
+        cand1 = d1 + n1 * r1
+        cand2 = d2 + np.round((cand1 - d2) / r2) * r2
+        err = np.abs(cand1 - cand2)
+        better = err < best_err
+        best_err = np.where(better, err, best_err)
+        best = np.where(better, w1 * cand1 + w2 * cand2, best)
+    return as_float(np.mod(best, r_max))
+
+
+def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
+                 rng: np.random.Generator, noise: bool = True) -> TofOutput:
+    """Simulate one AMCW ToF frame from the ToF band's supersampled render.
+
+    Parameters
+    ----------
+    buffers : RenderBuffers
+        ToF-band render on :meth:`TofCameraConfig.render_intrinsics`, shape
+        (H·k, W·k) with ``k = config.supersampling``; uses ``range_m`` (m),
+        ``intensity`` (material response f(θ)) and ``object_id``.
+    config : TofCameraConfig
+        Camera parameters.
+    rng : numpy.random.Generator
+        Source of the shot and read noise (seed it for reproducible frames).
+    noise : bool, optional
+        False gives the ideal camera: no shot/read noise and no ADC quantisation
+        (saturation, cross-talk and ambient offset remain).
+
+    Returns
+    -------
+    TofOutput
+        Depth, amplitude, grey value, validity, correlation samples and ground truth at
+        sensor resolution (H, W).
+
+    Raises
+    ------
+    ValueError
+        If the render's shape is not the supersampled sensor grid.
+    """
+    k = config.supersampling
+    expected = (config.height * k, config.width * k)
+    if buffers.shape != expected:
+        raise ValueError(
+            f"ToF render is {buffers.shape[1]}×{buffers.shape[0]} px; the camera needs "
+            f"{expected[1]}×{expected[0]} (sensor {config.width}×{config.height} × "
+            f"supersampling {k})")
+
+    # 1. Per sub-pixel signal/ambient electrons per sample and range.
+    hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
+    r = np.where(hit, np.maximum(buffers.range_m.astype(np.float64), MIN_RANGE_M), 1.0)
+    response = np.where(hit, buffers.intensity.astype(np.float64), 0.0)
+    signal = config.signal_electrons_at_1m * response / r**2
+    ambient = config.ambient_electrons * response
+
+    # 2. Sensor-pixel sums: offset S + B and the phasor m S e^{iφ} per frequency.
+    #    C_i = offset + m S cos(φ + iπ/2): C0 = o + mSc, C1 = o − mSs, C2 = o − mSc, C3 = o + mSs.
+    offset = _block_mean(signal + ambient, k)
+    m = config.demodulation_contrast
+    planes = [offset]
+    for f_mod in config.modulation_frequencies_hz:
+        phase = (4.0 * np.pi * f_mod / SPEED_OF_LIGHT) * r
+        planes += [_block_mean(m * signal * np.cos(phase), k),
+                   _block_mean(m * signal * np.sin(phase), k)]
+
+    # 3. Cross-talk (linear, so it may act on offset and phasor planes alike).
+    mixed = _crosstalk(as_float(np.stack(planes)), config.crosstalk_sigma_px)
+
+    depths, amplitude, correlation, intensity = [], None, None, None
+    valid = np.ones((config.height, config.width), dtype=bool)
+    saturated = np.zeros_like(valid)
+    for j, f_mod in enumerate(config.modulation_frequencies_hz):
+        o, re, im = mixed[0], mixed[1 + 2 * j], mixed[2 + 2 * j]
+        corr_e = np.stack([o + re, o - im, o - re, o + im])
+        # 4.–5. Noise, saturation, ADC.
+        corr_dn, sat = _read_out(corr_e, config, rng=rng, noise=noise)
+        # 6. Phase, depth, amplitude, validity.
+        depth, amp = _demodulate(corr_dn, f_mod)
+        saturated |= sat
+        valid &= ~sat & (amp >= FLOAT(config.min_amplitude_dn))
+        depths.append(depth)
+        if j == 0:
+            amplitude, correlation = amp, corr_dn
+            intensity = as_float(corr_dn.mean(axis=0))
+    assert amplitude is not None and correlation is not None and intensity is not None
+
+    # 7. Two-frequency unwrapping.
+    if len(depths) == 2:
+        f1, f2 = config.modulation_frequencies_hz
+        depth_m = unwrap_two_frequencies(depths[0], depths[1], f1, f2)
+    else:
+        depth_m = depths[0]
+    depth_m = as_float(np.where(valid, depth_m, 0.0))
+
+    gt_range, gt_id = downsample_ground_truth(buffers, k)
+    return TofOutput(
+        depth_m=depth_m,
+        amplitude=amplitude,
+        intensity=intensity,
+        valid=valid,
+        saturated=saturated,
+        correlation=correlation,
+        gt_range=gt_range,
+        gt_object_id=gt_id,
+    )
