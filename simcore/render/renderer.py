@@ -77,6 +77,7 @@ class _Geometry:
     triangles: NDArray[np.int64] = field(init=False)
     triangle_object: NDArray[np.int64] = field(init=False)
     triangle_offsets: NDArray[np.int64] = field(init=False)
+    smooth: NDArray[np.bool_] = field(init=False)
 
     def __post_init__(self) -> None:
         pts, tris, owner, tri_off = 0, [], [], [0]
@@ -92,6 +93,13 @@ class _Geometry:
         self.triangles = np.concatenate(tris) if tris else np.zeros((0, 3), np.int64)
         self.triangle_object = np.concatenate(owner) if owner else np.zeros(0, np.int64)
         self.triangle_offsets = np.array(tri_off, dtype=np.int64)
+        # A triangle is smooth when its vertex normals differ (curved surface).
+        flags = []
+        for mesh in self.meshes:
+            if mesh is not None:
+                vn = mesh.normals[mesh.triangles]                      # (T, 3, 3)
+                flags.append(np.any(np.abs(vn - vn[:, :1]) > 1e-6, axis=(1, 2)))
+        self.smooth = np.concatenate(flags) if flags else np.zeros(0, bool)
         if len(self.triangles) > MAX_TRIANGLES:
             raise ValueError(f"scene has {len(self.triangles)} triangles; at most "
                              f"{MAX_TRIANGLES} can be rendered")
@@ -189,6 +197,22 @@ class _IndexPass:
         self.window.Finalize()
 
 
+_RAY_CACHE: dict[PinholeIntrinsics, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
+
+
+def _rays(intr: PinholeIntrinsics) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Cached optical-frame rays (x/z, y/z, 1) and their lengths for a pixel grid."""
+    if intr not in _RAY_CACHE:
+        if len(_RAY_CACHE) > 8:
+            _RAY_CACHE.clear()
+        rays = intr.ray_directions()
+        rays.setflags(write=False)
+        norm = np.linalg.norm(rays, axis=-1)
+        norm.setflags(write=False)
+        _RAY_CACHE[intr] = (rays, norm)
+    return _RAY_CACHE[intr]
+
+
 def _silence_vtk_display_warning() -> None:
     # VTK first tries X11 and warns "bad X server connection" before falling back to EGL.
     if not os.environ.get("DISPLAY"):
@@ -269,100 +293,142 @@ class SceneRenderer:
     def _shade(self, snapshot: SceneSnapshot, band: str, sensor: SensorState,
                intr: PinholeIntrinsics, tri_index: NDArray[np.int64],
                transforms: NDArray[np.float64]) -> RenderBuffers:
-        h, w = intr.height, intr.width
-        hit = (tri_index >= 0) & (tri_index < len(self.geometry.triangles))
-        tri = tri_index[hit]
-        rays_opt = intr.ray_directions()[hit]                      # (M, 3) optical
-        rot = sensor.rotation
-        origin = sensor.position
-        d = rays_opt @ rot.T                                         # world directions
-        vertices, vnormals = self.geometry.world_vertices(transforms)
-        corners = self.geometry.triangles[tri]                       # (M, 3)
-        a, b, c = (vertices[corners[:, k]] for k in range(3))
-        e1, e2 = b - a, c - a
-        p = np.cross(d, e2)
-        det = np.einsum("ij,ij->i", e1, p)
-        ok = np.abs(det) > 1e-18
-        inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
-        s = origin - a
-        u = np.einsum("ij,ij->i", s, p) * inv
-        q = np.cross(s, e1)
-        v = np.einsum("ij,ij->i", d, q) * inv
-        t = np.einsum("ij,ij->i", e2, q) * inv
-        ok &= t > 0
-        # Pixels whose centre ray grazes a triangle edge: keep the plane hit, clamp weights.
-        uc, vc = np.clip(u, 0, 1), np.clip(v, 0, 1)
-        excess = np.maximum(uc + vc - 1.0, 0.0) / 2
-        uc, vc = uc - excess, vc - excess
-        n = ((1 - uc - vc)[:, None] * vnormals[corners[:, 0]] + uc[:, None]
-             * vnormals[corners[:, 1]] + vc[:, None] * vnormals[corners[:, 2]])
-        n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-        obj = self.geometry.triangle_object[tri]
+        geo = self.geometry
+        n_tri = len(geo.triangles)
+        rot, origin = sensor.rotation, sensor.position
+        rays, ray_norm = _rays(intr)                                 # (H, W, 3), (H, W)
+        # Background pixels point at an extra "triangle" whose values are NaN / 0 / -1.
+        tri = np.where((tri_index >= 0) & (tri_index < n_tri), tri_index, n_tri)
+
+        # Per-triangle planes in the optical frame: n·X = delta, n facing the sensor.
+        vertices, vnormals = geo.world_vertices(transforms)
+        corners = geo.triangles
+        a = vertices[corners[:, 0]]
+        face = np.cross(vertices[corners[:, 1]] - a, vertices[corners[:, 2]] - a)
+        face /= np.maximum(np.linalg.norm(face, axis=1, keepdims=True), 1e-300)
+        n_opt = face @ rot                                           # world → optical
+        delta = np.einsum("ij,ij->i", face, a - origin)
+        flip = np.where(delta > 0, -1.0, 1.0)
+        plane = np.empty((n_tri + 1, 4))
+        plane[:n_tri, :3] = n_opt * flip[:, None]
+        plane[:n_tri, 3] = delta * flip
+        plane[n_tri] = (0.0, 0.0, 0.0, np.nan)
+        pl = plane[tri]                                              # (H, W, 4)
+        denom = np.einsum("hwk,hwk->hw", pl[..., :3], rays)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = pl[..., 3] / denom
+        t[~(t > 0)] = np.nan                                         # grazing / behind
+        normals = pl[..., :3].copy()
+
+        obj_of_tri = np.append(geo.triangle_object, -1)
+        obj = obj_of_tri[tri]
+        valid = np.isfinite(t)
+        obj[~valid] = -1
+
+        # Smooth surfaces: interpolate vertex normals with barycentric weights.
+        smooth_tri = np.append(geo.smooth, False)
+        smooth = smooth_tri[tri] & valid
+        if smooth.any():
+            self._smooth_normals(smooth, tri, t, rays, vertices, vnormals, rot, origin,
+                                 normals)
         if self._sphere_radius.any():
-            self._refine_spheres(obj, origin, d, transforms, t, n)
-        n *= np.where(np.einsum("ij,ij->i", n, d) > 0, -1.0, 1.0)[:, None]
-        dnorm = np.linalg.norm(d, axis=1)
-        cos_inc = np.clip(-np.einsum("ij,ij->i", n, d) / dnorm, 0.0, 1.0)
-        points_world = origin + t[:, None] * d
+            self._refine_spheres(obj, valid, origin, rot, rays, transforms, t, normals)
 
-        # Exact rigid-body velocity of each surface point relative to the sensor origin.
-        states = snapshot.objects
-        lin = np.array([s.velocity_mps for s in states]).reshape(-1, 3)[obj]
-        ang = np.array([s.angular_velocity_rps for s in states]).reshape(-1, 3)[obj]
-        centre = transforms[obj, :3, 3]
-        v_rel = lin + np.cross(ang, points_world - centre) - sensor.velocity_mps
-        radial = np.einsum("ij,ij->i", v_rel, d) / dnorm
+        points = t[..., None] * rays
+        rng = t * ray_norm
+        cos_inc = np.clip(-np.einsum("hwk,hwk->hw", normals, rays) / ray_norm, 0.0, 1.0)
+        cos_inc[~valid] = 0.0
 
-        params = {k: arr[obj] for k, arr in self._params[band].items()}
-        intensity = band_response(cos_inc, **params)
+        # Exact rigid-body velocity of each surface point relative to the sensor origin:
+        # v(X) = v_obj + w x (X - c) - v_sensor = (v_obj - v_sensor - w x c) + w x X.
+        n_obj = len(snapshot.objects)
+        lin = np.zeros((n_obj + 1, 3))
+        ang = np.zeros((n_obj + 1, 3))
+        if n_obj:
+            v_w = np.array([s.velocity_mps for s in snapshot.objects])
+            w_w = np.array([s.angular_velocity_rps for s in snapshot.objects])
+            c_w = transforms[:, :3, 3] - origin
+            lin[:n_obj] = (v_w - sensor.velocity_mps - np.cross(w_w, c_w)) @ rot
+            ang[:n_obj] = w_w @ rot
+        lin[n_obj] = ang[n_obj] = 0.0
+        if np.any(lin) or np.any(ang):
+            velocity = lin[obj]
+            if np.any(ang):
+                velocity += np.cross(ang[obj], np.nan_to_num(points))
+            velocity[~valid] = 0.0
+            radial = np.einsum("hwk,hwk->hw", velocity, rays) / ray_norm
+        else:
+            velocity = np.zeros(rays.shape)
+            radial = np.zeros(t.shape)
 
-        hit_idx = np.flatnonzero(hit)[ok]
-        sel = ok
-
-        def image(values: NDArray[Any], fill: float, dtype: type = np.float32,
-                  channels: int = 0) -> NDArray[Any]:
-            shape = (h * w, channels) if channels else (h * w,)
-            out: NDArray[Any] = np.full(shape, fill, dtype=dtype)
-            out[hit_idx] = values[sel]
-            return out.reshape((h, w, channels) if channels else (h, w))
-
-        index_img = image(obj, -1, np.int32)
+        params = {k: np.append(arr, 0.0)[obj] for k, arr in self._params[band].items()}
+        params["roughness"] = np.where(valid, params["roughness"], 1.0)
+        intensity = np.where(valid, band_response(cos_inc, **params), 0.0)
+        ids = np.append(self._ids, -1)
         return RenderBuffers(
             band=band,
             time_s=snapshot.time_s,
             intrinsics=intr,
             sensor=sensor,
-            range_m=image(t * dnorm, np.nan),
-            points_m=image(t[:, None] * rays_opt, np.nan, channels=3),
-            normals=image(n @ rot, 0.0, channels=3),
-            cos_incidence=image(cos_inc, 0.0),
-            object_index=index_img,
-            object_id=np.where(index_img >= 0, self._ids[np.maximum(index_img, 0)], -1
-                               ).astype(np.int32) if len(self._ids) else index_img,
-            intensity=image(intensity, 0.0),
-            velocity_mps=image(v_rel @ rot, 0.0, channels=3),
-            radial_velocity_mps=image(radial, 0.0),
+            range_m=rng.astype(np.float32),
+            points_m=points.astype(np.float32),
+            normals=normals.astype(np.float32),
+            cos_incidence=cos_inc.astype(np.float32),
+            object_index=obj.astype(np.int32),
+            object_id=ids[obj].astype(np.int32),
+            intensity=intensity.astype(np.float32),
+            velocity_mps=velocity.astype(np.float32),
+            radial_velocity_mps=radial.astype(np.float32),
         )
 
-    def _refine_spheres(self, obj: NDArray[np.int64], origin: NDArray[np.float64],
-                        d: NDArray[np.float64], transforms: NDArray[np.float64],
-                        t: NDArray[np.float64], n: NDArray[np.float64]) -> None:
+    def _smooth_normals(self, smooth: NDArray[np.bool_], tri: NDArray[np.int64],
+                        t: NDArray[np.float64], rays: NDArray[np.float64],
+                        vertices: NDArray[np.float64], vnormals: NDArray[np.float64],
+                        rot: NDArray[np.float64], origin: NDArray[np.float64],
+                        normals: NDArray[np.float64]) -> None:
+        """Barycentric interpolation of vertex normals on smooth triangles (in place)."""
+        corners = self.geometry.triangles[tri[smooth]]
+        a, b, c = (vertices[corners[:, k]] for k in range(3))
+        x = origin + (t[smooth][:, None] * rays[smooth]) @ rot.T      # world hit points
+        e1, e2, wv = b - a, c - a, x - a
+        d00 = np.einsum("ij,ij->i", e1, e1)
+        d01 = np.einsum("ij,ij->i", e1, e2)
+        d11 = np.einsum("ij,ij->i", e2, e2)
+        d20 = np.einsum("ij,ij->i", wv, e1)
+        d21 = np.einsum("ij,ij->i", wv, e2)
+        den = d00 * d11 - d01 * d01
+        u = np.clip((d11 * d20 - d01 * d21) / den, 0.0, 1.0)
+        v = np.clip((d00 * d21 - d01 * d20) / den, 0.0, 1.0)
+        excess = np.maximum(u + v - 1.0, 0.0) / 2
+        u, v = u - excess, v - excess
+        n = ((1 - u - v)[:, None] * vnormals[corners[:, 0]] + u[:, None]
+             * vnormals[corners[:, 1]] + v[:, None] * vnormals[corners[:, 2]]) @ rot
+        n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+        n *= np.where(np.einsum("ij,ij->i", n, rays[smooth]) > 0, -1.0, 1.0)[:, None]
+        normals[smooth] = n
+
+    def _refine_spheres(self, obj: NDArray[np.int64], valid: NDArray[np.bool_],
+                        origin: NDArray[np.float64], rot: NDArray[np.float64],
+                        rays: NDArray[np.float64], transforms: NDArray[np.float64],
+                        t: NDArray[np.float64], normals: NDArray[np.float64]) -> None:
         """Replace facet hits on spheres by the exact ray–sphere intersection (in place)."""
-        radius = self._sphere_radius[obj]
-        sel = np.flatnonzero(radius > 0)
-        if not len(sel):
+        radius = np.append(self._sphere_radius, 0.0)[obj]
+        sel = valid & (radius > 0)
+        if not sel.any():
             return
-        centre = transforms[obj[sel], :3, 3]
-        ds = d[sel]
-        oc = origin - centre
-        a = np.einsum("ij,ij->i", ds, ds)
-        b = np.einsum("ij,ij->i", ds, oc)
-        c = np.einsum("ij,ij->i", oc, oc) - radius[sel] ** 2
+        r = radius[sel]
+        centre = (transforms[obj[sel], :3, 3] - origin) @ rot         # optical frame
+        d = rays[sel]
+        a = np.einsum("ij,ij->i", d, d)
+        b = -np.einsum("ij,ij->i", d, centre)
+        c = np.einsum("ij,ij->i", centre, centre) - r**2
         disc = b * b - a * c
         ok = disc >= 0          # rays through the facets but past the true limb keep the facet
-        sel, root = sel[ok], (-b[ok] - np.sqrt(disc[ok])) / a[ok]
-        t[sel] = root
-        n[sel] = (origin + root[:, None] * d[sel] - centre[ok]) / radius[sel][:, None]
+        root = (-b - np.sqrt(np.where(ok, disc, 0.0))) / a
+        t_sel = np.where(ok, root, t[sel])
+        n_sel = np.where(ok[:, None], (t_sel[:, None] * d - centre) / r[:, None], normals[sel])
+        t[sel] = t_sel
+        normals[sel] = n_sel
 
     def close(self) -> None:
         """Release the offscreen windows."""
