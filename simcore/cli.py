@@ -104,11 +104,16 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 
 def _write_previews(preview_dir: Path, result: FrameResult) -> None:
-    """PNG previews of one computed frame."""
+    """PNG previews of one computed frame (invalid depth pixels grey)."""
+    import numpy as np
+
     from simcore.io.previews import save_previews
 
     images = {name: (result.items[path][0], cmap) for name, path, cmap in PREVIEWS
               if path in result.items}
+    if "tof_depth" in images and "/tof/valid" in result.items:
+        depth = images["tof_depth"][0].astype(float)
+        images["tof_depth"] = (np.where(result.items["/tof/valid"][0], depth, np.nan), "viridis")
     save_previews(preview_dir, result.index, images)
 
 

@@ -19,18 +19,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simcore.render import PinholeIntrinsics, RenderBuffers, SceneRenderer
-from simcore.render.buffers import downsample_ground_truth
 from simcore.scene.model import Project
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
+from simcore.sensors.tof import TofOutput, simulate_tof
 
 H5Items = dict[str, tuple[NDArray[np.generic], str]]
 
 
 def tof_render_intrinsics(project: Project) -> PinholeIntrinsics:
     """Supersampled render grid of the ToF camera (sub-pixels tile sensor pixels)."""
-    cfg = project.rig.tof
-    return PinholeIntrinsics.from_fov(cfg.width, cfg.height, cfg.fov_h_deg, cfg.fov_v_deg
-                                      ).scaled(cfg.supersampling)
+    return project.rig.tof.render_intrinsics()
 
 
 def radar_render_intrinsics(project: Project) -> PinholeIntrinsics:
@@ -77,10 +75,8 @@ class Frame:
         Rig body frame → world.
     object_poses : ndarray, shape (objects, 4, 4)
         Object local frames → world.
-    tof_gt_range : ndarray, shape (H, W), float32
-        Ground-truth range at ToF sensor resolution (m, NaN = no surface).
-    tof_gt_object_id : ndarray, shape (H, W), int32
-        Ground-truth object id at ToF sensor resolution (−1 = none).
+    tof : TofOutput
+        ToF camera outputs at sensor resolution, ground truth included.
     timings_ms : dict
         Wall time of each stage (ms).
     """
@@ -89,8 +85,7 @@ class Frame:
     time_s: float
     rig_pose: NDArray[np.float64]
     object_poses: NDArray[np.float64]
-    tof_gt_range: NDArray[np.float32]
-    tof_gt_object_id: NDArray[np.int32]
+    tof: TofOutput
     snapshot: SceneSnapshot
     tof_buffers: RenderBuffers
     radar_buffers: RenderBuffers
@@ -102,9 +97,13 @@ class Frame:
             "/time": (np.asarray(self.time_s, dtype=np.float64), "s"),
             "/poses/rig": (self.rig_pose, "m"),
             "/poses/objects": (self.object_poses, "m"),
-            "/tof/gt_range": (self.tof_gt_range, "m"),
-            "/tof/gt_object_id": (self.tof_gt_object_id, "1"),
+            **self.tof.hdf5_items(),
         }
+
+    @property
+    def tof_gt_range(self) -> NDArray[np.float32]:
+        """Ground-truth range at ToF sensor resolution (m, NaN = no surface)."""
+        return self.tof.gt_range
 
     def table_rows(self) -> dict[str, NDArray[Any]]:
         """Records this frame adds to growing tables (path → structured array)."""
@@ -167,16 +166,16 @@ class Simulator:
                 radar_buf = self.renderer.render(snap, "radar", self.radar_intrinsics)
             # Keep the latest frame's renders: edits that do not change them re-use them.
             self._render_cache = {index: (snap, tof_buf, radar_buf)}
-        with stage("ground_truth"):
-            gt_range, gt_id = downsample_ground_truth(tof_buf, self.project.rig.tof.supersampling)
+        rng = frame_rng(self.seed, index)
+        with stage("tof"):
+            tof = simulate_tof(tof_buf, self.project.rig.tof, rng=rng)
         timings["total"] = sum(timings.values())
         return Frame(
             index=index,
             time_s=t,
             rig_pose=snap.rig.transform,
             object_poses=snap.object_transforms(),
-            tof_gt_range=gt_range,
-            tof_gt_object_id=gt_id,
+            tof=tof,
             snapshot=snap,
             tof_buffers=tof_buf,
             radar_buffers=radar_buf,

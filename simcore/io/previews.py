@@ -12,13 +12,17 @@ INVALID_RGB = (0.35, 0.35, 0.35)
 
 def save_image(path: Path, image: NDArray[np.floating], *, cmap: str = "viridis",
                vmin: float | None = None, vmax: float | None = None) -> None:
-    """Save a 2-D array as a colour-mapped PNG; NaN pixels are drawn grey."""
+    """Save a 2-D array as a colour-mapped PNG; NaN pixels are drawn grey.
+
+    Without explicit limits the colour scale spans the 1st to 99th percentile.
+    """
     from matplotlib import colormaps
 
     data = np.asarray(image, dtype=np.float64)
     finite = np.isfinite(data)
-    lo = vmin if vmin is not None else (float(np.min(data[finite])) if finite.any() else 0.0)
-    hi = vmax if vmax is not None else (float(np.max(data[finite])) if finite.any() else 1.0)
+    lo_p, hi_p = (np.percentile(data[finite], [1, 99]) if finite.any() else (0.0, 1.0))
+    lo = vmin if vmin is not None else float(lo_p)
+    hi = vmax if vmax is not None else float(hi_p)
     norm = np.clip((np.where(finite, data, lo) - lo) / max(hi - lo, 1e-12), 0, 1)
     rgba = colormaps[cmap](norm)
     rgba[~finite, :3] = INVALID_RGB
