@@ -98,8 +98,10 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(f"interrupted: {report.frames_done} of {n_frames} frames are in {out}; "
               f"continue with --resume", file=sys.stderr)
         return 130
-    print(f"wrote frames {report.first_frame}..{report.frames_done - 1} to {out}"
-          if report.frames_done > report.first_frame else f"{out} already has {n_frames} frames")
+    if report.frames_done > report.first_frame:
+        print(f"wrote frames {report.first_frame}..{report.frames_done - 1} to {out}")
+    else:
+        print(f"{out} already has {report.first_frame} frames; nothing to do")
     return 0
 
 

@@ -135,3 +135,24 @@ def test_duration_sets_frame_count(tmp_path):
     assert run(project, tmp_path / "d.h5", "--duration", "0.3") == 0
     with h5py.File(tmp_path / "d.h5") as f:
         np.testing.assert_allclose(f["time"][:], [0.0, 0.1, 0.2])
+
+
+def test_ctrl_c_stops_cleanly_with_a_valid_file(tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "sig.h5"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "simcore.cli", "run", str(example_path("office")), "--out",
+         str(out), "--frames", "2000", "--quiet"], stderr=subprocess.PIPE, text=True)
+    time.sleep(6)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert "continue with --resume" in err and "Traceback" not in err
+    with h5py.File(out) as f:
+        n = int(f["meta"].attrs["n_frames"])
+        assert 0 < n < 2000
+        assert f["time"].shape == (n,) and f["tof/depth"].shape[0] == n
