@@ -55,14 +55,19 @@ _SIMULATORS: dict[str, Simulator] = {}
 def _simulator(spec: RunSpec) -> Simulator:
     sim = _SIMULATORS.get(spec.key)
     if sim is None:
-        for old in _SIMULATORS.values():
-            old.close()
-        _SIMULATORS.clear()
+        close_simulators()
         base = Path(spec.base_dir)
         project = project_from_dict(json.loads(spec.project_json), base_dir=base)
         sim = Simulator(project, base_dir=base, seed=spec.seed)
         _SIMULATORS[spec.key] = sim
     return sim
+
+
+def close_simulators() -> None:
+    """Release this process's cached simulators (offscreen windows) now, not at exit."""
+    for sim in _SIMULATORS.values():
+        sim.close()
+    _SIMULATORS.clear()
 
 
 def compute_frame(spec: RunSpec, index: int) -> FrameResult:
@@ -202,6 +207,8 @@ def run_dataset(project_json: str, base_dir: Path, out: Path, *, n_frames: int, 
                     break
         except KeyboardInterrupt:
             report.interrupted = True
+        finally:
+            close_simulators()
     return report
 
 

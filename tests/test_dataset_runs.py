@@ -149,7 +149,11 @@ def test_ctrl_c_stops_cleanly_with_a_valid_file(tmp_path):
          str(out), "--frames", "2000", "--quiet"], stderr=subprocess.PIPE, text=True)
     time.sleep(6)
     proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=120)
+    try:
+        _, err = proc.communicate(timeout=120)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        pytest.fail(f"no exit 120 s after SIGINT: {proc.communicate()[1][-2000:]}")
     assert proc.returncode == 130, err
     assert "continue with --resume" in err and "Traceback" not in err
     with h5py.File(out) as f:
