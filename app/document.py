@@ -1,0 +1,281 @@
+"""The open project: current :class:`Project`, file path, undo stack, selection and time.
+
+Every edit replaces the project by a new, validated copy through a
+:class:`ReplaceProjectCommand` on the undo stack, then the document emits one
+``projectChanged`` signal. Projects are never mutated in place, so the simulation worker can
+keep using the copy it was given while the user goes on editing.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from pydantic import ValidationError
+from PyQt6.QtCore import QObject, pyqtSignal
+from PyQt6.QtGui import QUndoCommand, QUndoStack
+
+from simcore.scene import Project, load_project, save_project
+from simcore.scene.project_io import (
+    ProjectError,
+    check_references,
+    format_validation_error,
+    project_to_json,
+)
+
+#: Selection key of the sensor rig (objects are selected by their integer id).
+RIG = "rig"
+
+_MERGE_IDS: dict[str, int] = {}
+
+
+def _merge_id(key: str | None) -> int:
+    """Small integer for a merge key (``QUndoCommand.id`` must be an int); never re-used."""
+    if key is None:
+        return -1
+    if key not in _MERGE_IDS:
+        _MERGE_IDS[key] = 1000 + _next_merge_serial()
+    return _MERGE_IDS[key]
+
+
+_SERIAL = [0]
+
+
+def _next_merge_serial() -> int:
+    _SERIAL[0] += 1
+    return _SERIAL[0]
+
+
+class EditError(ValueError):
+    """An edit produced an invalid project; the message names the bad field."""
+
+
+class ReplaceProjectCommand(QUndoCommand):
+    """Undoable replacement of the document's project by an edited copy.
+
+    Consecutive commands with the same merge key (e.g. the steps of one drag) merge into
+    one undo step that restores the project from before the first step.
+    """
+
+    def __init__(self, document: ProjectDocument, before: Project, after: Project, text: str,
+                 merge_key: str | None = None):
+        super().__init__(text)
+        self._document = document
+        self.before = before
+        self.after = after
+        self._id = _merge_id(merge_key)
+
+    def id(self) -> int:  # noqa: D102 - Qt API
+        return self._id
+
+    def mergeWith(self, other: QUndoCommand) -> bool:  # noqa: N802, D102 - Qt API
+        if not isinstance(other, ReplaceProjectCommand) or other.id() != self.id():
+            return False
+        self.after = other.after
+        return True
+
+    def redo(self) -> None:  # noqa: D102 - Qt API
+        self._document._set_project(self.after)
+
+    def undo(self) -> None:  # noqa: D102 - Qt API
+        self._document._set_project(self.before)
+
+
+class ProjectDocument(QObject):
+    """The project being edited, its file and its history.
+
+    Signals
+    -------
+    projectChanged(Project)
+        After every edit, undo, redo, new or open.
+    projectReplaced()
+        A different project was created or opened (views rebuild everything).
+    pathChanged(object)
+        The file path changed (``Path`` or ``None``).
+    dirtyChanged(bool)
+        The project differs (or no longer differs) from the saved file.
+    selectionChanged(object)
+        Selected object id, :data:`RIG`, or ``None``.
+    """
+
+    projectChanged = pyqtSignal(object)
+    projectReplaced = pyqtSignal()
+    pathChanged = pyqtSignal(object)
+    dirtyChanged = pyqtSignal(bool)
+    selectionChanged = pyqtSignal(object)
+
+    def __init__(self, project: Project | None = None, path: Path | None = None,
+                 parent: QObject | None = None):
+        super().__init__(parent)
+        self.undo_stack = QUndoStack(self)
+        self.undo_stack.cleanChanged.connect(lambda clean: self.dirtyChanged.emit(not clean))
+        self._project = project if project is not None else Project()
+        self._path = path
+        self._selection: int | str | None = None
+
+    # --- state ------------------------------------------------------------------------
+    @property
+    def project(self) -> Project:
+        """The current project (treat as read-only: edit through :meth:`edit`)."""
+        return self._project
+
+    @property
+    def path(self) -> Path | None:
+        """The project file, or ``None`` for a project never saved."""
+        return self._path
+
+    @property
+    def base_dir(self) -> Path:
+        """Folder that relative mesh paths are resolved against."""
+        return self._path.parent if self._path is not None else Path.cwd()
+
+    @property
+    def is_dirty(self) -> bool:
+        """True when there are unsaved changes."""
+        return not self.undo_stack.isClean()
+
+    @property
+    def selection(self) -> int | str | None:
+        """Selected object id, :data:`RIG` or ``None``."""
+        return self._selection
+
+    def select(self, key: int | str | None) -> None:
+        """Select an object by id, the rig (:data:`RIG`) or nothing."""
+        if key is not None and key != RIG and not any(o.id == key for o in self._project.objects):
+            key = None
+        if key != self._selection:
+            self._selection = key
+            self.selectionChanged.emit(key)
+
+    def selected_index(self) -> int | None:
+        """Index in ``project.objects`` of the selected object, or ``None``."""
+        for i, obj in enumerate(self._project.objects):
+            if obj.id == self._selection:
+                return i
+        return None
+
+    def index_of(self, object_id: int) -> int:
+        """Index in ``project.objects`` of the object with ``object_id`` (KeyError)."""
+        for i, obj in enumerate(self._project.objects):
+            if obj.id == object_id:
+                return i
+        raise KeyError(object_id)
+
+    # --- editing ----------------------------------------------------------------------
+    def validated(self, data: dict[str, Any]) -> Project:
+        """Validate an edited project document; raise :class:`EditError` naming the field."""
+        try:
+            project = Project.model_validate(data)
+        except ValidationError as exc:
+            raise EditError("; ".join(format_validation_error(exc))) from None
+        problems = check_references(project, self.base_dir)
+        if problems:
+            raise EditError("; ".join(problems))
+        return project
+
+    def edit(self, text: str, mutate: Callable[[dict[str, Any]], None], *,
+             merge_key: str | None = None) -> Project:
+        """Apply ``mutate`` to a copy of the project document and push it as one undo step.
+
+        Parameters
+        ----------
+        text : str
+            Undo-menu text, e.g. "Move sphere".
+        mutate : callable
+            Changes the plain ``dict`` (``Project.model_dump()``) in place.
+        merge_key : str, optional
+            Consecutive edits with the same key merge into one undo step (drags, sliders).
+
+        Returns
+        -------
+        Project
+            The new project.
+
+        Raises
+        ------
+        EditError
+            The edit makes the project invalid; the project is left unchanged.
+        """
+        data = self._project.model_dump()
+        mutate(data)
+        new = self.validated(data)
+        self.push(new, text, merge_key=merge_key)
+        return new
+
+    def push(self, new: Project, text: str, *, merge_key: str | None = None) -> None:
+        """Push the replacement of the project by ``new`` (already validated)."""
+        if new == self._project:
+            return
+        self.undo_stack.push(ReplaceProjectCommand(self, self._project, new, text, merge_key))
+
+    def set_value(self, path: str, value: Any, *, text: str | None = None,
+                  merge_key: str | None = None) -> Project:
+        """Set one field given by a dotted path such as ``objects.3.pose.position_m``."""
+        keys: list[str | int] = [int(k) if k.lstrip("-").isdigit() else k
+                                 for k in path.split(".")]
+
+        def mutate(data: dict[str, Any]) -> None:
+            node: Any = data
+            for k in keys[:-1]:
+                node = node[k]
+            node[keys[-1]] = copy.deepcopy(value)
+
+        return self.edit(text or f"Set {keys[-1]}", mutate, merge_key=merge_key)
+
+    def end_merge(self) -> None:
+        """Close the current merge run (a drag ended): the next edit starts a new step."""
+        _MERGE_IDS.clear()
+
+    def _set_project(self, project: Project) -> None:
+        self._project = project
+        if self._selection not in (None, RIG) and not any(
+                o.id == self._selection for o in project.objects):
+            self._selection = None
+            self.selectionChanged.emit(None)
+        self.projectChanged.emit(project)
+
+    # --- files ------------------------------------------------------------------------
+    def replace(self, project: Project, path: Path | None) -> None:
+        """Start over with ``project`` (New, Open): clears history and selection."""
+        self.undo_stack.clear()
+        self._path = path
+        self._selection = None
+        self._project = project
+        self.undo_stack.setClean()
+        self.pathChanged.emit(path)
+        self.selectionChanged.emit(None)
+        self.projectReplaced.emit()
+        self.projectChanged.emit(project)
+        self.dirtyChanged.emit(False)
+
+    def new(self, project: Project | None = None) -> None:
+        """Replace by a new, unsaved project."""
+        self.replace(project if project is not None else Project(), None)
+
+    def open(self, path: str | Path) -> None:
+        """Load ``path``; on :class:`ProjectError` the current project stays untouched."""
+        path = Path(path)
+        project = load_project(path)
+        self.replace(project, path.resolve())
+
+    def save(self, path: str | Path | None = None) -> Path:
+        """Save atomically to ``path`` (default: the current file) and mark clean."""
+        target = Path(path) if path is not None else self._path
+        if target is None:
+            raise ValueError("no file name: use save(path)")
+        target = target.resolve()
+        save_project(self._project, target)
+        if target != self._path:
+            self._path = target
+            self.pathChanged.emit(target)
+        self.undo_stack.setClean()
+        return target
+
+    def to_json(self) -> str:
+        """Canonical JSON text of the project."""
+        return project_to_json(self._project)
+
+
+__all__ = ["RIG", "EditError", "ProjectDocument", "ProjectError", "ReplaceProjectCommand"]

@@ -1,0 +1,546 @@
+"""The main window: 3D viewport in the centre, editors and live panels in docks."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from PyQt6.QtCore import QSettings, Qt, QTimer
+from PyQt6.QtGui import QAction, QCloseEvent, QKeySequence
+from PyQt6.QtWidgets import (
+    QApplication,
+    QDockWidget,
+    QFileDialog,
+    QInputDialog,
+    QLabel,
+    QMainWindow,
+    QMenu,
+    QMessageBox,
+    QProgressDialog,
+    QWidget,
+)
+
+from app.antenna_editor import AntennaEditor
+from app.document import ProjectDocument, ProjectError
+from app.export import DatasetExportJob, export_panel_images
+from app.frame_view import FrameView
+from app.material_editor import MaterialEditor
+from app.panels import LivePanel, RangeAzimuthPanel, RangeDopplerPanel, RangeProfilePanel, TofPanel
+from app.scene_editor import ObjectInspector, ObjectListPanel, build_add_menu
+from app.sensor_editor import SensorEditor
+from app.simulation import SimulationController
+from app.time_controls import TimeBar, TimeController
+from app.viewport import SceneViewport
+from simcore.resources import EXAMPLES_DIR
+
+MAX_RECENT = 8
+STAGE_LABELS = {"snapshot": "snap", "render_tof": "render ToF", "render_radar": "render radar",
+                "tof": "ToF", "radar": "radar", "dsp": "DSP", "ground_truth": "GT"}
+
+
+class MainWindow(QMainWindow):
+    """tofradar's main window.
+
+    Parameters
+    ----------
+    project_path : path, optional
+        Project to open at start (an empty project otherwise).
+    settings : QSettings, optional
+        Where recent files and the window layout are kept (tests pass a temporary file).
+    """
+
+    def __init__(self, project_path: str | Path | None = None, *,
+                 settings: QSettings | None = None):
+        super().__init__()
+        self.settings = settings if settings is not None else QSettings("tofradar", "tofradar")
+        self.document = ProjectDocument(parent=self)
+        self.sim = SimulationController(self)
+        self.time = TimeController(self.document, self)
+        self.viewport = SceneViewport(self.document)
+        self.setCentralWidget(self.viewport)
+        self.last_view: FrameView | None = None
+        self.last_error_dialog: QMessageBox | None = None
+        self.export_job: DatasetExportJob | None = None
+        self.progress_dialog: QProgressDialog | None = None
+        self._closing = False
+        self._frame_timer = QTimer(self)
+        self._frame_timer.setSingleShot(True)
+        self._frame_timer.setInterval(0)
+        self._frame_timer.timeout.connect(self._request_frame)
+
+        self._build_docks()
+        self._build_actions()
+        self._build_menus()
+        self._build_toolbar()
+        self._build_status_bar()
+        self._connect()
+        self.resize(1720, 1020)
+        self._update_title()
+        if project_path is not None:
+            self.open_project(project_path, ask=False)
+        else:
+            self._schedule_frame()
+
+    # --- construction -----------------------------------------------------------------
+    def _dock(self, title: str, widget: QWidget, area: Qt.DockWidgetArea, name: str
+              ) -> QDockWidget:
+        dock = QDockWidget(title, self)
+        dock.setObjectName(name)
+        dock.setWidget(widget)
+        dock.setAllowedAreas(Qt.DockWidgetArea.AllDockWidgetAreas)
+        self.addDockWidget(area, dock)
+        return dock
+
+    def _build_docks(self) -> None:
+        doc = self.document
+        left, right, bottom = (Qt.DockWidgetArea.LeftDockWidgetArea,
+                               Qt.DockWidgetArea.RightDockWidgetArea,
+                               Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.object_list = ObjectListPanel(doc)
+        self.inspector = ObjectInspector(doc)
+        self.material_editor = MaterialEditor(doc)
+        self.sensor_editor = SensorEditor(doc)
+        self.antenna_editor = AntennaEditor(doc)
+        self.tof_panel = TofPanel()
+        self.profile_panel = RangeProfilePanel()
+        self.rd_panel = RangeDopplerPanel()
+        self.ra_panel = RangeAzimuthPanel()
+        self.docks: dict[str, QDockWidget] = {}
+        self.docks["scene"] = self._dock("Scene", self.object_list, left, "dock_scene")
+        self.docks["inspector"] = self._dock("Inspector", self.inspector, left, "dock_inspector")
+        self.docks["tof"] = self._dock("ToF camera", self.tof_panel, right, "dock_tof")
+        self.docks["profile"] = self._dock("Range profile", self.profile_panel, right,
+                                           "dock_profile")
+        self.docks["rd"] = self._dock("Range–Doppler", self.rd_panel, right, "dock_rd")
+        self.docks["ra"] = self._dock("Range–azimuth", self.ra_panel, right, "dock_ra")
+        self.splitDockWidget(self.docks["rd"], self.docks["ra"], Qt.Orientation.Horizontal)
+        self.docks["antennas"] = self._dock("Antenna array", self.antenna_editor, bottom,
+                                            "dock_antennas")
+        self.docks["materials"] = self._dock("Materials", self.material_editor, bottom,
+                                             "dock_materials")
+        self.docks["sensors"] = self._dock("Sensors", self.sensor_editor, bottom, "dock_sensors")
+        self.tabifyDockWidget(self.docks["antennas"], self.docks["materials"])
+        self.tabifyDockWidget(self.docks["materials"], self.docks["sensors"])
+        self.docks["antennas"].raise_()
+        self.setCorner(Qt.Corner.BottomRightCorner, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.setCorner(Qt.Corner.BottomLeftCorner, Qt.DockWidgetArea.LeftDockWidgetArea)
+        self.resizeDocks([self.docks["scene"], self.docks["tof"]], [330, 720],
+                         Qt.Orientation.Horizontal)
+        self.resizeDocks([self.docks["tof"], self.docks["profile"], self.docks["rd"]],
+                         [300, 260, 360], Qt.Orientation.Vertical)
+        self.resizeDocks([self.docks["scene"], self.docks["inspector"]], [300, 600],
+                         Qt.Orientation.Vertical)
+        self.resizeDocks([self.docks["antennas"]], [300], Qt.Orientation.Vertical)
+        self.panels: dict[str, LivePanel] = {
+            "ToF camera": self.tof_panel, "Range profile": self.profile_panel,
+            "Range-Doppler": self.rd_panel, "Range-azimuth": self.ra_panel}
+
+    def _action(self, text: str, slot: Any, *, shortcut: Any = None, tip: str = "",
+                checkable: bool = False) -> QAction:
+        action = QAction(text, self)
+        if shortcut is not None:
+            if isinstance(shortcut, list):
+                action.setShortcuts(shortcut)
+            else:
+                action.setShortcut(shortcut)
+        if tip:
+            action.setToolTip(tip)
+            action.setStatusTip(tip)
+        action.setCheckable(checkable)
+        action.triggered.connect(slot)
+        self.addAction(action)
+        return action
+
+    def _build_actions(self) -> None:
+        a = self._action
+        keys = QKeySequence.StandardKey
+        self.new_action = a("&New", lambda: self.new_project(), shortcut=keys.New,
+                            tip="Start an empty project")
+        self.open_action = a("&Open…", lambda: self.open_dialog(),
+                             shortcut=QKeySequence.StandardKey.Open, tip="Open a project file")
+        self.save_action = a("&Save", lambda: self.save(), shortcut=QKeySequence.StandardKey.Save,
+                             tip="Save the project (atomic write)")
+        self.save_as_action = a("Save &As…", lambda: self.save_as(),
+                                shortcut=QKeySequence("Ctrl+Shift+S"),
+                                tip="Save the project under a new name")
+        self.export_dataset_action = a("Export &dataset (HDF5)…",
+                                       lambda: self.export_dataset_dialog(),
+                                       tip="Run the headless dataset job on this project")
+        self.export_images_action = a("Export panel &images…",
+                                      lambda: self.export_images_dialog(),
+                                      tip="Save PNG images of the 3D view and the live panels")
+        self.quit_action = a("&Quit", lambda: self.close(), shortcut=QKeySequence("Ctrl+Q"))
+        self.undo_action = self.document.undo_stack.createUndoAction(self, "&Undo")
+        self.undo_action.setShortcut(QKeySequence("Ctrl+Z"))
+        self.redo_action = self.document.undo_stack.createRedoAction(self, "&Redo")
+        self.redo_action.setShortcuts([QKeySequence("Ctrl+Shift+Z"), QKeySequence("Ctrl+Y")])
+        self.addAction(self.undo_action)
+        self.addAction(self.redo_action)
+        self.duplicate_action = a("&Duplicate", lambda: self.object_list.duplicate_selected(),
+                                  shortcut=QKeySequence("Ctrl+D"), tip="Duplicate the selection")
+        self.delete_action = a("De&lete", lambda: self.object_list.delete_selected(),
+                               shortcut=QKeySequence.StandardKey.Delete,
+                               tip="Delete the selected object")
+        self.rename_action = a("&Rename", lambda: self._rename_selected(),
+                               shortcut=QKeySequence("F2"), tip="Rename the selected object")
+        self.play_action = a("Play / pause", lambda: self.time.set_playing(not self.time.playing),
+                             shortcut=QKeySequence("Space"), tip="Play / pause (Space)")
+        self.step_forward_action = a("Next frame", lambda: self.time.step(1),
+                                     shortcut=QKeySequence("."))
+        self.step_back_action = a("Previous frame", lambda: self.time.step(-1),
+                                  shortcut=QKeySequence(","))
+        self.first_frame_action = a("First frame", lambda: self.time.set_index(0),
+                                    shortcut=QKeySequence("Home"))
+        self.reset_camera_action = a("Reset camera", lambda: self.viewport.reset_camera(),
+                                     shortcut=QKeySequence("R"), tip="Look at the whole scene")
+        self.show_fov_action = a("Show sensor fields of view", self._toggle_fov, checkable=True,
+                                 tip="Draw the ToF (green) and radar (orange) frustums")
+        self.show_fov_action.setChecked(True)
+
+    def _build_menus(self) -> None:
+        bar = self.menuBar()
+        file_menu = bar.addMenu("&File")
+        file_menu.addActions([self.new_action, self.open_action])
+        self.recent_menu = QMenu("Open &recent", self)
+        self.recent_menu.aboutToShow.connect(self._fill_recent_menu)
+        file_menu.addMenu(self.recent_menu)
+        self.examples_menu = QMenu("Open &example", self)
+        for path in sorted(EXAMPLES_DIR.glob("*.json")):
+            act = self.examples_menu.addAction(path.stem)
+            act.triggered.connect(lambda _=False, p=path: self.open_project(p))
+        file_menu.addMenu(self.examples_menu)
+        file_menu.addSeparator()
+        file_menu.addActions([self.save_action, self.save_as_action])
+        file_menu.addSeparator()
+        file_menu.addActions([self.export_dataset_action, self.export_images_action])
+        file_menu.addSeparator()
+        file_menu.addAction(self.quit_action)
+        edit = bar.addMenu("&Edit")
+        edit.addActions([self.undo_action, self.redo_action])
+        edit.addSeparator()
+        self.add_menu = build_add_menu(self, self.document, self.show_status_error)
+        edit.addMenu(self.add_menu)
+        edit.addActions([self.duplicate_action, self.rename_action, self.delete_action])
+        view = bar.addMenu("&View")
+        view.addActions([self.reset_camera_action, self.show_fov_action])
+        view.addSeparator()
+        for dock in self.docks.values():
+            view.addAction(dock.toggleViewAction())
+        sim = bar.addMenu("&Simulation")
+        sim.addActions([self.play_action, self.step_back_action, self.step_forward_action,
+                        self.first_frame_action])
+        help_menu = bar.addMenu("&Help")
+        help_menu.addAction("About tofradar", self._about)
+
+    def _build_toolbar(self) -> None:
+        tb = self.addToolBar("Main")
+        tb.setObjectName("toolbar_main")
+        tb.setMovable(False)
+        tb.addActions([self.new_action, self.open_action, self.save_action])
+        tb.addSeparator()
+        tb.addActions([self.undo_action, self.redo_action])
+        tb.addSeparator()
+        add_button = tb.addAction("Add ▾")
+        add_button.setToolTip("Add an object")
+        add_button.setMenu(self.add_menu)
+        add_button.triggered.connect(lambda: self.add_menu.exec(self.cursor().pos()))
+        tb.addActions([self.duplicate_action, self.delete_action])
+        tb.addSeparator()
+        tb.addAction(self.reset_camera_action)
+        tb.addSeparator()
+        self.time_bar = TimeBar(self.time)
+        tb.addWidget(self.time_bar)
+
+    def _build_status_bar(self) -> None:
+        sb = self.statusBar()
+        self.busy_label = QLabel("○ idle")
+        self.busy_label.setToolTip("Simulation worker state")
+        self.fps_label = QLabel("— fps")
+        self.fps_label.setToolTip("Simulated frames per second (completed frames, last 5 s)")
+        self.stage_label = QLabel("")
+        self.stage_label.setToolTip("Wall time of each pipeline stage of the last frame (ms)")
+        self.render_label = QLabel("")
+        self.render_label.setToolTip("Render passes so far and latency from edit to display")
+        for w in (self.stage_label, self.render_label, self.fps_label, self.busy_label):
+            sb.addPermanentWidget(w)
+
+    def _connect(self) -> None:
+        doc = self.document
+        doc.projectChanged.connect(self._schedule_frame)
+        doc.dirtyChanged.connect(self._update_title)
+        doc.pathChanged.connect(self._update_title)
+        doc.undo_stack.indexChanged.connect(self._update_title)
+        self.time.indexChanged.connect(self._on_time_changed)
+        self.sim.frameReady.connect(self._on_frame)
+        self.sim.failed.connect(self._on_sim_failed)
+        self.sim.busyChanged.connect(self._on_busy)
+        for editor in (self.object_list, self.inspector, self.material_editor,
+                       self.sensor_editor, self.antenna_editor, self.viewport):
+            editor.editFailed.connect(self.show_status_error)
+        self.inspector.editMaterialRequested.connect(self._edit_material)
+
+    # --- simulation -------------------------------------------------------------------
+    def _on_sim_failed(self, message: str) -> None:
+        self.show_status_error(f"simulation: {message}")
+
+    def _schedule_frame(self, *_: object) -> None:
+        if not self._closing:
+            self._frame_timer.start()
+
+    def _request_frame(self) -> None:
+        if not self._closing:
+            self.sim.request(self.document.project, self.time.index,
+                             base_dir=self.document.base_dir)
+
+    def _on_time_changed(self, _index: int) -> None:
+        self.viewport.set_time(self.time.time_s)
+        self._schedule_frame()
+
+    def _on_frame(self, view: FrameView) -> None:
+        self.last_view = view
+        for panel in self.panels.values():
+            panel.show_frame(view)
+        self.viewport.set_detections(view)
+        self.time.frame_done()
+        stages = [f"{STAGE_LABELS.get(k, k)} {v:.0f}" for k, v in view.timings_ms.items()
+                  if k not in ("total", "wall")]
+        self.stage_label.setText(" · ".join(stages) + " ms" if stages else "")
+        self.render_label.setText(f"renders {view.render_count} · latency "
+                                  f"{view.latency_ms:.0f} ms")
+        fps = self.sim.frames_per_second()
+        wall = view.timings_ms.get("wall", 0.0)
+        self.fps_label.setText(f"{fps:.1f} fps" if fps > 0 else
+                               f"{1e3 / wall:.1f} fps" if wall > 0 else "— fps")
+        if view.notes:
+            self.statusBar().showMessage("; ".join(view.notes), 8000)
+
+    def _on_busy(self, busy: bool) -> None:  # noqa: FBT001
+        self.busy_label.setText("● computing" if busy else "○ idle")
+        self.busy_label.setStyleSheet("color: #ffb74d;" if busy else "color: #81c784;")
+
+    def frame_is_current(self) -> bool:
+        """True when the panels show the frame of the latest project state and time."""
+        return (not self._frame_timer.isActive() and self.last_view is not None
+                and self.last_view.request_serial == self.sim.latest_serial)
+
+    # --- messages ---------------------------------------------------------------------
+    def show_status_error(self, message: str) -> None:
+        """Show an edit or simulation error in the status bar."""
+        self.statusBar().showMessage(f"⚠ {message}", 12000)
+
+    def show_error(self, title: str, message: str) -> QMessageBox:
+        """Show an error dialog (window-modal, does not block the event loop)."""
+        box = QMessageBox(QMessageBox.Icon.Critical, title, message,
+                          QMessageBox.StandardButton.Ok, self)
+        box.setWindowModality(Qt.WindowModality.WindowModal)
+        box.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
+        self.last_error_dialog = box
+        box.open()
+        return box
+
+    def _about(self) -> None:
+        QMessageBox.about(self, "About tofradar",
+                          "tofradar — synchronized AMCW ToF camera and FMCW radar simulation "
+                          "from one 3D scene.")
+
+    def _update_title(self, *_: object) -> None:
+        path = self.document.path
+        name = path.name if path is not None else "untitled"
+        self.setWindowTitle(f"{name}[*] — tofradar")
+        self.setWindowModified(self.document.is_dirty)
+
+    def _toggle_fov(self) -> None:
+        on = self.show_fov_action.isChecked()
+        self.viewport.set_sensor_fov_visible(tof=on, radar=on)
+
+    def _edit_material(self, name: str) -> None:
+        self.material_editor.show_material(name)
+        self.docks["materials"].show()
+        self.docks["materials"].raise_()
+
+    def _rename_selected(self) -> None:
+        idx = self.document.selected_index()
+        if idx is None:
+            return
+        self.docks["inspector"].raise_()
+        self.inspector.name_edit.setFocus()
+        self.inspector.name_edit.selectAll()
+
+    # --- files ------------------------------------------------------------------------
+    def ask_save_changes(self) -> QMessageBox.StandardButton:
+        """Ask whether to save unsaved changes (tests replace this method)."""
+        buttons = (QMessageBox.StandardButton.Save | QMessageBox.StandardButton.Discard
+                   | QMessageBox.StandardButton.Cancel)
+        return QMessageBox.question(self, "Unsaved changes",
+                                    "The project has unsaved changes. Save them first?",
+                                    buttons, QMessageBox.StandardButton.Save)
+
+    def maybe_save(self) -> bool:
+        """True when it is fine to drop the current project (saved, discarded or clean)."""
+        if not self.document.is_dirty:
+            return True
+        answer = self.ask_save_changes()
+        if answer == QMessageBox.StandardButton.Save:
+            return self.save()
+        return answer == QMessageBox.StandardButton.Discard
+
+    def new_project(self) -> None:
+        """Start an empty project."""
+        if self.maybe_save():
+            self.document.new()
+
+    def open_dialog(self) -> None:
+        """Ask for a project file and open it."""
+        if not self.maybe_save():
+            return
+        start = str(self.document.base_dir)
+        path, _ = QFileDialog.getOpenFileName(self, "Open project", start,
+                                              "tofradar projects (*.json);;All files (*)")
+        if path:
+            self.open_project(path, ask=False)
+
+    def open_project(self, path: str | Path, *, ask: bool = True) -> bool:
+        """Open ``path``; a bad file shows an error dialog and keeps the current project."""
+        if ask and not self.maybe_save():
+            return False
+        try:
+            self.document.open(path)
+        except ProjectError as exc:
+            self.show_error("Cannot open project", str(exc))
+            return False
+        self._add_recent(Path(path).resolve())
+        self.statusBar().showMessage(f"Opened {path}", 5000)
+        return True
+
+    def save(self) -> bool:
+        """Save to the current file (asks for a name if there is none)."""
+        if self.document.path is None:
+            return self.save_as()
+        return self.save_to(self.document.path)
+
+    def save_as(self) -> bool:
+        """Ask for a file name and save there."""
+        path, _ = QFileDialog.getSaveFileName(self, "Save project as", str(self.document.base_dir),
+                                              "tofradar projects (*.json)")
+        if not path:
+            return False
+        if not path.endswith(".json"):
+            path += ".json"
+        return self.save_to(Path(path))
+
+    def save_to(self, path: Path) -> bool:
+        """Save the project to ``path`` (atomically)."""
+        try:
+            target = self.document.save(path)
+        except OSError as exc:
+            self.show_error("Cannot save project", f"{path}: {exc}")
+            return False
+        self._add_recent(target)
+        self.statusBar().showMessage(f"Saved {target}", 5000)
+        return True
+
+    def recent_files(self) -> list[str]:
+        """Recently opened or saved project files, newest first."""
+        value = self.settings.value("recent_files", [])
+        if isinstance(value, str):
+            value = [value]
+        return [str(v) for v in (value or [])]
+
+    def _add_recent(self, path: Path) -> None:
+        files = [str(path)] + [f for f in self.recent_files() if f != str(path)]
+        self.settings.setValue("recent_files", files[:MAX_RECENT])
+
+    def _fill_recent_menu(self) -> None:
+        self.recent_menu.clear()
+        files = self.recent_files()
+        if not files:
+            self.recent_menu.addAction("(none)").setEnabled(False)
+        for f in files:
+            act = self.recent_menu.addAction(f)
+            act.triggered.connect(lambda _=False, p=f: self.open_project(p))
+
+    # --- exports ----------------------------------------------------------------------
+    def export_dataset_dialog(self) -> None:
+        """Ask for an output file and a frame count, then run the dataset job."""
+        start = str(self.document.base_dir / f"{self.document.project.name}.h5")
+        path, _ = QFileDialog.getSaveFileName(self, "Export dataset", start,
+                                              "HDF5 datasets (*.h5)")
+        if not path:
+            return
+        n, ok = QInputDialog.getInt(self, "Export dataset", "Frames:",
+                                    self.document.project.timeline.n_frames, 1, 100000)
+        if ok:
+            self.export_dataset(Path(path), n_frames=n)
+
+    def export_dataset(self, out: Path, *, n_frames: int) -> DatasetExportJob:
+        """Write ``n_frames`` frames into ``out`` with a cancellable progress dialog."""
+        job = DatasetExportJob(self.document.project, self.document.base_dir, Path(out),
+                               n_frames=n_frames, parent=self)
+        dialog = QProgressDialog(f"Writing {out.name}…", "Cancel", 0, n_frames, self)
+        dialog.setWindowTitle("Export dataset")
+        dialog.setWindowModality(Qt.WindowModality.WindowModal)
+        dialog.setMinimumDuration(0)
+        dialog.setAutoClose(False)
+        dialog.setAutoReset(False)
+        dialog.canceled.connect(job.cancel)
+        job.progress.connect(lambda done, total: (dialog.setMaximum(total),
+                                                  dialog.setValue(done)))
+
+        def finished(message: str) -> None:
+            dialog.close()
+            self.statusBar().showMessage(message, 10000)
+
+        def failed(message: str) -> None:
+            dialog.close()
+            self.show_error("Export failed", message)
+
+        job.done.connect(finished)
+        job.failed.connect(failed)
+        self.export_job = job
+        self.progress_dialog = dialog
+        dialog.show()
+        job.start()
+        return job
+
+    def export_images_dialog(self) -> None:
+        """Ask for a folder and save PNGs of the panels there."""
+        folder = QFileDialog.getExistingDirectory(self, "Export panel images",
+                                                  str(self.document.base_dir))
+        if folder:
+            files = self.export_images(Path(folder))
+            self.statusBar().showMessage(f"Saved {len(files)} images to {folder}", 8000)
+
+    def export_images(self, folder: Path) -> list[Path]:
+        """Save PNGs of the 3D view and every live panel into ``folder``."""
+        for panel in self.panels.values():
+            panel.draw_now()
+        widgets: dict[str, QWidget] = {"3D view": self.viewport, **self.panels}
+        return export_panel_images(widgets, folder)
+
+    # --- closing ----------------------------------------------------------------------
+    def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802, D102 - Qt API
+        if not self._closing and not self.maybe_save():
+            event.ignore()
+            return
+        self.shutdown()
+        event.accept()
+
+    def shutdown(self) -> None:
+        """Stop the workers and release the VTK windows (idempotent)."""
+        if self._closing:
+            return
+        self._closing = True
+        self.time.set_playing(False)
+        self._frame_timer.stop()
+        if self.export_job is not None and self.export_job.isRunning():
+            self.export_job.cancel()
+            self.export_job.wait()
+        self.sim.shutdown()
+        self.viewport.close_view()
+
+
+def current_app() -> QApplication:
+    """The running QApplication."""
+    app = QApplication.instance()
+    assert isinstance(app, QApplication)
+    return app

@@ -1,0 +1,243 @@
+"""Dual-band material editor: ToF (near-IR) and radar parameters side by side.
+
+Materials come from the bundled library and the project; editing a library material saves
+an override of the same name into the project (the library file is never written).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from PyQt6.QtCore import QSignalBlocker, pyqtSignal
+from PyQt6.QtWidgets import (
+    QCheckBox,
+    QComboBox,
+    QFormLayout,
+    QGroupBox,
+    QHBoxLayout,
+    QInputDialog,
+    QLabel,
+    QPushButton,
+    QVBoxLayout,
+    QWidget,
+)
+
+from app.document import RIG, EditError, ProjectDocument
+from app.widgets import set_quietly, spin, try_edit
+from simcore.scene import load_material_library
+from simcore.scene.project_io import material_table
+
+BAND_FIELDS: list[tuple[str, str, float, float, float, str]] = [
+    # field, label, min, max, step, tooltip
+    ("reflectance", "reflectance", 0.0, 1.0, 0.05,
+     "diffuse (Lambertian) reflectance / albedo, 0–1"),
+    ("specular", "specular weight", 0.0, 1000.0, 0.1,
+     "weight of the rough-surface specular lobe (Beckmann)"),
+    ("roughness", "roughness", 0.01, 2.0, 0.05,
+     "rms surface slope: width of the specular lobe (0.01 mirror … 2 very rough)"),
+    ("metallic", "metallic", 0.0, 1.0, 0.1, "1 removes the diffuse part (metals)"),
+    ("opacity", "opacity", 0.0, 1.0, 0.1,
+     "0: the band sees through the object (it is not rendered in this band)"),
+    ("retro_gain", "retro gain", 0.0, 1e6, 1.0,
+     "angle-independent extra return of a retroreflector (band response units)"),
+]
+
+BAND_TITLES = {"tof": "ToF (near-IR)", "radar": "Radar (mm-wave)"}
+
+
+def set_material_field(document: ProjectDocument, name: str, band: str, field: str,
+                       value: Any) -> None:
+    """Set one band parameter of material ``name`` (copied into the project if needed)."""
+    table = material_table(document.project)
+    if name not in table:
+        raise EditError(f"materials: unknown material {name!r}")
+
+    def mutate(d: dict[str, Any]) -> None:
+        for m in d["materials"]:
+            if m["name"] == name:
+                target = m
+                break
+        else:
+            target = table[name].model_dump()
+            d["materials"].append(target)
+        target[band][field] = value
+
+    document.edit(f"Material {name}: {band} {field}", mutate)
+
+
+def save_material_as(document: ProjectDocument, source: str, new_name: str) -> None:
+    """Copy material ``source`` into the project under ``new_name``."""
+    table = material_table(document.project)
+    if new_name in table and new_name != source:
+        raise EditError(f"materials: a material called {new_name!r} already exists")
+    mat = table[source].model_dump()
+    mat["name"] = new_name
+
+    def mutate(d: dict[str, Any]) -> None:
+        d["materials"] = [m for m in d["materials"] if m["name"] != new_name] + [mat]
+
+    document.edit(f"Save material {new_name}", mutate)
+
+
+class BandEditor(QGroupBox):
+    """The parameters of one band."""
+
+    edited = pyqtSignal(str, str, object)  # band, field, value
+
+    def __init__(self, band: str, parent: QWidget | None = None):
+        super().__init__(BAND_TITLES[band], parent)
+        self.band = band
+        form = QFormLayout(self)
+        self.widgets: dict[str, Any] = {}
+        for field, label, lo, hi, step, tip in BAND_FIELDS:
+            box = spin(minimum=lo, maximum=hi, decimals=3, step=step,
+                       tooltip=f"{BAND_TITLES[band]}: {tip}")
+            box.valueChanged.connect(lambda v, f=field: self.edited.emit(self.band, f, float(v)))
+            form.addRow(label, box)
+            self.widgets[field] = box
+        retro = QCheckBox("retroreflector")
+        retro.setToolTip(f"{BAND_TITLES[band]}: returns energy straight back to the sensor "
+                         "at any angle (corner reflectors, reflective tape)")
+        retro.toggled.connect(lambda on: self.edited.emit(self.band, "retroreflector", bool(on)))
+        form.addRow("", retro)
+        self.widgets["retroreflector"] = retro
+
+    def show_values(self, band_material: Any) -> None:
+        """Show a :class:`BandMaterial`."""
+        for field, w in self.widgets.items():
+            set_quietly(w, getattr(band_material, field))
+
+
+class MaterialEditor(QWidget):
+    """Pick a material, edit both bands, toggle radar visibility, save into the project."""
+
+    editFailed = pyqtSignal(str)
+
+    def __init__(self, document: ProjectDocument, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.document = document
+        self._library = set(load_material_library())
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(4, 4, 4, 4)
+        top = QHBoxLayout()
+        self.combo = QComboBox()
+        self.combo.setToolTip("Materials of the library and of the project (• = saved in the "
+                              "project)")
+        self.combo.activated.connect(lambda _i: self.refresh())
+        top.addWidget(QLabel("material"))
+        top.addWidget(self.combo, 1)
+        self.assign_button = QPushButton("Assign to selected")
+        self.assign_button.setToolTip("Give the selected object this material")
+        self.assign_button.clicked.connect(self.assign_to_selection)
+        top.addWidget(self.assign_button)
+        layout.addLayout(top)
+        self.description = QLabel("")
+        self.description.setWordWrap(True)
+        self.description.setStyleSheet("color: #9aa4ae;")
+        layout.addWidget(self.description)
+        bands = QHBoxLayout()
+        self.tof_editor = BandEditor("tof")
+        self.radar_editor = BandEditor("radar")
+        for ed in (self.tof_editor, self.radar_editor):
+            ed.edited.connect(self._on_edited)
+            bands.addWidget(ed)
+        layout.addLayout(bands)
+        buttons = QHBoxLayout()
+        self.radar_invisible = QPushButton("Invisible to radar")
+        self.radar_invisible.setCheckable(True)
+        self.radar_invisible.setToolTip("One click: radar opacity 0 (the radar sees through "
+                                        "every object of this material); click again for 1")
+        self.radar_invisible.toggled.connect(lambda on: self.set_opacity("radar", on))
+        self.tof_invisible = QPushButton("Invisible to ToF")
+        self.tof_invisible.setCheckable(True)
+        self.tof_invisible.setToolTip("ToF opacity 0 (the camera sees through it, like glass)")
+        self.tof_invisible.toggled.connect(lambda on: self.set_opacity("tof", on))
+        self.save_button = QPushButton("Save into project as…")
+        self.save_button.setToolTip("Store a copy of this material in the project under a new "
+                                    "name")
+        self.save_button.clicked.connect(self._save_as_dialog)
+        self.revert_button = QPushButton("Revert to library")
+        self.revert_button.setToolTip("Drop the project's override of this library material")
+        self.revert_button.clicked.connect(self.revert_to_library)
+        for b in (self.radar_invisible, self.tof_invisible, self.save_button,
+                  self.revert_button):
+            buttons.addWidget(b)
+        buttons.addStretch(1)
+        layout.addLayout(buttons)
+        layout.addStretch(1)
+        document.projectChanged.connect(self.refresh)
+        document.selectionChanged.connect(self._follow_selection)
+        self.refresh()
+
+    @property
+    def current(self) -> str:
+        """Name of the material being edited."""
+        return str(self.combo.currentData() or "")
+
+    def show_material(self, name: str) -> None:
+        """Edit material ``name``."""
+        idx = self.combo.findData(name)
+        if idx >= 0:
+            self.combo.setCurrentIndex(idx)
+        self.refresh()
+
+    def _follow_selection(self, key: Any) -> None:
+        idx = self.document.selected_index()
+        if key != RIG and idx is not None:
+            self.show_material(self.document.project.objects[idx].material)
+
+    def refresh(self, *_: object) -> None:
+        """Re-read the material list and the current material's values."""
+        table = material_table(self.document.project)
+        project_names = {m.name for m in self.document.project.materials}
+        current = self.current
+        with QSignalBlocker(self.combo):
+            self.combo.clear()
+            for name in sorted(table):
+                self.combo.addItem(f"{name} •" if name in project_names else name, name)
+            idx = self.combo.findData(current)
+            self.combo.setCurrentIndex(max(idx, 0))
+        mat = table.get(self.current)
+        if mat is None:
+            return
+        self.description.setText(mat.description or "")
+        self.tof_editor.show_values(mat.tof)
+        self.radar_editor.show_values(mat.radar)
+        set_quietly(self.radar_invisible, mat.radar.opacity == 0.0)
+        set_quietly(self.tof_invisible, mat.tof.opacity == 0.0)
+        self.revert_button.setEnabled(self.current in project_names
+                                      and self.current in self._library)
+        self.assign_button.setEnabled(self.document.selected_index() is not None)
+
+    def _on_edited(self, band: str, field: str, value: Any) -> None:
+        try_edit(self.editFailed.emit,
+                 lambda: set_material_field(self.document, self.current, band, field, value),
+                 self.refresh)
+
+    def set_opacity(self, band: str, invisible: bool) -> None:  # noqa: FBT001
+        """Make the current material invisible (opacity 0) or opaque (1) in ``band``."""
+        self._on_edited(band, "opacity", 0.0 if invisible else 1.0)
+
+    def assign_to_selection(self) -> None:
+        """Give the selected object the current material."""
+        idx = self.document.selected_index()
+        if idx is not None:
+            try_edit(self.editFailed.emit, lambda: self.document.set_value(
+                f"objects.{idx}.material", self.current, text="Set material"))
+
+    def revert_to_library(self) -> None:
+        """Remove the project's override of the current library material."""
+        name = self.current
+        try_edit(self.editFailed.emit, lambda: self.document.edit(
+            f"Revert material {name}",
+            lambda d: d.__setitem__("materials",
+                                    [m for m in d["materials"] if m["name"] != name])))
+
+    def _save_as_dialog(self) -> None:
+        name, ok = QInputDialog.getText(self, "Save material into project", "New name:",
+                                        text=f"{self.current}_custom")
+        if ok and name.strip():
+            new = name.strip()
+            if try_edit(self.editFailed.emit,
+                        lambda: save_material_as(self.document, self.current, new)):
+                self.show_material(new)

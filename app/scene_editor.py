@@ -1,0 +1,466 @@
+"""Scene editing panels: the object list and the object/rig inspector."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from PyQt6.QtCore import QSignalBlocker, Qt, pyqtSignal
+from PyQt6.QtGui import QAction
+from PyQt6.QtWidgets import (
+    QAbstractItemView,
+    QComboBox,
+    QFileDialog,
+    QFormLayout,
+    QGroupBox,
+    QHBoxLayout,
+    QHeaderView,
+    QLabel,
+    QLineEdit,
+    QListWidget,
+    QListWidgetItem,
+    QMenu,
+    QPushButton,
+    QScrollArea,
+    QTableWidget,
+    QTableWidgetItem,
+    QToolButton,
+    QVBoxLayout,
+    QWidget,
+)
+
+from app.document import RIG, EditError, ProjectDocument
+from app.scene_edits import (
+    KIND_LABELS,
+    NEW_OBJECTS,
+    add_object,
+    delete_object,
+    duplicate_object,
+    import_mesh,
+    rename_object,
+)
+from app.widgets import VectorEdit, set_quietly, spin, try_edit
+from simcore.scene import Project
+from simcore.scene.project_io import material_table
+
+RIG_LABEL = "⌖ Sensor rig (ToF + radar)"
+
+
+class ObjectListPanel(QWidget):
+    """The scene's objects (and the sensor rig), synced with the selection.
+
+    Double-click a name to rename it. The buttons add, duplicate and delete objects.
+    """
+
+    editFailed = pyqtSignal(str)
+
+    def __init__(self, document: ProjectDocument, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.document = document
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(2, 2, 2, 2)
+        buttons = QHBoxLayout()
+        self.add_button = QToolButton()
+        self.add_button.setText("Add ▾")
+        self.add_button.setToolTip("Add a primitive, a corner reflector, a point target or "
+                                   "import a mesh (STL/OBJ/PLY)")
+        self.add_button.setPopupMode(QToolButton.ToolButtonPopupMode.InstantPopup)
+        self.add_menu = build_add_menu(self, document, self.editFailed.emit)
+        self.add_button.setMenu(self.add_menu)
+        self.duplicate_button = QPushButton("Duplicate")
+        self.duplicate_button.setToolTip("Copy the selected object (Ctrl+D)")
+        self.duplicate_button.clicked.connect(self.duplicate_selected)
+        self.delete_button = QPushButton("Delete")
+        self.delete_button.setToolTip("Remove the selected object (Del)")
+        self.delete_button.clicked.connect(self.delete_selected)
+        for w in (self.add_button, self.duplicate_button, self.delete_button):
+            buttons.addWidget(w)
+        buttons.addStretch(1)
+        layout.addLayout(buttons)
+        self.list = QListWidget()
+        self.list.setToolTip("Objects of the scene; click to select (also by clicking in the "
+                             "3D view), double-click to rename")
+        self.list.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
+        self.list.setEditTriggers(QAbstractItemView.EditTrigger.DoubleClicked
+                                  | QAbstractItemView.EditTrigger.EditKeyPressed)
+        self.list.currentItemChanged.connect(self._on_current_changed)
+        self.list.itemChanged.connect(self._on_item_changed)
+        layout.addWidget(self.list, 1)
+        document.projectChanged.connect(self._rebuild)
+        document.selectionChanged.connect(self._select)
+        self._rebuild(document.project)
+
+    def _rebuild(self, project: Project) -> None:
+        with QSignalBlocker(self.list):
+            self.list.clear()
+            rig = QListWidgetItem(RIG_LABEL)
+            rig.setData(Qt.ItemDataRole.UserRole, RIG)
+            rig.setToolTip("The rig carrying both sensors: move it like an object")
+            self.list.addItem(rig)
+            for obj in project.objects:
+                item = QListWidgetItem(obj.name)
+                item.setData(Qt.ItemDataRole.UserRole, obj.id)
+                item.setFlags(item.flags() | Qt.ItemFlag.ItemIsEditable)
+                item.setToolTip(f"{KIND_LABELS.get(obj.geometry.kind, obj.geometry.kind)}, "
+                                f"material {obj.material}, id {obj.id}")
+                self.list.addItem(item)
+        self._select(self.document.selection)
+
+    def _select(self, key: Any) -> None:
+        with QSignalBlocker(self.list):
+            self.list.setCurrentItem(None)
+            for i in range(self.list.count()):
+                item = self.list.item(i)
+                if item.data(Qt.ItemDataRole.UserRole) == key and key is not None:
+                    self.list.setCurrentItem(item)
+                    self.list.scrollToItem(item)
+                    break
+            else:
+                self.list.clearSelection()
+        has_object = key is not None and key != RIG
+        self.duplicate_button.setEnabled(has_object)
+        self.delete_button.setEnabled(has_object)
+
+    def _on_current_changed(self, current: QListWidgetItem | None, _prev: Any) -> None:
+        self.document.select(None if current is None
+                             else current.data(Qt.ItemDataRole.UserRole))
+
+    def _on_item_changed(self, item: QListWidgetItem) -> None:
+        key = item.data(Qt.ItemDataRole.UserRole)
+        if key == RIG:
+            return
+        name = item.text().strip()
+        if not try_edit(self.editFailed.emit, lambda: rename_object(self.document, key, name)):
+            self._rebuild(self.document.project)
+
+    def duplicate_selected(self) -> None:
+        """Duplicate the selected object."""
+        key = self.document.selection
+        if key is not None and key != RIG:
+            try_edit(self.editFailed.emit, lambda: duplicate_object(self.document, key))
+
+    def delete_selected(self) -> None:
+        """Delete the selected object."""
+        key = self.document.selection
+        if key is not None and key != RIG:
+            try_edit(self.editFailed.emit, lambda: delete_object(self.document, key))
+
+
+def build_add_menu(parent: QWidget, document: ProjectDocument, report: Any) -> QMenu:
+    """The "Add" menu: primitives, corner reflector, point target, mesh import."""
+    menu = QMenu("&Add", parent)
+    for kind in NEW_OBJECTS:
+        action = QAction(KIND_LABELS[kind], menu)
+        action.setToolTip(f"Add a {KIND_LABELS[kind].lower()} 2 m in front of the rig")
+        action.triggered.connect(lambda _=False, k=kind: try_edit(
+            report, lambda: add_object(document, k)))
+        menu.addAction(action)
+    menu.addSeparator()
+    action = QAction("Import mesh (STL/OBJ/PLY)…", menu)
+
+    def import_dialog() -> None:
+        path, _ = QFileDialog.getOpenFileName(parent, "Import mesh", str(document.base_dir),
+                                              "Meshes (*.stl *.obj *.ply)")
+        if path:
+            try_edit(report, lambda: import_mesh(document, Path(path)))
+
+    action.triggered.connect(import_dialog)
+    menu.addAction(action)
+    return menu
+
+
+GEOMETRY_FIELDS: dict[str, list[tuple[str, str, str, int, float]]] = {
+    # kind: [(field, label, unit, components, minimum)]
+    "box": [("size_m", "size", "m", 3, 0.001)],
+    "sphere": [("radius_m", "radius", "m", 1, 0.001)],
+    "cylinder": [("radius_m", "radius", "m", 1, 0.001), ("height_m", "height", "m", 1, 0.001)],
+    "plane": [("size_m", "size", "m", 2, 0.001)],
+    "corner_reflector": [("edge_m", "edge length", "m", 1, 0.001)],
+    "point_target": [("rcs_m2", "RCS", "m²", 1, 1e-6)],
+    "mesh": [("scale", "scale", "", 1, 1e-6)],
+}
+
+
+class ObjectInspector(QScrollArea):
+    """Exact values of the selection: name, geometry, material, pose and motion.
+
+    With the rig selected it edits the rig's pose and motion.
+    """
+
+    editFailed = pyqtSignal(str)
+    editMaterialRequested = pyqtSignal(str)
+
+    def __init__(self, document: ProjectDocument, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.document = document
+        self.setWidgetResizable(True)
+        body = QWidget()
+        self.setWidget(body)
+        outer = QVBoxLayout(body)
+        outer.setContentsMargins(4, 4, 4, 4)
+        self.heading = QLabel("Nothing selected — click an object in the 3D view or the list")
+        self.heading.setWordWrap(True)
+        self.heading.setStyleSheet("font-weight: bold;")
+        outer.addWidget(self.heading)
+
+        # Object box: name, material, geometry.
+        self.object_box = QGroupBox("Object")
+        form = QFormLayout(self.object_box)
+        self.name_edit = QLineEdit()
+        self.name_edit.setToolTip("Unique object name")
+        self.name_edit.editingFinished.connect(self._on_name)
+        form.addRow("name", self.name_edit)
+        mat_row = QHBoxLayout()
+        self.material_combo = QComboBox()
+        self.material_combo.setToolTip("Dual-band material (library and project materials)")
+        self.material_combo.activated.connect(self._on_material)
+        self.edit_material_button = QPushButton("Edit…")
+        self.edit_material_button.setToolTip("Open this material in the material editor")
+        self.edit_material_button.clicked.connect(
+            lambda: self.editMaterialRequested.emit(self.material_combo.currentText()))
+        mat_row.addWidget(self.material_combo, 1)
+        mat_row.addWidget(self.edit_material_button)
+        form.addRow("material", mat_row)
+        self.geometry_form = QFormLayout()
+        form.addRow(self.geometry_form)
+        self.geometry_note = QLabel("")
+        self.geometry_note.setStyleSheet("color: #9aa4ae;")
+        form.addRow(self.geometry_note)
+        self._geometry_kind: str | None = None
+        self._geometry_widgets: dict[str, Any] = {}
+        outer.addWidget(self.object_box)
+
+        # Pose.
+        self.pose_box = QGroupBox("Pose (world frame, x-y-z extrinsic Euler)")
+        pform = QFormLayout(self.pose_box)
+        self.position_edit = VectorEdit(suffix="m", decimals=3, step=0.05,
+                                        tooltip="position of the origin (m, world frame)")
+        self.position_edit.edited.connect(lambda v: self._set_pose("position_m", v))
+        self.rotation_edit = VectorEdit(suffix="°", decimals=2, step=5.0, minimum=-360,
+                                        maximum=360,
+                                        tooltip="rotation about world x, then y, then z (°)")
+        self.rotation_edit.edited.connect(lambda v: self._set_pose("rotation_deg", v))
+        pform.addRow("position", self.position_edit)
+        pform.addRow("rotation", self.rotation_edit)
+        outer.addWidget(self.pose_box)
+
+        # Motion.
+        self.motion_box = QGroupBox("Motion")
+        mform = QFormLayout(self.motion_box)
+        self.velocity_edit = VectorEdit(suffix="m/s", decimals=3, step=0.1,
+                                        tooltip="constant linear velocity (m/s, world frame)")
+        self.velocity_edit.edited.connect(lambda v: self._set_motion("velocity_mps", v))
+        self.angular_edit = VectorEdit(suffix="°/s", decimals=2, step=5.0,
+                                       tooltip="constant angular velocity about world axes "
+                                               "through the origin (°/s)")
+        self.angular_edit.edited.connect(lambda v: self._set_motion("angular_velocity_dps", v))
+        self.repeat_combo = QComboBox()
+        self.repeat_combo.addItems(["hold", "loop", "back_and_forth"])
+        self.repeat_combo.setToolTip("After the last keyframe: hold the pose, loop, or play "
+                                     "back and forth")
+        self.repeat_combo.activated.connect(
+            lambda _i: self._set_motion("repeat", self.repeat_combo.currentText()))
+        mform.addRow("velocity", self.velocity_edit)
+        mform.addRow("angular velocity", self.angular_edit)
+        mform.addRow("keyframes repeat", self.repeat_combo)
+        self.keyframe_table = QTableWidget(0, 7)
+        self.keyframe_table.setHorizontalHeaderLabels(
+            ["t (s)", "x (m)", "y (m)", "z (m)", "rx (°)", "ry (°)", "rz (°)"])
+        self.keyframe_table.horizontalHeader().setSectionResizeMode(
+            QHeaderView.ResizeMode.Stretch)
+        self.keyframe_table.setToolTip("Keyframes: offsets from the base pose at a time (s); "
+                                       "position linear, rotation spherical interpolation. "
+                                       "Use either keyframes or constant velocities.")
+        self.keyframe_table.setMinimumHeight(90)
+        self.keyframe_table.itemChanged.connect(self._on_keyframe_edited)
+        mform.addRow(self.keyframe_table)
+        kf_buttons = QHBoxLayout()
+        self.add_keyframe_button = QPushButton("Add keyframe")
+        self.add_keyframe_button.setToolTip("Append a keyframe 1 s after the last one")
+        self.add_keyframe_button.clicked.connect(self._add_keyframe)
+        self.remove_keyframe_button = QPushButton("Remove keyframe")
+        self.remove_keyframe_button.clicked.connect(self._remove_keyframe)
+        kf_buttons.addWidget(self.add_keyframe_button)
+        kf_buttons.addWidget(self.remove_keyframe_button)
+        kf_buttons.addStretch(1)
+        mform.addRow(kf_buttons)
+        outer.addWidget(self.motion_box)
+        outer.addStretch(1)
+
+        document.projectChanged.connect(self.refresh)
+        document.selectionChanged.connect(self.refresh)
+        self.refresh()
+
+    # --- paths ------------------------------------------------------------------------
+    def _base_path(self) -> str | None:
+        key = self.document.selection
+        if key == RIG:
+            return "rig"
+        idx = self.document.selected_index()
+        return None if idx is None else f"objects.{idx}"
+
+    def _set(self, sub: str, value: Any, text: str) -> None:
+        base = self._base_path()
+        if base is None:
+            return
+        try_edit(self.editFailed.emit,
+                 lambda: self.document.set_value(f"{base}.{sub}", value, text=text),
+                 self.refresh)
+
+    def _set_pose(self, field: str, value: tuple[float, ...]) -> None:
+        self._set(f"pose.{field}", value, "Move" if field == "position_m" else "Rotate")
+
+    def _set_motion(self, field: str, value: Any) -> None:
+        self._set(f"motion.{field}", value, "Edit motion")
+
+    # --- view -------------------------------------------------------------------------
+    def refresh(self, *_: object) -> None:
+        """Show the selection's current values."""
+        project = self.document.project
+        key = self.document.selection
+        idx = self.document.selected_index()
+        is_rig = key == RIG
+        has = is_rig or idx is not None
+        self.object_box.setVisible(idx is not None)
+        self.pose_box.setEnabled(has)
+        self.motion_box.setEnabled(has)
+        if not has:
+            self.heading.setText("Nothing selected — click an object in the 3D view or list")
+            return
+        if is_rig:
+            self.heading.setText("Sensor rig — body frame x forward, y left, z up")
+            pose, motion = project.rig.pose, project.rig.motion
+        else:
+            assert idx is not None
+            obj = project.objects[idx]
+            kind = obj.geometry.kind
+            self.heading.setText(f"{obj.name} — {KIND_LABELS.get(kind, kind)} (id {obj.id})")
+            pose, motion = obj.pose, obj.motion
+            set_quietly(self.name_edit, obj.name)
+            with QSignalBlocker(self.material_combo):
+                self.material_combo.clear()
+                self.material_combo.addItems(sorted(material_table(project)))
+                self.material_combo.setCurrentText(obj.material)
+            self._show_geometry(obj.geometry)
+        self.position_edit.set_value(pose.position_m)
+        self.rotation_edit.set_value(pose.rotation_deg)
+        self.velocity_edit.set_value(motion.velocity_mps)
+        self.angular_edit.set_value(motion.angular_velocity_dps)
+        with QSignalBlocker(self.repeat_combo):
+            self.repeat_combo.setCurrentText(motion.repeat)
+        with QSignalBlocker(self.keyframe_table):
+            self.keyframe_table.setRowCount(len(motion.keyframes))
+            for row, kf in enumerate(motion.keyframes):
+                values = [kf.time_s, *kf.position_m, *kf.rotation_deg]
+                for col, v in enumerate(values):
+                    self.keyframe_table.setItem(row, col, QTableWidgetItem(f"{v:g}"))
+
+    def _show_geometry(self, geometry: Any) -> None:
+        kind = geometry.kind
+        if kind != self._geometry_kind:
+            while self.geometry_form.rowCount():
+                self.geometry_form.removeRow(0)
+            self._geometry_widgets = {}
+            for field, label, unit, n, minimum in GEOMETRY_FIELDS.get(kind, []):
+                tip = f"{label} ({unit})" if unit else label
+                if n == 1:
+                    w = spin(minimum=minimum, maximum=1e4, decimals=4, step=0.01, suffix=unit,
+                             tooltip=tip)
+                    w.valueChanged.connect(lambda v, f=field: self._set(
+                        f"geometry.{f}", float(v), f"Set {f}"))
+                else:
+                    w = VectorEdit(labels=("x", "y", "z")[:n], suffix=unit, decimals=3,
+                                   step=0.05, minimum=minimum, tooltip=tip)
+                    w.edited.connect(lambda v, f=field: self._set(
+                        f"geometry.{f}", tuple(v), f"Set {f}"))
+                self.geometry_form.addRow(label, w)
+                self._geometry_widgets[field] = w
+            self._geometry_kind = kind
+        for field, w in self._geometry_widgets.items():
+            value = getattr(geometry, field)
+            if isinstance(w, VectorEdit):
+                w.set_value(value)
+            else:
+                set_quietly(w, float(value))
+        note = ""
+        if kind == "corner_reflector":
+            lam = self.document.project.rig.radar.wavelength_m
+            note = (f"peak RCS at {lam * 1e3:.2f} mm: {geometry.rcs_m2(lam):.2f} m² "
+                    f"(4πa⁴/3λ²); opening along local +z")
+        elif kind == "mesh":
+            note = f"file: {geometry.path}"
+        elif kind == "point_target":
+            note = "radar-only point scatterer (invisible to the ToF camera)"
+        self.geometry_note.setText(note)
+
+    # --- edits ------------------------------------------------------------------------
+    def _on_name(self) -> None:
+        key = self.document.selection
+        if key is None or key == RIG:
+            return
+        name = self.name_edit.text().strip()
+        try_edit(self.editFailed.emit, lambda: rename_object(self.document, key, name),
+                 self.refresh)
+
+    def _on_material(self, _index: int) -> None:
+        self._set("material", self.material_combo.currentText(), "Set material")
+
+    def _keyframes(self) -> list[dict[str, Any]]:
+        base = self._base_path()
+        if base is None:
+            return []
+        motion = (self.document.project.rig.motion if base == "rig"
+                  else self.document.project.objects[self.document.selected_index()].motion)
+        return [k.model_dump() for k in motion.keyframes]
+
+    def _on_keyframe_edited(self, item: QTableWidgetItem) -> None:
+        keyframes = self._keyframes()
+        row, col = item.row(), item.column()
+        try:
+            value = float(item.text())
+        except ValueError:
+            self.editFailed.emit(f"keyframe {row + 1}: {item.text()!r} is not a number")
+            self.refresh()
+            return
+        kf = keyframes[row]
+        if col == 0:
+            kf["time_s"] = value
+        elif col <= 3:
+            p = list(kf["position_m"])
+            p[col - 1] = value
+            kf["position_m"] = tuple(p)
+        else:
+            r = list(kf["rotation_deg"])
+            r[col - 4] = value
+            kf["rotation_deg"] = tuple(r)
+        self._set_motion("keyframes", keyframes)
+
+    def _add_keyframe(self) -> None:
+        keyframes = self._keyframes()
+        t = keyframes[-1]["time_s"] + 1.0 if keyframes else 0.0
+        last = keyframes[-1] if keyframes else {"position_m": (0.0, 0.0, 0.0),
+                                                "rotation_deg": (0.0, 0.0, 0.0)}
+        keyframes.append({"time_s": t, "position_m": last["position_m"],
+                          "rotation_deg": last["rotation_deg"]})
+        base = self._base_path()
+        if base is None:
+            return
+
+        def mutate(d: dict[str, Any]) -> None:
+            node = d["rig"] if base == "rig" else d["objects"][int(base.split(".")[1])]
+            node["motion"]["keyframes"] = keyframes
+            node["motion"]["velocity_mps"] = (0.0, 0.0, 0.0)
+            node["motion"]["angular_velocity_dps"] = (0.0, 0.0, 0.0)
+
+        try:
+            self.document.edit("Add keyframe", mutate)
+        except EditError as exc:
+            self.editFailed.emit(str(exc))
+
+    def _remove_keyframe(self) -> None:
+        keyframes = self._keyframes()
+        if not keyframes:
+            return
+        row = self.keyframe_table.currentRow()
+        keyframes.pop(row if 0 <= row < len(keyframes) else -1)
+        self._set_motion("keyframes", keyframes)

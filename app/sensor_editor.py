@@ -1,0 +1,372 @@
+"""Sensor editor: ToF camera and radar configuration with presets and derived quantities.
+
+The radar box shows live what the waveform and array imply — range resolution, maximum
+range, velocity resolution and maximum, angle resolution — and warns (in red) where the
+scene aliases: objects beyond the unambiguous range, faster than the unambiguous velocity,
+or element spacings above λ/2 (grating lobes).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from PyQt6.QtCore import QSignalBlocker, pyqtSignal
+from PyQt6.QtWidgets import (
+    QCheckBox,
+    QComboBox,
+    QFormLayout,
+    QGroupBox,
+    QHBoxLayout,
+    QLabel,
+    QScrollArea,
+    QVBoxLayout,
+    QWidget,
+)
+
+from app.document import EditError, ProjectDocument
+from app.widgets import VectorEdit, int_spin, set_quietly, spin, try_edit
+from simcore.scene import Project
+from simcore.scene.snapshot import take_snapshot
+from simcore.sensors.radar_config import SPEED_OF_LIGHT, RadarConfig
+
+
+def radar_presets() -> dict[str, Callable[..., RadarConfig]]:
+    """Named radar presets (from :mod:`simcore.sensors.radar_presets` when present)."""
+    try:
+        from simcore.sensors.radar_presets import RADAR_PRESETS
+    except ImportError:
+        return {"bgt60tr13c": RadarConfig}
+    return dict(RADAR_PRESETS)
+
+
+def tof_presets() -> dict[str, Callable[[], Any]]:
+    """Named ToF camera presets."""
+    from simcore.sensors.tof_config import TOF_PRESETS
+
+    return dict(TOF_PRESETS)
+
+
+def angle_resolution_deg(config: RadarConfig) -> tuple[float | None, float | None]:
+    """Approximate azimuth and elevation resolution λ / (N d) of the virtual array (°)."""
+    virt = np.zeros((0, 2))
+    tx = np.array([a.position_mm for a in config.tx], dtype=float) * 1e-3
+    rx = np.array([a.position_mm for a in config.rx], dtype=float) * 1e-3
+    virt = (tx[:, None, :] + rx[None, :, :]).reshape(-1, 2)
+    out: list[float | None] = []
+    for axis in (0, 1):
+        coords = np.unique(np.round(virt[:, axis], 9))
+        if len(coords) < 2:
+            out.append(None)
+            continue
+        d = float(np.min(np.diff(coords)))
+        aperture = float(coords[-1] - coords[0]) + d
+        out.append(float(np.rad2deg(config.wavelength_m / aperture)))
+    return out[0], out[1]
+
+
+def scene_radial_extent(project: Project, t: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Ranges (m) and radial velocities (m/s) of the object origins seen from the radar."""
+    snap = take_snapshot(project, t)
+    radar = snap.radar
+    ranges, velocities = [], []
+    for state in snap.objects:
+        d = state.origin - radar.position
+        r = float(np.linalg.norm(d))
+        if r < 1e-6:
+            continue
+        u = d / r
+        # Only what lies in front of the radar matters.
+        if float(u @ radar.rotation[:, 2]) <= 0:
+            continue
+        ranges.append(r)
+        velocities.append(float((state.velocity_mps - radar.velocity_mps) @ u))
+    return np.array(ranges), np.array(velocities)
+
+
+def radar_warnings(project: Project) -> list[str]:
+    """Aliasing and array warnings for the project's radar (empty if none)."""
+    cfg = project.rig.radar
+    ranges, velocities = scene_radial_extent(project)
+    try:
+        from simcore.sensors.radar_config import aliasing_warnings
+    except ImportError:
+        out = []
+        if ranges.size and ranges.max() > cfg.max_range_m:
+            out.append(f"objects up to {ranges.max():.2f} m lie beyond the unambiguous range "
+                       f"{cfg.max_range_m:.2f} m and alias")
+        if velocities.size and np.abs(velocities).max() > cfg.max_velocity_mps:
+            out.append(f"objects move faster than ±{cfg.max_velocity_mps:.2f} m/s and alias "
+                       "in Doppler")
+        return out
+    return aliasing_warnings(cfg, ranges_m=ranges, radial_velocities_mps=velocities)
+
+
+# field, label, scale (display units per SI unit), unit, decimals, minimum, tooltip
+RADAR_FIELDS: list[tuple[str, str, float, str, int, float, str]] = [
+    ("start_frequency_hz", "start frequency", 1e-9, "GHz", 3, 1.0,
+     "chirp start frequency f_c"),
+    ("bandwidth_hz", "bandwidth", 1e-9, "GHz", 3, 0.001, "swept bandwidth B of one chirp"),
+    ("chirp_time_s", "chirp time", 1e6, "µs", 2, 0.01, "ramp duration T_c"),
+    ("sample_rate_hz", "ADC sample rate", 1e-6, "MHz", 3, 0.001, "IF sampling rate f_s"),
+    ("chirp_repetition_time_s", "chirp repetition", 1e6, "µs", 2, 0.01,
+     "time between successive chirp starts T_r (per Tx slot)"),
+]
+TOF_FIELDS: list[tuple[str, str, str, float, float, str]] = [
+    ("fov_h_deg", "horizontal FOV", "°", 1.0, 169.0, "full horizontal field of view"),
+    ("fov_v_deg", "vertical FOV", "°", 1.0, 169.0, "full vertical field of view"),
+]
+
+
+class SensorEditor(QScrollArea):
+    """Edit the ToF camera and the radar of the rig; shows derived radar quantities."""
+
+    editFailed = pyqtSignal(str)
+
+    def __init__(self, document: ProjectDocument, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.document = document
+        self.setWidgetResizable(True)
+        body = QWidget()
+        self.setWidget(body)
+        outer = QHBoxLayout(body)
+        outer.setContentsMargins(4, 4, 4, 4)
+        outer.addWidget(self._build_tof(), 1)
+        outer.addWidget(self._build_radar(), 1)
+        outer.addWidget(self._build_derived(), 1)
+        document.projectChanged.connect(self.refresh)
+        self.refresh()
+
+    # --- construction -----------------------------------------------------------------
+    def _build_tof(self) -> QWidget:
+        box = QGroupBox("ToF camera (AMCW)")
+        form = QFormLayout(box)
+        self.tof_preset = QComboBox()
+        self.tof_preset.addItems(sorted(tof_presets()))
+        self.tof_preset.setToolTip("Replace the camera settings by a preset (the mounting "
+                                   "pose is kept)")
+        self.tof_preset.activated.connect(lambda _i: self.apply_tof_preset(
+            self.tof_preset.currentText()))
+        form.addRow("preset", self.tof_preset)
+        self.tof_width = int_spin(minimum=1, maximum=4096, suffix="px",
+                                  tooltip="sensor columns")
+        self.tof_width.valueChanged.connect(lambda v: self._set("rig.tof.width", int(v)))
+        self.tof_height = int_spin(minimum=1, maximum=4096, suffix="px", tooltip="sensor rows")
+        self.tof_height.valueChanged.connect(lambda v: self._set("rig.tof.height", int(v)))
+        form.addRow("width", self.tof_width)
+        form.addRow("height", self.tof_height)
+        self.tof_widgets: dict[str, Any] = {}
+        for field, label, unit, lo, hi, tip in TOF_FIELDS:
+            w = spin(minimum=lo, maximum=hi, decimals=2, step=1.0, suffix=unit, tooltip=tip)
+            w.valueChanged.connect(lambda v, f=field: self._set(f"rig.tof.{f}", float(v)))
+            form.addRow(label, w)
+            self.tof_widgets[field] = w
+        self.tof_ss = int_spin(minimum=1, maximum=8, suffix="×",
+                               tooltip="sub-pixels per axis of the render (flying pixels)")
+        self.tof_ss.valueChanged.connect(lambda v: self._set("rig.tof.supersampling", int(v)))
+        form.addRow("supersampling", self.tof_ss)
+        self.tof_f1 = spin(minimum=0.1, maximum=1000, decimals=2, step=1.0, suffix="MHz",
+                           tooltip="modulation frequency f1; unambiguous range c/(2 f1)")
+        self.tof_f1.valueChanged.connect(lambda _v: self._set_frequencies())
+        self.tof_f2_on = QCheckBox("2nd frequency")
+        self.tof_f2_on.setToolTip("Two-frequency phase unwrapping")
+        self.tof_f2_on.toggled.connect(lambda _on: self._set_frequencies())
+        self.tof_f2 = spin(minimum=0.1, maximum=1000, decimals=2, step=1.0, suffix="MHz",
+                           tooltip="second modulation frequency f2")
+        self.tof_f2.valueChanged.connect(lambda _v: self._set_frequencies())
+        form.addRow("modulation f1", self.tof_f1)
+        row = QHBoxLayout()
+        row.addWidget(self.tof_f2_on)
+        row.addWidget(self.tof_f2, 1)
+        form.addRow(row)
+        self.tof_pos = VectorEdit(suffix="m", step=0.01,
+                                  tooltip="camera position on the rig (m; x fwd, y left, z up)")
+        self.tof_pos.edited.connect(lambda v: self._set("rig.tof.pose_on_rig.position_m", v))
+        self.tof_rot = VectorEdit(suffix="°", decimals=1, step=5.0, minimum=-360, maximum=360,
+                                  tooltip="camera rotation on the rig (°)")
+        self.tof_rot.edited.connect(lambda v: self._set("rig.tof.pose_on_rig.rotation_deg", v))
+        form.addRow("position on rig", self.tof_pos)
+        form.addRow("rotation on rig", self.tof_rot)
+        self.tof_derived = QLabel("")
+        self.tof_derived.setStyleSheet("color: #9aa4ae;")
+        form.addRow(self.tof_derived)
+        return box
+
+    def _build_radar(self) -> QWidget:
+        box = QGroupBox("Radar (FMCW)")
+        form = QFormLayout(box)
+        self.radar_preset = QComboBox()
+        self.radar_preset.addItems(sorted(radar_presets()))
+        self.radar_preset.setToolTip("Replace the radar settings (waveform, antennas) by a "
+                                     "preset; the mounting pose and render grid are kept")
+        self.radar_preset.activated.connect(lambda _i: self.apply_radar_preset(
+            self.radar_preset.currentText()))
+        form.addRow("preset", self.radar_preset)
+        self.radar_widgets: dict[str, Any] = {}
+        for field, label, scale, unit, dec, lo, tip in RADAR_FIELDS:
+            w = spin(minimum=lo, maximum=1e6, decimals=dec, step=1.0, suffix=unit,
+                     tooltip=f"{tip} ({unit})")
+            w.valueChanged.connect(lambda v, f=field, s=scale: self._set(f"rig.radar.{f}",
+                                                                         float(v) / s))
+            form.addRow(label, w)
+            self.radar_widgets[field] = w
+        self.samples = int_spin(minimum=8, maximum=8192, tooltip="ADC samples per chirp N_s")
+        self.samples.valueChanged.connect(lambda v: self._set("rig.radar.samples_per_chirp",
+                                                              int(v)))
+        self.chirps = int_spin(minimum=1, maximum=1024, tooltip="chirps per frame N_c (per Tx)")
+        self.chirps.valueChanged.connect(lambda v: self._set("rig.radar.chirps_per_frame",
+                                                             int(v)))
+        form.addRow("samples / chirp", self.samples)
+        form.addRow("chirps / frame", self.chirps)
+        self.iq = QCheckBox("complex IQ sampling")
+        self.iq.setToolTip("complex (IQ) IF instead of real: doubles the unambiguous range")
+        self.iq.toggled.connect(lambda on: self._set("rig.radar.complex_iq", bool(on)))
+        form.addRow(self.iq)
+        self.render_fov = spin(minimum=1, maximum=169, decimals=1, step=5, suffix="°",
+                               tooltip="horizontal field of view of the radar render pass")
+        self.render_fov.valueChanged.connect(lambda v: self._set("rig.radar.render_fov_h_deg",
+                                                                 float(v)))
+        self.render_w = int_spin(minimum=8, maximum=8192, suffix="px",
+                                 tooltip="radar render pass width (angular sampling)")
+        self.render_w.valueChanged.connect(lambda v: self._set("rig.radar.render_width", int(v)))
+        self.render_h = int_spin(minimum=8, maximum=8192, suffix="px",
+                                 tooltip="radar render pass height")
+        self.render_h.valueChanged.connect(lambda v: self._set("rig.radar.render_height",
+                                                               int(v)))
+        form.addRow("render FOV", self.render_fov)
+        grid = QHBoxLayout()
+        grid.addWidget(self.render_w)
+        grid.addWidget(self.render_h)
+        form.addRow("render grid", grid)
+        self.radar_pos = VectorEdit(suffix="m", step=0.01,
+                                    tooltip="radar position on the rig (m; x fwd, y left, z up)")
+        self.radar_pos.edited.connect(lambda v: self._set("rig.radar.pose_on_rig.position_m",
+                                                          v))
+        self.radar_rot = VectorEdit(suffix="°", decimals=1, step=5.0, minimum=-360,
+                                    maximum=360, tooltip="radar rotation on the rig (°)")
+        self.radar_rot.edited.connect(lambda v: self._set("rig.radar.pose_on_rig.rotation_deg",
+                                                          v))
+        form.addRow("position on rig", self.radar_pos)
+        form.addRow("rotation on rig", self.radar_rot)
+        return box
+
+    def _build_derived(self) -> QWidget:
+        box = QGroupBox("Derived radar quantities")
+        layout = QVBoxLayout(box)
+        self.derived = QLabel("")
+        self.derived.setTextFormat(self.derived.textFormat().RichText)
+        self.derived.setToolTip("Computed from the waveform and the antenna layout")
+        layout.addWidget(self.derived)
+        self.warnings = QLabel("")
+        self.warnings.setWordWrap(True)
+        self.warnings.setStyleSheet("color: #ff6b6b;")
+        self.warnings.setToolTip("Aliasing and array warnings")
+        layout.addWidget(self.warnings)
+        layout.addStretch(1)
+        return box
+
+    # --- edits ------------------------------------------------------------------------
+    def _set(self, path: str, value: Any) -> None:
+        try_edit(self.editFailed.emit,
+                 lambda: self.document.set_value(path, value, text=f"Set {path.split('.')[-1]}"),
+                 self.refresh)
+
+    def _set_frequencies(self) -> None:
+        freqs = [self.tof_f1.value() * 1e6]
+        if self.tof_f2_on.isChecked():
+            freqs.append(self.tof_f2.value() * 1e6)
+        self._set("rig.tof.modulation_frequencies_hz", freqs)
+
+    def apply_tof_preset(self, name: str) -> None:
+        """Replace the ToF settings by preset ``name``, keeping the mounting pose."""
+        cfg = tof_presets()[name]().model_dump()
+
+        def mutate(d: dict[str, Any]) -> None:
+            cfg["pose_on_rig"] = d["rig"]["tof"]["pose_on_rig"]
+            d["rig"]["tof"] = cfg
+
+        try_edit(self.editFailed.emit,
+                 lambda: self.document.edit(f"ToF preset {name}", mutate), self.refresh)
+
+    def apply_radar_preset(self, name: str) -> None:
+        """Replace the radar settings by preset ``name``, keeping pose and render grid."""
+        cfg = radar_presets()[name]().model_dump()
+
+        def mutate(d: dict[str, Any]) -> None:
+            old = d["rig"]["radar"]
+            for keep in ("pose_on_rig", "render_width", "render_height", "render_fov_h_deg"):
+                cfg[keep] = old[keep]
+            d["rig"]["radar"] = cfg
+
+        try:
+            self.document.edit(f"Radar preset {name}", mutate)
+        except EditError as exc:
+            self.editFailed.emit(str(exc))
+            self.refresh()
+
+    # --- view -------------------------------------------------------------------------
+    def refresh(self, *_: object) -> None:
+        """Show the project's sensor settings and the derived quantities."""
+        project = self.document.project
+        tof, radar = project.rig.tof, project.rig.radar
+        with QSignalBlocker(self.tof_preset):
+            self.tof_preset.setCurrentText(tof.preset)
+        set_quietly(self.tof_width, tof.width)
+        set_quietly(self.tof_height, tof.height)
+        for field, w in self.tof_widgets.items():
+            set_quietly(w, getattr(tof, field))
+        set_quietly(self.tof_ss, tof.supersampling)
+        freqs = tof.modulation_frequencies_hz
+        set_quietly(self.tof_f1, freqs[0] * 1e-6)
+        set_quietly(self.tof_f2_on, len(freqs) > 1)
+        set_quietly(self.tof_f2, (freqs[1] if len(freqs) > 1 else freqs[0] * 0.8) * 1e-6)
+        self.tof_f2.setEnabled(len(freqs) > 1)
+        self.tof_pos.set_value(tof.pose_on_rig.position_m)
+        self.tof_rot.set_value(tof.pose_on_rig.rotation_deg)
+        self.tof_derived.setText(
+            f"unambiguous range {tof.combined_unambiguous_range_m:.2f} m\n"
+            f"render {tof.width * tof.supersampling}×{tof.height * tof.supersampling} px")
+        with QSignalBlocker(self.radar_preset):
+            self.radar_preset.setCurrentText(radar.preset)
+        for field, label, scale, *_ in RADAR_FIELDS:
+            del label
+            set_quietly(self.radar_widgets[field], getattr(radar, field) * scale)
+        set_quietly(self.samples, radar.samples_per_chirp)
+        set_quietly(self.chirps, radar.chirps_per_frame)
+        set_quietly(self.iq, radar.complex_iq)
+        set_quietly(self.render_fov, radar.render_fov_h_deg)
+        set_quietly(self.render_w, radar.render_width)
+        set_quietly(self.render_h, radar.render_height)
+        self.radar_pos.set_value(radar.pose_on_rig.position_m)
+        self.radar_rot.set_value(radar.pose_on_rig.rotation_deg)
+        self.refresh_derived()
+
+    def refresh_derived(self) -> None:
+        """Recompute the derived radar quantities and warnings."""
+        project = self.document.project
+        radar = project.rig.radar
+        az, el = angle_resolution_deg(radar)
+        lam = radar.wavelength_m
+        rows = [
+            ("wavelength λ", f"{lam * 1e3:.3f} mm  (λ/2 = {lam * 5e2:.3f} mm)"),
+            ("range resolution", f"{radar.range_resolution_m * 100:.2f} cm"),
+            ("max range", f"{radar.max_range_m:.2f} m"),
+            ("velocity resolution", f"{radar.velocity_resolution_mps:.3f} m/s"),
+            ("max velocity", f"±{radar.max_velocity_mps:.2f} m/s"),
+            ("azimuth resolution", "—" if az is None else f"≈ {az:.1f}°"),
+            ("elevation resolution", "—" if el is None else f"≈ {el:.1f}°"),
+            ("channels", f"{len(radar.tx)} Tx × {len(radar.rx)} Rx = "
+                         f"{len(radar.tx) * len(radar.rx)} virtual"),
+            ("chirp slope", f"{radar.slope_hz_per_s * 1e-12:.2f} MHz/µs"),
+            ("frame duration", f"{radar.frame_duration_s * 1e3:.2f} ms"),
+        ]
+        self.derived.setText("<table>" + "".join(
+            f"<tr><td style='color:#9aa4ae; padding-right:8px'>{k}</td><td>{v}</td></tr>"
+            for k, v in rows) + "</table>")
+        warnings = radar_warnings(project)
+        self.warnings.setText("\n".join(f"⚠ {w}" for w in warnings))
+        self.warnings.setVisible(bool(warnings))
+
+
+__all__ = ["SPEED_OF_LIGHT", "SensorEditor", "angle_resolution_deg", "radar_warnings"]

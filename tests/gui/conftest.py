@@ -1,0 +1,95 @@
+"""Fixtures of the GUI tests: a main window with its own settings, frame waiting, leak checks.
+
+Run under Xvfb: ``xvfb-run -a -s "-screen 0 1920x1080x24" python -m pytest -m gui tests/gui``.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+    pytest.skip("GUI tests need a display (run them under xvfb-run)", allow_module_level=True)
+
+from PyQt6.QtCore import QSettings  # noqa: E402
+from PyQt6.QtWidgets import QApplication, QMessageBox  # noqa: E402
+
+from app.main_window import MainWindow  # noqa: E402
+from app.theme import apply_dark_theme  # noqa: E402
+from simcore.resources import EXAMPLES_DIR  # noqa: E402
+
+OFFICE = EXAMPLES_DIR / "office.json"
+FRAME_TIMEOUT_MS = 60_000
+
+
+@pytest.fixture(autouse=True)
+def no_leaked_windows(qapp: QApplication) -> Iterator[None]:
+    """Fail a test that leaves top-level windows open or worker threads running."""
+    apply_dark_theme(qapp)
+    threads_before = {t.ident for t in threading.enumerate()}
+    yield
+    for w in qapp.topLevelWidgets():
+        if w.isVisible():
+            w.close()
+    qapp.processEvents()
+    leaked = [w for w in qapp.topLevelWidgets() if w.isVisible()]
+    assert not leaked, f"top-level widgets left open: {leaked}"
+    extra = [t for t in threading.enumerate() if t.ident not in threads_before and t.is_alive()
+             and not t.daemon]
+    assert not extra, f"threads left running: {extra}"
+
+
+@pytest.fixture
+def make_window(qtbot, tmp_path: Path) -> Iterator:
+    """Factory of main windows that are shut down (changes discarded) at the end."""
+    made: list[MainWindow] = []
+
+    def factory(project: Path | None = OFFICE) -> MainWindow:
+        settings = QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat)
+        window = MainWindow(project, settings=settings)
+        window.ask_save_changes = lambda: QMessageBox.StandardButton.Discard
+        window.resize(1720, 1020)
+        window.show()
+        qtbot.waitExposed(window)
+        made.append(window)
+        return window
+
+    yield factory
+    for window in made:
+        window.document.undo_stack.setClean()
+        window.close()
+        window.deleteLater()
+    QApplication.processEvents()
+
+
+@pytest.fixture
+def wait_frame(qtbot):
+    """``wait_frame(window)``: wait until the panels show the current state's frame."""
+
+    def wait(window: MainWindow, timeout: int = FRAME_TIMEOUT_MS) -> None:
+        qtbot.waitUntil(window.frame_is_current, timeout=timeout)
+
+    return wait
+
+
+@pytest.fixture
+def is_non_blank():
+    """``is_non_blank(qimage)``: the image is not one flat colour."""
+    return non_blank
+
+
+def non_blank(image, *, min_std: float = 4.0) -> bool:
+    """True when a QImage is not a single flat colour."""
+    from PyQt6.QtGui import QImage
+
+    img = image.convertToFormat(QImage.Format.Format_RGB32)
+    ptr = img.constBits()
+    ptr.setsize(img.sizeInBytes())
+    arr = np.frombuffer(ptr, dtype=np.uint8).reshape(img.height(), img.bytesPerLine())
+    arr = arr[:, : img.width() * 4].reshape(img.height(), img.width(), 4)[..., :3]
+    return float(arr.std()) > min_std and len(np.unique(arr.reshape(-1, 3), axis=0)) > 16
