@@ -1,0 +1,603 @@
+"""Angle of arrival: array geometry, steering vectors, monopulse, FFT, Bartlett and Capon.
+
+Geometry and sign conventions
+-----------------------------
+* Element positions are in the radar's optical frame in metres: board x right, y down,
+  boresight z (antennas lie in the z = 0 plane). ``RadarConfig`` stores them in mm.
+* A far target at azimuth ``az`` (positive towards +x, right) and elevation ``el``
+  (positive up, i.e. towards −y) lies in direction
+  ``u = (sin az cos el, -sin el, cos az cos el)``.
+* The two-way path through Tx at ``p_tx`` and Rx at ``p_rx`` is shorter by
+  ``(p_tx + p_rx) . u`` than through the origin, so virtual channel (tx, rx) sees the phase
+  ``-2 pi (p_v . u) / lambda`` with the virtual element ``p_v = p_tx + p_rx``.
+  Steering vectors are ``a(u) = exp(-j 2 pi P u / lambda)`` (no normalisation).
+* Virtual channels are ordered tx-major: ``channel = tx_index * n_rx + rx_index``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from simcore.dsp.config import AngleMethod
+from simcore.dsp.windows import as_complex64
+from simcore.sensors.radar_config import Antenna, RadarConfig
+
+#: Positions closer than this are treated as equal when grouping rows/columns (m).
+POSITION_TOLERANCE_M = 1e-6
+
+
+def antenna_positions_m(antennas: Sequence[Antenna]) -> NDArray[np.float64]:
+    """Positions of antennas in the optical frame.
+
+    Parameters
+    ----------
+    antennas : sequence of Antenna
+        Elements with ``position_mm = (x, y)`` on the board.
+
+    Returns
+    -------
+    positions : ndarray, shape (n, 3), float64
+        ``(x, y, 0)`` in metres.
+    """
+    p = np.zeros((len(antennas), 3))
+    for i, a in enumerate(antennas):
+        p[i, :2] = np.asarray(a.position_mm, dtype=np.float64) * 1e-3
+    return p
+
+
+def virtual_array_positions_m(radar_config: RadarConfig) -> NDArray[np.float64]:
+    """Virtual-array element positions ``p_tx + p_rx``, tx-major.
+
+    Parameters
+    ----------
+    radar_config : RadarConfig
+        Uses its ``tx`` and ``rx`` lists.
+
+    Returns
+    -------
+    positions : ndarray, shape (n_tx * n_rx, 3), float64
+        Row ``tx_index * n_rx + rx_index`` (m, optical frame).
+    """
+    tx = antenna_positions_m(radar_config.tx)
+    rx = antenna_positions_m(radar_config.rx)
+    return (tx[:, None, :] + rx[None, :, :]).reshape(-1, 3)
+
+
+def direction_vectors(azimuth_rad: ArrayLike, elevation_rad: ArrayLike = 0.0) -> NDArray[
+    np.float64
+]:
+    """Unit direction vectors in the optical frame.
+
+    Parameters
+    ----------
+    azimuth_rad, elevation_rad : array_like, broadcastable
+        Angles (rad): azimuth positive right (+x), elevation positive up (−y).
+
+    Returns
+    -------
+    u : ndarray, shape (*broadcast_shape, 3), float64
+        ``(sin az cos el, -sin el, cos az cos el)``.
+    """
+    az, el = np.broadcast_arrays(np.asarray(azimuth_rad, float), np.asarray(elevation_rad, float))
+    return np.stack([np.sin(az) * np.cos(el), -np.sin(el), np.cos(az) * np.cos(el)], axis=-1)
+
+
+def steering_vectors(
+    positions_m: ArrayLike,
+    *,
+    wavelength_m: float,
+    azimuth_rad: ArrayLike,
+    elevation_rad: ArrayLike = 0.0,
+) -> NDArray[np.complex128]:
+    """Array response to far targets in the given directions.
+
+    Parameters
+    ----------
+    positions_m : array_like, shape (channels, 3)
+        Virtual-element positions (m, optical frame).
+    wavelength_m : float, keyword-only
+        Carrier wavelength (m).
+    azimuth_rad, elevation_rad : array_like, keyword-only, broadcastable
+        Directions (rad).
+
+    Returns
+    -------
+    a : ndarray, shape (*broadcast_shape, channels), complex128
+        ``exp(-j 2 pi (p . u) / lambda)``.
+    """
+    p = np.asarray(positions_m, dtype=np.float64)
+    u = direction_vectors(azimuth_rad, elevation_rad)
+    return np.exp(-2j * np.pi * (u @ p.T) / wavelength_m)
+
+
+def spatial_covariance(snapshots: ArrayLike) -> NDArray[np.complex128]:
+    """Sample covariance over snapshots.
+
+    Parameters
+    ----------
+    snapshots : array_like, shape (n_snapshots, channels, ...)
+        E.g. a range–Doppler cube ``(doppler, channels, range)`` (snapshots = Doppler bins)
+        or a range cube ``(chirps, channels, range)``.
+
+    Returns
+    -------
+    covariance : ndarray, shape (..., channels, channels), complex128
+        ``R = (1/N) sum_n x_n x_n^H`` for every trailing index.
+    """
+    x = np.asarray(snapshots).astype(np.complex128, copy=False)
+    n = x.shape[0]
+    x = np.moveaxis(x, (0, 1), (-1, -2))  # (..., channels, snapshots)
+    return (x @ np.conj(np.swapaxes(x, -1, -2))) / n
+
+
+def bartlett_spectrum(covariance: ArrayLike, steering: ArrayLike) -> NDArray[np.float64]:
+    """Bartlett (delay-and-sum) spatial spectrum ``a^H R a / M^2``.
+
+    Parameters
+    ----------
+    covariance : array_like, shape (..., channels, channels)
+        Spatial covariance (:func:`spatial_covariance`).
+    steering : array_like, shape (directions, channels)
+        Steering vectors (:func:`steering_vectors`), unit-modulus entries.
+
+    Returns
+    -------
+    power : ndarray, shape (..., directions), float64
+        Power of a unit-amplitude source in its own direction reads 1 (plus noise / M).
+    """
+    r = np.asarray(covariance)
+    a = np.asarray(steering)
+    m = a.shape[-1]
+    ra = np.einsum("...ij,dj->...di", r, a)
+    return np.real(np.einsum("di,...di->...d", np.conj(a), ra)) / (m * m)
+
+
+def capon_spectrum(
+    covariance: ArrayLike, steering: ArrayLike, *, diagonal_loading: float = 1e-3
+) -> NDArray[np.float64]:
+    """Capon / MVDR spatial spectrum ``1 / (a^H (R + d I)^-1 a)``.
+
+    Parameters
+    ----------
+    covariance : array_like, shape (..., channels, channels)
+        Spatial covariance.
+    steering : array_like, shape (directions, channels)
+        Steering vectors.
+    diagonal_loading : float, keyword-only
+        ``d`` relative to the mean element power ``trace(R) / M``.
+
+    Returns
+    -------
+    power : ndarray, shape (..., directions), float64
+        Same scale as :func:`bartlett_spectrum` (a unit source reads ≈ 1).
+    """
+    r_inv = _loaded_inverse(np.asarray(covariance), diagonal_loading)
+    a = np.asarray(steering)
+    ria = np.einsum("...ij,dj->...di", r_inv, a)
+    denom = np.real(np.einsum("di,...di->...d", np.conj(a), ria))
+    return 1.0 / np.maximum(denom, np.finfo(np.float64).tiny)
+
+
+def _loaded_inverse(r: NDArray[np.generic], loading: float) -> NDArray[np.complex128]:
+    """Inverse of ``R + loading * trace(R)/M * I`` (batched over leading axes)."""
+    r = r.astype(np.complex128, copy=False)
+    m = r.shape[-1]
+    level = np.real(np.trace(r, axis1=-2, axis2=-1)) / m
+    level = np.maximum(level, np.finfo(np.float64).tiny)
+    eye = np.eye(m)
+    loaded = r + (loading * level)[..., None, None] * eye + 1e-12 * level[..., None, None] * eye
+    return np.linalg.inv(loaded)
+
+
+def monopulse_direction_cosine(
+    x_a: ArrayLike, x_b: ArrayLike, *, baseline_m: float, wavelength_m: float
+) -> NDArray[np.float64]:
+    """Phase-difference (phase-comparison monopulse) direction cosine of a 2-element pair.
+
+    Parameters
+    ----------
+    x_a, x_b : array_like, same shape
+        Complex responses of elements a and b (e.g. one range–Doppler cell each).
+    baseline_m : float, keyword-only
+        Signed length of ``p_a - p_b`` along the axis of interest (m).
+    wavelength_m : float, keyword-only
+        Carrier wavelength (m).
+
+    Returns
+    -------
+    cosine : ndarray, float64
+        ``(p_a - p_b) . u / |p_a - p_b|``, from the phase of ``x_a conj(x_b)``, clipped to
+        [-1, 1]; unambiguous when ``|baseline| ≤ lambda / 2``. For a horizontal pair this is
+        ``sin(az) cos(el)``; for a vertical pair (baseline along +y) it is ``-sin(el)``.
+    """
+    phase = np.angle(np.asarray(x_a) * np.conj(np.asarray(x_b)))
+    cos = -phase * wavelength_m / (2.0 * np.pi * baseline_m)
+    return np.clip(cos, -1.0, 1.0)
+
+
+def monopulse_azimuth_rad(
+    x_a: ArrayLike, x_b: ArrayLike, *, baseline_m: float, wavelength_m: float
+) -> NDArray[np.float64]:
+    """Azimuth from a horizontal 2-Rx pair, assuming zero elevation.
+
+    Parameters
+    ----------
+    x_a, x_b : array_like, same shape
+        Complex responses of elements a and b.
+    baseline_m : float, keyword-only
+        ``x_a - x_b`` element x-positions (m), signed.
+    wavelength_m : float, keyword-only
+        Carrier wavelength (m).
+
+    Returns
+    -------
+    azimuth : ndarray, float64
+        ``arcsin(-angle(x_a conj x_b) lambda / (2 pi d))`` (rad, positive right).
+    """
+    return np.arcsin(
+        monopulse_direction_cosine(x_a, x_b, baseline_m=baseline_m, wavelength_m=wavelength_m)
+    )
+
+
+@dataclass(frozen=True)
+class ArrayLayout:
+    """What the angle estimators need to know about a virtual array.
+
+    Attributes
+    ----------
+    positions_m : ndarray, shape (channels, 3)
+        Virtual-element positions (m, optical frame).
+    horizontal_pairs : ndarray, shape (n, 2), int
+        Channel index pairs (a, b) with equal y and the smallest non-zero x spacing, with
+        ``x_a > x_b``.
+    horizontal_spacing_m : float
+        That spacing (0 when there is no horizontal pair).
+    vertical_pairs : ndarray, shape (n, 2), int
+        Pairs with equal x and the smallest non-zero y spacing, ``y_a > y_b`` (a below b).
+    vertical_spacing_m : float
+        That spacing (0 when there is no vertical pair).
+    row_channels : ndarray, shape (k,), int
+        Channels of the uniform horizontal row used by FFT beamforming.
+    row_slots : ndarray, shape (k,), int
+        Slot of each such channel on the uniform grid ``x0 + slot * row_spacing_m``
+        (duplicated positions share a slot).
+    row_spacing_m : float
+        Grid spacing of that row (0 when there is no row of ≥ 2 distinct elements).
+    """
+
+    positions_m: NDArray[np.float64]
+    horizontal_pairs: NDArray[np.int64]
+    horizontal_spacing_m: float
+    vertical_pairs: NDArray[np.int64]
+    vertical_spacing_m: float
+    row_channels: NDArray[np.int64]
+    row_slots: NDArray[np.int64]
+    row_spacing_m: float
+
+    @property
+    def has_horizontal_extent(self) -> bool:
+        """Elements differ in x: azimuth is observable."""
+        return bool(np.ptp(self.positions_m[:, 0]) > POSITION_TOLERANCE_M)
+
+    @property
+    def has_vertical_extent(self) -> bool:
+        """Elements differ in y: elevation is observable."""
+        return bool(np.ptp(self.positions_m[:, 1]) > POSITION_TOLERANCE_M)
+
+
+def array_layout(positions_m: ArrayLike) -> ArrayLayout:
+    """Analyse a virtual array: closest horizontal/vertical pairs and the uniform row.
+
+    Parameters
+    ----------
+    positions_m : array_like, shape (channels, 3)
+        Virtual-element positions (m, optical frame).
+
+    Returns
+    -------
+    ArrayLayout
+    """
+    p = np.asarray(positions_m, dtype=np.float64)
+    tol = POSITION_TOLERANCE_M
+    h_pairs, h_d = _closest_pairs(p, along=0, across=1, tol=tol)
+    v_pairs, v_d = _closest_pairs(p, along=1, across=0, tol=tol)
+
+    # Uniform row: the y-row with the most distinct x positions, on a grid of its min spacing.
+    rows: dict[int, list[int]] = {}
+    for i, y in enumerate(p[:, 1]):
+        rows.setdefault(int(np.round(y / tol)), []).append(i)
+    best: list[int] = []
+    best_distinct = 0
+    for members in rows.values():
+        distinct = len(np.unique(np.round(p[members, 0] / tol)))
+        if distinct > best_distinct:
+            best, best_distinct = members, distinct
+    row_ch = np.asarray(sorted(best, key=lambda i: p[i, 0]), dtype=np.int64)
+    row_slots = np.zeros(0, dtype=np.int64)
+    row_d = 0.0
+    if row_ch.size:
+        xs = p[row_ch, 0]
+        diffs = np.diff(xs)
+        diffs = diffs[diffs > tol]
+        if diffs.size:
+            d = float(np.min(diffs))
+            slots = np.round((xs - xs[0]) / d)
+            if np.allclose(slots * d, xs - xs[0], atol=1e-3 * d + tol):
+                row_d = d
+                row_slots = slots.astype(np.int64)
+    if row_d == 0.0:
+        row_ch = np.zeros(0, dtype=np.int64)
+    return ArrayLayout(p, h_pairs, h_d, v_pairs, v_d, row_ch, row_slots, row_d)
+
+
+def _closest_pairs(p: NDArray[np.float64], *, along: int, across: int, tol: float) -> tuple[
+    NDArray[np.int64], float
+]:
+    """Pairs with equal ``across`` coordinate and the smallest non-zero ``along`` spacing."""
+    n = p.shape[0]
+    best = np.inf
+    pairs: list[tuple[int, int]] = []
+    for i in range(n):
+        for j in range(n):
+            if abs(p[i, across] - p[j, across]) > tol:
+                continue
+            d = p[i, along] - p[j, along]
+            if d <= tol:
+                continue
+            if d < best - tol:
+                best, pairs = d, [(i, j)]
+            elif abs(d - best) <= tol:
+                pairs.append((i, j))
+    if not pairs:
+        return np.zeros((0, 2), dtype=np.int64), 0.0
+    return np.asarray(pairs, dtype=np.int64), float(best)
+
+
+def fft_beamform(
+    snapshots: ArrayLike, layout: ArrayLayout, *, fft_size: int = 64
+) -> tuple[NDArray[np.complex64], NDArray[np.float64]]:
+    """FFT beamforming over the uniform horizontal row of the virtual array.
+
+    Parameters
+    ----------
+    snapshots : array_like, shape (..., channels)
+        Complex channel responses (channel axis last).
+    layout : ArrayLayout
+        From :func:`array_layout`; needs a uniform row (``row_spacing_m > 0``).
+    fft_size : int, keyword-only
+        Zero-padded FFT length over the row.
+
+    Returns
+    -------
+    spectrum : ndarray, shape (..., fft_size), complex64
+        Fft-shifted spatial spectrum, normalised by the number of row elements.
+    spatial_frequency : ndarray, shape (fft_size,), float64
+        Cycles per element ``f`` of each bin, in [-0.5, 0.5); the direction cosine is
+        ``sin(az) cos(el) = -f * lambda / row_spacing_m``.
+    """
+    if layout.row_spacing_m <= 0.0:
+        raise ValueError(
+            "FFT beamforming needs a uniform horizontal row of at least 2 distinct virtual "
+            "elements; use angle_method='bartlett' or 'capon' for this array"
+        )
+    x = np.asarray(snapshots)
+    n_slots = int(layout.row_slots.max()) + 1
+    if fft_size < n_slots:
+        raise ValueError(f"angle fft_size {fft_size} < {n_slots} row slots")
+    grid = np.zeros((*x.shape[:-1], n_slots), dtype=np.complex128)
+    count = np.zeros(n_slots)
+    for ch, slot in zip(layout.row_channels, layout.row_slots, strict=True):
+        grid[..., slot] += x[..., ch]
+        count[slot] += 1
+    grid /= np.maximum(count, 1)
+    n_used = int(np.count_nonzero(count))
+    spec = np.fft.fftshift(np.fft.fft(grid, n=fft_size, axis=-1), axes=-1) / n_used
+    freq = np.fft.fftshift(np.fft.fftfreq(fft_size))
+    return as_complex64(spec), freq
+
+
+def fft_azimuth_power(
+    snapshots: ArrayLike,
+    layout: ArrayLayout,
+    *,
+    wavelength_m: float,
+    azimuth_rad: ArrayLike,
+    fft_size: int = 64,
+) -> NDArray[np.float64]:
+    """Power of the FFT beamformer at given azimuths (zero elevation), by interpolation.
+
+    Parameters
+    ----------
+    snapshots : array_like, shape (..., channels)
+        Complex channel responses (channel axis last).
+    layout : ArrayLayout
+        Array description with a uniform row.
+    wavelength_m : float, keyword-only
+        Carrier wavelength (m).
+    azimuth_rad : array_like, shape (n_az,)
+        Output grid (rad).
+    fft_size : int, keyword-only
+        Zero-padded FFT length.
+
+    Returns
+    -------
+    power : ndarray, shape (..., n_az), float64
+        ``|spectrum|^2`` linearly interpolated (circularly) at
+        ``f = -sin(az) * row_spacing / lambda``; directions outside the row's
+        unambiguous interval alias, as they physically do.
+    """
+    spec, _ = fft_beamform(snapshots, layout, fft_size=fft_size)
+    power = np.abs(spec.astype(np.complex128)) ** 2
+    return interpolate_fft_power(power, layout, wavelength_m=wavelength_m,
+                                 azimuth_rad=azimuth_rad)
+
+
+def interpolate_fft_power(
+    power: ArrayLike, layout: ArrayLayout, *, wavelength_m: float, azimuth_rad: ArrayLike
+) -> NDArray[np.float64]:
+    """Sample an fft-shifted spatial power spectrum at given azimuths (zero elevation).
+
+    Parameters
+    ----------
+    power : array_like, shape (..., fft_size)
+        ``|spectrum|^2`` from :func:`fft_beamform` (possibly averaged over snapshots).
+    layout : ArrayLayout
+        Array description with a uniform row.
+    wavelength_m : float, keyword-only
+        Carrier wavelength (m).
+    azimuth_rad : array_like, shape (n_az,)
+        Output grid (rad).
+
+    Returns
+    -------
+    ndarray, shape (..., n_az), float64
+        Circular linear interpolation at ``f = -sin(az) * row_spacing / lambda``.
+    """
+    p = np.asarray(power, dtype=np.float64)
+    n = p.shape[-1]
+    f = -np.sin(np.asarray(azimuth_rad, dtype=np.float64)) * layout.row_spacing_m / wavelength_m
+    pos = (f * n + n // 2) % n  # fractional index into the shifted spectrum
+    i0 = np.floor(pos).astype(np.int64)
+    frac = pos - i0
+    i1 = (i0 + 1) % n
+    return p[..., i0] * (1.0 - frac) + p[..., i1] * frac
+
+
+def _parabolic_offset(left: NDArray[np.float64], mid: NDArray[np.float64],
+                      right: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Vertex offset (in samples, clipped to ±0.5) of a parabola through three points."""
+    denom = left - 2.0 * mid + right
+    with np.errstate(divide="ignore", invalid="ignore"):
+        off = 0.5 * (left - right) / denom
+    off = np.where(denom < 0, off, 0.0)
+    return np.clip(np.nan_to_num(off), -0.5, 0.5)
+
+
+def _refine_grid_peak(power_db: NDArray[np.float64], idx: NDArray[np.int64], axis_vals:
+                      NDArray[np.float64]) -> NDArray[np.float64]:
+    """Parabolic refinement of 1-D peaks ``idx`` along the last axis of ``power_db``."""
+    n = power_db.shape[-1]
+    rows = np.arange(power_db.shape[0])
+    if n < 3:
+        return axis_vals[idx]
+    inner = (idx > 0) & (idx < n - 1)
+    i_l = np.clip(idx - 1, 0, n - 1)
+    i_r = np.clip(idx + 1, 0, n - 1)
+    off = _parabolic_offset(power_db[rows, i_l], power_db[rows, idx], power_db[rows, i_r])
+    off = np.where(inner, off, 0.0)
+    step = axis_vals[1] - axis_vals[0]
+    return axis_vals[idx] + off * step
+
+
+def estimate_angles(
+    snapshots: ArrayLike,
+    layout: ArrayLayout,
+    *,
+    wavelength_m: float,
+    method: AngleMethod = "bartlett",
+    azimuth_grid_rad: ArrayLike,
+    elevation_grid_rad: ArrayLike,
+    covariances: ArrayLike | None = None,
+    diagonal_loading: float = 1e-3,
+    fft_size: int = 64,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Azimuth and elevation of single targets from their channel responses.
+
+    Parameters
+    ----------
+    snapshots : array_like, shape (n, channels)
+        Complex response of each target (e.g. its range–Doppler cell on every channel,
+        TDM phase already compensated).
+    layout : ArrayLayout
+        Virtual array (:func:`array_layout`).
+    wavelength_m : float, keyword-only
+        Carrier wavelength (m).
+    method : {"monopulse", "fft", "bartlett", "capon"}, keyword-only
+        ``monopulse``: phase of the closest horizontal pair(s) gives ``sin az cos el``, of
+        the closest vertical pair(s) ``sin el``. ``fft``: peak of the zero-padded FFT over
+        the uniform row, elevation by vertical monopulse. ``bartlett``: maximum of
+        ``|a^H x|^2`` over the (azimuth × elevation) grid. ``capon``: maximum of
+        ``|w^H x|^2`` with the MVDR weights ``w = R^-1 a / (a^H R^-1 a)`` from
+        ``covariances``. Grid maxima are refined by parabolic interpolation.
+    azimuth_grid_rad, elevation_grid_rad : array_like, keyword-only, shape (n_az,), (n_el,)
+        Uniform search grids (rad). Elevation is searched only when the array has
+        vertical extent, otherwise it is reported as 0.
+    covariances : array_like, shape (n, channels, channels), keyword-only
+        Spatial covariance for each target (Capon only), e.g. over the Doppler bins of
+        its range bin.
+    diagonal_loading : float, keyword-only
+        Capon diagonal loading relative to the mean element power.
+    fft_size : int, keyword-only
+        FFT length for ``method="fft"``.
+
+    Returns
+    -------
+    azimuth_rad, elevation_rad : ndarray, shape (n,), float64
+    """
+    x = np.asarray(snapshots).astype(np.complex128, copy=False)
+    n = x.shape[0]
+    zeros = np.zeros(n)
+    if n == 0:
+        return zeros, zeros.copy()
+    if method in ("monopulse", "fft"):
+        el = zeros.copy()
+        if layout.vertical_pairs.size:
+            a, b = layout.vertical_pairs[:, 0], layout.vertical_pairs[:, 1]
+            z = np.sum(x[:, a] * np.conj(x[:, b]), axis=1)
+            u_y = monopulse_direction_cosine(z, np.ones_like(z),
+                                             baseline_m=layout.vertical_spacing_m,
+                                             wavelength_m=wavelength_m)
+            el = np.arcsin(-u_y)
+        if method == "monopulse":
+            if not layout.horizontal_pairs.size:
+                return zeros, el
+            a, b = layout.horizontal_pairs[:, 0], layout.horizontal_pairs[:, 1]
+            z = np.sum(x[:, a] * np.conj(x[:, b]), axis=1)
+            u_x = monopulse_direction_cosine(z, np.ones_like(z),
+                                             baseline_m=layout.horizontal_spacing_m,
+                                             wavelength_m=wavelength_m)
+        else:
+            spec, freq = fft_beamform(x, layout, fft_size=fft_size)
+            p_db = 10.0 * np.log10(np.maximum(np.abs(spec.astype(np.complex128)) ** 2, 1e-300))
+            k = np.argmax(p_db, axis=1)
+            f = _refine_grid_peak(p_db, k, freq)
+            u_x = -f * wavelength_m / layout.row_spacing_m
+        cos_el = np.maximum(np.cos(el), 1e-9)
+        az = np.arcsin(np.clip(u_x / cos_el, -1.0, 1.0))
+        return az, el
+
+    az_grid = np.asarray(azimuth_grid_rad, dtype=np.float64)
+    el_grid = np.asarray(elevation_grid_rad, dtype=np.float64)
+    if not layout.has_horizontal_extent:
+        az_grid = np.zeros(1)
+    if not layout.has_vertical_extent:
+        el_grid = np.zeros(1)
+    steer = steering_vectors(layout.positions_m, wavelength_m=wavelength_m,
+                         azimuth_rad=az_grid[None, :], elevation_rad=el_grid[:, None])
+    steer = steer.reshape(-1, steer.shape[-1])  # (n_el * n_az, channels), elevation-major
+    if method == "bartlett":
+        w = steer
+    elif method == "capon":
+        if covariances is None:
+            raise ValueError("Capon angle estimation needs the covariances")
+        r_inv = _loaded_inverse(np.asarray(covariances), diagonal_loading)  # (n, M, M)
+        ria = np.einsum("nij,dj->ndi", r_inv, steer)
+        denom = np.real(np.einsum("di,ndi->nd", np.conj(steer), ria))
+        w = ria / np.maximum(denom, 1e-300)[..., None]  # (n, dirs, M)
+    else:
+        raise ValueError(f"unknown angle method {method!r}")
+    if w.ndim == 2:
+        resp = np.abs(x @ np.conj(w).T) ** 2
+    else:
+        resp = np.abs(np.einsum("ndi,ni->nd", np.conj(w), x)) ** 2
+    p_db = 10.0 * np.log10(np.maximum(resp, 1e-300)).reshape(n, el_grid.size, az_grid.size)
+    flat = np.argmax(p_db.reshape(n, -1), axis=1)
+    i_el, i_az = np.unravel_index(flat, (el_grid.size, az_grid.size))
+    rows = np.arange(n)
+    az = _refine_grid_peak(p_db[rows, i_el, :], i_az.astype(np.int64), az_grid)
+    el = _refine_grid_peak(p_db[rows, :, i_az], i_el.astype(np.int64), el_grid)
+    return az, el

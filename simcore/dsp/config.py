@@ -1,0 +1,137 @@
+"""Options of the radar processing chain (:func:`simcore.dsp.process_frame`).
+
+Every option has a default, so ``DspConfig()`` is a complete, working chain for the
+BGT60TR13C-like preset: Hann range window, Chebyshev Doppler window zero-padded to twice
+the number of chirps, Bartlett angle spectra over the actual antenna positions, 2-D
+ordered-statistic CFAR on the non-coherently integrated range–Doppler map, local-maximum
+peak grouping.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from simcore.scene.base import Model
+
+WindowName = Literal["none", "hann", "hamming", "blackman", "blackmanharris", "chebyshev"]
+"""Window families accepted by :func:`simcore.dsp.windows.make_window`."""
+
+AngleMethod = Literal["monopulse", "fft", "bartlett", "capon"]
+CfarMethod = Literal["ca", "go", "so", "os"]
+PeakGrouping = Literal["none", "local_max", "cluster"]
+
+
+class DspConfig(Model):
+    """Radar signal-processing options (units in the field names, SI otherwise).
+
+    Range
+        ``range_window`` (+ ``range_window_sidelobe_db`` for Chebyshev), ``remove_dc``
+        (subtract each chirp's mean over fast time), ``range_fft_size`` (``None``: next
+        power of two ≥ samples per chirp; larger values zero-pad), ``max_range_m`` (range
+        bins beyond it are dropped from every product; ``None`` keeps all),
+        ``min_range_m`` (detections closer than this are discarded: Tx→Rx leakage and the
+        IF high-pass live there).
+    Doppler
+        ``doppler_window`` (Chebyshev by default, ``doppler_window_sidelobe_db`` sidelobe
+        level), ``doppler_fft_size`` (``None``: twice the next power of two ≥ chirps per
+        frame, i.e. 2× zero padding), ``static_clutter_removal`` (subtract the mean over
+        chirps of every range bin: removes everything that does not move).
+    Angle
+        ``angle_method``: ``"monopulse"`` (phase difference of the closest horizontal and
+        vertical element pairs), ``"fft"`` (zero-padded FFT over the uniform horizontal row
+        of the virtual array, ``angle_fft_size`` points), ``"bartlett"`` or ``"capon"``
+        (spectra over the actual virtual-element positions; ``capon_diagonal_loading`` is
+        relative to the mean element power). The range–azimuth map uses Bartlett when the
+        method is monopulse. The azimuth grid (``azimuth_*_deg``) is the axis of the
+        range–azimuth map and the search grid of Bartlett/Capon; the elevation grid is
+        searched only when the array has vertical extent. ``tdm_doppler_compensation``
+        removes the Doppler phase that accrues between the Tx slots of a TDM-MIMO frame.
+    CFAR
+        ``cfar_method`` (``"ca"`` cell averaging, ``"go"``/``"so"`` greatest-/smallest-of,
+        ``"os"`` ordered statistic), ``cfar_dimensions`` (2: on the range–Doppler map;
+        1: along range, row by row), guard and training cells on each side per axis,
+        ``cfar_pfa`` the requested false-alarm probability per cell, ``cfar_os_rank`` the
+        OS rank as a fraction of the number of training cells.
+    Detections
+        ``peak_grouping`` (``"local_max"``: a hit must be the maximum of its
+        ``peak_neighbourhood`` (doppler, range) window of the map; ``"cluster"``: one hit per
+        8-connected group of CFAR hits; ``"none"``), ``doppler_sidelobe_margin_db`` (a hit
+        weaker than the strongest cell of its range bin by more than the Doppler window's
+        peak sidelobe level minus this margin is a sidelobe and is dropped; ``None``
+        disables), ``max_dynamic_range_db`` (cells weaker than the strongest cell of the
+        map by more than this are never detections: only matters for noise-free cubes,
+        whose float32 round-off floor sits ≈ 140 dB down; ``None`` disables),
+        ``interpolate_peaks`` (parabolic
+        sub-bin refinement of range and velocity), ``max_detections`` (strongest kept).
+    Bird's-eye image
+        ``bev_resolution_m`` pixel size of the Cartesian range–azimuth image.
+    """
+
+    # Range processing
+    range_window: WindowName = "hann"
+    range_window_sidelobe_db: float = Field(80.0, gt=0, le=300)
+    remove_dc: bool = True
+    range_fft_size: int | None = Field(None, ge=8, le=65536)
+    max_range_m: float | None = Field(None, gt=0)
+    min_range_m: float = Field(0.2, ge=0)
+
+    # Doppler processing
+    doppler_window: WindowName = "chebyshev"
+    doppler_window_sidelobe_db: float = Field(60.0, gt=0, le=300)
+    doppler_fft_size: int | None = Field(None, ge=1, le=65536)
+    static_clutter_removal: bool = False
+
+    # Angle processing
+    angle_method: AngleMethod = "bartlett"
+    azimuth_min_deg: float = Field(-80.0, ge=-90, le=90)
+    azimuth_max_deg: float = Field(80.0, ge=-90, le=90)
+    azimuth_step_deg: float = Field(1.0, gt=0, le=45)
+    elevation_min_deg: float = Field(-60.0, ge=-90, le=90)
+    elevation_max_deg: float = Field(60.0, ge=-90, le=90)
+    elevation_step_deg: float = Field(1.0, gt=0, le=45)
+    angle_fft_size: int = Field(64, ge=2, le=4096)
+    capon_diagonal_loading: float = Field(1e-3, ge=0)
+    tdm_doppler_compensation: bool = True
+
+    # CFAR
+    cfar_method: CfarMethod = "os"
+    cfar_dimensions: Literal[1, 2] = 2
+    cfar_guard_range: int = Field(2, ge=0, le=256)
+    cfar_train_range: int = Field(8, ge=1, le=512)
+    cfar_guard_doppler: int = Field(1, ge=0, le=256)
+    cfar_train_doppler: int = Field(4, ge=0, le=512)
+    cfar_pfa: float = Field(1e-6, gt=0, lt=1)
+    cfar_os_rank: float = Field(0.75, gt=0, le=1)
+
+    # Detections
+    peak_grouping: PeakGrouping = "local_max"
+    peak_neighbourhood: tuple[int, int] = (3, 3)
+    doppler_sidelobe_margin_db: float | None = Field(6.0, ge=-20, le=100)
+    max_dynamic_range_db: float | None = Field(120.0, gt=0)
+    interpolate_peaks: bool = True
+    max_detections: int = Field(256, ge=1)
+
+    # Bird's-eye image
+    bev_resolution_m: float = Field(0.05, gt=0)
+
+    @model_validator(mode="after")
+    def _check(self) -> DspConfig:
+        if self.azimuth_max_deg <= self.azimuth_min_deg:
+            raise ValueError(
+                f"azimuth_max_deg ({self.azimuth_max_deg}) must exceed azimuth_min_deg "
+                f"({self.azimuth_min_deg})"
+            )
+        if self.elevation_max_deg <= self.elevation_min_deg:
+            raise ValueError(
+                f"elevation_max_deg ({self.elevation_max_deg}) must exceed elevation_min_deg "
+                f"({self.elevation_min_deg})"
+            )
+        if any(n < 1 or n % 2 == 0 for n in self.peak_neighbourhood):
+            raise ValueError(
+                f"peak_neighbourhood must be odd sizes >= 1, got {self.peak_neighbourhood}"
+            )
+        if self.cfar_dimensions == 2 and self.cfar_train_doppler < 1:
+            raise ValueError("2-D CFAR needs cfar_train_doppler >= 1 (or use cfar_dimensions=1)")
+        return self

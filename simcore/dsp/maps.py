@@ -1,0 +1,199 @@
+"""Maps of one frame: range profiles, range–Doppler, range–azimuth and its bird's-eye image.
+
+Powers are linear ``|X|^2`` of the amplitude-normalised spectra of
+:mod:`simcore.dsp.spectrum` (a unit-amplitude tone reads 1, i.e. 0 dB), averaged — not
+summed — over channels and snapshots, so integrating more channels does not shift a
+target's level. ``*_db`` functions return float32 ``10 log10(power)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.ndimage as ndi
+from numpy.typing import ArrayLike, NDArray
+
+from simcore.dsp.angle import (
+    ArrayLayout,
+    bartlett_spectrum,
+    capon_spectrum,
+    fft_beamform,
+    interpolate_fft_power,
+    spatial_covariance,
+    steering_vectors,
+)
+from simcore.dsp.config import AngleMethod
+from simcore.dsp.windows import as_float32, power_to_db
+
+
+def range_profile_power(range_cube: ArrayLike) -> NDArray[np.float32]:
+    """Range profile of every channel, non-coherently averaged over chirps.
+
+    Parameters
+    ----------
+    range_cube : array_like, shape (chirps, channels, range)
+        Output of :func:`simcore.dsp.spectrum.range_fft`.
+
+    Returns
+    -------
+    power : ndarray, shape (channels, range), float32
+        Mean over chirps of ``|X|^2`` (linear).
+    """
+    x = np.asarray(range_cube)
+    return as_float32(np.mean(np.abs(x) ** 2, axis=0))
+
+
+def range_doppler_power(rd_cube: ArrayLike) -> NDArray[np.float32]:
+    """Range–Doppler map, non-coherently averaged over channels.
+
+    Parameters
+    ----------
+    rd_cube : array_like, shape (doppler, channels, range)
+        Output of :func:`simcore.dsp.spectrum.doppler_fft`.
+
+    Returns
+    -------
+    power : ndarray, shape (doppler, range), float32
+        Mean over channels of ``|X|^2`` (linear). Its noise is Gamma(L) distributed with
+        ``L = channels`` (the ``n_integrated`` of the CFAR functions).
+    """
+    x = np.asarray(rd_cube)
+    return as_float32(np.mean(np.abs(x) ** 2, axis=1))
+
+
+def range_azimuth_power(
+    rd_cube: ArrayLike,
+    layout: ArrayLayout,
+    *,
+    wavelength_m: float,
+    azimuth_rad: ArrayLike,
+    method: AngleMethod = "bartlett",
+    diagonal_loading: float = 1e-3,
+    fft_size: int = 64,
+) -> NDArray[np.float32]:
+    """Range–azimuth map at zero elevation, averaged over Doppler bins.
+
+    Parameters
+    ----------
+    rd_cube : array_like, shape (doppler, channels, range)
+        Range–Doppler cube, TDM phase already compensated. Its Doppler bins are the
+        snapshots of the spatial covariance of each range bin.
+    layout : ArrayLayout
+        Virtual array (:func:`simcore.dsp.angle.array_layout`).
+    wavelength_m : float, keyword-only
+        Carrier wavelength (m).
+    azimuth_rad : array_like, shape (n_az,)
+        Azimuth grid (rad, positive right).
+    method : {"bartlett", "capon", "fft", "monopulse"}, keyword-only
+        Spectrum estimator; ``"monopulse"`` gives no map and falls back to Bartlett.
+    diagonal_loading : float, keyword-only
+        Capon loading relative to the mean element power.
+    fft_size : int, keyword-only
+        FFT length of the ``"fft"`` method.
+
+    Returns
+    -------
+    power : ndarray, shape (n_az, range), float32
+        Linear power, the mean over snapshots: a unit-amplitude source present in every
+        snapshot reads ≈ 1 in its own direction (Bartlett, FFT and Capon alike). With
+        Doppler bins as snapshots, multiply by ``(sum w)^2 / sum w^2`` of the Doppler
+        window to restore that scale (Parseval; :func:`simcore.dsp.process_frame` does).
+    """
+    x = np.asarray(rd_cube).astype(np.complex128, copy=False)
+    az = np.asarray(azimuth_rad, dtype=np.float64)
+    if method == "fft":
+        snap = np.moveaxis(x, 1, -1)  # (doppler, range, channels)
+        spec, _ = fft_beamform(snap, layout, fft_size=fft_size)  # (doppler, range, fft)
+        mean_power = np.mean(np.abs(spec) ** 2, axis=0, dtype=np.float64)  # (range, fft)
+        p = interpolate_fft_power(mean_power, layout, wavelength_m=wavelength_m,
+                                  azimuth_rad=az)
+        return as_float32(p.T)
+    a = steering_vectors(layout.positions_m, wavelength_m=wavelength_m, azimuth_rad=az)
+    cov = spatial_covariance(x)  # (range, ch, ch)
+    if method == "capon":
+        p = capon_spectrum(cov, a, diagonal_loading=diagonal_loading)
+    else:
+        p = bartlett_spectrum(cov, a)
+    return as_float32(np.maximum(p, 0.0).T)
+
+
+def bird_eye_axes(
+    *, max_range_m: float, max_azimuth_rad: float, resolution_m: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Pixel-centre axes of the bird's-eye image.
+
+    Parameters
+    ----------
+    max_range_m : float, keyword-only
+        Largest range shown (m).
+    max_azimuth_rad : float, keyword-only
+        Largest |azimuth| of the range–azimuth map (rad); sets the lateral extent.
+    resolution_m : float, keyword-only
+        Pixel size (m).
+
+    Returns
+    -------
+    x_m : ndarray, shape (nx,), float64
+        Lateral axis (radar x, right), symmetric about 0.
+    z_m : ndarray, shape (nz,), float64
+        Forward axis (boresight z) from 0 to ``max_range_m``.
+    """
+    half = max_range_m * min(1.0, float(np.sin(min(abs(max_azimuth_rad), np.pi / 2))))
+    nx = int(np.floor(half / resolution_m))
+    nz = int(np.floor(max_range_m / resolution_m)) + 1
+    x = np.arange(-nx, nx + 1, dtype=np.float64) * resolution_m
+    z = np.arange(nz, dtype=np.float64) * resolution_m
+    return x, z
+
+
+def bird_eye_image(
+    range_azimuth: ArrayLike,
+    *,
+    range_axis_m: ArrayLike,
+    azimuth_axis_rad: ArrayLike,
+    x_axis_m: ArrayLike,
+    z_axis_m: ArrayLike,
+) -> NDArray[np.float32]:
+    """Resample a range–azimuth map onto a Cartesian (bird's-eye) grid.
+
+    Parameters
+    ----------
+    range_azimuth : array_like, shape (n_az, n_range)
+        Map on a uniform azimuth grid and a uniform range grid (dB or linear).
+    range_axis_m : array_like, shape (n_range,)
+        Uniform range axis (m).
+    azimuth_axis_rad : array_like, shape (n_az,)
+        Uniform azimuth axis (rad).
+    x_axis_m, z_axis_m : array_like, shapes (nx,), (nz,)
+        Output pixel centres: lateral x (right) and forward z (m).
+
+    Returns
+    -------
+    image : ndarray, shape (nz, nx), float32
+        Bilinear interpolation at ``range = hypot(x, z)``, ``azimuth = atan2(x, z)``; NaN
+        outside the map's range or azimuth coverage. Row 0 is z = ``z_axis_m[0]``.
+    """
+    m = np.asarray(range_azimuth, dtype=np.float64)
+    r_ax = np.asarray(range_axis_m, dtype=np.float64)
+    a_ax = np.asarray(azimuth_axis_rad, dtype=np.float64)
+    xx, zz = np.meshgrid(np.asarray(x_axis_m, float), np.asarray(z_axis_m, float))
+    rr = np.hypot(xx, zz)
+    aa = np.arctan2(xx, zz)
+    dr = r_ax[1] - r_ax[0] if r_ax.size > 1 else 1.0
+    da = a_ax[1] - a_ax[0] if a_ax.size > 1 else 1.0
+    ir = (rr - r_ax[0]) / dr
+    ia = (aa - a_ax[0]) / da
+    inside = (ir >= 0) & (ir <= r_ax.size - 1) & (ia >= 0) & (ia <= a_ax.size - 1)
+    out = ndi.map_coordinates(m, [ia.ravel(), ir.ravel()], order=1, mode="nearest")
+    out = out.reshape(rr.shape)
+    out[~inside] = np.nan
+    return as_float32(out)
+
+
+__all__ = [
+    "bird_eye_axes",
+    "bird_eye_image",
+    "power_to_db",
+    "range_azimuth_power",
+    "range_doppler_power",
+    "range_profile_power",
+]

@@ -1,0 +1,414 @@
+"""One radar frame through the whole processing chain: ADC cube → maps → point cloud."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from simcore.dsp.angle import (
+    ArrayLayout,
+    array_layout,
+    estimate_angles,
+    spatial_covariance,
+    virtual_array_positions_m,
+)
+from simcore.dsp.cfar import CfarResult, cfar_1d, cfar_2d, group_peaks, suppress_sidelobes
+from simcore.dsp.config import DspConfig
+from simcore.dsp.detections import (
+    Detections,
+    spherical_to_radar_xyz,
+    transform_points,
+)
+from simcore.dsp.maps import (
+    bird_eye_axes,
+    bird_eye_image,
+    range_azimuth_power,
+    range_doppler_power,
+    range_profile_power,
+)
+from simcore.dsp.spectrum import (
+    compensate_tdm_doppler,
+    doppler_fft,
+    doppler_fft_size,
+    range_axis_m,
+    range_bin_count,
+    range_fft,
+    range_fft_size,
+    velocity_axis_mps,
+)
+from simcore.dsp.windows import make_window, peak_sidelobe_db, power_to_db
+from simcore.sensors.radar_config import RadarConfig
+
+H5Items = dict[str, tuple[NDArray[np.generic], str]]
+
+
+@dataclass(frozen=True)
+class RadarAxes:
+    """Axes of the frame products; they depend only on the radar and DSP configurations.
+
+    Attributes
+    ----------
+    range_m : ndarray, shape (n_range,), float64
+        Range of each kept range bin (m).
+    velocity_mps : ndarray, shape (n_doppler,), float64
+        Radial velocity of each (fft-shifted) Doppler bin (m/s, positive = moving away).
+    azimuth_deg : ndarray, shape (n_az,), float64
+        Azimuth grid of the range–azimuth map (deg, positive right).
+    elevation_deg : ndarray, shape (n_el,), float64
+        Elevation search grid (deg, positive up).
+    bev_x_m, bev_z_m : ndarray, shapes (nx,), (nz,), float64
+        Pixel centres of the bird's-eye image: lateral x (right) and forward z (m).
+    range_fft_size, doppler_fft_size : int
+        FFT lengths.
+    """
+
+    range_m: NDArray[np.float64]
+    velocity_mps: NDArray[np.float64]
+    azimuth_deg: NDArray[np.float64]
+    elevation_deg: NDArray[np.float64]
+    bev_x_m: NDArray[np.float64]
+    bev_z_m: NDArray[np.float64]
+    range_fft_size: int
+    doppler_fft_size: int
+
+
+def _grid(lo: float, hi: float, step: float) -> NDArray[np.float64]:
+    n = int(np.floor((hi - lo) / step + 1e-9)) + 1
+    return lo + np.arange(n, dtype=np.float64) * step
+
+
+def radar_axes(radar_config: RadarConfig, dsp_config: DspConfig) -> RadarAxes:
+    """Compute every axis of the frame products.
+
+    Parameters
+    ----------
+    radar_config : RadarConfig
+        Waveform and antennas.
+    dsp_config : DspConfig
+        Processing options.
+
+    Returns
+    -------
+    RadarAxes
+    """
+    rc, dc = radar_config, dsp_config
+    n_fft = range_fft_size(rc.samples_per_chirp, dc.range_fft_size)
+    n_bins = range_bin_count(n_fft, complex_iq=rc.complex_iq)
+    r = range_axis_m(n_bins=n_bins, fft_size=n_fft, sample_rate_hz=rc.sample_rate_hz,
+                     slope_hz_per_s=rc.slope_hz_per_s)
+    if dc.max_range_m is not None:
+        r = r[r <= dc.max_range_m]
+        if r.size < 2:
+            raise ValueError(f"max_range_m = {dc.max_range_m} keeps fewer than 2 range bins")
+    n_dop = doppler_fft_size(rc.chirps_per_frame, dc.doppler_fft_size)
+    v = velocity_axis_mps(fft_size=n_dop,
+                          chirp_interval_s=len(rc.tx) * rc.chirp_repetition_time_s,
+                          wavelength_m=rc.wavelength_m)
+    az = _grid(dc.azimuth_min_deg, dc.azimuth_max_deg, dc.azimuth_step_deg)
+    el = _grid(dc.elevation_min_deg, dc.elevation_max_deg, dc.elevation_step_deg)
+    max_az = np.deg2rad(max(abs(az[0]), abs(az[-1])))
+    bx, bz = bird_eye_axes(max_range_m=float(r[-1]), max_azimuth_rad=float(max_az),
+                           resolution_m=dc.bev_resolution_m)
+    return RadarAxes(r, v, az, el, bx, bz, n_fft, n_dop)
+
+
+def static_axes_items(radar_config: RadarConfig, dsp_config: DspConfig) -> H5Items:
+    """Run-constant HDF5 datasets of the radar products: path → (array, unit).
+
+    Parameters
+    ----------
+    radar_config : RadarConfig
+        Waveform and antennas.
+    dsp_config : DspConfig
+        Processing options.
+
+    Returns
+    -------
+    dict
+        ``/radar/range_axis`` (n_range,) m, ``/radar/velocity_axis`` (n_doppler,) m/s,
+        ``/radar/azimuth_axis`` (n_az,) deg, ``/radar/bird_eye_x_axis`` (nx,) m and
+        ``/radar/bird_eye_z_axis`` (nz,) m, all float64; they label the axes of the
+        per-frame items of :meth:`RadarProducts.hdf5_items`.
+    """
+    ax = radar_axes(radar_config, dsp_config)
+    return {
+        "/radar/range_axis": (ax.range_m, "m"),
+        "/radar/velocity_axis": (ax.velocity_mps, "m/s"),
+        "/radar/azimuth_axis": (ax.azimuth_deg, "deg"),
+        "/radar/bird_eye_x_axis": (ax.bev_x_m, "m"),
+        "/radar/bird_eye_z_axis": (ax.bev_z_m, "m"),
+    }
+
+
+@dataclass(frozen=True)
+class RadarProducts:
+    """Every DSP product of one frame.
+
+    Attributes
+    ----------
+    axes : RadarAxes
+        Axes of all maps.
+    range_cube : ndarray, shape (chirps, channels, range), complex64
+        Range spectra (amplitude-normalised; :mod:`simcore.dsp.spectrum`).
+    range_doppler_cube : ndarray, shape (doppler, channels, range), complex64
+        Range–Doppler spectra, TDM Doppler phase compensated when enabled.
+    range_profile_db : ndarray, shape (channels, range), float32
+        Range profile of each (virtual) channel, mean power over chirps (dB).
+    range_profile_integrated_db : ndarray, shape (range,), float32
+        The same averaged over channels (dB).
+    range_doppler_db : ndarray, shape (doppler, range), float32
+        Range–Doppler map, mean power over channels (dB).
+    range_azimuth_db : ndarray, shape (azimuth, range), float32
+        Range–azimuth map at zero elevation, mean over Doppler bins (dB).
+    bird_eye_db : ndarray, shape (nz, nx), float32
+        Range–azimuth map resampled to Cartesian x (right) × z (forward) pixels (dB, NaN
+        outside the coverage).
+    cfar : CfarResult
+        Detector output on the range–Doppler power map, shape (doppler, range).
+    peaks : ndarray, shape (doppler, range), bool
+        CFAR hits left after peak grouping, Doppler sidelobe suppression and the dynamic
+        range floor (before the range limits and ``max_detections``).
+    detections : Detections
+        Point cloud of the frame.
+    """
+
+    axes: RadarAxes
+    range_cube: NDArray[np.complex64]
+    range_doppler_cube: NDArray[np.complex64]
+    range_profile_db: NDArray[np.float32]
+    range_profile_integrated_db: NDArray[np.float32]
+    range_doppler_db: NDArray[np.float32]
+    range_azimuth_db: NDArray[np.float32]
+    bird_eye_db: NDArray[np.float32]
+    cfar: CfarResult
+    peaks: NDArray[np.bool_]
+    detections: Detections
+
+    def hdf5_items(self) -> H5Items:
+        """Per-frame HDF5 datasets: path → (array without the frame axis, unit).
+
+        Returns
+        -------
+        dict
+            ``/radar/range_profile`` (channels, range), ``/radar/range_profile_integrated``
+            (range,), ``/radar/range_doppler`` (doppler, range), ``/radar/range_azimuth``
+            (azimuth, range), ``/radar/bird_eye`` (nz, nx); all float32 dB. The detections
+            go to the ``/radar/detections`` table via :meth:`detection_records`.
+        """
+        return {
+            "/radar/range_profile": (self.range_profile_db, "dB"),
+            "/radar/range_profile_integrated": (self.range_profile_integrated_db, "dB"),
+            "/radar/range_doppler": (self.range_doppler_db, "dB"),
+            "/radar/range_azimuth": (self.range_azimuth_db, "dB"),
+            "/radar/bird_eye": (self.bird_eye_db, "dB"),
+        }
+
+    def detection_records(self, frame: int) -> NDArray[np.void]:
+        """Return this frame's detections as rows of :data:`~simcore.dsp.DETECTION_DTYPE`."""
+        return self.detections.records(frame)
+
+
+def _parabolic(left: NDArray[np.float64], mid: NDArray[np.float64],
+               right: NDArray[np.float64]) -> NDArray[np.float64]:
+    denom = left - 2.0 * mid + right
+    with np.errstate(divide="ignore", invalid="ignore"):
+        off = 0.5 * (left - right) / denom
+    off = np.where(denom < 0, off, 0.0)
+    return np.clip(np.nan_to_num(off), -0.5, 0.5)
+
+
+def _check_cube(cube: NDArray[np.generic], rc: RadarConfig) -> None:
+    expected = (rc.chirps_per_frame, len(rc.tx) * len(rc.rx), rc.samples_per_chirp)
+    if cube.shape != expected:
+        raise ValueError(
+            f"ADC cube has shape {cube.shape}, expected (chirps, tx*rx channels, samples) = "
+            f"{expected} for this radar configuration"
+        )
+
+
+def process_frame(
+    cube: ArrayLike,
+    radar_config: RadarConfig,
+    dsp_config: DspConfig | None = None,
+    *,
+    radar_to_world: ArrayLike | None = None,
+) -> RadarProducts:
+    """Run the processing chain on one ADC cube.
+
+    Chain: range FFT (DC removal, window, zero padding) → Doppler FFT (optional static
+    clutter removal, window, zero padding, fft-shift) → TDM-MIMO Doppler phase
+    compensation → maps (range profiles, range–Doppler, range–azimuth, bird's eye) →
+    CFAR on the channel-averaged range–Doppler power → peak grouping → range/velocity
+    refinement, angle estimation, point cloud.
+
+    Parameters
+    ----------
+    cube : array_like, shape (chirps, channels, samples)
+        ADC samples, float (real IF) or complex (IQ); channels are the ``n_tx * n_rx``
+        virtual channels, tx-major.
+    radar_config : RadarConfig
+        Waveform and antenna layout the cube was recorded with.
+    dsp_config : DspConfig, optional
+        Processing options (defaults: ``DspConfig()``).
+    radar_to_world : array_like, shape (4, 4), keyword-only, optional
+        Radar optical frame → world transform; when given, the detections also carry
+        world coordinates.
+
+    Returns
+    -------
+    RadarProducts
+    """
+    rc = radar_config
+    dc = DspConfig() if dsp_config is None else dsp_config
+    x = np.asarray(cube)
+    _check_cube(x, rc)
+    axes = radar_axes(rc, dc)
+    n_range = axes.range_m.size
+    lam = rc.wavelength_m
+
+    range_cube = range_fft(x, window=dc.range_window, sidelobe_db=dc.range_window_sidelobe_db,
+                           fft_size=axes.range_fft_size, remove_dc=dc.remove_dc,
+                           n_bins=n_range)
+    profile = range_profile_power(range_cube)
+    rd = doppler_fft(range_cube, window=dc.doppler_window,
+                     sidelobe_db=dc.doppler_window_sidelobe_db, fft_size=axes.doppler_fft_size,
+                     static_clutter_removal=dc.static_clutter_removal)
+    n_tx = len(rc.tx)
+    if n_tx > 1 and dc.tdm_doppler_compensation:
+        rd = compensate_tdm_doppler(rd, velocity_axis_mps=axes.velocity_mps, n_tx=n_tx,
+                                    chirp_repetition_time_s=rc.chirp_repetition_time_s,
+                                    wavelength_m=lam)
+    rd_power = range_doppler_power(rd)
+    n_ch = rd.shape[1]
+
+    # Range–azimuth map (Doppler bins as snapshots, Parseval-scaled to per-chirp power).
+    layout = array_layout(virtual_array_positions_m(rc))
+    az_rad = np.deg2rad(axes.azimuth_deg)
+    ra_method = "bartlett" if dc.angle_method == "monopulse" else dc.angle_method
+    w_d = make_window(dc.doppler_window, rc.chirps_per_frame,
+                      sidelobe_db=dc.doppler_window_sidelobe_db).astype(np.float64)
+    n_eff = float(np.sum(w_d) ** 2 / np.sum(w_d ** 2))
+    ra_power = range_azimuth_power(rd, layout, wavelength_m=lam, azimuth_rad=az_rad,
+                                   method=ra_method,
+                                   diagonal_loading=dc.capon_diagonal_loading,
+                                   fft_size=dc.angle_fft_size) * np.float32(n_eff)
+    ra_db = power_to_db(ra_power)
+    bev = bird_eye_image(ra_db, range_axis_m=axes.range_m, azimuth_axis_rad=az_rad,
+                         x_axis_m=axes.bev_x_m, z_axis_m=axes.bev_z_m)
+
+    # Detection.
+    if dc.cfar_dimensions == 2:
+        cfar = cfar_2d(rd_power, method=dc.cfar_method,
+                       train=(dc.cfar_train_doppler, dc.cfar_train_range),
+                       guard=(dc.cfar_guard_doppler, dc.cfar_guard_range), pfa=dc.cfar_pfa,
+                       rank=dc.cfar_os_rank, n_integrated=n_ch, circular=(True, False))
+    else:
+        cfar = cfar_1d(rd_power, method=dc.cfar_method, train=dc.cfar_train_range,
+                       guard=dc.cfar_guard_range, pfa=dc.cfar_pfa, rank=dc.cfar_os_rank,
+                       n_integrated=n_ch, axis=-1, circular=False)
+    peaks = group_peaks(rd_power, cfar.detections, method=dc.peak_grouping,
+                        neighbourhood=dc.peak_neighbourhood, circular=(True, False))
+    if dc.doppler_sidelobe_margin_db is not None:
+        peaks = suppress_sidelobes(rd_power, peaks, axis=0, sidelobe_db=peak_sidelobe_db(w_d),
+                                   margin_db=dc.doppler_sidelobe_margin_db,
+                                   spread=dc.peak_neighbourhood[1] // 2)
+    if dc.max_dynamic_range_db is not None:
+        floor = float(np.max(rd_power)) * 10.0 ** (-dc.max_dynamic_range_db / 10.0)
+        peaks = peaks & (rd_power > floor)
+    detections = _detections(rd, rd_power, cfar, peaks, axes, layout, rc, dc, radar_to_world)
+
+    return RadarProducts(
+        axes=axes,
+        range_cube=range_cube,
+        range_doppler_cube=rd,
+        range_profile_db=power_to_db(profile),
+        range_profile_integrated_db=power_to_db(profile.mean(axis=0)),
+        range_doppler_db=power_to_db(rd_power),
+        range_azimuth_db=ra_db,
+        bird_eye_db=bev,
+        cfar=cfar,
+        peaks=peaks,
+        detections=detections,
+    )
+
+
+def _detections(
+    rd: NDArray[np.complex64],
+    rd_power: NDArray[np.float32],
+    cfar: CfarResult,
+    peaks: NDArray[np.bool_],
+    axes: RadarAxes,
+    layout: ArrayLayout,
+    rc: RadarConfig,
+    dc: DspConfig,
+    radar_to_world: ArrayLike | None,
+) -> Detections:
+    i_d, i_r = np.nonzero(peaks)
+    keep = axes.range_m[i_r] >= dc.min_range_m
+    i_d, i_r = i_d[keep], i_r[keep]
+    p = rd_power[i_d, i_r].astype(np.float64)
+    order = np.argsort(-p, kind="stable")[: dc.max_detections]
+    i_d, i_r, p = i_d[order], i_r[order], p[order]
+    if i_d.size == 0:
+        return Detections.empty(with_world=radar_to_world is not None)
+
+    n_dop, n_rng = rd_power.shape
+    pdb = 10.0 * np.log10(np.maximum(rd_power.astype(np.float64), 1e-30))
+    rng = axes.range_m[i_r].astype(np.float64)
+    vel = axes.velocity_mps[i_d].astype(np.float64)
+    if dc.interpolate_peaks:
+        dr = axes.range_m[1] - axes.range_m[0]
+        inner = (i_r > 0) & (i_r < n_rng - 1)
+        r_l, r_r = np.clip(i_r - 1, 0, n_rng - 1), np.clip(i_r + 1, 0, n_rng - 1)
+        off_r = np.where(inner, _parabolic(pdb[i_d, r_l], pdb[i_d, i_r], pdb[i_d, r_r]), 0.0)
+        rng = rng + off_r * dr
+        if n_dop >= 3:
+            dv = axes.velocity_mps[1] - axes.velocity_mps[0]
+            off_v = _parabolic(pdb[(i_d - 1) % n_dop, i_r], pdb[i_d, i_r],
+                               pdb[(i_d + 1) % n_dop, i_r])
+            vel = vel + off_v * dv
+
+    snapshots = np.asarray(rd[i_d, :, i_r]).astype(np.complex128)  # (n, channels)
+    n_tx = len(rc.tx)
+    if n_tx > 1 and dc.tdm_doppler_compensation:
+        # The cube was de-rotated with each bin's velocity; finish with the refined one.
+        tx_index = np.repeat(np.arange(n_tx), len(rc.rx))
+        dv = vel - axes.velocity_mps[i_d]
+        snapshots *= np.exp(-4j * np.pi * dv[:, None] * tx_index[None, :]
+                            * rc.chirp_repetition_time_s / rc.wavelength_m)
+    cov = None
+    if dc.angle_method == "capon":
+        cov = spatial_covariance(rd[:, :, i_r])  # (n, ch, ch)
+    az, el = estimate_angles(
+        snapshots, layout, wavelength_m=rc.wavelength_m, method=dc.angle_method,
+        azimuth_grid_rad=np.deg2rad(axes.azimuth_deg),
+        elevation_grid_rad=np.deg2rad(axes.elevation_deg), covariances=cov,
+        diagonal_loading=dc.capon_diagonal_loading, fft_size=dc.angle_fft_size)
+    noise = cfar.noise[i_d, i_r].astype(np.float64)
+    snr_db = 10.0 * np.log10(np.maximum(p, 1e-30) / np.maximum(noise, 1e-30))
+    xyz = spherical_to_radar_xyz(rng, az, el)
+    world = None if radar_to_world is None else transform_points(xyz, radar_to_world)
+    return Detections(
+        doppler_index=i_d.astype(np.int64),
+        range_index=i_r.astype(np.int64),
+        range_m=rng,
+        velocity_mps=vel,
+        azimuth_deg=np.rad2deg(az),
+        elevation_deg=np.rad2deg(el),
+        snr_db=snr_db,
+        power_db=10.0 * np.log10(np.maximum(p, 1e-30)),
+        xyz_radar_m=xyz,
+        xyz_world_m=world,
+    )
+
+
+__all__ = [
+    "H5Items",
+    "RadarAxes",
+    "RadarProducts",
+    "process_frame",
+    "radar_axes",
+    "static_axes_items",
+]
