@@ -143,9 +143,9 @@ def range_fft(
     xw = x * (w * np.float32(scale))
     keep = range_bin_count(n_fft, complex_iq=is_complex) if n_bins is None else int(n_bins)
     if is_complex:
-        spec = scipy.fft.fft(xw, n=n_fft, axis=-1, workers=-1)
+        spec = scipy.fft.fft(xw, n=n_fft, axis=-1)
     else:
-        spec = scipy.fft.rfft(xw, n=n_fft, axis=-1, workers=-1)
+        spec = scipy.fft.rfft(xw, n=n_fft, axis=-1)
     if keep > spec.shape[-1]:
         raise ValueError(f"n_bins {keep} exceeds the {spec.shape[-1]} bins of the spectrum")
     return as_complex64(spec[..., :keep])
@@ -205,7 +205,7 @@ def doppler_fft(
     n_fft = doppler_fft_size(n_chirps, fft_size)
     w = make_window(window, n_chirps, sidelobe_db=sidelobe_db)
     w = w / np.float32(np.sum(w, dtype=np.float64))
-    spec = scipy.fft.fft(x * w[:, None, None], n=n_fft, axis=0, workers=-1)
+    spec = scipy.fft.fft(x * w[:, None, None], n=n_fft, axis=0)
     return as_complex64(scipy.fft.fftshift(spec, axes=0))
 
 
