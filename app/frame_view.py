@@ -8,8 +8,10 @@ them into plot items.
 
 The sensor and DSP stages of the pipeline are optional here: a frame without ``tof``
 falls back to :func:`simcore.sensors.tof.simulate_tof` on the ToF render when that exists,
-then to the ground-truth range; a frame without ``dsp`` falls back to the app's preview
-radar chain (:mod:`app.preview_radar`), which the panels label as a preview.
+then to the ground-truth range; a frame without ``dsp`` gets its radar products from
+:class:`app.radar_chain.RadarChain` (the simcore front end and DSP run by the worker), and
+only where those are unavailable from the app's preview chain (:mod:`app.preview_radar`),
+which the panels label as a preview.
 """
 
 from __future__ import annotations
@@ -77,6 +79,9 @@ class RadarView:
     detections : Detections
     channel_names : list of str
         One name per row of ``profile_db``.
+    bev_db : ndarray, shape (nz, nx), optional
+        Bird's-eye (Cartesian) range–azimuth image (dB, NaN outside the coverage) over
+        ``bev_x_m`` (right) and ``bev_z_m`` (forward).
     source : str
         "simcore" when computed by the pipeline's DSP, "preview" for the app's fallback.
     """
@@ -91,6 +96,9 @@ class RadarView:
     detections: Detections
     channel_names: list[str]
     source: str = "simcore"
+    bev_db: F32 | None = None
+    bev_x_m: F64 | None = None
+    bev_z_m: F64 | None = None
 
     def profile_peak_range_m(self, *, min_range_m: float = 0.3) -> float:
         """Range (m) of the strongest bin of the channel-averaged profile beyond ``min_range_m``."""
@@ -175,24 +183,6 @@ def _tof_view(frame: Any, project: Project, notes: list[str]) -> TofView:
 # --------------------------------------------------------------------------------------
 
 
-def _first(obj: Any, *names: str) -> Any:
-    """The first attribute of ``obj`` among ``names`` that exists and is not None."""
-    for name in names:
-        value = getattr(obj, name, None)
-        if value is not None:
-            return value
-    return None
-
-
-def _db(x: Any, *, power: bool) -> F32:
-    a = np.asarray(x)
-    if np.iscomplexobj(a):
-        a = np.abs(a) ** 2
-        power = True
-    a = np.maximum(np.asarray(a, dtype=np.float64), 1e-30)
-    return (10 * np.log10(a) if power else 20 * np.log10(a)).astype(np.float32)
-
-
 def radar_to_world(points_radar: F64, sensor_transform: F64) -> F64:
     """Radar optical-frame points, shape (n, 3), to world coordinates (n, 3)."""
     if len(points_radar) == 0:
@@ -200,93 +190,90 @@ def radar_to_world(points_radar: F64, sensor_transform: F64) -> F64:
     return points_radar @ sensor_transform[:3, :3].T + sensor_transform[:3, 3]
 
 
-def _detections_from(dsp: Any, radar_transform: F64) -> Detections:
-    det = _first(dsp, "detections", "point_cloud")
-    if det is None:
-        return Detections.empty()
+def channel_names(project: Project) -> list[str]:
+    """Names of the virtual channels, Tx-major (``rx1`` … with one Tx)."""
+    radar = project.rig.radar
+    rx = [a.name or f"rx{i + 1}" for i, a in enumerate(radar.rx)]
+    if len(radar.tx) == 1:
+        return rx
+    tx = [a.name or f"tx{i + 1}" for i, a in enumerate(radar.tx)]
+    return [f"{t}·{r}" for t in tx for r in rx]
 
-    def col(*names: str) -> F64 | None:
-        for n in names:
-            if isinstance(det, np.ndarray) and det.dtype.names and n in det.dtype.names:
-                return np.asarray(det[n], dtype=np.float64)
-            v = getattr(det, n, None)
-            if v is not None:
-                return np.asarray(v, dtype=np.float64)
-        return None
 
-    rng = col("range", "range_m")
-    if rng is None:
-        return Detections.empty()
-    n = len(rng)
-    zeros = np.zeros(n)
-    vel = col("velocity", "velocity_mps", "radial_velocity_mps")
-    az = col("azimuth_deg")
-    el = col("elevation_deg")
-    snr = col("snr_db", "snr")
-    x, y, z = col("x", "x_m"), col("y", "y_m"), col("z", "z_m")
-    xyz = col("xyz", "xyz_m", "points_m")
-    if xyz is None:
-        if x is not None and y is not None and z is not None:
-            xyz = np.stack([x, y, z], axis=1)
-        else:
-            a = np.deg2rad(az if az is not None else zeros)
-            e = np.deg2rad(el if el is not None else zeros)
-            xyz = np.stack([rng * np.cos(e) * np.sin(a), -rng * np.sin(e),
-                            rng * np.cos(e) * np.cos(a)], axis=1)
-    xyz = np.asarray(xyz, dtype=np.float64).reshape(n, 3)
-    world = col("xyz_world", "xyz_world_m")
-    world = (np.asarray(world).reshape(n, 3) if world is not None
+def radar_view_from_products(dsp: Any, project: Project, radar_transform: F64) -> RadarView:
+    """Adapt :class:`simcore.dsp.RadarProducts` to a :class:`RadarView`."""
+    ax = dsp.axes
+    velocity = np.asarray(ax.velocity_mps, dtype=np.float64)
+    threshold_db = None
+    cfar = getattr(dsp, "cfar", None)
+    if cfar is not None and np.ndim(cfar.threshold) == 2:
+        # Zero-Doppler row: static targets have the same (amplitude-normalised) power in
+        # the range profile and at 0 m/s in the range–Doppler map.
+        d0 = int(np.argmin(np.abs(velocity)))
+        threshold_db = (10 * np.log10(np.maximum(cfar.threshold[d0], 1e-30))).astype(
+            np.float32)
+    det = dsp.detections
+    xyz = np.asarray(det.xyz_radar_m, dtype=np.float64).reshape(-1, 3)
+    world = det.xyz_world_m
+    world = (np.asarray(world, dtype=np.float64).reshape(-1, 3) if world is not None
              else radar_to_world(xyz, radar_transform))
-    return Detections(rng, vel if vel is not None else zeros, az if az is not None else zeros,
-                      el if el is not None else zeros, snr if snr is not None else zeros, xyz,
-                      world)
-
-
-def _radar_view_from_dsp(dsp: Any, project: Project, radar_transform: F64) -> RadarView:
-    """Adapt :class:`simcore.dsp.RadarProducts` to :class:`RadarView`."""
-    range_axis = np.asarray(_first(dsp, "range_axis_m", "range_axis"), dtype=np.float64)
-    profile = _first(dsp, "range_profile_db", "range_profile")
-    profile_db = (np.asarray(profile, dtype=np.float32) if getattr(dsp, "range_profile_db", None)
-                  is not None else _db(profile, power=True))
-    if profile_db.ndim == 1:
-        profile_db = profile_db[None, :]
-    threshold = _first(dsp, "range_threshold_db", "cfar_threshold_db", "profile_threshold_db")
-    rd = _first(dsp, "range_doppler_db", "range_doppler")
-    ra = _first(dsp, "range_azimuth_db", "range_azimuth")
-    names = [a.name or f"rx{i + 1}" for i, a in enumerate(project.rig.radar.rx)]
-    if profile_db.shape[0] != len(names):
-        names = [f"ch{i + 1}" for i in range(profile_db.shape[0])]
+    detections = Detections(
+        np.asarray(det.range_m, dtype=np.float64), np.asarray(det.velocity_mps, dtype=float),
+        np.asarray(det.azimuth_deg, dtype=float), np.asarray(det.elevation_deg, dtype=float),
+        np.asarray(det.snr_db, dtype=float), xyz, world)
+    profile = np.asarray(dsp.range_profile_db, dtype=np.float32)
+    names = channel_names(project)
+    if len(names) != profile.shape[0]:
+        names = [f"ch{i + 1}" for i in range(profile.shape[0])]
+    bev = getattr(dsp, "bird_eye_db", None)
     return RadarView(
-        range_axis_m=range_axis,
-        profile_db=profile_db,
-        threshold_db=None if threshold is None else np.asarray(threshold, dtype=np.float32),
-        velocity_axis_mps=np.asarray(_first(dsp, "velocity_axis_mps", "velocity_axis"),
-                                     dtype=np.float64),
-        range_doppler_db=np.asarray(rd, dtype=np.float32),
-        azimuth_axis_deg=np.asarray(_first(dsp, "azimuth_axis_deg", "azimuth_axis"),
-                                    dtype=np.float64),
-        range_azimuth_db=np.asarray(ra, dtype=np.float32),
-        detections=_detections_from(dsp, radar_transform),
+        range_axis_m=np.asarray(ax.range_m, dtype=np.float64),
+        profile_db=profile,
+        threshold_db=threshold_db,
+        velocity_axis_mps=velocity,
+        range_doppler_db=np.asarray(dsp.range_doppler_db, dtype=np.float32),
+        azimuth_axis_deg=np.asarray(ax.azimuth_deg, dtype=np.float64),
+        range_azimuth_db=np.asarray(dsp.range_azimuth_db, dtype=np.float32),
+        detections=detections,
         channel_names=names,
+        bev_db=None if bev is None else np.asarray(bev, dtype=np.float32),
+        bev_x_m=None if bev is None else np.asarray(ax.bev_x_m, dtype=np.float64),
+        bev_z_m=None if bev is None else np.asarray(ax.bev_z_m, dtype=np.float64),
     )
 
 
-def _radar_view(frame: Any, project: Project, notes: list[str]) -> RadarView | None:
+def _radar_view(frame: Any, project: Project, notes: list[str], chain: Any,
+                timings: dict[str, float]) -> RadarView | None:
     radar_transform = frame.radar_buffers.sensor.transform
     dsp = getattr(frame, "dsp", None)
+    if dsp is None and chain is not None:
+        try:
+            dsp = chain.process(frame, project, timings)
+        except Exception as exc:  # noqa: BLE001 - the preview below still shows something
+            notes.append(f"radar chain failed ({type(exc).__name__}: {exc}); preview radar")
+            dsp = None
+        if dsp is None and chain.error:
+            notes.append(chain.error)
     if dsp is not None:
-        return _radar_view_from_dsp(dsp, project, radar_transform)
+        return radar_view_from_products(dsp, project, radar_transform)
     from app.preview_radar import preview_radar_view
 
-    notes.append("radar front end / DSP not in the pipeline yet: preview radar chain")
+    notes.append("radar front end / DSP not available: preview radar chain")
     return preview_radar_view(frame, project)
 
 
-def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> FrameView:
-    """Extract what the panels draw from a pipeline frame (runs in the worker thread)."""
+def build_frame_view(frame: Any, project: Project, *, render_count: int = 0,
+                     radar_chain: Any = None) -> FrameView:
+    """Extract what the panels draw from a pipeline frame (runs in the worker thread).
+
+    ``radar_chain`` (:class:`app.radar_chain.RadarChain`) computes the radar products of
+    frames that do not carry them yet.
+    """
     notes: list[str] = []
+    timings = dict(frame.timings_ms)
     tof = _tof_view(frame, project, notes)
-    radar = _radar_view(frame, project, notes)
+    radar = _radar_view(frame, project, notes, radar_chain, timings)
+    timings["total"] = sum(v for k, v in timings.items() if k != "total")
     return FrameView(
         index=frame.index,
         time_s=float(frame.time_s),
@@ -294,7 +281,7 @@ def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> 
         radar=radar,
         object_poses=np.asarray(frame.object_poses),
         rig_pose=np.asarray(frame.rig_pose),
-        timings_ms=dict(frame.timings_ms),
+        timings_ms=timings,
         render_count=render_count,
         notes=notes,
     )

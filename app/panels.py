@@ -336,19 +336,25 @@ class RangeAzimuthPanel(LivePanel):
         radar = view.radar
         if radar is None:
             return
-        r, az = radar.range_axis_m, radar.azimuth_axis_deg
-        key = (len(r), float(r[0]), float(r[-1]), len(az), float(az[0]), float(az[-1]))
-        if key != self._grid_key:
-            self._build_lookup(r, az)
-            self._grid_key = key
-        assert self._lookup is not None
-        ai, ri, inside = self._lookup
         ra = radar.range_azimuth_db
         hi = float(np.max(ra))
-        bev = np.where(inside, ra[ai, ri], np.nan).astype(np.float32)
+        if radar.bev_db is not None and radar.bev_x_m is not None and radar.bev_z_m is not None:
+            # The DSP's own Cartesian resampling of the range–azimuth map.
+            bev = radar.bev_db
+            rect = _rect(radar.bev_x_m, radar.bev_z_m)
+        else:
+            r, az = radar.range_axis_m, radar.azimuth_axis_deg
+            key = (len(r), float(r[0]), float(r[-1]), len(az), float(az[0]), float(az[-1]))
+            if key != self._grid_key:
+                self._build_lookup(r, az)
+                self._grid_key = key
+            assert self._lookup is not None
+            ai, ri, inside = self._lookup
+            bev = np.where(inside, ra[ai, ri], np.nan).astype(np.float32)
+            rect = self._extent
         self.bev = bev
         self.image.setImage(np.nan_to_num(bev, nan=hi - 200.0), autoLevels=False)
-        self.image.setRect(self._extent)
+        self.image.setRect(rect)
         self.bar.setLevels((hi - 40.0, hi))
         det = radar.detections
         a = np.deg2rad(det.azimuth_deg)

@@ -110,7 +110,8 @@ class SceneViewport(QWidget):
         self.document = document
         layout = QVBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)
-        self.plotter = QtInteractor(self, auto_update=False, multi_samples=4)
+        # No multisampling: on software OpenGL (Mesa llvmpipe) it multiplies the frame time.
+        self.plotter = QtInteractor(self, auto_update=False, multi_samples=0)
         layout.addWidget(self.plotter.interactor)
         self.setMinimumSize(320, 240)
         self._time_s = 0.0
@@ -130,6 +131,11 @@ class SceneViewport(QWidget):
         self._camera_set = False
         self._slabs: dict[int, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
         self._closed = False
+        self._render_timer = QTimer(self)
+        self._render_timer.setSingleShot(True)
+        self._render_timer.setInterval(0)
+        self._render_timer.timeout.connect(self.render_now)
+        self.render_count = 0
         self._setup_scene()
         document.projectChanged.connect(self._on_project_changed)
         document.projectReplaced.connect(self._on_project_replaced)
@@ -162,14 +168,23 @@ class SceneViewport(QWidget):
 
     # --- rendering (never into a hidden view) ------------------------------------------
     def request_render(self) -> None:
-        """Render now if the view is visible, else when it next becomes visible."""
+        """Render soon (coalescing requests) if visible, else when next shown."""
         if self._closed:
             return
         if self.isVisible() and self.plotter.isVisible():
             self._needs_render = False
-            self.plotter.render()
+            self._render_timer.start()
         else:
             self._needs_render = True
+
+    def render_now(self) -> None:
+        """Render immediately (only while visible)."""
+        if self._closed or not (self.isVisible() and self.plotter.isVisible()):
+            self._needs_render = not self._closed
+            return
+        self._render_timer.stop()
+        self.render_count += 1
+        self.plotter.render()
 
     def showEvent(self, event: Any) -> None:  # noqa: N802, D102 - Qt API
         super().showEvent(event)

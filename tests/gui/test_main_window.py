@@ -119,12 +119,18 @@ def test_corner_reflector_appears_and_disappears_with_radar_opacity(make_window,
     snap_radar = window.viewport._snapshot.radar.transform
     p = np.linalg.inv(snap_radar) @ np.append(cr.pose.position_m, 1.0)
     cr_range = float(np.linalg.norm(p[:3]))
+    cr_az = float(np.degrees(np.arctan2(p[0], p[2])))
 
     def cr_level_and_hit():
+        """Range–azimuth level at the reflector, and whether a detection lies there."""
         radar = window.last_view.radar
-        mask = np.abs(radar.range_axis_m - cr_range) < 0.1
-        level = float(radar.range_doppler_db[:, mask].max())
-        hit = bool(np.any(np.abs(radar.detections.range_m - cr_range) < 0.15))
+        r_mask = np.abs(radar.range_axis_m - cr_range) < 0.08
+        a_mask = np.abs(radar.azimuth_axis_deg - cr_az) < 6.0
+        level = float(radar.range_azimuth_db[np.ix_(a_mask, r_mask)].max())
+        det = radar.detections
+        hit = bool(np.any((np.abs(det.range_m - cr_range) < 0.1)
+                          & (np.abs(det.azimuth_deg - cr_az) < 8.0)))
+        print(f"reflector at {cr_range:.2f} m {cr_az:.1f}°: level {level:.1f} dB, hit {hit}")
         return level, hit
 
     level_on, hit_on = cr_level_and_hit()
