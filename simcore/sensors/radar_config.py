@@ -1,20 +1,87 @@
-"""Configuration of the FMCW radar front end: waveform, antennas, render sampling."""
+"""Configuration of the FMCW radar front end: waveform, antennas, receiver, render sampling.
+
+Units are SI unless a field name says otherwise (``_mm``, ``_deg``, ``_db``, ``_dbm``,
+``_dbi``). Antenna positions are on the radar board, which is the x–y plane of the radar's
+optical frame (x right, y down, boresight z). ADC values are expressed as fractions of the
+ADC full scale ("FS": ±1 is the largest code); see ``docs/physics_radar.md``.
+
+The defaults describe an Infineon BGT60TR13C-like sensor: 60–66 GHz chirp, 1 Tx, 3 Rx in an
+L with λ/2 (at 60 GHz) spacing, real IF sampled at 2 MHz by a 12-bit ADC, a first-order
+80 kHz IF high-pass, 12 dB receiver noise figure and strong Tx→Rx leakage. Transmit power,
+antenna gains, conversion gain and leakage are representative values, not measured ones.
+"""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Annotated, Literal, Union
+
+import numpy as np
+from numpy.typing import NDArray
 from pydantic import Field, model_validator
 
-from simcore.scene.base import Model, Vec2
+from simcore.scene.base import Finite, Model, Vec2
 from simcore.scene.motion import Pose
+
+if TYPE_CHECKING:
+    from simcore.render.camera import PinholeIntrinsics
 
 SPEED_OF_LIGHT = 299_792_458.0
 
 
+class CosinePattern(Model):
+    """Separable cosine-power element pattern (power gain relative to boresight).
+
+    ``g(az, el) = max(cos az, 0) ** exponent_az * max(cos el, 0) ** exponent_el`` with
+    azimuth measured from boresight towards board +x and elevation towards board −y (up).
+    Exponent 0 gives an isotropic element; 2.6 gives −3 dB at ±40°.
+    """
+
+    kind: Literal["cosine"] = "cosine"
+    exponent_az: float = Field(2.6, ge=0, le=100, allow_inf_nan=False)
+    exponent_el: float = Field(2.6, ge=0, le=100, allow_inf_nan=False)
+
+
+class TablePattern(Model):
+    """Element power pattern tabulated in dB over an azimuth × elevation grid.
+
+    ``gain_db[i][j]`` is the gain relative to the boresight peak gain at
+    ``elevation_deg[i]``, ``azimuth_deg[j]``; values are interpolated bilinearly in dB and
+    held constant beyond the table edges.
+    """
+
+    kind: Literal["table"] = "table"
+    azimuth_deg: list[Finite] = Field(min_length=2)
+    elevation_deg: list[Finite] = Field(min_length=2)
+    gain_db: list[list[Finite]]
+
+    @model_validator(mode="after")
+    def _check(self) -> TablePattern:
+        for name, axis in (("azimuth_deg", self.azimuth_deg),
+                           ("elevation_deg", self.elevation_deg)):
+            if any(b <= a for a, b in zip(axis, axis[1:], strict=False)):
+                raise ValueError(f"{name} must be strictly increasing, got {axis}")
+            if axis[0] < -180 or axis[-1] > 180:
+                raise ValueError(f"{name} must lie within [-180, 180] degrees")
+        shape = (len(self.elevation_deg), len(self.azimuth_deg))
+        if len(self.gain_db) != shape[0] or any(len(row) != shape[1] for row in self.gain_db):
+            raise ValueError(
+                f"gain_db must have shape (len(elevation_deg), len(azimuth_deg)) = {shape}"
+            )
+        return self
+
+
+ElementPattern = Annotated[Union[CosinePattern, TablePattern], Field(discriminator="kind")]
+
+
 class Antenna(Model):
-    """One Tx or Rx element at ``position_mm`` on the radar board (x right, y down)."""
+    """One Tx or Rx element at ``position_mm`` on the radar board (x right, y down).
+
+    ``pattern`` overrides the configuration's ``element_pattern`` for this element.
+    """
 
     name: str = ""
     position_mm: Vec2 = (0.0, 0.0)
+    pattern: ElementPattern | None = None
 
 
 def default_l_rx(spacing_mm: float = 2.5) -> list[Antenna]:
@@ -27,10 +94,15 @@ def default_l_rx(spacing_mm: float = 2.5) -> list[Antenna]:
 
 
 class RadarConfig(Model):
-    """FMCW radar: chirp parameters, antenna layout and the radar render pass sampling.
+    """FMCW radar: chirp, antenna layout, transmitter, receiver chain and render sampling.
 
     ``pose_on_rig`` uses the rig's body convention (x forward, y left, z up); the radar's
     optical frame (board x right, y down, boresight z) is derived from it.
+
+    Receiver chain (applied in this order): the IF signal of every scatterer, with the
+    IF high-pass's steady-state response; Tx→Rx leakage; receiver noise; ADC quantization
+    and clipping. Each stage can be switched off: ``leakage_dbc=None``,
+    ``noise_variance_adc=0``, ``if_highpass_hz=0``, ``adc_bits=None``.
     """
 
     preset: str = "bgt60tr13c"
@@ -48,6 +120,39 @@ class RadarConfig(Model):
     render_width: int = Field(1000, ge=8, le=8192)
     render_height: int = Field(342, ge=8, le=8192)
     render_fov_h_deg: float = Field(100.0, gt=0, lt=170)
+    render_supersampling: int = Field(
+        1, ge=1, le=8,
+        description="render sub-pixels per facet and axis; each facet (render_width × "
+                    "render_height grid) sums the RCS of its sub-pixels")
+    # Transmitter and antennas.
+    tx_power_dbm: float = Field(5.0, ge=-100, le=60, description="per Tx, at the antenna port")
+    tx_gain_dbi: float = Field(6.0, ge=-30, le=60, description="boresight gain of a Tx element")
+    rx_gain_dbi: float = Field(6.0, ge=-30, le=60, description="boresight gain of an Rx element")
+    element_pattern: ElementPattern = Field(default_factory=CosinePattern)
+    # Receiver.
+    if_gain_db: float = Field(
+        66.0, ge=-50, le=200,
+        description="voltage gain from the Rx antenna port (50 Ω) to the ADC input")
+    noise_figure_db: float = Field(12.0, ge=0, le=60)
+    noise_variance_adc: float | None = Field(
+        None, ge=0, allow_inf_nan=False,
+        description="receiver noise variance per real channel in FS²; overrides the noise "
+                    "figure when set (0 = no noise)")
+    leakage_dbc: float | None = Field(
+        -40.0, le=0, allow_inf_nan=False,
+        description="Tx→Rx leakage power at the Rx port relative to the Tx power "
+                    "(None = no leakage)")
+    if_highpass_hz: float = Field(80e3, ge=0, allow_inf_nan=False,
+                                  description="IF high-pass cutoff (0 = none)")
+    if_highpass_order: int = Field(1, ge=1, le=8)
+    adc_bits: int | None = Field(12, ge=1, le=24, description="None = no quantization")
+    adc_full_scale_v: float = Field(1.0, gt=0, allow_inf_nan=False,
+                                    description="peak ADC input voltage of the largest code")
+    # Scattering and synthesis.
+    speckle: bool = Field(
+        default=True,
+        description="random surface-attached phase per render pixel (rough surfaces)")
+    nufft_tolerance: float = Field(1e-9, ge=1e-14, le=1e-2)
 
     @model_validator(mode="after")
     def _check(self) -> RadarConfig:
@@ -62,8 +167,20 @@ class RadarConfig(Model):
                 f"chirp_repetition_time_s ({self.chirp_repetition_time_s * 1e6:.1f} µs) is "
                 f"shorter than chirp_time_s ({self.chirp_time_s * 1e6:.1f} µs)"
             )
+        nyquist = self.sample_rate_hz if self.complex_iq else 0.5 * self.sample_rate_hz
+        if self.if_highpass_hz >= nyquist:
+            raise ValueError(
+                f"if_highpass_hz ({self.if_highpass_hz:g} Hz) must be below the IF bandwidth "
+                f"({nyquist:g} Hz), or 0 for no high-pass"
+            )
+        for role, antennas in (("tx", self.tx), ("rx", self.rx)):
+            names = [a.name for a in antennas if a.name]
+            dup = sorted({n for n in names if names.count(n) > 1})
+            if dup:
+                raise ValueError(f"{role}: duplicate antenna names {dup}")
         return self
 
+    # ----------------------------------------------------------------- derived values
     @property
     def wavelength_m(self) -> float:
         """Wavelength at the chirp's centre frequency (m)."""
@@ -102,3 +219,123 @@ class RadarConfig(Model):
         """Time from the first chirp's start to the last chirp's end (s)."""
         n_slots = self.chirps_per_frame * len(self.tx)
         return (n_slots - 1) * self.chirp_repetition_time_s + self.chirp_time_s
+
+    @property
+    def n_channels(self) -> int:
+        """Number of virtual channels (Tx × Rx pairs)."""
+        return len(self.tx) * len(self.rx)
+
+    def tx_positions_m(self) -> NDArray[np.float64]:
+        """Tx positions in the radar optical frame (board plane z = 0), shape (tx, 3), m."""
+        return _positions_m(self.tx)
+
+    def rx_positions_m(self) -> NDArray[np.float64]:
+        """Rx positions in the radar optical frame (board plane z = 0), shape (rx, 3), m."""
+        return _positions_m(self.rx)
+
+    def virtual_positions_m(self) -> NDArray[np.float64]:
+        """Virtual-array element positions ``p_tx + p_rx``, shape (tx*rx, 3), m.
+
+        Channel ``t * n_rx + r`` pairs Tx ``t`` with Rx ``r``. In the far field its phase
+        is ``-2π/λ · u·(p_tx + p_rx)`` plus a common term (u: unit direction to the
+        target), i.e. that of a receive element at ``p_tx + p_rx`` with a transmitter at
+        the origin; with a single Tx at the origin the virtual array is the Rx array.
+        """
+        tx, rx = self.tx_positions_m(), self.rx_positions_m()
+        return (tx[:, None, :] + rx[None, :, :]).reshape(-1, 3)
+
+    def sample_times_s(self) -> NDArray[np.float64]:
+        """ADC sample times from the start of a chirp, shape (samples,), s."""
+        return np.arange(self.samples_per_chirp) / self.sample_rate_hz
+
+    def chirp_start_times_s(self) -> NDArray[np.float64]:
+        """Chirp start times from the frame start, shape (chirps, tx), s (TDM order)."""
+        n_tx = len(self.tx)
+        slots = np.arange(self.chirps_per_frame)[:, None] * n_tx + np.arange(n_tx)[None, :]
+        return np.asarray(slots * self.chirp_repetition_time_s, dtype=np.float64)
+
+    def facet_intrinsics(self) -> PinholeIntrinsics:
+        """Facet grid: one scatterer per grid cell and object (square cells over the FOV)."""
+        from simcore.render.camera import PinholeIntrinsics
+
+        return PinholeIntrinsics.from_fov(self.render_width, self.render_height,
+                                          self.render_fov_h_deg)
+
+    def render_intrinsics(self) -> PinholeIntrinsics:
+        """Pixel grid of the radar render pass: the facet grid × ``render_supersampling``."""
+        return self.facet_intrinsics().scaled(self.render_supersampling)
+
+
+def _positions_m(antennas: list[Antenna]) -> NDArray[np.float64]:
+    pos = np.zeros((len(antennas), 3))
+    pos[:, :2] = np.array([a.position_mm for a in antennas], dtype=np.float64) * 1e-3
+    return pos
+
+
+def aliasing_warnings(
+    config: RadarConfig,
+    *,
+    ranges_m: NDArray[np.floating] | None = None,
+    radial_velocities_mps: NDArray[np.floating] | None = None,
+) -> list[str]:
+    """Warnings about a configuration and the scene it observes (empty list if none).
+
+    Parameters
+    ----------
+    config : RadarConfig
+        The radar configuration.
+    ranges_m : ndarray, optional
+        Ranges present in the scene (m), e.g. the valid pixels of the radar render; NaN is
+        ignored. Ranges beyond :attr:`RadarConfig.max_range_m` alias (fold back).
+    radial_velocities_mps : ndarray, optional
+        Radial velocities in the scene (m/s); beyond ±:attr:`max_velocity_mps` they alias.
+
+    Returns
+    -------
+    list of str
+        One human-readable sentence per problem.
+    """
+    out: list[str] = []
+    if ranges_m is not None:
+        r = np.asarray(ranges_m, dtype=np.float64)
+        r = r[np.isfinite(r)]
+        beyond = r > config.max_range_m
+        if beyond.any():
+            out.append(
+                f"{int(beyond.sum())} scene points lie beyond the unambiguous range "
+                f"{config.max_range_m:.2f} m (up to {r.max():.2f} m) and alias into the range "
+                f"profile; raise sample_rate_hz or lower the chirp slope"
+            )
+    if radial_velocities_mps is not None:
+        v = np.asarray(radial_velocities_mps, dtype=np.float64)
+        v = v[np.isfinite(v)]
+        beyond = np.abs(v) > config.max_velocity_mps
+        if beyond.any():
+            out.append(
+                f"{int(beyond.sum())} scene points move faster than the unambiguous velocity "
+                f"±{config.max_velocity_mps:.2f} m/s (up to {np.abs(v).max():.2f} m/s) and "
+                f"alias in Doppler; shorten chirp_repetition_time_s"
+            )
+    half = 0.5 * config.wavelength_m
+    for role, antennas in (("rx", config.rx), ("tx", config.tx)):
+        pos = _positions_m(antennas)
+        if len(pos) < 2:
+            continue
+        diff = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1)
+        iu = np.triu_indices(len(pos), 1)
+        if np.any(diff[iu] < 1e-9):
+            out.append(f"{role}: two antennas share the same position")
+    virt = config.virtual_positions_m()
+    intr = config.render_intrinsics()
+    for axis, name, fov in ((0, "horizontal", intr.fov_h_deg), (1, "vertical", intr.fov_v_deg)):
+        coords = np.unique(np.round(virt[:, axis], 9))
+        if len(coords) >= 2:
+            gap = float(np.min(np.diff(coords)))
+            unambiguous_deg = float(np.degrees(np.arcsin(min(1.0, half / gap))))
+            if unambiguous_deg < 0.5 * fov:
+                out.append(
+                    f"smallest {name} virtual-element spacing {gap * 1e3:.2f} mm exceeds λ/2 = "
+                    f"{half * 1e3:.2f} mm: angles beyond ±{unambiguous_deg:.0f}° are ambiguous "
+                    f"(grating lobes) inside the ±{0.5 * fov:.0f}° field of view"
+                )
+    return out

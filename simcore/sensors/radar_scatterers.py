@@ -1,0 +1,375 @@
+"""Radar scatterers from the radar render pass: surface facets plus analytic point targets.
+
+Every valid pixel of the radar render is a patch of surface with the radar cross-section
+
+    σ_pix = σ⁰(θ) · dA,    dA = R² Ω_pix / max(cos θ, COS_MIN),
+
+so that the summed power of an extended surface does not depend on the render resolution
+(σ⁰(θ) is the radar band's material response, ``RenderBuffers.intensity``). The render may
+be supersampled: the ``s × s`` sub-pixels of each cell of the *facet grid* (the radar's
+``render_width × render_height``) are merged per object into one scatterer (RCS summed,
+position and velocity RCS-weighted), so refining the render refines each facet's RCS,
+position and occlusion without changing the number or the phases of the scatterers.
+
+The σ⁰ model is an incoherent (power) model of rough surfaces: each facet also carries a
+random phase (speckle), a fixed hash of its facet index, object and seed (see
+``docs/physics_radar.md``).
+
+Trihedral corner reflectors (``CornerReflector`` geometry) are not faceted: their pixels
+are dropped and replaced by one point scatterer at the apex whose RCS follows the
+geometric-optics effective area of a triangular trihedral (peak 4πa⁴/(3λ²) on its
+symmetry axis), if the apex is not hidden behind a nearer rendered surface.
+``PointTarget`` objects (no surface) contribute their RCS when nothing rendered lies in
+front of them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simcore.render.buffers import RenderBuffers
+from simcore.render.camera import PinholeIntrinsics
+from simcore.scene.geometry import CornerReflector, PointTarget, corner_reflector_axes
+from simcore.scene.model import Project
+from simcore.scene.project_io import material_table
+from simcore.scene.snapshot import SceneSnapshot
+
+#: Smallest cos(incidence) used in the pixel area (grazing guard, ≈ 88.9°).
+COS_MIN = 0.02
+#: A point scatterer is hidden when a rendered surface is nearer than this along its ray (m).
+OCCLUSION_TOLERANCE_M = 0.01
+
+KIND_FACET = 0
+KIND_CORNER_REFLECTOR = 1
+KIND_POINT_TARGET = 2
+
+
+@dataclass(frozen=True)
+class Scatterers:
+    """Point scatterers of one frame, in the radar's optical frame at ``time_s``.
+
+    Independent of the antenna layout, the receiver and the chirp timing: changing those
+    re-uses the scatterers (and the render they come from).
+
+    Attributes
+    ----------
+    time_s : float
+        Snapshot time (s); the first chirp of the frame starts here.
+    wavelength_m : float
+        Wavelength used for the analytic RCS of corner reflectors (m).
+    positions_m : ndarray, shape (M, 3), float64
+        Scatterer positions, radar optical frame (x right, y down, z boresight), m.
+    velocities_mps : ndarray, shape (M, 3), float64
+        Velocities relative to the radar, optical frame (m/s).
+    rcs_m2 : ndarray, shape (M,), float64
+        Radar cross-section of each scatterer (m²).
+    phase_rad : ndarray, shape (M,), float64
+        Extra scattering phase (speckle; 0 for analytic targets), rad.
+    object_index : ndarray, shape (M,), int32
+        Index of the source object in ``project.objects``.
+    kind : ndarray, shape (M,), int8
+        ``KIND_FACET``, ``KIND_CORNER_REFLECTOR`` or ``KIND_POINT_TARGET``.
+    """
+
+    time_s: float
+    wavelength_m: float
+    positions_m: NDArray[np.float64]
+    velocities_mps: NDArray[np.float64]
+    rcs_m2: NDArray[np.float64]
+    phase_rad: NDArray[np.float64]
+    object_index: NDArray[np.int32]
+    kind: NDArray[np.int8]
+
+    def __len__(self) -> int:
+        return int(self.rcs_m2.shape[0])
+
+    def subset(self, index: NDArray[np.integer] | NDArray[np.bool_] | slice) -> Scatterers:
+        """The scatterers selected by ``index`` (integer or boolean array, or slice)."""
+        return Scatterers(
+            time_s=self.time_s, wavelength_m=self.wavelength_m,
+            positions_m=self.positions_m[index], velocities_mps=self.velocities_mps[index],
+            rcs_m2=self.rcs_m2[index], phase_rad=self.phase_rad[index],
+            object_index=self.object_index[index], kind=self.kind[index],
+        )
+
+    @classmethod
+    def from_arrays(cls, positions_m: NDArray[np.floating], rcs_m2: NDArray[np.floating], *,
+                    velocities_mps: NDArray[np.floating] | None = None,
+                    phase_rad: NDArray[np.floating] | None = None, time_s: float = 0.0,
+                    wavelength_m: float = 0.0) -> Scatterers:
+        """Build scatterers directly (tests, custom scenes); missing arrays are zeros.
+
+        Parameters
+        ----------
+        positions_m : ndarray, shape (M, 3)
+            Positions in the radar optical frame (m).
+        rcs_m2 : ndarray, shape (M,)
+            RCS (m²).
+        velocities_mps : ndarray, shape (M, 3), optional
+            Relative velocities, optical frame (m/s).
+        phase_rad : ndarray, shape (M,), optional
+            Extra scattering phase (rad).
+        time_s, wavelength_m : float
+            Frame start time (s); wavelength of the analytic RCS (0 = not applicable).
+        """
+        pos = np.asarray(positions_m, dtype=np.float64).reshape(-1, 3)
+        m = len(pos)
+        return cls(
+            time_s=float(time_s), wavelength_m=float(wavelength_m), positions_m=pos,
+            velocities_mps=(np.zeros((m, 3)) if velocities_mps is None
+                            else np.asarray(velocities_mps, dtype=np.float64).reshape(m, 3)),
+            rcs_m2=np.asarray(rcs_m2, dtype=np.float64).reshape(m),
+            phase_rad=(np.zeros(m) if phase_rad is None
+                       else np.asarray(phase_rad, dtype=np.float64).reshape(m)),
+            object_index=np.full(m, -1, dtype=np.int32),
+            kind=np.full(m, KIND_POINT_TARGET, dtype=np.int8),
+        )
+
+
+def trihedral_effective_area(directions: NDArray[np.floating], edge_m: float
+                             ) -> NDArray[np.float64]:
+    """Geometric-optics effective area of a triangular trihedral corner reflector.
+
+    With ``l ≤ m ≤ n`` the direction cosines of the incidence direction on the three edges
+    (all positive inside the reflector's octant), the area is ``a² · 4lm/(l+m+n)`` if
+    ``l + m ≤ n`` and ``a² · (l+m+n − 2/(l+m+n))`` otherwise (Knott, *Radar Cross
+    Section*); on the symmetry axis it is ``a²/√3``, giving the peak RCS 4πa⁴/(3λ²).
+
+    Parameters
+    ----------
+    directions : ndarray, shape (..., 3)
+        Unit vectors from the apex towards the radar, in the reflector's edge frame
+        (components = cosines with the three edges).
+    edge_m : float
+        Inner edge length a (m).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        Effective area (m²); 0 outside the octant.
+    """
+    d = np.sort(np.asarray(directions, dtype=np.float64), axis=-1)
+    lo, mid, hi = d[..., 0], d[..., 1], d[..., 2]
+    s = lo + mid + hi
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inner = s - 2.0 / s
+        outer = 4.0 * lo * mid / s
+    area = np.where(lo + mid <= hi, outer, inner)
+    return np.where(lo > 0, np.maximum(area, 0.0), 0.0) * edge_m**2
+
+
+def _splitmix64(x: NDArray[np.uint64]) -> NDArray[np.uint64]:
+    x = x + np.uint64(0x9E3779B97F4A7C15)
+    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return x ^ (x >> np.uint64(31))
+
+
+def speckle_phase(facet_rows: NDArray[np.integer], facet_cols: NDArray[np.integer],
+                  object_ids: NDArray[np.integer], *, seed: int = 0) -> NDArray[np.float64]:
+    """Uniform random phase of each (facet, object), a fixed hash of its indices.
+
+    The same facet of the same object always gets the same phase, whatever the render
+    supersampling, so a static scene seen by a static radar gives the same data in every
+    frame; ``seed`` selects another realisation.
+
+    Parameters
+    ----------
+    facet_rows, facet_cols : ndarray, shape (M,)
+        Facet-grid indices.
+    object_ids : ndarray, shape (M,)
+        Project ids of the objects.
+    seed : int
+        Speckle realisation.
+
+    Returns
+    -------
+    ndarray, shape (M,)
+        Phases in [0, 2π) (rad).
+    """
+    h = np.full(np.shape(facet_rows), np.uint64(seed & 0xFFFFFFFFFFFFFFFF), dtype=np.uint64)
+    with np.errstate(over="ignore"):
+        for part in (object_ids, facet_rows, facet_cols):
+            h = _splitmix64(h ^ np.asarray(part, dtype=np.int64).astype(np.uint64))
+    return (h >> np.uint64(11)).astype(np.float64) * (2.0 * np.pi / 2.0**53)
+
+
+def _supersampling(buffers: RenderBuffers, facets: PinholeIntrinsics) -> int:
+    """Sub-pixels per facet and axis, or 0 if the render grid is not the facet grid × s."""
+    intr = buffers.intrinsics
+    s = intr.width // facets.width
+    if s < 1 or intr.width != s * facets.width or intr.height != s * facets.height:
+        return 0
+    ref = facets.scaled(s)
+    close = np.allclose([intr.fx, intr.fy, intr.cx, intr.cy],
+                        [ref.fx, ref.fy, ref.cx, ref.cy], rtol=1e-9, atol=1e-9)
+    return s if close else 0
+
+
+def _facet_scatterers(project: Project, buffers: RenderBuffers,
+                      facets: PinholeIntrinsics | None, exclude: NDArray[np.bool_], *,
+                      speckle: bool, seed: int
+                      ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
+                                 NDArray[np.float64], NDArray[np.int32]]:
+    """Positions, velocities, RCS, phases and object indices of the facet scatterers."""
+    obj_img = buffers.object_index
+    valid = (obj_img >= 0) & np.isfinite(buffers.range_m)
+    if exclude.any():
+        valid &= ~exclude[np.clip(obj_img, 0, None)]
+    rows, cols = np.nonzero(valid)
+    rng = buffers.range_m[rows, cols].astype(np.float64)
+    cos_inc = np.maximum(buffers.cos_incidence[rows, cols].astype(np.float64), COS_MIN)
+    omega = buffers.intrinsics.pixel_solid_angle()[rows, cols]
+    rcs = buffers.intensity[rows, cols].astype(np.float64) * rng**2 * omega / cos_inc
+    keep = rcs > 0
+    rows, cols, rcs = rows[keep], cols[keep], rcs[keep]
+    pos = buffers.points_m[rows, cols].astype(np.float64)
+    vel = buffers.velocity_mps[rows, cols].astype(np.float64)
+    obj = obj_img[rows, cols].astype(np.int64)
+
+    s = _supersampling(buffers, facets) if facets is not None else 0
+    if s > 1:
+        n_obj = max(len(project.objects), 1)
+        f_rows, f_cols = rows // s, cols // s
+        key = (f_rows * (buffers.intrinsics.width // s) + f_cols) * n_obj + obj
+        uniq, inverse = np.unique(key, return_inverse=True)
+        total = np.bincount(inverse, weights=rcs).astype(np.float64)
+        pos = np.stack([np.bincount(inverse, weights=rcs * pos[:, k]) for k in range(3)],
+                       axis=1) / total[:, None]
+        vel = np.stack([np.bincount(inverse, weights=rcs * vel[:, k]) for k in range(3)],
+                       axis=1) / total[:, None]
+        rcs = total
+        obj = uniq % n_obj
+        cell = uniq // n_obj
+        width = buffers.intrinsics.width // s
+        rows, cols = cell // width, cell % width
+    if speckle and len(obj):
+        ids = np.array([o.id for o in project.objects], dtype=np.int64)[obj]
+        phase = speckle_phase(rows, cols, ids, seed=seed)
+    else:
+        phase = np.zeros(len(obj))
+    return pos, vel, rcs, phase, obj.astype(np.int32)
+
+
+def _radar_frame(snapshot: SceneSnapshot, world_points: NDArray[np.float64]
+                 ) -> NDArray[np.float64]:
+    t = snapshot.radar.transform
+    return (world_points - t[:3, 3]) @ t[:3, :3]
+
+
+def _relative_velocity(snapshot: SceneSnapshot, index: int, world_point: NDArray[np.float64]
+                       ) -> NDArray[np.float64]:
+    state = snapshot.objects[index]
+    v_world = state.point_velocity(world_point) - snapshot.radar.velocity_mps
+    return v_world @ snapshot.radar.rotation
+
+
+def _unoccluded(buffers: RenderBuffers, point_radar: NDArray[np.float64], object_index: int
+                ) -> bool:
+    """True unless a rendered surface of another object lies in front of ``point_radar``."""
+    if point_radar[2] <= 0:
+        return True  # behind the board: the antenna pattern decides
+    intr = buffers.intrinsics
+    u, v = intr.project(point_radar)
+    col, row = int(np.floor(u)), int(np.floor(v))
+    if not (0 <= col < intr.width and 0 <= row < intr.height):
+        return True  # outside the render: nothing known in front of it
+    hit = int(buffers.object_index[row, col])
+    rng = float(buffers.range_m[row, col])
+    if hit < 0 or hit == object_index or not np.isfinite(rng):
+        return True
+    return rng >= float(np.linalg.norm(point_radar)) - OCCLUSION_TOLERANCE_M
+
+
+def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: RenderBuffers,
+                           *, wavelength_m: float, facets: PinholeIntrinsics | None = None,
+                           speckle: bool = True, seed: int = 0) -> Scatterers:
+    """All radar scatterers of a frame from its snapshot and radar render.
+
+    Parameters
+    ----------
+    project : Project
+        The project (objects' geometry and materials).
+    snapshot : SceneSnapshot
+        The frame's snapshot (poses and velocities).
+    buffers : RenderBuffers
+        The radar-band render of ``snapshot`` (``band == "radar"``).
+    wavelength_m : float
+        Radar wavelength for the corner reflectors' RCS (m).
+    facets : PinholeIntrinsics, optional
+        Facet grid. When the render grid is this grid scaled by an integer ``s``, the
+        ``s × s`` sub-pixels of each facet are merged per object (RCS summed, position and
+        velocity RCS-weighted). Otherwise every render pixel is a facet.
+    speckle : bool
+        Give facet scatterers their random phase (else 0).
+    seed : int
+        Speckle realisation.
+
+    Returns
+    -------
+    Scatterers
+        Facet scatterers first (row-major facet order), then corner reflectors and point
+        targets in project order.
+    """
+    if buffers.band != "radar":
+        raise ValueError(f"radar scatterers need the radar render, got band {buffers.band!r}")
+    objects = project.objects
+    if len(snapshot.objects) != len(objects):
+        raise ValueError("snapshot and project have different numbers of objects")
+    analytic = np.array([isinstance(o.geometry, (CornerReflector, PointTarget))
+                         for o in objects], dtype=bool)
+
+    pos, vel, rcs, phase, obj = _facet_scatterers(project, buffers, facets, analytic,
+                                                  speckle=speckle, seed=seed)
+
+    # ---------------------------------------------------------------- analytic targets
+    materials = material_table(project)
+    extra_pos, extra_vel, extra_rcs, extra_obj, extra_kind = [], [], [], [], []
+    edge_axes = corner_reflector_axes()
+    for i, o in enumerate(objects):
+        geom = o.geometry
+        if not isinstance(geom, (CornerReflector, PointTarget)):
+            continue
+        state = snapshot.objects[i]
+        apex_world = state.origin
+        apex = _radar_frame(snapshot, apex_world[None, :])[0]
+        if isinstance(geom, CornerReflector):
+            material = materials.get(o.material)
+            if material is not None and material.radar.opacity <= 0:
+                continue  # not drawn in the radar pass: the radar sees through it
+            if not _unoccluded(buffers, apex, i):
+                continue
+            to_radar_world = snapshot.radar.position - apex_world
+            to_radar_world /= max(float(np.linalg.norm(to_radar_world)), 1e-300)
+            local_dir = state.transform[:3, :3].T @ to_radar_world
+            area = trihedral_effective_area(edge_axes @ local_dir, geom.edge_m)
+            sigma = 4.0 * np.pi * float(area) ** 2 / wavelength_m**2
+            kind = KIND_CORNER_REFLECTOR
+        else:
+            if not _unoccluded(buffers, apex, i):
+                continue
+            sigma = geom.rcs_m2
+            kind = KIND_POINT_TARGET
+        if sigma <= 0:
+            continue
+        extra_pos.append(apex)
+        extra_vel.append(_relative_velocity(snapshot, i, apex_world))
+        extra_rcs.append(sigma)
+        extra_obj.append(i)
+        extra_kind.append(kind)
+
+    n_extra = len(extra_rcs)
+    return Scatterers(
+        time_s=float(snapshot.time_s),
+        wavelength_m=float(wavelength_m),
+        positions_m=np.concatenate([pos, np.array(extra_pos).reshape(n_extra, 3)]),
+        velocities_mps=np.concatenate([vel, np.array(extra_vel).reshape(n_extra, 3)]),
+        rcs_m2=np.concatenate([rcs, np.array(extra_rcs, dtype=np.float64)]),
+        phase_rad=np.concatenate([phase, np.zeros(n_extra)]),
+        object_index=np.concatenate([obj, np.array(extra_obj, dtype=np.int32)]),
+        kind=np.concatenate([np.full(len(obj), KIND_FACET, dtype=np.int8),
+                             np.array(extra_kind, dtype=np.int8)]),
+    )

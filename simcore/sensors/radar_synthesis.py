@@ -1,0 +1,435 @@
+"""FMCW IF synthesis: the radar equation, the exact per-pair delay, NUFFT and direct sums.
+
+Signal model (``docs/physics_radar.md``). For Tx ``t``, Rx ``r``, chirp ``m`` starting at
+``T_mt`` after the frame start and scatterer ``k`` at ``X_k + v_k T_mt``::
+
+    τ   = (|X − p_t| + |X − p_r|) / c                     exact bistatic delay
+    f_b = K τ                                             beat frequency
+    a   = C √(σ g_t(u) g_r(u)) / (|X − p_t| |X − p_r|) · H(f_b)
+    y[n] = Σ_k a · exp(j (2π f_c τ + 2π f_b n / f_s − π K τ² + φ_k))
+
+with ``C`` the radar-equation calibration of :func:`amplitude_scale_fs`, ``g`` the element
+power patterns in the direction ``u`` of ``X_k`` from the array origin, ``H`` the IF
+high-pass's frequency response and ``φ_k`` the scatterer's extra phase (speckle). The real
+IF is ``Re y``; complex IQ is ``y``. Units: ADC full scale (FS).
+
+:func:`synthesize_if` evaluates ``y`` with finufft: for every (chirp, Tx, Rx) one 1-D type-1
+transform over the scatterers, whose non-uniform points are the per-sample phase
+increments ``2π f_b / f_s`` (exact: nothing is assumed constant across chirps or
+antennas). Scatterers that do not move relative to the radar give identical chirps; they
+are transformed once per pair. :func:`synthesize_if_direct` is the literal sum, the
+reference the fast path is tested against.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import finufft
+import numpy as np
+from numpy.typing import NDArray
+from scipy.interpolate import RegularGridInterpolator
+
+from simcore.sensors.radar_config import (
+    SPEED_OF_LIGHT,
+    CosinePattern,
+    ElementPattern,
+    RadarConfig,
+    TablePattern,
+)
+from simcore.sensors.radar_scatterers import Scatterers
+
+BOLTZMANN = 1.380649e-23
+#: Reference noise temperature of the noise figure (K).
+T0_K = 290.0
+#: Reference impedance of the power → voltage conversion at the Rx port (Ω).
+R_REF_OHM = 50.0
+
+ComplexCube = NDArray[np.complex128]
+
+
+# --------------------------------------------------------------------------- calibration
+def amplitude_scale_fs(config: RadarConfig) -> float:
+    """Calibration constant ``C`` of the IF amplitude (FS · m / √m², see module docstring).
+
+    A scatterer of RCS σ at distances ``R_t`` (from the Tx) and ``R_r`` (from the Rx)
+    receives the power ``P_r = P_t G_t g_t G_r g_r λ² σ / ((4π)³ R_t² R_r²)`` (radar
+    equation); its IF tone has the peak voltage ``√(2 R_ref P_r) · 10^(if_gain_db/20)`` at
+    the ADC input, i.e. the amplitude ``C √(σ g_t g_r) / (R_t R_r)`` in FS with
+
+        C = √(2 R_ref P_t G_t G_r λ² / (4π)³) · 10^(if_gain_db/20) / V_fs.
+    """
+    p_t = 1e-3 * 10.0 ** (config.tx_power_dbm / 10.0)
+    g = 10.0 ** ((config.tx_gain_dbi + config.rx_gain_dbi) / 10.0)
+    lam = config.wavelength_m
+    volts = np.sqrt(2.0 * R_REF_OHM * p_t * g * lam**2 / (4.0 * np.pi) ** 3)
+    return float(volts * 10.0 ** (config.if_gain_db / 20.0) / config.adc_full_scale_v)
+
+
+def noise_std_fs(config: RadarConfig) -> float:
+    """Receiver noise standard deviation per real channel (I or Q) at the ADC (FS).
+
+    ``noise_variance_adc`` when set; otherwise thermal noise ``k T0 F B R_ref`` in the
+    Nyquist band ``B = f_s / 2`` of each real channel, referred to the ADC input through
+    the IF gain.
+    """
+    if config.noise_variance_adc is not None:
+        return float(np.sqrt(config.noise_variance_adc))
+    f = 10.0 ** (config.noise_figure_db / 10.0)
+    power = BOLTZMANN * T0_K * f * 0.5 * config.sample_rate_hz
+    volts = np.sqrt(power * R_REF_OHM) * 10.0 ** (config.if_gain_db / 20.0)
+    return float(volts / config.adc_full_scale_v)
+
+
+def leakage_amplitude_fs(config: RadarConfig) -> float:
+    """Peak amplitude of the Tx→Rx leakage tone at the ADC, before the high-pass (FS)."""
+    if config.leakage_dbc is None:
+        return 0.0
+    p = 1e-3 * 10.0 ** ((config.tx_power_dbm + config.leakage_dbc) / 10.0)
+    volts = np.sqrt(2.0 * R_REF_OHM * p) * 10.0 ** (config.if_gain_db / 20.0)
+    return float(volts / config.adc_full_scale_v)
+
+
+def highpass_response(freq_hz: NDArray[np.floating] | float, cutoff_hz: float, order: int
+                      ) -> NDArray[np.complex128]:
+    """Frequency response of an analog Butterworth high-pass, ``H(j 2π f)``.
+
+    ``H(s) = Π_k s / (s − p_k)`` with the ``order`` Butterworth poles ``p_k`` on the circle of
+    radius ``2π cutoff_hz`` in the left half plane; ``|H|² = x^{2n} / (1 + x^{2n})`` with
+    ``x = f / cutoff``. ``cutoff_hz = 0`` gives ``H = 1``. Negative frequencies (complex IQ)
+    get ``H(−f) = conj H(f)``.
+    """
+    f = np.asarray(freq_hz, dtype=np.float64)
+    if cutoff_hz <= 0:
+        return np.ones(f.shape, dtype=np.complex128)
+    k = np.arange(1, order + 1)
+    poles = 2 * np.pi * cutoff_hz * np.exp(1j * np.pi * (2 * k + order - 1) / (2 * order))
+    s = 2j * np.pi * f
+    h = np.ones(f.shape, dtype=np.complex128)
+    for p in poles:
+        h *= s / (s - p)
+    return h
+
+
+def element_gain(pattern: ElementPattern, directions: NDArray[np.floating]
+                 ) -> NDArray[np.float64]:
+    """Power gain of an element pattern relative to its boresight peak.
+
+    Parameters
+    ----------
+    pattern : CosinePattern or TablePattern
+        The element pattern.
+    directions : ndarray, shape (M, 3)
+        Directions in the radar optical frame (need not be unit vectors).
+
+    Returns
+    -------
+    ndarray, shape (M,)
+        Linear power gain (1 on boresight for a cosine pattern).
+    """
+    d = np.asarray(directions, dtype=np.float64)
+    horiz = np.hypot(d[:, 0], d[:, 2])
+    az = np.arctan2(d[:, 0], d[:, 2])
+    el = np.arctan2(-d[:, 1], horiz)
+    if isinstance(pattern, CosinePattern):
+        with np.errstate(divide="ignore"):
+            g = (np.maximum(np.cos(az), 0.0) ** pattern.exponent_az
+                 * np.maximum(np.cos(el), 0.0) ** pattern.exponent_el)
+        return np.asarray(g, dtype=np.float64)
+    if isinstance(pattern, TablePattern):
+        az_t = np.asarray(pattern.azimuth_deg)
+        el_t = np.asarray(pattern.elevation_deg)
+        interp = RegularGridInterpolator((el_t, az_t), np.asarray(pattern.gain_db))
+        pts = np.stack([np.clip(np.degrees(el), el_t[0], el_t[-1]),
+                        np.clip(np.degrees(az), az_t[0], az_t[-1])], axis=-1)
+        return np.asarray(10.0 ** (interp(pts) / 10.0), dtype=np.float64)
+    raise TypeError(f"unknown element pattern {pattern!r}")
+
+
+def _pattern_gains(config: RadarConfig, directions: NDArray[np.float64]
+                   ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Per-element pattern gains, shapes (tx, M) and (rx, M); shared patterns computed once."""
+    cache: dict[str, NDArray[np.float64]] = {}
+
+    def gain(pattern: ElementPattern) -> NDArray[np.float64]:
+        key = pattern.model_dump_json()
+        if key not in cache:
+            cache[key] = element_gain(pattern, directions)
+        return cache[key]
+
+    g_tx = np.array([gain(a.pattern or config.element_pattern) for a in config.tx])
+    g_rx = np.array([gain(a.pattern or config.element_pattern) for a in config.rx])
+    return g_tx.reshape(len(config.tx), -1), g_rx.reshape(len(config.rx), -1)
+
+
+def _scatterer_weights(scatterers: Scatterers, config: RadarConfig
+                       ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``C √(σ g_t g_r)`` per pair and the scatterers' phases; shape (tx, rx, M) and (M,)."""
+    g_tx, g_rx = _pattern_gains(config, scatterers.positions_m)
+    base = amplitude_scale_fs(config) * np.sqrt(scatterers.rcs_m2)
+    amp = base[None, None, :] * np.sqrt(g_tx[:, None, :] * g_rx[None, :, :])
+    return amp, scatterers.phase_rad
+
+
+def _check_wavelength(scatterers: Scatterers, config: RadarConfig) -> None:
+    if scatterers.wavelength_m and abs(scatterers.wavelength_m - config.wavelength_m) > (
+            1e-9 * config.wavelength_m):
+        raise ValueError(
+            f"scatterers were computed for λ = {scatterers.wavelength_m * 1e3:.4f} mm but the "
+            f"radar now uses λ = {config.wavelength_m * 1e3:.4f} mm; compute them again"
+        )
+
+
+# --------------------------------------------------------------------------- synthesis
+def synthesize_if(scatterers: Scatterers, config: RadarConfig) -> ComplexCube:
+    """Noise-free complex IF of all scatterers with finufft (fast path).
+
+    Parameters
+    ----------
+    scatterers : Scatterers
+        Point scatterers in the radar frame.
+    config : RadarConfig
+        Waveform, antennas, gains, IF high-pass and ``nufft_tolerance``.
+
+    Returns
+    -------
+    ndarray, shape (chirps, tx*rx, samples), complex128
+        ``y`` of the module docstring in FS; the real IF is its real part. Channel
+        ``t * n_rx + r`` is Tx ``t`` with Rx ``r``.
+    """
+    _check_wavelength(scatterers, config)
+    n_c, n_s = config.chirps_per_frame, config.samples_per_chirp
+    n_tx, n_rx = len(config.tx), len(config.rx)
+    out = np.zeros((n_c, n_tx * n_rx, n_s), dtype=np.complex128)
+    if len(scatterers) == 0:
+        return out
+    amp, phase = _scatterer_weights(scatterers, config)
+    p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()
+    starts = config.chirp_start_times_s()
+    moving = np.any(scatterers.velocities_mps != 0.0, axis=1)
+    # One thread: on few cores finufft's threading costs more than it gains at 1-D sizes.
+    plan = finufft.Plan(1, (n_s,), eps=config.nufft_tolerance, isign=1, dtype="complex128",
+                        nthreads=1)
+    f_c, slope, f_s = config.start_frequency_hz, config.slope_hz_per_s, config.sample_rate_hz
+    # y[n] = Σ c e^{i n θ} for n = 0…N−1 is finufft's type-1 sum over modes k = n − N//2
+    # with the weights c e^{i (N//2) θ}; θ = 2π f_b / f_s is wrapped into [−π, π).
+    shift = n_s // 2
+    theta_per_tau = 2.0 * np.pi * slope / f_s
+    phase_per_tau = 2.0 * np.pi * f_c + shift * theta_per_tau
+    highpass = config.if_highpass_hz > 0
+
+    for group_moves in (False, True):
+        sel = np.flatnonzero(moving == group_moves)
+        if len(sel) == 0:
+            continue
+        pos = scatterers.positions_m[sel]
+        vel = scatterers.velocities_mps[sel]
+        amp_sel = amp[:, :, sel]
+        phase_sel = phase[sel]
+        chirps = range(n_c) if group_moves else range(1)
+        for m in chirps:
+            for t in range(n_tx):
+                x = pos + vel * starts[m, t] if group_moves else pos
+                d_t = _distance(x, p_tx[t])
+                for r in range(n_rx):
+                    d_r = _distance(x, p_rx[r])
+                    tau = (d_t + d_r) * (1.0 / SPEED_OF_LIGHT)
+                    a = amp_sel[t, r] / (d_t * d_r)
+                    if highpass:
+                        a = a * highpass_response(slope * tau, config.if_highpass_hz,
+                                                  config.if_highpass_order)
+                    arg = tau * phase_per_tau - (np.pi * slope) * tau**2 + phase_sel
+                    weights = a * _cis(arg)
+                    theta = tau * theta_per_tau
+                    plan.setpts(np.mod(theta + np.pi, 2.0 * np.pi) - np.pi)
+                    y = plan.execute(weights)
+                    if group_moves:
+                        out[m, t * n_rx + r] += y
+                    else:
+                        out[:, t * n_rx + r] += y[None, :]
+    return out
+
+
+def _distance(x: NDArray[np.float64], p: NDArray[np.float64]) -> NDArray[np.float64]:
+    d = x - p
+    return np.sqrt(np.einsum("ij,ij->i", d, d))
+
+
+def _cis(x: NDArray[np.float64]) -> NDArray[np.complex128]:
+    """``exp(i x)`` for real ``x`` (cos and sin written straight into a complex array)."""
+    out = np.empty(x.shape, dtype=np.complex128)
+    np.cos(x, out=out.real)
+    np.sin(x, out=out.imag)
+    return out
+
+
+def synthesize_if_direct(scatterers: Scatterers, config: RadarConfig, *,
+                         chirps: NDArray[np.integer] | None = None, chunk: int = 2048
+                         ) -> ComplexCube:
+    """Noise-free complex IF by the literal sum over scatterers and samples (reference).
+
+    Costs O(chirps · tx · rx · M · samples); use it on small scenes or a few chirps.
+
+    Parameters
+    ----------
+    scatterers : Scatterers
+        Point scatterers in the radar frame.
+    config : RadarConfig
+        The radar.
+    chirps : ndarray of int, optional
+        Chirp indices to compute (default all).
+    chunk : int
+        Scatterers per vectorised block.
+
+    Returns
+    -------
+    ndarray, shape (len(chirps), tx*rx, samples), complex128
+        Same quantity as :func:`synthesize_if`.
+    """
+    _check_wavelength(scatterers, config)
+    idx = np.arange(config.chirps_per_frame) if chirps is None else np.asarray(chirps)
+    n_tx, n_rx = len(config.tx), len(config.rx)
+    t_n = config.sample_times_s()
+    out = np.zeros((len(idx), n_tx * n_rx, len(t_n)), dtype=np.complex128)
+    if len(scatterers) == 0:
+        return out
+    amp, phase = _scatterer_weights(scatterers, config)
+    p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()
+    starts = config.chirp_start_times_s()
+    f_c, slope = config.start_frequency_hz, config.slope_hz_per_s
+    for i, m in enumerate(idx):
+        for t in range(n_tx):
+            for r in range(n_rx):
+                acc = np.zeros(len(t_n), dtype=np.complex128)
+                for lo in range(0, len(scatterers), chunk):
+                    k = slice(lo, lo + chunk)
+                    x = scatterers.positions_m[k] + scatterers.velocities_mps[k] * starts[m, t]
+                    r_t = np.sqrt(np.sum((x - p_tx[t]) ** 2, axis=1))
+                    r_r = np.sqrt(np.sum((x - p_rx[r]) ** 2, axis=1))
+                    tau = ((r_t + r_r) / SPEED_OF_LIGHT)[:, None]
+                    h = highpass_response(slope * tau[:, 0], config.if_highpass_hz,
+                                          config.if_highpass_order)
+                    a = amp[t, r, k] / (r_t * r_r) * h
+                    ph = (2 * np.pi * f_c * tau + 2 * np.pi * slope * tau * t_n[None, :]
+                          - np.pi * slope * tau**2 + phase[k, None])
+                    acc += a @ np.exp(1j * ph)
+                out[i, t * n_rx + r] = acc
+    return out
+
+
+# --------------------------------------------------------------------------- receiver
+def leakage_if(config: RadarConfig) -> ComplexCube:
+    """Tx→Rx leakage of every pair: one tone over the direct board path, all chirps equal.
+
+    Returns
+    -------
+    ndarray, shape (1, tx*rx, samples), complex128
+        Complex IF in FS (broadcasts over chirps), high-pass applied.
+    """
+    n_tx, n_rx = len(config.tx), len(config.rx)
+    t_n = config.sample_times_s()
+    out = np.zeros((1, n_tx * n_rx, len(t_n)), dtype=np.complex128)
+    amp = leakage_amplitude_fs(config)
+    if amp == 0.0:
+        return out
+    p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()
+    f_c, slope = config.start_frequency_hz, config.slope_hz_per_s
+    for t in range(n_tx):
+        for r in range(n_rx):
+            tau = float(np.linalg.norm(p_tx[t] - p_rx[r])) / SPEED_OF_LIGHT
+            h = highpass_response(slope * tau, config.if_highpass_hz, config.if_highpass_order)
+            out[0, t * n_rx + r] = amp * h * np.exp(1j * (
+                2 * np.pi * f_c * tau + 2 * np.pi * slope * tau * t_n - np.pi * slope * tau**2))
+    return out
+
+
+def receiver_noise(config: RadarConfig, shape: tuple[int, ...], rng: np.random.Generator
+                   ) -> NDArray[np.float64] | NDArray[np.complex128]:
+    """White receiver noise shaped by the IF high-pass, real or complex per ``complex_iq``.
+
+    Parameters
+    ----------
+    config : RadarConfig
+        The radar (noise level, high-pass, IQ).
+    shape : tuple
+        Output shape; the last axis is fast time (samples).
+    rng : numpy.random.Generator
+        Source of randomness.
+
+    Returns
+    -------
+    ndarray
+        Noise in FS, variance ``noise_std_fs(config)**2`` per real channel before the
+        high-pass (the high-pass removes the part of it below its cutoff).
+    """
+    sigma = noise_std_fs(config)
+    noise: NDArray[np.float64] | NDArray[np.complex128]
+    if config.complex_iq:
+        noise = sigma * (rng.standard_normal(shape) + 1j * rng.standard_normal(shape))
+    else:
+        noise = sigma * rng.standard_normal(shape)
+    if config.if_highpass_hz > 0 and sigma > 0:
+        n = shape[-1]
+        if config.complex_iq:
+            f = np.fft.fftfreq(n, 1.0 / config.sample_rate_hz)
+            h = highpass_response(f, config.if_highpass_hz, config.if_highpass_order)
+            noise = np.fft.ifft(np.fft.fft(noise, axis=-1) * h, axis=-1)
+        else:
+            f = np.fft.rfftfreq(n, 1.0 / config.sample_rate_hz)
+            h = highpass_response(f, config.if_highpass_hz, config.if_highpass_order)
+            noise = np.fft.irfft(np.fft.rfft(noise, axis=-1) * h, n=n, axis=-1)
+    return noise
+
+
+def quantize(x: NDArray[np.float64], bits: int | None) -> tuple[NDArray[np.float64], int]:
+    """Round to the ADC grid and clip at full scale (FS units).
+
+    The LSB is ``2 / 2**bits``; codes run from ``-2**(bits-1)`` to ``2**(bits-1) - 1``.
+
+    Returns
+    -------
+    quantized : ndarray, same shape as ``x``
+        Quantized values (FS).
+    clipped : int
+        Number of values that exceeded full scale.
+    """
+    if bits is None:
+        return x, 0
+    half = 2 ** (bits - 1)
+    codes = np.rint(x * half)
+    clipped = int(np.count_nonzero((codes < -half) | (codes > half - 1)))
+    return np.clip(codes, -half, half - 1) / half, clipped
+
+
+def receiver_chain(ideal: ComplexCube, config: RadarConfig, rng: np.random.Generator
+                   ) -> tuple[NDArray[np.float32] | NDArray[np.complex64], int]:
+    """Leakage, noise, quantization: the ADC cube from the noise-free complex IF.
+
+    Parameters
+    ----------
+    ideal : ndarray, shape (chirps, tx*rx, samples), complex128
+        Output of :func:`synthesize_if` (FS).
+    config : RadarConfig
+        Receiver settings.
+    rng : numpy.random.Generator
+        Source of the noise.
+
+    Returns
+    -------
+    adc : ndarray, shape (chirps, tx*rx, samples)
+        float32 (real IF) or complex64 (IQ), FS.
+    clipped : int
+        Number of real values (I and Q counted separately) clipped at full scale.
+    """
+    x = ideal + leakage_if(config)
+    noise = receiver_noise(config, x.shape, rng)
+    if config.complex_iq:
+        z = x + noise
+        i_q, c_i = quantize(z.real, config.adc_bits)
+        q_q, c_q = quantize(z.imag, config.adc_bits)
+        return (i_q + 1j * q_q).astype(np.complex64), c_i + c_q
+    real, clipped = quantize(x.real + noise.real, config.adc_bits)
+    return real.astype(np.float32), clipped
+
+
+SynthesisMethod = Literal["nufft", "direct"]
