@@ -6,9 +6,9 @@ import argparse
 import json
 import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from simcore.scene.project_io import ProjectError, load_project, project_to_json
 
@@ -111,8 +111,9 @@ def _write_previews(preview_dir: Path, result: FrameResult) -> None:
 
     from simcore.io.previews import save_previews
 
-    images = {name: (result.items[path][0], cmap) for name, path, cmap in PREVIEWS
-              if path in result.items}
+    images: dict[str, tuple[Any, str]] = {
+        name: (result.items[path][0], cmap) for name, path, cmap in PREVIEWS
+        if path in result.items}
     if "tof_depth" in images and "/tof/valid" in result.items:
         depth = images["tof_depth"][0].astype(float)
         images["tof_depth"] = (np.where(result.items["/tof/valid"][0], depth, np.nan), "viridis")
@@ -202,15 +203,15 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 
 def cmd_gui(args: argparse.Namespace) -> int:
-    """Open the desktop GUI."""
+    """Open the desktop GUI through the launcher the ``app`` package registered."""
+    if args.gui_launcher is None:
+        raise CliError("the GUI is not available from this entry point; run 'tofradar gui'")
     if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
         raise CliError("no display found (DISPLAY is not set); the GUI needs one. "
                        "Use 'tofradar run PROJECT --out FILE.h5' for headless work.")
     if args.project:
         load_project(args.project)  # report a bad file here, before Qt starts
-    from app.main import main as gui_main
-
-    return gui_main(args.project)
+    return int(args.gui_launcher(args.project))
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -270,12 +271,18 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``tofradar`` console script."""
+def main(argv: Sequence[str] | None = None, *,
+         gui_launcher: Callable[[str | None], int] | None = None) -> int:
+    """Run the ``tofradar`` command line.
+
+    ``gui_launcher(project_path_or_None)`` opens the GUI; the ``app`` package passes it
+    (the core never imports the GUI).
+    """
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command is None:
         args = parser.parse_args(["gui", *(argv or [])])
+    args.gui_launcher = gui_launcher
     try:
         return int(args.func(args))
     except ProjectError as exc:
