@@ -17,6 +17,7 @@ from PyQt6.QtWidgets import (
     QMenu,
     QMessageBox,
     QProgressDialog,
+    QStyle,
     QWidget,
 )
 
@@ -124,7 +125,7 @@ class MainWindow(QMainWindow):
         self.docks["antennas"].raise_()
         self.setCorner(Qt.Corner.BottomRightCorner, Qt.DockWidgetArea.RightDockWidgetArea)
         self.setCorner(Qt.Corner.BottomLeftCorner, Qt.DockWidgetArea.LeftDockWidgetArea)
-        self.resizeDocks([self.docks["scene"], self.docks["tof"]], [330, 720],
+        self.resizeDocks([self.docks["scene"], self.docks["tof"]], [390, 690],
                          Qt.Orientation.Horizontal)
         self.resizeDocks([self.docks["tof"], self.docks["profile"], self.docks["rd"]],
                          [300, 260, 360], Qt.Orientation.Vertical)
@@ -233,9 +234,20 @@ class MainWindow(QMainWindow):
         help_menu.addAction("About tofradar", self._about)
 
     def _build_toolbar(self) -> None:
+        icon = self.style().standardIcon
+        pix = QStyle.StandardPixmap
+        for action, kind in ((self.new_action, pix.SP_FileIcon),
+                             (self.open_action, pix.SP_DialogOpenButton),
+                             (self.save_action, pix.SP_DialogSaveButton),
+                             (self.undo_action, pix.SP_ArrowBack),
+                             (self.redo_action, pix.SP_ArrowForward),
+                             (self.delete_action, pix.SP_TrashIcon),
+                             (self.reset_camera_action, pix.SP_BrowserReload)):
+            action.setIcon(icon(kind))
         tb = self.addToolBar("Main")
         tb.setObjectName("toolbar_main")
         tb.setMovable(False)
+        tb.setToolButtonStyle(Qt.ToolButtonStyle.ToolButtonTextBesideIcon)
         tb.addActions([self.new_action, self.open_action, self.save_action])
         tb.addSeparator()
         tb.addActions([self.undo_action, self.redo_action])

@@ -181,13 +181,14 @@ class RangeProfilePanel(LivePanel):
         self.plot.setLabel("bottom", "range", "m")
         self.plot.setLabel("left", "magnitude", "dB")
         self.plot.showGrid(x=True, y=True, alpha=0.2)
-        self.legend = self.plot.addLegend(offset=(-10, 10), labelTextSize="8pt")
+        self.legend = self.plot.addLegend(offset=(60, 8), labelTextSize="8pt",
+                                          brush=pg.mkBrush(21, 24, 28, 200))
         self.curves: list[pg.PlotDataItem] = []
         self.threshold = self.plot.plot(pen=pg.mkPen("#ffffff", width=1.2,
                                                      style=Qt.PenStyle.DashLine),
                                          name="CFAR threshold")
         self.markers = pg.ScatterPlotItem(symbol="t1", size=11, pen=pg.mkPen("#ffeb3b"),
-                                          brush=pg.mkBrush("#ffeb3b"), name="detections")
+                                          brush=pg.mkBrush("#ffeb3b"))
         self.plot.addItem(self.markers)
         self.legend.addItem(self.markers, "detections")
         self._finish_layout(self.plot_widget)
@@ -275,7 +276,7 @@ class RangeDopplerPanel(LivePanel):
         self.bar.setLevels((hi - 60.0, hi))
         det = radar.detections
         self.markers.setData(det.range_m, det.velocity_mps)
-        self.plot.setTitle(f"range–Doppler   {len(det)} detections")
+        self.plot.setTitle(f"{len(det)} detections")
 
     def _on_hover(self, pos: QPointF) -> None:
         radar = None if self.view is None else self.view.radar
@@ -301,7 +302,7 @@ class RangeAzimuthPanel(LivePanel):
         self.graphics.setToolTip("Range–azimuth map seen from above (dB): lateral x to the "
                                  "right and forward distance from the radar (m); circles: "
                                  "detections")
-        self.plot, self.image = _image_plot("range–azimuth (bird's-eye)",
+        self.plot, self.image = _image_plot("bird's-eye",
                                             x_label=("lateral x", "m"),
                                             y_label=("forward", "m"))
         self.plot.setAspectLocked(True)
@@ -359,7 +360,7 @@ class RangeAzimuthPanel(LivePanel):
         det = radar.detections
         a = np.deg2rad(det.azimuth_deg)
         self.markers.setData(det.range_m * np.sin(a), det.range_m * np.cos(a))
-        self.plot.setTitle(f"range–azimuth (bird's-eye)   {len(det)} detections")
+        self.plot.setTitle(f"bird's-eye   {len(det)} detections")
 
     def _on_hover(self, pos: QPointF) -> None:
         radar = None if self.view is None else self.view.radar

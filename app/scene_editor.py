@@ -22,6 +22,7 @@ from PyQt6.QtWidgets import (
     QMenu,
     QPushButton,
     QScrollArea,
+    QStyle,
     QTableWidget,
     QTableWidgetItem,
     QToolButton,
@@ -43,7 +44,7 @@ from app.widgets import VectorEdit, set_quietly, spin, try_edit
 from simcore.scene import Project
 from simcore.scene.project_io import material_table
 
-RIG_LABEL = "⌖ Sensor rig (ToF + radar)"
+RIG_LABEL = "Sensor rig (ToF + radar)"
 
 
 class ObjectListPanel(QWidget):
@@ -94,6 +95,10 @@ class ObjectListPanel(QWidget):
         with QSignalBlocker(self.list):
             self.list.clear()
             rig = QListWidgetItem(RIG_LABEL)
+            rig.setIcon(self.style().standardIcon(QStyle.StandardPixmap.SP_ComputerIcon))
+            font = rig.font()
+            font.setBold(True)
+            rig.setFont(font)
             rig.setData(Qt.ItemDataRole.UserRole, RIG)
             rig.setToolTip("The rig carrying both sensors: move it like an object")
             self.list.addItem(rig)

@@ -132,9 +132,11 @@ class SensorEditor(QScrollArea):
         self.setWidget(body)
         outer = QHBoxLayout(body)
         outer.setContentsMargins(4, 4, 4, 4)
-        outer.addWidget(self._build_tof(), 1)
+        left = QVBoxLayout()
+        left.addWidget(self._build_tof())
+        left.addWidget(self._build_derived(), 1)
+        outer.addLayout(left, 1)
         outer.addWidget(self._build_radar(), 1)
-        outer.addWidget(self._build_derived(), 1)
         document.projectChanged.connect(self.refresh)
         self.refresh()
 

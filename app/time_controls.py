@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from PyQt6.QtCore import QObject, QSignalBlocker, Qt, QTimer, pyqtSignal
-from PyQt6.QtWidgets import QHBoxLayout, QLabel, QSlider, QToolButton, QWidget
+from PyQt6.QtWidgets import QHBoxLayout, QLabel, QSizePolicy, QSlider, QStyle, QToolButton, QWidget
 
 from app.document import ProjectDocument
 
@@ -105,21 +105,30 @@ class TimeBar(QWidget):
         self.controller = controller
         layout = QHBoxLayout(self)
         layout.setContentsMargins(4, 0, 4, 0)
-        self.first_button = QToolButton(text="⏮")
+        icon = self.style().standardIcon
+        pix = QStyle.StandardPixmap
+        self._play_icon = icon(pix.SP_MediaPlay)
+        self._pause_icon = icon(pix.SP_MediaPause)
+        self.first_button = QToolButton()
+        self.first_button.setIcon(icon(pix.SP_MediaSkipBackward))
         self.first_button.setToolTip("First frame (Home)")
         self.first_button.clicked.connect(lambda: controller.set_index(0))
-        self.back_button = QToolButton(text="◀")
+        self.back_button = QToolButton()
+        self.back_button.setIcon(icon(pix.SP_MediaSeekBackward))
         self.back_button.setToolTip("Previous frame (,)")
         self.back_button.clicked.connect(lambda: controller.step(-1))
-        self.play_button = QToolButton(text="▶")
+        self.play_button = QToolButton()
+        self.play_button.setIcon(self._play_icon)
         self.play_button.setCheckable(True)
         self.play_button.setToolTip("Play / pause (Space)")
         self.play_button.toggled.connect(controller.set_playing)
-        self.forward_button = QToolButton(text="▶|")
+        self.forward_button = QToolButton()
+        self.forward_button.setIcon(icon(pix.SP_MediaSeekForward))
         self.forward_button.setToolTip("Next frame (.)")
         self.forward_button.clicked.connect(lambda: controller.step(1))
         self.slider = QSlider(Qt.Orientation.Horizontal)
-        self.slider.setMinimumWidth(220)
+        self.slider.setMinimumWidth(260)
+        self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Preferred)
         self.slider.setToolTip("Scrub through the timeline (frames)")
         self.slider.valueChanged.connect(controller.set_index)
         self.label = QLabel("")
@@ -136,7 +145,7 @@ class TimeBar(QWidget):
     def _on_playing(self, playing: bool) -> None:  # noqa: FBT001
         with QSignalBlocker(self.play_button):
             self.play_button.setChecked(playing)
-        self.play_button.setText("⏸" if playing else "▶")
+        self.play_button.setIcon(self._pause_icon if playing else self._play_icon)
 
     def refresh(self, *_: object) -> None:
         """Show the current time and timeline length."""

@@ -155,15 +155,18 @@ class SceneViewport(QWidget):
         iren.add_observer("MouseWheelForwardEvent", lambda *_: self._update_cutaway())
         iren.add_observer("MouseWheelBackwardEvent", lambda *_: self._update_cutaway())
         self._picker = vtkPropPicker()
+        # The gizmo finds the handle under the mouse with the interactor's picker: a prop
+        # picker hits thin arrows and rings (the default point picker misses them).
+        iren.interactor.SetPicker(vtkPropPicker())
         self._cloud = pv.PolyData(np.zeros((1, 3)))
         self._cloud["radial velocity (m/s)"] = np.zeros(1)
         self._cloud_actor = p.add_mesh(
-            self._cloud, scalars="radial velocity (m/s)", cmap="coolwarm", clim=(-2, 2),
-            render_points_as_spheres=True, point_size=14, pickable=False, render=False,
-            scalar_bar_args={"title": "radial velocity (m/s)", "vertical": True,
-                             "position_x": 0.9, "position_y": 0.25, "height": 0.5,
-                             "width": 0.04, "title_font_size": 12, "label_font_size": 11,
-                             "fmt": "%.1f"})
+            self._cloud, scalars="radial velocity (m/s)", cmap="turbo", clim=(-2, 2),
+            render_points_as_spheres=True, point_size=13, pickable=False, render=False,
+            scalar_bar_args={"title": "radar points: radial velocity (m/s)",
+                             "vertical": False, "position_x": 0.55, "position_y": 0.03,
+                             "height": 0.06, "width": 0.42, "title_font_size": 13,
+                             "label_font_size": 11, "fmt": "%.1f", "n_labels": 5})
         self._cloud_actor.SetVisibility(False)
 
     # --- rendering (never into a hidden view) ------------------------------------------

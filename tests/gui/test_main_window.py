@@ -149,3 +149,78 @@ def test_corner_reflector_appears_and_disappears_with_radar_opacity(make_window,
     window.undo_action.trigger()
     assert doc.project.materials == []
     assert not doc.is_dirty
+
+
+def test_click_in_viewport_selects_object_and_list_follows(make_window, wait_frame, qtbot):
+    from PyQt6.QtCore import QPoint, Qt
+    from PyQt6.QtTest import QTest
+
+    window = make_window()
+    wait_frame(window)
+    doc = window.document
+    person = doc.project.object_by_name("person").id
+    view = window.viewport
+    view.render_now()
+    x, y = view.display_position_of(person)
+    widget = view.plotter.interactor
+    pos = QPoint(x, widget.height() - y - 1)
+    QTest.mouseClick(widget, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, pos)
+    qtbot.waitUntil(lambda: doc.selection == person, timeout=3000)
+    assert window.object_list.list.currentItem().text() == "person"
+    assert window.inspector.name_edit.text() == "person"
+    # Selecting in the list selects in the view (gizmo on the object).
+    item = window.object_list.list.findItems("metal_plate", Qt.MatchFlag.MatchExactly)[0]
+    window.object_list.list.setCurrentItem(item)
+    assert doc.selection == doc.project.object_by_name("metal_plate").id
+    assert view._gizmo is not None and view._gizmo_key == doc.selection
+    # Typing an exact value in the inspector moves it (same undoable edit path).
+    box = window.inspector.position_edit.boxes[2]
+    box.setValue(1.5)
+    assert doc.project.object_by_name("metal_plate").pose.position_m[2] == 1.5
+    window.undo_action.trigger()
+    assert doc.project.object_by_name("metal_plate").pose.position_m[2] == 1.3
+    assert window.inspector.position_edit.boxes[2].value() == 1.3
+
+
+def test_gizmo_mouse_drag_moves_object_one_undo_step(make_window, wait_frame, qtbot):
+    from PyQt6.QtCore import QPoint, Qt
+    from PyQt6.QtTest import QTest
+
+    window = make_window()
+    wait_frame(window)
+    doc = window.document
+    oid = doc.project.object_by_name("person").id
+    doc.select(oid)
+    view = window.viewport
+    view.render_now()
+    gizmo = view._gizmo
+    assert gizmo is not None
+    before = doc.project.object_by_name("person").pose.position_m
+    # Hover over the y arrow (world +y), press, drag sideways on screen, release.
+    arrow = gizmo._arrows[1]
+    b = np.array(arrow.bounds)
+    tip = np.array([(b[0] + b[1]) / 2, b[2] + 0.9 * (b[3] - b[2]), (b[4] + b[5]) / 2])
+    ren = view.plotter.renderer
+    ren.SetWorldPoint(*tip, 1.0)
+    ren.WorldToDisplay()
+    x, y, _ = ren.GetDisplayPoint()
+    widget = view.plotter.interactor
+    h = widget.height()
+    start = QPoint(int(x), int(h - y - 1))
+    QTest.mouseMove(widget, start)
+    qtbot.wait(50)
+    assert gizmo._selected_actor is arrow, "mouse is not over the gizmo's y arrow"
+    undo_count = doc.undo_stack.count()
+    QTest.mousePress(widget, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+    for dx in range(10, 130, 20):
+        QTest.mouseMove(widget, start + QPoint(-dx, 0))
+        qtbot.wait(20)
+    QTest.mouseRelease(widget, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier,
+                       start + QPoint(-120, 0))
+    after = doc.project.object_by_name("person").pose.position_m
+    assert after[0] == pytest.approx(before[0]) and after[2] == pytest.approx(before[2])
+    assert abs(after[1] - before[1]) > 0.05, (before, after)
+    assert doc.undo_stack.count() == undo_count + 1
+    assert doc.selection == oid
+    window.undo_action.trigger()
+    assert doc.project.object_by_name("person").pose.position_m == before
