@@ -18,9 +18,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from simcore.dsp import RadarProducts, process_frame, static_axes_items
 from simcore.render import PinholeIntrinsics, RenderBuffers, SceneRenderer
 from simcore.scene.model import Project
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
+from simcore.sensors.radar import RadarFrontEnd, RadarOutput
 from simcore.sensors.tof import TofOutput, simulate_tof
 
 H5Items = dict[str, tuple[NDArray[np.generic], str]]
@@ -32,9 +34,8 @@ def tof_render_intrinsics(project: Project) -> PinholeIntrinsics:
 
 
 def radar_render_intrinsics(project: Project) -> PinholeIntrinsics:
-    """Render grid of the radar pass (square pixels over the configured horizontal FOV)."""
-    cfg = project.rig.radar
-    return PinholeIntrinsics.from_fov(cfg.render_width, cfg.render_height, cfg.render_fov_h_deg)
+    """Render grid of the radar pass (scatterer grid × render supersampling, square pixels)."""
+    return project.rig.radar.render_intrinsics()
 
 
 def render_key(project: Project) -> str:
@@ -51,14 +52,20 @@ def render_key(project: Project) -> str:
         "rig_motion": project.rig.motion.model_dump(mode="json"),
         "tof": project.rig.tof.model_dump(mode="json"),
         "radar_pose": radar.pose_on_rig.model_dump(mode="json"),
-        "radar_grid": [radar.render_width, radar.render_height, radar.render_fov_h_deg],
+        "radar_grid": [radar.render_width, radar.render_height, radar.render_fov_h_deg,
+                       radar.render_supersampling],
         "timeline": project.timeline.model_dump(mode="json"),
     }, sort_keys=True)
 
 
-def frame_rng(seed: int, index: int) -> np.random.Generator:
-    """Random generator of frame ``index``: independent of the order frames are computed in."""
-    return np.random.default_rng([seed, index])
+#: Independent random streams of a frame, so that changing one sensor leaves the others'
+#: noise untouched.
+RNG_STREAMS = {"tof": 0, "radar": 1}
+
+
+def frame_rng(seed: int, index: int, stream: str) -> np.random.Generator:
+    """Random generator of one sensor in frame ``index``, whatever order frames run in."""
+    return np.random.default_rng([seed, index, RNG_STREAMS[stream]])
 
 
 @dataclass
@@ -77,6 +84,10 @@ class Frame:
         Object local frames → world.
     tof : TofOutput
         ToF camera outputs at sensor resolution, ground truth included.
+    radar : RadarOutput
+        Raw ADC cube (chirps, tx*rx, samples) and chirp times.
+    dsp : RadarProducts
+        Range/Doppler/angle maps, CFAR detections and point cloud of ``radar``.
     timings_ms : dict
         Wall time of each stage (ms).
     """
@@ -86,6 +97,8 @@ class Frame:
     rig_pose: NDArray[np.float64]
     object_poses: NDArray[np.float64]
     tof: TofOutput
+    radar: RadarOutput
+    dsp: RadarProducts
     snapshot: SceneSnapshot
     tof_buffers: RenderBuffers
     radar_buffers: RenderBuffers
@@ -98,6 +111,8 @@ class Frame:
             "/poses/rig": (self.rig_pose, "m"),
             "/poses/objects": (self.object_poses, "m"),
             **self.tof.hdf5_items(),
+            **self.radar.hdf5_items(),
+            **self.dsp.hdf5_items(),
         }
 
     @property
@@ -107,7 +122,7 @@ class Frame:
 
     def table_rows(self) -> dict[str, NDArray[Any]]:
         """Records this frame adds to growing tables (path → structured array)."""
-        return {}
+        return {"/radar/detections": self.dsp.detection_records(self.index)}
 
 
 class Simulator:
@@ -118,6 +133,7 @@ class Simulator:
         self.renderer = SceneRenderer(project, base_dir=base_dir)
         self._render_key = ""
         self._render_cache: dict[int, tuple[SceneSnapshot, RenderBuffers, RenderBuffers]] = {}
+        self.radar = RadarFrontEnd(project, speckle_seed=self.seed)
         self.set_project(project)
 
     def set_project(self, project: Project) -> None:
@@ -128,6 +144,7 @@ class Simulator:
             self._render_cache.clear()
             self._render_key = key
         self.project = project
+        self.radar.project = project
         self.tof_intrinsics = tof_render_intrinsics(project)
         self.radar_intrinsics = radar_render_intrinsics(project)
 
@@ -137,6 +154,7 @@ class Simulator:
         return {
             "/objects/names": (np.array([o.name for o in objects], dtype=str), ""),
             "/objects/ids": (np.array([o.id for o in objects], dtype=np.int32), "1"),
+            **static_axes_items(self.project.rig.radar, self.project.dsp),
         }
 
     @property
@@ -166,9 +184,16 @@ class Simulator:
                 radar_buf = self.renderer.render(snap, "radar", self.radar_intrinsics)
             # Keep the latest frame's renders: edits that do not change them re-use them.
             self._render_cache = {index: (snap, tof_buf, radar_buf)}
-        rng = frame_rng(self.seed, index)
         with stage("tof"):
-            tof = simulate_tof(tof_buf, self.project.rig.tof, rng=rng)
+            tof = simulate_tof(tof_buf, self.project.rig.tof,
+                               rng=frame_rng(self.seed, index, "tof"))
+        with stage("radar_scatterers"):
+            scatterers = self.radar.cached_scatterers(snap, radar_buf)
+        with stage("radar_synthesis"):
+            radar = self.radar.synthesize(scatterers, rng=frame_rng(self.seed, index, "radar"))
+        with stage("dsp"):
+            dsp = process_frame(radar.adc, self.project.rig.radar, self.project.dsp,
+                                radar_to_world=radar_buf.sensor.transform)
         timings["total"] = sum(timings.values())
         return Frame(
             index=index,
@@ -176,6 +201,8 @@ class Simulator:
             rig_pose=snap.rig.transform,
             object_poses=snap.object_transforms(),
             tof=tof,
+            radar=radar,
+            dsp=dsp,
             snapshot=snap,
             tof_buffers=tof_buf,
             radar_buffers=radar_buf,

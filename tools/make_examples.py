@@ -2,14 +2,15 @@
 import numpy as np
 from simcore.scene import *
 from simcore.scene.model import SensorRig
-from simcore.sensors.tof_config import TofCameraConfig
-from simcore.sensors.radar_config import RadarConfig
+from simcore.sensors.radar_presets import bgt60tr13c
+from simcore.sensors.tof_config import pmd_pico_flexx
 from simcore.scene.project_io import save_project
 
 def rig(height=1.0):
-    return SensorRig(pose=Pose(position_m=(0, 0, height)),
-                     tof=TofCameraConfig(pose_on_rig=Pose(position_m=(0, 0.03, 0))),
-                     radar=RadarConfig(pose_on_rig=Pose(position_m=(0, -0.03, 0))))
+    tof = pmd_pico_flexx()
+    tof.pose_on_rig = Pose(position_m=(0, 0.03, 0))
+    return SensorRig(pose=Pose(position_m=(0, 0, height)), tof=tof,
+                     radar=bgt60tr13c(pose_on_rig=Pose(position_m=(0, -0.03, 0))))
 
 # wall.json
 wall = Project(name="wall", description="A flat concrete wall 2.0 m in front of the rig, normal to the boresight, larger than both fields of view.",

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pydantic import Field, model_validator
 
+from simcore.dsp.config import DspConfig
 from simcore.scene.base import Model, Positive
 from simcore.scene.geometry import Geometry
 from simcore.scene.materials import DualBandMaterial
@@ -63,6 +64,7 @@ class Project(Model):
     )
     objects: list[SceneObject] = Field(default_factory=list)
     rig: SensorRig = SensorRig()
+    dsp: DspConfig = DspConfig()
 
     @model_validator(mode="after")
     def _check_unique(self) -> Project:
