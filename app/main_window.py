@@ -495,8 +495,15 @@ class MainWindow(QMainWindow):
         dialog.setAutoClose(False)
         dialog.setAutoReset(False)
         dialog.canceled.connect(job.cancel)
-        job.progress.connect(lambda done, total: (dialog.setMaximum(total),
-                                                  dialog.setValue(done)))
+
+        def progress(done: int, total: int) -> None:
+            if dialog.wasCanceled():
+                job.cancel()
+                return
+            dialog.setMaximum(total)
+            dialog.setValue(done)
+
+        job.progress.connect(progress)
 
         def finished(message: str) -> None:
             dialog.close()
