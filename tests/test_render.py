@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import wall_project
+from scenes import wall_project
 
 from simcore.render import PinholeIntrinsics
 from simcore.scene import Box, Motion, Plane, Pose, Project, SceneObject, Sphere
