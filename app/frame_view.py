@@ -6,12 +6,9 @@ range–Doppler and range–azimuth maps with their axes, detections, the radar 
 world coordinates) out of the frame into plain numpy arrays, so the GUI thread only copies
 them into plot items.
 
-The sensor and DSP stages of the pipeline are optional here: a frame without ``tof``
-falls back to :func:`simcore.sensors.tof.simulate_tof` on the ToF render when that exists,
-then to the ground-truth range; a frame without ``dsp`` gets its radar products from
-:class:`app.radar_chain.RadarChain` (the simcore front end and DSP run by the worker), and
-only where those are unavailable from the app's preview chain (:mod:`app.preview_radar`),
-which the panels label as a preview.
+Nothing is computed here that the pipeline computes: ToF images come from ``frame.tof``,
+radar maps, CFAR threshold and detections from ``frame.dsp``
+(:class:`simcore.dsp.RadarProducts`).
 """
 
 from __future__ import annotations
@@ -82,8 +79,6 @@ class RadarView:
     bev_db : ndarray, shape (nz, nx), optional
         Bird's-eye (Cartesian) range–azimuth image (dB, NaN outside the coverage) over
         ``bev_x_m`` (right) and ``bev_z_m`` (forward).
-    source : str
-        "simcore" when computed by the pipeline's DSP, "preview" for the app's fallback.
     """
 
     range_axis_m: F64
@@ -95,7 +90,6 @@ class RadarView:
     range_azimuth_db: F32
     detections: Detections
     channel_names: list[str]
-    source: str = "simcore"
     bev_db: F32 | None = None
     bev_x_m: F64 | None = None
     bev_z_m: F64 | None = None
@@ -116,12 +110,11 @@ class TofView:
     depth_m : ndarray, float32
         Measured depth (m); NaN where invalid.
     amplitude : ndarray, float32
-        Demodulated amplitude (DN, or relative units for the ground-truth fallback).
+        Demodulated amplitude (DN).
     valid : ndarray, bool
+        Neither saturated nor too dark.
     max_range_m : float
         Unambiguous range (upper end of the depth colour scale).
-    source : str
-        "simcore" (camera model) or "ground truth" (fallback).
     """
 
     depth_m: F32
@@ -129,7 +122,6 @@ class TofView:
     valid: NDArray[np.bool_]
     max_range_m: float
     amplitude_unit: str = "DN"
-    source: str = "simcore"
 
 
 @dataclass
@@ -154,28 +146,13 @@ class FrameView:
 # --------------------------------------------------------------------------------------
 
 
-def _tof_view(frame: Any, project: Project, notes: list[str]) -> TofView:
+def _tof_view(frame: Any, project: Project) -> TofView:
     cfg = project.rig.tof
-    tof = getattr(frame, "tof", None)
-    if tof is None:
-        try:
-            from simcore.pipeline import frame_rng
-            from simcore.sensors.tof import simulate_tof
-        except ImportError:
-            simulate_tof = None
-        if simulate_tof is not None:
-            tof = simulate_tof(frame.tof_buffers, cfg, rng=frame_rng(project.seed, frame.index))
-    if tof is not None:
-        valid = np.asarray(tof.valid, dtype=bool)
-        depth = np.where(valid, tof.depth_m, np.nan).astype(np.float32)
-        return TofView(depth, np.asarray(tof.amplitude, dtype=np.float32), valid,
-                       float(cfg.combined_unambiguous_range_m))
-    notes.append("ToF camera model not available: showing ground-truth range")
-    gt = np.asarray(frame.tof_gt_range, dtype=np.float32)
-    valid = np.isfinite(gt)
-    amp = np.where(valid, 1.0 / np.maximum(gt, 0.05) ** 2, 0.0).astype(np.float32)
-    return TofView(gt, amp, valid, float(cfg.unambiguous_range_m), amplitude_unit="1/m²",
-                   source="ground truth")
+    tof = frame.tof
+    valid = np.asarray(tof.valid, dtype=bool)
+    depth = np.where(valid, tof.depth_m, np.nan).astype(np.float32)
+    return TofView(depth, np.asarray(tof.amplitude, dtype=np.float32), valid,
+                   float(cfg.combined_unambiguous_range_m))
 
 
 # --------------------------------------------------------------------------------------
@@ -242,38 +219,20 @@ def radar_view_from_products(dsp: Any, project: Project, radar_transform: F64) -
     )
 
 
-def _radar_view(frame: Any, project: Project, notes: list[str], chain: Any,
-                timings: dict[str, float]) -> RadarView | None:
-    radar_transform = frame.radar_buffers.sensor.transform
+def _radar_view(frame: Any, project: Project, notes: list[str]) -> RadarView | None:
     dsp = getattr(frame, "dsp", None)
-    if dsp is None and chain is not None:
-        try:
-            dsp = chain.process(frame, project, timings)
-        except Exception as exc:  # noqa: BLE001 - the preview below still shows something
-            notes.append(f"radar chain failed ({type(exc).__name__}: {exc}); preview radar")
-            dsp = None
-        if dsp is None and chain.error:
-            notes.append(chain.error)
-    if dsp is not None:
-        return radar_view_from_products(dsp, project, radar_transform)
-    from app.preview_radar import preview_radar_view
-
-    notes.append("radar front end / DSP not available: preview radar chain")
-    return preview_radar_view(frame, project)
+    if dsp is None:
+        notes.append("this pipeline produces no radar products")
+        return None
+    return radar_view_from_products(dsp, project, frame.radar_buffers.sensor.transform)
 
 
-def build_frame_view(frame: Any, project: Project, *, render_count: int = 0,
-                     radar_chain: Any = None) -> FrameView:
-    """Extract what the panels draw from a pipeline frame (runs in the worker thread).
-
-    ``radar_chain`` (:class:`app.radar_chain.RadarChain`) computes the radar products of
-    frames that do not carry them yet.
-    """
+def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> FrameView:
+    """Extract what the panels draw from a pipeline frame (runs in the worker thread)."""
     notes: list[str] = []
     timings = dict(frame.timings_ms)
-    tof = _tof_view(frame, project, notes)
-    radar = _radar_view(frame, project, notes, radar_chain, timings)
-    timings["total"] = sum(v for k, v in timings.items() if k != "total")
+    tof = _tof_view(frame, project)
+    radar = _radar_view(frame, project, notes)
     return FrameView(
         index=frame.index,
         time_s=float(frame.time_s),

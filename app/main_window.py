@@ -35,8 +35,9 @@ from app.viewport import SceneViewport
 from simcore.resources import EXAMPLES_DIR
 
 MAX_RECENT = 8
-STAGE_LABELS = {"snapshot": "snap", "render_tof": "render ToF", "render_radar": "render radar",
-                "tof": "ToF", "radar": "radar", "dsp": "DSP", "ground_truth": "GT"}
+STAGE_LABELS = {"snapshot": "snapshot", "render_tof": "render ToF",
+                "render_radar": "render radar", "tof": "ToF", "radar_scatterers": "scatterers",
+                "radar_synthesis": "IF synthesis", "radar": "radar", "dsp": "DSP"}
 
 
 class MainWindow(QMainWindow):

@@ -143,8 +143,7 @@ class TofPanel(LivePanel):
         overlay[~tof.valid] = INVALID_RGBA
         self.depth_invalid.setImage(overlay, autoLevels=False, levels=(0, 255))
         self.amp_invalid.setImage(overlay, autoLevels=False, levels=(0, 255))
-        src = "" if tof.source == "simcore" else f" [{tof.source}]"
-        self.depth_plot.setTitle(f"depth{src}   t = {view.time_s:.2f} s")
+        self.depth_plot.setTitle(f"depth   t = {view.time_s:.2f} s")
         self.amp_plot.setTitle(f"amplitude   {int((~tof.valid).sum())} invalid px")
 
     def _on_hover(self, pos: QPointF) -> None:
@@ -221,8 +220,7 @@ class RangeProfilePanel(LivePanel):
             self.markers.setData(det.range_m, levels)
         else:
             self.markers.setData([], [])
-        tag = "" if radar.source == "simcore" else "  [preview radar]"
-        self.plot.setTitle(f"range profile   peak {radar.profile_peak_range_m():.2f} m{tag}")
+        self.plot.setTitle(f"range profile   peak {radar.profile_peak_range_m():.2f} m")
 
     def _on_hover(self, pos: QPointF) -> None:
         radar = None if self.view is None else self.view.radar

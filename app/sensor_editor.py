@@ -136,7 +136,11 @@ class SensorEditor(QScrollArea):
         left.addWidget(self._build_tof())
         left.addWidget(self._build_derived(), 1)
         outer.addLayout(left, 1)
-        outer.addWidget(self._build_radar(), 1)
+        right = QVBoxLayout()
+        right.addWidget(self._build_radar())
+        right.addWidget(self._build_dsp())
+        right.addStretch(1)
+        outer.addLayout(right, 1)
         document.projectChanged.connect(self.refresh)
         self.refresh()
 
@@ -253,6 +257,47 @@ class SensorEditor(QScrollArea):
         form.addRow("rotation on rig", self.radar_rot)
         return box
 
+    def _build_dsp(self) -> QWidget:
+        box = QGroupBox("Radar processing (DSP)")
+        form = QFormLayout(box)
+        self.dsp_combos: dict[str, QComboBox] = {}
+        windows = ["none", "hann", "hamming", "blackman", "blackmanharris", "chebyshev"]
+        for field, label, items, tip in (
+                ("range_window", "range window", windows, "window of the range FFT"),
+                ("doppler_window", "Doppler window", windows, "window of the Doppler FFT"),
+                ("angle_method", "angle method", ["monopulse", "fft", "bartlett", "capon"],
+                 "angle estimation of the detections"),
+                ("cfar_method", "CFAR", ["ca", "go", "so", "os"],
+                 "cell-averaging, greatest-of, smallest-of or ordered-statistic CFAR")):
+            combo = QComboBox()
+            combo.addItems(items)
+            combo.setToolTip(tip)
+            combo.activated.connect(lambda _i, f=field, c=combo: self._set(f"dsp.{f}",
+                                                                         c.currentText()))
+            form.addRow(label, combo)
+            self.dsp_combos[field] = combo
+        self.cfar_dims = QComboBox()
+        self.cfar_dims.addItems(["2-D (range–Doppler)", "1-D (range)"])
+        self.cfar_dims.setToolTip("CFAR on the range–Doppler map or along range only")
+        self.cfar_dims.activated.connect(
+            lambda i: self._set("dsp.cfar_dimensions", 2 if i == 0 else 1))
+        form.addRow("CFAR dimensions", self.cfar_dims)
+        self.pfa = spin(minimum=1.0, maximum=12.0, decimals=1, step=0.5, suffix="",
+                        tooltip="false-alarm probability per cell: Pfa = 10^-value")
+        self.pfa.setPrefix("Pfa = 1e-")
+        self.pfa.valueChanged.connect(lambda v: self._set("dsp.cfar_pfa", float(10 ** -v)))
+        form.addRow("false-alarm rate", self.pfa)
+        self.clutter = QCheckBox("static clutter removal")
+        self.clutter.setToolTip("subtract the mean over chirps: keeps only what moves")
+        self.clutter.toggled.connect(lambda on: self._set("dsp.static_clutter_removal",
+                                                          bool(on)))
+        form.addRow(self.clutter)
+        self.min_range = spin(minimum=0.0, maximum=100.0, decimals=2, step=0.05, suffix="m",
+                              tooltip="detections closer than this are discarded (leakage)")
+        self.min_range.valueChanged.connect(lambda v: self._set("dsp.min_range_m", float(v)))
+        form.addRow("min detection range", self.min_range)
+        return box
+
     def _build_derived(self) -> QWidget:
         box = QGroupBox("Derived radar quantities")
         layout = QVBoxLayout(box)
@@ -342,6 +387,16 @@ class SensorEditor(QScrollArea):
         set_quietly(self.render_h, radar.render_height)
         self.radar_pos.set_value(radar.pose_on_rig.position_m)
         self.radar_rot.set_value(radar.pose_on_rig.rotation_deg)
+        dsp = getattr(project, "dsp", None)
+        if dsp is not None:
+            for field, combo in self.dsp_combos.items():
+                with QSignalBlocker(combo):
+                    combo.setCurrentText(str(getattr(dsp, field)))
+            with QSignalBlocker(self.cfar_dims):
+                self.cfar_dims.setCurrentIndex(0 if dsp.cfar_dimensions == 2 else 1)
+            set_quietly(self.pfa, -np.log10(dsp.cfar_pfa))
+            set_quietly(self.clutter, dsp.static_clutter_removal)
+            set_quietly(self.min_range, dsp.min_range_m)
         self.refresh_derived()
 
     def refresh_derived(self) -> None:

@@ -22,7 +22,6 @@ from pathlib import Path
 from PyQt6.QtCore import QObject, QThread, pyqtSignal
 
 from app.frame_view import FrameView, build_frame_view
-from app.radar_chain import RadarChain
 from simcore.scene import Project
 
 
@@ -51,7 +50,6 @@ class _Worker(QThread):
         self._stop = False
         self.simulator = None
         self._base_dir: Path | None = None
-        self._radar_chain = RadarChain()
 
     def submit(self, request: FrameRequest) -> None:
         with self._cond:
@@ -105,8 +103,7 @@ class _Worker(QThread):
         index = min(request.index, self.simulator.n_frames - 1)
         frame = self.simulator.frame(index)
         view = build_frame_view(frame, request.project,
-                                render_count=self.simulator.renderer.render_count,
-                                radar_chain=self._radar_chain)
+                                render_count=self.simulator.renderer.render_count)
         view.timings_ms["wall"] = (time.perf_counter() - start) * 1e3
         return view
 

@@ -14,6 +14,10 @@ QGroupBox::title { subcontrol-origin: margin; left: 8px; padding: 0 4px; color: 
 QToolBar { spacing: 4px; border: none; }
 QStatusBar QLabel { padding: 0 6px; }
 QTabBar::tab { padding: 4px 10px; }
+QSlider::groove:horizontal { height: 6px; background: #3a414b; border-radius: 3px; }
+QSlider::sub-page:horizontal { background: #2f6fb0; border-radius: 3px; }
+QSlider::handle:horizontal { background: #8fb4d9; width: 12px; margin: -4px 0;
+                             border-radius: 6px; }
 """
 
 

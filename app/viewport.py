@@ -164,9 +164,10 @@ class SceneViewport(QWidget):
             self._cloud, scalars="radial velocity (m/s)", cmap="turbo", clim=(-2, 2),
             render_points_as_spheres=True, point_size=13, pickable=False, render=False,
             scalar_bar_args={"title": "radar points: radial velocity (m/s)",
-                             "vertical": False, "position_x": 0.55, "position_y": 0.03,
-                             "height": 0.06, "width": 0.42, "title_font_size": 13,
-                             "label_font_size": 11, "fmt": "%.1f", "n_labels": 5})
+                             "vertical": False, "position_x": 0.58, "position_y": 0.02,
+                             "height": 0.09, "width": 0.4, "title_font_size": 12,
+                             "label_font_size": 10, "fmt": "%.1f", "n_labels": 5,
+                             "color": "#c8ccd2"})
         self._cloud_actor.SetVisibility(False)
 
     # --- rendering (never into a hidden view) ------------------------------------------
