@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Callable
+from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -17,7 +18,13 @@ from pydantic import ValidationError
 from PyQt6.QtCore import QObject, pyqtSignal
 from PyQt6.QtGui import QUndoCommand, QUndoStack
 
-from simcore.scene import Project, load_project, save_project
+from simcore.scene import (
+    DualBandMaterial,
+    Project,
+    load_material_library,
+    load_project,
+    save_project,
+)
 from simcore.scene.project_io import (
     ProjectError,
     check_references,
@@ -46,6 +53,16 @@ _SERIAL = [0]
 def _next_merge_serial() -> int:
     _SERIAL[0] += 1
     return _SERIAL[0]
+
+
+@lru_cache(maxsize=1)
+def _library() -> dict[str, DualBandMaterial]:
+    return load_material_library()
+
+
+def library_names() -> set[str]:
+    """Names of the bundled library's materials."""
+    return set(_library())
 
 
 class EditError(ValueError):
@@ -114,6 +131,8 @@ class ProjectDocument(QObject):
         self._project = project if project is not None else Project()
         self._path = path
         self._selection: int | str | None = None
+        self._materials: dict[str, DualBandMaterial] = {}
+        self._materials_for: Project | None = None
 
     # --- state ------------------------------------------------------------------------
     @property
@@ -140,6 +159,19 @@ class ProjectDocument(QObject):
     def selection(self) -> int | str | None:
         """Selected object id, :data:`RIG` or ``None``."""
         return self._selection
+
+    def material_table(self) -> dict[str, DualBandMaterial]:
+        """Library materials overridden by the project's, keyed by name (cached per project).
+
+        Same result as :func:`simcore.scene.project_io.material_table`, without reading the
+        library file on every call.
+        """
+        if self._materials_for is not self._project:
+            table = dict(_library())
+            table.update({m.name: m for m in self._project.materials})
+            self._materials = table
+            self._materials_for = self._project
+        return self._materials
 
     def select(self, key: int | str | None) -> None:
         """Select an object by id, the rig (:data:`RIG`) or nothing."""

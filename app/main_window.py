@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from PyQt6.QtCore import QSettings, Qt, QTimer
+from PyQt6.QtCore import QSettings, Qt
 from PyQt6.QtGui import QAction, QCloseEvent, QKeySequence
 from PyQt6.QtWidgets import (
     QApplication,
@@ -65,10 +65,6 @@ class MainWindow(QMainWindow):
         self.export_job: DatasetExportJob | None = None
         self.progress_dialog: QProgressDialog | None = None
         self._closing = False
-        self._frame_timer = QTimer(self)
-        self._frame_timer.setSingleShot(True)
-        self._frame_timer.setInterval(0)
-        self._frame_timer.timeout.connect(self._request_frame)
 
         self._build_docks()
         self._build_actions()
@@ -298,7 +294,10 @@ class MainWindow(QMainWindow):
 
     def _schedule_frame(self, *_: object) -> None:
         if not self._closing:
-            self._frame_timer.start()
+            # Ask at once: the worker keeps only the newest request, so a burst of edits
+            # costs at most one stale frame, and waiting for the event loop would add the
+            # time of every repaint the edit caused.
+            self._request_frame()
 
     def _request_frame(self) -> None:
         if not self._closing:
@@ -333,7 +332,7 @@ class MainWindow(QMainWindow):
 
     def frame_is_current(self) -> bool:
         """True when the panels show the frame of the latest project state and time."""
-        return (not self._frame_timer.isActive() and self.last_view is not None
+        return (self.last_view is not None
                 and self.last_view.request_serial == self.sim.latest_serial)
 
     # --- messages ---------------------------------------------------------------------
@@ -551,7 +550,6 @@ class MainWindow(QMainWindow):
             return
         self._closing = True
         self.time.set_playing(False)
-        self._frame_timer.stop()
         if self.export_job is not None and self.export_job.isRunning():
             self.export_job.cancel()
             self.export_job.wait()

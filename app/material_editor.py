@@ -22,10 +22,8 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.document import RIG, EditError, ProjectDocument
+from app.document import RIG, EditError, ProjectDocument, library_names
 from app.widgets import set_quietly, spin, try_edit
-from simcore.scene import load_material_library
-from simcore.scene.project_io import material_table
 
 BAND_FIELDS: list[tuple[str, str, float, float, float, str]] = [
     # field, label, min, max, step, tooltip
@@ -48,7 +46,7 @@ BAND_TITLES = {"tof": "ToF (near-IR)", "radar": "Radar (mm-wave)"}
 def set_material_field(document: ProjectDocument, name: str, band: str, field: str,
                        value: Any) -> None:
     """Set one band parameter of material ``name`` (copied into the project if needed)."""
-    table = material_table(document.project)
+    table = document.material_table()
     if name not in table:
         raise EditError(f"materials: unknown material {name!r}")
 
@@ -67,7 +65,7 @@ def set_material_field(document: ProjectDocument, name: str, band: str, field: s
 
 def save_material_as(document: ProjectDocument, source: str, new_name: str) -> None:
     """Copy material ``source`` into the project under ``new_name``."""
-    table = material_table(document.project)
+    table = document.material_table()
     if new_name in table and new_name != source:
         raise EditError(f"materials: a material called {new_name!r} already exists")
     mat = table[source].model_dump()
@@ -116,7 +114,7 @@ class MaterialEditor(QWidget):
     def __init__(self, document: ProjectDocument, parent: QWidget | None = None):
         super().__init__(parent)
         self.document = document
-        self._library = set(load_material_library())
+        self._library = library_names()
         layout = QVBoxLayout(self)
         layout.setContentsMargins(4, 4, 4, 4)
         top = QHBoxLayout()
@@ -188,7 +186,7 @@ class MaterialEditor(QWidget):
 
     def refresh(self, *_: object) -> None:
         """Re-read the material list and the current material's values."""
-        table = material_table(self.document.project)
+        table = self.document.material_table()
         project_names = {m.name for m in self.document.project.materials}
         current = self.current
         with QSignalBlocker(self.combo):

@@ -42,7 +42,6 @@ from app.scene_edits import (
 )
 from app.widgets import VectorEdit, set_quietly, spin, try_edit
 from simcore.scene import Project
-from simcore.scene.project_io import material_table
 
 RIG_LABEL = "Sensor rig (ToF + radar)"
 
@@ -87,11 +86,16 @@ class ObjectListPanel(QWidget):
         self.list.currentItemChanged.connect(self._on_current_changed)
         self.list.itemChanged.connect(self._on_item_changed)
         layout.addWidget(self.list, 1)
+        self._listed: list[tuple[int, str, str, str]] | None = None
         document.projectChanged.connect(self._rebuild)
         document.selectionChanged.connect(self._select)
         self._rebuild(document.project)
 
     def _rebuild(self, project: Project) -> None:
+        listed = [(o.id, o.name, o.geometry.kind, o.material) for o in project.objects]
+        if listed == self._listed:
+            return
+        self._listed = listed
         with QSignalBlocker(self.list):
             self.list.clear()
             rig = QListWidgetItem(RIG_LABEL)
@@ -136,6 +140,7 @@ class ObjectListPanel(QWidget):
             return
         name = item.text().strip()
         if not try_edit(self.editFailed.emit, lambda: rename_object(self.document, key, name)):
+            self._listed = None
             self._rebuild(self.document.project)
 
     def duplicate_selected(self) -> None:
@@ -344,7 +349,7 @@ class ObjectInspector(QScrollArea):
             set_quietly(self.name_edit, obj.name)
             with QSignalBlocker(self.material_combo):
                 self.material_combo.clear()
-                self.material_combo.addItems(sorted(material_table(project)))
+                self.material_combo.addItems(sorted(self.document.material_table()))
                 self.material_combo.setCurrentText(obj.material)
             self._show_geometry(obj.geometry)
         self.position_edit.set_value(pose.position_m)

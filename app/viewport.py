@@ -35,7 +35,6 @@ from app.scene_geometry import (
     radar_fov_v_deg,
 )
 from simcore.scene import Project
-from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
 
 SelectionKey = int | str | None
@@ -130,6 +129,7 @@ class SceneViewport(QWidget):
         self._needs_render = False
         self._camera_set = False
         self._slabs: dict[int, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
+        self._drawn_state: tuple[Any, ...] | None = None
         self._closed = False
         self._render_timer = QTimer(self)
         self._render_timer.setSingleShot(True)
@@ -219,6 +219,7 @@ class SceneViewport(QWidget):
             self.plotter.remove_actor(actor, render=False)
         self._actors.clear()
         self._sensor_key = ""
+        self._drawn_state = None
         self._camera_set = False
         self._remove_gizmo()
         self.set_detections(None)
@@ -232,7 +233,7 @@ class SceneViewport(QWidget):
             return
         snap = take_snapshot(project, self._time_s)
         self._snapshot = snap
-        materials = material_table(project)
+        materials = self.document.material_table()
         seen = set()
         self._slabs.clear()
         for obj, state in zip(project.objects, snap.objects, strict=True):
@@ -276,6 +277,16 @@ class SceneViewport(QWidget):
         if not self._camera_set:
             self.reset_camera()
             self._camera_set = True
+        # Edits that change nothing drawn here (antennas, waveform, DSP) cost no render.
+        state = (
+            tuple((o.id, self._actors[o.id][0], o.material, s.transform.tobytes())
+                  for o, s in zip(project.objects, snap.objects, strict=True)),
+            snap.rig.transform.tobytes(), snap.tof.transform.tobytes(),
+            snap.radar.transform.tobytes(), self._sensor_key, self.document.selection,
+            tuple((m.name, m.tof.opacity) for m in project.materials))
+        if state == self._drawn_state and self._gizmo_key == self.document.selection:
+            return
+        self._drawn_state = state
         self._sync_gizmo()
         self._update_cutaway(render=False)
         self.request_render()
@@ -361,7 +372,7 @@ class SceneViewport(QWidget):
         cam = np.array(self.plotter.camera.position)
         centres = np.array([c for c, _ in self._slabs.values()])
         middle = centres.mean(axis=0)
-        materials = material_table(self.document.project)
+        materials = self.document.material_table()
         by_id = {o.id: o for o in self.document.project.objects}
         for oid, (centre, axis) in self._slabs.items():
             if oid not in self._actors or oid not in by_id:
