@@ -67,5 +67,9 @@ test: $(STAMP) sysdeps lint typecheck importlint pytest-core pytest-gui
 bench: $(STAMP)
 	$(VENV)/bin/tofradar bench
 
+# Regenerate the validation report (figures + docs/validation/README.md).
+report: $(STAMP)
+	$(VENV)/bin/tofradar report --out docs/validation
+
 clean:
 	rm -rf $(VENV) out .pytest_cache .mypy_cache .ruff_cache

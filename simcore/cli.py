@@ -172,6 +172,19 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_report(args: argparse.Namespace) -> int:
+    """Regenerate the validation report (figures + README.md)."""
+    from simcore.report import generate_report
+
+    def say(message: str) -> None:
+        if not args.quiet:
+            print(f"  {message}", file=sys.stderr)
+
+    result = generate_report(Path(args.out), quick=args.quick, progress=say)
+    print(f"wrote {len(result.figures)} figures and README.md to {result.out_dir}")
+    return 0
+
+
 def cmd_bench(args: argparse.Namespace) -> int:
     """Time every pipeline stage over a number of frames."""
     import numpy as np
@@ -258,6 +271,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=_positive_int, default=1, help="local worker processes")
     p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler ('local' or address)")
     p.set_defaults(func=cmd_sweep)
+
+    p = sub.add_parser("report", help="regenerate the validation report with figures")
+    p.add_argument("--out", default="docs/validation", help="output directory")
+    p.add_argument("--quick", action="store_true", help="fewer frames (for tests)")
+    p.add_argument("--quiet", action="store_true", help="no progress messages")
+    p.set_defaults(func=cmd_report)
 
     p = sub.add_parser("validate", help="check a project file")
     p.add_argument("project", help="project JSON file")

@@ -60,3 +60,18 @@ office = Project(name="office", description="An office: desks, chair, metal plat
     timeline=Timeline(frame_rate_hz=10, duration_s=4.0), objects=O, rig=rig(1.2))
 save_project(office, "resources/examples/office.json")
 print(len(O))
+
+# doppler_back_and_forth.json: the rig moves back and forth (sinusoidally, 0.5 m peak to
+# peak, 4 s period) towards a corner reflector 3 m ahead, as in the reference simulator's
+# velocity experiment; 16 chirps per frame, 20 frames/s.
+period, amplitude = 4.0, 0.5
+times = np.round(np.arange(0.0, period + 1e-9, 0.1), 6)
+kf = [Keyframe(time_s=float(t), position_m=(round(amplitude * 0.5 * (1 - np.cos(2 * np.pi * t / period)), 6), 0.0, 0.0)) for t in times]
+r = rig(1.0)
+r.motion = Motion(keyframes=kf, repeat="loop")
+doppler = Project(name="doppler_back_and_forth",
+    description="The sensor rig moves back and forth (0.5 m peak to peak, 4 s period, up to 0.39 m/s) in front of one radar corner reflector 3 m ahead; 16 chirps per frame, as in the reference simulator's velocity experiment.",
+    timeline=Timeline(frame_rate_hz=20, duration_s=8.0),
+    objects=[SceneObject(id=1, name="corner", geometry=CornerReflector(edge_m=0.08), pose=Pose(position_m=(3.0, -0.03, 1.0), rotation_deg=(0.0, -90.0, 0.0)), material="radar_retroreflector")],
+    rig=r)
+save_project(doppler, "resources/examples/doppler_back_and_forth.json")

@@ -1,0 +1,48 @@
+"""`tofradar report` runs headless and its numbers meet the bars of the earlier issues."""
+
+from __future__ import annotations
+
+import json
+
+from simcore.cli import main
+
+
+def test_quick_report_figures_and_numbers(tmp_path):
+    out = tmp_path / "validation"
+    assert main(["report", "--out", str(out), "--quick", "--quiet"]) == 0
+    figures = sorted(p.name for p in out.glob("fig*.png"))
+    assert len(figures) == 6
+    assert all((out / f).stat().st_size > 20_000 for f in figures)   # real plots, not blanks
+    readme = (out / "README.md").read_text()
+    assert all(f in readme for f in figures)
+    n = json.loads((out / "numbers.json").read_text())
+
+    tof = n["office_tof"]
+    assert tof["retro_invalid_fraction"] == 1.0 and tof["retro_depth_zero_fraction"] == 1.0
+    assert tof["ring_pulled_fraction"] > 0.5                 # cross-talk toward the reflector
+    assert tof["backrest_amplitude_dn"] < 0.5 * tof["wall_amplitude_dn"]
+    assert tof["plate_amplitude_dn"] > tof["wall_amplitude_dn"]
+
+    radar = n["office_radar"]
+    assert radar["corner_over_clutter_db"] > 10             # seen through the paper box
+    assert radar["noise_floor_db"] < radar["corner_peak_db"] - 30
+    assert radar["near_zero_db"] < radar["noise_floor_db"]   # high-pass roll-off
+    assert n["office_range_azimuth"]["corner_detected_error_m"] < 0.15
+
+    dop = n["doppler"]
+    assert dop["detected_fraction"] == 1.0
+    assert dop["within_one_bin_fraction"] == 1.0
+
+    cal = n["calibration"]
+    assert cal["power_vs_range"]["max_abs_error_db"] < 0.5
+    pt = cal["point_targets"]
+    assert pt["all_detected"]
+    assert pt["max_range_err_bins"] < 0.25
+    assert pt["max_velocity_err_bins"] < 1.0
+    assert pt["max_azimuth_err_deg"] < 2.0
+    assert cal["if_synthesis"]["error_db"] < -60
+    assert abs(cal["resolution"]["change_db"]) < 1.0
+
+    side = n["side_by_side"]
+    assert side["time_s"] == side["radar_time_s"]
+    assert side["tof_points"] > 10_000 and side["radar_detections"] > 0
