@@ -95,7 +95,7 @@ def expected_corner_amplitude_fs(config: RadarConfig, *, edge_m: float, range_m:
     return float(volts / config.adc_full_scale_v)
 
 
-def corner_truth(project: Project, t: float) -> list[dict[str, float]]:
+def corner_truth(project: Project, t: float) -> list[dict[str, Any]]:
     """Range, azimuth and radial velocity of every corner apex as the radar sees it."""
     snap = take_snapshot(project, t)
     radar = snap.radar
