@@ -187,3 +187,63 @@ def test_export_dataset_and_panel_images(make_window, wait_frame, qtbot, tmp_pat
     assert job.report.interrupted and job.report.frames_done < 8
     with h5py.File(out2) as f:
         assert f["/time"].shape == (job.report.frames_done,)
+
+
+def test_motion_editing_in_inspector_and_shortcuts(make_window, qtbot):
+    from PyQt6.QtCore import Qt
+
+    from app.scene_edits import add_object
+
+    window = make_window(None)
+    doc = window.document
+    oid = add_object(doc, "sphere", position_m=(2.0, 0.0, 1.0))
+    insp = window.inspector
+    insp.velocity_edit.boxes[1].setValue(0.5)  # 0.5 m/s along world y
+    obj = doc.project.objects[doc.index_of(oid)]
+    assert obj.motion.velocity_mps == (0.0, 0.5, 0.0)
+    window.time_bar.slider.setValue(window.time.n_frames - 1)  # t = 0.9 s (10 fps, 1 s)
+    origin = window.viewport._snapshot.objects[doc.index_of(oid)].origin
+    np.testing.assert_allclose(origin, (2.0, 0.45, 1.0), atol=1e-9)
+    # Keyframes and constant velocities exclude each other: the edit is refused, with a
+    # message; "Add keyframe" switches the object to keyframed motion.
+    messages = []
+    insp.editFailed.connect(messages.append)
+    insp.add_keyframe_button.click()
+    insp.add_keyframe_button.click()
+    motion = doc.project.objects[doc.index_of(oid)].motion
+    assert len(motion.keyframes) == 2 and motion.velocity_mps == (0.0, 0.0, 0.0)
+    insp.keyframe_table.item(1, 3).setText("0.4")  # z offset of keyframe 2
+    assert doc.project.objects[doc.index_of(oid)].motion.keyframes[1].position_m[2] == 0.4
+    insp.keyframe_table.item(1, 0).setText("0")  # time not after keyframe 1: refused
+    assert messages and "keyframe" in messages[-1]
+    assert doc.project.objects[doc.index_of(oid)].motion.keyframes[1].time_s == 1.0
+    # Ctrl+Z / Ctrl+Shift+Z undo and redo from anywhere in the window.
+    n = doc.undo_stack.index()
+    window.raise_()
+    window.activateWindow()
+    qtbot.waitUntil(window.isActiveWindow, timeout=5000)
+    target = window.object_list.list
+    target.setFocus()
+    qtbot.keyClick(target, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert doc.undo_stack.index() == n - 1
+    qtbot.keyClick(target, Qt.Key.Key_Z,
+                   Qt.KeyboardModifier.ControlModifier | Qt.KeyboardModifier.ShiftModifier)
+    assert doc.undo_stack.index() == n
+
+
+def test_hover_readouts_show_values(make_window, wait_frame):
+    window = make_window()
+    wait_frame(window)
+    rd = window.rd_panel
+    centre = rd.plot.vb.mapViewToScene(rd.plot.vb.viewRect().center())
+    rd._on_hover(centre)
+    assert "m/s" in rd.readout.text() and "dB" in rd.readout.text()
+    prof = window.profile_panel
+    prof._on_hover(prof.plot.vb.mapViewToScene(prof.plot.vb.viewRect().center()))
+    assert "range" in prof.readout.text() and "rx1" in prof.readout.text()
+    tof = window.tof_panel
+    tof._on_hover(tof.depth_plot.vb.mapViewToScene(tof.depth_plot.vb.viewRect().center()))
+    assert "depth" in tof.readout.text() or "invalid" in tof.readout.text()
+    ra = window.ra_panel
+    ra._on_hover(ra.plot.vb.mapViewToScene(ra.plot.vb.viewRect().center()))
+    assert "azimuth" in ra.readout.text()
