@@ -267,6 +267,10 @@ class AntennaEditor(QWidget):
         radar = self.document.project.rig.radar
         half = half_wavelength_mm(radar)
         self.board.snap_step_mm = half if self.snap.isChecked() else None
+        count = (len(radar.tx), len(radar.rx))
+        if count != getattr(self, "_count", None):
+            self.board.reset_range()  # a new layout: fit the view to it
+            self._count = count
         self.board.set_elements([(a.name, a.position_mm) for a in radar.tx],
                                 [(a.name, a.position_mm) for a in radar.rx],
                                 half_lambda_mm=half)

@@ -18,6 +18,7 @@ from PyQt6.QtWidgets import (
     QMessageBox,
     QProgressDialog,
     QStyle,
+    QToolButton,
     QWidget,
 )
 
@@ -247,7 +248,12 @@ class MainWindow(QMainWindow):
         tb.setToolButtonStyle(Qt.ToolButtonStyle.ToolButtonTextBesideIcon)
         tb.addActions([self.new_action, self.open_action, self.save_action])
         tb.addSeparator()
-        tb.addActions([self.undo_action, self.redo_action])
+        for action in (self.undo_action, self.redo_action):
+            # Icon only: the actions' text names the step ("Undo Move sphere").
+            button = QToolButton()
+            button.setDefaultAction(action)
+            button.setToolButtonStyle(Qt.ToolButtonStyle.ToolButtonIconOnly)
+            tb.addWidget(button)
         tb.addSeparator()
         add_button = tb.addAction("Add ▾")
         add_button.setToolTip("Add an object")

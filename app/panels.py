@@ -209,6 +209,7 @@ class RangeProfilePanel(LivePanel):
             curve.setData(radar.range_axis_m, radar.profile_db[i])
             self.legend.removeItem(curve)
             self.legend.addItem(curve, radar.channel_names[i])
+        self.legend.setColumnCount(1 if n <= 4 else 3)
         if radar.threshold_db is not None and len(radar.threshold_db) == len(radar.range_axis_m):
             self.threshold.setData(radar.range_axis_m, radar.threshold_db)
         else:

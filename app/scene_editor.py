@@ -234,6 +234,7 @@ class ObjectInspector(QScrollArea):
         self.geometry_form = QFormLayout()
         form.addRow(self.geometry_form)
         self.geometry_note = QLabel("")
+        self.geometry_note.setWordWrap(True)
         self.geometry_note.setStyleSheet("color: #9aa4ae;")
         form.addRow(self.geometry_note)
         self._geometry_kind: str | None = None

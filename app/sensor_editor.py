@@ -21,6 +21,7 @@ from PyQt6.QtWidgets import (
     QHBoxLayout,
     QLabel,
     QScrollArea,
+    QTabWidget,
     QVBoxLayout,
     QWidget,
 )
@@ -130,17 +131,18 @@ class SensorEditor(QScrollArea):
         self.setWidgetResizable(True)
         body = QWidget()
         self.setWidget(body)
-        outer = QHBoxLayout(body)
-        outer.setContentsMargins(4, 4, 4, 4)
-        left = QVBoxLayout()
-        left.addWidget(self._build_tof())
-        left.addWidget(self._build_derived(), 1)
-        outer.addLayout(left, 1)
-        right = QVBoxLayout()
-        right.addWidget(self._build_radar())
-        right.addWidget(self._build_dsp())
-        right.addStretch(1)
-        outer.addLayout(right, 1)
+        outer = QVBoxLayout(body)
+        outer.setContentsMargins(2, 2, 2, 2)
+        self.tabs = QTabWidget()
+        outer.addWidget(self.tabs)
+        radar_page = QWidget()
+        row = QHBoxLayout(radar_page)
+        row.setContentsMargins(2, 2, 2, 2)
+        row.addWidget(self._build_radar(), 1)
+        row.addWidget(self._build_derived(), 1)
+        self.tabs.addTab(radar_page, "Radar")
+        self.tabs.addTab(self._build_dsp(), "Radar processing")
+        self.tabs.addTab(self._build_tof(), "ToF camera")
         document.projectChanged.connect(self.refresh)
         self.refresh()
 
@@ -406,15 +408,16 @@ class SensorEditor(QScrollArea):
         az, el = angle_resolution_deg(radar)
         lam = radar.wavelength_m
         rows = [
-            ("wavelength λ", f"{lam * 1e3:.3f} mm  (λ/2 = {lam * 5e2:.3f} mm)"),
+            ("wavelength λ", f"{lam * 1e3:.3f} mm"),
+            ("half wavelength", f"{lam * 5e2:.3f} mm"),
             ("range resolution", f"{radar.range_resolution_m * 100:.2f} cm"),
             ("max range", f"{radar.max_range_m:.2f} m"),
             ("velocity resolution", f"{radar.velocity_resolution_mps:.3f} m/s"),
             ("max velocity", f"±{radar.max_velocity_mps:.2f} m/s"),
             ("azimuth resolution", "—" if az is None else f"≈ {az:.1f}°"),
             ("elevation resolution", "—" if el is None else f"≈ {el:.1f}°"),
-            ("channels", f"{len(radar.tx)} Tx × {len(radar.rx)} Rx = "
-                         f"{len(radar.tx) * len(radar.rx)} virtual"),
+            ("channels", f"{len(radar.tx)} Tx × {len(radar.rx)} Rx"),
+            ("virtual channels", f"{len(radar.tx) * len(radar.rx)}"),
             ("chirp slope", f"{radar.slope_hz_per_s * 1e-12:.2f} MHz/µs"),
             ("frame duration", f"{radar.frame_duration_s * 1e3:.2f} ms"),
         ]
