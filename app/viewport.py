@@ -182,13 +182,17 @@ class SceneViewport(QWidget):
             self._needs_render = True
 
     def render_now(self) -> None:
-        """Render immediately (only while visible)."""
+        """Schedule the repaint of the view (only while visible).
+
+        The pyvistaqt widget renders the scene in its paint handler, and Qt merges update
+        requests, so this costs one render per repaint, however many edits asked for it.
+        """
         if self._closed or not (self.isVisible() and self.plotter.isVisible()):
             self._needs_render = not self._closed
             return
         self._render_timer.stop()
         self.render_count += 1
-        self.plotter.render()
+        self.plotter.update()
 
     def showEvent(self, event: Any) -> None:  # noqa: N802, D102 - Qt API
         super().showEvent(event)
@@ -284,11 +288,11 @@ class SceneViewport(QWidget):
             snap.rig.transform.tobytes(), snap.tof.transform.tobytes(),
             snap.radar.transform.tobytes(), self._sensor_key, self.document.selection,
             tuple((m.name, m.tof.opacity) for m in project.materials))
+        self._update_cutaway(render=False)
         if state == self._drawn_state and self._gizmo_key == self.document.selection:
             return
         self._drawn_state = state
         self._sync_gizmo()
-        self._update_cutaway(render=False)
         self.request_render()
 
     def _sync_rig(self, project: Project, snap: SceneSnapshot) -> None:

@@ -63,6 +63,9 @@ def make_window(qtbot, tmp_path: Path) -> Iterator:
     for window in made:
         window.document.undo_stack.setClean()
         window.close()
+        # Closing released the VTK window and stopped the simulation worker.
+        assert window.viewport._closed
+        assert window.sim._worker.isFinished()
         window.deleteLater()
     QApplication.processEvents()
 
