@@ -77,6 +77,8 @@ class _Geometry:
     triangle_object: NDArray[np.int64] = field(init=False)
     triangle_offsets: NDArray[np.int64] = field(init=False)
     smooth: NDArray[np.bool_] = field(init=False)
+    label_object: NDArray[np.int32] = field(init=False)
+    label_smooth: NDArray[np.bool_] = field(init=False)
 
     def __post_init__(self) -> None:
         pts, tris, owner, tri_off = 0, [], [], [0]
@@ -99,6 +101,9 @@ class _Geometry:
                 vn = mesh.normals[mesh.triangles]                      # (T, 3, 3)
                 flags.append(np.any(np.abs(vn - vn[:, :1]) > 1e-6, axis=(1, 2)))
         self.smooth = np.concatenate(flags) if flags else np.zeros(0, bool)
+        # Lookup tables by pixel label (0 = background, k + 1 = triangle k).
+        self.label_object = np.concatenate([[-1], self.triangle_object]).astype(np.int32)
+        self.label_smooth = np.concatenate([[False], self.smooth]).astype(bool)
         if len(self.triangles) > MAX_TRIANGLES:
             raise ValueError(f"scene has {len(self.triangles)} triangles; at most "
                              f"{MAX_TRIANGLES} can be rendered")
@@ -146,7 +151,9 @@ class _IndexPass:
             poly = mesh.to_polydata()
             first = geometry.triangle_offsets[index]
             ids = np.arange(first + 1, first + 1 + len(mesh.triangles), dtype=np.int64)
-            rgb = np.stack([(ids >> 16) & 255, (ids >> 8) & 255, ids & 255], axis=1)
+            # Label k + 1 of triangle k in (R, G, B) = (low, middle, high byte): the RGBA
+            # read-back viewed as little-endian uint32 is the label plus alpha << 24.
+            rgb = np.stack([ids & 255, (ids >> 8) & 255, (ids >> 16) & 255], axis=1)
             colours = numpy_to_vtk(rgb.astype(np.uint8), deep=1)
             colours.SetName("triangle_index")
             poly.GetCellData().SetScalars(colours)
@@ -167,6 +174,11 @@ class _IndexPass:
     def render(self, intr: PinholeIntrinsics, sensor: SensorState,
                transforms: NDArray[np.float64], visible: list[bool]) -> NDArray[np.int64]:
         """Global triangle index per pixel, shape (H, W), −1 for background."""
+        return self.labels(intr, sensor, transforms, visible).astype(np.int64) - 1
+
+    def labels(self, intr: PinholeIntrinsics, sensor: SensorState,
+               transforms: NDArray[np.float64], visible: list[bool]) -> NDArray[np.uint32]:
+        """Triangle label per pixel (k + 1 for triangle k, 0 = background), shape (H, W)."""
         if self._size != (intr.width, intr.height):
             self.window.SetSize(intr.width, intr.height)
             self._size = (intr.width, intr.height)
@@ -187,29 +199,78 @@ class _IndexPass:
         self.window.GetRGBACharPixelData(0, 0, intr.width - 1, intr.height - 1, 0,
                                          self._pixels, 0)
         rgba = vtk_to_numpy(self._pixels).reshape(intr.height, intr.width, 4)[::-1]
-        index = (rgba[..., 0].astype(np.int64) << 16) | (rgba[..., 1].astype(np.int64) << 8) \
-            | rgba[..., 2].astype(np.int64)
-        return index - 1
+        # A new array (the read-back buffer is re-used by the next render).
+        return np.bitwise_and(rgba.view("<u4")[..., 0], np.uint32(0xFFFFFF))
 
     def close(self) -> None:
         self.renderer.RemoveAllViewProps()
         self.window.Finalize()
 
 
-_RAY_CACHE: dict[PinholeIntrinsics, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
+_RAY_CACHE: dict[PinholeIntrinsics, tuple[NDArray[np.float32], NDArray[np.float32],
+                                          NDArray[np.float32]]] = {}
 
 
-def _rays(intr: PinholeIntrinsics) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Cached optical-frame rays (x/z, y/z, 1) and their lengths for a pixel grid."""
+def _ray_grid(intr: PinholeIntrinsics
+              ) -> tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32]]:
+    """Cached ray slopes and lengths of a pixel grid (float32, read-only).
+
+    ``x/z`` per column, shape (1, W); ``y/z`` per row, shape (H, 1); the length of the
+    ray ``(x/z, y/z, 1)`` per pixel, shape (H, W).
+    """
     if intr not in _RAY_CACHE:
         if len(_RAY_CACHE) > 8:
             _RAY_CACHE.clear()
         rays = intr.ray_directions()
-        rays.setflags(write=False)
-        norm = np.linalg.norm(rays, axis=-1)
-        norm.setflags(write=False)
-        _RAY_CACHE[intr] = (rays, norm)
+        u = rays[:1, :, 0].astype(np.float32)
+        v = rays[:, :1, 1].astype(np.float32)
+        norm = np.linalg.norm(rays, axis=-1).astype(np.float32)
+        for a in (u, v, norm):
+            a.setflags(write=False)
+        _RAY_CACHE[intr] = (u, v, norm)
     return _RAY_CACHE[intr]
+
+
+def _pixel_rays(intr: PinholeIntrinsics, rows: NDArray[np.intp], cols: NDArray[np.intp]
+                ) -> NDArray[np.float64]:
+    """Rays ``(x/z, y/z, 1)`` of the given pixels, shape (n, 3), float64."""
+    d = np.ones((len(rows), 3))
+    d[:, 0] = (cols + 0.5 - intr.cx) / intr.fx
+    d[:, 1] = (rows + 0.5 - intr.cy) / intr.fy
+    return d
+
+
+@dataclass(frozen=True)
+class Raster:
+    """Output of the GPU pass of one band, input of the (thread-safe, numpy) shading.
+
+    Attributes
+    ----------
+    snapshot : SceneSnapshot
+        The snapshot rendered.
+    band : str
+        "tof" or "radar".
+    intrinsics : PinholeIntrinsics
+        Pixel grid.
+    labels : ndarray, shape (H, W), uint32
+        ``k + 1`` where triangle ``k`` is visible, 0 for background.
+    """
+
+    snapshot: SceneSnapshot
+    band: str
+    intrinsics: PinholeIntrinsics
+    labels: NDArray[np.uint32]
+    geometry: _Geometry = field(repr=False)
+    tables: _BandTables = field(repr=False)
+
+
+@dataclass(frozen=True)
+class _BandTables:
+    """Per-object values of one band, with an extra last row for "no object"."""
+
+    params: dict[str, NDArray[np.float64]]
+    ids: NDArray[np.int32]
+    sphere_radius: NDArray[np.float64]
 
 
 def _silence_vtk_display_warning() -> None:
@@ -269,6 +330,13 @@ class SceneRenderer:
             }
             self._params[band]["retro_gain"] = np.array(
                 [p.retro_gain if p.retroreflector else 0.0 for p in params])
+        # Lookup tables indexed by object index, −1 ("no object") hitting the extra row.
+        self._tables = {
+            band: _BandTables(
+                params={k: np.append(arr, 0.0) for k, arr in self._params[band].items()},
+                ids=np.append(self._ids, -1).astype(np.int32),
+                sphere_radius=np.append(self._sphere_radius, 0.0))
+            for band in BANDS}
 
     def visible_in(self, band: str) -> list[bool]:
         """Which objects are drawn in ``band``'s pass (opacity > 0 and a surface)."""
@@ -278,159 +346,198 @@ class SceneRenderer:
     def render(self, snapshot: SceneSnapshot, band: str, intrinsics: PinholeIntrinsics
                ) -> RenderBuffers:
         """Render ``band`` from that band's sensor in ``snapshot``."""
+        return self.shade(self.rasterize(snapshot, band, intrinsics))
+
+    def rasterize(self, snapshot: SceneSnapshot, band: str, intrinsics: PinholeIntrinsics
+                  ) -> Raster:
+        """The GPU pass of :meth:`render` (call it from the thread that owns the renderer)."""
         if band not in BANDS:
             raise ValueError(f"unknown band {band!r}; expected one of {BANDS}")
         sensor = snapshot.tof if band == "tof" else snapshot.radar
-        transforms = snapshot.object_transforms()
         if band not in self._passes:
             self._passes[band] = _IndexPass(self.geometry)
-        tri_index = self._passes[band].render(intrinsics, sensor, transforms,
-                                              self.visible_in(band))
+        labels = self._passes[band].labels(intrinsics, sensor, snapshot.object_transforms(),
+                                           self.visible_in(band))
         self.render_count += 1
-        return self._shade(snapshot, band, sensor, intrinsics, tri_index, transforms)
+        return Raster(snapshot=snapshot, band=band, intrinsics=intrinsics, labels=labels,
+                      geometry=self.geometry, tables=self._tables[band])
 
-    def _shade(self, snapshot: SceneSnapshot, band: str, sensor: SensorState,
-               intr: PinholeIntrinsics, tri_index: NDArray[np.int64],
-               transforms: NDArray[np.float64]) -> RenderBuffers:
-        geo = self.geometry
-        n_tri = len(geo.triangles)
-        rot, origin = sensor.rotation, sensor.position
-        rays, ray_norm = _rays(intr)                                 # (H, W, 3), (H, W)
-        # Background pixels point at an extra "triangle" whose values are NaN / 0 / -1.
-        tri = np.where((tri_index >= 0) & (tri_index < n_tri), tri_index, n_tri)
+    def shade(self, raster: Raster) -> RenderBuffers:
+        """Float geometry and radiometry of a :meth:`rasterize` output (numpy only).
 
-        # Per-triangle planes in the optical frame: n·X = delta, n facing the sensor.
-        vertices, vnormals = geo.world_vertices(transforms)
-        corners = geo.triangles
-        a = vertices[corners[:, 0]]
-        face = np.cross(vertices[corners[:, 1]] - a, vertices[corners[:, 2]] - a)
-        face /= np.maximum(np.linalg.norm(face, axis=1, keepdims=True), 1e-300)
-        n_opt = face @ rot                                           # world → optical
-        delta = np.einsum("ij,ij->i", face, a - origin)
-        flip = np.where(delta > 0, -1.0, 1.0)
-        plane = np.empty((n_tri + 1, 4))
-        plane[:n_tri, :3] = n_opt * flip[:, None]
-        plane[:n_tri, 3] = delta * flip
-        plane[n_tri] = (0.0, 0.0, 0.0, np.nan)
-        pl = plane[tri]                                              # (H, W, 4)
-        denom = np.einsum("hwk,hwk->hw", pl[..., :3], rays)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = pl[..., 3] / denom
-        t[~(t > 0)] = np.nan                                         # grazing / behind
-        normals = pl[..., :3].copy()
-
-        obj_of_tri = np.append(geo.triangle_object, -1)
-        obj = obj_of_tri[tri]
-        valid = np.isfinite(t)
-        obj[~valid] = -1
-
-        # Smooth surfaces: interpolate vertex normals with barycentric weights.
-        smooth_tri = np.append(geo.smooth, False)
-        smooth = smooth_tri[tri] & valid
-        if smooth.any():
-            self._smooth_normals(smooth, tri, t, rays, vertices, vnormals, rot, origin,
-                                 normals)
-        if self._sphere_radius.any():
-            self._refine_spheres(obj, valid, origin, rot, rays, transforms, t, normals)
-
-        points = t[..., None] * rays
-        rng = t * ray_norm
-        cos_inc = np.clip(-np.einsum("hwk,hwk->hw", normals, rays) / ray_norm, 0.0, 1.0)
-        cos_inc[~valid] = 0.0
-
-        # Exact rigid-body velocity of each surface point relative to the sensor origin:
-        # v(X) = v_obj + w x (X - c) - v_sensor = (v_obj - v_sensor - w x c) + w x X.
-        n_obj = len(snapshot.objects)
-        lin = np.zeros((n_obj + 1, 3))
-        ang = np.zeros((n_obj + 1, 3))
-        if n_obj:
-            v_w = np.array([s.velocity_mps for s in snapshot.objects])
-            w_w = np.array([s.angular_velocity_rps for s in snapshot.objects])
-            c_w = transforms[:, :3, 3] - origin
-            lin[:n_obj] = (v_w - sensor.velocity_mps - np.cross(w_w, c_w)) @ rot
-            ang[:n_obj] = w_w @ rot
-        lin[n_obj] = ang[n_obj] = 0.0
-        if np.any(lin) or np.any(ang):
-            velocity = lin[obj]
-            if np.any(ang):
-                velocity += np.cross(ang[obj], np.nan_to_num(points))
-            velocity[~valid] = 0.0
-            radial = np.einsum("hwk,hwk->hw", velocity, rays) / ray_norm
-        else:
-            velocity = np.zeros(rays.shape)
-            radial = np.zeros(t.shape)
-
-        params = {k: np.append(arr, 0.0)[obj] for k, arr in self._params[band].items()}
-        params["roughness"] = np.where(valid, params["roughness"], 1.0)
-        intensity = np.where(valid, band_response(cos_inc, **params), 0.0)
-        ids = np.append(self._ids, -1)
-        return RenderBuffers(
-            band=band,
-            time_s=snapshot.time_s,
-            intrinsics=intr,
-            sensor=sensor,
-            range_m=rng.astype(np.float32),
-            points_m=points.astype(np.float32),
-            normals=normals.astype(np.float32),
-            cos_incidence=cos_inc.astype(np.float32),
-            object_index=obj.astype(np.int32),
-            object_id=ids[obj].astype(np.int32),
-            intensity=intensity.astype(np.float32),
-            velocity_mps=velocity.astype(np.float32),
-            radial_velocity_mps=radial.astype(np.float32),
-        )
-
-    def _smooth_normals(self, smooth: NDArray[np.bool_], tri: NDArray[np.int64],
-                        t: NDArray[np.float64], rays: NDArray[np.float64],
-                        vertices: NDArray[np.float64], vnormals: NDArray[np.float64],
-                        rot: NDArray[np.float64], origin: NDArray[np.float64],
-                        normals: NDArray[np.float64]) -> None:
-        """Barycentric interpolation of vertex normals on smooth triangles (in place)."""
-        corners = self.geometry.triangles[tri[smooth]]
-        a, b, c = (vertices[corners[:, k]] for k in range(3))
-        x = origin + (t[smooth][:, None] * rays[smooth]) @ rot.T      # world hit points
-        e1, e2, wv = b - a, c - a, x - a
-        d00 = np.einsum("ij,ij->i", e1, e1)
-        d01 = np.einsum("ij,ij->i", e1, e2)
-        d11 = np.einsum("ij,ij->i", e2, e2)
-        d20 = np.einsum("ij,ij->i", wv, e1)
-        d21 = np.einsum("ij,ij->i", wv, e2)
-        den = d00 * d11 - d01 * d01
-        u = np.clip((d11 * d20 - d01 * d21) / den, 0.0, 1.0)
-        v = np.clip((d00 * d21 - d01 * d20) / den, 0.0, 1.0)
-        excess = np.maximum(u + v - 1.0, 0.0) / 2
-        u, v = u - excess, v - excess
-        n = ((1 - u - v)[:, None] * vnormals[corners[:, 0]] + u[:, None]
-             * vnormals[corners[:, 1]] + v[:, None] * vnormals[corners[:, 2]]) @ rot
-        n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-        n *= np.where(np.einsum("ij,ij->i", n, rays[smooth]) > 0, -1.0, 1.0)[:, None]
-        normals[smooth] = n
-
-    def _refine_spheres(self, obj: NDArray[np.int64], valid: NDArray[np.bool_],
-                        origin: NDArray[np.float64], rot: NDArray[np.float64],
-                        rays: NDArray[np.float64], transforms: NDArray[np.float64],
-                        t: NDArray[np.float64], normals: NDArray[np.float64]) -> None:
-        """Replace facet hits on spheres by the exact ray–sphere intersection (in place)."""
-        radius = np.append(self._sphere_radius, 0.0)[obj]
-        sel = valid & (radius > 0)
-        if not sel.any():
-            return
-        r = radius[sel]
-        centre = (transforms[obj[sel], :3, 3] - origin) @ rot         # optical frame
-        d = rays[sel]
-        a = np.einsum("ij,ij->i", d, d)
-        b = -np.einsum("ij,ij->i", d, centre)
-        c = np.einsum("ij,ij->i", centre, centre) - r**2
-        disc = b * b - a * c
-        ok = disc >= 0          # rays through the facets but past the true limb keep the facet
-        root = (-b - np.sqrt(np.where(ok, disc, 0.0))) / a
-        t_sel = np.where(ok, root, t[sel])
-        n_sel = np.where(ok[:, None], (t_sel[:, None] * d - centre) / r[:, None], normals[sel])
-        t[sel] = t_sel
-        normals[sel] = n_sel
+        Thread-safe: it reads only the raster (which holds the geometry and material tables
+        of its time), so it may run on another thread while the next pass rasterises.
+        """
+        return _shade(raster)
 
     def close(self) -> None:
         """Release the offscreen windows."""
         for p in self._passes.values():
             p.close()
         self._passes.clear()
+
+
+def _shade(raster: Raster) -> RenderBuffers:
+    """Exact ray–triangle geometry, velocities and band intensity of every pixel.
+
+    Per-triangle planes are built in float64 and gathered per pixel in float32 (the
+    buffers are float32): ``t = δ / (n · ray)`` with the ray ``(x/z, y/z, 1)``, so points
+    are ``t · ray`` and ranges ``t |ray|``.
+    """
+    snapshot, band, intr, geo = raster.snapshot, raster.band, raster.intrinsics, raster.geometry
+    tables = raster.tables
+    sensor = snapshot.tof if band == "tof" else snapshot.radar
+    transforms = snapshot.object_transforms()
+    n_tri = len(geo.triangles)
+    rot, origin = sensor.rotation, sensor.position
+    u, v, ray_norm = _ray_grid(intr)                              # (1, W), (H, 1), (H, W)
+    label = raster.labels                                          # 0 = background
+
+    # Per-triangle planes in the optical frame: n·X = delta, n facing the sensor; row 0
+    # is the background (normal 0, delta NaN), row k + 1 triangle k.
+    vertices, vnormals = geo.world_vertices(transforms)
+    corners = geo.triangles
+    a = vertices[corners[:, 0]]
+    face = np.cross(vertices[corners[:, 1]] - a, vertices[corners[:, 2]] - a)
+    face /= np.maximum(np.linalg.norm(face, axis=1, keepdims=True), 1e-300)
+    n_opt = face @ rot                                           # world → optical
+    delta = np.einsum("ij,ij->i", face, a - origin)
+    flip = np.where(delta > 0, -1.0, 1.0)
+    plane_n = np.zeros((n_tri + 1, 3), dtype=np.float32)
+    plane_n[1:] = n_opt * flip[:, None]
+    plane_d = np.full(n_tri + 1, np.nan, dtype=np.float32)
+    plane_d[1:] = delta * flip
+    normals = np.take(plane_n, label, axis=0)                    # (H, W, 3)
+    nx, ny, nz = normals[..., 0], normals[..., 1], normals[..., 2]
+    denom = nx * u
+    denom += ny * v
+    denom += nz
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.take(plane_d, label) / denom
+    t[~(t > 0)] = np.nan                                         # grazing / behind
+    valid = np.isfinite(t)
+    obj = np.take(geo.label_object, label)
+    obj[~valid] = -1
+
+    # Smooth surfaces: interpolate vertex normals with barycentric weights.
+    smooth = np.take(geo.label_smooth, label)
+    smooth &= valid
+    if smooth.any():
+        _smooth_normals(geo, intr, smooth, label, t, vertices, vnormals, rot, origin, normals)
+    if tables.sphere_radius.any():
+        _refine_spheres(tables.sphere_radius, intr, obj, valid, origin, rot, transforms, t,
+                        normals)
+
+    points = np.empty(normals.shape, dtype=np.float32)
+    np.multiply(t, u, out=points[..., 0])
+    np.multiply(t, v, out=points[..., 1])
+    points[..., 2] = t
+    rng = t * ray_norm
+    cos_inc = nx * u
+    cos_inc += ny * v
+    cos_inc += nz
+    cos_inc /= -ray_norm
+    np.clip(cos_inc, 0.0, 1.0, out=cos_inc)
+    cos_inc[~valid] = 0.0
+
+    # Exact rigid-body velocity of each surface point relative to the sensor origin:
+    # v(X) = v_obj + w x (X - c) - v_sensor = (v_obj - v_sensor - w x c) + w x X.
+    n_obj = len(snapshot.objects)
+    lin = np.zeros((n_obj + 1, 3))
+    ang = np.zeros((n_obj + 1, 3))
+    if n_obj:
+        v_w = np.array([s.velocity_mps for s in snapshot.objects])
+        w_w = np.array([s.angular_velocity_rps for s in snapshot.objects])
+        c_w = transforms[:, :3, 3] - origin
+        lin[:n_obj] = (v_w - sensor.velocity_mps - np.cross(w_w, c_w)) @ rot
+        ang[:n_obj] = w_w @ rot
+    velocity = np.zeros(normals.shape, dtype=np.float32)
+    radial = np.zeros(t.shape, dtype=np.float32)
+    moving = np.any((lin != 0) | (ang != 0), axis=1)             # last row (none): False
+    if moving.any():
+        rows, cols = np.nonzero(np.take(moving, obj))             # valid pixels only
+        o = obj[rows, cols]
+        vel = lin[o]
+        if np.any(ang[o]):
+            vel += np.cross(ang[o], points[rows, cols].astype(np.float64))
+        velocity[rows, cols] = vel
+        rays = _pixel_rays(intr, rows, cols)
+        radial[rows, cols] = np.einsum("ij,ij->i", vel, rays) / np.linalg.norm(rays, axis=1)
+
+    params = {k: np.take(arr, obj) for k, arr in tables.params.items()}
+    params["roughness"][~valid] = 1.0
+    intensity = band_response(cos_inc, **params)
+    intensity[~valid] = 0.0
+    return RenderBuffers(
+        band=band,
+        time_s=snapshot.time_s,
+        intrinsics=intr,
+        sensor=sensor,
+        range_m=rng,
+        points_m=points,
+        normals=normals,
+        cos_incidence=cos_inc,
+        object_index=obj,
+        object_id=np.take(tables.ids, obj),
+        intensity=np.asarray(intensity, dtype=np.float32),
+        velocity_mps=velocity,
+        radial_velocity_mps=radial,
+    )
+
+
+def _smooth_normals(geo: _Geometry, intr: PinholeIntrinsics, smooth: NDArray[np.bool_],
+                    label: NDArray[np.uint32], t: NDArray[np.float32],
+                    vertices: NDArray[np.float64], vnormals: NDArray[np.float64],
+                    rot: NDArray[np.float64], origin: NDArray[np.float64],
+                    normals: NDArray[np.float32]) -> None:
+    """Barycentric interpolation of vertex normals on smooth triangles (in place)."""
+    rows, cols = np.nonzero(smooth)
+    rays = _pixel_rays(intr, rows, cols)
+    corners = geo.triangles[label[rows, cols].astype(np.intp) - 1]
+    a, b, c = (vertices[corners[:, k]] for k in range(3))
+    x = origin + (t[rows, cols].astype(np.float64)[:, None] * rays) @ rot.T  # world hits
+    e1, e2, wv = b - a, c - a, x - a
+    d00 = np.einsum("ij,ij->i", e1, e1)
+    d01 = np.einsum("ij,ij->i", e1, e2)
+    d11 = np.einsum("ij,ij->i", e2, e2)
+    d20 = np.einsum("ij,ij->i", wv, e1)
+    d21 = np.einsum("ij,ij->i", wv, e2)
+    den = d00 * d11 - d01 * d01
+    bu = np.clip((d11 * d20 - d01 * d21) / den, 0.0, 1.0)
+    bv = np.clip((d00 * d21 - d01 * d20) / den, 0.0, 1.0)
+    excess = np.maximum(bu + bv - 1.0, 0.0) / 2
+    bu, bv = bu - excess, bv - excess
+    n = ((1 - bu - bv)[:, None] * vnormals[corners[:, 0]] + bu[:, None]
+         * vnormals[corners[:, 1]] + bv[:, None] * vnormals[corners[:, 2]]) @ rot
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    n *= np.where(np.einsum("ij,ij->i", n, rays) > 0, -1.0, 1.0)[:, None]
+    normals[rows, cols] = n
+
+
+def _refine_spheres(sphere_radius: NDArray[np.float64], intr: PinholeIntrinsics,
+                    obj: NDArray[np.int32], valid: NDArray[np.bool_],
+                    origin: NDArray[np.float64], rot: NDArray[np.float64],
+                    transforms: NDArray[np.float64], t: NDArray[np.float32],
+                    normals: NDArray[np.float32]) -> None:
+    """Replace facet hits on spheres by the exact ray–sphere intersection (in place)."""
+    radius = np.take(sphere_radius, obj)
+    sel = valid & (radius > 0)
+    if not sel.any():
+        return
+    rows, cols = np.nonzero(sel)
+    r = radius[rows, cols]
+    o = obj[rows, cols]
+    centre = (transforms[o, :3, 3] - origin) @ rot                # optical frame
+    d = _pixel_rays(intr, rows, cols)
+    a = np.einsum("ij,ij->i", d, d)
+    b = -np.einsum("ij,ij->i", d, centre)
+    c = np.einsum("ij,ij->i", centre, centre) - r**2
+    disc = b * b - a * c
+    ok = disc >= 0          # rays through the facets but past the true limb keep the facet
+    root = (-b - np.sqrt(np.where(ok, disc, 0.0))) / a
+    t_old = t[rows, cols].astype(np.float64)
+    t_sel = np.where(ok, root, t_old)
+    n_sel = np.where(ok[:, None], (t_sel[:, None] * d - centre) / r[:, None],
+                     normals[rows, cols])
+    t[rows, cols] = t_sel
+    normals[rows, cols] = n_sel
