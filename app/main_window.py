@@ -6,7 +6,7 @@ from pathlib import Path
 from typing import Any
 
 from PyQt6.QtCore import QSettings, Qt
-from PyQt6.QtGui import QAction, QCloseEvent, QKeySequence
+from PyQt6.QtGui import QAction, QCloseEvent, QKeySequence, QShortcut
 from PyQt6.QtWidgets import (
     QApplication,
     QDockWidget,
@@ -178,8 +178,14 @@ class MainWindow(QMainWindow):
         self.duplicate_action = a("&Duplicate", lambda: self.object_list.duplicate_selected(),
                                   shortcut=QKeySequence("Ctrl+D"), tip="Duplicate the selection")
         self.delete_action = a("De&lete", lambda: self.object_list.delete_selected(),
-                               shortcut=QKeySequence.StandardKey.Delete,
-                               tip="Delete the selected object")
+                               tip="Delete the selected object (Del in the scene list or "
+                                   "the 3D view)")
+        # Del deletes objects only where objects have focus: in a table or a text field it
+        # keeps its usual meaning.
+        for widget in (self.object_list, self.viewport):
+            shortcut = QShortcut(QKeySequence(QKeySequence.StandardKey.Delete), widget)
+            shortcut.setContext(Qt.ShortcutContext.WidgetWithChildrenShortcut)
+            shortcut.activated.connect(self.object_list.delete_selected)
         self.rename_action = a("&Rename", lambda: self._rename_selected(),
                                shortcut=QKeySequence("F2"), tip="Rename the selected object")
         self.play_action = a("Play / pause", lambda: self.time.set_playing(not self.time.playing),

@@ -229,6 +229,14 @@ def test_motion_editing_in_inspector_and_shortcuts(make_window, qtbot):
     qtbot.keyClick(target, Qt.Key.Key_Z,
                    Qt.KeyboardModifier.ControlModifier | Qt.KeyboardModifier.ShiftModifier)
     assert doc.undo_stack.index() == n
+    # Del deletes the selected object from the scene list, not from the keyframe table.
+    doc.select(oid)
+    insp.keyframe_table.setFocus()
+    qtbot.keyClick(insp.keyframe_table, Qt.Key.Key_Delete)
+    assert len(doc.project.objects) == 1
+    target.setFocus()
+    qtbot.keyClick(target, Qt.Key.Key_Delete)
+    assert doc.project.objects == []
 
 
 def test_hover_readouts_show_values(make_window, wait_frame):
