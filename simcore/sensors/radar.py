@@ -21,7 +21,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simcore.render.buffers import RenderBuffers
+from simcore.scene.materials import DualBandMaterial
 from simcore.scene.model import Project
+from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot
 from simcore.sensors.radar_config import RadarConfig, aliasing_warnings
 from simcore.sensors.radar_scatterers import Scatterers, scatterers_from_render
@@ -106,6 +108,7 @@ class RadarFrontEnd:
         self._config = config
         self.speckle_seed = project.seed if speckle_seed is None else speckle_seed
         self._cache: tuple[RenderBuffers, tuple[object, ...], Scatterers] | None = None
+        self._material_cache: tuple[list[str], dict[str, DualBandMaterial]] | None = None
 
     @property
     def config(self) -> RadarConfig:
@@ -126,7 +129,14 @@ class RadarFrontEnd:
         return scatterers_from_render(self.project, snapshot, buffers,
                                       wavelength_m=cfg.wavelength_m,
                                       facets=cfg.facet_intrinsics(), speckle=cfg.speckle,
-                                      seed=self.speckle_seed)
+                                      seed=self.speckle_seed, materials=self._materials())
+
+    def _materials(self) -> dict[str, DualBandMaterial]:
+        """The project's material table, re-read only when its own materials change."""
+        key = [m.model_dump_json() for m in self.project.materials]
+        if self._material_cache is None or self._material_cache[0] != key:
+            self._material_cache = (key, material_table(self.project))
+        return self._material_cache[1]
 
     def cached_scatterers(self, snapshot: SceneSnapshot, buffers: RenderBuffers
                           ) -> Scatterers:

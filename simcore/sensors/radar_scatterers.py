@@ -25,7 +25,9 @@ front of them.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -33,6 +35,7 @@ from numpy.typing import NDArray
 from simcore.render.buffers import RenderBuffers
 from simcore.render.camera import PinholeIntrinsics
 from simcore.scene.geometry import CornerReflector, PointTarget, corner_reflector_axes
+from simcore.scene.materials import DualBandMaterial
 from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot
@@ -197,6 +200,24 @@ def speckle_phase(facet_rows: NDArray[np.integer], facet_cols: NDArray[np.intege
     return (h >> np.uint64(11)).astype(np.float64) * (2.0 * np.pi / 2.0**53)
 
 
+def _speckle_phase_grid(rows: NDArray[np.integer], cols: NDArray[np.integer],
+                        obj: NDArray[np.integer], ids: NDArray[np.int64], *, height: int,
+                        seed: int) -> NDArray[np.float64]:
+    """:func:`speckle_phase` of ``(rows, cols, ids[obj])``, bit for bit, computed faster.
+
+    The first two rounds of the hash depend only on (object, row): they are tabulated
+    for every object and row of the grid, so only the last round runs per scatterer.
+    """
+    h = np.full(len(ids), np.uint64(seed & 0xFFFFFFFFFFFFFFFF), dtype=np.uint64)
+    with np.errstate(over="ignore"):
+        h = _splitmix64(h ^ ids.astype(np.uint64))                       # (objects,)
+        table = _splitmix64(h[:, None] ^ np.arange(height, dtype=np.uint64)[None, :])
+        key = np.asarray(obj, dtype=np.int64) * height + np.asarray(rows, dtype=np.int64)
+        last = _splitmix64(np.take(table.ravel(), key)
+                           ^ np.asarray(cols, dtype=np.int64).astype(np.uint64))
+    return (last >> np.uint64(11)).astype(np.float64) * (2.0 * np.pi / 2.0**53)
+
+
 def _supersampling(buffers: RenderBuffers, facets: PinholeIntrinsics) -> int:
     """Sub-pixels per facet and axis, or 0 if the render grid is not the facet grid × s."""
     intr = buffers.intrinsics
@@ -209,49 +230,95 @@ def _supersampling(buffers: RenderBuffers, facets: PinholeIntrinsics) -> int:
     return s if close else 0
 
 
+_SOLID_ANGLE: dict[PinholeIntrinsics, NDArray[np.float64]] = {}
+
+
+def _pixel_solid_angle(intr: PinholeIntrinsics) -> NDArray[np.float64]:
+    """Cached :meth:`PinholeIntrinsics.pixel_solid_angle` (read-only)."""
+    omega = _SOLID_ANGLE.get(intr)
+    if omega is None:
+        if len(_SOLID_ANGLE) > 8:
+            _SOLID_ANGLE.clear()
+        omega = intr.pixel_solid_angle()
+        omega.setflags(write=False)
+        _SOLID_ANGLE[intr] = omega
+    return omega
+
+
 def _facet_scatterers(project: Project, buffers: RenderBuffers,
                       facets: PinholeIntrinsics | None, exclude: NDArray[np.bool_], *,
-                      speckle: bool, seed: int
+                      speckle: bool, seed: int, extra: int = 0
                       ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
                                  NDArray[np.float64], NDArray[np.int32]]:
-    """Positions, velocities, RCS, phases and object indices of the facet scatterers."""
+    """Positions, velocities, RCS, phases and object indices of the facet scatterers.
+
+    Every array has ``extra`` more rows at the end, left for the caller to fill.
+    """
     obj_img = buffers.object_index
-    valid = (obj_img >= 0) & np.isfinite(buffers.range_m)
+    width = buffers.intrinsics.width
+    valid = obj_img >= 0
+    valid &= np.isfinite(buffers.range_m)
     if exclude.any():
-        valid &= ~exclude[np.clip(obj_img, 0, None)]
-    rows, cols = np.nonzero(valid)
-    rng = buffers.range_m[rows, cols].astype(np.float64)
-    cos_inc = np.maximum(buffers.cos_incidence[rows, cols].astype(np.float64), COS_MIN)
-    omega = buffers.intrinsics.pixel_solid_angle()[rows, cols]
-    rcs = buffers.intensity[rows, cols].astype(np.float64) * rng**2 * omega / cos_inc
+        valid &= ~np.take(exclude, np.clip(obj_img, 0, None))
+    # Flat pixel indices: 1-D gathers from the raveled buffers (no copies of the images).
+    idx = np.flatnonzero(valid)
+    rng = np.take(buffers.range_m, idx).astype(np.float64)
+    cos_inc = np.maximum(np.take(buffers.cos_incidence, idx).astype(np.float64), COS_MIN)
+    omega = np.take(_pixel_solid_angle(buffers.intrinsics), idx)
+    rcs = np.take(buffers.intensity, idx).astype(np.float64)
+    rcs *= rng * rng
+    rcs *= omega
+    rcs /= cos_inc
     keep = rcs > 0
-    rows, cols, rcs = rows[keep], cols[keep], rcs[keep]
-    pos = buffers.points_m[rows, cols].astype(np.float64)
-    vel = buffers.velocity_mps[rows, cols].astype(np.float64)
-    obj = obj_img[rows, cols].astype(np.int64)
+    if not keep.all():
+        idx, rcs = idx[keep], rcs[keep]
+    obj = np.take(obj_img, idx)
+    rows, cols = np.divmod(idx, width)
+    ids = np.array([o.id for o in project.objects], dtype=np.int64)
 
     s = _supersampling(buffers, facets) if facets is not None else 0
-    if s > 1:
-        n_obj = max(len(project.objects), 1)
-        f_rows, f_cols = rows // s, cols // s
-        key = (f_rows * (buffers.intrinsics.width // s) + f_cols) * n_obj + obj
-        uniq, inverse = np.unique(key, return_inverse=True)
-        total = np.bincount(inverse, weights=rcs).astype(np.float64)
-        pos = np.stack([np.bincount(inverse, weights=rcs * pos[:, k]) for k in range(3)],
-                       axis=1) / total[:, None]
-        vel = np.stack([np.bincount(inverse, weights=rcs * vel[:, k]) for k in range(3)],
-                       axis=1) / total[:, None]
-        rcs = total
-        obj = uniq % n_obj
-        cell = uniq // n_obj
-        width = buffers.intrinsics.width // s
-        rows, cols = cell // width, cell % width
-    if speckle and len(obj):
-        ids = np.array([o.id for o in project.objects], dtype=np.int64)[obj]
-        phase = speckle_phase(rows, cols, ids, seed=seed)
+    if s <= 1:
+        # One scatterer per pixel, gathered straight into the (longer) outputs.
+        n = len(idx)
+        pos = np.empty((n + extra, 3))
+        vel = np.empty((n + extra, 3))
+        pos[:n] = np.take(buffers.points_m.reshape(-1, 3), idx, axis=0)
+        vel[:n] = np.take(buffers.velocity_mps.reshape(-1, 3), idx, axis=0)
+        phase = np.zeros(n + extra)
+        if speckle and n:
+            phase[:n] = _speckle_phase_grid(rows, cols, obj, ids, height=obj_img.shape[0],
+                                            seed=seed)
+        return pos, vel, _grow(rcs, extra), phase, _grow(obj.astype(np.int32), extra)
+
+    # Supersampled render: merge the s × s sub-pixels of each facet per object.
+    pos_px = np.take(buffers.points_m.reshape(-1, 3), idx, axis=0).astype(np.float64)
+    vel_px = np.take(buffers.velocity_mps.reshape(-1, 3), idx, axis=0).astype(np.float64)
+    n_obj = max(len(project.objects), 1)
+    f_rows, f_cols = rows // s, cols // s
+    key = (f_rows * (buffers.intrinsics.width // s) + f_cols) * n_obj + obj
+    uniq, inverse = np.unique(key, return_inverse=True)
+    total = np.bincount(inverse, weights=rcs).astype(np.float64)
+    pos = np.stack([np.bincount(inverse, weights=rcs * pos_px[:, k]) for k in range(3)],
+                   axis=1) / total[:, None]
+    vel = np.stack([np.bincount(inverse, weights=rcs * vel_px[:, k]) for k in range(3)],
+                   axis=1) / total[:, None]
+    merged_obj = uniq % n_obj
+    cell = uniq // n_obj
+    width = buffers.intrinsics.width // s
+    rows, cols = cell // width, cell % width
+    if speckle and len(merged_obj):
+        phase = speckle_phase(rows, cols, ids[merged_obj], seed=seed)
     else:
-        phase = np.zeros(len(obj))
-    return pos, vel, rcs, phase, obj.astype(np.int32)
+        phase = np.zeros(len(merged_obj))
+    return (_grow(pos, extra), _grow(vel, extra), _grow(total, extra), _grow(phase, extra),
+            _grow(merged_obj.astype(np.int32), extra))
+
+
+def _grow(a: NDArray[Any], extra: int) -> NDArray[Any]:
+    """``a`` with ``extra`` more rows of zeros."""
+    if not extra:
+        return a
+    return np.concatenate([a, np.zeros((extra, *a.shape[1:]), dtype=a.dtype)])
 
 
 def _radar_frame(snapshot: SceneSnapshot, world_points: NDArray[np.float64]
@@ -286,7 +353,9 @@ def _unoccluded(buffers: RenderBuffers, point_radar: NDArray[np.float64], object
 
 def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: RenderBuffers,
                            *, wavelength_m: float, facets: PinholeIntrinsics | None = None,
-                           speckle: bool = True, seed: int = 0) -> Scatterers:
+                           speckle: bool = True, seed: int = 0,
+                           materials: Mapping[str, DualBandMaterial] | None = None
+                           ) -> Scatterers:
     """All radar scatterers of a frame from its snapshot and radar render.
 
     Parameters
@@ -307,6 +376,9 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
         Give facet scatterers their random phase (else 0).
     seed : int
         Speckle realisation.
+    materials : mapping, optional
+        The project's material table (:func:`~simcore.scene.project_io.material_table`),
+        if the caller has it; read only when the scene has corner reflectors.
 
     Returns
     -------
@@ -322,11 +394,8 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
     analytic = np.array([isinstance(o.geometry, (CornerReflector, PointTarget))
                          for o in objects], dtype=bool)
 
-    pos, vel, rcs, phase, obj = _facet_scatterers(project, buffers, facets, analytic,
-                                                  speckle=speckle, seed=seed)
-
     # ---------------------------------------------------------------- analytic targets
-    materials = material_table(project)
+    table = materials
     extra_pos, extra_vel, extra_rcs, extra_obj, extra_kind = [], [], [], [], []
     edge_axes = corner_reflector_axes()
     for i, o in enumerate(objects):
@@ -337,7 +406,9 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
         apex_world = state.origin
         apex = _radar_frame(snapshot, apex_world[None, :])[0]
         if isinstance(geom, CornerReflector):
-            material = materials.get(o.material)
+            if table is None:
+                table = material_table(project)
+            material = table.get(o.material)
             if material is not None and material.radar.opacity <= 0:
                 continue  # not drawn in the radar pass: the radar sees through it
             if not _unoccluded(buffers, apex, i):
@@ -361,15 +432,26 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
         extra_obj.append(i)
         extra_kind.append(kind)
 
+    # ---------------------------------------------------------------- facets, then those
     n_extra = len(extra_rcs)
+    pos, vel, rcs, phase, obj = _facet_scatterers(project, buffers, facets, analytic,
+                                                  speckle=speckle, seed=seed, extra=n_extra)
+    n = len(pos) - n_extra
+    kinds = np.full(n + n_extra, KIND_FACET, dtype=np.int8)
+    if n_extra:
+        pos[n:] = extra_pos
+        vel[n:] = extra_vel
+        rcs[n:] = extra_rcs
+        phase[n:] = 0.0
+        obj[n:] = extra_obj
+        kinds[n:] = extra_kind
     return Scatterers(
         time_s=float(snapshot.time_s),
         wavelength_m=float(wavelength_m),
-        positions_m=np.concatenate([pos, np.array(extra_pos).reshape(n_extra, 3)]),
-        velocities_mps=np.concatenate([vel, np.array(extra_vel).reshape(n_extra, 3)]),
-        rcs_m2=np.concatenate([rcs, np.array(extra_rcs, dtype=np.float64)]),
-        phase_rad=np.concatenate([phase, np.zeros(n_extra)]),
-        object_index=np.concatenate([obj, np.array(extra_obj, dtype=np.int32)]),
-        kind=np.concatenate([np.full(len(obj), KIND_FACET, dtype=np.int8),
-                             np.array(extra_kind, dtype=np.int8)]),
+        positions_m=pos,
+        velocities_mps=vel,
+        rcs_m2=rcs,
+        phase_rad=phase,
+        object_index=obj,
+        kind=kinds,
     )
