@@ -74,6 +74,7 @@ class MainWindow(QMainWindow):
         self._build_status_bar()
         self._connect()
         self.resize(1720, 1020)
+        self._restore_layout()
         self._update_title()
         if project_path is not None:
             self.open_project(project_path, ask=False)
@@ -548,6 +549,20 @@ class MainWindow(QMainWindow):
         widgets: dict[str, QWidget] = {"3D view": self.viewport, **self.panels}
         return export_panel_images(widgets, folder)
 
+    # --- layout -----------------------------------------------------------------------
+    def _restore_layout(self) -> None:
+        """Restore the window geometry and dock layout saved by the last session."""
+        geometry = self.settings.value("window/geometry")
+        state = self.settings.value("window/state")
+        if geometry is not None:
+            self.restoreGeometry(geometry)
+        if state is not None:
+            self.restoreState(state)
+
+    def _save_layout(self) -> None:
+        self.settings.setValue("window/geometry", self.saveGeometry())
+        self.settings.setValue("window/state", self.saveState())
+
     # --- closing ----------------------------------------------------------------------
     def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802, D102 - Qt API
         if not self._closing and not self.maybe_save():
@@ -561,6 +576,7 @@ class MainWindow(QMainWindow):
         if self._closing:
             return
         self._closing = True
+        self._save_layout()
         self.time.set_playing(False)
         if self.export_job is not None and self.export_job.isRunning():
             self.export_job.cancel()

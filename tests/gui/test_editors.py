@@ -239,7 +239,7 @@ def test_motion_editing_in_inspector_and_shortcuts(make_window, qtbot):
     assert doc.project.objects == []
 
 
-def test_hover_readouts_show_values(make_window, wait_frame):
+def test_hover_readouts_show_values(make_window, wait_frame, qtbot):
     window = make_window()
     wait_frame(window)
     rd = window.rd_panel
@@ -250,7 +250,12 @@ def test_hover_readouts_show_values(make_window, wait_frame):
     prof._on_hover(prof.plot.vb.mapViewToScene(prof.plot.vb.viewRect().center()))
     assert "range" in prof.readout.text() and "rx1" in prof.readout.text()
     tof = window.tof_panel
-    tof._on_hover(tof.depth_plot.vb.mapViewToScene(tof.depth_plot.vb.viewRect().center()))
+    qtbot.waitUntil(lambda: tof.view is not None
+                    and tof.depth_plot.sceneBoundingRect().width() > 50, timeout=5000)
+    from PyQt6.QtCore import QPointF
+
+    tof._on_hover(tof.depth_image.mapToScene(QPointF(112.5, 85.5)))
+    assert "px (112, 85)" in tof.readout.text()
     assert "depth" in tof.readout.text() or "invalid" in tof.readout.text()
     ra = window.ra_panel
     ra._on_hover(ra.plot.vb.mapViewToScene(ra.plot.vb.viewRect().center()))
