@@ -114,6 +114,35 @@ def steering_vectors(
     return np.exp(-2j * np.pi * (u @ p.T) / wavelength_m)
 
 
+_GRID_STEERING: dict[tuple[bytes, float, bytes, bytes],
+                     tuple[NDArray[np.complex128], NDArray[np.complex128]]] = {}
+
+
+def _grid_steering(positions_m: NDArray[np.float64], wavelength_m: float,
+                   az_grid: NDArray[np.float64], el_grid: NDArray[np.float64]
+                   ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """Steering vectors ``a`` of an (elevation × azimuth) search grid and ``a^H``.
+
+    Shapes (n_el * n_az, M), elevation-major, and (M, n_el * n_az) contiguous (for one
+    BLAS product with the snapshots). Cached, read-only: the grid, the array and the
+    wavelength rarely change between frames.
+    """
+    key = (np.ascontiguousarray(positions_m).tobytes(), float(wavelength_m),
+           az_grid.tobytes(), el_grid.tobytes())
+    pair = _GRID_STEERING.get(key)
+    if pair is None:
+        steer = steering_vectors(positions_m, wavelength_m=wavelength_m,
+                                 azimuth_rad=az_grid[None, :], elevation_rad=el_grid[:, None])
+        steer = steer.reshape(-1, steer.shape[-1])
+        steer_h = np.ascontiguousarray(np.conj(steer).T)
+        steer.setflags(write=False)
+        steer_h.setflags(write=False)
+        if len(_GRID_STEERING) > 8:
+            _GRID_STEERING.clear()
+        pair = _GRID_STEERING[key] = (steer, steer_h)
+    return pair
+
+
 def spatial_covariance(snapshots: ArrayLike) -> NDArray[np.complex128]:
     """Sample covariance over snapshots.
 
@@ -152,8 +181,11 @@ def bartlett_spectrum(covariance: ArrayLike, steering: ArrayLike) -> NDArray[np.
     r = np.asarray(covariance)
     a = np.asarray(steering)
     m = a.shape[-1]
-    ra = np.einsum("...ij,dj->...di", r, a)
-    return np.real(np.einsum("di,...di->...d", np.conj(a), ra)) / (m * m)
+    lead = r.shape[:-2]
+    # R a for all directions as one matrix product: (..., M, M) @ (M, D) → (..., M, D).
+    ra = (r.reshape(-1, m) @ a.T).reshape(*lead, m, a.shape[0])
+    out = np.real(np.conj(a.T) * ra).sum(axis=-2) if ra.size else np.zeros((*lead, a.shape[0]))
+    return np.asarray(out / (m * m), dtype=np.float64)
 
 
 def capon_spectrum(
@@ -576,11 +608,11 @@ def estimate_angles(
         az_grid = np.zeros(1)
     if not layout.has_vertical_extent:
         el_grid = np.zeros(1)
-    steer = steering_vectors(layout.positions_m, wavelength_m=wavelength_m,
-                         azimuth_rad=az_grid[None, :], elevation_rad=el_grid[:, None])
-    steer = steer.reshape(-1, steer.shape[-1])  # (n_el * n_az, channels), elevation-major
+    # (n_el * n_az, channels), elevation-major
+    steer, steer_h = _grid_steering(np.asarray(layout.positions_m, dtype=np.float64),
+                                    wavelength_m, az_grid, el_grid)
     if method == "bartlett":
-        w = steer
+        resp = x @ steer_h
     elif method == "capon":
         if covariances is None:
             raise ValueError("Capon angle estimation needs the covariances")
@@ -588,16 +620,19 @@ def estimate_angles(
         ria = np.einsum("nij,dj->ndi", r_inv, steer)
         denom = np.real(np.einsum("di,ndi->nd", np.conj(steer), ria))
         w = ria / np.maximum(denom, 1e-300)[..., None]  # (n, dirs, M)
+        resp = np.einsum("ndi,ni->nd", np.conj(w), x)
     else:
         raise ValueError(f"unknown angle method {method!r}")
-    if w.ndim == 2:
-        resp = np.abs(x @ np.conj(w).T) ** 2
-    else:
-        resp = np.abs(np.einsum("ndi,ni->nd", np.conj(w), x)) ** 2
-    p_db = 10.0 * np.log10(np.maximum(resp, 1e-300)).reshape(n, el_grid.size, az_grid.size)
-    flat = np.argmax(p_db.reshape(n, -1), axis=1)
+    power = (resp.real * resp.real + resp.imag * resp.imag).reshape(
+        n, el_grid.size, az_grid.size)
+    # The maximum of the power is that of its dB; dB only on the two cuts refined.
+    flat = np.argmax(power.reshape(n, -1), axis=1)
     i_el, i_az = np.unravel_index(flat, (el_grid.size, az_grid.size))
     rows = np.arange(n)
-    az = _refine_grid_peak(p_db[rows, i_el, :], i_az.astype(np.int64), az_grid)
-    el = _refine_grid_peak(p_db[rows, :, i_az], i_el.astype(np.int64), el_grid)
+
+    def db(p: NDArray[np.float64]) -> NDArray[np.float64]:
+        return 10.0 * np.log10(np.maximum(p, 1e-300))
+
+    az = _refine_grid_peak(db(power[rows, i_el, :]), i_az.astype(np.int64), az_grid)
+    el = _refine_grid_peak(db(power[rows, :, i_az]), i_el.astype(np.int64), el_grid)
     return az, el
