@@ -250,10 +250,13 @@ def test_hover_readouts_show_values(make_window, wait_frame, qtbot):
     prof._on_hover(prof.plot.vb.mapViewToScene(prof.plot.vb.viewRect().center()))
     assert "range" in prof.readout.text() and "rx1" in prof.readout.text()
     tof = window.tof_panel
-    qtbot.waitUntil(lambda: tof.view is not None
-                    and tof.depth_plot.sceneBoundingRect().width() > 50, timeout=5000)
     from PyQt6.QtCore import QPointF
 
+    def pixel_visible() -> bool:
+        centre = tof.depth_image.mapToScene(QPointF(112.5, 85.5))
+        return tof.view is not None and tof.depth_plot.sceneBoundingRect().contains(centre)
+
+    qtbot.waitUntil(pixel_visible, timeout=5000)  # the view box auto-ranges lazily
     tof._on_hover(tof.depth_image.mapToScene(QPointF(112.5, 85.5)))
     assert "px (112, 85)" in tof.readout.text()
     assert "depth" in tof.readout.text() or "invalid" in tof.readout.text()
