@@ -134,7 +134,9 @@ class AntennaBoardView(pg.PlotWidget):
                         pen=pg.mkPen("#ffffff", width=1), brush=pg.mkBrush(colour),
                         hoverBrush=pg.mkBrush("#ffd54a"), movable=True,
                         label=name or f"{role}{i + 1}",
-                        labelOpts={"color": colour, "offset": (10, -14)})
+                        # Tx labels below, Rx labels above: a Tx and an Rx may share a spot.
+                        labelOpts={"color": colour,
+                                   "offset": (10, 12) if role == "tx" else (10, -14)})
                     target.setZValue(10)
                     target.sigPositionChanged.connect(
                         lambda t, r=role, k=i: self._on_moved(r, k, t, finished=False))
