@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import time
 from collections.abc import Iterator
+from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -134,6 +135,7 @@ class Simulator:
         self._render_key = ""
         self._render_cache: dict[int, tuple[SceneSnapshot, RenderBuffers, RenderBuffers]] = {}
         self.radar = RadarFrontEnd(project, speckle_seed=self.seed)
+        self._worker: ThreadPoolExecutor | None = None
         self.set_project(project)
 
     def set_project(self, project: Project) -> None:
@@ -163,38 +165,67 @@ class Simulator:
         return self.project.timeline.n_frames
 
     def frame(self, index: int) -> Frame:
-        """Compute frame ``index`` of the timeline."""
+        """Compute frame ``index`` of the timeline.
+
+        The GPU passes run on the calling thread (VTK is not used from other threads);
+        the radar chain (radar shading, scatterers, IF synthesis, DSP) runs on a worker
+        thread while the calling thread shades the ToF pass and runs the camera model.
+        numpy and finufft release the GIL, so on two cores the two chains overlap.
+        ``timings_ms`` holds each stage's own wall time (stages of the two chains overlap)
+        and ``total``, the wall time of the whole frame.
+        """
+        start = time.perf_counter()
         timings: dict[str, float] = {}
 
         @contextmanager
         def stage(name: str) -> Iterator[None]:
-            start = time.perf_counter()
+            t0 = time.perf_counter()
             yield
-            timings[name] = (time.perf_counter() - start) * 1e3
+            timings[name] = timings.get(name, 0.0) + (time.perf_counter() - t0) * 1e3
 
         t = self.project.timeline.frame_time(index)
-        if index in self._render_cache:
-            snap, tof_buf, radar_buf = self._render_cache[index]
-        else:
+        cached = self._render_cache.get(index)
+        radar_raster = tof_raster = None
+        if cached is None:
             with stage("snapshot"):
                 snap = take_snapshot(self.project, t)
-            with stage("render_tof"):
-                tof_buf = self.renderer.render(snap, "tof", self.tof_intrinsics)
             with stage("render_radar"):
-                radar_buf = self.renderer.render(snap, "radar", self.radar_intrinsics)
-            # Keep the latest frame's renders: edits that do not change them re-use them.
-            self._render_cache = {index: (snap, tof_buf, radar_buf)}
-        with stage("tof"):
-            tof = simulate_tof(tof_buf, self.project.rig.tof,
-                               rng=frame_rng(self.seed, index, "tof"))
-        with stage("radar_scatterers"):
-            scatterers = self.radar.cached_scatterers(snap, radar_buf)
-        with stage("radar_synthesis"):
-            radar = self.radar.synthesize(scatterers, rng=frame_rng(self.seed, index, "radar"))
-        with stage("dsp"):
-            dsp = process_frame(radar.adc, self.project.rig.radar, self.project.dsp,
-                                radar_to_world=radar_buf.sensor.transform)
-        timings["total"] = sum(timings.values())
+                radar_raster = self.renderer.rasterize(snap, "radar", self.radar_intrinsics)
+        else:
+            snap = cached[0]
+        project, seed = self.project, self.seed
+
+        def radar_chain() -> tuple[RenderBuffers, RadarOutput, RadarProducts]:
+            if radar_raster is not None:
+                with stage("render_radar"):
+                    radar_buf = self.renderer.shade(radar_raster)
+            else:
+                assert cached is not None
+                radar_buf = cached[2]
+            with stage("radar_scatterers"):
+                scatterers = self.radar.cached_scatterers(snap, radar_buf)
+            with stage("radar_synthesis"):
+                radar = self.radar.synthesize(scatterers, rng=frame_rng(seed, index, "radar"))
+            with stage("dsp"):
+                dsp = process_frame(radar.adc, project.rig.radar, project.dsp,
+                                    radar_to_world=radar_buf.sensor.transform)
+            return radar_buf, radar, dsp
+
+        future = self._radar_worker().submit(radar_chain)
+        try:
+            if cached is None:
+                with stage("render_tof"):
+                    tof_raster = self.renderer.rasterize(snap, "tof", self.tof_intrinsics)
+                    tof_buf = self.renderer.shade(tof_raster)
+            else:
+                tof_buf = cached[1]
+            with stage("tof"):
+                tof = simulate_tof(tof_buf, project.rig.tof, rng=frame_rng(seed, index, "tof"))
+        finally:
+            radar_buf, radar, dsp = future.result()
+        # Keep the latest frame's renders: edits that do not change them re-use them.
+        self._render_cache = {index: (snap, tof_buf, radar_buf)}
+        timings["total"] = (time.perf_counter() - start) * 1e3
         return Frame(
             index=index,
             time_s=t,
@@ -209,8 +240,16 @@ class Simulator:
             timings_ms=timings,
         )
 
+    def _radar_worker(self) -> ThreadPoolExecutor:
+        if self._worker is None:
+            self._worker = ThreadPoolExecutor(max_workers=1, thread_name_prefix="radar-chain")
+        return self._worker
+
     def close(self) -> None:
-        """Release rendering resources."""
+        """Release rendering resources and the radar worker thread."""
+        if self._worker is not None:
+            self._worker.shutdown(wait=True)
+            self._worker = None
         self.renderer.close()
 
     def __enter__(self) -> Simulator:
