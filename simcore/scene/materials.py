@@ -62,14 +62,26 @@ class MaterialLibraryError(ValueError):
     """The material library file is unreadable or invalid."""
 
 
+_LIBRARY_CACHE: dict[tuple[str, int, int], dict[str, DualBandMaterial]] = {}
+
+
 def load_material_library(path: Path = MATERIALS_FILE) -> dict[str, DualBandMaterial]:
-    """Load a material library JSON file (``{"materials": [...]}``) keyed by name."""
+    """Load a material library JSON file (``{"materials": [...]}``) keyed by name.
+
+    The parsed file is cached until it changes on disk; each call returns fresh copies,
+    so callers may edit what they get.
+    """
     try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
-        materials = [DualBandMaterial.model_validate(m) for m in data["materials"]]
+        stat = Path(path).stat()
+        key = (str(path), stat.st_mtime_ns, stat.st_size)
+        if key not in _LIBRARY_CACHE:
+            data = json.loads(Path(path).read_text(encoding="utf-8"))
+            materials = [DualBandMaterial.model_validate(m) for m in data["materials"]]
+            _LIBRARY_CACHE.clear()
+            _LIBRARY_CACHE[key] = {m.name: m for m in materials}
     except (OSError, json.JSONDecodeError, KeyError, TypeError, ValidationError) as exc:
         raise MaterialLibraryError(f"material library {path}: {exc}") from exc
-    return {m.name: m for m in materials}
+    return {name: m.model_copy(deep=True) for name, m in _LIBRARY_CACHE[key].items()}
 
 
 def band_response(
