@@ -13,6 +13,7 @@ the exact velocity of every surface point.
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -348,16 +349,23 @@ class SceneRenderer:
         """Render ``band`` from that band's sensor in ``snapshot``."""
         return self.shade(self.rasterize(snapshot, band, intrinsics))
 
-    def rasterize(self, snapshot: SceneSnapshot, band: str, intrinsics: PinholeIntrinsics
-                  ) -> Raster:
-        """The GPU pass of :meth:`render` (call it from the thread that owns the renderer)."""
+    def rasterize(self, snapshot: SceneSnapshot, band: str, intrinsics: PinholeIntrinsics,
+                  *, hide: Sequence[bool] | None = None) -> Raster:
+        """The GPU pass of :meth:`render` (call it from the thread that owns the renderer).
+
+        ``hide`` (one flag per object) leaves objects out of this pass, e.g. to render
+        the static background of a scene.
+        """
         if band not in BANDS:
             raise ValueError(f"unknown band {band!r}; expected one of {BANDS}")
         sensor = snapshot.tof if band == "tof" else snapshot.radar
         if band not in self._passes:
             self._passes[band] = _IndexPass(self.geometry)
+        visible = self.visible_in(band)
+        if hide is not None:
+            visible = [v and not h for v, h in zip(visible, hide, strict=True)]
         labels = self._passes[band].labels(intrinsics, sensor, snapshot.object_transforms(),
-                                           self.visible_in(band))
+                                           visible)
         self.render_count += 1
         return Raster(snapshot=snapshot, band=band, intrinsics=intrinsics, labels=labels,
                       geometry=self.geometry, tables=self._tables[band])

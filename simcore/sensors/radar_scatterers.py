@@ -75,6 +75,13 @@ class Scatterers:
         Index of the source object in ``project.objects``.
     kind : ndarray, shape (M,), int8
         ``KIND_FACET``, ``KIND_CORNER_REFLECTOR`` or ``KIND_POINT_TARGET``.
+    facet_key : ndarray, shape (M,), int64, or None
+        Identity of each facet scatterer in its render: ``(row * width + col) * n_objects
+        + object_index`` on the facet grid, ascending over the facets; −1 for analytic
+        targets. ``None`` when the scatterers do not come from a render. Two renders of
+        the same static surface from the same pose give equal keys and equal values,
+        which lets the IF of a static background be re-used
+        (:meth:`simcore.sensors.radar.RadarFrontEnd.set_background`).
     """
 
     time_s: float
@@ -85,6 +92,7 @@ class Scatterers:
     phase_rad: NDArray[np.float64]
     object_index: NDArray[np.int32]
     kind: NDArray[np.int8]
+    facet_key: NDArray[np.int64] | None = None
 
     def __len__(self) -> int:
         return int(self.rcs_m2.shape[0])
@@ -96,6 +104,7 @@ class Scatterers:
             positions_m=self.positions_m[index], velocities_mps=self.velocities_mps[index],
             rcs_m2=self.rcs_m2[index], phase_rad=self.phase_rad[index],
             object_index=self.object_index[index], kind=self.kind[index],
+            facet_key=None if self.facet_key is None else self.facet_key[index],
         )
 
     @classmethod
@@ -249,8 +258,8 @@ def _facet_scatterers(project: Project, buffers: RenderBuffers,
                       facets: PinholeIntrinsics | None, exclude: NDArray[np.bool_], *,
                       speckle: bool, seed: int, extra: int = 0
                       ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
-                                 NDArray[np.float64], NDArray[np.int32]]:
-    """Positions, velocities, RCS, phases and object indices of the facet scatterers.
+                                 NDArray[np.float64], NDArray[np.int32], NDArray[np.int64]]:
+    """Positions, velocities, RCS, phases, object indices and keys of the facet scatterers.
 
     Every array has ``extra`` more rows at the end, left for the caller to fill.
     """
@@ -288,7 +297,10 @@ def _facet_scatterers(project: Project, buffers: RenderBuffers,
         if speckle and n:
             phase[:n] = _speckle_phase_grid(rows, cols, obj, ids, height=obj_img.shape[0],
                                             seed=seed)
-        return pos, vel, _grow(rcs, extra), phase, _grow(obj.astype(np.int32), extra)
+        key = np.full(n + extra, -1, dtype=np.int64)
+        np.multiply(idx, max(len(ids), 1), out=key[:n])
+        key[:n] += obj
+        return pos, vel, _grow(rcs, extra), phase, _grow(obj.astype(np.int32), extra), key
 
     # Supersampled render: merge the s × s sub-pixels of each facet per object.
     pos_px = np.take(buffers.points_m.reshape(-1, 3), idx, axis=0).astype(np.float64)
@@ -311,7 +323,8 @@ def _facet_scatterers(project: Project, buffers: RenderBuffers,
     else:
         phase = np.zeros(len(merged_obj))
     return (_grow(pos, extra), _grow(vel, extra), _grow(total, extra), _grow(phase, extra),
-            _grow(merged_obj.astype(np.int32), extra))
+            _grow(merged_obj.astype(np.int32), extra),
+            np.concatenate([uniq.astype(np.int64), np.full(extra, -1, dtype=np.int64)]))
 
 
 def _grow(a: NDArray[Any], extra: int) -> NDArray[Any]:
@@ -434,8 +447,9 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
 
     # ---------------------------------------------------------------- facets, then those
     n_extra = len(extra_rcs)
-    pos, vel, rcs, phase, obj = _facet_scatterers(project, buffers, facets, analytic,
-                                                  speckle=speckle, seed=seed, extra=n_extra)
+    pos, vel, rcs, phase, obj, key = _facet_scatterers(project, buffers, facets, analytic,
+                                                       speckle=speckle, seed=seed,
+                                                       extra=n_extra)
     n = len(pos) - n_extra
     kinds = np.full(n + n_extra, KIND_FACET, dtype=np.int8)
     if n_extra:
@@ -454,4 +468,5 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
         phase_rad=phase,
         object_index=obj,
         kind=kinds,
+        facet_key=key,
     )

@@ -181,7 +181,8 @@ def _scatterer_weights(scatterers: Scatterers, config: RadarConfig
     return amp, scatterers.phase_rad
 
 
-def _check_wavelength(scatterers: Scatterers, config: RadarConfig) -> None:
+def check_wavelength(scatterers: Scatterers, config: RadarConfig) -> None:
+    """Refuse scatterers computed for another wavelength (their corner-reflector RCS)."""
     if scatterers.wavelength_m and abs(scatterers.wavelength_m - config.wavelength_m) > (
             1e-9 * config.wavelength_m):
         raise ValueError(
@@ -435,7 +436,7 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
         ``y`` of the module docstring in FS; the real IF is its real part. Channel
         ``t * n_rx + r`` is Tx ``t`` with Rx ``r``.
     """
-    _check_wavelength(scatterers, config)
+    check_wavelength(scatterers, config)
     n_c, n_s = config.chirps_per_frame, config.samples_per_chirp
     n_tx, n_rx = len(config.tx), len(config.rx)
     out = np.zeros((n_c, n_tx * n_rx, n_s), dtype=np.complex128)
@@ -495,7 +496,7 @@ def synthesize_if_direct(scatterers: Scatterers, config: RadarConfig, *,
     ndarray, shape (len(chirps), tx*rx, samples), complex128
         Same quantity as :func:`synthesize_if`.
     """
-    _check_wavelength(scatterers, config)
+    check_wavelength(scatterers, config)
     idx = np.arange(config.chirps_per_frame) if chirps is None else np.asarray(chirps)
     n_tx, n_rx = len(config.tx), len(config.rx)
     t_n = config.sample_times_s()
