@@ -1,0 +1,228 @@
+"""Frame-time and accuracy benchmark of the whole pipeline (``tofradar bench``).
+
+:func:`run_benchmark` runs frames of a project through :class:`~simcore.pipeline.Simulator`
+and reports per-stage medians, the frame rate, the IF synthesis error against the exact
+direct sum and its speed-up, and the latency of an antenna edit (the GUI's drag path: cached
+renders and scatterers, synthesis + DSP only). Timings are wall-clock medians; the machine
+load is reported with them because other jobs on a shared machine change them.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from simcore.pipeline import Simulator
+from simcore.scene.model import Project
+from simcore.scene.project_io import load_project
+from simcore.sensors.radar_synthesis import synthesize_if, synthesize_if_direct
+
+
+def _median(values: list[float]) -> float:
+    return float(np.median(values)) if values else float("nan")
+
+
+def _load() -> list[float]:
+    try:
+        return [round(x, 2) for x in os.getloadavg()]
+    except OSError:  # pragma: no cover - not on every platform
+        return []
+
+
+def _machine() -> dict[str, Any]:
+    import finufft
+    import scipy
+    import vtkmodules
+
+    return {
+        "platform": platform.platform(),
+        "processor": platform.processor() or platform.machine(),
+        "cpu_count": os.cpu_count(),
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "scipy": scipy.__version__,
+        "finufft": finufft.__version__,
+        "vtk": getattr(vtkmodules, "__version__", "?"),
+    }
+
+
+def _moved_antennas(project: Project, shift_mm: float) -> Project:
+    """The project with every Rx antenna moved by ``shift_mm`` along the board's x."""
+    radar = project.rig.radar
+    rx = [a.model_copy(update={"position_mm": (a.position_mm[0] + shift_mm, a.position_mm[1])})
+          for a in radar.rx]
+    rig = project.rig.model_copy(update={"radar": radar.model_copy(update={"rx": rx})})
+    return project.model_copy(update={"rig": rig})
+
+
+def if_synthesis_accuracy(simulator: Simulator, index: int, *, subset: int = 1000,
+                          seed: int = 0) -> dict[str, float]:
+    """IF synthesis error and speed-up against the exact direct sum on one frame.
+
+    The error is measured on a random subset of the frame's scatterers (all chirps and
+    channels; the direct sum costs O(scatterers × samples × chirps × channels)); the
+    direct sum's time is extrapolated linearly to all scatterers and compared with the
+    NUFFT synthesis of all of them.
+
+    Parameters
+    ----------
+    simulator : Simulator
+        A simulator whose frame ``index`` has been computed (its renders are cached).
+    index : int
+        Frame index.
+    subset : int, keyword-only
+        Scatterers in the direct-sum comparison.
+    seed : int, keyword-only
+        Seed of the subset choice.
+
+    Returns
+    -------
+    dict
+        ``if_error_db`` (20 log10 of the relative L2 error of the real IF, or of the complex
+        IF for IQ radars), ``if_speedup``, ``direct_ms_per_scatterer``,
+        ``nufft_full_ms`` (NUFFT synthesis of all scatterers, no background re-use),
+        ``subset`` (scatterers compared).
+    """
+    frame = simulator.frame(index)
+    cfg = simulator.project.rig.radar
+    scatterers = simulator.radar.cached_scatterers(frame.snapshot, frame.radar_buffers)
+    n = len(scatterers)
+    rng = np.random.default_rng(seed)
+    pick = np.sort(rng.choice(n, size=min(subset, n), replace=False))
+    part = scatterers.subset(pick)
+    t0 = time.perf_counter()
+    ref = synthesize_if_direct(part, cfg)
+    t_direct = time.perf_counter() - t0
+    fast = synthesize_if(part, cfg)
+    diff = fast - ref
+    if not cfg.complex_iq:  # the real IF is what the ADC sees
+        norm, err = float(np.linalg.norm(ref.real)), float(np.linalg.norm(diff.real))
+    else:
+        norm, err = float(np.linalg.norm(ref)), float(np.linalg.norm(diff))
+    err = err / norm if norm > 0 else 0.0
+    t_full = []
+    for _ in range(3):
+        t0 = time.perf_counter()
+        synthesize_if(scatterers, cfg)
+        t_full.append(time.perf_counter() - t0)
+    per_scatterer = t_direct / max(len(part), 1)
+    nufft = min(t_full)
+    return {
+        "if_error_db": 20.0 * float(np.log10(max(err, 1e-300))),
+        "if_speedup": per_scatterer * n / nufft if nufft > 0 else float("inf"),
+        "direct_ms_per_scatterer": per_scatterer * 1e3,
+        "nufft_full_ms": nufft * 1e3,
+        "subset": len(part),
+    }
+
+
+def antenna_edit_latency(simulator: Simulator, index: int, *, edits: int = 5) -> float:
+    """Median wall time (ms) of a frame after moving the Rx antennas (no re-render)."""
+    base = simulator.project
+    times = []
+    renders = simulator.renderer.render_count
+    try:
+        for k in range(edits):
+            simulator.set_project(_moved_antennas(base, 0.25 * (1 + k % 2)))
+            t0 = time.perf_counter()
+            simulator.frame(index)
+            times.append((time.perf_counter() - t0) * 1e3)
+    finally:
+        simulator.set_project(base)
+    if simulator.renderer.render_count != renders:  # pragma: no cover - a regression
+        raise RuntimeError("an antenna edit re-rendered the scene")
+    return _median(times)
+
+
+def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
+                  antenna_edits: int = 5) -> dict[str, Any]:
+    """Run ``frames`` frames of a project and measure time, accuracy and GUI latency.
+
+    Frame 0 is computed first as a warm-up (window creation, shader compilation, the
+    static background and its IF) and not timed; then frames ``1 … frames`` (modulo the
+    timeline length) are timed one after the other, as a headless run computes them.
+
+    Parameters
+    ----------
+    project_path : str or Path
+        Project file.
+    frames : int, keyword-only
+        Frames to time.
+    subset : int, keyword-only
+        Scatterers in the direct-sum accuracy check.
+    antenna_edits : int, keyword-only
+        Antenna edits timed for the GUI latency (0: skip).
+
+    Returns
+    -------
+    dict
+        ``fps`` (1000 / median frame time), ``frame_ms_median``, ``frame_ms_p90``,
+        ``cpu_ms_median`` (process CPU time per frame, all threads), ``stages_ms``
+        (median wall time of each stage; the ToF and radar chains overlap, so they add up
+        to more than the frame), ``if_error_db``, ``if_speedup`` and the other keys of
+        :func:`if_synthesis_accuracy`, ``antenna_edit_ms``, ``scatterers``,
+        ``scatterers_moving``, ``scatterers_transformed`` (median per frame, with the
+        static background re-used), ``triangles``, ``config`` and ``machine`` (with the
+        load average before and after).
+    """
+    path = Path(project_path)
+    project = load_project(path)
+    load_before = _load()
+    with Simulator(project, base_dir=path.parent) as sim:
+        n_frames = max(sim.n_frames, 1)
+        sim.frame(0)
+        stage_times: dict[str, list[float]] = {}
+        walls, cpus, transformed = [], [], []
+        index = 0
+        for i in range(frames):
+            index = (i + 1) % n_frames
+            c0, t0 = time.process_time(), time.perf_counter()
+            frame = sim.frame(index)
+            walls.append((time.perf_counter() - t0) * 1e3)
+            cpus.append((time.process_time() - c0) * 1e3)
+            transformed.append(sim.radar.last_transformed)
+            for name, value in frame.timings_ms.items():
+                if name != "total":
+                    stage_times.setdefault(name, []).append(value)
+        load_after = _load()
+        latency = antenna_edit_latency(sim, index, edits=antenna_edits) if antenna_edits \
+            else float("nan")
+        accuracy = if_synthesis_accuracy(sim, index, subset=subset)
+        scatterers = sim.radar.cached_scatterers(frame.snapshot, frame.radar_buffers)
+        moving = int(np.count_nonzero(np.any(scatterers.velocities_mps != 0.0, axis=1)))
+        triangles = len(sim.renderer.geometry.triangles)
+    frame_ms = _median(walls)
+    rc, tc = project.rig.radar, project.rig.tof
+    return {
+        "project": str(path),
+        "frames": frames,
+        "fps": 1e3 / frame_ms if frame_ms > 0 else float("inf"),
+        "frame_ms_median": frame_ms,
+        "frame_ms_p90": float(np.percentile(walls, 90)) if walls else float("nan"),
+        "cpu_ms_median": _median(cpus),
+        "stages_ms": {name: _median(values) for name, values in stage_times.items()},
+        **accuracy,
+        "antenna_edit_ms": latency,
+        "scatterers": len(scatterers),
+        "scatterers_moving": moving,
+        "scatterers_transformed": _median([float(x) for x in transformed]),
+        "triangles": triangles,
+        "config": {
+            "tof_render": [tc.width * tc.supersampling, tc.height * tc.supersampling],
+            "radar_render": [rc.render_width * rc.render_supersampling,
+                             rc.render_height * rc.render_supersampling],
+            "chirps": rc.chirps_per_frame,
+            "channels": rc.n_channels,
+            "samples": rc.samples_per_chirp,
+            "nufft_tolerance": rc.nufft_tolerance,
+        },
+        "machine": {**_machine(), "load_before": load_before, "load_after": load_after},
+    }
+
+
+__all__ = ["antenna_edit_latency", "if_synthesis_accuracy", "run_benchmark"]
