@@ -96,13 +96,24 @@ def downsample_ground_truth(
            .transpose(0, 2, 1, 3).reshape(hs, ws, -1))
     rng = (buffers.range_m[: hs * factor, : ws * factor].reshape(hs, factor, ws, factor)
            .transpose(0, 2, 1, 3).reshape(hs, ws, -1))
-    counts = (ids[..., :, None] == ids[..., None, :]).sum(axis=-1)
-    # Prefer the most frequent id; among equals the nearest surface (background = +inf).
-    key = counts * 1e6 - np.nan_to_num(rng, nan=1e5)
-    best = np.argmax(key, axis=-1)
-    gt_id = np.take_along_axis(ids, best[..., None], axis=-1)[..., 0]
-    same = ids == gt_id[..., None]
+    # Most pixels see one object (or none) in all their sub-pixels: those need no vote.
+    gt_id = ids[..., 0].copy()
+    uniform = np.all(ids == gt_id[..., None], axis=-1)
     with np.errstate(invalid="ignore"):
-        gt_range = np.nansum(np.where(same, rng, 0.0), axis=-1) / same.sum(axis=-1)
+        gt_range = np.nansum(rng, axis=-1) / np.float64(ids.shape[-1])
+    mixed = np.flatnonzero(~uniform)
+    if mixed.size:
+        m_ids = ids.reshape(-1, ids.shape[-1])[mixed]
+        m_rng = rng.reshape(-1, rng.shape[-1])[mixed]
+        counts = (m_ids[..., :, None] == m_ids[..., None, :]).sum(axis=-1)
+        # Prefer the most frequent id; among equals the nearest surface (background = +inf).
+        key = counts * 1e6 - np.nan_to_num(m_rng, nan=1e5)
+        best = np.argmax(key, axis=-1)
+        m_id = np.take_along_axis(m_ids, best[..., None], axis=-1)[..., 0]
+        same = m_ids == m_id[..., None]
+        with np.errstate(invalid="ignore"):
+            m_range = np.nansum(np.where(same, m_rng, 0.0), axis=-1) / same.sum(axis=-1)
+        gt_id.reshape(-1)[mixed] = m_id
+        gt_range.reshape(-1)[mixed] = m_range
     gt_range = np.where(gt_id >= 0, gt_range, np.nan).astype(np.float32)
     return gt_range, gt_id.astype(np.int32)
