@@ -105,8 +105,8 @@ class TofOutput:
         }
 
 
-def _block_mean(image: NDArray[np.float64], factor: int) -> NDArray[np.float64]:
-    """Mean over ``factor × factor`` blocks: shape (H·k, W·k) → (H, W)."""
+def _block_mean(image: NDArray[np.floating], factor: int) -> NDArray[np.floating]:
+    """Mean over ``factor × factor`` blocks: shape (H·k, W·k) → (H, W), same dtype."""
     if factor == 1:
         return image
     # Summing the k² strided views is several times faster than reshape(...).mean(axis).
@@ -115,7 +115,8 @@ def _block_mean(image: NDArray[np.float64], factor: int) -> NDArray[np.float64]:
         for j in range(factor):
             if i or j:
                 total += image[i::factor, j::factor]
-    return total / factor**2
+    total *= total.dtype.type(1.0 / factor**2)
+    return total
 
 
 def _crosstalk(images: NDArray[np.float32], sigma_px: float) -> NDArray[np.float32]:
@@ -270,21 +271,24 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
             f"supersampling {k})")
 
     # 1. Per sub-pixel signal/ambient electrons per sample and range.
+    #    In float32 like the buffers (relative rounding 6e-8; the phase of a 10 m range is
+    #    accurate to 1e-6 rad, 1 µm of depth at 20 MHz), with SIMD cos/sin.
     hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
-    r = np.where(hit, np.maximum(buffers.range_m.astype(np.float64), MIN_RANGE_M), 1.0)
-    response = np.where(hit, buffers.intensity.astype(np.float64), 0.0)
-    signal = config.signal_electrons_at_1m * response / r**2
-    ambient = config.ambient_electrons * response
+    r = np.where(hit, np.maximum(buffers.range_m, FLOAT(MIN_RANGE_M)), FLOAT(1.0))
+    response = np.where(hit, buffers.intensity, FLOAT(0.0))
+    signal = response * FLOAT(config.signal_electrons_at_1m)
+    signal /= r * r
+    ambient = response * FLOAT(config.ambient_electrons)
 
     # 2. Sensor-pixel sums: offset S + B and the phasor m S e^{iφ} per frequency.
     #    C_i = offset + m S cos(φ + iπ/2): C0 = o + mSc, C1 = o − mSs, C2 = o − mSc, C3 = o + mSs.
     offset = _block_mean(signal + ambient, k)
-    m = config.demodulation_contrast
+    m_signal = signal * FLOAT(config.demodulation_contrast)
     planes = [offset]
     for f_mod in config.modulation_frequencies_hz:
-        phase = (4.0 * np.pi * f_mod / SPEED_OF_LIGHT) * r
-        planes += [_block_mean(m * signal * np.cos(phase), k),
-                   _block_mean(m * signal * np.sin(phase), k)]
+        phase = r * FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT)
+        planes += [_block_mean(m_signal * np.cos(phase), k),
+                   _block_mean(m_signal * np.sin(phase), k)]
 
     # 3. Cross-talk (linear, so it may act on offset and phasor planes alike).
     mixed = _crosstalk(as_float(np.stack(planes)), config.crosstalk_sigma_px)
