@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 
 from simcore.dsp import RadarProducts, process_frame, static_axes_items
 from simcore.render import PinholeIntrinsics, RenderBuffers, SceneRenderer
+from simcore.render.renderer import Raster
 from simcore.scene.model import Project
 from simcore.scene.motion import Motion
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
@@ -155,6 +156,8 @@ class Simulator:
         self._render_cache: dict[int, tuple[SceneSnapshot, RenderBuffers, RenderBuffers]] = {}
         self._static_renders: tuple[RenderBuffers, RenderBuffers] | None = None
         self._background_key: str | None = None
+        self._bg_radar: tuple[Raster, RenderBuffers] | None = None
+        self._bg_tof: tuple[Raster, RenderBuffers] | None = None
         self.radar = RadarFrontEnd(project, speckle_seed=self.seed)
         self._worker: ThreadPoolExecutor | None = None
         self.set_project(project)
@@ -166,8 +169,7 @@ class Simulator:
             self.renderer.set_project(project)
             self._render_cache.clear()
             self._static_renders = None
-            self._background_key = None
-            self.radar.set_background(None, None)
+            self._forget_background()
             self._render_key = key
         self._still = [is_still(o.motion) for o in project.objects]
         self._rig_still = is_still(project.rig.motion)
@@ -213,7 +215,7 @@ class Simulator:
         cached = self._render_cache.get(index)
         reuse = self.reuse_static and self._rig_still
         static_scene = reuse and all(self._still)
-        radar_raster = background_raster = None
+        radar_raster = bg_radar_raster = bg_tof_raster = None
         if cached is None:
             with stage("snapshot"):
                 snap = take_snapshot(self.project, t)
@@ -227,29 +229,33 @@ class Simulator:
                     radar_raster = self.renderer.rasterize(snap, "radar", self.radar_intrinsics)
                 if (reuse and not static_scene and any(self._still)
                         and self._background_key != self._render_key):
+                    # The still objects alone, once: later frames shade only the pixels
+                    # that differ from it and transform only the radar scatterers that do.
+                    hide = [not still for still in self._still]
                     with stage("render_background"):
-                        background_raster = self.renderer.rasterize(
-                            snap, "radar", self.radar_intrinsics,
-                            hide=[not still for still in self._still])
+                        bg_radar_raster = self.renderer.rasterize(
+                            snap, "radar", self.radar_intrinsics, hide=hide)
+                        bg_tof_raster = self.renderer.rasterize(
+                            snap, "tof", self.tof_intrinsics, hide=hide)
         else:
             snap = cached[0]
         if not reuse and self._background_key is not None:
-            self.radar.set_background(None, None)
-            self._background_key = None
+            self._forget_background()
         project, seed = self.project, self.seed
 
         def radar_chain() -> tuple[RenderBuffers, RadarOutput, RadarProducts]:
+            if bg_radar_raster is not None:
+                with stage("render_background"):
+                    bg = self.renderer.shade(bg_radar_raster)
+                self._bg_radar = (bg_radar_raster, bg)
+                self.radar.set_background(snap, bg)
             if radar_raster is not None:
                 with stage("render_radar"):
-                    radar_buf = self.renderer.shade(radar_raster)
+                    radar_buf = self.renderer.shade(radar_raster, background=self._bg_radar)
             else:
                 assert cached is not None
                 radar_buf = cached[2]
-            if background_raster is not None:
-                with stage("render_background"):
-                    self.radar.set_background(snap, self.renderer.shade(background_raster))
-                self._background_key = self._render_key
-            elif static_scene and self._background_key != self._render_key:
+            if static_scene and self._background_key != self._render_key:
                 # Every object is static: the frame's own render is the background.
                 self.radar.set_background(snap, radar_buf)
                 self._background_key = self._render_key
@@ -265,15 +271,20 @@ class Simulator:
         future = self._radar_worker().submit(radar_chain)
         try:
             if cached is None:
+                if bg_tof_raster is not None:
+                    with stage("render_background"):
+                        self._bg_tof = (bg_tof_raster, self.renderer.shade(bg_tof_raster))
                 with stage("render_tof"):
                     tof_raster = self.renderer.rasterize(snap, "tof", self.tof_intrinsics)
-                    tof_buf = self.renderer.shade(tof_raster)
+                    tof_buf = self.renderer.shade(tof_raster, background=self._bg_tof)
             else:
                 tof_buf = cached[1]
             with stage("tof"):
                 tof = simulate_tof(tof_buf, project.rig.tof, rng=frame_rng(seed, index, "tof"))
         finally:
             radar_buf, radar, dsp = future.result()
+        if bg_radar_raster is not None:
+            self._background_key = self._render_key
         # Keep the latest frame's renders: edits that do not change them re-use them.
         self._render_cache = {index: (snap, tof_buf, radar_buf)}
         if static_scene:
@@ -292,6 +303,11 @@ class Simulator:
             radar_buffers=radar_buf,
             timings_ms=timings,
         )
+
+    def _forget_background(self) -> None:
+        self._background_key = None
+        self._bg_radar = self._bg_tof = None
+        self.radar.set_background(None, None)
 
     def _radar_worker(self) -> ThreadPoolExecutor:
         if self._worker is None:

@@ -12,6 +12,7 @@ the exact velocity of every surface point.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -214,28 +215,27 @@ _RAY_CACHE: dict[PinholeIntrinsics, tuple[NDArray[np.float32], NDArray[np.float3
 
 def _ray_grid(intr: PinholeIntrinsics
               ) -> tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32]]:
-    """Cached ray slopes and lengths of a pixel grid (float32, read-only).
+    """Cached ray slopes and lengths of a pixel grid, flat (H * W,), float32, read-only.
 
-    ``x/z`` per column, shape (1, W); ``y/z`` per row, shape (H, 1); the length of the
-    ray ``(x/z, y/z, 1)`` per pixel, shape (H, W).
+    ``x/z`` and ``y/z`` of each pixel centre and the length of the ray ``(x/z, y/z, 1)``.
     """
     if intr not in _RAY_CACHE:
         if len(_RAY_CACHE) > 8:
             _RAY_CACHE.clear()
         rays = intr.ray_directions()
-        u = rays[:1, :, 0].astype(np.float32)
-        v = rays[:, :1, 1].astype(np.float32)
-        norm = np.linalg.norm(rays, axis=-1).astype(np.float32)
-        for a in (u, v, norm):
-            a.setflags(write=False)
+        u = rays[..., 0].astype(np.float32).ravel()
+        v = rays[..., 1].astype(np.float32).ravel()
+        norm = np.linalg.norm(rays, axis=-1).astype(np.float32).ravel()
+        for arr in (u, v, norm):
+            arr.setflags(write=False)
         _RAY_CACHE[intr] = (u, v, norm)
     return _RAY_CACHE[intr]
 
 
-def _pixel_rays(intr: PinholeIntrinsics, rows: NDArray[np.intp], cols: NDArray[np.intp]
-                ) -> NDArray[np.float64]:
-    """Rays ``(x/z, y/z, 1)`` of the given pixels, shape (n, 3), float64."""
-    d = np.ones((len(rows), 3))
+def _pixel_rays(intr: PinholeIntrinsics, pixel: NDArray[np.intp]) -> NDArray[np.float64]:
+    """Rays ``(x/z, y/z, 1)`` of the given flat pixel indices, shape (n, 3), float64."""
+    rows, cols = np.divmod(pixel, intr.width)
+    d = np.ones((len(pixel), 3))
     d[:, 0] = (cols + 0.5 - intr.cx) / intr.fx
     d[:, 1] = (rows + 0.5 - intr.cy) / intr.fy
     return d
@@ -255,12 +255,15 @@ class Raster:
         Pixel grid.
     labels : ndarray, shape (H, W), uint32
         ``k + 1`` where triangle ``k`` is visible, 0 for background.
+    visible : tuple of bool
+        Which objects the pass drew.
     """
 
     snapshot: SceneSnapshot
     band: str
     intrinsics: PinholeIntrinsics
     labels: NDArray[np.uint32]
+    visible: tuple[bool, ...]
     geometry: _Geometry = field(repr=False)
     tables: _BandTables = field(repr=False)
 
@@ -368,15 +371,23 @@ class SceneRenderer:
                                            visible)
         self.render_count += 1
         return Raster(snapshot=snapshot, band=band, intrinsics=intrinsics, labels=labels,
-                      geometry=self.geometry, tables=self._tables[band])
+                      visible=tuple(visible), geometry=self.geometry,
+                      tables=self._tables[band])
 
-    def shade(self, raster: Raster) -> RenderBuffers:
+    def shade(self, raster: Raster, *, background: tuple[Raster, RenderBuffers] | None = None
+              ) -> RenderBuffers:
         """Float geometry and radiometry of a :meth:`rasterize` output (numpy only).
 
         Thread-safe: it reads only the raster (which holds the geometry and material tables
         of its time), so it may run on another thread while the next pass rasterises.
+
+        ``background`` is an earlier raster of the same band and its shading, e.g. the
+        still objects alone (``rasterize(..., hide=...)``) seen from the same still
+        sensor. When it applies (same sensor pose, geometry and materials; the objects it
+        shows still and at the same poses), only pixels whose triangle differs from it
+        are shaded and the others copied: the same values as shading them all.
         """
-        return _shade(raster)
+        return _shade(raster, background)
 
     def close(self) -> None:
         """Release the offscreen windows."""
@@ -385,21 +396,103 @@ class SceneRenderer:
         self._passes.clear()
 
 
-def _shade(raster: Raster) -> RenderBuffers:
+def _shade(raster: Raster, background: tuple[Raster, RenderBuffers] | None = None
+           ) -> RenderBuffers:
     """Exact ray–triangle geometry, velocities and band intensity of every pixel.
 
     Per-triangle planes are built in float64 and gathered per pixel in float32 (the
     buffers are float32): ``t = δ / (n · ray)`` with the ray ``(x/z, y/z, 1)``, so points
-    are ``t · ray`` and ranges ``t |ray|``.
+    are ``t · ray`` and ranges ``t |ray|``. Every pixel is computed on its own (no
+    reduction across pixels), so shading a subset of pixels gives the same values as
+    shading them all: with a ``background`` (see :meth:`SceneRenderer.shade`) only the
+    pixels whose triangle differs from it are shaded, the rest are copied.
     """
+    snapshot, band, intr = raster.snapshot, raster.band, raster.intrinsics
+    h, w = intr.height, intr.width
+    idx = _changed_pixels(raster, background)
+    if background is not None and idx is not None:
+        bg = background[1]
+        if idx.size == 0:
+            return dataclasses.replace(bg, time_s=snapshot.time_s,
+                                       sensor=_sensor(snapshot, band))
+        px = _shade_pixels(raster, idx)
+        out = {name: getattr(bg, name).copy() for name in _PIXEL_FIELDS}
+        for name, values in px.items():
+            out[name].reshape(-1, *values.shape[1:])[idx] = values
+    else:
+        px = _shade_pixels(raster, None)
+        out = {name: values.reshape(h, w, *values.shape[1:]) for name, values in px.items()}
+    return RenderBuffers(band=band, time_s=snapshot.time_s, intrinsics=intr,
+                         sensor=_sensor(snapshot, band), **out)
+
+
+#: Per-pixel fields of :class:`RenderBuffers`.
+_PIXEL_FIELDS = ("range_m", "points_m", "normals", "cos_incidence", "object_index",
+                 "object_id", "intensity", "velocity_mps", "radial_velocity_mps")
+
+
+def _sensor(snapshot: SceneSnapshot, band: str) -> SensorState:
+    return snapshot.tof if band == "tof" else snapshot.radar
+
+
+def _changed_pixels(raster: Raster, background: tuple[Raster, RenderBuffers] | None
+                    ) -> NDArray[np.intp] | None:
+    """Flat indices of the pixels to shade against ``background``, None for all of them.
+
+    The background must show the same band from the same, still sensor pose, with the
+    same geometry and materials, and every object it shows must be at the same pose and
+    still in both snapshots; then a pixel with the same triangle label shows the same
+    surface point, shaded the same. None when that does not hold or when more than half
+    the pixels differ.
+    """
+    if background is None:
+        return None
+    ref, _ = background
+    if (ref.band != raster.band or ref.intrinsics != raster.intrinsics
+            or ref.geometry is not raster.geometry or ref.tables is not raster.tables
+            or ref.labels.shape != raster.labels.shape):
+        return None
+    s_now, s_ref = _sensor(raster.snapshot, raster.band), _sensor(ref.snapshot, ref.band)
+    if not (np.array_equal(s_now.transform, s_ref.transform)
+            and not np.any(s_now.velocity_mps) and not np.any(s_ref.velocity_mps)
+            and not np.any(s_now.angular_velocity_rps)
+            and not np.any(s_ref.angular_velocity_rps)):
+        return None
+    t_now = raster.snapshot.object_transforms()
+    t_ref = ref.snapshot.object_transforms()
+    for i, shown in enumerate(ref.visible):
+        if not shown:
+            continue
+        a, b = raster.snapshot.objects[i], ref.snapshot.objects[i]
+        if (not np.array_equal(t_now[i], t_ref[i]) or np.any(a.velocity_mps)
+                or np.any(b.velocity_mps) or np.any(a.angular_velocity_rps)
+                or np.any(b.angular_velocity_rps)):
+            return None
+    changed = np.flatnonzero(raster.labels.ravel() != ref.labels.ravel())
+    return changed if changed.size <= raster.labels.size // 2 else None
+
+
+def _rotate(x: NDArray[np.float64], m: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``x @ m`` for x of shape (n, 3), element by element.
+
+    No BLAS: each row gets the same rounding whatever n is.
+    """
+    return x[:, 0:1] * m[0] + x[:, 1:2] * m[1] + x[:, 2:3] * m[2]
+
+
+def _shade_pixels(raster: Raster, idx: NDArray[np.intp] | None
+                  ) -> dict[str, NDArray[np.generic]]:
+    """Per-pixel fields (flat, first axis = pixel) of all pixels or of ``idx``."""
     snapshot, band, intr, geo = raster.snapshot, raster.band, raster.intrinsics, raster.geometry
     tables = raster.tables
-    sensor = snapshot.tof if band == "tof" else snapshot.radar
+    sensor = _sensor(snapshot, band)
     transforms = snapshot.object_transforms()
     n_tri = len(geo.triangles)
     rot, origin = sensor.rotation, sensor.position
-    u, v, ray_norm = _ray_grid(intr)                              # (1, W), (H, 1), (H, W)
-    label = raster.labels                                          # 0 = background
+    u, v, ray_norm = _ray_grid(intr)                              # flat, (H * W,)
+    label = raster.labels.ravel()                                  # 0 = background
+    if idx is not None:
+        u, v, ray_norm, label = u[idx], v[idx], ray_norm[idx], label[idx]
 
     # Per-triangle planes in the optical frame: n·X = delta, n facing the sensor; row 0
     # is the background (normal 0, delta NaN), row k + 1 triangle k.
@@ -415,8 +508,8 @@ def _shade(raster: Raster) -> RenderBuffers:
     plane_n[1:] = n_opt * flip[:, None]
     plane_d = np.full(n_tri + 1, np.nan, dtype=np.float32)
     plane_d[1:] = delta * flip
-    normals = np.take(plane_n, label, axis=0)                    # (H, W, 3)
-    nx, ny, nz = normals[..., 0], normals[..., 1], normals[..., 2]
+    normals = np.take(plane_n, label, axis=0)                    # (N, 3)
+    nx, ny, nz = normals[:, 0], normals[:, 1], normals[:, 2]
     denom = nx * u
     denom += ny * v
     denom += nz
@@ -426,20 +519,22 @@ def _shade(raster: Raster) -> RenderBuffers:
     valid = np.isfinite(t)
     obj = np.take(geo.label_object, label)
     obj[~valid] = -1
+    pixel = np.arange(label.size) if idx is None else idx        # flat image index
 
     # Smooth surfaces: interpolate vertex normals with barycentric weights.
     smooth = np.take(geo.label_smooth, label)
     smooth &= valid
     if smooth.any():
-        _smooth_normals(geo, intr, smooth, label, t, vertices, vnormals, rot, origin, normals)
+        _smooth_normals(geo, intr, np.flatnonzero(smooth), pixel, label, t, vertices,
+                        vnormals, rot, origin, normals)
     if tables.sphere_radius.any():
-        _refine_spheres(tables.sphere_radius, intr, obj, valid, origin, rot, transforms, t,
-                        normals)
+        _refine_spheres(tables.sphere_radius, intr, pixel, obj, valid, origin, rot,
+                        transforms, t, normals)
 
     points = np.empty(normals.shape, dtype=np.float32)
-    np.multiply(t, u, out=points[..., 0])
-    np.multiply(t, v, out=points[..., 1])
-    points[..., 2] = t
+    np.multiply(t, u, out=points[:, 0])
+    np.multiply(t, v, out=points[:, 1])
+    points[:, 2] = t
     rng = t * ray_norm
     cos_inc = nx * u
     cos_inc += ny * v
@@ -463,47 +558,45 @@ def _shade(raster: Raster) -> RenderBuffers:
     radial = np.zeros(t.shape, dtype=np.float32)
     moving = np.any((lin != 0) | (ang != 0), axis=1)             # last row (none): False
     if moving.any():
-        rows, cols = np.nonzero(np.take(moving, obj))             # valid pixels only
-        o = obj[rows, cols]
+        sel = np.flatnonzero(np.take(moving, obj))                # valid pixels only
+        o = obj[sel]
         vel = lin[o]
         if np.any(ang[o]):
-            vel += np.cross(ang[o], points[rows, cols].astype(np.float64))
-        velocity[rows, cols] = vel
-        rays = _pixel_rays(intr, rows, cols)
-        radial[rows, cols] = np.einsum("ij,ij->i", vel, rays) / np.linalg.norm(rays, axis=1)
+            vel += np.cross(ang[o], points[sel].astype(np.float64))
+        velocity[sel] = vel
+        rays = _pixel_rays(intr, pixel[sel])
+        radial[sel] = np.einsum("ij,ij->i", vel, rays) / np.linalg.norm(rays, axis=1)
 
     params = {k: np.take(arr, obj) for k, arr in tables.params.items()}
     params["roughness"][~valid] = 1.0
-    intensity = band_response(cos_inc, **params)
+    intensity = np.asarray(band_response(cos_inc, **params), dtype=np.float32)
     intensity[~valid] = 0.0
-    return RenderBuffers(
-        band=band,
-        time_s=snapshot.time_s,
-        intrinsics=intr,
-        sensor=sensor,
-        range_m=rng,
-        points_m=points,
-        normals=normals,
-        cos_incidence=cos_inc,
-        object_index=obj,
-        object_id=np.take(tables.ids, obj),
-        intensity=np.asarray(intensity, dtype=np.float32),
-        velocity_mps=velocity,
-        radial_velocity_mps=radial,
-    )
+    return {
+        "range_m": rng,
+        "points_m": points,
+        "normals": normals,
+        "cos_incidence": cos_inc,
+        "object_index": obj,
+        "object_id": np.take(tables.ids, obj),
+        "intensity": intensity,
+        "velocity_mps": velocity,
+        "radial_velocity_mps": radial,
+    }
 
 
-def _smooth_normals(geo: _Geometry, intr: PinholeIntrinsics, smooth: NDArray[np.bool_],
-                    label: NDArray[np.uint32], t: NDArray[np.float32],
+def _smooth_normals(geo: _Geometry, intr: PinholeIntrinsics, sel: NDArray[np.intp],
+                    pixel: NDArray[np.intp], label: NDArray[np.uint32], t: NDArray[np.float32],
                     vertices: NDArray[np.float64], vnormals: NDArray[np.float64],
                     rot: NDArray[np.float64], origin: NDArray[np.float64],
                     normals: NDArray[np.float32]) -> None:
-    """Barycentric interpolation of vertex normals on smooth triangles (in place)."""
-    rows, cols = np.nonzero(smooth)
-    rays = _pixel_rays(intr, rows, cols)
-    corners = geo.triangles[label[rows, cols].astype(np.intp) - 1]
+    """Barycentric interpolation of vertex normals on smooth triangles (in place).
+
+    ``sel`` indexes the shaded pixels (``pixel[sel]`` are their image indices).
+    """
+    rays = _pixel_rays(intr, pixel[sel])
+    corners = geo.triangles[label[sel].astype(np.intp) - 1]
     a, b, c = (vertices[corners[:, k]] for k in range(3))
-    x = origin + (t[rows, cols].astype(np.float64)[:, None] * rays) @ rot.T  # world hits
+    x = origin + _rotate(t[sel].astype(np.float64)[:, None] * rays, rot.T)  # world hits
     e1, e2, wv = b - a, c - a, x - a
     d00 = np.einsum("ij,ij->i", e1, e1)
     d01 = np.einsum("ij,ij->i", e1, e2)
@@ -515,37 +608,35 @@ def _smooth_normals(geo: _Geometry, intr: PinholeIntrinsics, smooth: NDArray[np.
     bv = np.clip((d00 * d21 - d01 * d20) / den, 0.0, 1.0)
     excess = np.maximum(bu + bv - 1.0, 0.0) / 2
     bu, bv = bu - excess, bv - excess
-    n = ((1 - bu - bv)[:, None] * vnormals[corners[:, 0]] + bu[:, None]
-         * vnormals[corners[:, 1]] + bv[:, None] * vnormals[corners[:, 2]]) @ rot
+    n = _rotate((1 - bu - bv)[:, None] * vnormals[corners[:, 0]] + bu[:, None]
+                * vnormals[corners[:, 1]] + bv[:, None] * vnormals[corners[:, 2]], rot)
     n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
     n *= np.where(np.einsum("ij,ij->i", n, rays) > 0, -1.0, 1.0)[:, None]
-    normals[rows, cols] = n
+    normals[sel] = n
 
 
 def _refine_spheres(sphere_radius: NDArray[np.float64], intr: PinholeIntrinsics,
-                    obj: NDArray[np.int32], valid: NDArray[np.bool_],
+                    pixel: NDArray[np.intp], obj: NDArray[np.int32], valid: NDArray[np.bool_],
                     origin: NDArray[np.float64], rot: NDArray[np.float64],
                     transforms: NDArray[np.float64], t: NDArray[np.float32],
                     normals: NDArray[np.float32]) -> None:
     """Replace facet hits on spheres by the exact ray–sphere intersection (in place)."""
     radius = np.take(sphere_radius, obj)
-    sel = valid & (radius > 0)
-    if not sel.any():
+    sel = np.flatnonzero(valid & (radius > 0))
+    if not sel.size:
         return
-    rows, cols = np.nonzero(sel)
-    r = radius[rows, cols]
-    o = obj[rows, cols]
-    centre = (transforms[o, :3, 3] - origin) @ rot                # optical frame
-    d = _pixel_rays(intr, rows, cols)
+    r = radius[sel]
+    centres = (transforms[:, :3, 3] - origin) @ rot               # per object, optical
+    centre = centres[obj[sel]]
+    d = _pixel_rays(intr, pixel[sel])
     a = np.einsum("ij,ij->i", d, d)
     b = -np.einsum("ij,ij->i", d, centre)
     c = np.einsum("ij,ij->i", centre, centre) - r**2
     disc = b * b - a * c
     ok = disc >= 0          # rays through the facets but past the true limb keep the facet
     root = (-b - np.sqrt(np.where(ok, disc, 0.0))) / a
-    t_old = t[rows, cols].astype(np.float64)
+    t_old = t[sel].astype(np.float64)
     t_sel = np.where(ok, root, t_old)
-    n_sel = np.where(ok[:, None], (t_sel[:, None] * d - centre) / r[:, None],
-                     normals[rows, cols])
-    t[rows, cols] = t_sel
-    normals[rows, cols] = n_sel
+    n_sel = np.where(ok[:, None], (t_sel[:, None] * d - centre) / r[:, None], normals[sel])
+    t[sel] = t_sel
+    normals[sel] = n_sel
