@@ -158,6 +158,7 @@ class Simulator:
         self._background_key: str | None = None
         self._bg_radar: tuple[Raster, RenderBuffers] | None = None
         self._bg_tof: tuple[Raster, RenderBuffers] | None = None
+        self._tof_cache: tuple[RenderBuffers, tuple[str, int, int], TofOutput] | None = None
         self.radar = RadarFrontEnd(project, speckle_seed=self.seed)
         self._worker: ThreadPoolExecutor | None = None
         self.set_project(project)
@@ -279,8 +280,17 @@ class Simulator:
                     tof_buf = self.renderer.shade(tof_raster, background=self._bg_tof)
             else:
                 tof_buf = cached[1]
-            with stage("tof"):
-                tof = simulate_tof(tof_buf, project.rig.tof, rng=frame_rng(seed, index, "tof"))
+            # The camera model is a function of its render, its configuration and the
+            # frame's noise stream: an edit of anything else (antennas, DSP) re-uses it.
+            tof_key = (project.rig.tof.model_dump_json(), seed, index)
+            if (self._tof_cache is not None and self._tof_cache[0] is tof_buf
+                    and self._tof_cache[1] == tof_key):
+                tof = self._tof_cache[2]
+            else:
+                with stage("tof"):
+                    tof = simulate_tof(tof_buf, project.rig.tof,
+                                       rng=frame_rng(seed, index, "tof"))
+                self._tof_cache = (tof_buf, tof_key, tof)
         finally:
             radar_buf, radar, dsp = future.result()
         if bg_radar_raster is not None:

@@ -214,15 +214,20 @@ class _Prepared:
 
     def __init__(self, scatterers: Scatterers):
         self.ref = weakref.ref(scatterers)
-        moving = np.any(scatterers.velocities_mps != 0.0, axis=1)
+        vel = scatterers.velocities_mps
+        moving = (vel[:, 0] != 0.0) | (vel[:, 1] != 0.0) | (vel[:, 2] != 0.0)
+        n_moving = int(np.count_nonzero(moving))
+        n_static = len(moving) - n_moving
+        self.groups = {False: slice(0, n_static), True: slice(n_static, len(moving))}
         # Static scatterers first, then moving ones; each group a contiguous slice.
-        order = np.concatenate([np.flatnonzero(~moving), np.flatnonzero(moving)])
-        n_static = len(order) - int(moving.sum())
-        self.groups = {False: slice(0, n_static), True: slice(n_static, len(order))}
-        # Structure of arrays: one contiguous row per coordinate.
+        order: NDArray[np.intp] | slice = slice(None)
+        if n_moving and n_static:
+            order = np.concatenate([np.flatnonzero(~moving), np.flatnonzero(moving)])
         self.positions = scatterers.positions_m[order]
+        # Structure of arrays: one contiguous row per coordinate.
         self.pos = np.ascontiguousarray(self.positions.T)
-        self.vel = np.ascontiguousarray(scatterers.velocities_mps[order].T)
+        self.vel = (np.ascontiguousarray(vel[order].T) if n_moving
+                    else np.zeros((3, len(moving))))
         self.sqrt_rcs = np.sqrt(scatterers.rcs_m2[order]).astype(np.float32)
         self.phase = np.ascontiguousarray(scatterers.phase_rad[order], dtype=np.float64)
         self._gains: dict[str, NDArray[np.float32]] = {}
@@ -242,13 +247,20 @@ _PREPARED: list[_Prepared] = []
 _PREPARED_LOCK = threading.Lock()
 
 
+#: Scatterer sets whose prepared arrays are kept (least recently used dropped first): a
+#: static background, a frame and its small subsets.
+_PREPARED_KEEP = 4
+
+
 def _prepared(scatterers: Scatterers) -> _Prepared:
     with _PREPARED_LOCK:
-        for p in _PREPARED:
+        live = [q for q in _PREPARED if q.ref() is not None]
+        for p in live:
             if p.ref() is scatterers:
+                _PREPARED[:] = [q for q in live if q is not p] + [p]
                 return p
         p = _Prepared(scatterers)
-        _PREPARED[:] = [q for q in _PREPARED[-1:] if q.ref() is not None] + [p]
+        _PREPARED[:] = live[-(_PREPARED_KEEP - 1):] + [p]
         return p
 
 
@@ -337,10 +349,10 @@ def _highpass_factor(x: NDArray[np.float32], pole: tuple[float, float]
     return x * u / den, x * np.float32(-p_re) / den
 
 
-def _pair_transform(wave: _Waveform, d_t: NDArray[np.float64], d_r: NDArray[np.float64],
-                    amp: NDArray[np.float32], phase: NDArray[np.float64]
-                    ) -> NDArray[np.complexfloating]:
-    """Type-1 NUFFT of one block of scatterers for one Tx–Rx pair and chirp.
+def _pair_weights(wave: _Waveform, d_t: NDArray[np.float64], d_r: NDArray[np.float64],
+                  amp: NDArray[np.float32], phase: NDArray[np.float64]
+                  ) -> tuple[NDArray[np.floating], NDArray[np.complexfloating]]:
+    """NUFFT points and weights of scatterers for one Tx–Rx pair.
 
     ``amp`` is ``C √(σ g_t g_r) / R_t`` (float32); the rest of the amplitude, the phase and
     the point come from the path length. Phases are reduced modulo 2π in float64 before
@@ -371,31 +383,50 @@ def _pair_transform(wave: _Waveform, d_t: NDArray[np.float64], d_r: NDArray[np.f
     else:
         w.real = cos * a
         w.imag = sin * a
-    plan = _plan(wave)
-    plan.setpts(theta.astype(np.float32) if wave.single else theta)
-    return np.asarray(plan.execute(w))
+    return (theta.astype(np.float32) if wave.single else theta), w
 
 
-_Task = tuple[int | None, int, slice]      # chirp (None: all chirps), Tx, block of scatterers
+#: One task: chirps (None: static scatterers, the same in every chirp), Tx, block.
+_Task = tuple[tuple[int, ...] | None, int, slice]
 
 
 def _run_task(task: _Task, prep: _Prepared, wave: _Waveform, config: RadarConfig,
               amp_tx: list[NDArray[np.float32]], amp_rx: list[NDArray[np.float32]]
               ) -> list[NDArray[np.complexfloating]]:
-    """One block of scatterers, one Tx, one chirp (or all for static ones): every Rx."""
-    chirp, t, rows = task
+    """One block of scatterers, one Tx, some chirps (one row for static ones): every Rx.
+
+    The weights of all the task's chirps are computed together (one set of numpy calls);
+    each chirp is its own type-1 transform.
+
+    Returns
+    -------
+    list of ndarray, shape (chirps or 1, samples)
+        One per Rx.
+    """
+    chirps, t, rows = task
     pos = prep.pos[:, rows]
-    if chirp is not None:
-        pos = pos + prep.vel[:, rows] * config.chirp_start_times_s()[chirp, t]
+    n = pos.shape[1]
+    reps = 1
+    if chirps is not None:
+        reps = len(chirps)
+        starts = config.chirp_start_times_s()[list(chirps), t]
+        pos = (pos[:, None, :] + prep.vel[:, rows][:, None, :] * starts[None, :, None]
+               ).reshape(3, reps * n)
     d_t = _distance(pos, config.tx_positions_m()[t])
-    base = prep.sqrt_rcs[rows] * amp_tx[t][rows]
+    base = np.tile(prep.sqrt_rcs[rows] * amp_tx[t][rows], reps)
     base /= d_t.astype(np.float32)
     base *= np.float32(amplitude_scale_fs(config))
-    phase = prep.phase[rows]
+    phase = np.tile(prep.phase[rows], reps)
+    plan = _plan(wave)
     out = []
     for r, p_r in enumerate(config.rx_positions_m()):
-        out.append(_pair_transform(wave, d_t, _distance(pos, p_r), base * amp_rx[r][rows],
-                                   phase))
+        theta, w = _pair_weights(wave, d_t, _distance(pos, p_r),
+                                 base * np.tile(amp_rx[r][rows], reps), phase)
+        y = np.empty((reps, wave.n_s), dtype=w.dtype)
+        for k in range(reps):
+            plan.setpts(theta[k * n:(k + 1) * n])
+            y[k] = plan.execute(w[k * n:(k + 1) * n])
+        out.append(y)
     return out
 
 
@@ -451,9 +482,13 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
     for moves, group in prep.groups.items():
         for lo in range(group.start, group.stop, BLOCK):
             rows = slice(lo, min(lo + BLOCK, group.stop))
+            # Moving scatterers: chirps in chunks of about BLOCK points per task.
+            per_task = max(1, BLOCK // (rows.stop - rows.start))
+            chunks = ([tuple(range(c, min(c + per_task, n_c))) for c in range(0, n_c, per_task)]
+                      if moves else [None])
             for t in range(n_tx):
-                for m in (range(n_c) if moves else (None,)):
-                    tasks.append((m, t, rows))
+                for chirps in chunks:
+                    tasks.append((chirps, t, rows))
 
     def run(task: _Task) -> list[NDArray[np.complexfloating]]:
         return _run_task(task, prep, wave, config, amp_tx, amp_rx)
@@ -464,12 +499,12 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
         results = map(run, tasks)
     else:
         results = _pool(n_threads).map(run, tasks)
-    for (m, t, _), ys in zip(tasks, results, strict=True):
+    for (chirps, t, _), ys in zip(tasks, results, strict=True):
         for r, y in enumerate(ys):
-            if m is None:
-                out[:, t * n_rx + r] += y[None, :]
+            if chirps is None:
+                out[:, t * n_rx + r] += y
             else:
-                out[m, t * n_rx + r] += y
+                out[chirps[0]:chirps[-1] + 1, t * n_rx + r] += y
     return out
 
 
