@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 from simcore.dsp import RadarProducts, process_frame, static_axes_items
 from simcore.render import PinholeIntrinsics, RenderBuffers, SceneRenderer
-from simcore.render.renderer import Raster
+from simcore.render.renderer import Raster, changed_pixels
 from simcore.scene.model import Project
 from simcore.scene.motion import Motion
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
@@ -153,7 +153,10 @@ class Simulator:
         self.reuse_static = reuse_static
         self.renderer = SceneRenderer(project, base_dir=base_dir)
         self._render_key = ""
-        self._render_cache: dict[int, tuple[SceneSnapshot, RenderBuffers, RenderBuffers]] = {}
+        # Frame index → (snapshot, ToF render, radar render, radar pixels that differ from
+        # the radar background or None).
+        self._render_cache: dict[int, tuple[SceneSnapshot, RenderBuffers, RenderBuffers,
+                                            NDArray[np.intp] | None]] = {}
         self._static_renders: tuple[RenderBuffers, RenderBuffers] | None = None
         self._background_key: str | None = None
         self._bg_radar: tuple[Raster, RenderBuffers] | None = None
@@ -224,7 +227,8 @@ class Simulator:
                 # Nothing moves: the last render is this frame's, up to its timestamp.
                 tof_prev, radar_prev = self._static_renders
                 cached = (snap, dataclasses.replace(tof_prev, time_s=snap.time_s),
-                          dataclasses.replace(radar_prev, time_s=snap.time_s))
+                          dataclasses.replace(radar_prev, time_s=snap.time_s),
+                          np.zeros(0, dtype=np.intp))
             else:
                 with stage("render_radar"):
                     radar_raster = self.renderer.rasterize(snap, "radar", self.radar_intrinsics)
@@ -244,30 +248,42 @@ class Simulator:
             self._forget_background()
         project, seed = self.project, self.seed
 
-        def radar_chain() -> tuple[RenderBuffers, RadarOutput, RadarProducts]:
+        def radar_chain() -> tuple[RenderBuffers, RadarOutput, RadarProducts,
+                                   NDArray[np.intp] | None]:
             if bg_radar_raster is not None:
                 with stage("render_background"):
                     bg = self.renderer.shade(bg_radar_raster)
                 self._bg_radar = (bg_radar_raster, bg)
                 self.radar.set_background(snap, bg)
+            changed: NDArray[np.intp] | None = None
             if radar_raster is not None:
                 with stage("render_radar"):
                     radar_buf = self.renderer.shade(radar_raster, background=self._bg_radar)
+                    changed = changed_pixels(radar_raster, self._bg_radar)
             else:
                 assert cached is not None
-                radar_buf = cached[2]
+                radar_buf, changed = cached[2], cached[3]
             if static_scene and self._background_key != self._render_key:
                 # Every object is static: the frame's own render is the background.
                 self.radar.set_background(snap, radar_buf)
                 self._background_key = self._render_key
-            with stage("radar_scatterers"):
-                scatterers = self.radar.cached_scatterers(snap, radar_buf)
-            with stage("radar_synthesis"):
-                radar = self.radar.synthesize(scatterers, rng=frame_rng(seed, index, "radar"))
+                changed = np.zeros(0, dtype=np.intp)
+            rng = frame_rng(seed, index, "radar")
+            radar = None
+            if changed is not None and reuse:
+                # Only the facets whose pixels differ from the background are computed.
+                with stage("radar_synthesis"):
+                    radar = self.radar.simulate_over_background(snap, radar_buf, changed,
+                                                                 rng=rng)
+            if radar is None:
+                with stage("radar_scatterers"):
+                    scatterers = self.radar.cached_scatterers(snap, radar_buf)
+                with stage("radar_synthesis"):
+                    radar = self.radar.synthesize(scatterers, rng=rng)
             with stage("dsp"):
                 dsp = process_frame(radar.adc, project.rig.radar, project.dsp,
                                     radar_to_world=radar_buf.sensor.transform)
-            return radar_buf, radar, dsp
+            return radar_buf, radar, dsp, changed
 
         future = self._radar_worker().submit(radar_chain)
         try:
@@ -292,11 +308,11 @@ class Simulator:
                                        rng=frame_rng(seed, index, "tof"))
                 self._tof_cache = (tof_buf, tof_key, tof)
         finally:
-            radar_buf, radar, dsp = future.result()
+            radar_buf, radar, dsp, changed = future.result()
         if bg_radar_raster is not None:
             self._background_key = self._render_key
         # Keep the latest frame's renders: edits that do not change them re-use them.
-        self._render_cache = {index: (snap, tof_buf, radar_buf)}
+        self._render_cache = {index: (snap, tof_buf, radar_buf, changed)}
         if static_scene:
             self._static_renders = (tof_buf, radar_buf)
         timings["total"] = (time.perf_counter() - start) * 1e3

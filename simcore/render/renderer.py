@@ -409,7 +409,7 @@ def _shade(raster: Raster, background: tuple[Raster, RenderBuffers] | None = Non
     """
     snapshot, band, intr = raster.snapshot, raster.band, raster.intrinsics
     h, w = intr.height, intr.width
-    idx = _changed_pixels(raster, background)
+    idx = changed_pixels(raster, background)
     if background is not None and idx is not None:
         bg = background[1]
         if idx.size == 0:
@@ -435,9 +435,9 @@ def _sensor(snapshot: SceneSnapshot, band: str) -> SensorState:
     return snapshot.tof if band == "tof" else snapshot.radar
 
 
-def _changed_pixels(raster: Raster, background: tuple[Raster, RenderBuffers] | None
-                    ) -> NDArray[np.intp] | None:
-    """Flat indices of the pixels to shade against ``background``, None for all of them.
+def changed_pixels(raster: Raster, background: tuple[Raster, RenderBuffers] | None
+                   ) -> NDArray[np.intp] | None:
+    """Flat indices of the pixels that differ from ``background``, None for all of them.
 
     The background must show the same band from the same, still sensor pose, with the
     same geometry and materials, and every object it shows must be at the same pose and

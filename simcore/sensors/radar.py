@@ -238,15 +238,20 @@ class RadarFrontEnd:
         # Transforms needed either way for the moving scatterers; compare the static rest.
         if len(hidden) + len(others) > 0.5 * len(scatterers):
             return None
+        return self._over_background(bg, bg.subset(hidden), scatterers.subset(others))
+
+    def _over_background(self, bg: Scatterers, hidden: Scatterers, others: Scatterers
+                         ) -> ComplexCube:
+        """``y_bg − y(hidden) + y(others)``, the background's IF cached per configuration."""
         cfg = self.config
         config_key = cfg.model_dump_json()
         if self._bg_if is None or self._bg_if[0] is not bg or self._bg_if[1] != config_key:
             self._bg_if = (bg, config_key, synthesize_if(bg, cfg))
         out = self._bg_if[2].copy()
         if len(hidden):
-            out -= synthesize_if(bg.subset(hidden), cfg)
+            out -= synthesize_if(hidden, cfg)
         if len(others):
-            out += synthesize_if(scatterers.subset(others), cfg)
+            out += synthesize_if(others, cfg)
         self.last_transformed = len(hidden) + len(others)
         return out
 
@@ -271,6 +276,63 @@ class RadarFrontEnd:
             return synthesize_if_direct(scatterers, self.config)
         raise ValueError(f"unknown synthesis method {method!r}; use 'nufft' or 'direct'")
 
+    def simulate_over_background(self, snapshot: SceneSnapshot, buffers: RenderBuffers,
+                                 changed: NDArray[np.intp], *, rng: np.random.Generator
+                                 ) -> RadarOutput | None:
+        """Raw ADC data of a frame known to differ from the background only at ``changed``.
+
+        ``changed`` are the flat indices of the render pixels whose triangle differs from
+        the background's render (:func:`simcore.render.renderer.changed_pixels`); every
+        other pixel holds the background's values. Only the facets touching them are
+        computed: the background's there are subtracted, the frame's (and its analytic
+        targets) added. Same data as :meth:`simulate` to rounding, without the frame's
+        full set of scatterers. None when there is no background or it does not fit.
+        """
+        found = self._background_scatterers()
+        bg_buffers = None if self._background is None else self._background[1]
+        if found is None or bg_buffers is None or bg_buffers.shape != buffers.shape:
+            return None
+        bg = found[0]
+        cfg = self.config
+        check_wavelength(bg, cfg)
+        h, w = buffers.shape
+        facets = cfg.facet_intrinsics()
+        step = h // facets.height if facets.height and h % facets.height == 0 else 0
+        if step < 1 or w != facets.width * step:
+            return None
+        rows, cols = np.divmod(changed, w)
+        cells = np.zeros(facets.height * facets.width, dtype=bool)
+        cells[(rows // step) * facets.width + cols // step] = True
+        if np.count_nonzero(cells) > cells.size // 2:
+            return None
+        grid = cells.reshape(facets.height, facets.width)
+        pixels = np.repeat(np.repeat(grid, step, axis=0), step, axis=1) if step > 1 else grid
+        others = scatterers_from_render(self.project, snapshot, buffers,
+                                        wavelength_m=cfg.wavelength_m, facets=facets,
+                                        speckle=cfg.speckle, seed=self.speckle_seed,
+                                        materials=self._materials(), pixels=pixels)
+        assert bg.facet_key is not None
+        hidden = bg.subset(np.take(cells, bg.facet_key // max(len(self.project.objects), 1)))
+        ideal = self._over_background(bg, hidden, others)
+        return self._output(ideal, time_s=float(snapshot.time_s),
+                            n_scatterers=len(bg) - len(hidden) + len(others), rng=rng)
+
+    def _output(self, ideal: ComplexCube, *, time_s: float, n_scatterers: int,
+                rng: np.random.Generator) -> RadarOutput:
+        cfg = self.config
+        adc, clipped = receiver_chain(ideal, cfg, rng)
+        return RadarOutput(
+            adc=adc,
+            time_s=time_s,
+            chirp_start_s=time_s + cfg.chirp_start_times_s(),
+            sample_rate_hz=cfg.sample_rate_hz,
+            complex_iq=cfg.complex_iq,
+            tx_positions_m=cfg.tx_positions_m(),
+            rx_positions_m=cfg.rx_positions_m(),
+            n_scatterers=n_scatterers,
+            clipped_samples=clipped,
+        )
+
     def synthesize(self, scatterers: Scatterers, *, rng: np.random.Generator,
                    method: SynthesisMethod = "nufft") -> RadarOutput:
         """Raw ADC data of a frame from its scatterers.
@@ -288,19 +350,8 @@ class RadarFrontEnd:
         -------
         RadarOutput
         """
-        cfg = self.config
-        adc, clipped = receiver_chain(self.ideal_if(scatterers, method=method), cfg, rng)
-        return RadarOutput(
-            adc=adc,
-            time_s=scatterers.time_s,
-            chirp_start_s=scatterers.time_s + cfg.chirp_start_times_s(),
-            sample_rate_hz=cfg.sample_rate_hz,
-            complex_iq=cfg.complex_iq,
-            tx_positions_m=cfg.tx_positions_m(),
-            rx_positions_m=cfg.rx_positions_m(),
-            n_scatterers=len(scatterers),
-            clipped_samples=clipped,
-        )
+        return self._output(self.ideal_if(scatterers, method=method),
+                            time_s=scatterers.time_s, n_scatterers=len(scatterers), rng=rng)
 
     def simulate(self, snapshot: SceneSnapshot, buffers: RenderBuffers, *,
                  rng: np.random.Generator) -> RadarOutput:

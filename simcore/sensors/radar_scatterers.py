@@ -256,17 +256,21 @@ def _pixel_solid_angle(intr: PinholeIntrinsics) -> NDArray[np.float64]:
 
 def _facet_scatterers(project: Project, buffers: RenderBuffers,
                       facets: PinholeIntrinsics | None, exclude: NDArray[np.bool_], *,
-                      speckle: bool, seed: int, extra: int = 0
+                      speckle: bool, seed: int, extra: int = 0,
+                      pixels: NDArray[np.bool_] | None = None
                       ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
                                  NDArray[np.float64], NDArray[np.int32], NDArray[np.int64]]:
     """Positions, velocities, RCS, phases, object indices and keys of the facet scatterers.
 
-    Every array has ``extra`` more rows at the end, left for the caller to fill.
+    Every array has ``extra`` more rows at the end, left for the caller to fill. Only the
+    render pixels where ``pixels`` is true are used, if given.
     """
     obj_img = buffers.object_index
     width = buffers.intrinsics.width
     valid = obj_img >= 0
     valid &= np.isfinite(buffers.range_m)
+    if pixels is not None:
+        valid &= pixels
     if exclude.any():
         valid &= ~np.take(exclude, np.clip(obj_img, 0, None))
     # Flat pixel indices: 1-D gathers from the raveled buffers (no copies of the images).
@@ -367,8 +371,8 @@ def _unoccluded(buffers: RenderBuffers, point_radar: NDArray[np.float64], object
 def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: RenderBuffers,
                            *, wavelength_m: float, facets: PinholeIntrinsics | None = None,
                            speckle: bool = True, seed: int = 0,
-                           materials: Mapping[str, DualBandMaterial] | None = None
-                           ) -> Scatterers:
+                           materials: Mapping[str, DualBandMaterial] | None = None,
+                           pixels: NDArray[np.bool_] | None = None) -> Scatterers:
     """All radar scatterers of a frame from its snapshot and radar render.
 
     Parameters
@@ -392,6 +396,10 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
     materials : mapping, optional
         The project's material table (:func:`~simcore.scene.project_io.material_table`),
         if the caller has it; read only when the scene has corner reflectors.
+    pixels : ndarray of bool, shape (H, W), optional
+        Use only these render pixels for the facets (whole facets when the render is
+        supersampled); the facets they cover come out as from the whole render. Analytic
+        targets are always included.
 
     Returns
     -------
@@ -449,7 +457,7 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
     n_extra = len(extra_rcs)
     pos, vel, rcs, phase, obj, key = _facet_scatterers(project, buffers, facets, analytic,
                                                        speckle=speckle, seed=seed,
-                                                       extra=n_extra)
+                                                       extra=n_extra, pixels=pixels)
     n = len(pos) - n_extra
     kinds = np.full(n + n_extra, KIND_FACET, dtype=np.int8)
     if n_extra:
