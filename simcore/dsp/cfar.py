@@ -37,7 +37,6 @@ from typing import Literal
 
 import numpy as np
 import scipy.ndimage as ndi
-from numpy.lib.stride_tricks import sliding_window_view
 from numpy.typing import ArrayLike, NDArray
 from scipy import optimize, special
 
@@ -326,18 +325,29 @@ def _cfar_core(
         ring = np.ones((2 * h0 + 1, 2 * h1 + 1), dtype=bool)
         ring[h0 - g0:h0 + g0 + 1, h1 - g1:h1 + g1 + 1] = False
         ring_idx = np.flatnonzero(ring.ravel())
-        windows = sliding_window_view(padded.astype(np.float32), ring.shape)  # (a, b, w0, w1)
-        stat = np.empty((a, b))
-        # Gather and select in cache-sized chunks (≈ 256 kB of float32 training cells):
-        # 2.8× faster on the 32 × 256 range–Doppler map than one large gather.
+        values = padded.astype(np.float32)
+        if not np.any(values < 0):
+            # Non-negative IEEE floats order like their bit patterns as int32, and integer
+            # selection is twice as fast (no NaN handling); the selected bits are the same.
+            values = values.view(np.int32)
+        # Training cells of the CUT at padded (i, j): flat offsets from i * width + j.
+        width = values.shape[1]
+        ring_rows, ring_cols = np.divmod(ring_idx, ring.shape[1])
+        offsets = ring_rows * width + ring_cols
+        flat = values.ravel()
+        stat_bits = np.empty((a, b), dtype=values.dtype)
+        # Gather and select in cache-sized chunks (≈ 256 kB of training cells): 2.8×
+        # faster on the 32 × 256 range–Doppler map than one large gather.
         cols = max(1, min(b, _OS_CHUNK // ring_idx.size))
         rows = max(1, _OS_CHUNK // (cols * ring_idx.size))
         for r0 in range(0, a, rows):
             r1 = min(a, r0 + rows)
             for c0 in range(0, b, cols):
                 c1 = min(b, c0 + cols)
-                cells = windows[r0:r1, c0:c1].reshape(r1 - r0, c1 - c0, -1)[..., ring_idx]
-                stat[r0:r1, c0:c1] = np.partition(cells, k - 1, axis=-1)[..., k - 1]
+                origin = (np.arange(r0, r1)[:, None] * width + np.arange(c0, c1)[None, :])
+                cells = np.take(flat, origin[..., None] + offsets)
+                stat_bits[r0:r1, c0:c1] = np.partition(cells, k - 1, axis=-1)[..., k - 1]
+        stat = stat_bits.view(np.float32).astype(np.float64)
     else:
         raise ValueError(f"unknown CFAR method {method!r}")
     threshold = alpha * stat
