@@ -29,6 +29,8 @@ sensor-resolution image is float32, whose rounding (≤ 1e-7 relative) is far be
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from dataclasses import dataclass
 from math import gcd
 
@@ -233,8 +235,40 @@ def unwrap_two_frequencies(depth1_m: NDArray[np.floating], depth2_m: NDArray[np.
     return as_float(np.mod(best, r_max))
 
 
+def _sample_signal(buffers: RenderBuffers, config: TofCameraConfig
+                   ) -> tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32]]:
+    """Per sub-pixel range, signal and ambient electrons of one render."""
+    hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
+    r = np.where(hit, np.maximum(buffers.range_m, FLOAT(MIN_RANGE_M)), FLOAT(1.0))
+    response = np.where(hit, buffers.intensity, FLOAT(0.0))
+    signal = response * FLOAT(config.signal_electrons_at_1m)
+    signal /= r * r
+    ambient = response * FLOAT(config.ambient_electrons)
+    return r, signal, ambient
+
+
+def _correlation_from_samples(sample_buffers: Sequence[RenderBuffers], config: TofCameraConfig,
+                              f_mod: float) -> NDArray[np.float32]:
+    """Correlation images (4, H, W) in electrons, sample ``i`` from render ``i``.
+
+    Each of the four samples integrates the scene as it is during its own exposure, so a
+    moving edge lands at different pixels in C0..C3 (the motion artefact of real AMCW
+    cameras). Cross-talk is applied afterwards like for a still scene.
+    """
+    k = config.supersampling
+    planes = []
+    for i, buf in enumerate(sample_buffers):
+        r, signal, ambient = _sample_signal(buf, config)
+        phase = r * FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT) + FLOAT(i * np.pi / 2)
+        planes.append(_block_mean(signal + ambient, k)
+                      + _block_mean(signal * FLOAT(config.demodulation_contrast)
+                                    * np.cos(phase), k))
+    return _crosstalk(as_float(np.stack(planes)), config.crosstalk_sigma_px)
+
+
 def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
-                 rng: np.random.Generator, noise: bool = True) -> TofOutput:
+                 rng: np.random.Generator, noise: bool = True,
+                 sample_buffers: Sequence[RenderBuffers] | None = None) -> TofOutput:
     """Simulate one AMCW ToF frame from the ToF band's supersampled render.
 
     Parameters
@@ -250,6 +284,10 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
     noise : bool, optional
         False gives the ideal camera: no shot/read noise and no ADC quantisation
         (saturation, cross-talk and ambient offset remain).
+    sample_buffers : sequence of 4 RenderBuffers, optional
+        Renders at the four correlation samples' own exposure times (motion artefacts):
+        sample ``i`` is taken from ``sample_buffers[i]``; ``buffers`` still gives the ground
+        truth at the frame time. ``None`` takes all four from ``buffers``.
 
     Returns
     -------
@@ -270,15 +308,14 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
             f"{expected[1]}×{expected[0]} (sensor {config.width}×{config.height} × "
             f"supersampling {k})")
 
+    if sample_buffers is not None and len(sample_buffers) != 4:
+        raise ValueError(f"sample_buffers needs the 4 correlation samples' renders, "
+                         f"got {len(sample_buffers)}")
+
     # 1. Per sub-pixel signal/ambient electrons per sample and range.
     #    In float32 like the buffers (relative rounding 6e-8; the phase of a 10 m range is
     #    accurate to 1e-6 rad, 1 µm of depth at 20 MHz), with SIMD cos/sin.
-    hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
-    r = np.where(hit, np.maximum(buffers.range_m, FLOAT(MIN_RANGE_M)), FLOAT(1.0))
-    response = np.where(hit, buffers.intensity, FLOAT(0.0))
-    signal = response * FLOAT(config.signal_electrons_at_1m)
-    signal /= r * r
-    ambient = response * FLOAT(config.ambient_electrons)
+    r, signal, ambient = _sample_signal(buffers, config)
 
     # 2. Sensor-pixel sums: offset S + B and the phasor m S e^{iφ} per frequency.
     #    C_i = offset + m S cos(φ + iπ/2): C0 = o + mSc, C1 = o − mSs, C2 = o − mSc, C3 = o + mSs.
@@ -297,8 +334,11 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
     valid = np.ones((config.height, config.width), dtype=bool)
     saturated = np.zeros_like(valid)
     for j, f_mod in enumerate(config.modulation_frequencies_hz):
-        o, re, im = mixed[0], mixed[1 + 2 * j], mixed[2 + 2 * j]
-        corr_e = np.stack([o + re, o - im, o - re, o + im])
+        if sample_buffers is not None:
+            corr_e = _correlation_from_samples(sample_buffers, config, f_mod)
+        else:
+            o, re, im = mixed[0], mixed[1 + 2 * j], mixed[2 + 2 * j]
+            corr_e = np.stack([o + re, o - im, o - re, o + im])
         # 4.–5. Noise, saturation, ADC.
         corr_dn, sat = _read_out(corr_e, config, rng=rng, noise=noise)
         # 6. Phase, depth, amplitude, validity.

@@ -87,6 +87,12 @@ class TofCameraConfig(Model):
     min_amplitude_dn: float = Field(
         20.0, ge=0, allow_inf_nan=False,
         description="pixels with a smaller demodulated amplitude are invalid (DN)")
+    motion_artifacts: bool = Field(
+        False, description="take each of the four correlation samples from a render at its "
+                           "own exposure time (slower: four ToF renders per frame)")
+    sample_interval_s: float = Field(
+        1e-3, gt=0, le=1.0, allow_inf_nan=False,
+        description="time between the starts of consecutive correlation samples (s)")
 
     @model_validator(mode="after")
     def _check_frequencies(self) -> TofCameraConfig:
