@@ -30,7 +30,6 @@ sensor-resolution image is float32, whose rounding (≤ 1e-7 relative) is far be
 from __future__ import annotations
 
 from collections.abc import Sequence
-
 from dataclasses import dataclass
 from math import gcd
 
