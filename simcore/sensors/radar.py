@@ -312,7 +312,8 @@ class RadarFrontEnd:
                                         speckle=cfg.speckle, seed=self.speckle_seed,
                                         materials=self._materials(), pixels=pixels)
         assert bg.facet_key is not None
-        hidden = bg.subset(np.take(cells, bg.facet_key // max(len(self.project.objects), 1)))
+        hidden = bg.subset(np.flatnonzero(
+            np.take(cells, bg.facet_key // max(len(self.project.objects), 1))))
         ideal = self._over_background(bg, hidden, others)
         return self._output(ideal, time_s=float(snapshot.time_s),
                             n_scatterers=len(bg) - len(hidden) + len(others), rng=rng)
