@@ -328,9 +328,14 @@ class Simulator:
                     and self._tof_cache[1] == tof_key):
                 tof = self._tof_cache[2]
             else:
+                samples = None
+                if project.rig.tof.motion_artifacts and not static_scene:
+                    with stage("render_tof_samples"):
+                        samples = [tof_buf, *self._tof_sample_renders(t)]
                 with stage("tof"):
                     tof = simulate_tof(tof_buf, project.rig.tof,
-                                       rng=frame_rng(seed, index, "tof"))
+                                       rng=frame_rng(seed, index, "tof"),
+                                       sample_buffers=samples)
                 self._tof_cache = (tof_buf, tof_key, tof)
         finally:
             radar_buf, radar, dsp, changed = future.result()
@@ -354,6 +359,21 @@ class Simulator:
             radar_buffers=radar_buf,
             timings_ms=timings,
         )
+
+    def _tof_sample_renders(self, t: float) -> list[RenderBuffers]:
+        """ToF renders at the 2nd to 4th correlation samples' start times (motion artefacts)."""
+        dt = self.project.rig.tof.sample_interval_s
+        out = []
+        for i in (1, 2, 3):
+            snap = take_snapshot(self.project, t + i * dt)
+            raster = self.renderer.rasterize(snap, "tof", self.tof_intrinsics)
+            out.append(self.renderer.shade(raster, background=self._bg_tof))
+        return out
+
+    @property
+    def render_count(self) -> int:
+        """GPU passes run so far (edits of antennas or DSP settings do not add any)."""
+        return self.renderer.render_count
 
     def _forget_background(self) -> None:
         self._background_key = None

@@ -88,3 +88,19 @@ def test_ten_frame_dataset_layout_units_and_moving_target(tmp_path):
         k = int(np.argmin(np.abs(rows["range"] - true_range)))
         assert abs(rows["range"][k] - true_range) < 0.02, (index, rows["range"], true_range)
         assert abs(rows["velocity"][k] - 1.0) < radar.velocity_resolution_mps
+
+
+def test_tof_motion_artifacts_switch_in_the_pipeline():
+    project = load_project(example_path("office"))
+    with Simulator(project) as sim:
+        still = sim.frame(3)
+        renders = sim.render_count
+        project.rig.tof.motion_artifacts = True
+        sim.set_project(project)
+        moving = sim.frame(3)
+        assert sim.render_count - renders >= 4       # frame render + three sample renders
+    person = moving.tof.gt_object_id == project.object_by_name("person").id
+    edge = person ^ np.roll(person, 1, axis=1)
+    # The walking person's silhouette changes between samples; the still back wall doesn't.
+    differs = still.tof.depth_m != moving.tof.depth_m
+    assert differs[edge].mean() > differs[~edge & ~person].mean()
