@@ -64,6 +64,12 @@ def _plt() -> Any:
     return plt
 
 
+def _save(fig: Any, path: Path) -> None:
+    """Write a figure as PNG and release it."""
+    fig.savefig(path, dpi=110)
+    _plt().close(fig)
+
+
 def _object_id(project: Project, name: str) -> int:
     return project.object_by_name(name).id
 
@@ -173,8 +179,7 @@ def office_tof(frame: Frame, project: Project, out: Path) -> tuple[Figure, dict[
                                            ec=colour, lw=1.2))
                 ax.text(cols.min(), rows.min() - 3, label, color=colour, fontsize=8)
     name = "fig1_office_tof.png"
-    fig.savefig(out / name, dpi=110)
-    plt.close(fig)
+    _save(fig, out / name)
     text = (
         f"The near-IR retroreflector saturates the camera: {numbers['retro_invalid_fraction']:.0%}"
         f" of its {numbers['retro_pixels']} pixels are invalid and report depth 0 "
@@ -237,8 +242,7 @@ def office_radar_profile(frame: Frame, project: Project, out: Path
     ax.legend(loc="upper right", fontsize=8)
     ax.grid(alpha=0.3)
     name = "fig2_office_range_profile.png"
-    fig.savefig(out / name, dpi=110)
-    plt.close(fig)
+    _save(fig, out / name)
     text = (
         f"Every Rx channel shows the same features as the measured BGT60TR13C spectrum: the "
         f"80 kHz IF high-pass rolls the spectrum off towards 0 m (down to "
@@ -337,8 +341,7 @@ def office_range_azimuth(frame: Frame, project: Project, out: Path
     ax.set_title("Radar point cloud on a top view of the office")
     ax.legend(loc="lower right", fontsize=8)
     name = "fig3_office_range_azimuth.png"
-    fig.savefig(out / name, dpi=110)
-    plt.close(fig)
+    _save(fig, out / name)
     text = (
         f"{project.dsp.cfar_method.upper()}-CFAR on the range–Doppler map gives "
         f"{numbers['detections']} detections in this frame; each one's azimuth comes from "
@@ -397,8 +400,7 @@ def doppler_experiment(project: Project, out: Path, *, frames: int,
     axes[1].legend(fontsize=8, loc="upper right")
     axes[1].grid(alpha=0.3)
     name = "fig4_doppler.png"
-    fig.savefig(out / name, dpi=110)
-    plt.close(fig)
+    _save(fig, out / name)
     text = (
         f"The rig moves sinusoidally towards and away from one corner reflector (up to "
         f"{numbers['max_speed_mps']:.2f} m/s). Over {frames} frames the target is detected in "
@@ -559,8 +561,7 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
     tab.scale(1, 1.6)
     ax.set_title("Calibration and accuracy (worst case over targets and frames)")
     name = "fig5_calibration.png"
-    fig.savefig(out / name, dpi=110)
-    plt.close(fig)
+    _save(fig, out / name)
     text = (
         f"Left: the peak of the simulated range spectrum of a {edge * 100:.0f} cm trihedral on "
         f"boresight follows the radar equation (P_t G_t G_r λ² σ/((4π)³R⁴), the documented "
@@ -607,8 +608,7 @@ def side_by_side(frame: Frame, project: Project, out: Path) -> tuple[Figure, dic
     ax.set_title(f"ToF and radar of one frame, same timestamp t = {frame.time_s:.2f} s")
     ax.legend(loc="upper left", fontsize=8)
     name = "fig6_side_by_side.png"
-    fig.savefig(out / name, dpi=110)
-    plt.close(fig)
+    _save(fig, out / name)
     numbers = {"time_s": frame.time_s, "tof_points": int(tof.valid.sum()),
                "radar_detections": int(len(det.range_m)),
                "radar_time_s": float(frame.radar.time_s)}
