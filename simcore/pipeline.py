@@ -120,11 +120,6 @@ class Frame:
             **self.dsp.hdf5_items(),
         }
 
-    @property
-    def tof_gt_range(self) -> NDArray[np.float32]:
-        """Ground-truth range at ToF sensor resolution (m, NaN = no surface)."""
-        return self.tof.gt_range
-
     def table_rows(self) -> dict[str, NDArray[Any]]:
         """Records this frame adds to growing tables (path → structured array)."""
         return {"/radar/detections": self.dsp.detection_records(self.index)}
