@@ -5,8 +5,11 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import signal
 import sys
-from collections.abc import Callable, Sequence
+import threading
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -50,6 +53,28 @@ def _positive_float(text: str) -> float:
     return value
 
 
+@contextmanager
+def stop_on_sigint() -> Iterator[threading.Event]:
+    """Turn the first Ctrl+C into a request to stop after the frame being written.
+
+    A KeyboardInterrupt raised at an arbitrary point can land in a garbage-collector
+    callback, where Python only prints it and carries on; a flag checked between frames
+    cannot be lost. A second Ctrl+C interrupts at once.
+    """
+    stop = threading.Event()
+
+    def handler(signum: int, frame: object) -> None:
+        if stop.is_set():
+            raise KeyboardInterrupt
+        stop.set()
+
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        yield stop
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def cmd_validate(args: argparse.Namespace) -> int:
     """Check a project file; print OK or the list of problems."""
     project = load_project(args.project)
@@ -83,13 +108,14 @@ def cmd_run(args: argparse.Namespace) -> int:
         bar.refresh()
         if args.preview:
             _write_previews(Path(args.preview), result)
-        return True
+        return not stop.is_set()
 
     try:
-        report = run_dataset(project_to_json(project), project_path.parent, out,
-                             n_frames=n_frames, seed=seed, overwrite=args.overwrite,
-                             resume=args.resume, workers=args.workers,
-                             scheduler=args.scheduler, on_frame=progress)
+        with stop_on_sigint() as stop:
+            report = run_dataset(project_to_json(project), project_path.parent, out,
+                                 n_frames=n_frames, seed=seed, overwrite=args.overwrite,
+                                 resume=args.resume, workers=args.workers,
+                                 scheduler=args.scheduler, on_frame=progress)
     except (DatasetExistsError, ResumeError) as exc:
         raise CliError(str(exc)) from None
     finally:
@@ -154,11 +180,13 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                                variant.timeline.n_frames)
         print(f"[{i + 1}/{len(variants)}] {path.name}: {parameters_json(params)}")
         try:
-            report = run_dataset(project_to_json(variant), project_path.parent, path,
-                                 n_frames=n_frames, seed=seed, overwrite=args.overwrite,
-                                 resume=args.resume, workers=args.workers,
-                                 scheduler=args.scheduler,
-                                 extra_meta={"sweep_parameters": parameters_json(params)})
+            with stop_on_sigint() as stop:
+                report = run_dataset(
+                    project_to_json(variant), project_path.parent, path, n_frames=n_frames,
+                    seed=seed, overwrite=args.overwrite, resume=args.resume,
+                    workers=args.workers, scheduler=args.scheduler,
+                    extra_meta={"sweep_parameters": parameters_json(params)},
+                    on_frame=lambda done, total, result: not stop.is_set())
         except (DatasetExistsError, ResumeError) as exc:
             raise CliError(str(exc)) from None
         if report.interrupted:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import json
 import multiprocessing
+import signal
 from collections.abc import Callable, Iterator
 from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass, field
@@ -81,6 +82,11 @@ def static_items(spec: RunSpec) -> H5Items:
     return _simulator(spec).static_items()
 
 
+def _ignore_sigint() -> None:
+    """Worker processes leave Ctrl+C to the writer, which stops the run between frames."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _in_order(futures: Iterator[tuple[int, Callable[[], FrameResult]]], window: int
               ) -> Iterator[FrameResult]:
     """Resolve (index, result getter) pairs with at most ``window`` outstanding, in order."""
@@ -118,7 +124,8 @@ def iter_frames(spec: RunSpec, indices: list[int], *, workers: int = 1,
             yield compute_frame(spec, i)
     else:
         ctx = multiprocessing.get_context("spawn")
-        with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+        with ProcessPoolExecutor(max_workers=workers, mp_context=ctx,
+                                 initializer=_ignore_sigint) as pool:
             def submit() -> Iterator[tuple[int, Callable[[], FrameResult]]]:
                 for i in indices:
                     fut: Future[FrameResult] = pool.submit(compute_frame, spec, i)

@@ -137,7 +137,8 @@ def test_duration_sets_frame_count(tmp_path):
         np.testing.assert_allclose(f["time"][:], [0.0, 0.1, 0.2])
 
 
-def test_ctrl_c_stops_cleanly_with_a_valid_file(tmp_path):
+@pytest.mark.parametrize("workers", ["1", "2"])
+def test_ctrl_c_stops_cleanly_with_a_valid_file(tmp_path, workers):
     import signal
     import subprocess
     import sys
@@ -146,8 +147,16 @@ def test_ctrl_c_stops_cleanly_with_a_valid_file(tmp_path):
     out = tmp_path / "sig.h5"
     proc = subprocess.Popen(
         [sys.executable, "-m", "simcore.cli", "run", str(example_path("office")), "--out",
-         str(out), "--frames", "2000", "--quiet"], stderr=subprocess.PIPE, text=True)
-    time.sleep(6)
+         str(out), "--frames", "2000", "--quiet", "--workers", workers],
+        stderr=subprocess.PIPE, text=True)
+    # Interrupt once a few frames are on disk (the file grows ~0.7 MB per office frame),
+    # however slow the machine is today.
+    deadline = time.monotonic() + 300
+    while time.monotonic() < deadline and proc.poll() is None:
+        if out.exists() and out.stat().st_size > 3_000_000:
+            break
+        time.sleep(0.2)
+    assert proc.poll() is None, "the run ended before it could be interrupted"
     proc.send_signal(signal.SIGINT)
     try:
         _, err = proc.communicate(timeout=120)
