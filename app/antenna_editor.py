@@ -28,7 +28,7 @@ from PyQt6.QtWidgets import (
 
 from app.document import EditError, ProjectDocument
 from app.widgets import int_spin, spin
-from simcore.sensors.radar_config import RadarConfig
+from simcore.scene.radar_config import RadarConfig
 
 TX_COLOUR = "#ff6e6e"
 RX_COLOUR = "#4fc3f7"
@@ -50,7 +50,7 @@ def layout_positions(name: str, *, n: int, nx: int, ny: int, spacing_mm: float
                      ) -> tuple[list[tuple[float, float]] | None, list[tuple[float, float]]]:
     """Tx (None = keep) and Rx board positions (mm) of a layout preset.
 
-    Uses :mod:`simcore.sensors.radar_arrays` when present.
+    Uses :mod:`simcore.scene.radar_arrays` when present.
     """
     try:
         from simcore.sensors import radar_arrays as arrays

@@ -29,14 +29,14 @@ from PyQt6.QtWidgets import (
 from app.document import EditError, ProjectDocument
 from app.widgets import VectorEdit, int_spin, set_quietly, spin, try_edit
 from simcore.scene import Project
+from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.scene.snapshot import take_snapshot
-from simcore.sensors.radar_config import SPEED_OF_LIGHT, RadarConfig
 
 
 def radar_presets() -> dict[str, Callable[..., RadarConfig]]:
-    """Named radar presets (from :mod:`simcore.sensors.radar_presets` when present)."""
+    """Named radar presets (from :mod:`simcore.scene.radar_presets` when present)."""
     try:
-        from simcore.sensors.radar_presets import RADAR_PRESETS
+        from simcore.scene.radar_presets import RADAR_PRESETS
     except ImportError:
         return {"bgt60tr13c": RadarConfig}
     return dict(RADAR_PRESETS)
@@ -44,7 +44,7 @@ def radar_presets() -> dict[str, Callable[..., RadarConfig]]:
 
 def tof_presets() -> dict[str, Callable[[], Any]]:
     """Named ToF camera presets."""
-    from simcore.sensors.tof_config import TOF_PRESETS
+    from simcore.scene.tof_config import TOF_PRESETS
 
     return dict(TOF_PRESETS)
 
@@ -91,7 +91,7 @@ def radar_warnings(project: Project) -> list[str]:
     cfg = project.rig.radar
     ranges, velocities = scene_radial_extent(project)
     try:
-        from simcore.sensors.radar_config import aliasing_warnings
+        from simcore.scene.radar_config import aliasing_warnings
     except ImportError:
         out = []
         if ranges.size and ranges.max() > cfg.max_range_m:

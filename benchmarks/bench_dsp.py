@@ -27,7 +27,7 @@ from simcore.dsp import (
     range_fft,
     virtual_array_positions_m,
 )
-from simcore.sensors.radar_config import SPEED_OF_LIGHT, Antenna, RadarConfig
+from simcore.scene.radar_config import SPEED_OF_LIGHT, Antenna, RadarConfig
 
 
 def point_target_cube(rc: RadarConfig, *, seed: int = 0) -> np.ndarray:

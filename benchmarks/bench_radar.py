@@ -21,8 +21,8 @@ from simcore.render import SceneRenderer
 from simcore.resources import example_path
 from simcore.scene import load_project
 from simcore.scene.snapshot import take_snapshot
-from simcore.sensors.radar import RadarFrontEnd
-from simcore.sensors.radar_synthesis import receiver_chain, synthesize_if, synthesize_if_direct
+from simcore.sensors.radar.frontend import RadarFrontEnd
+from simcore.sensors.radar.synthesis import receiver_chain, synthesize_if, synthesize_if_direct
 
 
 def best_of(fn: Callable[[], object], repeat: int) -> tuple[float, object]:

@@ -32,9 +32,9 @@ from simcore.pipeline import Simulator
 from simcore.resources import example_path
 from simcore.scene import load_project
 from simcore.scene.model import Project
-from simcore.sensors.radar_arrays import ula
-from simcore.sensors.radar_config import SPEED_OF_LIGHT
-from simcore.sensors.radar_synthesis import synthesize_if
+from simcore.scene.radar_arrays import ula
+from simcore.scene.radar_config import SPEED_OF_LIGHT
+from simcore.sensors.radar.synthesis import synthesize_if
 
 
 def _with_radar(project: Project, **update: Any) -> Project:

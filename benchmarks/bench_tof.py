@@ -12,7 +12,7 @@ from simcore.render import SceneRenderer
 from simcore.resources import example_path
 from simcore.scene import load_project
 from simcore.scene.snapshot import take_snapshot
-from simcore.sensors.tof import simulate_tof
+from simcore.sensors.tof.camera import simulate_tof
 
 
 def main() -> None:

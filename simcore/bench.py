@@ -20,7 +20,7 @@ import numpy as np
 from simcore.pipeline import Simulator
 from simcore.scene.model import Project
 from simcore.scene.project_io import load_project
-from simcore.sensors.radar_synthesis import synthesize_if, synthesize_if_direct
+from simcore.sensors.radar.synthesis import synthesize_if, synthesize_if_direct
 
 
 def _median(values: list[float]) -> float:

@@ -27,8 +27,8 @@ from simcore.render.renderer import Raster, changed_pixels
 from simcore.scene.model import Project
 from simcore.scene.motion import Motion
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
-from simcore.sensors.radar import RadarFrontEnd, RadarOutput
-from simcore.sensors.tof import TofOutput, simulate_tof
+from simcore.sensors.radar.frontend import RadarFrontEnd, RadarOutput
+from simcore.sensors.tof.camera import TofOutput, simulate_tof
 
 H5Items = dict[str, tuple[NDArray[np.generic], str]]
 

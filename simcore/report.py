@@ -26,8 +26,8 @@ from simcore.resources import example_path
 from simcore.scene.geometry import Box, CornerReflector, Cylinder, Plane, Sphere
 from simcore.scene.model import Project
 from simcore.scene.project_io import load_project
+from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.scene.snapshot import take_snapshot
-from simcore.sensors.radar_config import SPEED_OF_LIGHT, RadarConfig
 
 #: The reference simulator's bars (from the issues): range ¼ bin, velocity 1 bin, angle 2°,
 #: power 0.5 dB, IF error −60 dB, resolution change 1 dB.

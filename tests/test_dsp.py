@@ -37,7 +37,7 @@ from simcore.dsp import (
     virtual_array_positions_m,
 )
 from simcore.dsp.windows import peak_sidelobe_db
-from simcore.sensors.radar_config import SPEED_OF_LIGHT, Antenna, RadarConfig
+from simcore.scene.radar_config import SPEED_OF_LIGHT, Antenna, RadarConfig
 
 ROOT = Path(__file__).resolve().parents[1]
 

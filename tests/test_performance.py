@@ -17,7 +17,7 @@ from simcore.cli import main
 from simcore.pipeline import Simulator
 from simcore.resources import example_path
 from simcore.scene import load_project
-from simcore.sensors.radar_synthesis import synthesize_if
+from simcore.sensors.radar.synthesis import synthesize_if
 
 
 def relative_error_db(fast: np.ndarray, ref: np.ndarray) -> float:

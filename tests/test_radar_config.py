@@ -7,8 +7,8 @@ import pytest
 from numpy.testing import assert_allclose
 from pydantic import ValidationError
 
-from simcore.sensors.radar_arrays import circular, custom_array, l_shape, ula, ura
-from simcore.sensors.radar_config import (
+from simcore.scene.radar_arrays import circular, custom_array, l_shape, ula, ura
+from simcore.scene.radar_config import (
     SPEED_OF_LIGHT,
     Antenna,
     CosinePattern,
@@ -16,9 +16,9 @@ from simcore.sensors.radar_config import (
     TablePattern,
     aliasing_warnings,
 )
-from simcore.sensors.radar_presets import bgt60tr13c, radar_preset, tdm_mimo_2tx4rx
-from simcore.sensors.radar_scatterers import trihedral_effective_area
-from simcore.sensors.radar_synthesis import element_gain, highpass_response
+from simcore.scene.radar_presets import bgt60tr13c, radar_preset, tdm_mimo_2tx4rx
+from simcore.sensors.radar.scatterers import trihedral_effective_area
+from simcore.sensors.radar.synthesis import element_gain, highpass_response
 
 
 def positions(antennas: list[Antenna]) -> np.ndarray:

@@ -13,11 +13,11 @@ from simcore.render import PinholeIntrinsics, RenderBuffers, SceneRenderer
 from simcore.resources import example_path
 from simcore.scene import Box, PointTarget, Pose, Project, SceneObject, load_project
 from simcore.scene.model import SensorRig
+from simcore.scene.radar_arrays import ula
+from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
-from simcore.sensors.radar import RadarFrontEnd
-from simcore.sensors.radar_arrays import ula
-from simcore.sensors.radar_config import SPEED_OF_LIGHT, RadarConfig
-from simcore.sensors.radar_scatterers import KIND_CORNER_REFLECTOR, KIND_POINT_TARGET
+from simcore.sensors.radar.frontend import RadarFrontEnd
+from simcore.sensors.radar.scatterers import KIND_CORNER_REFLECTOR, KIND_POINT_TARGET
 
 IDEAL = {"noise_variance_adc": 0.0, "leakage_dbc": None, "adc_bits": None,
          "if_highpass_hz": 0.0}

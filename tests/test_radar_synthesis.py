@@ -7,12 +7,12 @@ import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
 from simcore.scene import Project
-from simcore.sensors.radar import RadarFrontEnd
-from simcore.sensors.radar_arrays import custom_array
-from simcore.sensors.radar_config import SPEED_OF_LIGHT, CosinePattern, RadarConfig
-from simcore.sensors.radar_presets import bgt60tr13c, tdm_mimo_2tx4rx
-from simcore.sensors.radar_scatterers import Scatterers
-from simcore.sensors.radar_synthesis import (
+from simcore.scene.radar_arrays import custom_array
+from simcore.scene.radar_config import SPEED_OF_LIGHT, CosinePattern, RadarConfig
+from simcore.scene.radar_presets import bgt60tr13c, tdm_mimo_2tx4rx
+from simcore.sensors.radar.frontend import RadarFrontEnd
+from simcore.sensors.radar.scatterers import Scatterers
+from simcore.sensors.radar.synthesis import (
     highpass_response,
     synthesize_if,
     synthesize_if_direct,

@@ -19,13 +19,13 @@ from simcore.scene import Plane, Pose, Project, SceneObject, load_project
 from simcore.scene.materials import band_response, load_material_library
 from simcore.scene.model import SensorRig
 from simcore.scene.snapshot import take_snapshot
-from simcore.sensors.tof import simulate_tof, unwrap_two_frequencies
-from simcore.sensors.tof_config import (
+from simcore.scene.tof_config import (
     SPEED_OF_LIGHT,
     TofCameraConfig,
     pmd_pico_flexx,
     tof_preset,
 )
+from simcore.sensors.tof.camera import simulate_tof, unwrap_two_frequencies
 
 RIG_HEIGHT_M = 1.0
 F1, F2 = 20e6, 16e6
@@ -380,7 +380,7 @@ def test_motion_artifacts_follow_the_four_sample_formula(make_renderer):
 
     from simcore.scene import Motion
     from simcore.scene.snapshot import take_snapshot
-    from simcore.sensors.tof import simulate_tof
+    from simcore.sensors.tof.camera import simulate_tof
 
     v, d0 = 30.0, 2.0                         # fast, so the artefact is centimetres
     project = wall_project(d0, material="white_paint")

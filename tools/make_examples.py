@@ -1,10 +1,12 @@
 """Regenerate the bundled example projects in canonical form: .venv/bin/python tools/make_examples.py."""
 import numpy as np
+
 from simcore.scene import *
 from simcore.scene.model import SensorRig
-from simcore.sensors.radar_presets import bgt60tr13c
-from simcore.sensors.tof_config import pmd_pico_flexx
 from simcore.scene.project_io import save_project
+from simcore.scene.radar_presets import bgt60tr13c
+from simcore.scene.tof_config import pmd_pico_flexx
+
 
 def rig(height=1.0):
     tof = pmd_pico_flexx()

@@ -35,7 +35,6 @@ from simcore.dsp.cfar import (
     os_cfar_1d,
     os_cfar_2d,
 )
-from simcore.dsp.config import DspConfig
 from simcore.dsp.detections import (
     DETECTION_DTYPE,
     DETECTION_UNITS,
@@ -66,6 +65,7 @@ from simcore.dsp.spectrum import (
     velocity_axis_mps,
 )
 from simcore.dsp.windows import make_window, power_to_db
+from simcore.scene.dsp_config import DspConfig
 
 __all__ = [
     "DETECTION_DTYPE",

@@ -22,9 +22,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from simcore.dsp.config import AngleMethod
 from simcore.dsp.windows import as_complex64
-from simcore.sensors.radar_config import Antenna, RadarConfig
+from simcore.scene.dsp_config import AngleMethod
+from simcore.scene.radar_config import Antenna, RadarConfig
 
 #: Positions closer than this are treated as equal when grouping rows/columns (m).
 POSITION_TOLERANCE_M = 1e-6

@@ -40,7 +40,7 @@ import scipy.ndimage as ndi
 from numpy.typing import ArrayLike, NDArray
 from scipy import optimize, special
 
-from simcore.dsp.config import CfarMethod, PeakGrouping
+from simcore.scene.dsp_config import CfarMethod, PeakGrouping
 
 _LogFn = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 

@@ -21,8 +21,8 @@ from simcore.dsp.angle import (
     spatial_covariance,
     steering_vectors,
 )
-from simcore.dsp.config import AngleMethod
 from simcore.dsp.windows import as_float32, power_to_db
+from simcore.scene.dsp_config import AngleMethod
 
 
 def range_profile_power(range_cube: ArrayLike) -> NDArray[np.float32]:

@@ -15,7 +15,6 @@ from simcore.dsp.angle import (
     virtual_array_positions_m,
 )
 from simcore.dsp.cfar import CfarResult, cfar_1d, cfar_2d, group_peaks, suppress_sidelobes
-from simcore.dsp.config import DspConfig
 from simcore.dsp.detections import (
     Detections,
     spherical_to_radar_xyz,
@@ -39,7 +38,8 @@ from simcore.dsp.spectrum import (
     velocity_axis_mps,
 )
 from simcore.dsp.windows import make_window, peak_sidelobe_db, power_to_db
-from simcore.sensors.radar_config import RadarConfig
+from simcore.scene.dsp_config import DspConfig
+from simcore.scene.radar_config import RadarConfig
 
 H5Items = dict[str, tuple[NDArray[np.generic], str]]
 

@@ -22,9 +22,9 @@ import numpy as np
 import scipy.fft
 from numpy.typing import ArrayLike, NDArray
 
-from simcore.dsp.config import WindowName
 from simcore.dsp.windows import as_complex64, make_window, next_pow2
-from simcore.sensors.radar_config import SPEED_OF_LIGHT
+from simcore.scene.dsp_config import WindowName
+from simcore.scene.radar_config import SPEED_OF_LIGHT
 
 
 def range_fft_size(samples_per_chirp: int, fft_size: int | None = None) -> int:

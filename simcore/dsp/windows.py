@@ -14,7 +14,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.signal import get_window
 from scipy.signal.windows import chebwin
 
-from simcore.dsp.config import WindowName
+from simcore.scene.dsp_config import WindowName
 
 #: Smallest power used before taking logarithms (keeps exact zeros finite in dB).
 POWER_FLOOR = float(np.finfo(np.float32).tiny)

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from simcore.render.camera import PinholeIntrinsics
+from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.snapshot import SensorState
 
 BANDS = ("tof", "radar")

@@ -32,8 +32,8 @@ from vtkmodules.vtkRenderingCore import (
 )
 
 from simcore.render.buffers import BANDS, RenderBuffers
-from simcore.render.camera import PinholeIntrinsics
 from simcore.render.meshes import TriangleMesh, build_mesh
+from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.geometry import Sphere
 from simcore.scene.materials import band_response
 from simcore.scene.model import Project

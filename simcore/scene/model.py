@@ -4,13 +4,13 @@ from __future__ import annotations
 
 from pydantic import Field, model_validator
 
-from simcore.dsp.config import DspConfig
 from simcore.scene.base import Model, Positive
+from simcore.scene.dsp_config import DspConfig
 from simcore.scene.geometry import Geometry
 from simcore.scene.materials import DualBandMaterial
 from simcore.scene.motion import Motion, Pose
-from simcore.sensors.radar_config import RadarConfig
-from simcore.sensors.tof_config import TofCameraConfig
+from simcore.scene.radar_config import RadarConfig
+from simcore.scene.tof_config import TofCameraConfig
 
 FORMAT_VERSION = 1
 

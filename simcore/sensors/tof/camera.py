@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 from scipy.ndimage import gaussian_filter
 
 from simcore.render.buffers import RenderBuffers, downsample_ground_truth
-from simcore.sensors.tof_config import SPEED_OF_LIGHT, TofCameraConfig
+from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
 
 #: Float dtype of every sensor-resolution ToF image.
 FLOAT = np.float32

@@ -3,9 +3,9 @@
 Two stages, so that an antenna, waveform or receiver edit re-runs only the second:
 
 1. :meth:`RadarFrontEnd.scatterers` — point scatterers from the radar render pass
-   (:mod:`simcore.sensors.radar_scatterers`); depends on the scene, not on the antennas.
+   (:mod:`simcore.sensors.radar.scatterers`); depends on the scene, not on the antennas.
 2. :meth:`RadarFrontEnd.synthesize` — IF synthesis per Tx–Rx pair and chirp with finufft,
-   then leakage, noise, high-pass and ADC (:mod:`simcore.sensors.radar_synthesis`).
+   then leakage, noise, high-pass and ADC (:mod:`simcore.sensors.radar.synthesis`).
 
 The ADC cube is in units of the ADC full scale ("FS": ±1 = largest code) and shaped
 ``(chirps, tx*rx, samples)``: float32 for a real IF, complex64 for IQ. Channel
@@ -25,10 +25,10 @@ from simcore.render.buffers import RenderBuffers
 from simcore.scene.materials import DualBandMaterial
 from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
+from simcore.scene.radar_config import RadarConfig, aliasing_warnings
 from simcore.scene.snapshot import SceneSnapshot
-from simcore.sensors.radar_config import RadarConfig, aliasing_warnings
-from simcore.sensors.radar_scatterers import KIND_FACET, Scatterers, scatterers_from_render
-from simcore.sensors.radar_synthesis import (
+from simcore.sensors.radar.scatterers import KIND_FACET, Scatterers, scatterers_from_render
+from simcore.sensors.radar.synthesis import (
     ComplexCube,
     SynthesisMethod,
     check_wavelength,

@@ -5,8 +5,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from simcore.sensors.radar_arrays import l_shape, ula
-from simcore.sensors.radar_config import SPEED_OF_LIGHT, Antenna, RadarConfig
+from simcore.scene.radar_arrays import l_shape, ula
+from simcore.scene.radar_config import SPEED_OF_LIGHT, Antenna, RadarConfig
 
 
 def bgt60tr13c(**overrides: Any) -> RadarConfig:

@@ -1,6 +1,6 @@
 """Antenna array layouts on the radar board: ULA, URA, L-shape, circular, custom.
 
-Every helper returns a list of :class:`~simcore.sensors.radar_config.Antenna` with
+Every helper returns a list of :class:`~simcore.scene.radar_config.Antenna` with
 positions in millimetres on the board (x right, y down, as seen from behind the board
 looking along the boresight). ``origin_mm`` shifts the whole layout.
 """
@@ -11,7 +11,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from simcore.sensors.radar_config import Antenna
+from simcore.scene.radar_config import Antenna
 
 
 def custom_array(positions_mm: Sequence[tuple[float, float]], *, prefix: str = "rx"

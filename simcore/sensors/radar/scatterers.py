@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simcore.render.buffers import RenderBuffers
-from simcore.render.camera import PinholeIntrinsics
+from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.geometry import CornerReflector, PointTarget, corner_reflector_axes
 from simcore.scene.materials import DualBandMaterial
 from simcore.scene.model import Project
@@ -81,7 +81,7 @@ class Scatterers:
         targets. ``None`` when the scatterers do not come from a render. Two renders of
         the same static surface from the same pose give equal keys and equal values,
         which lets the IF of a static background be re-used
-        (:meth:`simcore.sensors.radar.RadarFrontEnd.set_background`).
+        (:meth:`simcore.sensors.radar.frontend.RadarFrontEnd.set_background`).
     """
 
     time_s: float

@@ -36,14 +36,14 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import RegularGridInterpolator
 
-from simcore.sensors.radar_config import (
+from simcore.scene.radar_config import (
     SPEED_OF_LIGHT,
     CosinePattern,
     ElementPattern,
     RadarConfig,
     TablePattern,
 )
-from simcore.sensors.radar_scatterers import Scatterers
+from simcore.sensors.radar.scatterers import Scatterers
 
 BOLTZMANN = 1.380649e-23
 #: Reference noise temperature of the noise figure (K).

@@ -13,17 +13,15 @@ antenna gains, conversion gain and leakage are representative values, not measur
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Annotated, Literal, Union
+from typing import Annotated, Literal, Union
 
 import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field, model_validator
 
 from simcore.scene.base import Finite, Model, Vec2
+from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.motion import Pose
-
-if TYPE_CHECKING:
-    from simcore.render.camera import PinholeIntrinsics
 
 SPEED_OF_LIGHT = 299_792_458.0
 
@@ -256,8 +254,6 @@ class RadarConfig(Model):
 
     def facet_intrinsics(self) -> PinholeIntrinsics:
         """Facet grid: one scatterer per grid cell and object (square cells over the FOV)."""
-        from simcore.render.camera import PinholeIntrinsics
-
         return PinholeIntrinsics.from_fov(self.render_width, self.render_height,
                                           self.render_fov_h_deg)
 

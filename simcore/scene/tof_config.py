@@ -19,15 +19,12 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from math import gcd
-from typing import TYPE_CHECKING
 
 from pydantic import Field, model_validator
 
 from simcore.scene.base import Model
+from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.motion import Pose
-
-if TYPE_CHECKING:  # the render package imports the scene model, which imports this module
-    from simcore.render.camera import PinholeIntrinsics
 
 SPEED_OF_LIGHT = 299_792_458.0
 PLANCK = 6.626_070_15e-34
@@ -115,8 +112,6 @@ class TofCameraConfig(Model):
     # --- geometry ----------------------------------------------------------------------
     def intrinsics(self) -> PinholeIntrinsics:
         """Pinhole intrinsics of the sensor pixel grid (``width`` × ``height``)."""
-        from simcore.render.camera import PinholeIntrinsics
-
         return PinholeIntrinsics.from_fov(self.width, self.height, self.fov_h_deg,
                                           self.fov_v_deg)
 

@@ -1,0 +1,1 @@
+"""FMCW radar: scatterers from the radar render, IF synthesis, receiver."""

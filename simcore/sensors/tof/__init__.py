@@ -1,0 +1,1 @@
+"""AMCW Time-of-Flight camera."""
