@@ -66,7 +66,7 @@ class Scatterers:
     positions_m : ndarray, shape (M, 3), float64
         Scatterer positions, radar optical frame (x right, y down, z boresight), m.
     velocities_mps : ndarray, shape (M, 3), float64
-        Velocities relative to the radar, optical frame (m/s).
+        Velocities relative to the radar at ``time_s``, optical frame (m/s).
     rcs_m2 : ndarray, shape (M,), float64
         Radar cross-section of each scatterer (m²).
     phase_rad : ndarray, shape (M,), float64
@@ -82,6 +82,12 @@ class Scatterers:
         the same static surface from the same pose give equal keys and equal values,
         which lets the IF of a static background be re-used
         (:meth:`simcore.sensors.radar.frontend.RadarFrontEnd.set_background`).
+    accelerations_mps2 : ndarray, shape (M, 3), float64, or None
+        Accelerations relative to the radar at ``time_s``, optical frame (m/s²); None means
+        zeros. With the velocities they define the motion model of the synthesis over a
+        frame, ``x(t) = x + v t + a t² / 2`` (t from ``time_s``); a rotating rig gives
+        static points a relative (centripetal and Coriolis) acceleration
+        (:mod:`simcore.sensors.radar.kinematics`).
     """
 
     time_s: float
@@ -93,6 +99,7 @@ class Scatterers:
     object_index: NDArray[np.int32]
     kind: NDArray[np.int8]
     facet_key: NDArray[np.int64] | None = None
+    accelerations_mps2: NDArray[np.float64] | None = None
 
     def __len__(self) -> int:
         return int(self.rcs_m2.shape[0])
@@ -105,13 +112,43 @@ class Scatterers:
             rcs_m2=self.rcs_m2[index], phase_rad=self.phase_rad[index],
             object_index=self.object_index[index], kind=self.kind[index],
             facet_key=None if self.facet_key is None else self.facet_key[index],
+            accelerations_mps2=(None if self.accelerations_mps2 is None
+                                else self.accelerations_mps2[index]),
         )
+
+    @property
+    def accelerations(self) -> NDArray[np.float64]:
+        """``accelerations_mps2``, zeros when it is None; shape (M, 3), m/s²."""
+        if self.accelerations_mps2 is None:
+            return np.zeros((len(self), 3))
+        return self.accelerations_mps2
+
+    def moving(self) -> NDArray[np.bool_]:
+        """Scatterers with a non-zero velocity or acceleration relative to the radar, (M,)."""
+        vel = self.velocities_mps
+        out = (vel[:, 0] != 0.0) | (vel[:, 1] != 0.0) | (vel[:, 2] != 0.0)
+        if self.accelerations_mps2 is not None:
+            out |= np.any(self.accelerations_mps2 != 0.0, axis=1)
+        return out
+
+    def positions_at(self, times_s: NDArray[np.floating]) -> NDArray[np.float64]:
+        """Positions of the motion model at times after ``time_s``, shape (M, T, 3), m.
+
+        ``x + v t + a t² / 2`` for every scatterer and every time in ``times_s`` (shape (T,),
+        seconds from the frame start); the default trajectory of the synthesis.
+        """
+        t = np.asarray(times_s, dtype=np.float64).reshape(1, -1, 1)
+        pos = self.positions_m[:, None, :] + self.velocities_mps[:, None, :] * t
+        if self.accelerations_mps2 is not None:
+            pos = pos + 0.5 * self.accelerations_mps2[:, None, :] * t**2
+        return pos
 
     @classmethod
     def from_arrays(cls, positions_m: NDArray[np.floating], rcs_m2: NDArray[np.floating], *,
                     velocities_mps: NDArray[np.floating] | None = None,
                     phase_rad: NDArray[np.floating] | None = None, time_s: float = 0.0,
-                    wavelength_m: float = 0.0) -> Scatterers:
+                    wavelength_m: float = 0.0,
+                    accelerations_mps2: NDArray[np.floating] | None = None) -> Scatterers:
         """Build scatterers directly (tests, custom scenes); missing arrays are zeros.
 
         Parameters
@@ -126,6 +163,8 @@ class Scatterers:
             Extra scattering phase (rad).
         time_s, wavelength_m : float
             Frame start time (s); wavelength of the analytic RCS (0 = not applicable).
+        accelerations_mps2 : ndarray, shape (M, 3), optional
+            Relative accelerations, optical frame (m/s²); default none (zeros).
         """
         pos = np.asarray(positions_m, dtype=np.float64).reshape(-1, 3)
         m = len(pos)
@@ -138,6 +177,8 @@ class Scatterers:
                        else np.asarray(phase_rad, dtype=np.float64).reshape(m)),
             object_index=np.full(m, -1, dtype=np.int32),
             kind=np.full(m, KIND_POINT_TARGET, dtype=np.int8),
+            accelerations_mps2=(None if accelerations_mps2 is None else np.asarray(
+                accelerations_mps2, dtype=np.float64).reshape(m, 3)),
         )
 
 
