@@ -37,6 +37,7 @@ caller that synthesises one scatterer set several times (antenna edits) keeps th
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import threading
 from collections.abc import Callable, Iterator
@@ -122,6 +123,10 @@ class PreparedScatterers:
         The scatterers these arrays belong to.
     n_static : int
         Number of static scatterers (the first rows).
+    order : ndarray of int, shape (M,)
+        Index in ``source`` of each prepared row.
+    accelerates : bool
+        Whether any scatterer has a non-zero acceleration.
     positions : ndarray, shape (M, 3)
         Positions at the frame start, static first (m).
     pos, vel, acc : ndarray, shape (3, M)
@@ -134,6 +139,8 @@ class PreparedScatterers:
 
     source: Scatterers
     n_static: int
+    order: NDArray[np.intp]
+    accelerates: bool
     positions: NDArray[np.float64]
     pos: NDArray[np.float64]
     vel: NDArray[np.float64]
@@ -160,15 +167,15 @@ def prepare(scatterers: Scatterers) -> PreparedScatterers:
     moving = scatterers.moving()
     n_moving = int(np.count_nonzero(moving))
     n_static = len(moving) - n_moving
-    order: NDArray[np.intp] | slice = slice(None)
-    if n_moving and n_static:
-        order = np.concatenate([np.flatnonzero(~moving), np.flatnonzero(moving)])
+    order = np.concatenate([np.flatnonzero(~moving), np.flatnonzero(moving)])
     positions = scatterers.positions_m[order]
+    acc = scatterers.accelerations[order]
     return PreparedScatterers(
-        source=scatterers, n_static=n_static, positions=positions,
+        source=scatterers, n_static=n_static, order=order,
+        accelerates=bool(np.any(acc != 0.0)), positions=positions,
         pos=np.ascontiguousarray(positions.T),
         vel=np.ascontiguousarray(scatterers.velocities_mps[order].T),
-        acc=np.ascontiguousarray(scatterers.accelerations[order].T),
+        acc=np.ascontiguousarray(acc.T),
         rcs=scatterers.rcs_m2[order].astype(np.float32),
         phase=np.ascontiguousarray(scatterers.phase_rad[order], dtype=np.float64))
 
@@ -385,12 +392,36 @@ class _Targets:
                    b_max=float(np.abs(b).max()))
 
 
-def _positions(prep: PreparedScatterers, idx: NDArray[np.intp], times: NDArray[np.float64]
-               ) -> NDArray[np.float64]:
-    """Motion-model positions ``x + v t + a t²/2``, shape (3, T, len(idx)) (m)."""
-    t = times[None, :, None]
-    return (prep.pos[:, None, idx] + prep.vel[:, None, idx] * t
-            + 0.5 * prep.acc[:, None, idx] * t * t)
+#: Fit nodes of a block, in units of its half-duration U from its centre: the parabola goes
+#: through nodes 0, 2, 4; the others measure the model's error.
+_NODES = np.array([-1.0, -0.5, 0.0, 0.5, 1.0])
+#: With an exact trajectory (possibly with kinks): four more check nodes.
+_NODES_FINE = np.array([-1.0, -0.5, 0.0, 0.5, 1.0, -0.75, -0.25, 0.25, 0.75])
+
+
+@dataclass(frozen=True)
+class _Motion:
+    """Where the moving scatterers are: their motion model, or an exact trajectory."""
+
+    prep: PreparedScatterers
+    trajectory: Trajectory | None = None
+
+    @property
+    def nodes(self) -> NDArray[np.float64]:
+        return _NODES if self.trajectory is None else _NODES_FINE
+
+    def positions(self, idx: NDArray[np.intp], times: NDArray[np.float64]
+                  ) -> NDArray[np.float64]:
+        """Positions of prepared rows ``idx`` at ``times``, shape (3, T, len(idx)) (m)."""
+        prep = self.prep
+        if self.trajectory is not None:
+            pos = np.asarray(self.trajectory(times), dtype=np.float64)      # (M, T, 3)
+            return np.ascontiguousarray(pos[prep.order[idx]].transpose(2, 1, 0))
+        t = times[None, :, None]
+        out = prep.pos[:, None, idx] + prep.vel[:, None, idx] * t
+        if prep.accelerates:
+            out += 0.5 * prep.acc[:, None, idx] * (t * t)
+        return out
 
 
 def _series_order(a: NDArray[np.float64], eps: float) -> NDArray[np.int8]:
@@ -432,26 +463,25 @@ class _Fit:
     ok: NDArray[np.bool_]             # model within the budget
 
 
-_NODES = np.array([-1.0, -0.5, 0.0, 0.5, 1.0])
+def _fit(path: NDArray[np.float64], nodes: NDArray[np.float64], tg: _Targets, sweep: _Sweep
+         ) -> _Fit:
+    """Fit ``L(t_c + u) ≈ L₀ + L₁ u + L₂ u²/2`` to path lengths at ``t_c + U·nodes``.
 
-
-def _fit(path: NDArray[np.float64], tg: _Targets, sweep: _Sweep) -> _Fit:
-    """Fit ``L(t_c + u) ≈ L₀ + L₁ u + L₂ u²/2`` to path lengths at ``t_c + U·_NODES``.
-
-    The parabola goes through the block's ends and centre; its deviation at ``u = ±U/2``
-    (×1.5, which bounds a cubic or quartic remainder over the whole block) is the geometric
-    model error. Added to it: the terms of ``−πKτ²`` folded approximately into the sources
-    (``docs/physics_radar.md``). A scatterer is within the model when that error is at most
-    ``eps_model`` and a series of at most :data:`MAX_SERIES_ORDER` terms brings the
-    curvature within ``eps_series``.
+    The parabola goes through the block's ends and centre; its largest deviation at the
+    other nodes (±U/2, and ±U/4, ±3U/4 for a trajectory), ×1.5, which bounds a cubic or
+    quartic remainder over the whole block, is the geometric model error. Added to it: the
+    terms of ``−πKτ²`` folded approximately into the sources (``docs/physics_radar.md``).
+    A scatterer is within the model when that error is at most ``eps_model`` and a series
+    of at most :data:`MAX_SERIES_ORDER` terms brings the curvature within ``eps_series``.
     """
     c, k, big_u = SPEED_OF_LIGHT, sweep.slope, tg.half
     l0 = path[2]
     l1 = (path[4] - path[0]) * (0.5 / big_u)
     l2 = (path[4] - 2.0 * l0 + path[0]) * (1.0 / big_u**2)
-    mid = l0 + l2 * (big_u * big_u / 8.0)
-    half_step = (0.5 * big_u) * l1
-    res = np.maximum(np.abs(path[1] - (mid - half_step)), np.abs(path[3] - (mid + half_step)))
+    res = np.zeros_like(l0)
+    for j in [1, 3, *range(5, len(path))]:
+        u = big_u * float(nodes[j])
+        np.maximum(res, np.abs(path[j] - (l0 + u * l1 + (0.5 * u * u) * l2)), out=res)
     tau, beta, alpha2 = l0 * (1.0 / c), l1 * (1.0 / c), l2 * (0.5 / c)
     alpha = alpha2 - (k / (2.0 * sweep.f_r)) * beta * beta
     gamma = (k / sweep.f_r) * tau * beta
@@ -520,7 +550,7 @@ def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg:
     return blk + corr
 
 
-def _moving_block(prep: PreparedScatterers, idx: NDArray[np.intp], w0: NDArray[np.complex128],
+def _moving_block(motion: _Motion, idx: NDArray[np.intp], w0: NDArray[np.complex128],
                   pair: tuple[int, NDArray[np.float64], NDArray[np.float64]],
                   m0: int, m1: int, sweep: _Sweep, out: NDArray[np.complex128],
                   path: NDArray[np.float64] | None = None) -> None:
@@ -548,9 +578,9 @@ def _moving_block(prep: PreparedScatterers, idx: NDArray[np.intp], w0: NDArray[n
     tx, p_t, p_r = pair
     tg = _Targets.of(sweep, tx, m0, m1)
     if path is None:
-        pos = _positions(prep, idx, tg.t_c + tg.half * _NODES)
+        pos = motion.positions(idx, tg.t_c + tg.half * motion.nodes)
         path = _distance(pos, p_t) + _distance(pos, p_r)
-    fit = _fit(path, tg, sweep)
+    fit = _fit(path, motion.nodes, tg, sweep)
     sel = np.flatnonzero(fit.ok)
     n_blk = m1 - m0
     if len(sel):
@@ -560,12 +590,13 @@ def _moving_block(prep: PreparedScatterers, idx: NDArray[np.intp], w0: NDArray[n
         return
     if n_blk > 1 and len(rest) * tg.s.size > DIRECT_MAX_TERMS:
         mid = (m0 + m1) // 2
-        _moving_block(prep, idx[rest], w0[rest], pair, m0, mid, sweep, out)
-        _moving_block(prep, idx[rest], w0[rest], pair, mid, m1, sweep, out)
+        _moving_block(motion, idx[rest], w0[rest], pair, m0, mid, sweep, out)
+        _moving_block(motion, idx[rest], w0[rest], pair, mid, m1, sweep, out)
         return
     for m in range(m0, m1):
         times = sweep.starts[m, tx] + sweep.t_n
-        out[m] += _direct_chirp(sweep, _positions(prep, idx[rest], times), p_t, p_r, w0[rest])
+        out[m] += _direct_chirp(sweep, motion.positions(idx[rest], times), p_t, p_r,
+                                w0[rest])
 
 
 def _frame_amplitudes(prep: PreparedScatterers, rows: slice, t: int, r: int,
@@ -585,7 +616,7 @@ def _frame_amplitudes(prep: PreparedScatterers, rows: slice, t: int, r: int,
     return np.asarray(amp * h * (np.cos(ph) + 1j * np.sin(ph)), dtype=np.complex128)
 
 
-def _moving_task(prep: PreparedScatterers, rows: slice, t: int, sweep: _Sweep,
+def _moving_task(motion: _Motion, rows: slice, t: int, sweep: _Sweep,
                  config: RadarConfig) -> list[NDArray[np.complex128]]:
     """One block of moving scatterers, one Tx, every Rx: the IF over all chirps.
 
@@ -599,7 +630,8 @@ def _moving_task(prep: PreparedScatterers, rows: slice, t: int, sweep: _Sweep,
     n_c = config.chirps_per_frame
     idx = np.arange(rows.start, rows.stop)
     tg = _Targets.of(sweep, t, 0, n_c)
-    nodes = _positions(prep, idx, np.concatenate([[0.0], tg.t_c + tg.half * _NODES]))
+    prep = motion.prep
+    nodes = motion.positions(idx, np.concatenate([[0.0], tg.t_c + tg.half * motion.nodes]))
     p_t = config.tx_positions_m()[t]
     d_t = _distance(nodes, p_t)
     outs = []
@@ -607,7 +639,7 @@ def _moving_task(prep: PreparedScatterers, rows: slice, t: int, sweep: _Sweep,
         out = np.zeros((n_c, config.samples_per_chirp), dtype=np.complex128)
         d_r = _distance(nodes, p_r)
         w0 = _frame_amplitudes(prep, rows, t, r, config, d_t[0], d_r[0])
-        _moving_block(prep, idx, w0, (t, p_t, p_r), 0, n_c, sweep, out,
+        _moving_block(motion, idx, w0, (t, p_t, p_r), 0, n_c, sweep, out,
                       path=d_t[1:] + d_r[1:])
         outs.append(out)
     return outs
@@ -640,7 +672,8 @@ _Task = tuple[bool, slice, int]
 
 
 def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int | None = None,
-                  prepared: PreparedScatterers | None = None) -> ComplexCube:
+                  prepared: PreparedScatterers | None = None,
+                  trajectory: Trajectory | None = None) -> ComplexCube:
     """Noise-free complex IF of all scatterers with finufft (fast path).
 
     Static scatterers (no velocity or acceleration relative to the radar) are transformed
@@ -663,6 +696,13 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
         Worker threads (default :data:`DEFAULT_THREADS`; 1 runs on the calling thread).
     prepared : PreparedScatterers, optional
         ``prepare(scatterers)``, when the caller keeps it (otherwise made here).
+    trajectory : callable, optional
+        ``times_s (T,) → positions (M, T, 3)``: exact radar-frame positions of all the
+        scatterers at times after the frame start (m), when their motion over the frame is
+        not the model ``x + v t + a t²/2`` (a keyframed path that turns a corner within the
+        frame). Every scatterer is then treated as moving, the model is fitted to the
+        trajectory block by block and checked at more nodes; it is called with a few times
+        per block and returns all the scatterers each time, so it suits small sets.
 
     Returns
     -------
@@ -681,6 +721,9 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
     elif prepared.source is not scatterers:
         raise ValueError("prepared belongs to another Scatterers object; use prepare(scatterers)")
     prep = prepared
+    if trajectory is not None:
+        prep = dataclasses.replace(prep, n_static=0)
+    motion = _Motion(prep, trajectory)
     wave = _Waveform.of(config)
     sweep = _Sweep.of(config)
 
@@ -695,7 +738,7 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
     def run(task: _Task) -> list[NDArray[np.complexfloating]]:
         moves, rows, t = task
         if moves:
-            return list(_moving_task(prep, rows, t, sweep, config))
+            return list(_moving_task(motion, rows, t, sweep, config))
         return _static_task(prep, rows, t, wave, config)
 
     n_threads = DEFAULT_THREADS if threads is None else max(1, int(threads))
