@@ -30,8 +30,10 @@ from simcore.scene.snapshot import SceneSnapshot
 from simcore.sensors.radar.scatterers import KIND_FACET, Scatterers, scatterers_from_render
 from simcore.sensors.radar.synthesis import (
     ComplexCube,
+    PreparedScatterers,
     SynthesisMethod,
     check_wavelength,
+    prepare,
     receiver_chain,
     synthesize_if,
     synthesize_if_direct,
@@ -114,6 +116,8 @@ class RadarFrontEnd:
         self._background: tuple[SceneSnapshot, RenderBuffers] | None = None
         self._bg_scatterers: tuple[tuple[object, ...], Scatterers, NDArray[np.int32]] | None = None
         self._bg_if: tuple[Scatterers, str, ComplexCube] | None = None
+        #: Prepared arrays of the last few scatterer sets (background, frame, subsets).
+        self._prepared: list[PreparedScatterers] = []
         #: Scatterers of the last frame synthesised over the background, and how many of
         #: them were transformed (0 when the background was not used), for benchmarks.
         self.last_transformed: int = 0
@@ -246,14 +250,22 @@ class RadarFrontEnd:
         cfg = self.config
         config_key = cfg.model_dump_json()
         if self._bg_if is None or self._bg_if[0] is not bg or self._bg_if[1] != config_key:
-            self._bg_if = (bg, config_key, synthesize_if(bg, cfg))
+            self._bg_if = (bg, config_key, self._synthesize(bg))
         out = self._bg_if[2].copy()
         if len(hidden):
-            out -= synthesize_if(hidden, cfg)
+            out -= self._synthesize(hidden)
         if len(others):
-            out += synthesize_if(others, cfg)
+            out += self._synthesize(others)
         self.last_transformed = len(hidden) + len(others)
         return out
+
+    def _synthesize(self, scatterers: Scatterers) -> ComplexCube:
+        """:func:`synthesize_if` with the prepared arrays of recent scatterer sets kept."""
+        prep = next((p for p in self._prepared if p.source is scatterers), None)
+        if prep is None:
+            prep = prepare(scatterers)
+            self._prepared = [*self._prepared[-3:], prep]
+        return synthesize_if(scatterers, self.config, prepared=prep)
 
     def ideal_if(self, scatterers: Scatterers, *, method: SynthesisMethod = "nufft"
                  ) -> ComplexCube:
@@ -271,7 +283,7 @@ class RadarFrontEnd:
                 if out is not None:
                     return out
                 self.last_transformed = len(scatterers)
-            return synthesize_if(scatterers, self.config)
+            return self._synthesize(scatterers)
         if method == "direct":
             return synthesize_if_direct(scatterers, self.config)
         raise ValueError(f"unknown synthesis method {method!r}; use 'nufft' or 'direct'")

@@ -39,6 +39,7 @@ from simcore.scene.materials import DualBandMaterial
 from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot
+from simcore.sensors.radar.kinematics import rigid_point_motion
 
 #: Smallest cos(incidence) used in the pixel area (grazing guard, ≈ 88.9°).
 COS_MIN = 0.02
@@ -508,6 +509,7 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
         phase[n:] = 0.0
         obj[n:] = extra_obj
         kinds[n:] = extra_kind
+    acc = _rotation_kinematics(snapshot, pos, vel, obj)
     return Scatterers(
         time_s=float(snapshot.time_s),
         wavelength_m=float(wavelength_m),
@@ -518,4 +520,33 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
         object_index=obj,
         kind=kinds,
         facet_key=key,
+        accelerations_mps2=acc,
     )
+
+
+def _rotation_kinematics(snapshot: SceneSnapshot, pos: NDArray[np.float64],
+                         vel: NDArray[np.float64], obj: NDArray[np.int32]
+                         ) -> NDArray[np.float64] | None:
+    """Exact relative velocities (in place) and accelerations where something rotates.
+
+    The render's velocities are exact for translating objects and a translating rig; a
+    rotating object or a turning rig adds relative velocity (the rig's rotation) and
+    acceleration (centripetal, Coriolis), from
+    :func:`~simcore.sensors.radar.kinematics.rigid_point_motion`. None when nothing rotates
+    (all accelerations zero).
+    """
+    rig_turns = bool(np.any(snapshot.rig.angular_velocity_rps))
+    turning = [i for i, o in enumerate(snapshot.objects)
+               if rig_turns or np.any(o.angular_velocity_rps)]
+    if not turning or not len(pos):
+        return None
+    radar = snapshot.radar
+    acc = np.zeros_like(pos)
+    for i in turning:
+        sel = np.flatnonzero(obj == i)
+        if not len(sel):
+            continue
+        world = pos[sel] @ radar.rotation.T + radar.position
+        _, vel[sel], acc[sel] = rigid_point_motion(world, snapshot.objects[i], snapshot.rig,
+                                                   radar)
+    return acc

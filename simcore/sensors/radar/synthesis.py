@@ -92,6 +92,8 @@ MAX_SERIES_ORDER = 4
 #: Scatterers × samples below which a fallback block is summed directly (a type-3
 #: transform costs ≈ 0.5–4 ms whatever its size; the direct sum ≈ 30 ns per term).
 DIRECT_MAX_TERMS = 32768
+#: Scatterers per chunk of the position and path-length arithmetic (cache-sized arrays).
+FIT_CHUNK = 16384
 #: Loosest tolerance of the curvature-series transforms (their terms are small).
 SERIES_NUFFT_TOLERANCE = 1e-3
 
@@ -239,8 +241,9 @@ def _plan3(n_trans: int, eps: float) -> finufft.Plan:
     _PLANS.plans3 = plans
     key = (n_trans, eps)
     if key not in plans:
+        # Unsorted points: the fine grid (≈ 600 × 20 at the preset) stays in cache anyway.
         plans[key] = finufft.Plan(3, 2, n_trans=n_trans, eps=eps, isign=1, nthreads=1,
-                                  dtype="complex128")
+                                  spread_sort=0, dtype="complex128")
     return plans[key]
 
 
@@ -347,9 +350,9 @@ class _Sweep:
     f_max: float
     rel_df: float                     # max |f_inst − f_r| / f_r
     slope: float
-    eps_model: float                  # budget of the neglected terms per scatterer (rad)
-    eps_series: float                 # budget of the truncated curvature series (rad)
-    eps_nufft: float
+    eps: float                        # per-scatterer budget, model + series (rad)
+    eps_model: float                  # at most this much of it for the model's remainder
+    eps_nufft: float                  # tolerance of the main transforms
 
     @classmethod
     def of(cls, config: RadarConfig) -> _Sweep:
@@ -360,8 +363,8 @@ class _Sweep:
         eps = max(config.nufft_tolerance, MOTION_TOLERANCE_FLOOR)
         return cls(t_n=t_n, starts=config.chirp_start_times_s(), f_inst=f_inst, f_r=f_r,
                    f_max=float(f_inst[-1]), rel_df=float(np.abs(f_inst - f_r).max() / f_r),
-                   slope=slope, eps_model=0.5 * eps, eps_series=0.5 * eps,
-                   eps_nufft=config.nufft_tolerance)
+                   slope=slope, eps=eps, eps_model=0.5 * eps,
+                   eps_nufft=max(config.nufft_tolerance, 0.1 * eps))
 
 
 @dataclass(frozen=True)
@@ -424,7 +427,8 @@ class _Motion:
         return out
 
 
-def _series_order(a: NDArray[np.float64], eps: float) -> NDArray[np.int8]:
+def _series_order(a: NDArray[np.float64], eps: NDArray[np.float64] | float
+                  ) -> NDArray[np.int8]:
     """Smallest ``P`` with ``a^(P+1) / (P+1)! ≤ eps`` (MAX_SERIES_ORDER + 1 if none)."""
     order = np.zeros(a.shape, dtype=np.int8)
     term = a.copy()
@@ -472,7 +476,8 @@ def _fit(path: NDArray[np.float64], nodes: NDArray[np.float64], tg: _Targets, sw
     quartic remainder over the whole block, is the geometric model error. Added to it: the
     terms of ``−πKτ²`` folded approximately into the sources (``docs/physics_radar.md``).
     A scatterer is within the model when that error is at most ``eps_model`` and a series
-    of at most :data:`MAX_SERIES_ORDER` terms brings the curvature within ``eps_series``.
+    of at most :data:`MAX_SERIES_ORDER` terms brings the curvature within what is left of
+    ``eps``.
     """
     c, k, big_u = SPEED_OF_LIGHT, sweep.slope, tg.half
     l0 = path[2]
@@ -493,7 +498,8 @@ def _fit(path: NDArray[np.float64], nodes: NDArray[np.float64], tg: _Targets, sw
     g = np.abs(gamma) * float(np.abs(tg.b2).max())
     cross = g > 0.1 * sweep.eps_model
     err += np.where(cross, 0.5 * g * g + a * g, g)
-    order = _series_order(a, sweep.eps_series)
+    # The series gets what the model leaves of the budget (at least half of it).
+    order = _series_order(a, sweep.eps - np.minimum(err, sweep.eps_model))
     ok = (err <= sweep.eps_model) & (order <= MAX_SERIES_ORDER)
     return _Fit(tau=tau, beta=beta, alpha=alpha, gamma=gamma, cross=cross, order=order, ok=ok)
 
@@ -523,7 +529,7 @@ def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg:
     if not len(part):
         return blk
     # Rows 0 … P−1: the curvature series, term q+1 at most a^(q+1)/(q+1)! of the main one;
-    # row P: the first-order γ term. A tolerance of eps_series / max(a, g) does for all.
+    # row P: the first-order γ term. A tolerance of (eps/2) / max(a, g) does for all.
     p_max = int(order[part].max())
     n_cross = int(cross[part].any())
     ia = 1j * alpha[part]
@@ -537,8 +543,9 @@ def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg:
         gamma = np.where(cross[part], fit.gamma[sel[part]], 0.0)
         coef[p_max] = w[part] * 1j * gamma
         size = max(size, float(np.abs(gamma).max() * np.abs(tg.b2).max()))
-    eps = min(max(sweep.eps_nufft, sweep.eps_series / max(size, 1e-300)),
+    eps = min(max(sweep.eps_nufft, 0.5 * sweep.eps / max(size, 1e-300)),
               SERIES_NUFFT_TOLERANCE)
+    eps = 10.0 ** np.floor(np.log10(eps))               # few distinct plans per thread
     plan = _plan3(len(coef), eps)
     plan.setpts(x[part], y[part], None, tg.s, tg.t)
     f = plan.execute(coef if len(coef) > 1 else coef[0]).reshape(len(coef), -1)
@@ -620,27 +627,37 @@ def _moving_task(motion: _Motion, rows: slice, t: int, sweep: _Sweep,
                  config: RadarConfig) -> list[NDArray[np.complex128]]:
     """One block of moving scatterers, one Tx, every Rx: the IF over all chirps.
 
-    The positions at the frame's fit nodes are computed once for all Rx.
+    The positions at the frame's fit nodes are computed once for all Rx, in cache-sized
+    chunks; the transforms then take the whole block at once (their fixed cost is paid
+    once per block).
 
     Returns
     -------
     list of ndarray, shape (chirps, samples)
         One per Rx.
     """
-    n_c = config.chirps_per_frame
+    n_c, n_rx = config.chirps_per_frame, len(config.rx)
     idx = np.arange(rows.start, rows.stop)
     tg = _Targets.of(sweep, t, 0, n_c)
-    prep = motion.prep
-    nodes = motion.positions(idx, np.concatenate([[0.0], tg.t_c + tg.half * motion.nodes]))
-    p_t = config.tx_positions_m()[t]
-    d_t = _distance(nodes, p_t)
+    times = np.concatenate([[0.0], tg.t_c + tg.half * motion.nodes])
+    p_t, p_rx = config.tx_positions_m()[t], config.rx_positions_m()
+    d0_t = np.empty(len(idx))
+    d0_r = np.empty((n_rx, len(idx)))
+    path = np.empty((n_rx, len(times) - 1, len(idx)))
+    for lo in range(0, len(idx), FIT_CHUNK):
+        hi = min(lo + FIT_CHUNK, len(idx))
+        pos = motion.positions(idx[lo:hi], times)                      # (3, T, b)
+        d_t = _distance(pos, p_t)
+        d0_t[lo:hi] = d_t[0]
+        for r in range(n_rx):
+            d_r = _distance(pos, p_rx[r])
+            d0_r[r, lo:hi] = d_r[0]
+            np.add(d_t[1:], d_r[1:], out=path[r, :, lo:hi])
     outs = []
-    for r, p_r in enumerate(config.rx_positions_m()):
+    for r in range(n_rx):
         out = np.zeros((n_c, config.samples_per_chirp), dtype=np.complex128)
-        d_r = _distance(nodes, p_r)
-        w0 = _frame_amplitudes(prep, rows, t, r, config, d_t[0], d_r[0])
-        _moving_block(motion, idx, w0, (t, p_t, p_r), 0, n_c, sweep, out,
-                      path=d_t[1:] + d_r[1:])
+        w0 = _frame_amplitudes(motion.prep, rows, t, r, config, d0_t, d0_r[r])
+        _moving_block(motion, idx, w0, (t, p_t, p_rx[r]), 0, n_c, sweep, out, path=path[r])
         outs.append(out)
     return outs
 
@@ -731,8 +748,12 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
     for lo in range(0, prep.n_static, BLOCK):
         rows = slice(lo, min(lo + BLOCK, prep.n_static))
         tasks.extend((False, rows, t) for t in range(n_tx))
-    for lo in range(prep.n_static, len(prep), BLOCK):
-        rows = slice(lo, min(lo + BLOCK, len(prep)))
+    n_threads = DEFAULT_THREADS if threads is None else max(1, int(threads))
+    # Moving scatterers: as few tasks as keep the threads busy (each type-3 transform has a
+    # fixed cost of ≈ 2 ms at its 8192 targets, whatever its number of points).
+    step = max(BLOCK, -(-(len(prep) - prep.n_static) // n_threads))
+    for lo in range(prep.n_static, len(prep), step):
+        rows = slice(lo, min(lo + step, len(prep)))
         tasks.extend((True, rows, t) for t in range(n_tx))
 
     def run(task: _Task) -> list[NDArray[np.complexfloating]]:
@@ -741,7 +762,6 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
             return list(_moving_task(motion, rows, t, sweep, config))
         return _static_task(prep, rows, t, wave, config)
 
-    n_threads = DEFAULT_THREADS if threads is None else max(1, int(threads))
     results: Iterator[list[NDArray[np.complexfloating]]]
     if n_threads == 1 or len(tasks) == 1:
         results = map(run, tasks)
