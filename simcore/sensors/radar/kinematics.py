@@ -53,20 +53,55 @@ def rigid_point_motion(points_world: NDArray[np.floating], body: RigidState,
         Relative accelerations, radar optical frame (m/s²).
     """
     x = np.asarray(points_world, dtype=np.float64).reshape(-1, 3)
-    w_b = np.asarray(body.angular_velocity_rps, dtype=np.float64)
-    w = np.asarray(rig.angular_velocity_rps, dtype=np.float64)
-    s = radar.position
+    vel_m, vel_c, acc_m, acc_c = motion_maps(body, rig, radar)
+    local = (x - radar.position) @ radar.rotation
+    return local, local @ vel_m.T + vel_c, local @ acc_m.T + acc_c
+
+
+def motion_maps(body: RigidState, rig: RigidState, radar: SensorState
+                ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
+                           NDArray[np.float64]]:
+    """Affine maps from radar-frame position to relative velocity and acceleration.
+
+    For points fixed to ``body``, ``ẋ = M_v x + c_v`` and ``ẍ = M_a x + c_a`` with ``x`` in
+    the radar optical frame (cross products with the constant angular velocities are 3×3
+    matrices; see the module docstring).
+
+    Returns
+    -------
+    m_v : ndarray, shape (3, 3)
+        1/s.
+    c_v : ndarray, shape (3,)
+        m/s.
+    m_a : ndarray, shape (3, 3)
+        1/s².
+    c_a : ndarray, shape (3,)
+        m/s².
+    """
+    w_b = _skew(body.angular_velocity_rps)
+    w = _skew(rig.angular_velocity_rps)
+    s, o_b = radar.position, body.origin
     arm_s = s - rig.origin
-    s_dot = rig.velocity_mps + np.cross(w, arm_s)
-    s_ddot = np.cross(w, np.cross(w, arm_s))
-    arm = x - body.origin
-    d = x - s
-    d_dot = body.velocity_mps + np.cross(w_b, arm) - s_dot
-    d_ddot = np.cross(w_b, np.cross(w_b, arm)) - s_ddot
+    s_dot = rig.velocity_mps + w @ arm_s
+    s_ddot = w @ (w @ arm_s)
+    # In world coordinates, as functions of the world point X (D = X − s):
+    # Ḋ = W_b (X − o_b) + v_b − ṡ,   D̈ = W_b² (X − o_b) − s̈,
+    # ẋ = Rᵀ (Ḋ − W D),   ẍ = Rᵀ (D̈ − 2 W Ḋ + W² D).
+    d_dot_m, d_dot_c = w_b, body.velocity_mps - w_b @ o_b - s_dot
+    d_ddot_m, d_ddot_c = w_b @ w_b, -(w_b @ w_b) @ o_b - s_ddot
+    vel_m, vel_c = d_dot_m - w, d_dot_c + w @ s
+    acc_m = d_ddot_m - 2.0 * w @ d_dot_m + w @ w
+    acc_c = d_ddot_c - 2.0 * w @ d_dot_c - (w @ w) @ s
+    # X = R x + s:  M X + c = (M R) x + (M s + c), then into the radar frame with Rᵀ.
     rot = radar.rotation
-    vel = (d_dot - np.cross(w, d)) @ rot
-    acc = (d_ddot - 2.0 * np.cross(w, d_dot) + np.cross(w, np.cross(w, d))) @ rot
-    return d @ rot, vel, acc
+    return (rot.T @ vel_m @ rot, rot.T @ (vel_m @ s + vel_c),
+            rot.T @ acc_m @ rot, rot.T @ (acc_m @ s + acc_c))
+
+
+def _skew(w: NDArray[np.floating]) -> NDArray[np.float64]:
+    """Matrix ``[w]×`` with ``[w]× v = w × v``."""
+    wx, wy, wz = (float(c) for c in np.asarray(w, dtype=np.float64))
+    return np.array([[0.0, -wz, wy], [wz, 0.0, -wx], [-wy, wx, 0.0]])
 
 
 Trajectory = Callable[[NDArray[np.floating]], NDArray[np.float64]]
@@ -108,4 +143,4 @@ def radar_frame_trajectory(points_world: NDArray[np.floating],
     return trajectory
 
 
-__all__ = ["Trajectory", "radar_frame_trajectory", "rigid_point_motion"]
+__all__ = ["Trajectory", "motion_maps", "radar_frame_trajectory", "rigid_point_motion"]

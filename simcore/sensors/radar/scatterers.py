@@ -39,7 +39,7 @@ from simcore.scene.materials import DualBandMaterial
 from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot
-from simcore.sensors.radar.kinematics import rigid_point_motion
+from simcore.sensors.radar.kinematics import motion_maps
 
 #: Smallest cos(incidence) used in the pixel area (grazing guard, ≈ 88.9°).
 COS_MIN = 0.02
@@ -524,6 +524,19 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
     )
 
 
+def _affine(x: NDArray[np.float64], m: NDArray[np.float64], c: NDArray[np.float64]
+            ) -> NDArray[np.float64]:
+    """``x Mᵀ + c`` for x of shape (n, 3), column by column.
+
+    No BLAS call: OpenBLAS answers such thin products with threads that spin.
+    """
+    out = x[:, 0:1] * m[:, 0]
+    out += x[:, 1:2] * m[:, 1]
+    out += x[:, 2:3] * m[:, 2]
+    out += c
+    return out
+
+
 def _rotation_kinematics(snapshot: SceneSnapshot, pos: NDArray[np.float64],
                          vel: NDArray[np.float64], obj: NDArray[np.int32]
                          ) -> NDArray[np.float64] | None:
@@ -540,13 +553,36 @@ def _rotation_kinematics(snapshot: SceneSnapshot, pos: NDArray[np.float64],
                if rig_turns or np.any(o.angular_velocity_rps)]
     if not turning or not len(pos):
         return None
-    radar = snapshot.radar
-    acc = np.zeros_like(pos)
+    # Objects with the same maps (every still object under a turning rig) form one group.
+    groups: dict[bytes, list[int]] = {}
+    maps: dict[bytes, tuple[NDArray[np.float64], ...]] = {}
     for i in turning:
-        sel = np.flatnonzero(obj == i)
-        if not len(sel):
+        m = motion_maps(snapshot.objects[i], snapshot.rig, snapshot.radar)
+        key = b"".join(a.tobytes() for a in m)
+        groups.setdefault(key, []).append(i)
+        maps[key] = m
+    group_of = np.full(len(snapshot.objects) + 1, -1, dtype=np.int32)
+    for g, members in enumerate(groups.values()):
+        group_of[members] = g
+    gid = np.take(group_of, obj)
+    counts = np.bincount(gid + 1, minlength=len(groups) + 1)
+    keys = list(groups)
+    # The largest group over every row (no gathers), then the others and the rows of no
+    # group (accelerations 0, render velocities) on their own rows.
+    big = int(np.argmax(counts[1:]))
+    keep = np.flatnonzero(gid != big)
+    vel_keep = vel[keep]
+    m_v, c_v, m_a, c_a = maps[keys[big]]
+    vel[:] = _affine(pos, m_v, c_v)
+    acc = _affine(pos, m_a, c_a)
+    vel[keep] = vel_keep
+    acc[keep] = 0.0
+    for g, key in enumerate(keys):
+        if g == big or not counts[g + 1]:
             continue
-        world = pos[sel] @ radar.rotation.T + radar.position
-        _, vel[sel], acc[sel] = rigid_point_motion(world, snapshot.objects[i], snapshot.rig,
-                                                   radar)
+        sel = np.flatnonzero(gid == g)
+        m_v, c_v, m_a, c_a = maps[key]
+        x = pos[sel]
+        vel[sel] = _affine(x, m_v, c_v)
+        acc[sel] = _affine(x, m_a, c_a)
     return acc

@@ -169,17 +169,21 @@ def prepare(scatterers: Scatterers) -> PreparedScatterers:
     moving = scatterers.moving()
     n_moving = int(np.count_nonzero(moving))
     n_static = len(moving) - n_moving
-    order = np.concatenate([np.flatnonzero(~moving), np.flatnonzero(moving)])
-    positions = scatterers.positions_m[order]
-    acc = scatterers.accelerations[order]
+    order = np.arange(len(moving))
+    if n_moving and n_static:
+        order = np.concatenate([np.flatnonzero(~moving), np.flatnonzero(moving)])
+        sc = scatterers.subset(order)
+    else:
+        sc = scatterers                         # already in order: no gathers
     return PreparedScatterers(
         source=scatterers, n_static=n_static, order=order,
-        accelerates=bool(np.any(acc != 0.0)), positions=positions,
-        pos=np.ascontiguousarray(positions.T),
-        vel=np.ascontiguousarray(scatterers.velocities_mps[order].T),
-        acc=np.ascontiguousarray(acc.T),
-        rcs=scatterers.rcs_m2[order].astype(np.float32),
-        phase=np.ascontiguousarray(scatterers.phase_rad[order], dtype=np.float64))
+        accelerates=sc.accelerations_mps2 is not None and bool(
+            np.any(sc.accelerations_mps2 != 0.0)),
+        positions=sc.positions_m, pos=np.ascontiguousarray(sc.positions_m.T),
+        vel=np.ascontiguousarray(sc.velocities_mps.T),
+        acc=np.ascontiguousarray(sc.accelerations.T),
+        rcs=sc.rcs_m2.astype(np.float32),
+        phase=np.ascontiguousarray(sc.phase_rad, dtype=np.float64))
 
 
 @dataclass(frozen=True)
