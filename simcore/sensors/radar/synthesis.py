@@ -283,6 +283,22 @@ def _highpass_factor(x: NDArray[np.float32], pole: tuple[float, float]
     return x * u / den, x * np.float32(-p_re) / den
 
 
+def _highpass32(wave: _Waveform, path: NDArray[np.float64]
+                ) -> tuple[NDArray[np.floating[Any]], NDArray[np.floating[Any]]]:
+    """Real and imaginary parts of the high-pass at the beat frequency of ``path`` (float32).
+
+    ``H(f_b) = Π_k jx / (jx − p_k)``, ``x = f_b / f_cut``, in float32 real arithmetic; call
+    only when the waveform has a high-pass (``wave.poles``).
+    """
+    x = path.astype(np.float32)
+    x *= np.float32(wave.x_per_m)
+    h_re, h_im = _highpass_factor(x, wave.poles[0])
+    for pole in wave.poles[1:]:
+        f_re, f_im = _highpass_factor(x, pole)
+        h_re, h_im = h_re * f_re - h_im * f_im, h_re * f_im + h_im * f_re
+    return h_re, h_im
+
+
 def _pair_weights(wave: _Waveform, path: NDArray[np.float64], amp: NDArray[np.float32],
                   phase: NDArray[np.float64]
                   ) -> tuple[NDArray[np.floating], NDArray[np.complexfloating]]:
@@ -302,13 +318,7 @@ def _pair_weights(wave: _Waveform, path: NDArray[np.float64], amp: NDArray[np.fl
     cos, sin = np.cos(arg32), np.sin(arg32)
     w = np.empty(path.shape, dtype=np.complex64 if wave.single else np.complex128)
     if wave.poles:
-        # H(f_b) = Π_k jx / (jx − p_k), x = f_b / f_cut, in float32 real arithmetic.
-        x = path.astype(np.float32)
-        x *= np.float32(wave.x_per_m)
-        h_re, h_im = _highpass_factor(x, wave.poles[0])
-        for pole in wave.poles[1:]:
-            f_re, f_im = _highpass_factor(x, pole)
-            h_re, h_im = h_re * f_re - h_im * f_im, h_re * f_im + h_im * f_re
+        h_re, h_im = _highpass32(wave, path)
         a_re, a_im = amp * h_re, amp * h_im
         w.real = cos * a_re - sin * a_im
         w.imag = sin * a_re + cos * a_im
@@ -611,23 +621,32 @@ def _moving_block(motion: _Motion, idx: NDArray[np.intp], w0: NDArray[np.complex
 
 
 def _frame_amplitudes(prep: PreparedScatterers, rows: slice, t: int, r: int,
-                      config: RadarConfig, d_t: NDArray[np.float64], d_r: NDArray[np.float64]
-                      ) -> NDArray[np.complex128]:
+                      config: RadarConfig, wave: _Waveform, d_t: NDArray[np.float64],
+                      d_r: NDArray[np.float64]) -> NDArray[np.complex128]:
     """``a_k e^{jφ_k}`` of one pair: radar equation × high-pass at the frame start (FS).
 
-    ``d_t``, ``d_r`` are the distances to the Tx and the Rx at the frame start (m).
+    ``d_t``, ``d_r`` are the distances to the Tx and the Rx at the frame start (m); float32
+    arithmetic as for static scatterers.
     """
     g_t = prep.gain(config.tx[t].pattern or config.element_pattern)[rows]
     g_r = prep.gain(config.rx[r].pattern or config.element_pattern)[rows]
     amp = if_amplitude_fs(config, prep.rcs[rows], g_t, g_r, d_t.astype(np.float32),
                           d_r.astype(np.float32))
-    h = highpass_response(config.slope_hz_per_s * (d_t + d_r) / SPEED_OF_LIGHT,
-                          config.if_highpass_hz, config.if_highpass_order)
     ph = prep.phase[rows].astype(np.float32)
-    return np.asarray(amp * h * (np.cos(ph) + 1j * np.sin(ph)), dtype=np.complex128)
+    cos, sin = np.cos(ph), np.sin(ph)
+    out = np.empty(len(amp), dtype=np.complex128)
+    if wave.poles:
+        h_re, h_im = _highpass32(wave, d_t + d_r)
+        a_re, a_im = amp * h_re, amp * h_im
+        out.real = cos * a_re - sin * a_im
+        out.imag = sin * a_re + cos * a_im
+    else:
+        out.real = cos * amp
+        out.imag = sin * amp
+    return out
 
 
-def _moving_task(motion: _Motion, rows: slice, t: int, sweep: _Sweep,
+def _moving_task(motion: _Motion, rows: slice, t: int, sweep: _Sweep, wave: _Waveform,
                  config: RadarConfig) -> list[NDArray[np.complex128]]:
     """One block of moving scatterers, one Tx, every Rx: the IF over all chirps.
 
@@ -660,7 +679,7 @@ def _moving_task(motion: _Motion, rows: slice, t: int, sweep: _Sweep,
     outs = []
     for r in range(n_rx):
         out = np.zeros((n_c, config.samples_per_chirp), dtype=np.complex128)
-        w0 = _frame_amplitudes(motion.prep, rows, t, r, config, d0_t, d0_r[r])
+        w0 = _frame_amplitudes(motion.prep, rows, t, r, config, wave, d0_t, d0_r[r])
         _moving_block(motion, idx, w0, (t, p_t, p_rx[r]), 0, n_c, sweep, out, path=path[r])
         outs.append(out)
     return outs
@@ -763,7 +782,7 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
     def run(task: _Task) -> list[NDArray[np.complexfloating]]:
         moves, rows, t = task
         if moves:
-            return list(_moving_task(motion, rows, t, sweep, config))
+            return list(_moving_task(motion, rows, t, sweep, wave, config))
         return _static_task(prep, rows, t, wave, config)
 
     results: Iterator[list[NDArray[np.complexfloating]]]
