@@ -94,6 +94,8 @@ MAX_SERIES_ORDER = 4
 DIRECT_MAX_TERMS = 32768
 #: Scatterers per chunk of the position and path-length arithmetic (cache-sized arrays).
 FIT_CHUNK = 16384
+#: Scatterers up to which the series vectors share the main transform call.
+MERGE_SERIES_POINTS = 32768
 #: Loosest tolerance of the curvature-series transforms (their terms are small).
 SERIES_NUFFT_TOLERANCE = 1e-3
 
@@ -246,8 +248,9 @@ def _plan3(n_trans: int, eps: float) -> finufft.Plan:
     key = (n_trans, eps)
     if key not in plans:
         # Unsorted points: the fine grid (≈ 600 × 20 at the preset) stays in cache anyway.
+        # upsampfac 2 (finufft picks 1.25 at some tolerances: wider kernels, 20 % slower).
         plans[key] = finufft.Plan(3, 2, n_trans=n_trans, eps=eps, isign=1, nthreads=1,
-                                  spread_sort=0, dtype="complex128")
+                                  spread_sort=0, upsampfac=2.0, dtype="complex128")
     return plans[key]
 
 
@@ -524,8 +527,10 @@ def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg:
 
     One type-3 transform of ``w e^{j(s x + t y)}`` with ``x = τ + α q̄``,
     ``y = β (1 − Kτ/f_r)``, ``w = a e^{j(φ + 2π f_r x − πKτ²)}``, plus the curvature series
-    ``Σ_q (jα)^q/q! b^q`` (q = 1 … P) and, where needed, ``jγ b2`` as one more call with the
-    same points.
+    ``Σ_q (jα)^q/q! b^q`` (q = 1 … P) and, where needed, ``jγ b2``: extra vectors with the
+    same points, in the main call when most scatterers need them or they are few (a call
+    has a fixed cost of ≈ 5 ms), else in one more call over those that do, at the looser
+    tolerance their small size allows.
     """
     k = sweep.slope
     tau, alpha = fit.tau[sel], fit.alpha[sel]
@@ -535,17 +540,19 @@ def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg:
     arg -= (np.pi * k) * tau * tau
     arg32 = _wrap(arg).astype(np.float32)
     w = w0[sel] * (np.cos(arg32) + 1j * np.sin(arg32))
-    plan = _plan3(1, sweep.eps_nufft)
-    plan.setpts(x, y, None, tg.s, tg.t)
-    blk: NDArray[np.complex128] = plan.execute(w)
     order, cross = fit.order[sel], fit.cross[sel]
-    part = np.flatnonzero((order > 0) | cross)
-    if not len(part):
-        return blk
+    needs = (order > 0) | cross
+    n_needs = int(np.count_nonzero(needs))
+    if not n_needs:
+        plan = _plan3(1, sweep.eps_nufft)
+        plan.setpts(x, y, None, tg.s, tg.t)
+        return np.asarray(plan.execute(w), dtype=np.complex128)
+    merge = len(sel) <= MERGE_SERIES_POINTS or n_needs > 0.7 * len(sel)
+    part = np.arange(len(sel)) if merge else np.flatnonzero(needs)
     # Rows 0 … P−1: the curvature series, term q+1 at most a^(q+1)/(q+1)! of the main one;
     # row P: the first-order γ term. A tolerance of (eps/2) / max(a, g) does for all.
-    p_max = int(order[part].max())
-    n_cross = int(cross[part].any())
+    p_max = int(order.max())
+    n_cross = int(cross.any())
     ia = 1j * alpha[part]
     coef = np.zeros((p_max + n_cross, len(part)), dtype=np.complex128)
     if p_max:
@@ -557,18 +564,27 @@ def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg:
         gamma = np.where(cross[part], fit.gamma[sel[part]], 0.0)
         coef[p_max] = w[part] * 1j * gamma
         size = max(size, float(np.abs(gamma).max() * np.abs(tg.b2).max()))
-    eps = min(max(sweep.eps_nufft, 0.5 * sweep.eps / max(size, 1e-300)),
-              SERIES_NUFFT_TOLERANCE)
-    eps = 10.0 ** np.floor(np.log10(eps))               # few distinct plans per thread
-    plan = _plan3(len(coef), eps)
-    plan.setpts(x[part], y[part], None, tg.s, tg.t)
-    f = plan.execute(coef if len(coef) > 1 else coef[0]).reshape(len(coef), -1)
+    if merge:
+        plan = _plan3(1 + len(coef), sweep.eps_nufft)
+        plan.setpts(x, y, None, tg.s, tg.t)
+        f = plan.execute(np.concatenate([w[None], coef]))
+        blk, f = f[0], f[1:]
+    else:
+        plan = _plan3(1, sweep.eps_nufft)
+        plan.setpts(x, y, None, tg.s, tg.t)
+        blk = plan.execute(w)
+        eps = min(max(sweep.eps_nufft, 0.5 * sweep.eps / max(size, 1e-300)),
+                  SERIES_NUFFT_TOLERANCE)
+        eps = 10.0 ** np.floor(np.log10(eps))           # few distinct plans per thread
+        plan = _plan3(len(coef), eps)
+        plan.setpts(x[part], y[part], None, tg.s, tg.t)
+        f = plan.execute(coef if len(coef) > 1 else coef[0]).reshape(len(coef), -1)
     corr = np.zeros_like(blk)
     for q in range(p_max - 1, -1, -1):                  # Horner in b
         corr = (corr + f[q]) * tg.b
     if n_cross:
         corr += f[p_max] * tg.b2
-    return blk + corr
+    return np.asarray(blk + corr, dtype=np.complex128)
 
 
 def _moving_block(motion: _Motion, idx: NDArray[np.intp], w0: NDArray[np.complex128],
