@@ -683,8 +683,10 @@ def _moving_task(motion: _Motion, rows: slice, t: int, sweep: _Sweep, wave: _Wav
     d0_t = np.empty(len(idx))
     d0_r = np.empty((n_rx, len(idx)))
     path = np.empty((n_rx, len(times) - 1, len(idx)))
-    for lo in range(0, len(idx), FIT_CHUNK):
-        hi = min(lo + FIT_CHUNK, len(idx))
+    # A trajectory returns every scatterer at each call: call it once per block then.
+    chunk = FIT_CHUNK if motion.trajectory is None else max(len(idx), 1)
+    for lo in range(0, len(idx), chunk):
+        hi = min(lo + chunk, len(idx))
         pos = motion.positions(idx[lo:hi], times)                      # (3, T, b)
         d_t = _distance(pos, p_t)
         d0_t[lo:hi] = d_t[0]
