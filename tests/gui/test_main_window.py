@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,7 +16,7 @@ from simcore.scene import load_project
 
 pytestmark = pytest.mark.gui
 
-BAD = EXAMPLES_DIR.parent.parent / "tests" / "data" / "bad_projects"
+BAD = Path(__file__).resolve().parent.parent / "data" / "bad_projects"
 
 
 def test_office_screenshot_every_panel_non_blank(make_window, wait_frame, is_non_blank,
