@@ -68,7 +68,7 @@ def test_save_reopen_compare_equal(make_window, wait_frame, tmp_path):
     shutil.copy(EXAMPLES_DIR / "office.json", work)
     window = make_window(work)
     wait_frame(window)
-    window.document.set_value("objects.0.pose.position_m", (2.5, 0.1, -0.05))
+    window.document.set_value("objects[0].pose.position_m", (2.5, 0.1, -0.05))
     assert window.document.is_dirty and window.isWindowModified()
     out = tmp_path / "saved.json"
     assert window.save_to(out)
