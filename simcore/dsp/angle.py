@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simcore.dsp.peaks import parabolic_peak_offset
 from simcore.dsp.windows import as_complex64
 from simcore.scene.dsp_config import AngleMethod
 from simcore.scene.radar_config import Antenna, RadarConfig
@@ -499,16 +500,6 @@ def interpolate_fft_power(
     return p[..., i0] * (1.0 - frac) + p[..., i1] * frac
 
 
-def _parabolic_offset(left: NDArray[np.float64], mid: NDArray[np.float64],
-                      right: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Vertex offset (in samples, clipped to ±0.5) of a parabola through three points."""
-    denom = left - 2.0 * mid + right
-    with np.errstate(divide="ignore", invalid="ignore"):
-        off = 0.5 * (left - right) / denom
-    off = np.where(denom < 0, off, 0.0)
-    return np.clip(np.nan_to_num(off), -0.5, 0.5)
-
-
 def _refine_grid_peak(power_db: NDArray[np.float64], idx: NDArray[np.int64], axis_vals:
                       NDArray[np.float64]) -> NDArray[np.float64]:
     """Parabolic refinement of 1-D peaks ``idx`` along the last axis of ``power_db``."""
@@ -519,7 +510,7 @@ def _refine_grid_peak(power_db: NDArray[np.float64], idx: NDArray[np.int64], axi
     inner = (idx > 0) & (idx < n - 1)
     i_l = np.clip(idx - 1, 0, n - 1)
     i_r = np.clip(idx + 1, 0, n - 1)
-    off = _parabolic_offset(power_db[rows, i_l], power_db[rows, idx], power_db[rows, i_r])
+    off = parabolic_peak_offset(power_db[rows, i_l], power_db[rows, idx], power_db[rows, i_r])
     off = np.where(inner, off, 0.0)
     step = axis_vals[1] - axis_vals[0]
     return axis_vals[idx] + off * step
