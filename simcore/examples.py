@@ -83,10 +83,9 @@ def copy_examples(target: Path) -> list[Path]:
     target = Path(target)
     if target.exists() and not target.is_dir():
         raise ExamplesError(f"{target} exists and is not a folder")
-    pairs: list[tuple[Path, Path]] = []
-    for example in list_examples():
-        pairs.append((example.path, target / example.path.name))
-    for example in list_examples():
+    examples = list_examples()
+    pairs = [(example.path, target / example.path.name) for example in examples]
+    for example in examples:
         for rel in mesh_files(example.path):
             source = example.path.parent / rel
             if not source.is_file():

@@ -6,6 +6,9 @@
 set -euo pipefail
 
 PYTHON=${1:-python3}
+# A PYTHONPATH into the repository would make the fresh venv see the source tree (and its
+# build metadata) instead of the installed wheel.
+unset PYTHONPATH PYTHONHOME
 REPO=$(pwd)
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/tofradar-wheel.XXXXXX")
 # An in-tree build leaves build/ and tofradar.egg-info/ behind: remove them unless they
@@ -19,7 +22,10 @@ step() { echo "check-wheel: $*"; }
 step "building the wheel into $WORK/dist"
 "$PYTHON" -m pip wheel --no-deps -q -w "$WORK/dist" "$REPO"
 WHEEL=$(ls "$WORK"/dist/tofradar-*.whl)
-step "wheel $(basename "$WHEEL"): $(unzip -l "$WHEEL" | grep -c '_resources/.*\.json') bundled JSON files"
+BUNDLED=$("$PYTHON" -c "import sys, zipfile; print(sum(n.startswith('simcore/_resources/') \
+    for n in zipfile.ZipFile(sys.argv[1]).namelist()))" "$WHEEL")
+step "wheel $(basename "$WHEEL") bundles $BUNDLED resource files"
+if [ "$BUNDLED" -lt 2 ]; then step "FAILED: the wheel lacks the bundled resources"; exit 1; fi
 
 step "creating a fresh venv in $WORK/venv and installing the wheel (dependencies from the index)"
 "$PYTHON" -m venv "$WORK/venv"
