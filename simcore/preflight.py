@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from simcore.render.mesh_files import (
+from simcore.io.mesh_files import (
     MAX_MESH_FILE_BYTES,
     MESH_SUFFIXES,
     MeshError,
