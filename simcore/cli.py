@@ -14,7 +14,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, NoReturn
 
-from simcore.preflight import MAX_FRAMES, MAX_SEED
+from simcore.preflight import MAX_FRAMES, MAX_SEED, RunError
 from simcore.scene.project_io import ProjectError, load_project, project_to_json
 
 if TYPE_CHECKING:
@@ -33,7 +33,7 @@ class CliError(Exception):
 
 
 #: Longest error line printed (characters).
-MAX_ERROR_LENGTH = 500
+MAX_ERROR_LENGTH = 600
 #: Most worker processes of one run.
 MAX_WORKERS = 256
 
@@ -471,7 +471,7 @@ def _report_error(exc: BaseException) -> int:
         for problem in exc.problems:
             _print_error(f"{exc.source}: {problem}")
         return 2
-    if isinstance(exc, (CliError, MeshError)):
+    if isinstance(exc, (CliError, MeshError, RunError)):
         _print_error(str(exc))
         return 2
     if isinstance(exc, MemoryError):
@@ -485,7 +485,9 @@ def _report_error(exc: BaseException) -> int:
             _print_error(str(exc))
         return 2
     name = type(exc).__name__
-    _print_error(f"{name}: {exc} (run with --debug for the traceback)")
+    text = " ".join(str(exc).split())
+    text = text if len(text) <= 300 else text[:297] + "..."
+    _print_error(f"{name}: {text} (run with --debug for the traceback)")
     return 1
 
 

@@ -56,6 +56,10 @@ SECONDS_PER_NUFFT_POINT = 2e-9
 SECONDS_PER_DSP_CELL = 2e-8
 
 
+class RunError(RuntimeError):
+    """A run cannot go on, for a reason explained in one line (no traceback needed)."""
+
+
 def _size(n: float) -> str:
     """Bytes as text with a binary prefix (B … EiB)."""
     for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
@@ -255,9 +259,8 @@ def mesh_path_problem(base_dir: Path | None, mesh_path: str, *,
         try:
             real.relative_to(base.resolve())
         except ValueError:
-            return (f"{mesh_path!r} resolves to {real}, outside the project folder "
-                    f"{base.resolve()}; move the mesh next to the project or pass "
-                    "--allow-outside-paths")
+            return (f"{mesh_path!r} is outside the project folder (move it there or pass "
+                    f"--allow-outside-paths); it resolves to {real}")
     try:
         import stat as _stat
         st = real.stat()
@@ -432,5 +435,5 @@ def check(project: Project, *, base_dir: Path | None = None,
     return out
 
 
-__all__ = ["CostEstimate", "available_memory_bytes", "check", "default_memory_budget",
+__all__ = ["CostEstimate", "RunError", "available_memory_bytes", "check", "default_memory_budget",
            "estimate_cost", "mesh_path_problem"]

@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simcore.pipeline import H5Items, Simulator
+from simcore.preflight import RunError
 from simcore.scene.project_io import project_from_dict
 
 
@@ -73,7 +74,7 @@ def close_simulators() -> None:
     _SIMULATORS.clear()
 
 
-class NonFiniteOutputError(RuntimeError):
+class NonFiniteOutputError(RunError):
     """A frame produced NaN or infinite values where the dataset promises numbers."""
 
 
@@ -151,7 +152,7 @@ TASK_TIMEOUT_S = 600.0
 DASK_SCHEMES = ("tcp", "tls", "inproc", "ucx", "ws", "wss")
 
 
-class SchedulerError(RuntimeError):
+class SchedulerError(RunError):
     """A Dask scheduler cannot be used: bad address, no answer, a different service."""
 
 
