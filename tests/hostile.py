@@ -112,7 +112,7 @@ def mutate(doc: dict[str, Any], rng: random.Random, n: int) -> dict[str, Any]:
                 for _ in range(rng.choice([5, 80, 2000])):
                     nested = [nested]
                 set_path(doc, path, nested)
-        except (KeyError, IndexError, TypeError):
+        except (KeyError, IndexError, TypeError, RecursionError):
             pass
     return doc
 

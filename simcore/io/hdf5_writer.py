@@ -168,7 +168,7 @@ class DatasetWriter:
             proc = subprocess.run(
                 [sys.executable, "-c", "import sys; from simcore.io.hdf5_writer import "
                  "recover_main; sys.exit(recover_main(sys.argv[1:]))",
-                 str(self.path), str(self.tmp), str(seed)],
+                 str(self.path), str(self.tmp), str(seed), str(os.getpid())],
                 input=project_json, capture_output=True, text=True, timeout=timeout)
         except subprocess.TimeoutExpired:
             self.tmp.unlink(missing_ok=True)
@@ -426,9 +426,25 @@ def recover(src: Path, dst: Path, *, project_json: str, seed: int) -> int:
     return n_ok
 
 
+def _die_with_parent(parent: int) -> None:
+    """Linux: get SIGKILL when the parent dies, so no orphan writes a stale copy."""
+    try:
+        import ctypes
+        import signal
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)     # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        return
+    if os.getppid() != parent:
+        os._exit(4)
+
+
 def recover_main(argv: list[str]) -> int:
     """Child-process entry of :meth:`DatasetWriter._open_for_resume` (project on stdin)."""
     src, dst, seed = Path(argv[0]), Path(argv[1]), int(argv[2])
+    if len(argv) > 3:
+        _die_with_parent(int(argv[3]))
     try:
         n = recover(src, dst, project_json=sys.stdin.read(), seed=seed)
     except ResumeError as exc:
