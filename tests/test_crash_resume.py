@@ -15,8 +15,8 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
-
 from hostile import base_project_dict, write_project
+
 from simcore.cli import main
 from simcore.io.hdf5_writer import CHECKSUM_PATH, frame_checksum, temporary_path
 from simcore.runner import run_dataset

@@ -15,12 +15,8 @@ import sys
 import textwrap
 from pathlib import Path
 
-import h5py
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
-
 from hostile import (
     HOSTILE_VALUES,
     base_project_dict,
@@ -30,6 +26,9 @@ from hostile import (
     set_path,
     write_project,
 )
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
 from simcore.cli import main
 from simcore.io.mesh_files import MeshError, read_mesh_arrays
 from simcore.preflight import check, estimate_cost
