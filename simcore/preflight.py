@@ -53,7 +53,7 @@ MEMORY_BUDGET_FRACTION = 0.8
 #: Rough frame-time model (s per unit); calibrated on office.json, 2-core machine.
 SECONDS_PER_RENDER_PIXEL = 6e-8
 SECONDS_PER_NUFFT_POINT = 2e-9
-SECONDS_PER_DSP_CELL = 2e-8
+SECONDS_PER_DSP_CELL = 5e-9
 
 
 class RunError(RuntimeError):
