@@ -300,16 +300,24 @@ class DatasetWriter:
             if not ds.attrs.get("table_rows", False):
                 continue
             flat = path.removesuffix("_by_frame")
-            counts = self.file[f"{flat}_count"][: self.n_frames]
-            rows = [ds[k, : int(c)] for k, c in enumerate(counts)]
-            data = np.concatenate(rows) if rows else np.zeros(0, dtype=ds.dtype)
+            counts = self.file[f"{flat}_count"][: self.n_frames].astype(np.int64)
+            total = int(counts.sum())
             if flat in self.file:
                 del self.file[flat]
-            out = self.file.create_dataset(flat, data=data, maxshape=(None,),
-                                           chunks=(max(1, min(len(data), 4096)),),
+            out = self.file.create_dataset(flat, shape=(total,), maxshape=(None,),
+                                           dtype=ds.dtype, chunks=(max(1, min(total, 4096)),),
                                            **COMPRESSION)
             out.attrs["unit"] = ds.attrs.get("unit", "")
             out.attrs["table"] = True
+            # Blocks of frames: memory stays bounded on long runs.
+            start, block = 0, 1024
+            for k0 in range(0, self.n_frames, block):
+                rows = ds[k0:k0 + block]
+                c = counts[k0:k0 + block]
+                keep = np.arange(rows.shape[1])[None, :] < c[:, None]
+                chunk = rows[keep]
+                out[start:start + len(chunk)] = chunk
+                start += len(chunk)
 
     def close(self, *, keep: bool = True) -> None:
         """Finish the file: drop a half-written frame, rebuild tables, close, put in place.
