@@ -15,6 +15,7 @@ import sys
 import textwrap
 from pathlib import Path
 
+import h5py
 import numpy as np
 import pytest
 from hostile import (
@@ -463,3 +464,24 @@ def test_save_keeps_mode_and_symlink_and_cleans_stale_temps(tmp_path):
     assert (os.stat(real).st_mode & 0o777) == 0o640
     assert not stale.exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["link.json", "real.json"]
+
+
+def test_out_must_be_a_regular_file_and_a_symlink_stays(tmp_path, capsys):
+    project = project_with(tmp_path, lambda d: None)
+    fifo = tmp_path / "fifo.h5"
+    os.mkfifo(fifo)
+    for out in ("/dev/null", str(fifo)):
+        rc = main(["run", str(project), "--out", out, "--frames", "1", "--quiet",
+                   "--overwrite"])
+        err = capsys.readouterr().err
+        assert rc == 2 and "not a regular file" in err and err.count("\n") == 1, err
+    assert Path("/dev/null").is_char_device() and fifo.is_fifo()
+    target = tmp_path / "target.h5"
+    link = tmp_path / "link.h5"
+    assert main(["run", str(project), "--out", str(target), "--frames", "1", "--quiet"]) == 0
+    link.symlink_to(target)
+    assert main(["run", str(project), "--out", str(link), "--frames", "2", "--quiet",
+                 "--overwrite"]) == 0
+    assert link.is_symlink()
+    with h5py.File(target, "r") as f:
+        assert f["meta"].attrs["n_frames"] == 2

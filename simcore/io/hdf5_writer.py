@@ -132,6 +132,12 @@ class DatasetWriter:
                  overwrite: bool = False, resume: bool = False,
                  extra_meta: dict[str, Any] | None = None):
         self.path = Path(path)
+        if self.path.is_symlink():
+            self.path = Path(os.path.realpath(self.path))   # replace the target, keep the link
+        if self.path.exists() and not self.path.is_file():
+            raise DatasetExistsError(f"{self.path} exists and is not a regular file "
+                                     "(a device, FIFO, socket or directory); choose another "
+                                     "--out")
         self.tmp = temporary_path(self.path)
         self._table_caps: dict[str, int] = {}
         self._placed = False        # the file being written is at self.path
