@@ -346,7 +346,16 @@ def run_dataset(project_json: str, base_dir: Path, out: Path, *, n_frames: int, 
     failing ``overwrite`` leaves the old file untouched (see :class:`DatasetWriter`).
     """
     from simcore.io.hdf5_writer import DatasetWriter
+    from simcore.preflight import check
+    from simcore.scene.project_io import ProjectError
 
+    # The safety subset of the preflight (callers such as the CLI and the GUI run the whole
+    # of it, with the memory budget and the mesh path policy, before they get here).
+    problems = check(project_from_dict(json.loads(project_json), base_dir=Path(base_dir)),
+                     base_dir=Path(base_dir), memory_budget_bytes=2**63, n_frames=n_frames,
+                     seed=seed, allow_outside_paths=True, parse_meshes=False)
+    if problems:
+        raise ProjectError(f"project for {out}", problems)
     spec = RunSpec(project_json, str(base_dir), seed)
     writer = DatasetWriter(out, project_json=project_json, seed=seed, overwrite=overwrite,
                            resume=resume, extra_meta=extra_meta)
