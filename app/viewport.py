@@ -260,7 +260,7 @@ class SceneViewport(QWidget):
             mat = materials.get(obj.material)
             prop = actor.prop
             prop.color = material_colour(obj.material)
-            tof_opacity = mat.tof.opacity if mat is not None else 1.0
+            tof_opacity = mat.band("tof").opacity if mat is not None else 1.0
             prop.opacity = 0.35 if tof_opacity < 0.5 else 1.0
             selected = obj.id == self.document.selection
             prop.show_edges = selected
@@ -285,9 +285,9 @@ class SceneViewport(QWidget):
         state = (
             tuple((o.id, self._actors[o.id][0], o.material, s.transform.tobytes())
                   for o, s in zip(project.objects, snap.objects, strict=True)),
-            snap.rig.transform.tobytes(), snap.tof.transform.tobytes(),
-            snap.radar.transform.tobytes(), self._sensor_key, self.document.selection,
-            tuple((m.name, m.tof.opacity) for m in project.materials))
+            snap.rig.transform.tobytes(), snap.sensors["tof"].transform.tobytes(),
+            snap.sensors["radar"].transform.tobytes(), self._sensor_key, self.document.selection,
+            tuple((m.name, m.band("tof").opacity) for m in project.materials))
         self._update_cutaway(render=False)
         if state == self._drawn_state and self._gizmo_key == self.document.selection:
             return
@@ -333,9 +333,9 @@ class SceneViewport(QWidget):
         self._rig_actors["body"].user_matrix = rig_t
         self._rig_actors["axes"].user_matrix = rig_t
         for name in ("tof_fov", "tof_edges"):
-            self._rig_actors[name].user_matrix = snap.tof.transform
+            self._rig_actors[name].user_matrix = snap.sensors["tof"].transform
         for name in ("radar_fov", "radar_edges"):
-            self._rig_actors[name].user_matrix = snap.radar.transform
+            self._rig_actors[name].user_matrix = snap.sensors["radar"].transform
         body = self._rig_actors["body"].prop
         body.show_edges = self.document.selection == RIG
         body.edge_color = SELECTION_COLOUR
@@ -385,7 +385,7 @@ class SceneViewport(QWidget):
             side_cam = float(np.dot(cam - centre, axis))
             between = side_obj * side_cam > 0 and abs(side_obj) > 0.5
             mat = materials.get(by_id[oid].material)
-            base = 0.35 if mat is not None and mat.tof.opacity < 0.5 else 1.0
+            base = 0.35 if mat is not None and mat.band("tof").opacity < 0.5 else 1.0
             self._actors[oid][1].prop.opacity = 0.12 if between else base
             self._actors[oid][1].SetPickable(not between)
         if render:

@@ -117,7 +117,7 @@ def test_corner_reflector_appears_and_disappears_with_radar_opacity(make_window,
     wait_frame(window)
     doc = window.document
     cr = doc.project.object_by_name("corner_reflector")
-    snap_radar = window.viewport._snapshot.radar.transform
+    snap_radar = window.viewport._snapshot.sensors["radar"].transform
     p = np.linalg.inv(snap_radar) @ np.append(cr.pose.position_m, 1.0)
     cr_range = float(np.linalg.norm(p[:3]))
     cr_az = float(np.degrees(np.arctan2(p[0], p[2])))
@@ -138,7 +138,7 @@ def test_corner_reflector_appears_and_disappears_with_radar_opacity(make_window,
     assert hit_on, "corner reflector not detected in the office scene"
     window.material_editor.show_material("radar_retroreflector")
     window.material_editor.radar_invisible.click()
-    assert doc.project.materials[-1].radar.opacity == 0.0
+    assert doc.project.materials[-1].band("radar").opacity == 0.0
     wait_frame(window)
     level_off, hit_off = cr_level_and_hit()
     assert not hit_off
