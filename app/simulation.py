@@ -103,7 +103,7 @@ class _Worker(QThread):
         index = min(request.index, self.simulator.n_frames - 1)
         frame = self.simulator.frame(index)
         view = build_frame_view(frame, request.project,
-                                render_count=self.simulator.renderer.render_count)
+                                render_count=self.simulator.render_count)
         view.timings_ms["wall"] = (time.perf_counter() - start) * 1e3
         return view
 
@@ -147,7 +147,7 @@ class SimulationController(QObject):
     def render_count(self) -> int:
         """GPU render passes done by the worker's simulator so far (0 before the first)."""
         sim = self._worker.simulator
-        return 0 if sim is None else int(sim.renderer.render_count)
+        return 0 if sim is None else int(sim.render_count)
 
     def request(self, project: Project, index: int, *, base_dir: Path) -> int:
         """Ask for frame ``index`` of ``project``; returns the request's serial number."""
