@@ -58,15 +58,18 @@ DOCTEST_MODULES = [
     "simcore.dsp.spectrum",
     "simcore.dsp.windows",
     "simcore.examples",
+    "simcore.pipeline",
     "simcore.resources",
     "simcore.scene.camera",
     "simcore.scene.fieldpath",
     "simcore.scene.motion",
     "simcore.scene.radar_arrays",
+    "simcore.sensors.rgb.camera",
 ]
 # Public functions of those modules that need a whole project or frame to show anything;
 # their behaviour is covered by the end-to-end tests instead.
-NO_EXAMPLE = {"simcore.dsp.angle.estimate_angles", "simcore.examples.copy_examples"}
+NO_EXAMPLE = {"simcore.dsp.angle.estimate_angles", "simcore.examples.copy_examples",
+              "simcore.sensors.rgb.camera.simulate_rgb"}
 
 
 def python_blocks(path: Path) -> list[tuple[int, str]]:
