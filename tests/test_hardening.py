@@ -42,7 +42,7 @@ BAD_MESHES = Path(__file__).parent / "data" / "bad_meshes"
 #: attack, e.g. TOFRADAR_FUZZ_RUNS=300).
 FUZZ_RUNS = int(os.environ.get("TOFRADAR_FUZZ_RUNS", "24"))
 
-FUZZ = settings(max_examples=300, deadline=None, derandomize=True, database=None,
+FUZZ = settings(max_examples=150, deadline=None, derandomize=True, database=None,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
                                        HealthCheck.function_scoped_fixture])
 
