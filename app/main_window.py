@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from typing import Any
 
@@ -62,6 +63,8 @@ class MainWindow(QMainWindow):
         self.viewport = SceneViewport(self.document)
         self.setCentralWidget(self.viewport)
         self.last_view: FrameView | None = None
+        #: Main-thread time spent showing each of the last frames (ms).
+        self.frame_draw_ms: list[float] = []
         self.last_error_dialog: QMessageBox | None = None
         self.export_job: DatasetExportJob | None = None
         self.progress_dialog: QProgressDialog | None = None
@@ -304,6 +307,9 @@ class MainWindow(QMainWindow):
     # --- simulation -------------------------------------------------------------------
     def _on_sim_failed(self, message: str) -> None:
         self.show_status_error(f"simulation: {message}")
+        for panel in self.panels.values():
+            panel.show_error(f"frame {self.time.index + 1} could not be computed: {message}")
+        self.time.frame_done()  # playback goes on with the next frame
 
     def _schedule_frame(self, *_: object) -> None:
         if not self._closing:
@@ -318,15 +324,38 @@ class MainWindow(QMainWindow):
                              base_dir=self.document.base_dir)
 
     def _on_time_changed(self, _index: int) -> None:
-        self.viewport.set_time(self.time.time_s)
+        if not self.time.playing:
+            # While playing, the 3D view follows the frames shown (_on_frame), so scene
+            # and point cloud change together in one render per shown frame.
+            self.viewport.set_time(self.time.time_s)
         self._schedule_frame()
 
     def _on_frame(self, view: FrameView) -> None:
+        start = time.perf_counter()
+        if self.time.playing:
+            # Compute the next frame while this one is drawn.
+            self.sim.prefetch(self.document.project, self.time.next_index,
+                              base_dir=self.document.base_dir)
         self.last_view = view
-        for panel in self.panels.values():
-            panel.show_frame(view)
-        self.viewport.set_detections(view)
-        self.time.frame_done()
+        try:
+            for panel in self.panels.values():
+                panel.show_frame(view)  # each panel shows its own errors
+            self._show_in_viewport(view)
+            self._show_frame_status(view)
+        finally:
+            self.time.frame_done()
+            self.frame_draw_ms.append((time.perf_counter() - start) * 1e3)
+            del self.frame_draw_ms[:-200]
+
+    def _show_in_viewport(self, view: FrameView) -> None:
+        try:
+            if self.viewport.time_s != view.time_s:
+                self.viewport.set_time(view.time_s)
+            self.viewport.set_detections(view)
+        except Exception as exc:  # noqa: BLE001 - shown; the panels and playback go on
+            self.show_status_error(f"3D view: {type(exc).__name__}: {exc}")
+
+    def _show_frame_status(self, view: FrameView) -> None:
         stages = [f"{STAGE_LABELS.get(k, k)} {v:.0f}" for k, v in view.timings_ms.items()
                   if k not in ("total", "wall")]
         self.stage_label.setText(" · ".join(stages) + " ms" if stages else "")
