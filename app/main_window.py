@@ -349,9 +349,7 @@ class MainWindow(QMainWindow):
 
     def _show_in_viewport(self, view: FrameView) -> None:
         try:
-            if self.viewport.time_s != view.time_s:
-                self.viewport.set_time(view.time_s)
-            self.viewport.set_detections(view)
+            self.viewport.show_frame(view)
         except Exception as exc:  # noqa: BLE001 - shown; the panels and playback go on
             self.show_status_error(f"3D view: {type(exc).__name__}: {exc}")
 

@@ -173,7 +173,8 @@ def _image_plot(title: str, *, x_label: tuple[str, str], y_label: tuple[str, str
     plot = pg.PlotItem(title=title)
     plot.setLabel("bottom", *x_label)
     plot.setLabel("left", *y_label)
-    plot.showGrid(x=True, y=True, alpha=0.15)
+    # No grid over images: an axis that draws a grid covers the whole plot, so every new
+    # image would repaint the axes (their text included) too.
     image = pg.ImageItem(axisOrder="row-major")
     plot.addItem(image)
     return plot, image
@@ -397,6 +398,8 @@ class RangeDopplerPanel(LivePanel):
                                           brush=DETECTION_BRUSH)
         self.markers.setZValue(10)
         self.plot.addItem(self.markers)
+        self.plot.disableAutoRange()
+        self._levels: tuple[float, float] | None = None
         self._finish_layout(self.graphics)
         self.plot.scene().sigMouseMoved.connect(self._on_hover)
 

@@ -1,7 +1,9 @@
 """The simulation process: owns a :class:`simcore.pipeline.Simulator`, answers frame requests.
 
 This module runs in a child process started by :class:`app.simulation.SimulationController`
-(``multiprocessing`` with the *spawn* method). It imports no Qt: it receives requests over a
+as ``python -m app.sim_process FD NICE``, FD being its end of a socket pair (a plain
+subprocess rather than ``multiprocessing``'s spawn, which would re-run the parent's main
+script in the child). It imports no Qt: it receives requests over a
 pipe, computes the frame with the public ``Simulator(project).frame(i)`` API, turns it into a
 compact, picklable :class:`~app.frame_view.FrameView` with :func:`build_frame_view` and
 sends that back. Running the simulator in its own process keeps its threads from taking the
@@ -18,6 +20,7 @@ request.
 from __future__ import annotations
 
 import os
+import sys
 import time
 import traceback
 from multiprocessing.connection import Connection
@@ -82,3 +85,14 @@ def serve(conn: Connection, nice: int = 0) -> None:
         sim = state.get("simulator")
         if sim is not None:
             sim.close()
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Entry point of the child: ``python -m app.sim_process FD [NICE]``."""
+    args = sys.argv[1:] if argv is None else argv
+    conn = Connection(int(args[0]))
+    serve(conn, int(args[1]) if len(args) > 1 else 0)
+
+
+if __name__ == "__main__":
+    main()

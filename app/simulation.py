@@ -1,9 +1,9 @@
 """Frames computed in a simulation process: latest request wins, prefetch, cancel.
 
 :class:`SimulationController` lives in the GUI thread and talks to one child process
-(:mod:`app.sim_process`, started with ``multiprocessing``'s *spawn* method) over a pipe
-watched by a :class:`QSocketNotifier`, so the GUI thread never waits for it. The child owns
-the :class:`simcore.pipeline.Simulator` and sends back compact
+(``python -m app.sim_process``) over a socket pair watched by a :class:`QSocketNotifier`,
+so the GUI thread never waits for it. The child owns the
+:class:`simcore.pipeline.Simulator` and sends back compact
 :class:`~app.frame_view.FrameView` objects.
 
 - **Latest wins.** The child computes one request at a time. A request that arrives while
@@ -24,17 +24,21 @@ the :class:`simcore.pipeline.Simulator` and sends back compact
 from __future__ import annotations
 
 import dataclasses
-import multiprocessing
 import os
+import socket
+import subprocess
+import sys
 import time
 from dataclasses import dataclass
+from multiprocessing.connection import Connection
 from pathlib import Path
 from typing import Any
 
-from PyQt6.QtCore import QObject, QSocketNotifier, QTimer, pyqtSignal
+from PyQt6.QtCore import QObject, QSocketNotifier, pyqtSignal
 
+import app
+import simcore
 from app.frame_view import FrameView
-from app.sim_process import serve
 from simcore.scene import Project
 
 #: CPU priority offset of the simulation process (``TOFRADAR_SIM_NICE`` overrides it).
@@ -82,7 +86,6 @@ class SimulationController(QObject):
         super().__init__(parent)
         self._nice = (int(os.environ.get("TOFRADAR_SIM_NICE", DEFAULT_NICE)) if nice is None
                       else nice)
-        self._ctx = multiprocessing.get_context("spawn")
         self._serial = 0
         self._proc: Any = None
         self._conn: Any = None
@@ -106,15 +109,21 @@ class SimulationController(QObject):
 
     # --- process ----------------------------------------------------------------------
     def _start_process(self) -> None:
-        parent_conn, child_conn = self._ctx.Pipe(duplex=True)
-        proc = self._ctx.Process(target=serve, args=(child_conn, self._nice), daemon=True,
-                                 name="tofradar-simulation")
-        proc.start()
-        child_conn.close()
-        self._proc, self._conn = proc, parent_conn
+        ours, theirs = socket.socketpair()
+        env = dict(os.environ)
+        # The child imports the same app and simcore packages as this process.
+        roots = [str(Path(m.__file__).resolve().parent.parent) for m in (app, simcore)]
+        env["PYTHONPATH"] = os.pathsep.join(
+            dict.fromkeys([*roots, *filter(None, env.get("PYTHONPATH", "").split(os.pathsep))]))
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "app.sim_process", str(theirs.fileno()), str(self._nice)],
+            pass_fds=[theirs.fileno()], env=env, stdin=subprocess.DEVNULL)
+        theirs.close()
+        conn = Connection(ours.detach())
+        self._proc, self._conn = proc, conn
         self._ready = False
         self._sent_project = None
-        self._notifier = QSocketNotifier(parent_conn.fileno(), QSocketNotifier.Type.Read, self)
+        self._notifier = QSocketNotifier(conn.fileno(), QSocketNotifier.Type.Read, self)
         self._notifier.activated.connect(self._on_readable)
 
     def _stop_process(self, *, kill: bool) -> None:
@@ -132,15 +141,21 @@ class SimulationController(QObject):
                 except OSError:
                     pass
             conn.close()
-        if proc is not None:
-            if not kill:
-                proc.join(5.0)
-            if proc.is_alive():
-                proc.terminate()
-                proc.join(0.5)
-            if proc.is_alive():
-                proc.kill()
-                proc.join(0.5)
+        if proc is None:
+            return
+        if not kill:
+            try:
+                proc.wait(5.0)
+            except subprocess.TimeoutExpired:
+                pass
+        for stop in (proc.terminate, proc.kill):
+            if proc.poll() is not None:
+                break
+            stop()
+            try:
+                proc.wait(0.5)
+            except subprocess.TimeoutExpired:
+                pass
 
     @property
     def process_id(self) -> int | None:
@@ -149,7 +164,7 @@ class SimulationController(QObject):
 
     def is_running(self) -> bool:
         """True while the simulation process is alive."""
-        return self._proc is not None and self._proc.is_alive()
+        return self._proc is not None and self._proc.poll() is None
 
     # --- requests ---------------------------------------------------------------------
     @property
@@ -186,8 +201,8 @@ class SimulationController(QObject):
         done = self._done
         if done is not None and done[0].same_frame(project, base_dir, req.index):
             self._done = None
-            view = dataclasses.replace(done[1])
-            QTimer.singleShot(0, lambda: self._deliver(req, view))
+            # Shown at once: the time bar and the panels repaint together.
+            self._deliver(req, dataclasses.replace(done[1]))
             return req.serial
         self._waiting = req
         self._dispatch()
@@ -281,7 +296,7 @@ class SimulationController(QObject):
         if self._closed:
             return
         req, self._in_flight = self._in_flight, None
-        code = None if self._proc is None else self._proc.exitcode
+        code = None if self._proc is None else self._proc.poll()
         self._stop_process(kill=True)
         self.restarts += 1
         self._start_process()
