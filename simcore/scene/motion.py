@@ -15,14 +15,24 @@ from numpy.typing import NDArray
 from pydantic import Field, model_validator
 from scipy.spatial.transform import Rotation, Slerp
 
-from simcore.scene.base import Finite, Model, NonNegative, Vec3
+from simcore.scene.base import (
+    MAX_SPEED_MPS,
+    MIN_KEYFRAME_SPACING_S,
+    AngularVelocity3,
+    Finite,
+    Model,
+    Position3,
+    Rotation3,
+    Time,
+    Velocity3,
+)
 
 
 class Pose(Model):
     """Position (m) and extrinsic x-y-z Euler rotation (degrees)."""
 
-    position_m: Vec3 = (0.0, 0.0, 0.0)
-    rotation_deg: Vec3 = (0.0, 0.0, 0.0)
+    position_m: Position3 = (0.0, 0.0, 0.0)
+    rotation_deg: Rotation3 = (0.0, 0.0, 0.0)
 
     def rotation(self) -> Rotation:
         """Return the rotation as a scipy :class:`Rotation`."""
@@ -36,9 +46,9 @@ class Pose(Model):
 class Keyframe(Model):
     """An offset from the base pose at a time: position added, rotation applied after."""
 
-    time_s: NonNegative
-    position_m: Vec3 = (0.0, 0.0, 0.0)
-    rotation_deg: Vec3 = (0.0, 0.0, 0.0)
+    time_s: Time
+    position_m: Position3 = (0.0, 0.0, 0.0)
+    rotation_deg: Rotation3 = (0.0, 0.0, 0.0)
 
 
 class Motion(Model):
@@ -49,17 +59,30 @@ class Motion(Model):
     rotation; ``repeat`` says what happens after the last keyframe.
     """
 
-    velocity_mps: Vec3 = (0.0, 0.0, 0.0)
-    angular_velocity_dps: Vec3 = (0.0, 0.0, 0.0)
-    keyframes: list[Keyframe] = Field(default_factory=list)
+    velocity_mps: Velocity3 = (0.0, 0.0, 0.0)
+    angular_velocity_dps: AngularVelocity3 = (0.0, 0.0, 0.0)
+    keyframes: list[Keyframe] = Field(default_factory=list, max_length=100_000)
     repeat: Literal["hold", "loop", "back_and_forth"] = "hold"
 
     @model_validator(mode="after")
     def _check(self) -> Motion:
         if self.keyframes:
             times = [k.time_s for k in self.keyframes]
-            if any(b <= a for a, b in zip(times, times[1:], strict=False)):
-                raise ValueError(f"keyframe times must be strictly increasing, got {times}")
+            for i, (a, b) in enumerate(zip(times, times[1:], strict=False)):
+                if b <= a:
+                    raise ValueError(f"keyframe times must be strictly increasing, got "
+                                     f"keyframes[{i}].time_s = {a} and keyframes[{i + 1}]"
+                                     f".time_s = {b}")
+                if b - a < MIN_KEYFRAME_SPACING_S:
+                    raise ValueError(
+                        f"keyframes[{i}] and [{i + 1}] are {b - a:.3g} s apart; at least "
+                        f"{MIN_KEYFRAME_SPACING_S:g} s")
+                step = np.subtract(self.keyframes[i + 1].position_m, self.keyframes[i].position_m)
+                speed = float(np.linalg.norm(step)) / (b - a)
+                if speed > MAX_SPEED_MPS:
+                    raise ValueError(
+                        f"keyframes[{i}] → [{i + 1}] move at {speed:.3g} m/s; at most "
+                        f"{MAX_SPEED_MPS:g} m/s")
             if any(self.velocity_mps) or any(self.angular_velocity_dps):
                 raise ValueError(
                     "use either keyframes or constant velocities, not both "
