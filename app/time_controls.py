@@ -21,10 +21,13 @@ class TimeController(QObject):
     -------
     indexChanged(int)
     playingChanged(bool)
+    frameShown(int)
+        The frame of the current index was shown (or could not be computed).
     """
 
     indexChanged = pyqtSignal(int)
     playingChanged = pyqtSignal(bool)
+    frameShown = pyqtSignal(int)
 
     def __init__(self, document: ProjectDocument, parent: QObject | None = None):
         super().__init__(parent)
@@ -93,6 +96,7 @@ class TimeController(QObject):
     def frame_done(self) -> None:
         """The frame of the current index has been shown (or could not be computed)."""
         self._waiting = False
+        self.frameShown.emit(self._index)
         if self._due and self.playing:
             self._due = False
             self.step(1)  # a tick passed while the frame was computing: go on at once
@@ -151,7 +155,10 @@ class TimeBar(QWidget):
         for w in (self.first_button, self.back_button, self.play_button, self.forward_button,
                   self.slider, self.label):
             layout.addWidget(w)
-        controller.indexChanged.connect(self.refresh)
+        # While playing, the read-out follows the frames shown, so it repaints together
+        # with the panels instead of once more at every tick.
+        controller.indexChanged.connect(lambda _i: None if controller.playing else self.refresh())
+        controller.frameShown.connect(self.refresh)
         controller.playingChanged.connect(self._on_playing)
         controller.document.projectChanged.connect(self.refresh)
         self.refresh()
