@@ -419,8 +419,11 @@ class MainWindow(QMainWindow):
             return cached[1], cached[2]
         base = self.document.base_dir
         cost = preflight.estimate_cost(project, base_dir=base)
-        problems = preflight.check(project, base_dir=base, memory_budget_bytes=2**62,
-                                   parse_meshes=False)
+        # Meshes come from the user's own file dialog (any folder); an empty scene is where
+        # every new project starts: neither is refused while editing.
+        problems = [p for p in preflight.check(project, base_dir=base, memory_budget_bytes=2**62,
+                                               parse_meshes=False, allow_outside_paths=True)
+                    if not p.startswith("objects: the scene has no objects")]
         return cost, problems
 
     def _check_edit(self, old: Project, new: Project) -> None:

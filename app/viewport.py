@@ -10,6 +10,7 @@ undoable edit (all steps of one drag merge into one undo step).
 
 from __future__ import annotations
 
+import time
 from typing import Any
 
 import numpy as np
@@ -38,6 +39,8 @@ from simcore.scene import Project
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
 
 SelectionKey = int | str | None
+#: After a render of T ms the view waits RENDER_DUTY × T ms before the next one.
+RENDER_DUTY = 1.0
 
 
 class TransformGizmo(AffineWidget3D):
@@ -137,6 +140,13 @@ class SceneViewport(QWidget):
         self._closed = False
         #: VTK renders of the view so far.
         self.render_count = 0
+        self.last_render_ms = 0.0
+        self._render_t0 = 0.0
+        self._render_pause_until = 0.0
+        self._pause_timer = QTimer(self)
+        self._pause_timer.setSingleShot(True)
+        self._pause_timer.timeout.connect(self.request_render)
+        self.plotter.ren_win.AddObserver("StartEvent", self._render_started)
         self.plotter.ren_win.AddObserver("EndEvent", self._count_render)
         self._setup_scene()
         document.projectChanged.connect(self._on_project_changed)
@@ -179,21 +189,37 @@ class SceneViewport(QWidget):
         The pyvistaqt widget renders the scene in its paint handler and Qt merges update
         requests: however many edits or frames ask in one pass of the event loop, the
         view renders once, in the same window repaint as the panels that changed with it.
+        On a slow (software OpenGL) machine the view renders at most once per
+        :data:`RENDER_DUTY` × its own render time, so it cannot take the GUI thread from
+        input: a request inside that pause is drawn by the next request after it (the next
+        frame while playing) or, when none comes, by a timer at the end of the pause.
         """
         if self._closed:
             return
-        if self.isVisible() and self.plotter.isVisible():
-            self._needs_render = False
-            self.plotter.update()
-        else:
+        if not (self.isVisible() and self.plotter.isVisible()):
             self._needs_render = True
+            return
+        self._needs_render = False
+        wait_s = self._render_pause_until - time.perf_counter()
+        if wait_s > 0:
+            if not self._pause_timer.isActive():
+                self._pause_timer.start(int(wait_s * 1e3) + 1)
+            return
+        self._pause_timer.stop()
+        self.plotter.update()
 
     def render_now(self) -> None:
         """Schedule the repaint of the view (only while visible)."""
         self.request_render()
 
+    def _render_started(self, *_: Any) -> None:
+        self._render_t0 = time.perf_counter()
+
     def _count_render(self, *_: Any) -> None:
         self.render_count += 1
+        end = time.perf_counter()
+        self.last_render_ms = (end - self._render_t0) * 1e3
+        self._render_pause_until = end + RENDER_DUTY * (end - self._render_t0)
 
     def showEvent(self, event: Any) -> None:  # noqa: N802, D102 - Qt API
         super().showEvent(event)
