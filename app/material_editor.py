@@ -58,7 +58,7 @@ def set_material_field(document: ProjectDocument, name: str, band: str, field: s
         else:
             target = table[name].model_dump()
             d["materials"].append(target)
-        target[band][field] = value
+        target.setdefault("bands", {}).setdefault(band, {})[field] = value
 
     document.edit(f"Material {name}: {band} {field}", mutate)
 
@@ -200,10 +200,10 @@ class MaterialEditor(QWidget):
         if mat is None:
             return
         self.description.setText(mat.description or "")
-        self.tof_editor.show_values(mat.tof)
-        self.radar_editor.show_values(mat.radar)
-        set_quietly(self.radar_invisible, mat.radar.opacity == 0.0)
-        set_quietly(self.tof_invisible, mat.tof.opacity == 0.0)
+        self.tof_editor.show_values(mat.band("tof"))
+        self.radar_editor.show_values(mat.band("radar"))
+        set_quietly(self.radar_invisible, mat.band("radar").opacity == 0.0)
+        set_quietly(self.tof_invisible, mat.band("tof").opacity == 0.0)
         self.revert_button.setEnabled(self.current in project_names
                                       and self.current in self._library)
         self.assign_button.setEnabled(self.document.selected_index() is not None)
@@ -224,7 +224,7 @@ class MaterialEditor(QWidget):
         idx = self.document.selected_index()
         if idx is not None:
             try_edit(self.editFailed.emit, lambda: self.document.set_value(
-                f"objects.{idx}.material", self.current, text="Set material"))
+                f"objects[{idx}].material", self.current, text="Set material"))
 
     def revert_to_library(self) -> None:
         """Remove the project's override of the current library material."""

@@ -41,7 +41,7 @@ from app.scene_edits import (
     rename_object,
 )
 from app.widgets import BIG, VectorEdit, set_quietly, spin, try_edit
-from simcore.scene import Project
+from simcore.scene import Project, fieldpath
 
 RIG_LABEL = "Sensor rig (ToF + radar)"
 
@@ -312,7 +312,7 @@ class ObjectInspector(QScrollArea):
         if key == RIG:
             return "rig"
         idx = self.document.selected_index()
-        return None if idx is None else f"objects.{idx}"
+        return None if idx is None else f"objects[{idx}]"
 
     def _set(self, sub: str, value: Any, text: str, field: QWidget | None = None) -> None:
         """Set one field of the selection; a refused value stays in ``field``, marked."""
@@ -467,7 +467,7 @@ class ObjectInspector(QScrollArea):
             return
 
         def mutate(d: dict[str, Any]) -> None:
-            node = d["rig"] if base == "rig" else d["objects"][int(base.split(".")[1])]
+            node = fieldpath.get(d, base)
             node["motion"]["keyframes"] = keyframes
             node["motion"]["velocity_mps"] = (0.0, 0.0, 0.0)
             node["motion"]["angular_velocity_dps"] = (0.0, 0.0, 0.0)

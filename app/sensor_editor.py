@@ -70,7 +70,7 @@ def angle_resolution_deg(config: RadarConfig) -> tuple[float | None, float | Non
 def scene_radial_extent(project: Project, t: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """Ranges (m) and radial velocities (m/s) of the object origins seen from the radar."""
     snap = take_snapshot(project, t)
-    radar = snap.radar
+    radar = snap.sensors["radar"]
     ranges, velocities = [], []
     for state in snap.objects:
         d = state.origin - radar.position

@@ -290,7 +290,7 @@ class SceneViewport(QWidget):
             mat = materials.get(obj.material)
             prop = actor.prop
             prop.color = material_colour(obj.material)
-            tof_opacity = mat.tof.opacity if mat is not None else 1.0
+            tof_opacity = mat.band("tof").opacity if mat is not None else 1.0
             prop.opacity = 0.35 if tof_opacity < 0.5 else 1.0
             selected = obj.id == self.document.selection
             prop.show_edges = selected
@@ -315,9 +315,9 @@ class SceneViewport(QWidget):
         state = (
             tuple((o.id, self._actors[o.id][0], o.material, s.transform.tobytes())
                   for o, s in zip(project.objects, snap.objects, strict=True)),
-            snap.rig.transform.tobytes(), snap.tof.transform.tobytes(),
-            snap.radar.transform.tobytes(), self._sensor_key, self.document.selection,
-            tuple((m.name, m.tof.opacity) for m in project.materials))
+            snap.rig.transform.tobytes(), snap.sensors["tof"].transform.tobytes(),
+            snap.sensors["radar"].transform.tobytes(), self._sensor_key, self.document.selection,
+            tuple((m.name, m.band("tof").opacity) for m in project.materials))
         self._update_cutaway(render=False)
         if state == self._drawn_state and self._gizmo_key == self.document.selection:
             return
@@ -404,9 +404,9 @@ class SceneViewport(QWidget):
         self._rig_actors["body"].user_matrix = rig_t
         self._rig_actors["axes"].user_matrix = rig_t
         for name in ("tof_fov", "tof_edges"):
-            self._rig_actors[name].user_matrix = snap.tof.transform
+            self._rig_actors[name].user_matrix = snap.sensors["tof"].transform
         for name in ("radar_fov", "radar_edges"):
-            self._rig_actors[name].user_matrix = snap.radar.transform
+            self._rig_actors[name].user_matrix = snap.sensors["radar"].transform
         body = self._rig_actors["body"].prop
         body.show_edges = self.document.selection == RIG
         body.edge_color = SELECTION_COLOUR
@@ -456,7 +456,7 @@ class SceneViewport(QWidget):
             side_cam = float(np.dot(cam - centre, axis))
             between = side_obj * side_cam > 0 and abs(side_obj) > 0.5
             mat = materials.get(by_id[oid].material)
-            base = 0.35 if mat is not None and mat.tof.opacity < 0.5 else 1.0
+            base = 0.35 if mat is not None and mat.band("tof").opacity < 0.5 else 1.0
             self._actors[oid][1].prop.opacity = 0.12 if between else base
             self._actors[oid][1].SetPickable(not between)
         if render:
@@ -487,13 +487,6 @@ class SceneViewport(QWidget):
             self._cloud_actor.mapper.scalar_range = (-vmax, vmax)
             self._cloud_actor.SetVisibility(True)
         self.request_render()
-
-    @property
-    def detection_points(self) -> NDArray[np.float64]:
-        """World positions of the radar points currently drawn, shape (n, 3)."""
-        if self._cloud_actor is None or not self._cloud_actor.GetVisibility():
-            return np.zeros((0, 3))
-        return np.asarray(self._cloud.points)
 
     # --- picking -----------------------------------------------------------------------
     def _on_left_press(self, *_: Any) -> None:
@@ -604,7 +597,7 @@ class SceneViewport(QWidget):
                 idx = self.document.index_of(int(key))
                 obj = project.objects[idx]
                 pose = base_pose_for_world(obj.pose, obj.motion, self._time_s, world)
-                self.document.set_value(f"objects.{idx}.pose", pose.model_dump(),
+                self.document.set_value(f"objects[{idx}].pose", pose.model_dump(),
                                         text=f"Move {obj.name}", merge_key=merge)
         except (EditError, KeyError) as exc:
             self.editFailed.emit(str(exc))

@@ -13,6 +13,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from simcore import __version__
 from simcore.scene.project_io import ProjectError, load_project, project_to_json
 
 if TYPE_CHECKING:
@@ -237,6 +238,23 @@ def cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_examples(args: argparse.Namespace) -> int:
+    """List the bundled example projects, or copy them (with meshes) into a folder."""
+    from simcore.examples import ExamplesError, copy_examples, list_examples
+
+    if args.copy is None:
+        for example in list_examples():
+            print(f"{example.name + '.json':<28} {example.summary}")
+        print("copy them into a folder with: tofradar examples --copy DIR")
+        return 0
+    try:
+        written = copy_examples(Path(args.copy))
+    except ExamplesError as exc:
+        raise CliError(str(exc)) from None
+    print(f"copied {len(written)} files to {args.copy}")
+    return 0
+
+
 def cmd_gui(args: argparse.Namespace) -> int:
     """Open the desktop GUI through the launcher the ``app`` package registered."""
     if args.gui_launcher is None:
@@ -255,6 +273,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="tofradar",
         description="Synchronized AMCW ToF camera and FMCW radar simulation from one 3D scene.",
     )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command")
     p = sub.add_parser("gui", help="open the desktop GUI (default)")
     p.add_argument("project", nargs="?", help="project file to open")
@@ -309,6 +328,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--frames", type=_positive_int, default=30, help="frames to time")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=cmd_bench)
+
+    p = sub.add_parser("examples", help="list the bundled example projects or copy them")
+    p.add_argument("--copy", metavar="DIR", help="copy them (with their meshes) into DIR")
+    p.set_defaults(func=cmd_examples)
     return parser
 
 

@@ -21,8 +21,9 @@ from typing import Any
 
 from numpy.typing import NDArray
 
-from simcore.pipeline import H5Items, Simulator
+from simcore.pipeline import Simulator
 from simcore.scene.project_io import project_from_dict
+from simcore.sensors.base import H5Items
 
 
 @dataclass(frozen=True)

@@ -90,8 +90,8 @@ def test_material_editor_save_into_project_and_assign(make_window, monkeypatch):
     ed.radar_invisible.click()
     ed.radar_editor.widgets["reflectance"].setValue(0.4)
     mat = doc.project.materials[0]
-    assert mat.radar.opacity == 1.0 and mat.radar.reflectance == 0.4
-    assert mat.tof.reflectance == 0.8  # the ToF side is untouched
+    assert mat.band("radar").opacity == 1.0 and mat.band("radar").reflectance == 0.4
+    assert mat.band("tof").reflectance == 0.8  # the ToF side is untouched
     ed.assign_button.click()
     assert doc.project.object_by_name("book").material == "wet_paper"
     assert window.inspector.material_combo.currentText() == "wet_paper"
