@@ -193,12 +193,12 @@ def gui_figures(path: Path, *, seconds: float, edits: int) -> dict[str, Any]:
         half = doc.project.rig.radar.wavelength_m * 5e2
         kinds = {
             "antenna_edit_ms": lambda k: doc.set_value(
-                "rig.radar.rx.0.position_mm", (rx0[0] + half * (1 + k % 2), rx0[1])),
+                "rig.radar.rx[0].position_mm", (rx0[0] + half * (1 + k % 2), rx0[1])),
             "object_move_ms": lambda k: doc.set_value(
-                f"objects.{obj}.pose.position_m",
+                f"objects[{obj}].pose.position_m",
                 (pos0[0] + 0.05 * (1 + k % 2), pos0[1], pos0[2])),
             "material_change_ms": lambda k: doc.set_value(
-                f"objects.{obj}.material", ("wood", "aluminium")[k % 2]),
+                f"objects[{obj}].material", ("wood", "aluminium")[k % 2]),
         }
         latency: dict[str, float] = {}
         for name, edit in kinds.items():
