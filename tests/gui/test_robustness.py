@@ -200,3 +200,18 @@ def test_window_handles_input_while_playing(make_window, wait_frame, qtbot):
     # with other jobs for 2 cores); benchmarks/bench_gui.py measures the real figure.
     assert median < 0.5 and worst < 3.0, (
         f"input delay while playing: median {median * 1e3:.0f} ms, max {worst * 1e3:.0f} ms")
+
+
+def test_a_crashed_simulation_process_is_restarted(make_window, wait_frame, qtbot):
+    import os
+    import signal
+
+    window = make_window()
+    wait_frame(window)
+    pid = window.sim.process_id
+    os.kill(pid, signal.SIGKILL)  # e.g. the kernel's out-of-memory killer
+    qtbot.waitUntil(lambda: window.sim.process_id not in (None, pid), timeout=5000)
+    window.time.step(1)
+    wait_frame(window)
+    assert window.last_view.index == 1
+    _assert_panels_current(window, wait_frame)
