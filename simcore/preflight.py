@@ -22,14 +22,14 @@ from pathlib import Path
 
 import numpy as np
 
-from simcore.render.mesh_files import (
+from simcore.scene.base import MAX_COORDINATE_M, MAX_SPEED_MPS, check_name
+from simcore.scene.geometry import Mesh
+from simcore.scene.mesh_files import (
     MAX_MESH_FILE_BYTES,
     MESH_SUFFIXES,
     MeshError,
     read_mesh_arrays,
 )
-from simcore.scene.base import MAX_COORDINATE_M, MAX_SPEED_MPS, check_name
-from simcore.scene.geometry import Mesh
 from simcore.scene.model import Project
 from simcore.scene.motion import Motion, Pose
 from simcore.scene.radar_config import SPEED_OF_LIGHT
@@ -53,7 +53,11 @@ MEMORY_BUDGET_FRACTION = 0.8
 #: Rough frame-time model (s per unit); calibrated on office.json, 2-core machine.
 SECONDS_PER_RENDER_PIXEL = 6e-8
 SECONDS_PER_NUFFT_POINT = 2e-9
-SECONDS_PER_DSP_CELL = 2e-8
+SECONDS_PER_DSP_CELL = 5e-9
+
+
+class RunError(RuntimeError):
+    """A run cannot go on, for a reason explained in one line (no traceback needed)."""
 
 
 def _size(n: float) -> str:
@@ -255,9 +259,8 @@ def mesh_path_problem(base_dir: Path | None, mesh_path: str, *,
         try:
             real.relative_to(base.resolve())
         except ValueError:
-            return (f"{mesh_path!r} resolves to {real}, outside the project folder "
-                    f"{base.resolve()}; move the mesh next to the project or pass "
-                    "--allow-outside-paths")
+            return (f"{mesh_path!r} is outside the project folder (move it there or pass "
+                    f"--allow-outside-paths); it resolves to {real}")
     try:
         import stat as _stat
         st = real.stat()
@@ -432,5 +435,5 @@ def check(project: Project, *, base_dir: Path | None = None,
     return out
 
 
-__all__ = ["CostEstimate", "available_memory_bytes", "check", "default_memory_budget",
+__all__ = ["CostEstimate", "RunError", "available_memory_bytes", "check", "default_memory_budget",
            "estimate_cost", "mesh_path_problem"]

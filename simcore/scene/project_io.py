@@ -30,7 +30,7 @@ MAX_DEPTH = 64
 MAX_LIST_LENGTH = 100_000
 MAX_STRING_LENGTH = 1_000_000
 #: Longest problem line (characters) and most problems reported.
-MAX_PROBLEM_LENGTH = 300
+MAX_PROBLEM_LENGTH = 400
 MAX_PROBLEMS = 50
 
 
@@ -130,7 +130,8 @@ def format_validation_error(exc: ValidationError) -> list[str]:
     for err in exc.errors():
         loc = _format_loc(tuple(err["loc"]))
         msg = err["msg"].removeprefix("Value error, ")
-        if err["type"] in ("missing", "model_type", "model_attributes_type") or "input" not in err:
+        if err["type"] in ("missing", "model_type", "model_attributes_type") or "input" not in err \
+                or (err["type"] == "value_error" and isinstance(err["input"], (dict, list))):
             problems.append(f"{loc}: {msg}")
         else:
             problems.append(f"{loc}: {msg} (got {_short(err['input'])})")
@@ -190,8 +191,17 @@ def check_references(project: Project, base_dir: Path) -> list[str]:
                     f"(use {', '.join(MESH_SUFFIXES)})"
                 )
             elif not path.is_file():
-                problems.append(f"objects[{i}].geometry.path: mesh file not found: {path}")
+                what = ("is not a regular file (device, FIFO, socket or directory)"
+                        if _exists(path) else "mesh file not found")
+                problems.append(f"objects[{i}].geometry.path: {what}: {path}")
     return problems
+
+
+def _exists(path: Path) -> bool:
+    try:
+        return path.exists()
+    except OSError:
+        return False
 
 
 def resolve_mesh_path(base_dir: Path, mesh_path: str) -> Path:
