@@ -128,7 +128,11 @@ def test_one_failing_panel_leaves_the_others_current(make_window, wait_frame, qt
         assert panel.error is None
         assert panel.draw_count >= count + 3
         assert panel.view is window.last_view
-    assert len(window.viewport.detection_points) == len(window.last_view.radar.detections)
+    # The 3D view shows the newest frame's radar points.
+    cloud = window.viewport._cloud
+    detections = window.last_view.radar.detections
+    assert cloud.n_points == len(detections)
+    np.testing.assert_allclose(cloud.points, detections.xyz_world_m, atol=1e-6)
     # Drawing again clears the panel's error.
     del broken.draw
     window.time.step(1)
