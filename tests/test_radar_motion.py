@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from simcore.render import SceneRenderer
+from simcore.render import RenderRequest, SceneRenderer
 from simcore.scene import Box, Project, SceneObject
 from simcore.scene.model import SensorRig
 from simcore.scene.motion import Keyframe, Motion, Pose, RigidState
@@ -178,7 +178,7 @@ def rotation_z(angle: np.ndarray) -> np.ndarray:
 def world_points(project: Project, t0: float, n: int, seed: int) -> np.ndarray:
     """Random static world points in front of the radar at ``t0`` (0.4–6 m)."""
     rng = np.random.default_rng(seed)
-    radar = take_snapshot(project, t0).radar
+    radar = take_snapshot(project, t0).sensors["radar"]
     r = rng.uniform(0.4, 6.0, n)
     local = r[:, None] * np.array([unit(a, e) for a, e in
                                    zip(rng.uniform(-50, 50, n), rng.uniform(-20, 20, n),
@@ -199,7 +199,7 @@ def scatterers_at(project: Project, t0: float, points: np.ndarray) -> Scatterers
     """Scatterers of static world points from the snapshot's rigid states (the helper)."""
     snap = take_snapshot(project, t0)
     still = RigidState(np.eye(4), np.zeros(3), np.zeros(3))
-    pos, vel, acc = rigid_point_motion(points, still, snap.rig, snap.radar)
+    pos, vel, acc = rigid_point_motion(points, still, snap.rig, snap.sensors["radar"])
     rng = np.random.default_rng(1)
     return Scatterers.from_arrays(pos, rng.lognormal(-3, 1, len(pos)), velocities_mps=vel,
                                   accelerations_mps2=acc,
@@ -283,7 +283,7 @@ def test_rigid_point_motion_matches_finite_differences_of_the_exact_motion() -> 
     x = radar_frame(points, rotation_z(omega * t), p0 + v_rig * t[:, None], mount)
     snap = take_snapshot(project, t0)
     still = RigidState(np.eye(4), np.zeros(3), np.zeros(3))
-    pos, vel, acc = rigid_point_motion(points, still, snap.rig, snap.radar)
+    pos, vel, acc = rigid_point_motion(points, still, snap.rig, snap.sensors["radar"])
     assert_allclose(pos, x[:, 1], atol=1e-12)
     assert_allclose(vel, (x[:, 2] - x[:, 0]) / (2 * h), atol=1e-7)
     assert_allclose(acc, (x[:, 2] - 2 * x[:, 1] + x[:, 0]) / h**2, atol=1e-4)
@@ -322,10 +322,11 @@ def test_rendered_scatterers_of_a_turning_rig_carry_its_rotation(
         motion=Motion(velocity_mps=tuple(v_rig), angular_velocity_dps=(0.0, 0.0, rate))))
     t0, h = 0.2, 1e-4
     snap = take_snapshot(project, t0)
-    buffers = make_renderer(project).render(snap, "radar", cfg.render_intrinsics())
+    buffers = make_renderer(project).render(
+        snap, RenderRequest("radar", "radar", cfg.render_intrinsics()))
     sc = scatterers_from_render(project, snap, buffers, wavelength_m=cfg.wavelength_m)
     assert len(sc) > 1000 and sc.accelerations_mps2 is not None
-    world = sc.positions_m @ snap.radar.rotation.T + snap.radar.position
+    world = sc.positions_m @ snap.sensors["radar"].rotation.T + snap.sensors["radar"].position
     t = t0 + np.array([-h, 0.0, h])
     x = radar_frame(world, rotation_z(np.deg2rad(rate) * t), p0 + v_rig * t[:, None], mount)
     assert_allclose(sc.velocities_mps, (x[:, 2] - x[:, 0]) / (2 * h), atol=1e-6)

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
-from simcore.render import RenderBuffers, SceneRenderer
+from simcore.render import RenderBuffers, RenderRequest, SceneRenderer
 from simcore.resources import example_path
 from simcore.scene import Plane, Pose, Project, SceneObject, load_project
 from simcore.scene.materials import band_response, load_material_library
@@ -39,8 +39,8 @@ def render(project: Project) -> RenderBuffers:
     """ToF-band render of ``project`` at t = 0 on the camera's supersampled grid."""
     renderer = SceneRenderer(project)
     try:
-        return renderer.render(take_snapshot(project, 0.0), "tof",
-                               project.rig.tof.render_intrinsics())
+        return renderer.render(take_snapshot(project, 0.0),
+                               RenderRequest("tof", "tof", project.rig.tof.render_intrinsics()))
     finally:
         renderer.close()
 
@@ -157,7 +157,7 @@ def test_amplitude_follows_inverse_square_and_radiometry(wall_json):
     ratio = amps[1.0] / amps[2.0]
     assert np.abs(ratio / 4.0 - 1.0).max() <= 0.02, np.abs(ratio / 4.0 - 1.0).max()
     # Absolute level at the image centre: A = 2 m S1 f(θ) / R² · gain, θ from geometry.
-    concrete = load_material_library()["concrete"].tof
+    concrete = load_material_library()["concrete"].band("tof")
     norms = ray_norms(cfg)
     cos_theta = 1.0 / norms
     f = band_response(cos_theta, reflectance=concrete.reflectance, specular=concrete.specular,
@@ -390,7 +390,8 @@ def test_motion_artifacts_follow_the_four_sample_formula(make_renderer):
     renderer = make_renderer(project)
     intr = cfg.render_intrinsics()
     dt = cfg.sample_interval_s
-    samples = [renderer.render(take_snapshot(project, i * dt), "tof", intr) for i in range(4)]
+    samples = [renderer.render(take_snapshot(project, i * dt), RenderRequest("tof", "tof", intr))
+               for i in range(4)]
     out = simulate_tof(samples[0], cfg, rng=np.random.default_rng(0), noise=False,
                        sample_buffers=samples)
     still = simulate_tof(samples[0], cfg, rng=np.random.default_rng(0), noise=False)
@@ -411,3 +412,40 @@ def test_motion_artifacts_follow_the_four_sample_formula(make_renderer):
     assert abs(out.depth_m[row, col] - still.depth_m[row, col]) > 0.003
     np.testing.assert_allclose(r, r[0] + v * dt * np.arange(4) * samples[0].range_m[row, col]
                                / samples[0].points_m[row, col, 2], atol=1e-4)
+
+
+def test_auto_exposure_keeps_a_near_grey_wall_valid():
+    """A grey wall at 0.1 m saturates at the fixed 250 µs exposure (it does from ≈ 0.6 m);
+    auto-exposure shortens the exposure so that it reads right (the pico flexx stays valid
+    down to 0.1 m)."""
+    from scenes import wall_project
+
+    from simcore.render import RenderRequest, SceneRenderer
+    from simcore.sensors.tof.camera import auto_exposure_s
+
+    project = wall_project(0.1, material="concrete")
+    fixed = project.rig.tof.model_copy(update={"crosstalk_sigma_px": 0.0})
+    auto = fixed.model_copy(update={"auto_exposure": True})
+    renderer = SceneRenderer(project)
+    try:
+        buf = renderer.render(take_snapshot(project, 0.0),
+                              RenderRequest("tof", "tof", fixed.render_intrinsics()))
+    finally:
+        renderer.close()
+    out_fixed = simulate_tof(buf, fixed, rng=np.random.default_rng(0))
+    out_auto = simulate_tof(buf, auto, rng=np.random.default_rng(0))
+    assert out_fixed.saturated.mean() > 0.9 and out_fixed.exposure_time_s == 250e-6
+    assert out_auto.valid.mean() > 0.95
+    centre = out_auto.depth_m[60:110, 80:140]
+    assert abs(float(np.median(centre)) - float(np.median(out_auto.gt_range[60:110, 80:140]))
+               ) < 0.01
+    # The chosen exposure puts the brightest 1 % at the target: check it from the formula,
+    # peak electrons ∝ exposure, computed here from the configured radiometry.
+    f = np.percentile(buf.intensity[buf.object_index >= 0], 99.9)
+    r = float(np.nanmin(buf.range_m))
+    peak_at_config = (f * fixed.signal_electrons_at_1m / r**2 + f * fixed.ambient_electrons) * (
+        1 + fixed.demodulation_contrast)
+    expected = fixed.exposure_time_s * fixed.auto_exposure_target * (
+        fixed.full_well_electrons / peak_at_config)
+    assert auto_exposure_s(buf, auto) == pytest.approx(expected, rel=0.1)
+    assert out_auto.exposure_time_s == auto_exposure_s(buf, auto)

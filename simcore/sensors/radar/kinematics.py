@@ -41,7 +41,7 @@ def rigid_point_motion(points_world: NDArray[np.floating], body: RigidState,
     rig : RigidState
         The sensor rig's state (``snapshot.rig``).
     radar : SensorState
-        The radar's optical frame (``snapshot.radar``).
+        The radar's optical frame (``snapshot.sensors["radar"]``).
 
     Returns
     -------
