@@ -9,6 +9,7 @@ import os
 import signal
 import sys
 import threading
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -518,13 +519,19 @@ def main(argv: Sequence[str] | None = None, *,
     if args.command is None:
         args = parser.parse_args(["gui", *(argv or [])])
     args.gui_launcher = gui_launcher
+    debug = args.debug or getattr(args, "debug_global", False)
+    if not debug:
+        # Numerical warnings are not messages for the user (the outputs are checked); worker
+        # processes inherit the setting through the environment.
+        warnings.simplefilter("ignore", RuntimeWarning)
+        os.environ.setdefault("PYTHONWARNINGS", "ignore::RuntimeWarning")
     try:
         return int(args.func(args))
     except KeyboardInterrupt:
         print("tofradar: interrupted", file=sys.stderr)
         return 130
     except Exception as exc:  # noqa: BLE001 — the one top-level error path
-        if args.debug or getattr(args, "debug_global", False):
+        if debug:
             raise
         return _report_error(exc)
 

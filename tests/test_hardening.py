@@ -293,6 +293,12 @@ ATTACKS = {
     "frame rate 1e-300": (lambda d: d.update(timeline={"frame_rate_hz": 1e-300,
                                                       "duration_s": 1e-300}),
                           "timeline.frame_rate_hz"),
+    "IF high-pass 1e-300 Hz": (lambda d: d["rig"]["radar"].update(if_highpass_hz=1e-300),
+                               "rig.radar: if_highpass_hz"),
+    "ToF field of view 1e-300°": (lambda d: d["rig"]["tof"].update(fov_v_deg=1e-300),
+                                  "rig.tof.fov_v_deg"),
+    "corner reflector on the radar": (lambda d: d["objects"][1]["pose"].update(
+        position_m=[1e-300, -0.03, 1.0]), "objects[1].pose"),
     "object drifting out of the world": (lambda d: (
         d["objects"][0]["motion"].update(velocity_mps=[9000, 0, 0]),
         d["timeline"].update(duration_s=100.0)), "objects[0].motion"),
