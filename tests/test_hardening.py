@@ -497,3 +497,14 @@ def test_out_must_be_a_regular_file_and_a_symlink_stays(tmp_path, capsys):
     assert link.is_symlink()
     with h5py.File(target, "r") as f:
         assert f["meta"].attrs["n_frames"] == 2
+
+
+def test_object_count_is_capped_before_validation():
+    from simcore.scene.project_io import MAX_OBJECTS
+
+    doc = base_project_dict()
+    doc["objects"] = [dict(doc["objects"][-1], id=i, name=f"o{i}")
+                      for i in range(MAX_OBJECTS + 1)]
+    with pytest.raises(ProjectError, match=f"objects: {MAX_OBJECTS + 1} entries; allowed at "
+                                           f"most {MAX_OBJECTS}"):
+        project_from_dict(doc)
