@@ -18,19 +18,16 @@ from pydantic import ValidationError
 from PyQt6.QtCore import QObject, pyqtSignal
 from PyQt6.QtGui import QUndoCommand, QUndoStack
 
+from app.validation import describe_validation_error
 from simcore.scene import (
     DualBandMaterial,
     Project,
+    fieldpath,
     load_material_library,
     load_project,
     save_project,
 )
-from simcore.scene.project_io import (
-    ProjectError,
-    check_references,
-    format_validation_error,
-    project_to_json,
-)
+from simcore.scene.project_io import ProjectError, check_references
 
 #: Selection key of the sensor rig (objects are selected by their integer id).
 RIG = "rig"
@@ -133,6 +130,9 @@ class ProjectDocument(QObject):
         self._selection: int | str | None = None
         self._materials: dict[str, DualBandMaterial] = {}
         self._materials_for: Project | None = None
+        #: ``before_push(old, new)`` runs before an edit is pushed and raises
+        #: :class:`EditError` to refuse it (cost checks and confirmations of the window).
+        self.before_push: Callable[[Project, Project], None] | None = None
 
     # --- state ------------------------------------------------------------------------
     @property
@@ -201,7 +201,7 @@ class ProjectDocument(QObject):
         try:
             project = Project.model_validate(data)
         except ValidationError as exc:
-            raise EditError("; ".join(format_validation_error(exc))) from None
+            raise EditError("; ".join(describe_validation_error(exc))) from None
         problems = check_references(project, self.base_dir)
         if problems:
             raise EditError("; ".join(problems))
@@ -240,21 +240,22 @@ class ProjectDocument(QObject):
         """Push the replacement of the project by ``new`` (already validated)."""
         if new == self._project:
             return
+        if self.before_push is not None:
+            self.before_push(self._project, new)  # raises EditError to refuse
         self.undo_stack.push(ReplaceProjectCommand(self, self._project, new, text, merge_key))
 
     def set_value(self, path: str, value: Any, *, text: str | None = None,
                   merge_key: str | None = None) -> Project:
-        """Set one field given by a dotted path such as ``objects.3.pose.position_m``."""
-        keys: list[str | int] = [int(k) if k.lstrip("-").isdigit() else k
-                                 for k in path.split(".")]
+        """Set one field named by its field path, e.g. ``objects[3].pose.position_m``.
+
+        The path syntax is :mod:`simcore.scene.fieldpath`'s, the one sweeps use.
+        """
+        parts = fieldpath.parse(path)
 
         def mutate(data: dict[str, Any]) -> None:
-            node: Any = data
-            for k in keys[:-1]:
-                node = node[k]
-            node[keys[-1]] = copy.deepcopy(value)
+            fieldpath.set_in(data, path, copy.deepcopy(value))
 
-        return self.edit(text or f"Set {keys[-1]}", mutate, merge_key=merge_key)
+        return self.edit(text or f"Set {parts[-1]}", mutate, merge_key=merge_key)
 
     def end_merge(self) -> None:
         """Close the current merge run (a drag ended): the next edit starts a new step."""
@@ -304,10 +305,6 @@ class ProjectDocument(QObject):
             self.pathChanged.emit(target)
         self.undo_stack.setClean()
         return target
-
-    def to_json(self) -> str:
-        """Canonical JSON text of the project."""
-        return project_to_json(self._project)
 
 
 __all__ = ["RIG", "EditError", "ProjectDocument", "ProjectError", "ReplaceProjectCommand"]

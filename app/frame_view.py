@@ -6,9 +6,11 @@ range–Doppler and range–azimuth maps with their axes, detections, the radar 
 world coordinates) out of the frame into plain numpy arrays, so the GUI thread only copies
 them into plot items.
 
-Nothing is computed here that the pipeline computes: ToF images come from ``frame.tof``,
-radar maps, CFAR threshold and detections from ``frame.dsp``
-(:class:`simcore.dsp.RadarProducts`).
+Nothing is computed here that the pipeline computes: ToF images come from
+``frame.outputs["tof"]``, radar maps, CFAR threshold and detections from
+``frame.outputs["radar"].dsp`` (:class:`simcore.dsp.RadarProducts`), the colour image from
+``frame.outputs["rgb"]`` when the rig carries an RGB camera. This is the only module of
+the GUI that reads a :class:`simcore.pipeline.Frame`.
 """
 
 from __future__ import annotations
@@ -95,9 +97,15 @@ class RadarView:
     bev_z_m: F64 | None = None
 
     def profile_peak_range_m(self, *, min_range_m: float = 0.3) -> float:
-        """Range (m) of the strongest bin of the channel-averaged profile beyond ``min_range_m``."""
+        """Range (m) of the strongest bin of the channel-averaged profile beyond ``min_range_m``.
+
+        NaN when no range bin lies beyond ``min_range_m`` (a waveform whose maximum range
+        is shorter than that) or the profile is empty.
+        """
         mean = 10 * np.log10(np.mean(10 ** (self.profile_db / 10), axis=0))
-        mask = self.range_axis_m >= min_range_m
+        mask = (self.range_axis_m >= min_range_m) & np.isfinite(mean)
+        if not mask.any():
+            return float("nan")
         return float(self.range_axis_m[mask][np.argmax(mean[mask])])
 
 
@@ -134,6 +142,7 @@ class FrameView:
     radar: RadarView | None
     object_poses: F64
     rig_pose: F64
+    rgb: NDArray[np.uint8] | None = None
     timings_ms: dict[str, float] = field(default_factory=dict)
     render_count: int = 0
     request_serial: int = 0
@@ -148,7 +157,7 @@ class FrameView:
 
 def _tof_view(frame: Any, project: Project) -> TofView:
     cfg = project.rig.tof
-    tof = frame.tof
+    tof = frame.outputs["tof"]
     valid = np.asarray(tof.valid, dtype=bool)
     depth = np.where(valid, tof.depth_m, np.nan).astype(np.float32)
     return TofView(depth, np.asarray(tof.amplitude, dtype=np.float32), valid,
@@ -220,11 +229,11 @@ def radar_view_from_products(dsp: Any, project: Project, radar_transform: F64) -
 
 
 def _radar_view(frame: Any, project: Project, notes: list[str]) -> RadarView | None:
-    dsp = getattr(frame, "dsp", None)
-    if dsp is None:
-        notes.append("this pipeline produces no radar products")
+    radar = frame.outputs.get("radar")
+    if radar is None:
+        notes.append("the rig carries no radar")
         return None
-    return radar_view_from_products(dsp, project, frame.radar_buffers.sensor.transform)
+    return radar_view_from_products(radar.dsp, project, frame.buffers["radar"].sensor.transform)
 
 
 def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> FrameView:
@@ -233,11 +242,13 @@ def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> 
     timings = dict(frame.timings_ms)
     tof = _tof_view(frame, project)
     radar = _radar_view(frame, project, notes)
+    rgb = frame.outputs.get("rgb")
     return FrameView(
         index=frame.index,
         time_s=float(frame.time_s),
         tof=tof,
         radar=radar,
+        rgb=None if rgb is None else np.asarray(rgb.image),
         object_poses=np.asarray(frame.object_poses),
         rig_pose=np.asarray(frame.rig_pose),
         timings_ms=timings,

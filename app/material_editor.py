@@ -23,7 +23,7 @@ from PyQt6.QtWidgets import (
 )
 
 from app.document import RIG, EditError, ProjectDocument, library_names
-from app.widgets import set_quietly, spin, try_edit
+from app.widgets import BIG, set_quietly, spin, try_edit
 
 BAND_FIELDS: list[tuple[str, str, float, float, float, str]] = [
     # field, label, min, max, step, tooltip
@@ -58,7 +58,7 @@ def set_material_field(document: ProjectDocument, name: str, band: str, field: s
         else:
             target = table[name].model_dump()
             d["materials"].append(target)
-        target[band][field] = value
+        target.setdefault("bands", {}).setdefault(band, {})[field] = value
 
     document.edit(f"Material {name}: {band} {field}", mutate)
 
@@ -88,7 +88,8 @@ class BandEditor(QGroupBox):
         form = QFormLayout(self)
         self.widgets: dict[str, Any] = {}
         for field, label, lo, hi, step, tip in BAND_FIELDS:
-            box = spin(minimum=lo, maximum=hi, decimals=3, step=step,
+            del lo, hi  # the model checks the range and says why at the field
+            box = spin(minimum=-BIG, maximum=BIG, decimals=3, step=step,
                        tooltip=f"{BAND_TITLES[band]}: {tip}")
             box.valueChanged.connect(lambda v, f=field: self.edited.emit(self.band, f, float(v)))
             form.addRow(label, box)
@@ -199,18 +200,20 @@ class MaterialEditor(QWidget):
         if mat is None:
             return
         self.description.setText(mat.description or "")
-        self.tof_editor.show_values(mat.tof)
-        self.radar_editor.show_values(mat.radar)
-        set_quietly(self.radar_invisible, mat.radar.opacity == 0.0)
-        set_quietly(self.tof_invisible, mat.tof.opacity == 0.0)
+        self.tof_editor.show_values(mat.band("tof"))
+        self.radar_editor.show_values(mat.band("radar"))
+        set_quietly(self.radar_invisible, mat.band("radar").opacity == 0.0)
+        set_quietly(self.tof_invisible, mat.band("tof").opacity == 0.0)
         self.revert_button.setEnabled(self.current in project_names
                                       and self.current in self._library)
         self.assign_button.setEnabled(self.document.selected_index() is not None)
 
     def _on_edited(self, band: str, field: str, value: Any) -> None:
+        editor = self.tof_editor if band == "tof" else self.radar_editor
+        widget = editor.widgets.get(field)
         try_edit(self.editFailed.emit,
                  lambda: set_material_field(self.document, self.current, band, field, value),
-                 self.refresh)
+                 self.refresh, field=widget)
 
     def set_opacity(self, band: str, invisible: bool) -> None:  # noqa: FBT001
         """Make the current material invisible (opacity 0) or opaque (1) in ``band``."""
@@ -221,7 +224,7 @@ class MaterialEditor(QWidget):
         idx = self.document.selected_index()
         if idx is not None:
             try_edit(self.editFailed.emit, lambda: self.document.set_value(
-                f"objects.{idx}.material", self.current, text="Set material"))
+                f"objects[{idx}].material", self.current, text="Set material"))
 
     def revert_to_library(self) -> None:
         """Remove the project's override of the current library material."""

@@ -17,11 +17,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from simcore.render import SceneRenderer
+from simcore.render import RenderRequest, SceneRenderer
 from simcore.resources import example_path
 from simcore.scene import load_project
 from simcore.scene.snapshot import take_snapshot
-from simcore.sensors.radar.frontend import RadarFrontEnd
+from simcore.sensors.radar import radar_scatterers
 from simcore.sensors.radar.synthesis import receiver_chain, synthesize_if, synthesize_if_direct
 
 
@@ -54,10 +54,9 @@ def main() -> None:
     cfg = project.rig.radar
     renderer = SceneRenderer(project)
     snap = take_snapshot(project, 0.0)
-    buffers = renderer.render(snap, "radar", cfg.render_intrinsics())
-    fe = RadarFrontEnd(project)
-    t_scat, _ = best_of(lambda: fe.scatterers(snap, buffers), args.repeat)
-    scatterers = fe.scatterers(snap, buffers)
+    buffers = renderer.render(snap, RenderRequest("radar", "radar", cfg.render_intrinsics()))
+    t_scat, _ = best_of(lambda: radar_scatterers(project, snap, buffers), args.repeat)
+    scatterers = radar_scatterers(project, snap, buffers)
     if args.all_moving:
         scatterers = dataclasses.replace(
             scatterers, velocities_mps=scatterers.velocities_mps + np.array([0.2, 0.0, 0.5]))

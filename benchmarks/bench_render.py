@@ -6,8 +6,7 @@ import argparse
 import statistics
 import time
 
-from simcore.pipeline import radar_render_intrinsics, tof_render_intrinsics
-from simcore.render import SceneRenderer
+from simcore.render import RenderRequest, SceneRenderer
 from simcore.render.renderer import _IndexPass
 from simcore.resources import example_path
 from simcore.scene import load_project
@@ -21,21 +20,23 @@ def main() -> None:
     args = parser.parse_args()
     project = load_project(args.project)
     renderer = SceneRenderer(project)
-    grids = {"tof": tof_render_intrinsics(project), "radar": radar_render_intrinsics(project)}
+    grids = {"tof": project.rig.tof.render_intrinsics(),
+             "radar": project.rig.radar.render_intrinsics()}
     n_tri = len(renderer.geometry.triangles)
     print(f"{args.project}: {len(project.objects)} objects, {n_tri} triangles")
     for band, intr in grids.items():
         snap = take_snapshot(project, 0.0)
-        renderer.render(snap, band, intr)  # warm-up
+        request = RenderRequest(band, band, intr)
+        renderer.render(snap, request)  # warm-up
         total, raster = [], []
         index_pass: _IndexPass = renderer._passes[band]
         for i in range(args.frames):
             snap = take_snapshot(project, i / project.timeline.frame_rate_hz)
             t0 = time.perf_counter()
-            index_pass.render(intr, snap.tof if band == "tof" else snap.radar,
+            index_pass.render(intr, snap.sensor(band),
                               snap.object_transforms(), renderer.visible_in(band))
             t1 = time.perf_counter()
-            renderer.render(snap, band, intr)
+            renderer.render(snap, request)
             t2 = time.perf_counter()
             raster.append((t1 - t0) * 1e3)
             total.append((t2 - t1) * 1e3)

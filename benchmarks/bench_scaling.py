@@ -34,6 +34,7 @@ from simcore.scene import load_project
 from simcore.scene.model import Project
 from simcore.scene.radar_arrays import ula
 from simcore.scene.radar_config import SPEED_OF_LIGHT
+from simcore.sensors.radar import radar_scatterers
 from simcore.sensors.radar.synthesis import synthesize_if
 
 
@@ -95,7 +96,8 @@ def measure(project: Project, frames: int) -> dict[str, Any]:
             for k, v in frame.timings_ms.items():
                 stages.setdefault(k, []).append(v)
         assert frame is not None
-        scatterers = sim.radar.cached_scatterers(frame.snapshot, frame.radar_buffers)
+        scatterers = radar_scatterers(project, frame.snapshot, frame.buffers["radar"],
+                                      seed=sim.seed)
         cfg = project.rig.radar
         full = []
         for _ in range(3):

@@ -20,6 +20,7 @@ import numpy as np
 from simcore.pipeline import Simulator
 from simcore.scene.model import Project
 from simcore.scene.project_io import load_project
+from simcore.sensors.radar import radar_scatterers
 from simcore.sensors.radar.synthesis import synthesize_if, synthesize_if_direct
 
 
@@ -90,7 +91,8 @@ def if_synthesis_accuracy(simulator: Simulator, index: int, *, subset: int = 100
     """
     frame = simulator.frame(index)
     cfg = simulator.project.rig.radar
-    scatterers = simulator.radar.cached_scatterers(frame.snapshot, frame.radar_buffers)
+    scatterers = radar_scatterers(simulator.project, frame.snapshot, frame.buffers["radar"],
+                                  seed=simulator.seed)
     n = len(scatterers)
     rng = np.random.default_rng(seed)
     pick = np.sort(rng.choice(n, size=min(subset, n), replace=False))
@@ -125,7 +127,7 @@ def antenna_edit_latency(simulator: Simulator, index: int, *, edits: int = 5) ->
     """Median wall time (ms) of a frame after moving the Rx antennas (no re-render)."""
     base = simulator.project
     times = []
-    renders = simulator.renderer.render_count
+    renders = simulator.render_count
     try:
         for k in range(edits):
             simulator.set_project(_moved_antennas(base, 0.25 * (1 + k % 2)))
@@ -134,7 +136,7 @@ def antenna_edit_latency(simulator: Simulator, index: int, *, edits: int = 5) ->
             times.append((time.perf_counter() - t0) * 1e3)
     finally:
         simulator.set_project(base)
-    if simulator.renderer.render_count != renders:  # pragma: no cover - a regression
+    if simulator.render_count != renders:  # pragma: no cover - a regression
         raise RuntimeError("an antenna edit re-rendered the scene")
     return _median(times)
 
@@ -185,7 +187,7 @@ def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
             frame = sim.frame(index)
             walls.append((time.perf_counter() - t0) * 1e3)
             cpus.append((time.process_time() - c0) * 1e3)
-            transformed.append(sim.radar.last_transformed)
+            transformed.append(frame.outputs["radar"].raw.transformed_scatterers)
             for name, value in frame.timings_ms.items():
                 if name != "total":
                     stage_times.setdefault(name, []).append(value)
@@ -193,9 +195,10 @@ def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
         latency = antenna_edit_latency(sim, index, edits=antenna_edits) if antenna_edits \
             else float("nan")
         accuracy = if_synthesis_accuracy(sim, index, subset=subset)
-        scatterers = sim.radar.cached_scatterers(frame.snapshot, frame.radar_buffers)
+        scatterers = radar_scatterers(project, frame.snapshot, frame.buffers["radar"],
+                                      seed=sim.seed)
         moving = int(np.count_nonzero(np.any(scatterers.velocities_mps != 0.0, axis=1)))
-        triangles = len(sim.renderer.geometry.triangles)
+        triangles = len(sim.engine.renderer.geometry.triangles)
     frame_ms = _median(walls)
     rc, tc = project.rig.radar, project.rig.tof
     return {

@@ -15,6 +15,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, NoReturn
 
+from simcore import __version__
 from simcore.preflight import MAX_FRAMES, MAX_SEED, RunError
 from simcore.scene.project_io import ProjectError, load_project, project_to_json
 
@@ -352,6 +353,23 @@ def cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_examples(args: argparse.Namespace) -> int:
+    """List the bundled example projects, or copy them (with meshes) into a folder."""
+    from simcore.examples import ExamplesError, copy_examples, list_examples
+
+    if args.copy is None:
+        for example in list_examples():
+            print(f"{example.name + '.json':<28} {example.summary}")
+        print("copy them into a folder with: tofradar examples --copy DIR")
+        return 0
+    try:
+        written = copy_examples(Path(args.copy))
+    except ExamplesError as exc:
+        raise CliError(str(exc)) from None
+    print(f"copied {len(written)} files to {args.copy}")
+    return 0
+
+
 def cmd_gui(args: argparse.Namespace) -> int:
     """Open the desktop GUI through the launcher the ``app`` package registered."""
     if args.gui_launcher is None:
@@ -393,6 +411,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="tofradar", parents=[_common(debug_only=True)],
         description="Synchronized AMCW ToF camera and FMCW radar simulation from one 3D scene.",
     )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command")
     common = [_common()]
     p = sub.add_parser("gui", help="open the desktop GUI (default)", parents=common)
@@ -454,6 +473,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--frames", type=_positive_int, default=30, help="frames to time")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=cmd_bench)
+
+    p = sub.add_parser("examples", help="list the bundled example projects or copy them",
+                       parents=[_common()])
+    p.add_argument("--copy", metavar="DIR", help="copy them (with their meshes) into DIR")
+    p.set_defaults(func=cmd_examples)
     return parser
 
 
@@ -479,7 +503,7 @@ def _check_vary_count(spec: str) -> None:
 
 def _report_error(exc: BaseException) -> int:
     """Print ``exc`` as ``tofradar: error: …`` line(s); return the exit status."""
-    from simcore.io.mesh_files import MeshError
+    from simcore.scene.mesh_files import MeshError
 
     if isinstance(exc, ProjectError):
         for problem in exc.problems:

@@ -22,14 +22,14 @@ from pathlib import Path
 
 import numpy as np
 
-from simcore.io.mesh_files import (
+from simcore.scene.base import MAX_COORDINATE_M, MAX_SPEED_MPS, MAX_TIME_S, check_name
+from simcore.scene.geometry import Mesh
+from simcore.scene.mesh_files import (
     MAX_MESH_FILE_BYTES,
     MESH_SUFFIXES,
     MeshError,
     read_mesh_arrays,
 )
-from simcore.scene.base import MAX_COORDINATE_M, MAX_SPEED_MPS, MAX_TIME_S, check_name
-from simcore.scene.geometry import Mesh
 from simcore.scene.model import Project
 from simcore.scene.motion import Motion, Pose
 from simcore.scene.radar_config import SPEED_OF_LIGHT

@@ -28,6 +28,8 @@ from simcore.scene.model import Project
 from simcore.scene.project_io import load_project
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.scene.snapshot import take_snapshot
+from simcore.sensors.radar import radar_scatterers
+from simcore.sensors.radar.synthesis import synthesize_if, synthesize_if_direct
 
 #: The reference simulator's bars (from the issues): range ¼ bin, velocity 1 bin, angle 2°,
 #: power 0.5 dB, IF error −60 dB, resolution change 1 dB.
@@ -104,7 +106,7 @@ def expected_corner_amplitude_fs(config: RadarConfig, *, edge_m: float, range_m:
 def corner_truth(project: Project, t: float) -> list[dict[str, Any]]:
     """Range, azimuth and radial velocity of every corner apex as the radar sees it."""
     snap = take_snapshot(project, t)
-    radar = snap.radar
+    radar = snap.sensors["radar"]
     out = []
     for obj, state in zip(project.objects, snap.objects, strict=True):
         if not isinstance(obj.geometry, CornerReflector):
@@ -131,7 +133,7 @@ def _nearest(det: NDArray[Any], rng: float) -> int | None:
 def office_tof(frame: Frame, project: Project, out: Path) -> tuple[Figure, dict[str, Any]]:
     """Figure 1: ToF depth and amplitude of the office; retroreflector, chair, plate."""
     plt = _plt()
-    tof = frame.tof
+    tof = frame.outputs["tof"]
     gt_id, gt = tof.gt_object_id, tof.gt_range
     retro = gt_id == _object_id(project, "ir_retroreflector")
     backrest = gt_id == _object_id(project, "chair_backrest")
@@ -202,7 +204,7 @@ def office_radar_profile(frame: Frame, project: Project, out: Path
                          ) -> tuple[Figure, dict[str, Any]]:
     """Figure 2: range-FFT spectrum per Rx with leakage roll-off, noise floor, corner peak."""
     plt = _plt()
-    dsp = frame.dsp
+    dsp = frame.outputs["radar"].dsp
     r = dsp.axes.range_m
     cr = corner_truth(project, frame.time_s)[0]
     k = int(np.argmin(np.abs(r - cr["range"])))
@@ -213,7 +215,7 @@ def office_radar_profile(frame: Frame, project: Project, out: Path
     around = np.r_[max(k - 40, 0):max(k - 6, 0), k + 6:min(k + 40, len(r))]
     clutter_db = float(np.median(integrated[around]))
     # Noise floor: bins between the high-pass roll-off and the nearest rendered surface.
-    nearest_surface = float(np.nanmin(frame.radar_buffers.range_m))
+    nearest_surface = float(np.nanmin(frame.buffers["radar"].range_m))
     empty = (r > 0.5) & (r < nearest_surface - 0.3)
     noise_db = float(np.median(integrated[empty])) if empty.any() else float("nan")
     near = r < 0.1
@@ -286,7 +288,7 @@ def office_range_azimuth(frame: Frame, project: Project, out: Path
                          ) -> tuple[Figure, dict[str, Any]]:
     """Figure 3: range–azimuth map with OS-CFAR detections; point cloud on a top view."""
     plt = _plt()
-    dsp = frame.dsp
+    dsp = frame.outputs["radar"].dsp
     det = dsp.detections
     cr = corner_truth(project, frame.time_s)[0]
     k = _nearest(dsp.detection_records(frame.index), cr["range"])
@@ -325,11 +327,11 @@ def office_range_azimuth(frame: Frame, project: Project, out: Path
                         cmap="coolwarm", vmin=-1.5, vmax=1.5, s=18 + 2 * np.clip(det.snr_db, 0, 40),
                         ec="k", lw=0.4, zorder=3)
         fig.colorbar(sc, ax=ax, label="radial velocity (m/s, + = away)")
-    rp = snap.radar.position
+    rp = snap.sensors["radar"].position
     ax.plot(*rp[:2], marker="^", color="k", ms=9)
     for edge_deg in (-50.0, 50.0):
         a = np.deg2rad(edge_deg)
-        d = snap.radar.rotation @ np.array([np.sin(a), 0.0, np.cos(a)])
+        d = snap.sensors["radar"].rotation @ np.array([np.sin(a), 0.0, np.cos(a)])
         ax.plot([rp[0], rp[0] + 7 * d[0]], [rp[1], rp[1] + 7 * d[1]], "k:", lw=0.8)
     ax.plot(*np.array(cr["world"][:2]), marker="x", color="red", ms=10, mew=2,
             label="corner reflector (truth)")
@@ -366,7 +368,7 @@ def doppler_experiment(project: Project, out: Path, *, frames: int,
         for i in range(frames):
             frame = sim.frame(i)
             truth = corner_truth(project, frame.time_s)[0]
-            rows = frame.dsp.detection_records(i)
+            rows = frame.outputs["radar"].dsp.detection_records(i)
             k = _nearest(rows, truth["range"])
             times.append(frame.time_s)
             true.append(truth["velocity"])
@@ -443,9 +445,9 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
                                                                       p.position_m[2])})
         with Simulator(variant) as sim:
             frame = sim.frame(0)
-        radar_pos = frame.snapshot.radar.position
+        radar_pos = frame.snapshot.sensors["radar"].position
         true_r = float(np.linalg.norm(frame.snapshot.objects[0].origin - radar_pos))
-        measured.append(float(frame.dsp.range_profile_integrated_db.max()))
+        measured.append(float(frame.outputs["radar"].dsp.range_profile_integrated_db.max()))
         expected.append(20 * np.log10(expected_corner_amplitude_fs(
             variant.rig.radar, edge_m=edge, range_m=true_r)))
     power_err = np.array(measured) - np.array(expected)
@@ -461,7 +463,7 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
     with Simulator(base) as sim:
         for i in range(3 if quick else 10):
             frame = sim.frame(i)
-            det = frame.dsp.detection_records(i)
+            det = frame.outputs["radar"].dsp.detection_records(i)
             for truth in corner_truth(base, frame.time_s):
                 k = _nearest(det, truth["range"])
                 if k is None:
@@ -491,18 +493,18 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
     office = load_project(example_path("office"))
     with Simulator(office) as sim:
         frame = sim.frame(0)
-        sc = sim.radar.cached_scatterers(frame.snapshot, frame.radar_buffers)
+        sc = radar_scatterers(office, frame.snapshot, frame.buffers["radar"], seed=sim.seed)
         rng = np.random.default_rng(0)
         subset = sc.subset(np.sort(rng.choice(len(sc), size=min(len(sc), 800 if quick
                                                                  else 2000), replace=False)))
         t0 = time.perf_counter()
-        fast = sim.radar.ideal_if(subset, method="nufft")
+        fast = synthesize_if(subset, office.rig.radar)
         t_fast = time.perf_counter() - t0
         t0 = time.perf_counter()
-        ref = sim.radar.ideal_if(subset, method="direct")
+        ref = synthesize_if_direct(subset, office.rig.radar)
         t_direct = time.perf_counter() - t0
         t0 = time.perf_counter()
-        sim.radar.ideal_if(sc, method="nufft")
+        synthesize_if(sc, office.rig.radar)
         t_full = time.perf_counter() - t0
     if_err = 20 * np.log10(np.linalg.norm(fast - ref) / np.linalg.norm(ref))
     numbers["if_synthesis"] = {
@@ -521,7 +523,8 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
         variant.rig.radar.render_supersampling = factor
         variant.rig.radar.noise_variance_adc = 0.0
         with Simulator(variant) as sim:
-            peaks[factor] = float(sim.frame(0).dsp.range_profile_integrated_db.max())
+            peaks[factor] = float(
+                sim.frame(0).outputs["radar"].dsp.range_profile_integrated_db.max())
     numbers["resolution"] = {"peak_db_1x": peaks[1], "peak_db_2x": peaks[2],
                              "change_db": peaks[2] - peaks[1]}
 
@@ -581,14 +584,14 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
 def side_by_side(frame: Frame, project: Project, out: Path) -> tuple[Figure, dict[str, Any]]:
     """Figure 6: ToF and radar point clouds of the same frame in one 3D view."""
     plt = _plt()
-    tof = frame.tof
+    tof = frame.outputs["tof"]
     intr = project.rig.tof.intrinsics()
     rays = intr.ray_directions()
     rays /= np.linalg.norm(rays, axis=-1, keepdims=True)
     pts = (tof.depth_m[..., None] * rays)[tof.valid]
-    world = pts @ frame.snapshot.tof.rotation.T + frame.snapshot.tof.position
+    world = pts @ frame.snapshot.sensors["tof"].rotation.T + frame.snapshot.sensors["tof"].position
     world = world[:: max(1, len(world) // 12000)]
-    det = frame.dsp.detections
+    det = frame.outputs["radar"].dsp.detections
     fig = plt.figure(figsize=(11, 7), constrained_layout=True)
     ax = fig.add_subplot(projection="3d")
     ax.scatter(world[:, 0], world[:, 1], world[:, 2], s=0.6, c=world[:, 2], cmap="viridis",
@@ -611,10 +614,11 @@ def side_by_side(frame: Frame, project: Project, out: Path) -> tuple[Figure, dic
     _save(fig, out / name)
     numbers = {"time_s": frame.time_s, "tof_points": int(tof.valid.sum()),
                "radar_detections": int(len(det.range_m)),
-               "radar_time_s": float(frame.radar.time_s)}
+               "radar_time_s": float(frame.outputs["radar"].raw.time_s)}
+    radar_start = frame.outputs["radar"].raw.time_s
     text = (
         f"Both sensors of one frame come from one scene snapshot at t = {frame.time_s:.2f} s "
-        f"(the radar's first chirp starts at {frame.radar.time_s:.2f} s): the dense ToF point "
+        f"(the radar's first chirp starts at {radar_start:.2f} s): the dense ToF point "
         f"cloud ({numbers['tof_points']} valid pixels) and the sparse radar point cloud "
         f"({numbers['radar_detections']} detections) in the same world frame. The radar sees "
         f"the corner reflector that the paper box hides from the ToF camera."

@@ -23,9 +23,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from simcore.pipeline import H5Items, Simulator
+from simcore.pipeline import Simulator
 from simcore.preflight import RunError
 from simcore.scene.project_io import project_from_dict
+from simcore.sensors.base import H5Items
 
 
 @dataclass(frozen=True)

@@ -31,9 +31,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from simcore.cli import main
-from simcore.io.mesh_files import MeshError, read_mesh_arrays
 from simcore.preflight import check, estimate_cost
 from simcore.scene import load_project
+from simcore.scene.mesh_files import MeshError, read_mesh_arrays
 from simcore.scene.model import Project
 from simcore.scene.project_io import ProjectError, project_from_dict
 

@@ -23,6 +23,7 @@ from simcore.scene import (
 from simcore.scene.project_io import project_to_json
 
 BAD = Path(__file__).parent / "data" / "bad_projects"
+OLD = Path(__file__).parent / "data" / "old_projects"
 
 # file → text that the one clear message must contain (the field and/or the value)
 EXPECTED = {
@@ -126,3 +127,14 @@ def test_assignment_is_validated():
     obj = SceneObject(id=1, name="a", geometry=Box())
     with pytest.raises(ValueError, match="greater than 0"):
         obj.geometry = Box(size_m=(1, 0, 1))
+
+
+def test_version_1_files_still_load(tmp_path):
+    """Version 1 kept ``tof``/``radar`` on the material; version 2 keys bands by name."""
+    old = load_project(OLD / "v1_materials.json")
+    material = old.materials[0]
+    assert material.band("tof").reflectance == 0.9
+    assert material.band("radar").opacity == 0.0
+    assert material.band("visible").opacity == 1.0        # not set: the defaults
+    office_v1 = load_project(OLD / "v1_office.json")
+    assert office_v1 == load_project(EXAMPLES_DIR / "office.json")

@@ -9,14 +9,13 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from simcore.render import PinholeIntrinsics, RenderBuffers, SceneRenderer
+from simcore.render import PinholeIntrinsics, RenderBuffers, RenderRequest, SceneRenderer
 from simcore.resources import example_path
 from simcore.scene import Box, PointTarget, Pose, Project, SceneObject, load_project
 from simcore.scene.model import SensorRig
-from simcore.scene.radar_arrays import ula
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
-from simcore.sensors.radar.frontend import RadarFrontEnd
+from simcore.sensors.radar import radar_scatterers, simulate_radar
 from simcore.sensors.radar.scatterers import KIND_CORNER_REFLECTOR, KIND_POINT_TARGET
 
 IDEAL = {"noise_variance_adc": 0.0, "leakage_dbc": None, "adc_bits": None,
@@ -28,7 +27,7 @@ Renderer = Callable[..., SceneRenderer]
 def radar_render(renderer: SceneRenderer, project: Project, config: RadarConfig, t: float = 0.0
                  ) -> tuple[SceneSnapshot, RenderBuffers]:
     snap = take_snapshot(project, t)
-    return snap, renderer.render(snap, "radar", config.render_intrinsics())
+    return snap, renderer.render(snap, RenderRequest("radar", "radar", config.render_intrinsics()))
 
 
 def radar_position(project: Project) -> np.ndarray:
@@ -58,10 +57,9 @@ def test_point_targets_range_and_power(make_renderer: Renderer) -> None:
     cfg = project.rig.radar.model_copy(update=IDEAL)
     renderer = make_renderer(project)
     snap, buffers = radar_render(renderer, project, cfg)
-    fe = RadarFrontEnd(project, config=cfg)
-    scat = fe.scatterers(snap, buffers)
+    scat = radar_scatterers(project, snap, buffers, config=cfg)
     assert (scat.kind == KIND_CORNER_REFLECTOR).sum() == 3 and len(scat) == 3
-    out = fe.synthesize(scat, rng=np.random.default_rng(0))
+    out = simulate_radar(scat, cfg, rng=np.random.default_rng(0))
     # Channel 1 is the Rx at the Tx position: the round trip is exactly 2R.
     pad = 16
     spec = range_spectrum(out.adc[0, 1].astype(np.float64), pad)
@@ -106,8 +104,8 @@ def test_wall_peak_power_does_not_depend_on_render_resolution(make_renderer: Ren
 
     peaks = []
     for cfg, buf in ((base, coarse_buf), (fine, fine_buf)):
-        fe = RadarFrontEnd(project, config=cfg)
-        out = fe.synthesize(fe.scatterers(snap, buf), rng=np.random.default_rng(0))
+        out = simulate_radar(radar_scatterers(project, snap, buf, config=cfg), cfg,
+                             rng=np.random.default_rng(0))
         spec = range_spectrum(out.adc[0, 1].astype(np.float64), pad=1)
         peaks.append(20 * np.log10(np.abs(spec).max()))
     print(f"wall peak: {peaks[0]:.3f} dBFS at 1×, {peaks[1]:.3f} dBFS at 2× render")
@@ -123,7 +121,7 @@ def test_wall_peak_power_does_not_depend_on_render_resolution(make_renderer: Ren
                                     "render_height": 2 * base.render_height})
     for cfg, buf in ((base, coarse_buf), (dense, fine_buf)):
         assert cfg.render_intrinsics() == buf.intrinsics
-        scat = RadarFrontEnd(project, config=cfg).scatterers(snap, buf)
+        scat = radar_scatterers(project, snap, buf, config=cfg)
         r = np.linalg.norm(scat.positions_m, axis=1)
         x, y, z = scat.positions_m.T
         az, el = np.arctan2(x, z), np.arctan2(-y, np.hypot(x, z))
@@ -156,24 +154,23 @@ def test_corner_reflector_behind_paper_box_appears_in_radar_data(make_renderer: 
     # ToF: the ray to the apex ends on the paper box.
     tof = project.rig.tof
     tof_intr = PinholeIntrinsics.from_fov(tof.width, tof.height, tof.fov_h_deg, tof.fov_v_deg)
-    tof_buf = renderer.render(snap, "tof", tof_intr)
-    t = snap.tof.transform
+    tof_buf = renderer.render(snap, RenderRequest("tof", "tof", tof_intr))
+    t = snap.sensors["tof"].transform
     u, v = tof_intr.project((apex_world - t[:3, 3]) @ t[:3, :3])
     assert tof_buf.object_index[int(v), int(u)] == box
 
     # Radar: the box is not rendered, the reflector becomes its analytic scatterer …
     assert not np.any(buffers.object_index == box)
-    fe = RadarFrontEnd(project)
-    scat = fe.scatterers(snap, buffers)
+    scat = radar_scatterers(project, snap, buffers)
     is_cr = scat.kind == KIND_CORNER_REFLECTOR
     assert is_cr.sum() == 1 and scat.object_index[is_cr][0] == cr
     r_cr = float(np.linalg.norm(scat.positions_m[is_cr][0]))
-    assert_allclose(r_cr, np.linalg.norm(apex_world - snap.radar.position), rtol=1e-9)
+    assert_allclose(r_cr, np.linalg.norm(apex_world - snap.sensors["radar"].position), rtol=1e-9)
 
     # … and its return stands out of the office clutter in the noisy ADC data.
     rng_seed = 11
-    with_cr = fe.synthesize(scat, rng=np.random.default_rng(rng_seed))
-    without = fe.synthesize(scat.subset(~is_cr), rng=np.random.default_rng(rng_seed))
+    with_cr = simulate_radar(scat, cfg, rng=np.random.default_rng(rng_seed))
+    without = simulate_radar(scat.subset(~is_cr), cfg, rng=np.random.default_rng(rng_seed))
     pad = 4
     spec_with = np.abs(range_spectrum(with_cr.adc.astype(np.float64), pad)).mean(axis=(0, 1))
     spec_without = np.abs(range_spectrum(without.adc.astype(np.float64), pad)).mean(axis=(0, 1))
@@ -202,29 +199,11 @@ def test_point_target_is_hidden_by_a_wall_in_front(make_renderer: Renderer) -> N
         renderer = make_renderer(project)
         cfg = project.rig.radar
         snap, buffers = radar_render(renderer, project, cfg)
-        scat = RadarFrontEnd(project).scatterers(snap, buffers)
+        scat = radar_scatterers(project, snap, buffers)
         found = scat.kind == KIND_POINT_TARGET
         assert found.sum() == int(visible)
         if visible:
             assert scat.rcs_m2[found][0] == 2.0
-
-
-def test_antenna_edit_reuses_render_and_scatterers(make_renderer: Renderer) -> None:
-    """Changing only the antenna layout re-runs synthesis, not rendering."""
-    project = load_project(example_path("point_targets"))
-    renderer = make_renderer(project)
-    fe = RadarFrontEnd(project)
-    snap, buffers = radar_render(renderer, project, project.rig.radar)
-    renders = renderer.render_count
-    first = fe.simulate(snap, buffers, rng=np.random.default_rng(0))
-    scat = fe.cached_scatterers(snap, buffers)
-    project.rig.radar.rx = ula(4, 2.5)
-    second = fe.simulate(snap, buffers, rng=np.random.default_rng(0))
-    assert fe.cached_scatterers(snap, buffers) is scat
-    assert renderer.render_count == renders
-    assert first.adc.shape == (16, 3, 512) and second.adc.shape == (16, 4, 512)
-    project.rig.radar.start_frequency_hz = 61e9  # λ changes: corner reflector RCS is redone
-    assert fe.cached_scatterers(snap, buffers) is not scat
 
 
 @pytest.mark.parametrize("band", ["tof"])
@@ -232,6 +211,7 @@ def test_scatterers_need_the_radar_band(make_renderer: Renderer, band: str) -> N
     project = load_project(example_path("wall"))
     renderer = make_renderer(project)
     snap = take_snapshot(project, 0.0)
-    buf = renderer.render(snap, band, PinholeIntrinsics.from_fov(64, 48, 60.0))
+    buf = renderer.render(snap, RenderRequest(band, band,
+                                             PinholeIntrinsics.from_fov(64, 48, 60.0)))
     with pytest.raises(ValueError, match="radar render"):
-        RadarFrontEnd(project).scatterers(snap, buf)
+        radar_scatterers(project, snap, buf)

@@ -6,11 +6,10 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
-from simcore.scene import Project
 from simcore.scene.radar_arrays import custom_array
 from simcore.scene.radar_config import SPEED_OF_LIGHT, CosinePattern, RadarConfig
 from simcore.scene.radar_presets import bgt60tr13c, tdm_mimo_2tx4rx
-from simcore.sensors.radar.frontend import RadarFrontEnd
+from simcore.sensors.radar import RadarOutput, simulate_radar
 from simcore.sensors.radar.scatterers import Scatterers
 from simcore.sensors.radar.synthesis import (
     highpass_response,
@@ -46,8 +45,17 @@ def point(r: float, az_deg: float, el_deg: float = 0.0, rcs: float = 1.0,
     return Scatterers.from_arrays(r * u[None], [rcs], velocities_mps=v_radial * u[None])
 
 
-def front_end(config: RadarConfig) -> RadarFrontEnd:
-    return RadarFrontEnd(Project(), config=config)
+class front_end:  # noqa: N801 - reads as a call: front_end(cfg).synthesize(...)
+    """The synthesis + receiver of one radar configuration."""
+
+    def __init__(self, config: RadarConfig):
+        self.config = config
+
+    def synthesize(self, scatterers: Scatterers, *, rng: np.random.Generator) -> RadarOutput:
+        return simulate_radar(scatterers, self.config, rng=rng)
+
+    def ideal_if(self, scatterers: Scatterers) -> np.ndarray:
+        return synthesize_if(scatterers, self.config)
 
 
 def peak_spectrum(x: np.ndarray, pad: int = 16) -> tuple[np.ndarray, int]:

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scenes import wall_project
 
-from simcore.render import PinholeIntrinsics
+from simcore.render import PinholeIntrinsics, RenderRequest
 from simcore.scene import Box, Motion, Plane, Pose, Project, SceneObject, Sphere
 from simcore.scene.model import SensorRig
 from simcore.scene.snapshot import take_snapshot
@@ -23,7 +23,8 @@ def unit_rays(intr: PinholeIntrinsics) -> np.ndarray:
 @pytest.mark.parametrize(("band", "intr"), [("tof", TOF), ("radar", RADAR)])
 def test_wall_range_matches_analytic_per_pixel(make_renderer, band, intr):
     project = wall_project(2.0)
-    buf = make_renderer(project).render(take_snapshot(project, 0.0), band, intr)
+    buf = make_renderer(project).render(take_snapshot(project, 0.0),
+                                        RenderRequest(band, band, intr))
     assert buf.valid.all(), "the wall fills the whole field of view"
     # A plane at z = 2 in the optical frame: range = 2 / cos(off-axis angle).
     expected = 2.0 / unit_rays(intr)[..., 2]
@@ -38,7 +39,8 @@ def test_sphere_silhouette_and_range(make_renderer):
     radius, dist = 0.5, 3.0
     project = Project(objects=[SceneObject(id=3, name="ball", geometry=Sphere(radius_m=radius),
                                            pose=Pose(position_m=(dist, 0.2, -0.1)))])
-    buf = make_renderer(project).render(take_snapshot(project, 0.0), "tof", TOF)
+    buf = make_renderer(project).render(take_snapshot(project, 0.0),
+                                        RenderRequest("tof", "tof", TOF))
     centre = np.array([-0.2, 0.1, dist])  # optical frame: x right (= -y world), y down
     d = unit_rays(TOF)
     along = d @ centre
@@ -67,8 +69,8 @@ def test_radar_transparent_object_absent_from_radar_pass(make_renderer):
     ])
     renderer = make_renderer(project)
     snap = take_snapshot(project, 0.0)
-    tof = renderer.render(snap, "tof", TOF)
-    radar = renderer.render(snap, "radar", RADAR)
+    tof = renderer.render(snap, RenderRequest("tof", "tof", TOF))
+    radar = renderer.render(snap, RenderRequest("radar", "radar", RADAR))
     assert 2 in tof.object_id and 2 not in radar.object_id
     assert 3 in radar.object_id and 3 not in tof.object_id
     # Behind the paper box the radar sees the wall at 4 m on boresight.
@@ -84,8 +86,9 @@ def test_moving_plate_radial_velocity(make_renderer):
         id=1, name="plate", geometry=Plane(size_m=(3.0, 3.0)),
         pose=Pose(position_m=(2.0, 0, 0), rotation_deg=(0, 90, 0)),
         motion=Motion(velocity_mps=tuple(v)))])
-    buf = make_renderer(project).render(take_snapshot(project, 0.0), "tof", TOF)
-    world_from_optical = take_snapshot(project, 0.0).tof.rotation
+    buf = make_renderer(project).render(take_snapshot(project, 0.0),
+                                        RenderRequest("tof", "tof", TOF))
+    world_from_optical = take_snapshot(project, 0.0).sensors["tof"].rotation
     dirs = unit_rays(TOF) @ world_from_optical.T
     expected = dirs @ v
     assert buf.valid.sum() > 1000
@@ -103,8 +106,9 @@ def test_rotating_plate_and_moving_rig_velocity(make_renderer):
                              motion=Motion(angular_velocity_dps=tuple(np.rad2deg(w))))],
         rig=SensorRig(motion=Motion(velocity_mps=tuple(v_rig))),
     )
-    buf = make_renderer(project).render(take_snapshot(project, 0.0), "tof", TOF)
-    rot = take_snapshot(project, 0.0).tof.rotation
+    buf = make_renderer(project).render(take_snapshot(project, 0.0),
+                                        RenderRequest("tof", "tof", TOF))
+    rot = take_snapshot(project, 0.0).sensors["tof"].rotation
     dirs = unit_rays(TOF) @ rot.T
     points = buf.range_m[..., None] * dirs
     expected = np.einsum("hwk,hwk->hw", np.cross(w, points - centre) - v_rig, dirs)
@@ -115,8 +119,8 @@ def test_rotating_plate_and_moving_rig_velocity(make_renderer):
 def test_render_window_is_reused(make_renderer):
     project = wall_project(2.0)
     renderer = make_renderer(project)
-    renderer.render(take_snapshot(project, 0.0), "tof", TOF)
+    renderer.render(take_snapshot(project, 0.0), RenderRequest("tof", "tof", TOF))
     window = renderer._passes["tof"].window
-    renderer.render(take_snapshot(project, 0.1), "tof", TOF)
+    renderer.render(take_snapshot(project, 0.1), RenderRequest("tof", "tof", TOF))
     assert renderer._passes["tof"].window is window
     assert renderer.render_count == 2

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
-from simcore.render import RenderBuffers, SceneRenderer
+from simcore.render import RenderBuffers, RenderRequest, SceneRenderer
 from simcore.resources import example_path
 from simcore.scene import Plane, Pose, Project, SceneObject, load_project
 from simcore.scene.materials import band_response, load_material_library
@@ -39,8 +39,8 @@ def render(project: Project) -> RenderBuffers:
     """ToF-band render of ``project`` at t = 0 on the camera's supersampled grid."""
     renderer = SceneRenderer(project)
     try:
-        return renderer.render(take_snapshot(project, 0.0), "tof",
-                               project.rig.tof.render_intrinsics())
+        return renderer.render(take_snapshot(project, 0.0),
+                               RenderRequest("tof", "tof", project.rig.tof.render_intrinsics()))
     finally:
         renderer.close()
 
@@ -157,7 +157,7 @@ def test_amplitude_follows_inverse_square_and_radiometry(wall_json):
     ratio = amps[1.0] / amps[2.0]
     assert np.abs(ratio / 4.0 - 1.0).max() <= 0.02, np.abs(ratio / 4.0 - 1.0).max()
     # Absolute level at the image centre: A = 2 m S1 f(θ) / R² · gain, θ from geometry.
-    concrete = load_material_library()["concrete"].tof
+    concrete = load_material_library()["concrete"].band("tof")
     norms = ray_norms(cfg)
     cos_theta = 1.0 / norms
     f = band_response(cos_theta, reflectance=concrete.reflectance, specular=concrete.specular,
@@ -390,7 +390,8 @@ def test_motion_artifacts_follow_the_four_sample_formula(make_renderer):
     renderer = make_renderer(project)
     intr = cfg.render_intrinsics()
     dt = cfg.sample_interval_s
-    samples = [renderer.render(take_snapshot(project, i * dt), "tof", intr) for i in range(4)]
+    samples = [renderer.render(take_snapshot(project, i * dt), RenderRequest("tof", "tof", intr))
+               for i in range(4)]
     out = simulate_tof(samples[0], cfg, rng=np.random.default_rng(0), noise=False,
                        sample_buffers=samples)
     still = simulate_tof(samples[0], cfg, rng=np.random.default_rng(0), noise=False)

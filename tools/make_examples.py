@@ -3,6 +3,7 @@ import numpy as np
 
 from simcore.scene import *
 from simcore.scene.model import SensorRig
+from simcore.scene.rgb_config import RgbCameraConfig
 from simcore.scene.project_io import save_project
 from simcore.scene.radar_presets import bgt60tr13c
 from simcore.scene.tof_config import pmd_pico_flexx
@@ -61,6 +62,14 @@ add("person", Cylinder(radius_m=0.18, height_m=1.7), (4.2, 0.2, 0.85), "skin", m
 office = Project(name="office", description="An office: desks, chair, metal plate, a book, a near-IR retroreflector on a desk, a radar corner reflector hidden behind a radar-transparent paper box, a walking person; the sensor rig looks in from the door.",
     timeline=Timeline(frame_rate_hz=10, duration_s=4.0), objects=O, rig=rig(1.2))
 save_project(office, "resources/examples/office.json")
+# office_rgb.json: the same office with a colour camera 3 cm beside the ToF camera.
+office_rgb = office.model_copy(deep=True)
+office_rgb.name = "office_rgb"
+office_rgb.description = ("The office scene with an RGB camera (640x480, 69 x 42 deg) 3 cm to the "
+                          "left of the ToF camera, for fusion datasets: colour, depth and radar "
+                          "from one snapshot per frame.")
+office_rgb.rig.rgb = RgbCameraConfig(pose_on_rig=Pose(position_m=(0, 0.06, 0)))
+save_project(office_rgb, "resources/examples/office_rgb.json")
 print(len(O))
 
 # doppler_back_and_forth.json: the rig moves back and forth (sinusoidally, 0.5 m peak to

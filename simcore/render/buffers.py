@@ -10,8 +10,6 @@ from numpy.typing import NDArray
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.snapshot import SensorState
 
-BANDS = ("tof", "radar")
-
 
 @dataclass(frozen=True)
 class RenderBuffers:
@@ -24,7 +22,7 @@ class RenderBuffers:
     Attributes
     ----------
     band : str
-        "tof" or "radar".
+        Material band of the pass (:data:`simcore.scene.materials.BANDS`).
     time_s : float
         Snapshot timestamp (s).
     intrinsics : PinholeIntrinsics

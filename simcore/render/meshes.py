@@ -1,6 +1,6 @@
 """Triangle meshes of scene objects, built once per geometry in the object's local frame.
 
-Mesh files are parsed and checked by :mod:`simcore.io.mesh_files` (counts, indices,
+Mesh files are parsed and checked by :mod:`simcore.scene.mesh_files` (counts, indices,
 finiteness, size limits) before VTK sees them; VTK's own file readers are not used.
 """
 
@@ -21,7 +21,6 @@ from vtkmodules.vtkFiltersSources import (
     vtkSphereSource,
 )
 
-from simcore.io.mesh_files import MeshError, read_mesh_arrays
 from simcore.scene.geometry import (
     Box,
     CornerReflector,
@@ -33,6 +32,7 @@ from simcore.scene.geometry import (
     Sphere,
     corner_reflector_axes,
 )
+from simcore.scene.mesh_files import MeshError, read_mesh_arrays
 from simcore.scene.project_io import resolve_mesh_path
 
 SPHERE_THETA_RESOLUTION = 160

@@ -31,11 +31,11 @@ from vtkmodules.vtkRenderingCore import (
     vtkRenderWindow,
 )
 
-from simcore.render.buffers import BANDS, RenderBuffers
+from simcore.render.buffers import RenderBuffers
 from simcore.render.meshes import TriangleMesh, build_mesh
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.geometry import Sphere
-from simcore.scene.materials import band_response
+from simcore.scene.materials import BANDS, band_response
 from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot, SensorState
@@ -242,6 +242,26 @@ def _pixel_rays(intr: PinholeIntrinsics, pixel: NDArray[np.intp]) -> NDArray[np.
 
 
 @dataclass(frozen=True)
+class RenderRequest:
+    """One render pass a sensor needs: seen from ``sensor``, in ``band``, on a pixel grid.
+
+    Attributes
+    ----------
+    sensor : str
+        Sensor name (a key of ``SceneSnapshot.sensors``): where the pass is seen from.
+    band : str
+        Material band (:data:`simcore.scene.materials.BANDS`): which objects are drawn
+        (opacity > 0 in that band) and which reflectance parameters shade them.
+    intrinsics : PinholeIntrinsics
+        Pixel grid of the pass.
+    """
+
+    sensor: str
+    band: str
+    intrinsics: PinholeIntrinsics
+
+
+@dataclass(frozen=True)
 class Raster:
     """Output of the GPU pass of one band, input of the (thread-safe, numpy) shading.
 
@@ -249,8 +269,10 @@ class Raster:
     ----------
     snapshot : SceneSnapshot
         The snapshot rendered.
+    sensor : str
+        Name of the sensor whose pose the pass is seen from.
     band : str
-        "tof" or "radar".
+        Material band of the pass (:data:`simcore.scene.materials.BANDS`).
     intrinsics : PinholeIntrinsics
         Pixel grid.
     labels : ndarray, shape (H, W), uint32
@@ -260,6 +282,7 @@ class Raster:
     """
 
     snapshot: SceneSnapshot
+    sensor: str
     band: str
     intrinsics: PinholeIntrinsics
     labels: NDArray[np.uint32]
@@ -323,56 +346,58 @@ class SceneRenderer:
         self._sphere_radius = np.array(
             [o.geometry.radius_m if isinstance(o.geometry, Sphere) else 0.0
              for o in project.objects])
-        self._params: dict[str, dict[str, NDArray[np.float64]]] = {}
+        self._materials = [materials[o.material] for o in project.objects]
+        self._tables: dict[str, _BandTables] = {}
         self._opacity: dict[str, NDArray[np.float64]] = {}
-        for band in BANDS:
-            params = [materials[o.material].band(band) for o in project.objects]
-            self._opacity[band] = np.array([p.opacity for p in params])
-            self._params[band] = {
-                name: np.array([getattr(p, name) for p in params], dtype=np.float64)
-                for name in ("reflectance", "specular", "roughness", "metallic")
-            }
-            self._params[band]["retro_gain"] = np.array(
-                [p.retro_gain if p.retroreflector else 0.0 for p in params])
-        # Lookup tables indexed by object index, −1 ("no object") hitting the extra row.
-        self._tables = {
-            band: _BandTables(
-                params={k: np.append(arr, 0.0) for k, arr in self._params[band].items()},
+
+    def _band_tables(self, band: str) -> _BandTables:
+        """Per-object parameters of ``band``, built on first use after each project edit."""
+        if band not in BANDS:
+            raise ValueError(f"unknown band {band!r}; known bands: {', '.join(BANDS)}")
+        if band not in self._tables:
+            bands = [m.band(band) for m in self._materials]
+            self._opacity[band] = np.array([p.opacity for p in bands], dtype=np.float64)
+            params = {name: np.array([getattr(p, name) for p in bands], dtype=np.float64)
+                      for name in ("reflectance", "specular", "roughness", "metallic")}
+            params["retro_gain"] = np.array(
+                [p.retro_gain if p.retroreflector else 0.0 for p in bands], dtype=np.float64)
+            # Lookup tables indexed by object index, −1 ("no object") hitting the extra row.
+            self._tables[band] = _BandTables(
+                params={k: np.append(arr, 0.0) for k, arr in params.items()},
                 ids=np.append(self._ids, -1).astype(np.int32),
                 sphere_radius=np.append(self._sphere_radius, 0.0))
-            for band in BANDS}
+        return self._tables[band]
 
     def visible_in(self, band: str) -> list[bool]:
         """Which objects are drawn in ``band``'s pass (opacity > 0 and a surface)."""
+        self._band_tables(band)
         return [bool(op > 0) and mesh is not None
                 for op, mesh in zip(self._opacity[band], self.geometry.meshes, strict=True)]
 
-    def render(self, snapshot: SceneSnapshot, band: str, intrinsics: PinholeIntrinsics
-               ) -> RenderBuffers:
-        """Render ``band`` from that band's sensor in ``snapshot``."""
-        return self.shade(self.rasterize(snapshot, band, intrinsics))
+    def render(self, snapshot: SceneSnapshot, request: RenderRequest) -> RenderBuffers:
+        """Render one pass (:meth:`rasterize` then :meth:`shade`)."""
+        return self.shade(self.rasterize(snapshot, request))
 
-    def rasterize(self, snapshot: SceneSnapshot, band: str, intrinsics: PinholeIntrinsics,
-                  *, hide: Sequence[bool] | None = None) -> Raster:
+    def rasterize(self, snapshot: SceneSnapshot, request: RenderRequest, *,
+                  hide: Sequence[bool] | None = None) -> Raster:
         """The GPU pass of :meth:`render` (call it from the thread that owns the renderer).
 
-        ``hide`` (one flag per object) leaves objects out of this pass, e.g. to render
-        the static background of a scene.
+        Each sensor keeps its own offscreen window. ``hide`` (one flag per object) leaves
+        objects out of this pass, e.g. to render the static background of a scene.
         """
-        if band not in BANDS:
-            raise ValueError(f"unknown band {band!r}; expected one of {BANDS}")
-        sensor = snapshot.tof if band == "tof" else snapshot.radar
-        if band not in self._passes:
-            self._passes[band] = _IndexPass(self.geometry)
-        visible = self.visible_in(band)
+        tables = self._band_tables(request.band)
+        sensor = snapshot.sensor(request.sensor)
+        if request.sensor not in self._passes:
+            self._passes[request.sensor] = _IndexPass(self.geometry)
+        visible = self.visible_in(request.band)
         if hide is not None:
             visible = [v and not h for v, h in zip(visible, hide, strict=True)]
-        labels = self._passes[band].labels(intrinsics, sensor, snapshot.object_transforms(),
-                                           visible)
+        labels = self._passes[request.sensor].labels(
+            request.intrinsics, sensor, snapshot.object_transforms(), visible)
         self.render_count += 1
-        return Raster(snapshot=snapshot, band=band, intrinsics=intrinsics, labels=labels,
-                      visible=tuple(visible), geometry=self.geometry,
-                      tables=self._tables[band])
+        return Raster(snapshot=snapshot, sensor=request.sensor, band=request.band,
+                      intrinsics=request.intrinsics, labels=labels, visible=tuple(visible),
+                      geometry=self.geometry, tables=tables)
 
     def shade(self, raster: Raster, *, background: tuple[Raster, RenderBuffers] | None = None
               ) -> RenderBuffers:
@@ -408,13 +433,13 @@ def _shade(raster: Raster, background: tuple[Raster, RenderBuffers] | None = Non
     pixels whose triangle differs from it are shaded, the rest are copied.
     """
     snapshot, band, intr = raster.snapshot, raster.band, raster.intrinsics
+    sensor = snapshot.sensor(raster.sensor)
     h, w = intr.height, intr.width
     idx = changed_pixels(raster, background)
     if background is not None and idx is not None:
         bg = background[1]
         if idx.size == 0:
-            return dataclasses.replace(bg, time_s=snapshot.time_s,
-                                       sensor=_sensor(snapshot, band))
+            return dataclasses.replace(bg, time_s=snapshot.time_s, sensor=sensor)
         px = _shade_pixels(raster, idx)
         out = {name: getattr(bg, name).copy() for name in _PIXEL_FIELDS}
         for name, values in px.items():
@@ -422,17 +447,13 @@ def _shade(raster: Raster, background: tuple[Raster, RenderBuffers] | None = Non
     else:
         px = _shade_pixels(raster, None)
         out = {name: values.reshape(h, w, *values.shape[1:]) for name, values in px.items()}
-    return RenderBuffers(band=band, time_s=snapshot.time_s, intrinsics=intr,
-                         sensor=_sensor(snapshot, band), **out)
+    return RenderBuffers(band=band, time_s=snapshot.time_s, intrinsics=intr, sensor=sensor,
+                         **out)
 
 
 #: Per-pixel fields of :class:`RenderBuffers`.
 _PIXEL_FIELDS = ("range_m", "points_m", "normals", "cos_incidence", "object_index",
                  "object_id", "intensity", "velocity_mps", "radial_velocity_mps")
-
-
-def _sensor(snapshot: SceneSnapshot, band: str) -> SensorState:
-    return snapshot.tof if band == "tof" else snapshot.radar
 
 
 def changed_pixels(raster: Raster, background: tuple[Raster, RenderBuffers] | None
@@ -448,11 +469,12 @@ def changed_pixels(raster: Raster, background: tuple[Raster, RenderBuffers] | No
     if background is None:
         return None
     ref, _ = background
-    if (ref.band != raster.band or ref.intrinsics != raster.intrinsics
+    if (ref.band != raster.band or ref.sensor != raster.sensor
+            or ref.intrinsics != raster.intrinsics
             or ref.geometry is not raster.geometry or ref.tables is not raster.tables
             or ref.labels.shape != raster.labels.shape):
         return None
-    s_now, s_ref = _sensor(raster.snapshot, raster.band), _sensor(ref.snapshot, ref.band)
+    s_now, s_ref = raster.snapshot.sensor(raster.sensor), ref.snapshot.sensor(ref.sensor)
     if not (np.array_equal(s_now.transform, s_ref.transform)
             and not np.any(s_now.velocity_mps) and not np.any(s_ref.velocity_mps)
             and not np.any(s_now.angular_velocity_rps)
@@ -483,9 +505,9 @@ def _rotate(x: NDArray[np.float64], m: NDArray[np.float64]) -> NDArray[np.float6
 def _shade_pixels(raster: Raster, idx: NDArray[np.intp] | None
                   ) -> dict[str, NDArray[np.generic]]:
     """Per-pixel fields (flat, first axis = pixel) of all pixels or of ``idx``."""
-    snapshot, band, intr, geo = raster.snapshot, raster.band, raster.intrinsics, raster.geometry
+    snapshot, intr, geo = raster.snapshot, raster.intrinsics, raster.geometry
     tables = raster.tables
-    sensor = _sensor(snapshot, band)
+    sensor = snapshot.sensor(raster.sensor)
     transforms = snapshot.object_transforms()
     n_tri = len(geo.triangles)
     rot, origin = sensor.rotation, sensor.position

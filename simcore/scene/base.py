@@ -1,25 +1,19 @@
 """Base model class and shared field types for the project model.
 
-Every model is a :class:`psygnal.EventedModel` (a validated pydantic model that emits one
-event per changed field), so that GUI views can listen to the same objects the CLI uses.
+Models are validated pydantic models and treated as values: an edit builds a new project
+(the GUI's document pushes it on its undo stack and emits one change signal), so the
+models themselves emit no events.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Annotated
+from typing import Annotated
 
-from pydantic import AfterValidator, ConfigDict, Field
-
-if TYPE_CHECKING:
-    # The pydantic mypy plugin does not see through psygnal's metaclass; type-check the
-    # models as the pydantic models they are.
-    from pydantic import BaseModel as EventedModel
-else:
-    from psygnal import EventedModel
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field
 
 
-class Model(EventedModel):
-    """Validated, evented model: unknown fields, NaN and infinity are rejected."""
+class Model(BaseModel):
+    """Validated model: unknown fields, NaN and infinity are rejected."""
 
     model_config = ConfigDict(
         extra="forbid",

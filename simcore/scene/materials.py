@@ -1,4 +1,9 @@
-"""Dual-band materials: one parameter set for the ToF near-infrared band, one for radar.
+"""Materials: one reflectance parameter set per band, keyed by band name.
+
+Each sensor renders in one band (:data:`BANDS`: the ToF camera's near infrared, the radar's
+60 GHz, the RGB camera's visible light); a material holds one :class:`BandMaterial` per
+band it sets and falls back to the default parameters for the others. A material may be
+bright in one band and dark or transparent in another ("dual-band" materials).
 
 The same reflectance model is used in both bands, evaluated per pixel in float precision
 from the incidence angle (the sensors are monostatic, so the half-vector is the viewing
@@ -8,7 +13,7 @@ direction)::
              + specular * exp(-tan(theta)**2 / roughness**2) / (roughness**2 * cos(theta)**4)
              + retro_gain          (only for retroreflectors, angle independent)
 
-For the ToF band ``f`` is the fraction of the illumination returned towards the camera
+For the ToF and visible bands ``f`` is the fraction of the illumination returned towards the camera
 per unit solid angle times pi (a white Lambertian wall at normal incidence gives 1).
 For the radar band ``f`` is the normalised radar cross-section per unit area sigma0 (m²/m²).
 The specular term is the Beckmann/Kirchhoff rough-surface lobe with rms slope
@@ -23,14 +28,21 @@ from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import Field, ValidationError
+from pydantic import Field, ValidationError, field_validator
 
 from simcore.resources import MATERIALS_FILE
 from simcore.scene.base import Fraction, Model, NonNegative
 
+#: The bands materials describe: band name → what it is. A sensor renders in one of them.
+BANDS: dict[str, str] = {
+    "tof": "near infrared of the ToF camera's illumination (850–940 nm)",
+    "radar": "the radar's carrier band (60 GHz)",
+    "visible": "visible light, seen by the RGB camera",
+}
+
 
 class BandMaterial(Model):
-    """Reflectance parameters of a material in one band (ToF near-IR or radar)."""
+    """Reflectance parameters of a material in one band."""
 
     reflectance: Fraction = 0.5
     specular: NonNegative = 0.0
@@ -41,21 +53,38 @@ class BandMaterial(Model):
     retro_gain: NonNegative = 0.0
 
 
+RGB = tuple[Fraction, Fraction, Fraction]
+
+
 class DualBandMaterial(Model):
-    """A material with independent ToF and radar parameters."""
+    """A material: independent parameters per band, and its colour in visible light.
+
+    ``bands`` maps band names (:data:`BANDS`) to parameters; a band left out uses the
+    default :class:`BandMaterial` (opaque, reflectance 0.5). ``color_rgb`` is the linear
+    RGB albedo that tints the visible band (the RGB camera's colour).
+    """
 
     name: str = Field(min_length=1)
     description: str = ""
-    tof: BandMaterial = BandMaterial()
-    radar: BandMaterial = BandMaterial()
+    color_rgb: RGB = (0.6, 0.6, 0.6)
+    bands: dict[str, BandMaterial] = Field(default_factory=dict)
+
+    @field_validator("bands")
+    @classmethod
+    def _known_bands(cls, bands: dict[str, BandMaterial]) -> dict[str, BandMaterial]:
+        unknown = sorted(set(bands) - set(BANDS))
+        if unknown:
+            raise ValueError(f"unknown band {unknown[0]!r}; known bands: {', '.join(BANDS)}")
+        return bands
 
     def band(self, band: str) -> BandMaterial:
-        """Return the parameters of ``band`` ("tof" or "radar")."""
-        if band == "tof":
-            return self.tof
-        if band == "radar":
-            return self.radar
-        raise ValueError(f"unknown band {band!r}; expected 'tof' or 'radar'")
+        """Parameters of ``band`` (the defaults where the material does not set it)."""
+        if band not in BANDS:
+            raise ValueError(f"unknown band {band!r}; known bands: {', '.join(BANDS)}")
+        return self.bands.get(band, _DEFAULT_BAND)
+
+
+_DEFAULT_BAND = BandMaterial()
 
 
 class MaterialLibraryError(ValueError):

@@ -10,9 +10,11 @@ from simcore.scene.geometry import Geometry
 from simcore.scene.materials import DualBandMaterial
 from simcore.scene.motion import Motion, Pose
 from simcore.scene.radar_config import RadarConfig
+from simcore.scene.rgb_config import RgbCameraConfig
 from simcore.scene.tof_config import TofCameraConfig
 
-FORMAT_VERSION = 1
+#: Version 2: materials hold their parameters per band name (``bands``).
+FORMAT_VERSION = 2
 
 
 class SceneObject(Model):
@@ -27,12 +29,26 @@ class SceneObject(Model):
 
 
 class SensorRig(Model):
-    """The rig carrying both sensors; its body frame is x forward, y left, z up."""
+    """The rig carrying the sensors; its body frame is x forward, y left, z up.
+
+    Every field with a ``pose_on_rig`` is a sensor, named by the field; ``None`` leaves an
+    optional sensor off (the RGB camera is off unless a project sets ``rgb``).
+    """
 
     pose: Pose = Pose()
     motion: Motion = Motion()
     tof: TofCameraConfig = TofCameraConfig()
     radar: RadarConfig = RadarConfig()
+    rgb: RgbCameraConfig | None = None
+
+    def sensor_configs(self) -> dict[str, Model]:
+        """The configurations of the sensors on the rig, by sensor name (field name)."""
+        out: dict[str, Model] = {}
+        for name in type(self).model_fields:
+            value = getattr(self, name)
+            if value is not None and hasattr(value, "pose_on_rig"):
+                out[name] = value
+        return out
 
 
 class Timeline(Model):

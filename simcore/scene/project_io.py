@@ -34,8 +34,26 @@ MAX_OBJECTS = 4096
 MAX_PROBLEM_LENGTH = 400
 MAX_PROBLEMS = 50
 
+
+def _v1_materials_by_band(data: dict[str, Any]) -> dict[str, Any]:
+    """Version 1 → 2: a material's ``tof`` and ``radar`` parameters move into ``bands``."""
+    materials = data.get("materials")
+    if isinstance(materials, list):
+        upgraded = []
+        for material in materials:
+            if isinstance(material, dict):
+                material = dict(material)
+                bands = {band: material.pop(band) for band in ("tof", "radar")
+                         if band in material}
+                if bands:
+                    material["bands"] = {**bands, **material.get("bands", {})}
+            upgraded.append(material)
+        data["materials"] = upgraded
+    return data
+
+
 #: ``MIGRATIONS[n]`` upgrades a version-``n`` document to version ``n + 1``.
-MIGRATIONS: dict[int, Migration] = {}
+MIGRATIONS: dict[int, Migration] = {1: _v1_materials_by_band}
 
 
 class ProjectError(ValueError):

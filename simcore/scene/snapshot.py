@@ -66,15 +66,22 @@ class SceneSnapshot:
         One state per project object, in project order.
     rig : RigidState
         The sensor rig's body frame.
-    tof, radar : SensorState
-        Optical-frame poses of the two sensors.
+    sensors : dict of str to SensorState
+        Optical-frame pose of every sensor on the rig, by sensor name.
     """
 
     time_s: float
     objects: list[RigidState]
     rig: RigidState
-    tof: SensorState
-    radar: SensorState
+    sensors: dict[str, SensorState]
+
+    def sensor(self, name: str) -> SensorState:
+        """The state of sensor ``name`` (KeyError naming the sensors there are)."""
+        try:
+            return self.sensors[name]
+        except KeyError:
+            raise KeyError(f"no sensor {name!r} on the rig (sensors: "
+                           f"{', '.join(self.sensors)})") from None
 
     def object_transforms(self) -> NDArray[np.float64]:
         """World transforms of all objects, shape (objects, 4, 4)."""
@@ -101,6 +108,6 @@ def take_snapshot(project: Project, t: float) -> SceneSnapshot:
         time_s=float(t),
         objects=[rigid_state(o.pose, o.motion, t) for o in project.objects],
         rig=rig,
-        tof=_sensor_state(rig, project.rig.tof.pose_on_rig.matrix()),
-        radar=_sensor_state(rig, project.rig.radar.pose_on_rig.matrix()),
+        sensors={name: _sensor_state(rig, cfg.pose_on_rig.matrix())  # type: ignore[attr-defined]
+                 for name, cfg in project.rig.sensor_configs().items()},
     )

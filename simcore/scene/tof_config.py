@@ -98,6 +98,13 @@ class TofCameraConfig(Model):
     sample_interval_s: float = Field(
         1e-3, gt=0, le=1.0, allow_inf_nan=False,
         description="time between the starts of consecutive correlation samples (s)")
+    multipath: bool = Field(
+        False, description="add multipath interference: light reaching a pixel through a "
+                           "second (diffuse) surface the camera sees (one bounce)")
+    multipath_patch_px: int = Field(
+        8, ge=1, le=64,
+        description="the secondary surfaces are sampled every this many sensor pixels "
+                    "(smaller: finer and slower)")
 
     @model_validator(mode="after")
     def _check_frequencies(self) -> TofCameraConfig:

@@ -36,7 +36,7 @@ def test_dragging_a_sphere_moves_the_range_peak(make_window, wait_frame, qtbot):
     window = make_window()
     wait_frame(window)
     doc = window.document
-    rig = take_snapshot(doc.project, 0.0).radar.position
+    rig = take_snapshot(doc.project, 0.0).sensors["radar"].position
     start = rig + np.array([1.4, 0.0, 0.0])
     oid = add_object(doc, "sphere", position_m=tuple(start),
                      geometry={"kind": "sphere", "radius_m": 0.3}, material="aluminium")

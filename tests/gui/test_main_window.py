@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,7 +16,7 @@ from simcore.scene import load_project
 
 pytestmark = pytest.mark.gui
 
-BAD = EXAMPLES_DIR.parent.parent / "tests" / "data" / "bad_projects"
+BAD = Path(__file__).resolve().parent.parent / "data" / "bad_projects"
 
 
 def test_office_screenshot_every_panel_non_blank(make_window, wait_frame, is_non_blank,
@@ -67,7 +68,7 @@ def test_save_reopen_compare_equal(make_window, wait_frame, tmp_path):
     shutil.copy(EXAMPLES_DIR / "office.json", work)
     window = make_window(work)
     wait_frame(window)
-    window.document.set_value("objects.0.pose.position_m", (2.5, 0.1, -0.05))
+    window.document.set_value("objects[0].pose.position_m", (2.5, 0.1, -0.05))
     assert window.document.is_dirty and window.isWindowModified()
     out = tmp_path / "saved.json"
     assert window.save_to(out)
@@ -116,7 +117,7 @@ def test_corner_reflector_appears_and_disappears_with_radar_opacity(make_window,
     wait_frame(window)
     doc = window.document
     cr = doc.project.object_by_name("corner_reflector")
-    snap_radar = window.viewport._snapshot.radar.transform
+    snap_radar = window.viewport._snapshot.sensors["radar"].transform
     p = np.linalg.inv(snap_radar) @ np.append(cr.pose.position_m, 1.0)
     cr_range = float(np.linalg.norm(p[:3]))
     cr_az = float(np.degrees(np.arctan2(p[0], p[2])))
@@ -137,7 +138,7 @@ def test_corner_reflector_appears_and_disappears_with_radar_opacity(make_window,
     assert hit_on, "corner reflector not detected in the office scene"
     window.material_editor.show_material("radar_retroreflector")
     window.material_editor.radar_invisible.click()
-    assert doc.project.materials[-1].radar.opacity == 0.0
+    assert doc.project.materials[-1].band("radar").opacity == 0.0
     wait_frame(window)
     level_off, hit_off = cr_level_and_hit()
     assert not hit_off

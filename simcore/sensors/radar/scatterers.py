@@ -340,15 +340,15 @@ def _grow(a: NDArray[Any], extra: int) -> NDArray[Any]:
 
 def _radar_frame(snapshot: SceneSnapshot, world_points: NDArray[np.float64]
                  ) -> NDArray[np.float64]:
-    t = snapshot.radar.transform
+    t = snapshot.sensors["radar"].transform
     return (world_points - t[:3, 3]) @ t[:3, :3]
 
 
 def _relative_velocity(snapshot: SceneSnapshot, index: int, world_point: NDArray[np.float64]
                        ) -> NDArray[np.float64]:
     state = snapshot.objects[index]
-    v_world = state.point_velocity(world_point) - snapshot.radar.velocity_mps
-    return v_world @ snapshot.radar.rotation
+    v_world = state.point_velocity(world_point) - snapshot.sensors["radar"].velocity_mps
+    return v_world @ snapshot.sensors["radar"].rotation
 
 
 def _unoccluded(buffers: RenderBuffers, point_radar: NDArray[np.float64], object_index: int
@@ -430,11 +430,11 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
             if table is None:
                 table = material_table(project)
             material = table.get(o.material)
-            if material is not None and material.radar.opacity <= 0:
+            if material is not None and material.band("radar").opacity <= 0:
                 continue  # not drawn in the radar pass: the radar sees through it
             if not _unoccluded(buffers, apex, i):
                 continue
-            to_radar_world = snapshot.radar.position - apex_world
+            to_radar_world = snapshot.sensors["radar"].position - apex_world
             to_radar_world /= max(float(np.linalg.norm(to_radar_world)), 1e-300)
             local_dir = state.transform[:3, :3].T @ to_radar_world
             area = trihedral_effective_area(edge_axes @ local_dir, geom.edge_m)

@@ -1,0 +1,265 @@
+"""The frame engine: which step runs where, and what is re-used.
+
+One frame is: snapshot → a render pass per sensor (GPU, on the calling thread, which owns
+the VTK windows) → shading and the sensor's simulation. Sensors that ask for it
+(``on_worker``, the radar) run their shading and simulation on one worker thread while the
+calling thread renders and simulates the others; numpy and finufft release the GIL, so on
+two cores the chains overlap.
+
+Every step goes through the engine's one :class:`~simcore.engine.cache.StageCache`. A
+render is keyed by the scene's version, the pass and the poses and velocities of the
+objects and the sensor (not the time), so a scene where nothing moves is rendered once,
+and an edit of antennas or DSP settings re-uses every render. The optional
+:class:`StillBackground` accelerator renders the still objects alone once, so that each
+frame shades only the pixels a moving object changes and sensors may use it
+(:class:`simcore.sensors.base.Background`).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import dataclasses
+import time
+from collections.abc import Callable, Hashable, Sequence
+from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, TypeVar
+
+import numpy as np
+
+from simcore.engine.cache import StageCache
+from simcore.render.buffers import RenderBuffers
+from simcore.render.renderer import Raster, RenderRequest, SceneRenderer, changed_pixels
+from simcore.scene.model import Project
+from simcore.scene.snapshot import SceneSnapshot, take_snapshot
+from simcore.sensors import Sensor, SensorContext, SensorOutput, active_sensors, frame_rng
+from simcore.sensors.base import Background
+
+T = TypeVar("T")
+
+
+@dataclass
+class FrameResult:
+    """What the engine computed for one frame (the pipeline wraps it in a ``Frame``)."""
+
+    index: int
+    snapshot: SceneSnapshot
+    outputs: dict[str, Any]
+    buffers: dict[str, RenderBuffers]
+    timings_ms: dict[str, float] = field(default_factory=dict)
+
+
+def _single_threaded_blas() -> None:
+    """Make OpenBLAS run single-threaded on the calling thread (no-op without OpenBLAS).
+
+    The worker chain already runs beside the calling thread's on a 2-core machine;
+    OpenBLAS's own threads only spin there (the DSP's angle search doubled its CPU time
+    for a 10 % shorter wall time). Uses ``openblas_set_num_threads_local`` (OpenBLAS ≥
+    0.3.27), which leaves other threads alone.
+    """
+    try:
+        with open("/proc/self/maps", encoding="ascii", errors="replace") as maps:
+            paths = {line.split()[-1] for line in maps
+                     if "openblas" in line.lower() and line.rstrip().endswith(".so")}
+    except OSError:
+        return
+    for path in sorted(paths):
+        try:
+            setter = ctypes.CDLL(path).openblas_set_num_threads_local
+        except (OSError, AttributeError):
+            continue
+        setter.argtypes = [ctypes.c_int]
+        setter.restype = ctypes.c_int
+        setter(1)
+
+
+def _state_key(snapshot: SceneSnapshot, sensor: str) -> bytes:
+    """Poses and velocities a render depends on (not the time)."""
+    parts = [snapshot.sensor(sensor).transform, snapshot.sensor(sensor).velocity_mps,
+             snapshot.sensor(sensor).angular_velocity_rps]
+    for state in snapshot.objects:
+        parts += [state.transform, state.velocity_mps, state.angular_velocity_rps]
+    return b"".join(np.ascontiguousarray(p, dtype=np.float64).tobytes() for p in parts)
+
+
+class StillBackground:
+    """Accelerator: the still objects rendered alone, once, for a still rig.
+
+    Applies when the rig and some (not all) objects never move. Then every frame's render
+    differs from the background only where moving objects are: shading copies the other
+    pixels (the same values as shading them), and sensors get the changed pixels
+    (:class:`~simcore.sensors.base.Background`) to re-use work done on the background.
+    """
+
+    def __init__(self) -> None:
+        self.hide: tuple[bool, ...] | None = None
+
+    def follow(self, project: Project) -> None:
+        """Decide from the project's motions whether (and what) to hide."""
+        still = [o.motion.is_static for o in project.objects]
+        applies = project.rig.motion.is_static and any(still) and not all(still)
+        self.hide = tuple(not s for s in still) if applies else None
+
+
+class FrameEngine:
+    """Runs frames of a project through the registered sensors, re-using what it can.
+
+    Parameters
+    ----------
+    project : Project
+        The project (:meth:`set_project` follows edits).
+    base_dir : Path, optional
+        Folder that relative mesh paths are resolved against.
+    seed : int, optional
+        Seed of every random stream (default: the project's).
+    accelerate : bool
+        Use the stage cache and the still-background accelerator (default). False runs
+        every step of every frame: the plain path the accelerated one is tested against.
+    threads : bool
+        Run ``on_worker`` sensors on a worker thread (default).
+    """
+
+    def __init__(self, project: Project, *, base_dir: Path | None = None,
+                 seed: int | None = None, accelerate: bool = True, threads: bool = True):
+        self.seed = project.seed if seed is None else seed
+        self.renderer = SceneRenderer(project, base_dir=base_dir)
+        self.cache = StageCache(enabled=accelerate)
+        self.background = StillBackground() if accelerate else None
+        self.threads = threads
+        self._worker: ThreadPoolExecutor | None = None
+        self._scene_json = ""
+        self._scene_version = 0
+        self.set_project(project)
+
+    # ------------------------------------------------------------------ project
+    def set_project(self, project: Project) -> None:
+        """Follow an edited project: renders stay valid while the scene is unchanged."""
+        scene_json = "\n".join(
+            [o.model_dump_json() for o in project.objects]
+            + [m.model_dump_json() for m in project.materials])
+        if scene_json != self._scene_json:
+            self.renderer.set_project(project)
+            self._scene_json = scene_json
+            self._scene_version += 1
+        self.project = project
+        self.sensors = active_sensors(project)
+        if self.background is not None:
+            self.background.follow(project)
+
+    # ------------------------------------------------------------------ one frame
+    def frame(self, index: int) -> FrameResult:
+        """Compute frame ``index`` of the timeline."""
+        start = time.perf_counter()
+        timings: dict[str, float] = {}
+        project = self.project
+        t0 = time.perf_counter()
+        snap = take_snapshot(project, project.timeline.frame_time(index))
+        timings["snapshot"] = (time.perf_counter() - t0) * 1e3
+        # GPU passes on this thread; worker sensors' rasters first so their chain starts.
+        order = sorted(self.sensors, key=lambda s: not (s.on_worker and self.threads))
+        futures: dict[str, Future[tuple[RenderBuffers, SensorOutput]]] = {}
+        results: dict[str, tuple[RenderBuffers, SensorOutput]] = {}
+        try:
+            for sensor in order:
+                chain = self._sensor_chain(sensor, snap, index, timings)
+                if sensor.on_worker and self.threads:
+                    futures[sensor.name] = self._pool().submit(chain)
+                else:
+                    results[sensor.name] = chain()
+        finally:
+            for name, future in futures.items():
+                results[name] = future.result()
+        timings["total"] = (time.perf_counter() - start) * 1e3
+        names = [s.name for s in self.sensors]
+        return FrameResult(
+            index=index, snapshot=snap,
+            outputs={n: results[n][1] for n in names},
+            buffers={n: _stamped(results[n][0], snap, n) for n in names},
+            timings_ms=timings)
+
+    def _sensor_chain(self, sensor: Sensor, snap: SceneSnapshot, index: int,
+                      timings: dict[str, float]
+                      ) -> Callable[[], tuple[RenderBuffers, SensorOutput]]:
+        """Rasterise the sensor's passes now; return the rest (shading, physics) to run."""
+        project = self.project
+        request = sensor.render_request(project)
+        label = f"render_{sensor.name}"
+        raster = self._raster(snap, request, timings, label)
+        samples = [self._raster(take_snapshot(project, snap.time_s + dt), request, timings,
+                                f"render_{sensor.name}_samples")
+                   for dt in sensor.sample_offsets_s(project)]
+        bg_raster = self._background_raster(snap, request, timings)
+
+        def chain() -> tuple[RenderBuffers, SensorOutput]:
+            background = None
+            if bg_raster is not None:
+                bg = self._shade(bg_raster, None, timings, "render_background")
+                changed = changed_pixels(raster, (bg_raster, bg))
+                if changed is not None:
+                    background = (bg_raster, bg, changed)
+            bg_pair = None if background is None else background[:2]
+            buffers = self._shade(raster, bg_pair, timings, label)
+            sample_buffers = tuple(self._shade(r, bg_pair, timings, f"{label}_samples")
+                                   for r in samples)
+
+            def stage(name: str, fn: Callable[[], T], *, reads: Hashable,
+                      inputs: Sequence[object] = ()) -> T:
+                return self.cache.run(name, fn, reads=reads, inputs=inputs, timings=timings)
+
+            ctx = SensorContext(
+                project=project, snapshot=snap, index=index, seed=self.seed,
+                buffers=buffers, sample_buffers=sample_buffers,
+                rng=frame_rng(self.seed, index, sensor.rng_stream), stage=stage,
+                background=(None if background is None
+                            else Background(background[1], background[2])))
+            return buffers, sensor.simulate(ctx)
+
+        return chain
+
+    def _raster(self, snap: SceneSnapshot, request: RenderRequest, timings: dict[str, float],
+                label: str, hide: tuple[bool, ...] | None = None) -> Raster:
+        reads = (self._scene_version, request, hide,
+                 None if hide is not None else _state_key(snap, request.sensor))
+        return self.cache.run(f"raster:{request.sensor}:{label}",
+                              lambda: self.renderer.rasterize(snap, request, hide=hide),
+                              reads=reads, timings=timings, label=label)
+
+    def _background_raster(self, snap: SceneSnapshot, request: RenderRequest,
+                           timings: dict[str, float]) -> Raster | None:
+        if self.background is None or self.background.hide is None:
+            return None
+        return self._raster(snap, request, timings, "render_background",
+                            hide=self.background.hide)
+
+    def _shade(self, raster: Raster, background: tuple[Raster, RenderBuffers] | None,
+               timings: dict[str, float], label: str) -> RenderBuffers:
+        return self.cache.run(f"shade:{raster.sensor}:{label}",
+                              lambda: self.renderer.shade(raster, background=background),
+                              reads=(), inputs=(raster,), timings=timings, label=label)
+
+    # ------------------------------------------------------------------ resources
+    @property
+    def render_count(self) -> int:
+        """GPU passes run so far (edits of antennas or DSP settings do not add any)."""
+        return self.renderer.render_count
+
+    def _pool(self) -> ThreadPoolExecutor:
+        if self._worker is None:
+            self._worker = ThreadPoolExecutor(max_workers=1, thread_name_prefix="sensor-chain",
+                                              initializer=_single_threaded_blas)
+        return self._worker
+
+    def close(self) -> None:
+        """Release the rendering resources and the worker thread."""
+        if self._worker is not None:
+            self._worker.shutdown(wait=True)
+            self._worker = None
+        self.renderer.close()
+
+
+def _stamped(buffers: RenderBuffers, snap: SceneSnapshot, sensor: str) -> RenderBuffers:
+    """A re-used render with this frame's time and sensor state (same pixel arrays)."""
+    if buffers.time_s == snap.time_s:
+        return buffers
+    return dataclasses.replace(buffers, time_s=snap.time_s, sensor=snap.sensor(sensor))

@@ -1,0 +1,145 @@
+"""The FMCW radar as a registered sensor: render → scatterers → IF → receiver → DSP.
+
+Each step runs through the engine's stage cache (:meth:`SensorContext.stage`) with the
+configuration slice it reads, so an antenna or waveform edit re-uses the render and the
+scatterers, a DSP edit re-uses the ADC cube, and a ToF edit re-uses the whole radar frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simcore.dsp import RadarProducts, process_frame, static_axes_items
+from simcore.render.renderer import RenderRequest
+from simcore.scene.model import Project
+from simcore.scene.radar_config import RadarConfig
+from simcore.sensors.base import H5Items, SensorContext, config_key
+from simcore.sensors.radar.background import (
+    BackgroundFacets,
+    cell_pixels,
+    changed_cells,
+)
+from simcore.sensors.radar.frontend import RadarOutput, radar_output, radar_scatterers
+from simcore.sensors.radar.synthesis import ComplexCube, synthesize_if
+
+
+@dataclass(frozen=True)
+class RadarFrameOutput:
+    """One frame of the radar: the raw ADC data and its processing.
+
+    Attributes
+    ----------
+    raw : RadarOutput
+        ADC cube (chirps, tx*rx, samples) and chirp times.
+    dsp : RadarProducts
+        Range/Doppler/angle maps, CFAR detections and point cloud of ``raw``.
+    """
+
+    raw: RadarOutput
+    dsp: RadarProducts
+
+    def hdf5_items(self) -> H5Items:
+        """Per-frame datasets of the raw data and the maps."""
+        return {**self.raw.hdf5_items(), **self.dsp.hdf5_items()}
+
+    def table_rows(self, index: int) -> dict[str, NDArray[np.void]]:
+        """Rows this frame adds to the detections table."""
+        return {"/radar/detections": self.dsp.detection_records(index)}
+
+
+class RadarSensor:
+    """FMCW radar (``rig.radar``): the 60 GHz band seen from the radar board."""
+
+    name = "radar"
+    band = "radar"
+    rng_stream = 1
+    on_worker = True
+
+    def render_request(self, project: Project) -> RenderRequest:
+        """The radar pass: facet grid × render supersampling, square pixels."""
+        return RenderRequest(self.name, self.band, project.rig.radar.render_intrinsics())
+
+    def sample_offsets_s(self, project: Project) -> tuple[float, ...]:
+        """No extra renders: motion within the frame is the scatterers' velocities."""
+        return ()
+
+    def simulate(self, ctx: SensorContext) -> RadarFrameOutput:
+        """Scatterers, IF synthesis, receiver and DSP of one frame."""
+        cfg = ctx.project.rig.radar
+        found = _ideal_over_background(ctx, cfg)
+        if found is None:
+            scatterers = ctx.stage(
+                "radar_scatterers",
+                lambda: radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed),
+                reads=_scatterer_reads(ctx, cfg), inputs=(ctx.buffers,))
+            ideal = ctx.stage("radar_synthesis", lambda: synthesize_if(scatterers, cfg),
+                              reads=config_key(cfg), inputs=(scatterers,))
+            n_scatterers = transformed = len(scatterers)
+        else:
+            ideal, n_scatterers, transformed = found
+        raw = ctx.stage(
+            "radar_receiver",
+            lambda: radar_output(ideal, cfg, rng=ctx.rng, time_s=ctx.time_s,
+                                 n_scatterers=n_scatterers, transformed=transformed),
+            reads=(config_key(cfg), ctx.seed, ctx.index, ctx.time_s), inputs=(ideal,))
+        to_world = ctx.snapshot.sensor(self.name).transform
+        dsp = ctx.stage(
+            "dsp", lambda: process_frame(raw.adc, cfg, ctx.project.dsp, radar_to_world=to_world),
+            reads=(config_key(cfg, ctx.project.dsp), to_world.tobytes()), inputs=(raw,))
+        return RadarFrameOutput(raw=raw, dsp=dsp)
+
+    def static_items(self, project: Project) -> H5Items:
+        """The axes of the radar maps."""
+        return static_axes_items(project.rig.radar, project.dsp)
+
+
+def _scatterer_reads(ctx: SensorContext, cfg: RadarConfig) -> object:
+    """What the scatterers depend on besides the render: λ, speckle, grid, materials."""
+    return (cfg.wavelength_m, cfg.speckle, ctx.seed, cfg.render_width, cfg.render_height,
+            cfg.render_fov_h_deg, cfg.render_supersampling,
+            config_key(*ctx.project.materials), config_key(*ctx.project.objects))
+
+
+def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
+                           ) -> tuple[ComplexCube, int, int] | None:
+    """The frame's IF as background IF − changed background facets + the frame's there.
+
+    Returns (IF, scatterers in the frame, scatterers transformed), or None when the
+    engine gave no background or too much of the render changed.
+    """
+    bg = ctx.background
+    if bg is None or bg.buffers.shape != ctx.buffers.shape:
+        return None
+    facets = cfg.facet_intrinsics()
+    cells = changed_cells(bg.changed, ctx.buffers.intrinsics, facets)
+    if cells is None:
+        return None
+    reads = _scatterer_reads(ctx, cfg)
+    background = ctx.stage(
+        "radar_background_scatterers",
+        lambda: BackgroundFacets.of(
+            radar_scatterers(ctx.project, ctx.snapshot, bg.buffers, seed=ctx.seed),
+            len(ctx.project.objects)),
+        reads=reads, inputs=(bg.buffers,))
+    background_if = ctx.stage("radar_background_synthesis",
+                              lambda: synthesize_if(background.scatterers, cfg),
+                              reads=config_key(cfg), inputs=(background,))
+
+    def frame_if() -> tuple[ComplexCube, int, int]:
+        pixels = cell_pixels(cells, ctx.buffers.intrinsics, facets)
+        others = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
+                                  pixels=pixels)
+        hidden = background.in_cells(cells)
+        out = background_if.copy()
+        if len(hidden):
+            out -= synthesize_if(hidden, cfg)
+        if len(others):
+            out += synthesize_if(others, cfg)
+        n = len(background.scatterers) - len(hidden) + len(others)
+        return out, n, len(hidden) + len(others)
+
+    return ctx.stage("radar_synthesis", frame_if, reads=(reads, config_key(cfg)),
+                     inputs=(ctx.buffers, bg.buffers))

@@ -1,0 +1,48 @@
+"""The RGB camera as a registered sensor (optional: on when a project sets ``rig.rgb``)."""
+
+from __future__ import annotations
+
+from simcore.render.renderer import RenderRequest
+from simcore.scene.model import Project
+from simcore.scene.project_io import material_table
+from simcore.scene.rgb_config import RgbCameraConfig
+from simcore.sensors.base import H5Items, SensorContext, config_key
+from simcore.sensors.rgb.camera import BAND, RgbOutput, object_colors, simulate_rgb
+
+
+class RgbSensor:
+    """Colour camera (``rig.rgb``): the visible band seen from the camera."""
+
+    name = "rgb"
+    band = BAND
+    rng_stream = 2
+    on_worker = False
+
+    @staticmethod
+    def _config(project: Project) -> RgbCameraConfig:
+        cfg = project.rig.rgb
+        if cfg is None:
+            raise ValueError("the rig has no RGB camera (rig.rgb is not set)")
+        return cfg
+
+    def render_request(self, project: Project) -> RenderRequest:
+        """The visible-band pass from the camera, one render pixel per image pixel."""
+        return RenderRequest(self.name, self.band, self._config(project).render_intrinsics())
+
+    def sample_offsets_s(self, project: Project) -> tuple[float, ...]:
+        """No extra renders."""
+        return ()
+
+    def simulate(self, ctx: SensorContext) -> RgbOutput:
+        """The colour image of the frame's render."""
+        cfg = self._config(ctx.project)
+        return ctx.stage(
+            "rgb", lambda: simulate_rgb(ctx.buffers, cfg,
+                                        object_colors(ctx.project, material_table(ctx.project))),
+            reads=(config_key(cfg), config_key(*ctx.project.materials),
+                   config_key(*ctx.project.objects)),
+            inputs=(ctx.buffers,))
+
+    def static_items(self, project: Project) -> H5Items:
+        """No run-constant datasets."""
+        return {}
