@@ -380,7 +380,7 @@ def _clearance_problems(project: Project, n_frames: int) -> list[str]:
     for k in frames:
         t = project.timeline.frame_time(int(k))
         snap = take_snapshot(project, t)
-        to_world = snap.radar.transform
+        to_world = snap.sensor("radar").transform
         ants = elements @ to_world[:3, :3].T + to_world[:3, 3]
         for i in analytic:
             origin = snap.objects[i].transform[:3, 3]
