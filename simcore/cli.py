@@ -259,6 +259,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     """One dataset per combination of the varied fields, with the parameters recorded."""
     from simcore.io.hdf5_writer import DatasetExistsError, DiskFullError, ResumeError
     from simcore.preflight import check as check_project
+    from simcore.preflight import estimate_cost
     from simcore.runner import frame_count, run_dataset
     from simcore.sweep import SweepError, expand, parameters_json, parse_vary
 
@@ -290,6 +291,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                                  memory_budget_bytes=2**63 if args.force else None)
         if problems:
             raise ProjectError(f"{project_path} variant {i} {parameters_json(params)}", problems)
+        _check_disk(path, estimate_cost(variant, base_dir=project_path.parent), n_frames,
+                    force=args.force)
         print(f"[{i + 1}/{len(variants)}] {path.name}: {parameters_json(params)}")
         try:
             with stop_on_sigint() as stop:
