@@ -46,7 +46,7 @@ def test_sensor_editor_derived_quantities_and_aliasing_warnings(make_window, wai
 def test_antenna_layout_presets(make_window):
     window = make_window()
     ed = window.antenna_editor
-    half = ed.board.snap_step_mm
+    half = 0.5 * window.document.project.rig.radar.wavelength_m * 1e3  # spacing 0.5 λ
     original = window.document.project.rig.radar
     ed.n_spin.setValue(4)
     ed.apply_layout("ULA")
