@@ -92,14 +92,13 @@ def array_pitch_mm(positions_mm: np.ndarray, *, fallback_mm: float) -> float:
     pts = np.asarray(positions_mm, dtype=np.float64).reshape(-1, 2)
     gaps = []
     for axis in range(2):
-        coords = np.unique(np.round(pts[:, axis], 6))
-        d = np.diff(coords)
+        d = np.diff(np.sort(pts[:, axis]))
         d = d[d > SAME_SPOT_MM]
         if len(d):
             gaps.append(float(d.min()))
     if not gaps or min(gaps) < 0.25 * fallback_mm:
         return float(fallback_mm)
-    return float(round(min(gaps), 6))
+    return min(gaps)
 
 
 def snap_to_grid(position_mm: tuple[float, float], step_mm: float,

@@ -123,12 +123,16 @@ class ProjectDocument(QObject):
                  parent: QObject | None = None):
         super().__init__(parent)
         self.undo_stack = QUndoStack(self)
-        self.undo_stack.cleanChanged.connect(lambda clean: self.dirtyChanged.emit(not clean))
+        # A bound method, not a lambda: Qt drops the connection when the document goes.
+        self.undo_stack.cleanChanged.connect(self._on_clean_changed)
         self._project = project if project is not None else Project()
         self._path = path
         self._selection: int | str | None = None
         self._materials: dict[str, DualBandMaterial] = {}
         self._materials_for: Project | None = None
+
+    def _on_clean_changed(self, clean: bool) -> None:  # noqa: FBT001 - Qt slot
+        self.dirtyChanged.emit(not clean)
 
     # --- state ------------------------------------------------------------------------
     @property

@@ -1,0 +1,239 @@
+"""Exploring sensors: antenna board and array analysis, saving, materials, timeline, help."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PyQt6.QtCore import QEvent, QPointF, Qt
+from PyQt6.QtGui import QMouseEvent
+from PyQt6.QtWidgets import QApplication
+
+from app.antenna_editor import AntennaEditor
+from app.document import ProjectDocument
+from simcore.resources import EXAMPLES_DIR
+
+pytestmark = pytest.mark.gui
+
+OFFICE = EXAMPLES_DIR / "office.json"
+
+
+# --- helpers -------------------------------------------------------------------------------
+def _send(view, kind: QEvent.Type, pos: QPointF, buttons: Qt.MouseButton) -> None:
+    vp = view.viewport()
+    button = Qt.MouseButton.NoButton if kind == QEvent.Type.MouseMove else \
+        Qt.MouseButton.LeftButton
+    QApplication.sendEvent(vp, QMouseEvent(kind, pos, vp.mapToGlobal(pos), button, buttons,
+                                           Qt.KeyboardModifier.NoModifier))
+
+
+def _press_drag(qtbot, view, a: QPointF, b: QPointF, steps: int = 6) -> None:
+    """Press at widget point ``a``, move to ``b`` in steps, release (real mouse events)."""
+    left, none = Qt.MouseButton.LeftButton, Qt.MouseButton.NoButton
+    _send(view, QEvent.Type.MouseMove, a, none)
+    _send(view, QEvent.Type.MouseButtonPress, a, left)
+    for s in np.linspace(0, 1, steps + 1)[1:]:
+        _send(view, QEvent.Type.MouseMove, a + (b - a) * float(s), left)
+        qtbot.wait(15)
+    _send(view, QEvent.Type.MouseButtonRelease, b, none)
+    qtbot.wait(15)
+
+
+def _click(qtbot, view, a: QPointF) -> None:
+    _send(view, QEvent.Type.MouseMove, a, Qt.MouseButton.NoButton)
+    _send(view, QEvent.Type.MouseButtonPress, a, Qt.MouseButton.LeftButton)
+    _send(view, QEvent.Type.MouseButtonRelease, a, Qt.MouseButton.NoButton)
+    qtbot.wait(15)
+
+
+def _board_point(board, x_mm: float, y_mm: float) -> QPointF:
+    """Widget (viewport) coordinates of a board position."""
+    scene = board.getPlotItem().vb.mapViewToScene(QPointF(x_mm, y_mm))
+    return board.mapFromScene(scene).toPointF()
+
+
+@pytest.fixture
+def antenna_editor(qtbot):
+    """An antenna editor on the office example, shown at a readable size."""
+    doc = ProjectDocument()
+    doc.open(OFFICE)
+    editor = AntennaEditor(doc)
+    doc.setParent(editor)
+    qtbot.addWidget(editor)
+    editor.resize(1400, 420)
+    editor.show()
+    qtbot.waitExposed(editor)
+    qtbot.wait(50)
+    return editor
+
+
+def _independent_af_db(tx_mm, rx_mm, lam_m, az_deg, el_deg, steer_az=0.0, steer_el=0.0):
+    """|Σ_tx Σ_rx exp(j 2π (p_tx + p_rx)·(u − u0) / λ)|² / N², dB: written out per pair."""
+    def u(az, el):
+        az, el = np.radians(az), np.radians(el)
+        return np.array([np.sin(az) * np.cos(el), -np.sin(el), np.cos(az) * np.cos(el)])
+
+    out = []
+    u0 = u(steer_az, steer_el)
+    for az, el in zip(np.broadcast_to(az_deg, np.broadcast(az_deg, el_deg).shape),
+                      np.broadcast_to(el_deg, np.broadcast(az_deg, el_deg).shape), strict=True):
+        d = u(az, el) - u0
+        total = 0j
+        for t in tx_mm:
+            for r in rx_mm:
+                p = np.array([t[0] + r[0], t[1] + r[1], 0.0]) * 1e-3
+                total += np.exp(2j * np.pi * float(p @ d) / lam_m)
+        out.append(abs(total) ** 2 / (len(tx_mm) * len(rx_mm)) ** 2)
+    return 10 * np.log10(np.maximum(out, 1e-30))
+
+
+# --- antenna board -------------------------------------------------------------------------
+def test_tx_under_an_rx_can_be_dragged(antenna_editor, qtbot):
+    ed = antenna_editor
+    doc, board = ed.document, ed.board
+    radar = doc.project.rig.radar
+    assert radar.tx[0].position_mm == radar.rx[1].position_mm == (0.0, 0.0)
+    pitch = board.snap_step_mm
+    np.testing.assert_allclose(pitch, radar.rx[0].position_mm[0])  # the preset's spacing
+    # Press on the Tx's exposed corner (outside the Rx circle on top of it) and drag.
+    corner = _board_point(board, 0.0, 0.0) + QPointF(8, 8)
+    target = _board_point(board, 0.0, 2 * pitch) + QPointF(8, 8)
+    undo = doc.undo_stack.count()
+    _press_drag(qtbot, board, corner, target)
+    radar = doc.project.rig.radar
+    np.testing.assert_allclose(radar.tx[0].position_mm, (0.0, 2 * pitch), atol=1e-6)
+    assert radar.rx[1].position_mm == (0.0, 0.0)
+    assert doc.undo_stack.count() == undo + 1, "one drag = one undo step"
+    doc.undo_stack.undo()
+    assert doc.project.rig.radar.tx[0].position_mm == (0.0, 0.0)
+    qtbot.wait(20)
+    # A click on the shared spot sends the top element (rx2) below: the next press there
+    # grabs tx1.
+    centre = _board_point(board, 0.0, 0.0)
+    assert board.top_element_at((0.0, 0.0)) == ("rx", 1)
+    _click(qtbot, board, centre)
+    assert board.top_element_at((0.0, 0.0)) == ("tx", 0)
+    _press_drag(qtbot, board, centre, _board_point(board, -pitch, 0.0))
+    radar = doc.project.rig.radar
+    np.testing.assert_allclose(radar.tx[0].position_mm, (-pitch, 0.0), atol=1e-6)
+    assert radar.rx[1].position_mm == (0.0, 0.0)
+
+
+def test_drags_keep_the_preset_pitch_and_warnings_show_on_the_board(antenna_editor, qtbot):
+    ed = antenna_editor
+    doc, board = ed.document, ed.board
+    radar = doc.project.rig.radar
+    pitch = radar.rx[0].position_mm[0]  # 2.498 mm: λ/2 at 60 GHz, not at the centre
+    assert abs(pitch - 0.5 * radar.wavelength_m * 1e3) > 0.1
+    assert "share (0, 0) mm" in ed.warnings.text()
+    # Drag rx1 by about 2.4 pitches: it lands 2 pitches further, on the preset's grid.
+    start = _board_point(board, *radar.rx[0].position_mm)
+    end = _board_point(board, pitch + 2.4 * pitch, 0.3)
+    _press_drag(qtbot, board, start, end)
+    np.testing.assert_allclose(doc.project.rig.radar.rx[0].position_mm, (3 * pitch, 0.0),
+                               atol=1e-6)
+    # Spacing 3 pitches > λ/2: the board warns about grating lobes right away.
+    assert "grating lobes" in ed.warnings.text()
+    assert "grating lobes" in ed.analysis.summary.text()
+    # λ/2 at the centre frequency, stated in the panel.
+    ed.snap_mode.setCurrentText("λ/2 at centre frequency")
+    np.testing.assert_allclose(board.snap_step_mm, 0.5 * radar.wavelength_m * 1e3)
+    assert "centre frequency" in ed.info.text()
+
+
+def test_add_and_remove_elements(antenna_editor):
+    ed = antenna_editor
+    doc = ed.document
+    pitch = doc.project.rig.radar.rx[0].position_mm[0]
+    ed.add_element("rx")  # continues the horizontal row (rx2, rx1) to the right
+    np.testing.assert_allclose(doc.project.rig.radar.rx[-1].position_mm, (2 * pitch, 0.0),
+                               atol=1e-6)
+    ed.add_element("tx")  # a second Tx one row length (3 elements) to the right
+    radar = doc.project.rig.radar
+    np.testing.assert_allclose(radar.tx[-1].position_mm, (3 * pitch, 0.0), atol=1e-6)
+    virtual_x = sorted({round(t.position_mm[0] + r.position_mm[0], 4) for t in radar.tx
+                        for r in radar.rx if r.position_mm[1] == 0.0})
+    np.testing.assert_allclose(np.diff(virtual_x), pitch, atol=1e-4)  # a gap-free row
+    ed.remove_element("tx")
+    assert len(doc.project.rig.radar.tx) == 1
+    messages = []
+    ed.editFailed.connect(messages.append)
+    count = doc.undo_stack.count()
+    ed.remove_element("tx")
+    assert messages == ["a radar needs at least one Tx: tx1 stays"]
+    assert doc.undo_stack.count() == count
+    assert not ed.remove_tx_button.isEnabled()
+
+
+def test_labels_do_not_overlap(antenna_editor, qtbot):
+    ed = antenna_editor
+    assert "rx2 · tx1" in ed.board.label_texts()  # one label for the shared spot
+    ed.apply_layout("MIMO (2 Tx × 4 Rx)")
+    qtbot.wait(50)
+    rects = [item.sceneBoundingRect() for item, _, _ in ed.board.labels]
+    assert len(rects) == 6
+    for i, a in enumerate(rects):
+        for b in rects[i + 1:]:
+            assert not a.intersects(b), (a, b)
+
+
+def test_beam_pattern_follows_steering_and_element_moves(antenna_editor, qtbot):
+    ed = antenna_editor
+    doc, view = ed.document, ed.analysis
+    ed.apply_layout("MIMO (2 Tx × 4 Rx)")
+    radar = doc.project.rig.radar
+    tx = [a.position_mm for a in radar.tx]
+    rx = [a.position_mm for a in radar.rx]
+    lam = radar.wavelength_m
+    angles = view.pattern.angles_deg
+    pick = angles[::20]
+
+    def expected_az(tx, rx, steer=0.0):
+        return _independent_af_db(tx, rx, lam, pick, 0.0, steer_az=steer)
+
+    shown = view.az_curve.getData()[1][::20]
+    ok = expected_az(tx, rx) > -40
+    np.testing.assert_allclose(shown[ok], expected_az(tx, rx)[ok], atol=1e-6)
+    assert angles[np.argmax(view.az_curve.getData()[1])] == 0.0
+    # A steering phase moves the main lobe to 20°.
+    view.steer_az.setValue(20.0)
+    az = view.az_curve.getData()[1]
+    assert abs(angles[np.argmax(az)] - 20.0) < 0.3
+    exp = expected_az(tx, rx, 20.0)
+    ok = exp > -40
+    np.testing.assert_allclose(az[::20][ok], exp[ok], atol=1e-6)
+    view.steer_az.setValue(0.0)
+    # Moving rx4 one pitch further out (a gap in the virtual row) changes the pattern to the
+    # array factor of the new layout, live.
+    pitch = rx[1][0] - rx[0][0]
+    doc.set_value("rig.radar.rx[3].position_mm", (rx[3][0] + pitch, 0.0))
+    rx2 = [*rx[:3], (rx[3][0] + pitch, 0.0)]
+    az = view.az_curve.getData()[1]
+    exp = expected_az(tx, rx2)
+    ok = exp > -40
+    np.testing.assert_allclose(az[::20][ok], exp[ok], atol=1e-6)
+    # Elevation cut of an L (office rx): the vertical pair sets it.
+    doc.undo_stack.undo()
+    doc.undo_stack.undo()
+    radar = doc.project.rig.radar
+    el = view.el_curve.getData()[1]
+    exp_el = _independent_af_db([a.position_mm for a in radar.tx],
+                                [a.position_mm for a in radar.rx], lam, 0.0, pick)
+    ok = exp_el > -40
+    np.testing.assert_allclose(el[::20][ok], exp_el[ok], atol=1e-6)
+
+
+def test_spacing_beyond_half_wavelength_shows_grating_lobes_where_theory_puts_them(
+        antenna_editor):
+    ed = antenna_editor
+    doc = ed.document
+    ed.n_spin.setValue(8)
+    ed.spacing.setValue(0.8)
+    ed.apply_layout("ULA")  # d = 0.8 λ > λ/2
+    assert len(ed.analysis.pattern.grating_lobes()["azimuth"]) == 0  # none while unsteered
+    ed.analysis.steer_az.setValue(30.0)
+    # Steered to 30°: grating lobe at sin θ = sin 30° − λ/d = 0.5 − 1.25 = −0.75.
+    lobes = ed.analysis.pattern.grating_lobes()["azimuth"]
+    expected = np.degrees(np.arcsin(0.5 - 1 / 0.8))
+    assert len(lobes) == 1 and abs(lobes[0] - expected) < 0.5, (lobes, expected)
+    assert doc.project.rig.radar.rx[1].position_mm[0] == pytest.approx(
+        0.8 * doc.project.rig.radar.wavelength_m * 1e3, abs=1e-6)
