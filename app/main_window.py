@@ -368,8 +368,7 @@ class MainWindow(QMainWindow):
                           "from one 3D scene.")
 
     def _update_title(self, *_: object) -> None:
-        path = self.document.path
-        name = path.name if path is not None else "untitled"
+        name = self.document.display_name  # "office (example)" for a bundled template
         self.setWindowTitle(f"{name}[*] — tofradar")
         self.setWindowModified(self.document.is_dirty)
 
@@ -444,7 +443,8 @@ class MainWindow(QMainWindow):
 
     def save_as(self) -> bool:
         """Ask for a file name and save there."""
-        path, _ = QFileDialog.getSaveFileName(self, "Save project as", str(self.document.base_dir),
+        start = self.document.suggested_save_path()  # last used folder, never the examples
+        path, _ = QFileDialog.getSaveFileName(self, "Save project as", str(start),
                                               "tofradar projects (*.json)")
         if not path:
             return False

@@ -11,6 +11,7 @@ from PyQt6.QtWidgets import QApplication
 from app.antenna_editor import AntennaEditor
 from app.document import ProjectDocument
 from simcore.resources import EXAMPLES_DIR
+from simcore.scene import load_project
 
 pytestmark = pytest.mark.gui
 
@@ -237,3 +238,52 @@ def test_spacing_beyond_half_wavelength_shows_grating_lobes_where_theory_puts_th
     assert len(lobes) == 1 and abs(lobes[0] - expected) < 0.5, (lobes, expected)
     assert doc.project.rig.radar.rx[1].position_mm[0] == pytest.approx(
         0.8 * doc.project.rig.radar.wavelength_m * 1e3, abs=1e-6)
+
+
+# --- saving ---------------------------------------------------------------------------------
+def test_ctrl_s_on_an_opened_example_does_not_modify_it(make_window, qtbot, tmp_path,
+                                                         monkeypatch):
+    from PyQt6.QtWidgets import QFileDialog
+
+    import app.document as document_module
+
+    example_bytes = OFFICE.read_bytes()
+    docs = tmp_path / "Documents"
+    docs.mkdir()
+    monkeypatch.setattr(document_module, "documents_folder", lambda: docs)
+    monkeypatch.setattr(document_module, "_LAST_FOLDER", [])
+    window = make_window(OFFICE)
+    doc = window.document
+    assert doc.path is None and doc.template == OFFICE.resolve()
+    assert window.windowTitle().startswith("office (example)")
+    doc.set_value("objects[0].pose.position_m", (2.5, 0.1, -0.05))
+    asked = []
+    out = tmp_path / "mine" / "office.json"
+    out.parent.mkdir()
+
+    def fake_dialog(parent, title, start, filters):
+        asked.append(start)
+        return str(out), filters
+
+    monkeypatch.setattr(QFileDialog, "getSaveFileName", fake_dialog)
+    window.raise_()
+    window.activateWindow()
+    qtbot.waitUntil(window.isActiveWindow, timeout=5000)
+    window.object_list.list.setFocus()
+    qtbot.keyClick(window.object_list.list, Qt.Key.Key_S, Qt.KeyboardModifier.ControlModifier)
+    assert asked == [str(docs / "office.json")], asked  # asks, in the user's documents
+    assert OFFICE.read_bytes() == example_bytes
+    assert doc.path == out.resolve() and doc.template is None and not doc.is_dirty
+    assert load_project(out) == doc.project
+    assert window.windowTitle().startswith("office.json")
+    # Save As now starts in the folder used last.
+    asked.clear()
+    window.save_as()
+    assert asked == [str(out.resolve())]
+    # Even when asked to, the document never writes into the examples folder.
+    with pytest.raises(PermissionError):
+        doc.save(OFFICE)
+    assert OFFICE.read_bytes() == example_bytes
+    assert not window.save_to(OFFICE)  # an error dialog instead
+    window.last_error_dialog.close()
+    assert OFFICE.read_bytes() == example_bytes
