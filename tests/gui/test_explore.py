@@ -287,3 +287,95 @@ def test_ctrl_s_on_an_opened_example_does_not_modify_it(make_window, qtbot, tmp_
     assert not window.save_to(OFFICE)  # an error dialog instead
     window.last_error_dialog.close()
     assert OFFICE.read_bytes() == example_bytes
+
+
+# --- materials ------------------------------------------------------------------------------
+@pytest.fixture
+def material_editor(qtbot):
+    from app.material_editor import MaterialEditor
+
+    doc = ProjectDocument()
+    doc.open(OFFICE)
+    editor = MaterialEditor(doc)
+    doc.setParent(editor)
+    qtbot.addWidget(editor)
+    editor.resize(900, 380)
+    editor.show()
+    qtbot.waitExposed(editor)
+    return editor
+
+
+def _pixels_near(widget, rgb: tuple[int, int, int], tol: int = 12) -> int:
+    from PyQt6.QtGui import QImage
+
+    img = widget.grab().toImage().convertToFormat(QImage.Format.Format_RGB32)
+    ptr = img.constBits()
+    ptr.setsize(img.sizeInBytes())
+    arr = np.frombuffer(ptr, dtype=np.uint8).reshape(img.height(), img.bytesPerLine())
+    arr = arr[:, : img.width() * 4].reshape(img.height(), img.width(), 4)[..., 2::-1]
+    return int(np.all(np.abs(arr.astype(int) - rgb) <= tol, axis=-1).sum())
+
+
+def test_shared_material_edits_name_the_objects_and_make_unique(material_editor, tmp_path):
+    ed = material_editor
+    doc = ed.document
+    book = doc.project.object_by_name("book")
+    doc.select(book.id)
+    assert ed.current == "paper"
+    assert "book" in ed.users.text() and "paper_box" in ed.users.text()
+    assert "changes all of them" in ed.users.text()
+    assert ed.unique_button.isEnabled()
+    steps = doc.undo_stack.count()
+    ed.make_selected_unique()
+    assert doc.undo_stack.count() == steps + 1  # one step
+    assert ed.current == "paper_book"
+    assert doc.project.object_by_name("book").material == "paper_book"
+    assert doc.project.object_by_name("paper_box").material == "paper"
+    assert ed.users.text() == "Used by book."
+    ed.tof_editor.widgets["reflectance"].setValue(0.2)
+    table = doc.material_table()
+    assert table["paper_book"].band("tof").reflectance == 0.2
+    assert table["paper"].band("tof").reflectance == 0.8  # the box keeps its paper
+    out = tmp_path / "unique.json"
+    doc.save(out)
+    assert load_project(out) == doc.project
+    doc.undo_stack.undo()
+    doc.undo_stack.undo()
+    assert doc.project.object_by_name("book").material == "paper"
+    assert "paper_book" not in doc.material_table()
+
+
+def test_visible_band_and_colour_round_trip_and_undo(material_editor, tmp_path):
+    ed = material_editor
+    doc = ed.document
+    ed.show_material("wood")
+    before = doc.project
+    ed.visible_editor.widgets["reflectance"].setValue(0.35)
+    ed.set_color((0.2, 0.4, 0.6))
+    wood = doc.material_table()["wood"]
+    assert wood.band("visible").reflectance == 0.35
+    assert wood.color_rgb == (0.2, 0.4, 0.6)
+    assert "0.20, 0.40, 0.60" in ed.color_button.text()
+    out = tmp_path / "wood.json"
+    doc.save(out)
+    loaded = load_project(out)
+    mat = next(m for m in loaded.materials if m.name == "wood")
+    assert mat.color_rgb == (0.2, 0.4, 0.6) and mat.band("visible").reflectance == 0.35
+    doc.undo_stack.undo()
+    doc.undo_stack.undo()
+    assert doc.project == before
+
+
+def test_band_toggles_read_at_a_glance(material_editor, qtbot):
+    ed = material_editor
+    ed.show_material("wood")
+    retro = ed.radar_editor.widgets["retroreflector"]
+    assert not retro.isChecked() and not ed.radar_invisible.isChecked()
+    assert _pixels_near(retro, (0x4F, 0xC3, 0xF7)) == 0
+    assert _pixels_near(ed.radar_invisible, (0xFF, 0x8A, 0x65)) == 0
+    retro.setChecked(True)
+    ed.radar_invisible.setChecked(True)
+    qtbot.wait(20)
+    assert ed.document.material_table()["wood"].band("radar").opacity == 0.0
+    assert _pixels_near(retro, (0x4F, 0xC3, 0xF7)) > 60  # a filled, light-blue box
+    assert _pixels_near(ed.radar_invisible, (0xFF, 0x8A, 0x65)) > 500  # an orange button
