@@ -25,12 +25,14 @@ from app.antenna_editor import AntennaEditor
 from app.document import ProjectDocument, ProjectError
 from app.export import DatasetExportJob, export_panel_images
 from app.frame_view import FrameView
+from app.help import install_help_menu
 from app.material_editor import MaterialEditor
 from app.panels import LivePanel, RangeAzimuthPanel, RangeDopplerPanel, RangeProfilePanel, TofPanel
 from app.scene_editor import ObjectInspector, ObjectListPanel, build_add_menu
 from app.sensor_editor import SensorEditor
 from app.simulation import SimulationController
 from app.time_controls import TimeBar, TimeController
+from app.timeline_editor import TimelineEditor
 from app.viewport import SceneViewport
 from simcore.resources import EXAMPLES_DIR
 
@@ -67,6 +69,7 @@ class MainWindow(QMainWindow):
         self._closing = False
 
         self._build_docks()
+        self._build_explore_docks()
         self._build_actions()
         self._build_menus()
         self._build_toolbar()
@@ -133,6 +136,17 @@ class MainWindow(QMainWindow):
         self.panels: dict[str, LivePanel] = {
             "ToF camera": self.tof_panel, "Range profile": self.profile_panel,
             "Range-Doppler": self.rd_panel, "Range-azimuth": self.ra_panel}
+
+    def _build_explore_docks(self) -> None:
+        """Timeline & seed dock, keyframes at the current time (issue #17)."""
+        self.timeline_editor = TimelineEditor(self.document)
+        self.timeline_editor.editFailed.connect(self.show_status_error)
+        self.docks["timeline"] = self._dock("Timeline & seed", self.timeline_editor,
+                                            Qt.DockWidgetArea.BottomDockWidgetArea,
+                                            "dock_timeline")
+        self.tabifyDockWidget(self.docks["sensors"], self.docks["timeline"])
+        self.docks["antennas"].raise_()
+        self.inspector.time_source = lambda: self.time.time_s
 
     def _action(self, text: str, slot: Any, *, shortcut: Any = None, tip: str = "",
                 checkable: bool = False) -> QAction:
@@ -235,7 +249,7 @@ class MainWindow(QMainWindow):
         sim.addActions([self.play_action, self.step_back_action, self.step_forward_action,
                         self.first_frame_action])
         help_menu = bar.addMenu("&Help")
-        help_menu.addAction("About tofradar", self._about)
+        self.help_actions = install_help_menu(self, help_menu)
 
     def _build_toolbar(self) -> None:
         icon = self.style().standardIcon

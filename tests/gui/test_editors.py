@@ -216,7 +216,8 @@ def test_motion_editing_in_inspector_and_shortcuts(make_window, qtbot):
     assert doc.project.objects[doc.index_of(oid)].motion.keyframes[1].position_m[2] == 0.4
     insp.keyframe_table.item(1, 0).setText("0")  # time not after keyframe 1: refused
     assert messages and "keyframe" in messages[-1]
-    assert doc.project.objects[doc.index_of(oid)].motion.keyframes[1].time_s == 1.0
+    # "Add keyframe" put keyframe 2 at the current time, the last frame (0.9 s).
+    assert doc.project.objects[doc.index_of(oid)].motion.keyframes[1].time_s == 0.9
     # Ctrl+Z / Ctrl+Shift+Z undo and redo from anywhere in the window.
     n = doc.undo_stack.index()
     window.raise_()

@@ -379,3 +379,122 @@ def test_band_toggles_read_at_a_glance(material_editor, qtbot):
     assert ed.document.material_table()["wood"].band("radar").opacity == 0.0
     assert _pixels_near(retro, (0x4F, 0xC3, 0xF7)) > 60  # a filled, light-blue box
     assert _pixels_near(ed.radar_invisible, (0xFF, 0x8A, 0x65)) > 500  # an orange button
+
+
+# --- timeline, seed, keyframes, placement, help -------------------------------------------
+def test_timeline_and_seed_editor_round_trip_and_undo(qtbot, tmp_path):
+    from app.timeline_editor import TimelineEditor
+
+    doc = ProjectDocument()
+    ed = TimelineEditor(doc)
+    doc.setParent(ed)
+    qtbot.addWidget(ed)
+    assert "10 frames" in ed.derived.text() and "0.9 s" in ed.derived.text()
+    ed.duration.setValue(2.5)
+    ed.frame_rate.setValue(20.0)
+    ed.seed.setValue(1234)
+    p = doc.project
+    assert (p.timeline.duration_s, p.timeline.frame_rate_hz, p.seed) == (2.5, 20.0, 1234)
+    assert p.timeline.n_frames == 50
+    assert "50 frames" in ed.derived.text() and "50 ms" in ed.derived.text()
+    assert doc.undo_stack.count() == 3
+    out = tmp_path / "timeline.json"
+    doc.save(out)
+    loaded = load_project(out)
+    assert (loaded.timeline.duration_s, loaded.timeline.frame_rate_hz, loaded.seed) == (
+        2.5, 20.0, 1234)
+    doc.open(out)
+    assert ed.duration.value() == 2.5 and ed.frame_rate.value() == 20.0
+    assert ed.seed.value() == 1234
+    doc.set_value("seed", 7)
+    doc.undo_stack.undo()
+    assert ed.seed.value() == 1234
+    # A frame rate whose period is shorter than the radar's chirps says so.
+    radar_s = doc.project.rig.radar.frame_duration_s
+    ed.frame_rate.setValue(round(2.0 / radar_s, 2))
+    assert "longer than the frame period" in ed.warning.text()
+    assert ed.duration.maximum() > 0 and ed.duration.toolTip() and ed.seed.toolTip()
+
+
+def test_new_keyframes_land_inside_the_timeline():
+    from app.scene_editor import new_keyframes
+    from simcore.scene.model import Timeline
+
+    tl = Timeline()  # 1 s at 10 Hz: frames at 0 … 0.9 s
+    first = new_keyframes([], tl, 0.4)
+    assert [k["time_s"] for k in first] == [0.0]
+    second = new_keyframes(first, tl, 0.4)  # at the current time
+    assert [k["time_s"] for k in second] == [0.0, 0.4]
+    second[1]["position_m"] = (0.0, 0.0, 0.8)
+    third = new_keyframes(second, tl, 0.4)  # taken: halfway to the last frame
+    assert [k["time_s"] for k in third] == [0.0, 0.4, 0.6]
+    assert third[2]["position_m"] == (0.0, 0.0, 0.8)
+    middle = new_keyframes(second, tl, 0.2)  # inserted with the interpolated offset
+    assert [k["time_s"] for k in middle] == [0.0, 0.2, 0.4]
+    np.testing.assert_allclose(middle[1]["position_m"], (0.0, 0.0, 0.4))
+    end = new_keyframes([{"time_s": 0.9, "position_m": (0, 0, 0), "rotation_deg": (0, 0, 0)}],
+                        tl, None)
+    assert end[-1]["time_s"] == pytest.approx(1.0)  # past the end only when at the end
+
+
+def test_added_objects_sit_on_the_boresight_facing_the_sensors(make_window):
+    from scipy.spatial.transform import Rotation
+
+    from app.scene_edits import add_object
+    from simcore.scene.snapshot import take_snapshot
+
+    window = make_window(None)
+    doc = window.document
+    # Turn the rig: 30° to the left, looking 10° down, 1.5 m up.
+    doc.set_value("rig.pose", {"position_m": (1.0, 2.0, 1.5), "rotation_deg": (0.0, 10.0, 30.0)})
+    snap = take_snapshot(doc.project, 0.0)
+    sensors = list(snap.sensors.values())
+    origin = np.mean([s.transform[:3, 3] for s in sensors], axis=0)
+    bore = np.sum([s.transform[:3, 2] for s in sensors], axis=0)
+    bore /= np.linalg.norm(bore)
+    oid = add_object(doc, "plane")
+    obj = doc.project.objects[doc.index_of(oid)]
+    np.testing.assert_allclose(obj.pose.position_m, origin + 2.0 * bore, atol=1e-3)
+    normal = Rotation.from_euler("xyz", obj.pose.rotation_deg, degrees=True).apply((0, 0, 1))
+    np.testing.assert_allclose(normal, -bore, atol=1e-6)  # the plane faces the sensors
+    oid2 = add_object(doc, "corner_reflector")  # the spot is taken: a bit further out
+    cr = doc.project.objects[doc.index_of(oid2)]
+    assert np.linalg.norm(np.subtract(cr.pose.position_m, obj.pose.position_m)) >= 0.4
+    np.testing.assert_allclose(
+        np.cross(np.subtract(cr.pose.position_m, origin), bore), 0.0, atol=1e-3)
+    axis = Rotation.from_euler("xyz", cr.pose.rotation_deg, degrees=True).apply((0, 0, 1))
+    np.testing.assert_allclose(axis, -bore, atol=1e-6)
+    box_id = add_object(doc, "box")
+    box = doc.project.objects[doc.index_of(box_id)]
+    assert box.pose.rotation_deg[0] == 0.0 and box.pose.rotation_deg[1] == 0.0
+    assert box.pose.rotation_deg[2] == pytest.approx(30.0, abs=1e-6)  # turned, upright
+
+
+def test_help_menu_timeline_dock_and_keyframe_at_current_time(make_window, qtbot):
+    import simcore
+    from app.help import about_text, shortcut_rows
+    from app.scene_edits import add_object
+
+    window = make_window(None)
+    assert "timeline" in window.docks
+    actions = window.help_actions
+    # About is a modal box: check its text (with the version) rather than opening it.
+    assert simcore.__version__ in about_text()
+    assert actions["about"].text() == "&About tofradar"
+    rows = {what: keys for keys, what in shortcut_rows(window)}
+    assert rows["Save"] == "Ctrl+S" and rows["Play / pause"] == "Space"
+    actions["shortcuts"].trigger()
+    page = window.help_page
+    assert page.isVisible() and "Ctrl+S" in page.browser.toPlainText()
+    page.close()
+    actions["guide"].trigger()
+    assert "Getting started" in window.help_page.browser.toPlainText()
+    window.help_page.close()
+    assert actions["doc:gui.md"].isEnabled()
+    # Keyframes land at the slider's time.
+    oid = add_object(window.document, "sphere")
+    window.time_bar.slider.setValue(3)  # t = 0.3 s
+    window.inspector.add_keyframe_button.click()
+    window.inspector.add_keyframe_button.click()
+    motion = window.document.project.objects[window.document.index_of(oid)].motion
+    assert [k.time_s for k in motion.keyframes] == [0.0, pytest.approx(0.3)]
