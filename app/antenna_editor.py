@@ -31,6 +31,7 @@ from PyQt6.QtWidgets import (
     QCheckBox,
     QComboBox,
     QFormLayout,
+    QGridLayout,
     QGroupBox,
     QHBoxLayout,
     QLabel,
@@ -437,6 +438,11 @@ class AntennaEditor(QWidget):
         self.warnings.setWordWrap(True)
         self.warnings.setToolTip("Problems of the antenna layout, updated while you drag")
         side.addWidget(self.warnings)
+        self.notes = QLabel("")
+        self.notes.setStyleSheet("color: #ffd54a;")
+        self.notes.setWordWrap(True)
+        self.notes.setToolTip("Elements drawn at one spot: all of them can still be picked")
+        side.addWidget(self.notes)
         presets = QGroupBox("Layout preset (Rx)")
         form = QFormLayout(presets)
         self.layout_combo = QComboBox()
@@ -447,7 +453,8 @@ class AntennaEditor(QWidget):
         self.n_spin: QSpinBox = int_spin(minimum=1, maximum=64, tooltip="number of Rx elements")
         self.n_spin.setValue(4)
         form.addRow("elements", self.n_spin)
-        self.nx_spin = int_spin(minimum=1, maximum=16, tooltip="URA columns")
+        self.nx_spin = int_spin(minimum=1, maximum=16,
+                                tooltip="URA columns × rows (uniform rectangular array)")
         self.nx_spin.setValue(2)
         self.ny_spin = int_spin(minimum=1, maximum=16, tooltip="URA rows")
         self.ny_spin.setValue(2)
@@ -455,7 +462,7 @@ class AntennaEditor(QWidget):
         grid.addWidget(self.nx_spin)
         grid.addWidget(QLabel("×"))
         grid.addWidget(self.ny_spin)
-        form.addRow("URA cols × rows", grid)
+        form.addRow("URA", grid)
         self.spacing = spin(minimum=0.05, maximum=8.0, decimals=2, step=0.25, suffix="λ",
                             tooltip="element spacing in wavelengths at the chirp's centre "
                                     "frequency (0.5 = λ/2)")
@@ -466,7 +473,7 @@ class AntennaEditor(QWidget):
         apply.clicked.connect(lambda: self.apply_layout(self.layout_combo.currentText()))
         form.addRow(apply)
         side.addWidget(presets)
-        buttons = QHBoxLayout()
+        buttons = QGridLayout()
         self.add_rx_button = QPushButton("+ Rx")
         self.add_rx_button.setToolTip("Add a receive element one pitch right of the longest "
                                       "Rx row")
@@ -479,15 +486,22 @@ class AntennaEditor(QWidget):
         self.remove_rx_button.clicked.connect(lambda: self.remove_element("rx"))
         self.remove_tx_button = QPushButton("− Tx")
         self.remove_tx_button.clicked.connect(lambda: self.remove_element("tx"))
-        for b in (self.add_rx_button, self.remove_rx_button, self.add_tx_button,
-                  self.remove_tx_button):
-            buttons.addWidget(b)
+        for k, b in enumerate((self.add_rx_button, self.remove_rx_button, self.add_tx_button,
+                               self.remove_tx_button)):
+            buttons.addWidget(b, k // 2, k % 2)
         side.addLayout(buttons)
         side.addStretch(1)
         scroll = QScrollArea()
         scroll.setWidgetResizable(True)
         scroll.setWidget(side_widget)
-        scroll.setMinimumWidth(220)
+        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        for combo in (self.snap_mode, self.layout_combo):
+            combo.setSizeAdjustPolicy(
+                QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+            combo.setMinimumContentsLength(8)
+        self.side_widget = side_widget
+        scroll.setMinimumWidth(side_widget.minimumSizeHint().width()
+                               + scroll.verticalScrollBar().sizeHint().width() + 4)
         return scroll
 
     def _toggle_virtual(self, on: bool) -> None:  # noqa: FBT001 - Qt slot
@@ -532,7 +546,10 @@ class AntennaEditor(QWidget):
         self.info.setText(
             f"{grid}\nλ/2 = {half:.3f} mm at the centre frequency {f_c / 1e9:.2f} GHz\n"
             f"{len(radar.tx)} Tx, {len(radar.rx)} Rx, {radar.n_channels} virtual channels")
-        self.warnings.setText("\n".join(f"⚠ {w}" for w in self.layout_warnings(radar)))
+        self.warnings.setText("\n".join(f"⚠ {w}" for w in aliasing_warnings(radar)))
+        self.notes.setText("\n".join(self.shared_spots(radar)))
+        self.warnings.setVisible(bool(self.warnings.text()))
+        self.notes.setVisible(bool(self.notes.text()))
         self.remove_tx_button.setEnabled(len(radar.tx) > 1)
         self.remove_rx_button.setEnabled(len(radar.rx) > 1)
         self.remove_tx_button.setToolTip("Remove the last transmit element" if len(radar.tx) > 1
@@ -540,9 +557,10 @@ class AntennaEditor(QWidget):
         self.remove_rx_button.setToolTip("Remove the last receive element" if len(radar.rx) > 1
                                          else "A radar needs at least one Rx")
 
-    def layout_warnings(self, radar: RadarConfig) -> list[str]:
-        """Warnings about the antenna layout: shared spots, grating lobes."""
-        out = aliasing_warnings(radar)
+    @staticmethod
+    def shared_spots(radar: RadarConfig) -> list[str]:
+        """One note per board spot that holds more than one element."""
+        out = []
         spots: dict[tuple[float, float], list[str]] = {}
         for role, items in (("tx", radar.tx), ("rx", radar.rx)):
             for i, a in enumerate(items):
@@ -550,8 +568,8 @@ class AntennaEditor(QWidget):
                 spots.setdefault(key, []).append(a.name or f"{role}{i + 1}")
         for (x, y), names in spots.items():
             if len(names) > 1:
-                out.append(f"{' and '.join(names)} share ({x:g}, {y:g}) mm: click the spot to "
-                           "bring the one below to the top")
+                out.append(f"{', '.join(names)} share ({x:g}, {y:g}) mm (a click there "
+                           "cycles which is on top)")
         return out
 
     def move_element(self, role: str, index: int, position_mm: tuple[float, float],

@@ -61,7 +61,7 @@ sensors, facing them.</li>
 range–Doppler and range–azimuth maps on the right update after every edit.</li>
 <li><b>Explore the antenna array</b> in the <i>Antenna array</i> tab: drag Tx and Rx
 elements, apply layouts, and read the beam pattern and grating lobes beside the board.</li>
-<li><b>Set the time span</b> and the random seed in <i>Timeline &amp; seed</i>; press
+<li><b>Set the time span</b> and the random seed in <i>Timeline and seed</i>; press
 <b>Space</b> to play.</li>
 <li><b>Export</b> a dataset (<i>File → Export dataset</i>) with the same frames.</li>
 </ol>

@@ -141,7 +141,7 @@ class MainWindow(QMainWindow):
         """Timeline & seed dock, keyframes at the current time (issue #17)."""
         self.timeline_editor = TimelineEditor(self.document)
         self.timeline_editor.editFailed.connect(self.show_status_error)
-        self.docks["timeline"] = self._dock("Timeline & seed", self.timeline_editor,
+        self.docks["timeline"] = self._dock("Timeline and seed", self.timeline_editor,
                                             Qt.DockWidgetArea.BottomDockWidgetArea,
                                             "dock_timeline")
         self.tabifyDockWidget(self.docks["sensors"], self.docks["timeline"])
