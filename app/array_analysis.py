@@ -99,11 +99,13 @@ def array_factor_db(positions_mm: NDArray[np.floating], wavelength_m: float,
 
     Examples
     --------
-    Two elements λ/2 apart have a null at 30° off boresight:
+    Two elements one wavelength apart cancel at 30° (path difference λ/2):
 
     >>> lam = 0.005
-    >>> float(array_factor_db([[0.0, 0.0], [2.5, 0.0]], lam, 30.0, 0.0)) < -100
+    >>> float(array_factor_db([[0.0, 0.0], [5.0, 0.0]], lam, 30.0, 0.0)) < -100
     True
+    >>> float(array_factor_db([[0.0, 0.0], [5.0, 0.0]], lam, 0.0, 0.0))
+    0.0
     """
     p = np.zeros((len(np.atleast_2d(positions_mm)), 3))
     p[:, :2] = np.asarray(positions_mm, dtype=np.float64).reshape(-1, 2) * 1e-3
