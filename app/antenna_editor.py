@@ -530,9 +530,9 @@ class AntennaEditor(QWidget):
         radar = self.document.project.rig.radar
         half = half_wavelength_mm(radar)
         step = self.snap_step(radar)
-        origin = tuple(float(v) for v in radar.rx[0].position_mm)
+        origin = (float(radar.rx[0].position_mm[0]), float(radar.rx[0].position_mm[1]))
         self.board.snap_step_mm = step
-        self.board.snap_origin_mm = origin  # type: ignore[assignment]
+        self.board.snap_origin_mm = origin
         count = (len(radar.tx), len(radar.rx))
         if count != getattr(self, "_count", None):
             self.board.reset_range()  # a new layout: fit the view to it
