@@ -391,6 +391,7 @@ class AntennaEditor(QWidget):
     def __init__(self, document: ProjectDocument, parent: QWidget | None = None):
         super().__init__(parent)
         self.document = document
+        self._key: tuple | None = None
         layout = QHBoxLayout(self)
         layout.setContentsMargins(2, 2, 2, 2)
         self.splitter = QSplitter(Qt.Orientation.Horizontal)
@@ -405,7 +406,7 @@ class AntennaEditor(QWidget):
         self.splitter.setStretchFactor(2, 2)
         layout.addWidget(self.splitter)
         document.projectChanged.connect(self.refresh)
-        document.projectReplaced.connect(self.board.reset_range)
+        document.projectReplaced.connect(self._refit)
         self.refresh()
 
     def _build_side(self) -> QWidget:
@@ -504,6 +505,11 @@ class AntennaEditor(QWidget):
                                + scroll.verticalScrollBar().sizeHint().width() + 4)
         return scroll
 
+    def _refit(self) -> None:
+        """A new project: fit the board to it on the next refresh."""
+        self.board.reset_range()
+        self._key = None
+
     def _toggle_virtual(self, on: bool) -> None:  # noqa: FBT001 - Qt slot
         self.board.show_virtual = on
         self.refresh()
@@ -528,6 +534,12 @@ class AntennaEditor(QWidget):
     def refresh(self, *_: object) -> None:
         """Show the project's antennas, the snap grid and the layout's warnings."""
         radar = self.document.project.rig.radar
+        key = (radar.tx, radar.rx, radar.start_frequency_hz, radar.bandwidth_hz,
+               radar.render_fov_h_deg, radar.render_width, radar.render_height,
+               self.snap_mode.currentText(), self.board.show_virtual)
+        if key == self._key:
+            return  # an edit elsewhere (objects, materials): the board is up to date
+        self._key = key
         half = half_wavelength_mm(radar)
         step = self.snap_step(radar)
         origin = (float(radar.rx[0].position_mm[0]), float(radar.rx[0].position_mm[1]))
@@ -604,7 +616,7 @@ class AntennaEditor(QWidget):
             self.document.edit(f"Antenna layout {name}", mutate)
         except EditError as exc:
             self.editFailed.emit(str(exc))
-        self.board.reset_range()
+        self._refit()
         self.refresh()
 
     def add_element(self, role: str) -> None:

@@ -211,6 +211,7 @@ class ArrayAnalysisView(QWidget):
         super().__init__(parent)
         self.document = document
         self.pattern: ArrayPattern | None = None
+        self._key: tuple | None = None
         layout = QVBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)
         plots = QHBoxLayout()
@@ -267,6 +268,12 @@ class ArrayAnalysisView(QWidget):
     def refresh(self, *_: object) -> None:
         """Recompute the virtual array and the pattern from the document's radar."""
         radar = self.document.project.rig.radar
+        key = (tuple(a.position_mm for a in radar.tx), tuple(a.position_mm for a in radar.rx),
+               radar.wavelength_m, radar.render_fov_h_deg, self.steer_az.value(),
+               self.steer_el.value())
+        if key == self._key:
+            return  # an edit elsewhere (objects, materials): nothing to redraw
+        self._key = key
         pat = array_pattern(radar, steer_az_deg=self.steer_az.value(),
                             steer_el_deg=self.steer_el.value())
         self.pattern = pat
