@@ -44,6 +44,18 @@ def is_bundled_example(path: str | Path) -> bool:
         return False
 
 
+def remember_last_folder(recent_files: list[str]) -> None:
+    """Start Save As in the folder of the newest recent file that is not an example.
+
+    The main window calls this with its recent-files list, so the last used folder carries
+    over from the previous session.
+    """
+    for f in recent_files:
+        if not is_bundled_example(f) and Path(f).parent.is_dir():
+            _LAST_FOLDER[:] = [Path(f).parent]
+            return
+
+
 def documents_folder() -> Path:
     """The user's documents folder (home when the platform names none)."""
     found = QStandardPaths.writableLocation(QStandardPaths.StandardLocation.DocumentsLocation)
@@ -389,4 +401,4 @@ class ProjectDocument(QObject):
 
 
 __all__ = ["RIG", "EditError", "ProjectDocument", "ProjectError", "ReplaceProjectCommand",
-           "documents_folder", "is_bundled_example"]
+           "documents_folder", "is_bundled_example", "remember_last_folder"]

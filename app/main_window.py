@@ -22,7 +22,7 @@ from PyQt6.QtWidgets import (
 )
 
 from app.antenna_editor import AntennaEditor
-from app.document import ProjectDocument, ProjectError
+from app.document import ProjectDocument, ProjectError, remember_last_folder
 from app.export import DatasetExportJob, export_panel_images
 from app.frame_view import FrameView
 from app.help import install_help_menu
@@ -147,6 +147,7 @@ class MainWindow(QMainWindow):
         self.tabifyDockWidget(self.docks["sensors"], self.docks["timeline"])
         self.docks["antennas"].raise_()
         self.inspector.time_source = lambda: self.time.time_s
+        remember_last_folder(self.recent_files())  # Save As starts there
 
     def _action(self, text: str, slot: Any, *, shortcut: Any = None, tip: str = "",
                 checkable: bool = False) -> QAction:

@@ -287,6 +287,10 @@ def test_ctrl_s_on_an_opened_example_does_not_modify_it(make_window, qtbot, tmp_
     assert not window.save_to(OFFICE)  # an error dialog instead
     window.last_error_dialog.close()
     assert OFFICE.read_bytes() == example_bytes
+    # The next session's Save As starts in the folder of the newest recent (non-example) file.
+    monkeypatch.setattr(document_module, "_LAST_FOLDER", [])
+    document_module.remember_last_folder([str(OFFICE), str(out)])
+    assert doc.suggested_save_path().parent == out.parent
 
 
 # --- materials ------------------------------------------------------------------------------
@@ -498,3 +502,8 @@ def test_help_menu_timeline_dock_and_keyframe_at_current_time(make_window, qtbot
     window.inspector.add_keyframe_button.click()
     motion = window.document.project.objects[window.document.index_of(oid)].motion
     assert [k.time_s for k in motion.keyframes] == [0.0, pytest.approx(0.3)]
+    # The timeline dock sets the slider's range.
+    window.timeline_editor.duration.setValue(3.0)
+    assert window.time.n_frames == 30 and window.time_bar.slider.maximum() == 29
+    window.undo_action.trigger()
+    assert window.time_bar.slider.maximum() == 9
