@@ -37,7 +37,8 @@ class TimelineEditor(QWidget):
             tooltip=f"Simulated time span ({MIN_DURATION_S:g}–{MAX_DURATION_S:g} s). Frames "
                     "are taken at t = k / frame rate for k = 0 … round(duration × rate) − 1.")
         self.duration.valueChanged.connect(
-            lambda v: self._set("timeline.duration_s", float(v), "Set duration"))
+            lambda v: self._set("timeline.duration_s", float(v), "Set duration",
+                                self.duration))
         form.addRow("duration", self.duration)
         self.frame_rate = spin(
             minimum=MIN_FRAME_RATE_HZ, maximum=MAX_FRAME_RATE_HZ, decimals=2, step=1.0,
@@ -46,7 +47,8 @@ class TimelineEditor(QWidget):
                     f"{MAX_FRAME_RATE_HZ:g} Hz); the radar's chirps of one frame must fit in "
                     "one frame period")
         self.frame_rate.valueChanged.connect(
-            lambda v: self._set("timeline.frame_rate_hz", float(v), "Set frame rate"))
+            lambda v: self._set("timeline.frame_rate_hz", float(v), "Set frame rate",
+                                self.frame_rate))
         form.addRow("frame rate", self.frame_rate)
         self.derived = QLabel("")
         self.derived.setStyleSheet("color: #9aa4ae;")
@@ -64,16 +66,19 @@ class TimelineEditor(QWidget):
             tooltip=f"Seed of every random draw (noise, speckle) (0–{MAX_SEED}): the same "
                     "seed gives bit-identical frames; change it for another noise "
                     "realisation")
-        self.seed.valueChanged.connect(lambda v: self._set("seed", int(v), "Set seed"))
+        self.seed.valueChanged.connect(
+            lambda v: self._set("seed", int(v), "Set seed", self.seed))
         sform.addRow("seed", self.seed)
         layout.addWidget(seed_box)
         layout.addStretch(1)
         document.projectChanged.connect(self.refresh)
         self.refresh()
 
-    def _set(self, path: str, value: object, text: str) -> None:
+    def _set(self, path: str, value: object, text: str, widget: QWidget) -> None:
+        """One undoable edit; a refused value stays in ``widget``, marked with the reason."""
         try_edit(self.editFailed.emit,
-                 lambda: self.document.set_value(path, value, text=text), self.refresh)
+                 lambda: self.document.set_value(path, value, text=text), self.refresh,
+                 field=widget)
 
     def refresh(self, *_: object) -> None:
         """Show the project's timeline and seed."""
