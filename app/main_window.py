@@ -548,11 +548,6 @@ class MainWindow(QMainWindow):
         box.open()
         return box
 
-    def _about(self) -> None:
-        QMessageBox.about(self, "About tofradar",
-                          "tofradar — synchronized AMCW ToF camera and FMCW radar simulation "
-                          "from one 3D scene.")
-
     def _update_title(self, *_: object) -> None:
         name = self.document.display_name  # "office (example)" for a bundled template
         self.setWindowTitle(f"{name}[*] — tofradar")
