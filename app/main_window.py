@@ -170,8 +170,7 @@ class MainWindow(QMainWindow):
         self.resizeDocks([self.docks["antennas"]], [300], Qt.Orientation.Vertical)
         self.panels: dict[str, LivePanel] = {
             "ToF camera": self.tof_panel, "Range profile": self.profile_panel,
-            "Range-Doppler": self.rd_panel, "Range-azimuth": self.ra_panel,
-            "RGB camera": self.rgb_panel}
+            "Range-Doppler": self.rd_panel, "Range-azimuth": self.ra_panel}
         self._rgb_shown: bool | None = None
         self._follow_rig_sensors()
 
@@ -372,6 +371,11 @@ class MainWindow(QMainWindow):
         has_rgb = self.document.project.rig.rgb is not None
         if has_rgb != self._rgb_shown:
             self._rgb_shown = has_rgb
+            # A live panel (drawn, exported) only while the rig carries the camera.
+            if has_rgb:
+                self.panels["RGB camera"] = self.rgb_panel
+            else:
+                self.panels.pop("RGB camera", None)
             self.docks["rgb"].toggleViewAction().setEnabled(has_rgb)
             self.docks["rgb"].setVisible(has_rgb)
 
