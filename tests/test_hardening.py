@@ -508,3 +508,24 @@ def test_object_count_is_capped_before_validation():
     with pytest.raises(ProjectError, match=f"objects: {MAX_OBJECTS + 1} entries; allowed at "
                                            f"most {MAX_OBJECTS}"):
         project_from_dict(doc)
+
+
+def test_a_run_over_the_time_budget_is_refused_with_the_numbers(tmp_path, capsys):
+    """The estimated wall time (frames × the preflight's seconds per frame) against
+    --max-hours: refused by name unless --force, before any file is written."""
+    from simcore.cli import main
+    from simcore.preflight import estimate_cost
+    from simcore.resources import example_path
+    from simcore.scene import load_project
+
+    path = example_path("wall")
+    per_frame = estimate_cost(load_project(path), base_dir=path.parent).seconds_per_frame
+    frames = 1000
+    hours = 0.5 * per_frame * frames / 3600          # half of what the run needs
+    out = tmp_path / "x.h5"
+    code = main(["run", str(path), "--out", str(out), "--frames", str(frames),
+                 "--max-hours", f"{hours:.9f}"])
+    err = capsys.readouterr().err
+    assert code != 0 and not out.exists()
+    assert len(err.strip().splitlines()) == 1 and "--max-hours" in err
+    assert f"{per_frame * frames / 3600:.1f} h" in err
