@@ -23,6 +23,8 @@ from simcore.sensors.radar.background import (
     changed_cells,
 )
 from simcore.sensors.radar.frontend import RadarOutput, radar_output, radar_scatterers
+from simcore.sensors.radar.labels import DetectionLabels, label_detections
+from simcore.sensors.radar.scatterers import Scatterers
 from simcore.sensors.radar.synthesis import ComplexCube, synthesize_if
 
 
@@ -36,18 +38,27 @@ class RadarFrameOutput:
         ADC cube (chirps, tx*rx, samples) and chirp times.
     dsp : RadarProducts
         Range/Doppler/angle maps, CFAR detections and point cloud of ``raw``.
+    labels : DetectionLabels or None
+        Ground truth of each detection of ``dsp.detections`` (object id, power fraction,
+        ghost flag); None = unlabelled.
     """
 
     raw: RadarOutput
     dsp: RadarProducts
+    labels: DetectionLabels | None = None
 
     def hdf5_items(self) -> H5Items:
         """Per-frame datasets of the raw data and the maps."""
         return {**self.raw.hdf5_items(), **self.dsp.hdf5_items()}
 
     def table_rows(self, index: int) -> dict[str, NDArray[np.void]]:
-        """Rows this frame adds to the detections table."""
-        return {"/radar/detections": self.dsp.detection_records(index)}
+        """Rows this frame adds to the detections table (with their labels)."""
+        rows = self.dsp.detection_records(index)
+        if self.labels is not None and len(self.labels) == len(rows):
+            rows["object_id"] = self.labels.object_id
+            rows["power_fraction"] = self.labels.power_fraction
+            rows["ghost"] = self.labels.ghost
+        return {"/radar/detections": rows}
 
 
 class RadarSensor:
@@ -79,7 +90,7 @@ class RadarSensor:
                               reads=config_key(cfg), inputs=(scatterers,))
             n_scatterers = transformed = len(scatterers)
         else:
-            ideal, n_scatterers, transformed = found
+            ideal, n_scatterers, transformed, scatterers = found
         raw = ctx.stage(
             "radar_receiver",
             lambda: radar_output(ideal, cfg, rng=ctx.rng, time_s=ctx.time_s,
@@ -89,7 +100,13 @@ class RadarSensor:
         dsp = ctx.stage(
             "dsp", lambda: process_frame(raw.adc, cfg, ctx.project.dsp, radar_to_world=to_world),
             reads=(config_key(cfg, ctx.project.dsp), to_world.tobytes()), inputs=(raw,))
-        return RadarFrameOutput(raw=raw, dsp=dsp)
+        ids = np.array([o.id for o in ctx.project.objects], dtype=np.int32)
+        labels = ctx.stage(
+            "radar_labels",
+            lambda: label_detections(dsp.detections, scatterers, ids, cfg, ctx.project.dsp,
+                                     dsp.axes),
+            reads=(config_key(cfg, ctx.project.dsp), ids.tobytes()), inputs=(dsp, scatterers))
+        return RadarFrameOutput(raw=raw, dsp=dsp, labels=labels)
 
     def static_items(self, project: Project) -> H5Items:
         """The axes of the radar maps."""
@@ -104,11 +121,13 @@ def _scatterer_reads(ctx: SensorContext, cfg: RadarConfig) -> object:
 
 
 def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
-                           ) -> tuple[ComplexCube, int, int] | None:
+                           ) -> tuple[ComplexCube, int, int, Scatterers] | None:
     """The frame's IF as background IF − changed background facets + the frame's there.
 
-    Returns (IF, scatterers in the frame, scatterers transformed), or None when the
-    engine gave no background or too much of the render changed.
+    Returns (IF, scatterers in the frame, scatterers transformed, the frame's scatterers:
+    the background's facets outside the changed cells and the frame's own there, for the
+    detection labels), or None when the engine gave no background or too much of the
+    render changed.
     """
     bg = ctx.background
     if bg is None or bg.buffers.shape != ctx.buffers.shape:
@@ -128,7 +147,7 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
                               lambda: synthesize_if(background.scatterers, cfg),
                               reads=config_key(cfg), inputs=(background,))
 
-    def frame_if() -> tuple[ComplexCube, int, int]:
+    def frame_if() -> tuple[ComplexCube, int, int, Scatterers]:
         pixels = cell_pixels(cells, ctx.buffers.intrinsics, facets)
         others = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
                                   pixels=pixels)
@@ -139,7 +158,22 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
         if len(others):
             out += synthesize_if(others, cfg)
         n = len(background.scatterers) - len(hidden) + len(others)
-        return out, n, len(hidden) + len(others)
+        kept = background.outside_cells(cells)
+        return out, n, len(hidden) + len(others), _concatenate(kept, others)
 
     return ctx.stage("radar_synthesis", frame_if, reads=(reads, config_key(cfg)),
                      inputs=(ctx.buffers, bg.buffers))
+
+
+def _concatenate(a: Scatterers, b: Scatterers) -> Scatterers:
+    """The scatterers of ``a`` followed by those of ``b`` (``a``'s time and wavelength)."""
+    keys = None if a.facet_key is None or b.facet_key is None else np.concatenate(
+        [a.facet_key, b.facet_key])
+    return Scatterers(
+        time_s=a.time_s, wavelength_m=a.wavelength_m or b.wavelength_m,
+        positions_m=np.concatenate([a.positions_m, b.positions_m]),
+        velocities_mps=np.concatenate([a.velocities_mps, b.velocities_mps]),
+        rcs_m2=np.concatenate([a.rcs_m2, b.rcs_m2]),
+        phase_rad=np.concatenate([a.phase_rad, b.phase_rad]),
+        object_index=np.concatenate([a.object_index, b.object_index]),
+        kind=np.concatenate([a.kind, b.kind]), facet_key=keys)
