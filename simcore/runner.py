@@ -188,17 +188,19 @@ def run_dataset(project_json: str, base_dir: Path, out: Path, *, n_frames: int, 
                 overwrite: bool = False, resume: bool = False, workers: int = 1,
                 scheduler: str | None = None, extra_meta: dict[str, Any] | None = None,
                 on_frame: Callable[[int, int, FrameResult], bool] | None = None) -> RunReport:
-    """Write ``n_frames`` frames of a project into ``out`` (HDF5).
+    """Write ``n_frames`` frames of a project into ``out`` (HDF5, or MCAP for ``*.mcap``).
 
     ``on_frame(done, total, result)`` is called after each frame is written; returning
     False stops the run cleanly (as does Ctrl+C), leaving a valid file that
     ``resume=True`` continues.
     """
     from simcore.io.hdf5_writer import DatasetWriter
+    from simcore.io.mcap_writer import McapWriter
 
     spec = RunSpec(project_json, str(base_dir), seed)
-    writer = DatasetWriter(out, project_json=project_json, seed=seed, overwrite=overwrite,
-                           resume=resume, extra_meta=extra_meta)
+    kind = McapWriter if Path(out).suffix.lower() == ".mcap" else DatasetWriter
+    writer = kind(out, project_json=project_json, seed=seed, overwrite=overwrite,
+                  resume=resume, extra_meta=extra_meta)
     report = RunReport(out, writer.n_frames, writer.n_frames, n_frames)
     with writer:
         if writer.n_frames == 0:

@@ -11,6 +11,7 @@ from simcore.pipeline import Simulator
 from simcore.resources import example_path
 from simcore.scene import load_project
 from simcore.scene.dsp_config import DspConfig
+from simcore.scene.geometry import corner_reflector_axes
 from simcore.scene.radar_config import RadarConfig
 from simcore.sensors.radar.labels import label_detections
 from simcore.sensors.radar.scatterers import Scatterers
@@ -120,3 +121,28 @@ def test_corner_reflector_behind_the_paper_box_is_labelled() -> None:
     np.testing.assert_array_equal(results[0]["object_id"], results[1]["object_id"])
     np.testing.assert_allclose(results[0]["power_fraction"], results[1]["power_fraction"],
                                atol=1e-3)
+
+
+def test_object_ground_truth_matches_the_detections_and_the_geometry(point_target_frames):
+    frame = point_target_frames[0]
+    truth = frame.objects
+    rows = frame.outputs["radar"].table_rows(frame.index)["/radar/detections"]
+    for row in rows:
+        k = [o.id for o in POINT_TARGETS.objects].index(int(row["object_id"]))
+        assert abs(truth.radar_range_m[k] - row["range"]) < 0.01
+        assert abs(truth.radar_radial_velocity_mps[k] - row["velocity"]) < 0.05
+        assert abs(truth.radar_azimuth_deg[k] - row["azimuth_deg"]) < 1.0
+    # corner_2 moves at 1 m/s along boresight; the others stand still.
+    np.testing.assert_allclose(truth.radar_radial_velocity_mps, [0.0, 1.0, 0.0], atol=1e-9)
+    np.testing.assert_allclose(np.linalg.norm(truth.velocity_mps, axis=1), [0.0, 1.0, 0.0])
+    # A trihedral: apex at the origin, edge vectors a · corner_reflector_axes().
+    local = np.vstack([np.zeros(3), corner_reflector_axes() * 0.06])
+    np.testing.assert_allclose(truth.obb_size_m, np.tile(np.ptp(local, axis=0), (3, 1)))
+    for k in range(3):
+        corners = truth.aabb_m[k]
+        assert np.all(corners[0] <= truth.obb_center_m[k]) and np.all(
+            truth.obb_center_m[k] <= corners[1])
+        np.testing.assert_allclose(truth.obb_rotation[k], frame.object_poses[k][:3, :3])
+    items = frame.hdf5_items()
+    assert items["/objects/aabb"][0].shape == (3, 2, 3)
+    assert items["/objects/radar_azimuth"][1] == "deg"

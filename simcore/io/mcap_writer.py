@@ -1,0 +1,160 @@
+"""MCAP recordings with ROS 2 messages (``tofradar run PROJECT --out run.mcap``).
+
+:class:`McapWriter` has the interface of :class:`~simcore.io.hdf5_writer.DatasetWriter`
+(``write_static``, ``append_rows``, ``append``), so the runner drives either; every frame
+becomes the messages of :func:`simcore.io.ros2_messages.frame_messages`, all logged and
+stamped at the frame's simulation time. :func:`convert_hdf5_to_mcap` replays an HDF5
+dataset through the same writer (``tofradar convert run.h5 --to run.mcap``).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import IO, Any
+
+import h5py
+import numpy as np
+from numpy.typing import NDArray
+
+from simcore.io.hdf5_writer import DatasetExistsError, ResumeError
+from simcore.io.ros2_messages import (
+    TOPIC_TYPES,
+    Items,
+    RigDescription,
+    frame_messages,
+    message_definition,
+    stamp_ns,
+)
+from simcore.scene.project_io import project_from_dict
+
+
+class McapWriter:
+    """Append frames to an MCAP file as ROS 2 (CDR) messages.
+
+    Parameters
+    ----------
+    path : path-like
+        Output file (``.mcap``).
+    project_json : str
+        The full project document (the rig, sensors and object names come from it; it is
+        also stored as MCAP metadata ``tofradar`` with the seed).
+    seed : int
+        Random seed of the run.
+    overwrite : bool
+        Replace an existing file (otherwise :class:`DatasetExistsError`).
+    resume : bool
+        Not supported for MCAP (:class:`ResumeError` when the file exists).
+    """
+
+    def __init__(self, path: str | os.PathLike[str], *, project_json: str, seed: int,
+                 overwrite: bool = False, resume: bool = False,
+                 extra_meta: dict[str, Any] | None = None):
+        from mcap_ros2.writer import Writer
+
+        self.path = Path(path)
+        if self.path.exists() and resume:
+            raise ResumeError(f"{self.path}: MCAP recordings cannot be resumed; write an HDF5 "
+                              "dataset (.h5) to resume, or use --overwrite")
+        if self.path.exists() and not overwrite:
+            raise DatasetExistsError(f"{self.path} already exists; use --overwrite to replace it")
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.project = project_from_dict(json.loads(project_json))
+        self._stream: IO[bytes] = open(self.path, "wb")  # noqa: SIM115 (closed in close())
+        self._writer = Writer(self._stream)
+        meta = {"project_json": project_json, "seed": str(seed),
+                **{k: str(v) for k, v in (extra_meta or {}).items()}}
+        self._writer._writer.add_metadata("tofradar", meta)
+        self._schemas = {datatype: self._writer.register_msgdef(
+            datatype, message_definition(datatype)) for datatype in set(TOPIC_TYPES.values())}
+        self._rig: RigDescription | None = None
+        self._rows: dict[str, NDArray[Any]] = {}
+        self.n_frames = 0
+
+    def write_static(self, items: Items) -> None:
+        """Take the run-constant items (radar axes) the frames' messages need."""
+        self._rig = RigDescription.of(self.project, items)
+
+    def append_rows(self, path: str, rows: NDArray[Any], *, unit: str = "") -> None:
+        """Keep a frame's table rows (detections) for the next :meth:`append`."""
+        self._rows[path] = rows
+
+    def append(self, items: Items) -> None:
+        """Write one frame's messages (with the rows given since the last frame)."""
+        if self._rig is None:
+            self._rig = RigDescription.of(self.project, {})
+        detections = self._rows.pop("/radar/detections", None)
+        if detections is None and "/radar/adc" in items:
+            from simcore.dsp.detections import DETECTION_DTYPE
+            detections = np.zeros(0, dtype=DETECTION_DTYPE)
+        ns = stamp_ns(float(items["/time"][0]))
+        for topic, datatype, msg in frame_messages(self._rig, items, detections):
+            self._writer.write_message(topic, self._schemas[datatype], msg, log_time=ns,
+                                       publish_time=ns, sequence=self.n_frames)
+        self._rows.clear()
+        self.n_frames += 1
+
+    def close(self) -> None:
+        """Finish the MCAP file (summary and index) and close it."""
+        if not self._stream.closed:
+            self._writer.finish()
+            self._stream.close()
+
+    def __enter__(self) -> McapWriter:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def convert_hdf5_to_mcap(source: str | os.PathLike[str], target: str | os.PathLike[str], *,
+                         overwrite: bool = False) -> int:
+    """Write the frames of an HDF5 dataset into an MCAP recording.
+
+    Parameters
+    ----------
+    source : path-like
+        HDF5 dataset (``docs/dataset.md`` layout).
+    target : path-like
+        MCAP file to write.
+    overwrite : bool
+        Replace ``target`` if it exists.
+
+    Returns
+    -------
+    int
+        Number of frames written.
+    """
+    with h5py.File(source, "r") as f:
+        meta = f["meta"].attrs
+        n = int(meta["n_frames"])
+        per_frame, static = [], {}
+        for name, obj in _datasets(f):
+            unit = str(obj.attrs.get("unit", ""))
+            if obj.attrs.get("table", False):
+                continue
+            if obj.attrs.get("per_frame", False):
+                per_frame.append((name, obj, unit))
+            else:
+                static[name] = (obj[()], unit)
+        det = f["radar/detections"][:] if "radar/detections" in f else None
+        with McapWriter(target, project_json=str(meta["project_json"]),
+                        seed=int(meta["seed"]), overwrite=overwrite) as writer:
+            writer.write_static(static)
+            for k in range(n):
+                if det is not None:
+                    writer.append_rows("/radar/detections", det[det["frame"] == k])
+                writer.append({name: (obj[k], unit) for name, obj, unit in per_frame})
+    return n
+
+
+def _datasets(f: h5py.File) -> list[tuple[str, h5py.Dataset]]:
+    found: list[tuple[str, h5py.Dataset]] = []
+
+    def visit(name: str, obj: object) -> None:
+        if isinstance(obj, h5py.Dataset):
+            found.append(("/" + name, obj))
+
+    f.visititems(visit)
+    return found
