@@ -54,12 +54,6 @@ class BackgroundFacets:
         assert key is not None
         return self.scatterers.subset(np.flatnonzero(np.take(cells, key // self.n_objects)))
 
-    def outside_cells(self, cells: NDArray[np.bool_]) -> Scatterers:
-        """The background facets whose cell is not flagged in ``cells`` (flat facet grid)."""
-        key = self.scatterers.facet_key
-        assert key is not None
-        return self.scatterers.subset(np.flatnonzero(~np.take(cells, key // self.n_objects)))
-
 
 def changed_cells(changed: NDArray[np.intp], render: PinholeIntrinsics,
                   facets: PinholeIntrinsics) -> NDArray[np.bool_] | None:

@@ -7,7 +7,8 @@ of every scatterer of the frame in that cell is
 
 with ``A_k = C √(σ_k ḡ_k) / R_k² · |H(f_b)|`` the scatterer's IF amplitude (radar equation
 of :func:`~simcore.sensors.radar.synthesis.amplitude_scale_fs`, ``ḡ`` the element pattern
-gains averaged over the Tx–Rx pairs, ``H`` the IF high-pass), ``W_r`` and ``W_d`` the
+gains averaged over the Tx–Rx pairs, ``|H|² = x/(1+x)``, ``x = (f_b/f_c)^(2n)``, the
+receiver's order-n Butterworth IF high-pass), ``W_r`` and ``W_d`` the
 range- and Doppler-window responses (normalised to 1 at their peak, as the DSP's
 amplitude-normalised spectra) at the scatterer's offset from the cell's centre in FFT bins
 (Doppler offsets wrap), ``S`` the static-clutter filter (``1 − |D_N(f)|²``, ``D_N`` the
@@ -20,11 +21,16 @@ real IF, ``2`` for IQ, ``σ_n`` the receiver noise per real channel).
 A detection is labelled with the object whose scatterers sum to the most power, and
 ``power_fraction = P_object / (Σ_k P_k + P_n)``; when even that object's power is below the
 noise power the detection is noise (``object_id = −1``). The model ignores real-IF image
-frequencies, range–Doppler coupling and motion within the frame (each a fraction of a bin).
+frequencies, range–Doppler coupling and motion within the frame (each a fraction of a bin),
+and scatterers whose range offset from the cell puts them below ``RANGE_FLOOR`` of the
+range window's peak (or more than ``MAX_RANGE_OFFSET_BINS`` bins away): the scatterers are
+sorted by range once (:func:`prepare_scatterers`, kept across frames for a still
+background), and each detection sums only those near its range.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -41,14 +47,15 @@ from simcore.sensors.radar.scatterers import Scatterers
 from simcore.sensors.radar.synthesis import (
     amplitude_scale_fs,
     element_gain,
-    highpass_response,
     noise_std_fs,
 )
 
 #: Oversampling of the tabulated window responses (table points per FFT bin).
 OVERSAMPLING = 32
-#: Scatterers per block of the (scatterers × detections) power matrix (bounds memory).
-BLOCK = 16384
+#: Window power below which a scatterer's range offset from a cell is ignored (−70 dB).
+RANGE_FLOOR = 1e-7
+#: ... or beyond this many range-FFT bins, for windows whose sidelobes stay above it.
+MAX_RANGE_OFFSET_BINS = 64
 
 
 @dataclass(frozen=True)
@@ -105,14 +112,164 @@ def _noise_gain(name: str, length: int, sidelobe_db: float) -> float:
 
 def _mean_pair_gain(config: RadarConfig, directions: NDArray[np.float64]) -> NDArray[np.float64]:
     """Element power gain ``g_t g_r`` averaged over the Tx–Rx pairs, shape (M,)."""
-    def gains(antennas: list[Antenna]) -> NDArray[np.float64]:
-        return np.mean([element_gain(a.pattern or config.element_pattern, directions)
-                        for a in antennas], axis=0)
-    return np.asarray(gains(config.tx) * gains(config.rx), dtype=np.float64)
+    cache: dict[str, NDArray[np.float64]] = {}
+
+    def gain(antenna: Antenna) -> NDArray[np.float64]:
+        pattern = antenna.pattern or config.element_pattern
+        key = pattern.model_dump_json()
+        if key not in cache:
+            cache[key] = element_gain(pattern, directions)
+        return cache[key]
+
+    g_tx = np.mean([gain(a) for a in config.tx], axis=0)
+    g_rx = np.mean([gain(a) for a in config.rx], axis=0)
+    return np.asarray(g_tx * g_rx, dtype=np.float64)
 
 
-def label_detections(detections: Detections, scatterers: Scatterers, object_ids: NDArray[
-        np.integer], radar_config: RadarConfig, dsp_config: DspConfig, axes: RadarAxes
+@dataclass(frozen=True)
+class LabelScatterers:
+    """What each scatterer of a set brings to any detection cell, sorted by range.
+
+    Depends only on the scatterers and the radar configuration, so the stage cache keeps it
+    for a still background across frames. Built by :func:`prepare_scatterers`.
+
+    Attributes
+    ----------
+    range_m : ndarray, shape (M,), float64
+        Distance from the radar (m), ascending.
+    velocity_mps : ndarray, shape (M,), float64
+        Radial velocity (m/s, + = moving away).
+    power : ndarray, shape (M,), float64
+        Peak power in its own cell, ``A²`` (FS²; module docstring).
+    steering : ndarray, shape (M, channels), complex64
+        Virtual-array response towards the scatterer.
+    object_index : ndarray, shape (M,), intp
+        Index of its object in the project (−1: none).
+    doppler_cycles : ndarray, shape (M,), float64
+        Doppler frequency in cycles per chirp interval (for the static-clutter filter).
+    """
+
+    range_m: NDArray[np.float64]
+    velocity_mps: NDArray[np.float64]
+    power: NDArray[np.float64]
+    steering: NDArray[np.complex64]
+    object_index: NDArray[np.intp]
+    doppler_cycles: NDArray[np.float64]
+
+    def __len__(self) -> int:
+        return int(self.range_m.size)
+
+
+def prepare_scatterers(scatterers: Scatterers, radar_config: RadarConfig) -> LabelScatterers:
+    """Per-scatterer terms of the cell power (radar equation, high-pass, array response).
+
+    Parameters
+    ----------
+    scatterers : Scatterers
+        Scatterers in the radar optical frame (m, m/s, m²).
+    radar_config : RadarConfig
+        Waveform, antennas and receiver.
+
+    Returns
+    -------
+    LabelScatterers
+        The scatterers sorted by range.
+    """
+    rc = radar_config
+    pos = scatterers.positions_m
+    r = np.maximum(np.sqrt(np.einsum("ij,ij->i", pos, pos)), 1e-9)
+    order = np.argsort(r, kind="stable")
+    pos, r = pos[order], r[order]
+    u = pos / r[:, None]
+    v_radial = np.einsum("ij,ij->i", scatterers.velocities_mps[order], u)
+    power = amplitude_scale_fs(rc) ** 2 * scatterers.rcs_m2[order] * _mean_pair_gain(rc, pos)
+    power /= r**4
+    if rc.if_highpass_hz > 0:
+        # |H|² of the order-n Butterworth IF high-pass at the beat frequency.
+        x = (2.0 * rc.slope_hz_per_s * r / SPEED_OF_LIGHT / rc.if_highpass_hz) ** (
+            2 * rc.if_highpass_order)
+        power *= x / (1.0 + x)
+    phase = u @ (-2.0 * np.pi / rc.wavelength_m * virtual_array_positions_m(rc).T)
+    steering = np.exp(1j * phase.astype(np.float32)).astype(np.complex64, copy=False)
+    cycles = v_radial * 2.0 * len(rc.tx) * rc.chirp_repetition_time_s / rc.wavelength_m
+    return LabelScatterers(r, v_radial, power, steering,
+                           scatterers.object_index[order].astype(np.intp), cycles)
+
+
+def cell_power_by_object(prepared: LabelScatterers, detections: Detections, n_objects: int,
+                         radar_config: RadarConfig, dsp_config: DspConfig, axes: RadarAxes
+                         ) -> NDArray[np.float64]:
+    """Expected power of each object's scatterers in each detection's cell.
+
+    Parameters
+    ----------
+    prepared : LabelScatterers
+        The scatterers (:func:`prepare_scatterers`).
+    detections : Detections
+        The detections (cells and directions).
+    n_objects : int
+        Number of project objects.
+    radar_config, dsp_config : RadarConfig, DspConfig
+        The configurations the detections were made with.
+    axes : RadarAxes
+        Axes of the range–Doppler map.
+
+    Returns
+    -------
+    ndarray, shape (n, n_objects + 1), float64
+        Power (FS², beam-formed cell) per detection and object; the last column holds the
+        scatterers of no object.
+    """
+    rc, dc = radar_config, dsp_config
+    n = len(detections)
+    out = np.zeros((n, n_objects + 1))
+    if n == 0 or len(prepared) == 0:
+        return out
+    n_ch = len(rc.tx) * len(rc.rx)
+    range_table = _window_power_table(dc.range_window, rc.samples_per_chirp,
+                                      dc.range_window_sidelobe_db, axes.range_fft_size)
+    doppler_table = _window_power_table(dc.doppler_window, rc.chirps_per_frame,
+                                        dc.doppler_window_sidelobe_db, axes.doppler_fft_size)
+    dr = SPEED_OF_LIGHT * rc.sample_rate_hz / (2.0 * rc.slope_hz_per_s * axes.range_fft_size)
+    dv = float(axes.velocity_mps[1] - axes.velocity_mps[0]) if axes.velocity_mps.size > 1 else 1.0
+    reach_m = _range_reach_bins(range_table) * dr
+    cell_range = axes.range_m[detections.range_index]
+    cell_velocity = axes.velocity_mps[detections.doppler_index]
+    a_det = np.exp(-2j * np.pi * (direction_vectors(
+        np.deg2rad(detections.azimuth_deg), np.deg2rad(detections.elevation_deg))
+        @ virtual_array_positions_m(rc).T) / rc.wavelength_m).astype(np.complex64)  # (n, ch)
+    column = np.where((prepared.object_index >= 0) & (prepared.object_index < n_objects),
+                      prepared.object_index, n_objects)
+    keep = _clutter_filter(prepared.doppler_cycles, rc.chirps_per_frame) if (
+        dc.static_clutter_removal) else None
+    bounds = np.searchsorted(prepared.range_m, np.stack([cell_range - reach_m,
+                                                         cell_range + reach_m], axis=1))
+    for j, (lo, hi) in enumerate(bounds):
+        if hi <= lo:
+            continue
+        near = slice(int(lo), int(hi))
+        power = prepared.power[near] * _lookup(range_table,
+                                               (prepared.range_m[near] - cell_range[j]) / dr)
+        power *= _lookup(doppler_table, (prepared.velocity_mps[near] - cell_velocity[j]) / dv)
+        power *= np.abs(prepared.steering[near] @ a_det[j].conj()) ** 2 / n_ch**2
+        if keep is not None:
+            power *= keep[near]
+        out[j] = np.bincount(column[near], weights=power, minlength=n_objects + 1)
+    return out
+
+
+def _clutter_filter(cycles: NDArray[np.float64], n_chirps: int) -> NDArray[np.float64]:
+    """Power kept by mean removal over ``n_chirps`` chirps: ``1 − |D_N(f)|²``."""
+    sin_f = np.sin(np.pi * cycles)
+    small = np.abs(sin_f) < 1e-12
+    d = np.where(small, 1.0, np.sin(np.pi * n_chirps * cycles)
+                 / (n_chirps * np.where(small, 1.0, sin_f)))
+    return np.asarray(1.0 - d**2, dtype=np.float64)
+
+
+def label_detections(detections: Detections, scatterers: Scatterers | Sequence[
+        tuple[LabelScatterers, float]], object_ids: NDArray[np.integer],
+                     radar_config: RadarConfig, dsp_config: DspConfig, axes: RadarAxes
                      ) -> DetectionLabels:
     """Attribute each detection to the object contributing most power to its cell.
 
@@ -121,9 +278,10 @@ def label_detections(detections: Detections, scatterers: Scatterers, object_ids:
     detections : Detections
         The frame's detections (cells ``doppler_index``, ``range_index``; directions
         ``azimuth_deg``, ``elevation_deg``).
-    scatterers : Scatterers
+    scatterers : Scatterers, or sequence of (LabelScatterers, float)
         Every scatterer of the frame (radar optical frame, m and m/s; ``object_index``
-        into the project's objects).
+        into the project's objects); or prepared sets with signs whose signed sum is the
+        frame's (a still background + the frame's facets − the background's hidden ones).
     object_ids : ndarray, shape (objects,), int
         Project id of each object, in project order.
     radar_config : RadarConfig
@@ -139,69 +297,34 @@ def label_detections(detections: Detections, scatterers: Scatterers, object_ids:
         One label per detection (module docstring for the model).
     """
     n = len(detections)
-    if n == 0 or len(scatterers) == 0:
-        return DetectionLabels.unlabelled(n)
     rc, dc = radar_config, dsp_config
-    n_ch = len(rc.tx) * len(rc.rx)
-    range_table = _window_power_table(dc.range_window, rc.samples_per_chirp,
-                                      dc.range_window_sidelobe_db, axes.range_fft_size)
-    doppler_table = _window_power_table(dc.doppler_window, rc.chirps_per_frame,
-                                        dc.doppler_window_sidelobe_db, axes.doppler_fft_size)
-    dr = SPEED_OF_LIGHT * rc.sample_rate_hz / (2.0 * rc.slope_hz_per_s * axes.range_fft_size)
-    dv = float(axes.velocity_mps[1] - axes.velocity_mps[0]) if axes.velocity_mps.size > 1 else 1.0
-    cell_range = axes.range_m[detections.range_index]
-    cell_velocity = axes.velocity_mps[detections.doppler_index]
-    a_det = np.exp(-2j * np.pi * (direction_vectors(
-        np.deg2rad(detections.azimuth_deg), np.deg2rad(detections.elevation_deg))
-        @ virtual_array_positions_m(rc).T) / rc.wavelength_m)  # (n, ch)
+    parts = ([(prepare_scatterers(scatterers, rc), 1.0)] if isinstance(scatterers, Scatterers)
+             else list(scatterers))
+    if n == 0:
+        return DetectionLabels.unlabelled(n)
+    n_objects = len(object_ids)
+    per_object = np.zeros((n, n_objects + 1))
+    for prepared, sign in parts:
+        per_object += sign * cell_power_by_object(prepared, detections, n_objects, rc, dc, axes)
+    per_object = np.maximum(per_object, 0.0)
 
+    n_ch = len(rc.tx) * len(rc.rx)
     noise = (4.0 if not rc.complex_iq else 2.0) * noise_std_fs(rc) ** 2 / n_ch
     noise *= _noise_gain(dc.range_window, rc.samples_per_chirp, dc.range_window_sidelobe_db)
     noise *= _noise_gain(dc.doppler_window, rc.chirps_per_frame, dc.doppler_window_sidelobe_db)
-
-    n_objects = len(object_ids)
-    per_object = np.zeros((n, n_objects + 1))  # last column: scatterers of no object
-    for start in range(0, len(scatterers), BLOCK):
-        s = scatterers.subset(slice(start, start + BLOCK))
-        power = _cell_power(s, rc, dc, cell_range, cell_velocity, a_det, range_table,
-                            doppler_table, dr, dv)  # (m, n)
-        obj = np.where((s.object_index >= 0) & (s.object_index < n_objects),
-                       s.object_index, n_objects)
-        np.add.at(per_object.T, obj, power)
     total = per_object.sum(axis=1) + noise
-    best = np.argmax(per_object[:, :n_objects], axis=1) if n_objects else np.zeros(n, int)
-    best_power = per_object[np.arange(n), best] if n_objects else np.zeros(n)
+    ids = np.append(np.asarray(object_ids, dtype=np.int32), -1)
+    best = np.argmax(per_object[:, :n_objects], axis=1) if n_objects else np.full(n, n_objects)
+    best_power = per_object[np.arange(n), best]
     is_object = best_power > noise
-    ids = np.asarray(object_ids, dtype=np.int32)
-    object_id = np.where(is_object, ids[best] if n_objects else -1, -1).astype(np.int32)
+    object_id = np.where(is_object, ids[best], -1).astype(np.int32)
     fraction = np.where(is_object, best_power / total, 0.0).astype(np.float32)
     return DetectionLabels(object_id, fraction, np.zeros(n, dtype=bool))
 
 
-def _cell_power(s: Scatterers, rc: RadarConfig, dc: DspConfig,
-                cell_range: NDArray[np.float64], cell_velocity: NDArray[np.float64],
-                a_det: NDArray[np.complex128], range_table: NDArray[np.float64],
-                doppler_table: NDArray[np.float64], dr: float, dv: float
-                ) -> NDArray[np.float64]:
-    """Expected power of scatterers ``s`` in each detection's cell, shape (M, n), FS²."""
-    pos = s.positions_m
-    r = np.maximum(np.linalg.norm(pos, axis=1), 1e-9)
-    u = pos / r[:, None]
-    v_radial = np.einsum("ij,ij->i", s.velocities_mps, u)
-    beat_hz = 2.0 * rc.slope_hz_per_s * r / SPEED_OF_LIGHT
-    hp = np.abs(highpass_response(beat_hz, rc.if_highpass_hz, rc.if_highpass_order)) ** 2 \
-        if rc.if_highpass_hz else np.ones_like(r)
-    amp2 = amplitude_scale_fs(rc) ** 2 * s.rcs_m2 * _mean_pair_gain(rc, pos) / r**4 * hp
-    w_r = _lookup(range_table, (r[:, None] - cell_range[None, :]) / dr)
-    w_d = _lookup(doppler_table, (v_radial[:, None] - cell_velocity[None, :]) / dv)
-    if dc.static_clutter_removal:
-        # Mean removal over the chirps: a tone at f cycles/chirp keeps 1 − |D_N(f)|².
-        n_chirps = rc.chirps_per_frame
-        f = v_radial * 2.0 * len(rc.tx) * rc.chirp_repetition_time_s / rc.wavelength_m
-        with np.errstate(divide="ignore", invalid="ignore"):
-            d = np.where(np.abs(np.sin(np.pi * f)) < 1e-12, 1.0,
-                         np.sin(np.pi * n_chirps * f) / (n_chirps * np.sin(np.pi * f)))
-        w_d = w_d * (1.0 - d**2)[:, None]
-    a_s = np.exp(-2j * np.pi * (u @ virtual_array_positions_m(rc).T) / rc.wavelength_m)
-    beam = np.abs(a_s @ a_det.conj().T) ** 2 / a_det.shape[1] ** 2  # (M, n)
-    return np.asarray(amp2[:, None] * w_r * w_d * beam, dtype=np.float64)
+def _range_reach_bins(range_table: NDArray[np.float64]) -> float:
+    """Largest range offset (FFT bins) where the window power reaches ``RANGE_FLOOR``."""
+    half = range_table[: range_table.size // 2]
+    above = np.flatnonzero(half >= RANGE_FLOOR)
+    reach = (above.max() + 1) / OVERSAMPLING if above.size else 1.0
+    return float(min(reach, MAX_RANGE_OFFSET_BINS))

@@ -23,8 +23,12 @@ from simcore.sensors.radar.background import (
     changed_cells,
 )
 from simcore.sensors.radar.frontend import RadarOutput, radar_output, radar_scatterers
-from simcore.sensors.radar.labels import DetectionLabels, label_detections
-from simcore.sensors.radar.scatterers import Scatterers
+from simcore.sensors.radar.labels import (
+    DetectionLabels,
+    LabelScatterers,
+    label_detections,
+    prepare_scatterers,
+)
 from simcore.sensors.radar.synthesis import ComplexCube, synthesize_if
 
 
@@ -61,6 +65,10 @@ class RadarFrameOutput:
         return {"/radar/detections": rows}
 
 
+#: Prepared scatterer sets and their signs whose sum is a frame's scatterers (labels).
+_LabelParts = list[tuple[LabelScatterers, float]]
+
+
 class RadarSensor:
     """FMCW radar (``rig.radar``): the 60 GHz band seen from the radar board."""
 
@@ -89,8 +97,11 @@ class RadarSensor:
             ideal = ctx.stage("radar_synthesis", lambda: synthesize_if(scatterers, cfg),
                               reads=config_key(cfg), inputs=(scatterers,))
             n_scatterers = transformed = len(scatterers)
+            parts = [(ctx.stage("radar_label_scatterers",
+                                lambda: prepare_scatterers(scatterers, cfg),
+                                reads=config_key(cfg), inputs=(scatterers,)), 1.0)]
         else:
-            ideal, n_scatterers, transformed, scatterers = found
+            ideal, n_scatterers, transformed, parts = found
         raw = ctx.stage(
             "radar_receiver",
             lambda: radar_output(ideal, cfg, rng=ctx.rng, time_s=ctx.time_s,
@@ -103,9 +114,9 @@ class RadarSensor:
         ids = np.array([o.id for o in ctx.project.objects], dtype=np.int32)
         labels = ctx.stage(
             "radar_labels",
-            lambda: label_detections(dsp.detections, scatterers, ids, cfg, ctx.project.dsp,
-                                     dsp.axes),
-            reads=(config_key(cfg, ctx.project.dsp), ids.tobytes()), inputs=(dsp, scatterers))
+            lambda: label_detections(dsp.detections, parts, ids, cfg, ctx.project.dsp, dsp.axes),
+            reads=(config_key(cfg, ctx.project.dsp), ids.tobytes()),
+            inputs=(dsp, *(p for p, _ in parts)))
         return RadarFrameOutput(raw=raw, dsp=dsp, labels=labels)
 
     def static_items(self, project: Project) -> H5Items:
@@ -121,13 +132,13 @@ def _scatterer_reads(ctx: SensorContext, cfg: RadarConfig) -> object:
 
 
 def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
-                           ) -> tuple[ComplexCube, int, int, Scatterers] | None:
+                           ) -> tuple[ComplexCube, int, int, _LabelParts] | None:
     """The frame's IF as background IF − changed background facets + the frame's there.
 
-    Returns (IF, scatterers in the frame, scatterers transformed, the frame's scatterers:
-    the background's facets outside the changed cells and the frame's own there, for the
-    detection labels), or None when the engine gave no background or too much of the
-    render changed.
+    Returns (IF, scatterers in the frame, scatterers transformed, the same sum for the
+    detection labels: the background's prepared scatterers (kept across frames) with sign
+    +1, the hidden facets' with −1 and the frame's own there with +1), or None when the
+    engine gave no background or too much of the render changed.
     """
     bg = ctx.background
     if bg is None or bg.buffers.shape != ctx.buffers.shape:
@@ -146,8 +157,11 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
     background_if = ctx.stage("radar_background_synthesis",
                               lambda: synthesize_if(background.scatterers, cfg),
                               reads=config_key(cfg), inputs=(background,))
+    background_labels = ctx.stage("radar_background_label_scatterers",
+                                  lambda: prepare_scatterers(background.scatterers, cfg),
+                                  reads=config_key(cfg), inputs=(background,))
 
-    def frame_if() -> tuple[ComplexCube, int, int, Scatterers]:
+    def frame_if() -> tuple[ComplexCube, int, int, _LabelParts]:
         pixels = cell_pixels(cells, ctx.buffers.intrinsics, facets)
         others = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
                                   pixels=pixels)
@@ -158,22 +172,10 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
         if len(others):
             out += synthesize_if(others, cfg)
         n = len(background.scatterers) - len(hidden) + len(others)
-        kept = background.outside_cells(cells)
-        return out, n, len(hidden) + len(others), _concatenate(kept, others)
+        parts = [(background_labels, 1.0), (prepare_scatterers(hidden, cfg), -1.0),
+                 (prepare_scatterers(others, cfg), 1.0)]
+        return out, n, len(hidden) + len(others), parts
 
     return ctx.stage("radar_synthesis", frame_if, reads=(reads, config_key(cfg)),
                      inputs=(ctx.buffers, bg.buffers))
 
-
-def _concatenate(a: Scatterers, b: Scatterers) -> Scatterers:
-    """The scatterers of ``a`` followed by those of ``b`` (``a``'s time and wavelength)."""
-    keys = None if a.facet_key is None or b.facet_key is None else np.concatenate(
-        [a.facet_key, b.facet_key])
-    return Scatterers(
-        time_s=a.time_s, wavelength_m=a.wavelength_m or b.wavelength_m,
-        positions_m=np.concatenate([a.positions_m, b.positions_m]),
-        velocities_mps=np.concatenate([a.velocities_mps, b.velocities_mps]),
-        rcs_m2=np.concatenate([a.rcs_m2, b.rcs_m2]),
-        phase_rad=np.concatenate([a.phase_rad, b.phase_rad]),
-        object_index=np.concatenate([a.object_index, b.object_index]),
-        kind=np.concatenate([a.kind, b.kind]), facet_key=keys)
