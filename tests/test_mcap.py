@@ -143,3 +143,12 @@ def test_run_writes_mcap_by_suffix_and_refuses_to_resume_it(tmp_path):
         assert sorted(cloud_array(msg)["label"]) == [1, 2, 3]
     assert main(["run", str(example_path("point_targets")), "--out", str(out), "--frames", "2",
                  "--resume", "--quiet"]) == 2
+
+
+def test_the_reading_example_in_robotics_md_runs(office_rgb, monkeypatch, capsys):
+    text = (Path(__file__).resolve().parents[1] / "docs" / "robotics.md").read_text()
+    section = text[text.index("### Reading a recording in Python"):]
+    code = section[section.index("```python\n") + 10:section.index("```\n", 10)]
+    monkeypatch.chdir(office_rgb[1].parent)  # the example reads run.mcap
+    exec(compile(code, "robotics.md", "exec"), {})
+    assert len(capsys.readouterr().out.splitlines()) == N_FRAMES
