@@ -1,7 +1,8 @@
 # tofradar: two commands do all set-up on a fresh machine.
 #   make run   - install into .venv, then open the GUI on the demo project
 #                (or run the headless demo where no display exists)
-#   make test  - install (with test extras and the system packages GUI tests need), run every check
+#   make test  - install (with GUI and test extras and the system packages GUI tests need), run
+#                every check, including the built wheel in a fresh venv (check-wheel)
 SHELL := /bin/bash
 PYTHON ?= python3
 VENV := .venv
@@ -15,12 +16,13 @@ SYSDEPS := xvfb xauth imagemagick libxcb-icccm4 libxcb-image0 libxcb-keysyms1 li
 	libxcb-cursor0 libegl1 libgl1 libegl-mesa0 libgl1-mesa-dri libglx-mesa0 libdbus-1-3 \
 	libfontconfig1
 
-.PHONY: run test install sysdeps lint typecheck importlint pytest-core pytest-gui bench report clean
+.PHONY: run test install sysdeps lint typecheck importlint pytest-core pytest-gui check-wheel bench \
+	report clean
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q -e '.[test]'
+	$(PY) -m pip install -q -e '.[gui,test]'
 	touch $(STAMP)
 
 install: $(STAMP)
@@ -62,7 +64,12 @@ pytest-gui: $(STAMP) sysdeps
 	xvfb-run -a -s "-screen 0 1920x1080x24" $(PY) -m pytest -m gui -q; \
 		rc=$$?; if [ $$rc -eq 5 ]; then rc=0; fi; exit $$rc
 
-test: $(STAMP) sysdeps lint typecheck importlint pytest-core pytest-gui
+# The built wheel, installed without the GUI extra into a fresh venv outside the repository,
+# runs `tofradar validate` and `tofradar run` on a bundled example from a temporary folder.
+check-wheel: $(STAMP)
+	tools/check_wheel.sh $(PY)
+
+test: $(STAMP) sysdeps lint typecheck importlint pytest-core pytest-gui check-wheel
 
 bench: $(STAMP)
 	$(VENV)/bin/tofradar bench
@@ -72,4 +79,4 @@ report: $(STAMP)
 	$(VENV)/bin/tofradar report --out docs/validation
 
 clean:
-	rm -rf $(VENV) out .pytest_cache .mypy_cache .ruff_cache
+	rm -rf $(VENV) out build dist *.egg-info .pytest_cache .mypy_cache .ruff_cache

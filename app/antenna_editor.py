@@ -284,7 +284,7 @@ class AntennaEditor(QWidget):
         """Move Tx/Rx ``index`` to ``position_mm`` (the board view's drag path)."""
         try:
             name = self.document.project.rig.radar.model_dump()[role][index]["name"]
-            self.document.set_value(f"rig.radar.{role}.{index}.position_mm",
+            self.document.set_value(f"rig.radar.{role}[{index}].position_mm",
                                     (float(position_mm[0]), float(position_mm[1])),
                                     text=f"Move antenna {name or role}",
                                     merge_key=f"antenna:{role}{index}")

@@ -21,16 +21,12 @@ from PyQt6.QtGui import QUndoCommand, QUndoStack
 from simcore.scene import (
     DualBandMaterial,
     Project,
+    fieldpath,
     load_material_library,
     load_project,
     save_project,
 )
-from simcore.scene.project_io import (
-    ProjectError,
-    check_references,
-    format_validation_error,
-    project_to_json,
-)
+from simcore.scene.project_io import ProjectError, check_references, format_validation_error
 
 #: Selection key of the sensor rig (objects are selected by their integer id).
 RIG = "rig"
@@ -244,17 +240,16 @@ class ProjectDocument(QObject):
 
     def set_value(self, path: str, value: Any, *, text: str | None = None,
                   merge_key: str | None = None) -> Project:
-        """Set one field given by a dotted path such as ``objects.3.pose.position_m``."""
-        keys: list[str | int] = [int(k) if k.lstrip("-").isdigit() else k
-                                 for k in path.split(".")]
+        """Set one field named by its field path, e.g. ``objects[3].pose.position_m``.
+
+        The path syntax is :mod:`simcore.scene.fieldpath`'s, the one sweeps use.
+        """
+        parts = fieldpath.parse(path)
 
         def mutate(data: dict[str, Any]) -> None:
-            node: Any = data
-            for k in keys[:-1]:
-                node = node[k]
-            node[keys[-1]] = copy.deepcopy(value)
+            fieldpath.set_in(data, path, copy.deepcopy(value))
 
-        return self.edit(text or f"Set {keys[-1]}", mutate, merge_key=merge_key)
+        return self.edit(text or f"Set {parts[-1]}", mutate, merge_key=merge_key)
 
     def end_merge(self) -> None:
         """Close the current merge run (a drag ended): the next edit starts a new step."""
@@ -304,10 +299,6 @@ class ProjectDocument(QObject):
             self.pathChanged.emit(target)
         self.undo_stack.setClean()
         return target
-
-    def to_json(self) -> str:
-        """Canonical JSON text of the project."""
-        return project_to_json(self._project)
 
 
 __all__ = ["RIG", "EditError", "ProjectDocument", "ProjectError", "ReplaceProjectCommand"]

@@ -8,7 +8,6 @@ from typing import Any
 from PyQt6.QtCore import QSettings, Qt
 from PyQt6.QtGui import QAction, QCloseEvent, QKeySequence, QShortcut
 from PyQt6.QtWidgets import (
-    QApplication,
     QDockWidget,
     QFileDialog,
     QInputDialog,
@@ -583,10 +582,3 @@ class MainWindow(QMainWindow):
             self.export_job.wait()
         self.sim.shutdown()
         self.viewport.close_view()
-
-
-def current_app() -> QApplication:
-    """The running QApplication."""
-    app = QApplication.instance()
-    assert isinstance(app, QApplication)
-    return app

@@ -221,7 +221,7 @@ class MaterialEditor(QWidget):
         idx = self.document.selected_index()
         if idx is not None:
             try_edit(self.editFailed.emit, lambda: self.document.set_value(
-                f"objects.{idx}.material", self.current, text="Set material"))
+                f"objects[{idx}].material", self.current, text="Set material"))
 
     def revert_to_library(self) -> None:
         """Remove the project's override of the current library material."""

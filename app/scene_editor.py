@@ -41,7 +41,7 @@ from app.scene_edits import (
     rename_object,
 )
 from app.widgets import VectorEdit, set_quietly, spin, try_edit
-from simcore.scene import Project
+from simcore.scene import Project, fieldpath
 
 RIG_LABEL = "Sensor rig (ToF + radar)"
 
@@ -308,7 +308,7 @@ class ObjectInspector(QScrollArea):
         if key == RIG:
             return "rig"
         idx = self.document.selected_index()
-        return None if idx is None else f"objects.{idx}"
+        return None if idx is None else f"objects[{idx}]"
 
     def _set(self, sub: str, value: Any, text: str) -> None:
         base = self._base_path()
@@ -458,7 +458,7 @@ class ObjectInspector(QScrollArea):
             return
 
         def mutate(d: dict[str, Any]) -> None:
-            node = d["rig"] if base == "rig" else d["objects"][int(base.split(".")[1])]
+            node = fieldpath.get(d, base)
             node["motion"]["keyframes"] = keyframes
             node["motion"]["velocity_mps"] = (0.0, 0.0, 0.0)
             node["motion"]["angular_velocity_dps"] = (0.0, 0.0, 0.0)

@@ -118,4 +118,4 @@ def rename_object(document: ProjectDocument, object_id: int, name: str) -> None:
     idx = document.index_of(object_id)
     old = document.project.objects[idx].name
     if name != old:
-        document.set_value(f"objects.{idx}.name", name, text=f"Rename {old} to {name}")
+        document.set_value(f"objects[{idx}].name", name, text=f"Rename {old} to {name}")

@@ -408,13 +408,6 @@ class SceneViewport(QWidget):
             self._cloud_actor.SetVisibility(True)
         self.request_render()
 
-    @property
-    def detection_points(self) -> NDArray[np.float64]:
-        """World positions of the radar points currently drawn, shape (n, 3)."""
-        if self._cloud_actor is None or not self._cloud_actor.GetVisibility():
-            return np.zeros((0, 3))
-        return np.asarray(self._cloud.points)
-
     # --- picking -----------------------------------------------------------------------
     def _on_left_press(self, *_: Any) -> None:
         self._press_pos = self.plotter.iren.get_event_position()
@@ -524,7 +517,7 @@ class SceneViewport(QWidget):
                 idx = self.document.index_of(int(key))
                 obj = project.objects[idx]
                 pose = base_pose_for_world(obj.pose, obj.motion, self._time_s, world)
-                self.document.set_value(f"objects.{idx}.pose", pose.model_dump(),
+                self.document.set_value(f"objects[{idx}].pose", pose.model_dump(),
                                         text=f"Move {obj.name}", merge_key=merge)
         except (EditError, KeyError) as exc:
             self.editFailed.emit(str(exc))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import errno
 import json
 import os
 import signal
@@ -11,28 +12,62 @@ import threading
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, NoReturn
 
+from simcore import __version__
+from simcore.preflight import MAX_FRAMES, MAX_SEED, RunError
 from simcore.scene.project_io import ProjectError, load_project, project_to_json
 
 if TYPE_CHECKING:
+    from simcore.io.previews import PreviewAxes
+    from simcore.preflight import CostEstimate
     from simcore.runner import FrameResult
+    from simcore.scene.model import Project
+
+#: Defaults of the Dask timeouts (kept equal to simcore.runner's, without importing it).
+CONNECT_TIMEOUT_S = 10.0
+TASK_TIMEOUT_S = 600.0
 
 
 class CliError(Exception):
     """An error reported to the user as one line, with exit status 2."""
 
 
-def _int_at_least(minimum: int) -> Callable[[str], int]:
-    """Argument type: an integer >= ``minimum``, with a one-line error otherwise."""
+#: Longest error line printed (characters).
+MAX_ERROR_LENGTH = 600
+#: Most worker processes of one run.
+MAX_WORKERS = 256
+
+
+class _Parser(argparse.ArgumentParser):
+    """Argument errors as one line ``tofradar: error: …`` (exit status 2), no usage dump."""
+
+    def error(self, message: str) -> NoReturn:
+        _print_error(f"{self.prog.removeprefix('tofradar').strip() or 'arguments'}: {message}")
+        raise SystemExit(2)
+
+
+def _print_error(message: str) -> None:
+    line = " ".join(str(message).split())
+    if len(line) > MAX_ERROR_LENGTH:
+        line = line[: MAX_ERROR_LENGTH - 3] + "..."
+    print(f"tofradar: error: {line}", file=sys.stderr)
+
+
+def _int_at_least(minimum: int, maximum: int | None = None) -> Callable[[str], int]:
+    """Argument type: an integer in [minimum, maximum], with a one-line error otherwise."""
     what = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
+    if maximum is not None:
+        what += f" up to {maximum}"
 
     def parse(text: str) -> int:
+        if len(text) > 40:
+            raise argparse.ArgumentTypeError(f"expected {what}, got {len(text)} characters")
         try:
             value = int(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}") from None
-        if value < minimum:
+        if value < minimum or (maximum is not None and value > maximum):
             raise argparse.ArgumentTypeError(f"expected {what}, got {value}")
         return value
 
@@ -40,7 +75,9 @@ def _int_at_least(minimum: int) -> Callable[[str], int]:
 
 
 _positive_int = _int_at_least(1)
-_non_negative_int = _int_at_least(0)
+_frames_int = _int_at_least(1, MAX_FRAMES)
+_seed_int = _int_at_least(0, MAX_SEED)
+_workers_int = _int_at_least(1, MAX_WORKERS)
 
 
 def _positive_float(text: str) -> float:
@@ -49,17 +86,18 @@ def _positive_float(text: str) -> float:
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}") from None
     if not (value > 0 and value < float("inf")):
-        raise argparse.ArgumentTypeError(f"expected a positive number, got {text}")
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {text[:40]}")
     return value
 
 
 @contextmanager
 def stop_on_sigint() -> Iterator[threading.Event]:
-    """Turn the first Ctrl+C into a request to stop after the frame being written.
+    """Turn the first Ctrl+C (or SIGTERM) into a request to stop after the frame being written.
 
     A KeyboardInterrupt raised at an arbitrary point can land in a garbage-collector
     callback, where Python only prints it and carries on; a flag checked between frames
-    cannot be lost. A second Ctrl+C interrupts at once.
+    cannot be lost. A second signal interrupts at once. SIGTERM (what ``kill``, systemd
+    and batch schedulers send) is handled exactly like SIGINT.
     """
     stop = threading.Event()
 
@@ -68,18 +106,51 @@ def stop_on_sigint() -> Iterator[threading.Event]:
             raise KeyboardInterrupt
         stop.set()
 
-    previous = signal.signal(signal.SIGINT, handler)
+    previous = {sig: signal.signal(sig, handler) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield stop
     finally:
-        signal.signal(signal.SIGINT, previous)
+        for sig, old in previous.items():
+            signal.signal(sig, old)
+
+
+def _preflight(project: Project, project_path: Path, args: argparse.Namespace, *,
+               n_frames: int | None = None, seed: int | None = None) -> CostEstimate:
+    """Run :func:`simcore.preflight.check`; raise ProjectError listing every problem."""
+    from simcore.preflight import check, estimate_cost
+
+    force = getattr(args, "force", False)
+    problems = check(project, base_dir=project_path.parent,
+                     memory_budget_bytes=2**63 if force else None, n_frames=n_frames,
+                     seed=seed, allow_outside_paths=args.allow_outside_paths)
+    if problems:
+        raise ProjectError(str(project_path), problems)
+    return estimate_cost(project, base_dir=project_path.parent)
+
+
+def _check_disk(out: Path, cost: CostEstimate, frames: int, *, force: bool) -> None:
+    """Refuse a run whose dataset would not fit on the output's file system."""
+    import shutil
+
+    folder = out.parent if out.parent.exists() else Path.cwd()
+    try:
+        free = shutil.disk_usage(folder).free
+    except OSError:
+        return
+    need = cost.disk_bytes_per_frame * frames
+    if need > free and not force:
+        raise CliError(f"--out {out}: {frames} frames need up to {need / 2**30:.2f} GiB "
+                       f"(uncompressed, {cost.disk_bytes_per_frame / 2**20:.2f} MiB per frame) "
+                       f"but {free / 2**30:.2f} GiB are free; free space, write fewer frames, "
+                       "or pass --force (compression usually saves 2-5x)")
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
-    """Check a project file; print OK or the list of problems."""
+    """Check a project file as ``run`` would; print OK and the cost, or every problem."""
     project = load_project(args.project)
+    cost = _preflight(project, Path(args.project), args)
     print(f"OK: {args.project} ({len(project.objects)} objects, format_version "
-          f"{project.format_version})")
+          f"{project.format_version}); {cost.describe()}")
     return 0
 
 
@@ -87,19 +158,27 @@ def cmd_run(args: argparse.Namespace) -> int:
     """Render frames of a project headlessly into an HDF5 dataset."""
     from tqdm import tqdm
 
-    from simcore.io.hdf5_writer import DatasetExistsError, ResumeError
+    from simcore.io.hdf5_writer import DatasetExistsError, DiskFullError, ResumeError
     from simcore.runner import frame_count, run_dataset
 
     project_path = Path(args.project)
     project = load_project(project_path)
     seed = project.seed if args.seed is None else args.seed
-    n_frames = frame_count(args.frames, args.duration, project.timeline.frame_rate_hz,
-                           project.timeline.n_frames)
+    try:
+        n_frames = frame_count(args.frames, args.duration, project.timeline.frame_rate_hz,
+                               _timeline_default(project, args))
+    except ValueError as exc:
+        raise CliError(str(exc)) from None
     out = Path(args.out)
     if out.is_dir():
         raise CliError(f"--out {out} is a directory; give a file name such as {out}/run.h5")
     if args.resume and args.overwrite:
         raise CliError("--resume and --overwrite exclude each other")
+    if args.scheduler is not None:
+        _check_scheduler(args.scheduler)
+    cost = _preflight(project, project_path, args, n_frames=n_frames, seed=seed)
+    _check_disk(out, cost, n_frames, force=args.force)
+    preview_axes = _preview_axes(project) if args.preview else None
     bar = tqdm(total=n_frames, desc="frames", unit="frame", file=sys.stderr,
                disable=args.quiet)
 
@@ -107,7 +186,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         bar.n = done
         bar.refresh()
         if args.preview:
-            _write_previews(Path(args.preview), result)
+            _write_previews(Path(args.preview), result, preview_axes)
         return not stop.is_set()
 
     try:
@@ -115,9 +194,13 @@ def cmd_run(args: argparse.Namespace) -> int:
             report = run_dataset(project_to_json(project), project_path.parent, out,
                                  n_frames=n_frames, seed=seed, overwrite=args.overwrite,
                                  resume=args.resume, workers=args.workers,
-                                 scheduler=args.scheduler, on_frame=progress)
+                                 scheduler=args.scheduler, on_frame=progress,
+                                 task_timeout_s=args.task_timeout,
+                                 connect_timeout_s=args.connect_timeout)
     except (DatasetExistsError, ResumeError) as exc:
         raise CliError(str(exc)) from None
+    except DiskFullError as exc:
+        raise CliError(f"{exc.strerror}; free space and continue with --resume") from None
     finally:
         bar.close()
     if report.interrupted:
@@ -131,43 +214,63 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _write_previews(preview_dir: Path, result: FrameResult) -> None:
-    """PNG previews of one computed frame (invalid depth pixels grey)."""
-    import numpy as np
+def _timeline_default(project: Project, args: argparse.Namespace) -> int:
+    """Frames of the project's timeline when neither --frames nor --duration is given."""
+    from simcore.preflight import timeline_frames
 
-    from simcore.io.previews import save_previews
-
-    images: dict[str, tuple[Any, str]] = {
-        name: (result.items[path][0], cmap) for name, path, cmap in PREVIEWS
-        if path in result.items}
-    if "tof_depth" in images and "/tof/valid" in result.items:
-        depth = images["tof_depth"][0].astype(float)
-        images["tof_depth"] = (np.where(result.items["/tof/valid"][0], depth, np.nan), "viridis")
-    save_previews(preview_dir, result.index, images)
+    if args.frames is not None or args.duration is not None:
+        return 0
+    frames = timeline_frames(project)
+    if frames > MAX_FRAMES:
+        raise CliError(f"{args.project}: timeline.duration_s × frame_rate_hz = {frames:.3g} "
+                       f"frames; allowed at most {MAX_FRAMES} (or pass --frames)")
+    return int(frames)
 
 
-#: (file name part, dataset path, colour map) of the PNG previews.
-PREVIEWS = [
-    ("tof_gt_range", "/tof/gt_range", "viridis"),
-    ("tof_depth", "/tof/depth", "viridis"),
-    ("tof_amplitude", "/tof/amplitude", "gray"),
-    ("radar_range_doppler", "/radar/range_doppler", "magma"),
-    ("radar_range_azimuth", "/radar/range_azimuth", "magma"),
-]
+def _preview_axes(project: Project) -> PreviewAxes:
+    """Physical axes of the preview figures (ToF angles, radar range/velocity/azimuth)."""
+    from simcore.dsp.processing import radar_axes
+    from simcore.io.previews import PreviewAxes
+
+    ax = radar_axes(project.rig.radar, project.dsp)
+    tof = project.rig.tof
+    return PreviewAxes(tof_fov_deg=(tof.fov_h_deg, tof.fov_v_deg), range_m=ax.range_m,
+                       velocity_mps=ax.velocity_mps, azimuth_deg=ax.azimuth_deg)
+
+
+def _write_previews(preview_dir: Path, result: FrameResult, axes: PreviewAxes | None) -> None:
+    """Labelled PNG figures of one computed frame (invalid depth pixels grey)."""
+    from simcore.io.previews import save_frame_previews
+
+    save_frame_previews(preview_dir, result.index, result.items, axes)
+
+
+def _check_scheduler(address: str) -> None:
+    from simcore.runner import SchedulerError, check_scheduler_address
+
+    try:
+        check_scheduler_address(address)
+    except SchedulerError as exc:
+        raise CliError(str(exc)) from None
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     """One dataset per combination of the varied fields, with the parameters recorded."""
-    from simcore.io.hdf5_writer import DatasetExistsError, ResumeError
+    from simcore.io.hdf5_writer import DatasetExistsError, DiskFullError, ResumeError
+    from simcore.preflight import check as check_project
     from simcore.runner import frame_count, run_dataset
     from simcore.sweep import SweepError, expand, parameters_json, parse_vary
 
     project_path = Path(args.project)
     project = load_project(project_path)
+    for spec in args.vary:
+        _check_vary_count(spec)
     try:
         variants = expand(project, [parse_vary(v) for v in args.vary])
-    except SweepError as exc:
+    except (SweepError, ValueError, OverflowError) as exc:
         raise CliError(str(exc)) from None
+    if args.scheduler is not None:
+        _check_scheduler(args.scheduler)
     out_dir = Path(args.out)
     if out_dir.exists() and not out_dir.is_dir():
         raise CliError(f"--out {out_dir} exists and is not a directory")
@@ -176,8 +279,16 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     for i, (params, variant) in enumerate(variants):
         path = out_dir / f"variant_{i:04d}.h5"
         seed = variant.seed if args.seed is None else args.seed
-        n_frames = frame_count(args.frames, args.duration, variant.timeline.frame_rate_hz,
-                               variant.timeline.n_frames)
+        try:
+            n_frames = frame_count(args.frames, args.duration, variant.timeline.frame_rate_hz,
+                                   _timeline_default(variant, args))
+        except ValueError as exc:
+            raise CliError(str(exc)) from None
+        problems = check_project(variant, base_dir=project_path.parent, n_frames=n_frames,
+                                 seed=seed, allow_outside_paths=args.allow_outside_paths,
+                                 memory_budget_bytes=2**63 if args.force else None)
+        if problems:
+            raise ProjectError(f"{project_path} variant {i} {parameters_json(params)}", problems)
         print(f"[{i + 1}/{len(variants)}] {path.name}: {parameters_json(params)}")
         try:
             with stop_on_sigint() as stop:
@@ -186,9 +297,12 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                     seed=seed, overwrite=args.overwrite, resume=args.resume,
                     workers=args.workers, scheduler=args.scheduler,
                     extra_meta={"sweep_parameters": parameters_json(params)},
-                    on_frame=lambda done, total, result: not stop.is_set())
+                    on_frame=lambda done, total, result: not stop.is_set(),
+                    task_timeout_s=args.task_timeout, connect_timeout_s=args.connect_timeout)
         except (DatasetExistsError, ResumeError) as exc:
             raise CliError(str(exc)) from None
+        except DiskFullError as exc:
+            raise CliError(f"{exc.strerror}; free space and continue with --resume") from None
         if report.interrupted:
             print("interrupted; continue with --resume", file=sys.stderr)
             return 130
@@ -219,7 +333,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
     from simcore.resources import example_path
 
     project_path = Path(args.project) if args.project else example_path("office")
-    load_project(project_path)  # report a bad file before anything starts
+    # Report a bad file before anything starts.
+    _preflight(load_project(project_path), project_path, args)
     result = run_benchmark(project_path, frames=args.frames)
     if args.json:
         print(json.dumps(result))
@@ -237,6 +352,23 @@ def cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_examples(args: argparse.Namespace) -> int:
+    """List the bundled example projects, or copy them (with meshes) into a folder."""
+    from simcore.examples import ExamplesError, copy_examples, list_examples
+
+    if args.copy is None:
+        for example in list_examples():
+            print(f"{example.name + '.json':<28} {example.summary}")
+        print("copy them into a folder with: tofradar examples --copy DIR")
+        return 0
+    try:
+        written = copy_examples(Path(args.copy))
+    except ExamplesError as exc:
+        raise CliError(str(exc)) from None
+    print(f"copied {len(written)} files to {args.copy}")
+    return 0
+
+
 def cmd_gui(args: argparse.Namespace) -> int:
     """Open the desktop GUI through the launcher the ``app`` package registered."""
     if args.gui_launcher is None:
@@ -249,70 +381,154 @@ def cmd_gui(args: argparse.Namespace) -> int:
     return int(args.gui_launcher(args.project))
 
 
+def _common(*, debug_only: bool = False) -> _Parser:
+    """Options every subcommand takes."""
+    common = _Parser(add_help=False)
+    common.add_argument("--debug", action="store_true",
+                        dest="debug_global" if debug_only else "debug",
+                        help="print the traceback of an error instead of one line")
+    if not debug_only:
+        common.add_argument("--allow-outside-paths", action="store_true",
+                            help="accept mesh files outside the project's folder")
+    return common
+
+
+def _run_options(p: argparse.ArgumentParser) -> None:
+    """Options shared by ``run`` and ``sweep``: limits, Dask timeouts."""
+    p.add_argument("--force", action="store_true",
+                   help="run even when the memory or disk estimate exceeds what is available")
+    p.add_argument("--task-timeout", type=_positive_float, default=TASK_TIMEOUT_S, metavar="S",
+                   help=f"longest wait for one frame on Dask (default {TASK_TIMEOUT_S:g} s)")
+    p.add_argument("--connect-timeout", type=_positive_float, default=CONNECT_TIMEOUT_S,
+                   metavar="S", help="longest wait for a Dask scheduler's handshake "
+                                     f"(default {CONNECT_TIMEOUT_S:g} s)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``tofradar`` command."""
-    parser = argparse.ArgumentParser(
-        prog="tofradar",
+    parser = _Parser(
+        prog="tofradar", parents=[_common(debug_only=True)],
         description="Synchronized AMCW ToF camera and FMCW radar simulation from one 3D scene.",
     )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command")
-    p = sub.add_parser("gui", help="open the desktop GUI (default)")
+    common = [_common()]
+    p = sub.add_parser("gui", help="open the desktop GUI (default)", parents=common)
     p.add_argument("project", nargs="?", help="project file to open")
     p.set_defaults(func=cmd_gui)
 
-    p = sub.add_parser("run", help="render frames headlessly into an HDF5 dataset")
+    p = sub.add_parser("run", help="render frames headlessly into an HDF5 dataset",
+                       parents=common)
     p.add_argument("project", help="project JSON file")
     p.add_argument("--out", required=True,
                    help="output file: HDF5 (.h5, default) or an MCAP recording (.mcap)")
-    p.add_argument("--frames", type=_positive_int, help="number of frames (default: timeline)")
+    p.add_argument("--frames", type=_frames_int, help="number of frames (default: timeline)")
     p.add_argument("--duration", type=_positive_float, metavar="S",
                    help="simulated seconds (frames = S × frame rate)")
-    p.add_argument("--seed", type=_non_negative_int, help="random seed (default: project seed)")
-    p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
+    p.add_argument("--seed", type=_seed_int, help="random seed (default: project seed)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an existing output file (when the new one is complete)")
     p.add_argument("--resume", action="store_true",
                    help="continue an interrupted run of the same project and seed")
-    p.add_argument("--workers", type=_positive_int, default=1,
+    p.add_argument("--workers", type=_workers_int, default=1,
                    help="local worker processes (default 1)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run frames on Dask: 'local' for an embedded cluster of --workers "
                         "processes, or a scheduler address such as tcp://host:8786")
     p.add_argument("--preview", metavar="DIR", help="also write PNG previews into DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    _run_options(p)
     p.set_defaults(func=cmd_run)
 
-    p = sub.add_parser("sweep", help="one dataset per combination of varied project fields")
+    p = sub.add_parser("sweep", help="one dataset per combination of varied project fields",
+                       parents=common)
     p.add_argument("project", help="project JSON file")
     p.add_argument("--vary", action="append", required=True, metavar="PATH=START:STOP:STEP",
                    help="field path and values, e.g. objects[0].pose.position_m[0]=1:3:0.5 "
                         "or rig.radar.chirps_per_frame=16,32 (repeatable)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    p.add_argument("--frames", type=_positive_int, help="frames per variant")
+    p.add_argument("--frames", type=_frames_int, help="frames per variant")
     p.add_argument("--duration", type=_positive_float, metavar="S", help="seconds per variant")
-    p.add_argument("--seed", type=_non_negative_int, help="random seed (default: project's)")
+    p.add_argument("--seed", type=_seed_int, help="random seed (default: project's)")
     p.add_argument("--overwrite", action="store_true", help="replace existing datasets")
     p.add_argument("--resume", action="store_true", help="continue interrupted datasets")
-    p.add_argument("--workers", type=_positive_int, default=1, help="local worker processes")
+    p.add_argument("--workers", type=_workers_int, default=1, help="local worker processes")
     p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler ('local' or address)")
+    _run_options(p)
     p.set_defaults(func=cmd_sweep)
 
-    p = sub.add_parser("report", help="regenerate the validation report with figures")
+    p = sub.add_parser("report", help="regenerate the validation report with figures",
+                       parents=[_common()])
     p.add_argument("--out", default="docs/validation", help="output directory")
     p.add_argument("--quick", action="store_true", help="fewer frames (for tests)")
     p.add_argument("--quiet", action="store_true", help="no progress messages")
     p.set_defaults(func=cmd_report)
 
-    _add_robotics_commands(sub)
+    _add_robotics_commands(sub, common)
 
-    p = sub.add_parser("validate", help="check a project file")
+    p = sub.add_parser("validate", help="check a project file as 'run' would", parents=common)
     p.add_argument("project", help="project JSON file")
     p.set_defaults(func=cmd_validate)
 
-    p = sub.add_parser("bench", help="frame-time benchmark per stage")
+    p = sub.add_parser("bench", help="frame-time benchmark per stage", parents=common)
     p.add_argument("project", nargs="?", help="project (default: bundled office.json)")
     p.add_argument("--frames", type=_positive_int, default=30, help="frames to time")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=cmd_bench)
+
+    p = sub.add_parser("examples", help="list the bundled example projects or copy them",
+                       parents=[_common()])
+    p.add_argument("--copy", metavar="DIR", help="copy them (with their meshes) into DIR")
+    p.set_defaults(func=cmd_examples)
     return parser
+
+
+#: Most values one ``--vary`` may give.
+MAX_VARY_VALUES = 10_000
+
+
+def _check_vary_count(spec: str) -> None:
+    """Refuse a ``--vary`` range with more values than :data:`MAX_VARY_VALUES` early."""
+    _, _, values = spec.partition("=")
+    parts = values.split(":")
+    if len(parts) != 3:
+        return
+    try:
+        start, stop, step = (float(p) for p in parts)
+    except ValueError:
+        return
+    count = (stop - start) / step if step else float("inf")
+    if not (abs(count) < MAX_VARY_VALUES):
+        raise CliError(f"--vary {spec[:80]!r}: step {step:g} gives {abs(count):.3g} values; "
+                       f"allowed at most {MAX_VARY_VALUES}")
+
+
+def _report_error(exc: BaseException) -> int:
+    """Print ``exc`` as ``tofradar: error: …`` line(s); return the exit status."""
+    from simcore.scene.mesh_files import MeshError
+
+    if isinstance(exc, ProjectError):
+        for problem in exc.problems:
+            _print_error(f"{exc.source}: {problem}")
+        return 2
+    if isinstance(exc, (CliError, MeshError, RunError)):
+        _print_error(str(exc))
+        return 2
+    if isinstance(exc, MemoryError):
+        _print_error("out of memory; lower the render resolution, chirps or samples, or run "
+                     "fewer workers ('tofradar validate' shows the estimate)")
+        return 1
+    if isinstance(exc, OSError):
+        if exc.errno in (errno.ENOSPC, errno.EDQUOT):
+            _print_error(f"disk full: {exc}; free space and continue with --resume")
+        else:
+            _print_error(str(exc))
+        return 2
+    name = type(exc).__name__
+    text = " ".join(str(exc).split())
+    text = text if len(text) <= 300 else text[:297] + "..."
+    _print_error(f"{name}: {text} (run with --debug for the traceback)")
+    return 1
 
 
 def cmd_convert(args: argparse.Namespace) -> int:
@@ -339,6 +555,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
 
     project_path = Path(args.project)
     project = load_project(project_path)
+    _preflight(project, project_path, args, n_frames=args.frames, seed=args.seed)
 
     def ready(port: int) -> None:
         print(f"serving on ws://{args.host}:{port} (Foxglove WebSocket protocol)", flush=True)
@@ -352,26 +569,29 @@ def cmd_serve(args: argparse.Namespace) -> int:
     return 0
 
 
-def _add_robotics_commands(sub: Any) -> None:
+def _add_robotics_commands(sub: argparse._SubParsersAction[_Parser],
+                           common: list[_Parser]) -> None:
     """The ``convert`` and ``serve`` subcommands (docs/robotics.md)."""
-    p = sub.add_parser("convert", help="convert an HDF5 dataset into an MCAP recording")
+    p = sub.add_parser("convert", help="convert an HDF5 dataset into an MCAP recording",
+                       parents=common)
     p.add_argument("source", help="HDF5 dataset")
     p.add_argument("--to", required=True, help="output MCAP file (.mcap)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
     p.set_defaults(func=cmd_convert)
 
-    p = sub.add_parser("serve", help="publish frames live over the Foxglove WebSocket protocol")
+    p = sub.add_parser("serve", help="publish frames live over the Foxglove WebSocket protocol",
+                       parents=common)
     p.add_argument("project", help="project JSON file")
     p.add_argument("--host", default="127.0.0.1", help="interface (default 127.0.0.1)")
-    p.add_argument("--port", type=_non_negative_int, default=8765,
+    p.add_argument("--port", type=_int_at_least(0, 65535), default=8765,
                    help="TCP port (default 8765; 0 = any free port)")
-    p.add_argument("--frames", type=_positive_int, help="frames to publish (default: timeline)")
+    p.add_argument("--frames", type=_frames_int, help="frames to publish (default: timeline)")
     p.add_argument("--loop", action="store_true", help="repeat the timeline until Ctrl+C")
     p.add_argument("--fast", action="store_true",
                    help="publish as fast as frames are computed (default: timeline frame rate)")
     p.add_argument("--no-wait", action="store_true",
                    help="start at once (default: wait until a client subscribes)")
-    p.add_argument("--seed", type=_non_negative_int, help="random seed (default: project's)")
+    p.add_argument("--seed", type=_seed_int, help="random seed (default: project's)")
     p.set_defaults(func=cmd_serve)
 
 
@@ -380,7 +600,9 @@ def main(argv: Sequence[str] | None = None, *,
     """Run the ``tofradar`` command line.
 
     ``gui_launcher(project_path_or_None)`` opens the GUI; the ``app`` package passes it
-    (the core never imports the GUI).
+    (the core never imports the GUI). Every error ends as one line
+    ``tofradar: error: …`` on stderr and a non-zero exit status; ``--debug`` raises it
+    with its traceback instead.
     """
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -389,18 +611,13 @@ def main(argv: Sequence[str] | None = None, *,
     args.gui_launcher = gui_launcher
     try:
         return int(args.func(args))
-    except ProjectError as exc:
-        print(f"tofradar: error: {exc}", file=sys.stderr)
-        return 2
-    except CliError as exc:
-        print(f"tofradar: error: {exc}", file=sys.stderr)
-        return 2
     except KeyboardInterrupt:
         print("tofradar: interrupted", file=sys.stderr)
         return 130
-    except OSError as exc:
-        print(f"tofradar: error: {exc}", file=sys.stderr)
-        return 2
+    except Exception as exc:  # noqa: BLE001 — the one top-level error path
+        if args.debug or getattr(args, "debug_global", False):
+            raise
+        return _report_error(exc)
 
 
 if __name__ == "__main__":

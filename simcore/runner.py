@@ -9,19 +9,22 @@ whichever process computes it and in whatever order.
 
 from __future__ import annotations
 
+import asyncio
 import hashlib
 import json
 import multiprocessing
 import signal
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from numpy.typing import NDArray
 
 from simcore.pipeline import Simulator
+from simcore.preflight import RunError
 from simcore.scene.project_io import project_from_dict
 from simcore.sensors.base import H5Items
 
@@ -72,10 +75,53 @@ def close_simulators() -> None:
     _SIMULATORS.clear()
 
 
+class NonFiniteOutputError(RunError):
+    """A frame produced NaN or infinite values where the dataset promises numbers."""
+
+
+#: Datasets where NaN is a documented value (no surface on the pixel's ray, outside the
+#: field of view).
+NAN_ALLOWED = frozenset({"/tof/gt_range", "/radar/bird_eye"})
+#: Raw sensor data and poses: every value must be finite (except :data:`NAN_ALLOWED`).
+STRICT_PREFIXES = ("/time", "/poses/", "/tof/", "/radar/adc", "/radar/chirp_start_time")
+
+
+def check_finite(index: int, items: H5Items) -> None:
+    """Refuse a frame whose outputs are not numbers.
+
+    Raw data and poses must be finite (NaN only where documented); a DSP product (dB maps)
+    may hold −∞ dB and NaN where documented, but not +∞ and not only non-finite values.
+    """
+    for path, (array, unit) in items.items():
+        arr = np.asarray(array)
+        if arr.dtype.kind not in "fc" or arr.size == 0:
+            continue
+        values = np.asarray(arr.real if arr.dtype.kind == "c" else arr, dtype=np.float64)
+        if arr.dtype.kind == "c":
+            values = np.concatenate([values.ravel(), arr.imag.astype(np.float64).ravel()])
+        finite = np.isfinite(values)
+        if finite.all():
+            continue
+        if path.startswith(STRICT_PREFIXES):
+            bad = ~finite & ~np.isnan(values) if path in NAN_ALLOWED else ~finite
+        elif not finite.any() and path not in NAN_ALLOWED:
+            bad = ~finite
+        else:
+            bad = np.isposinf(values) | (np.isnan(values) if path not in NAN_ALLOWED
+                                         and unit != "dB" else np.zeros_like(finite))
+        if bad.any():
+            raise NonFiniteOutputError(
+                f"frame {index}: {path} has {int(bad.sum())} of {values.size} values NaN or "
+                "infinite; the configuration is outside the range the model computes "
+                "reliably (see 'tofradar validate')")
+
+
 def compute_frame(spec: RunSpec, index: int) -> FrameResult:
     """Compute frame ``index`` of a run (in whichever process calls it)."""
     frame = _simulator(spec).frame(index)
-    return FrameResult(index, frame.hdf5_items(), frame.table_rows(), frame.timings_ms)
+    items = frame.hdf5_items()
+    check_finite(index, items)
+    return FrameResult(index, items, frame.table_rows(), frame.timings_ms)
 
 
 def static_items(spec: RunSpec) -> H5Items:
@@ -100,26 +146,96 @@ def _in_order(futures: Iterator[tuple[int, Callable[[], FrameResult]]], window: 
         yield pending.pop(0)()
 
 
-def iter_frames(spec: RunSpec, indices: list[int], *, workers: int = 1,
-                scheduler: str | None = None) -> Iterator[FrameResult]:
+#: Seconds a Dask scheduler has to answer the connection handshake, and one frame to finish.
+CONNECT_TIMEOUT_S = 10.0
+TASK_TIMEOUT_S = 600.0
+#: Address schemes of Dask's communication layer.
+DASK_SCHEMES = ("tcp", "tls", "inproc", "ucx", "ws", "wss")
+
+
+class SchedulerError(RunError):
+    """A Dask scheduler cannot be used: bad address, no answer, a different service."""
+
+
+def check_scheduler_address(address: str) -> None:
+    """Refuse a scheduler address that is neither ``local`` nor ``scheme://host:port``."""
+    if address == "local":
+        return
+    scheme, sep, rest = address.partition("://")
+    if not sep:
+        scheme, rest = "tcp", address
+    if scheme not in DASK_SCHEMES:
+        raise SchedulerError(f"--scheduler {address!r}: unknown scheme {scheme!r}; use "
+                             f"'local' or one of {', '.join(s + '://' for s in DASK_SCHEMES)}")
+    host, colon, port = rest.rpartition(":")
+    if scheme in ("tcp", "tls", "ws", "wss") and (not colon or not host or not port.isdigit()
+                                                  or not 0 < int(port) < 65536):
+        raise SchedulerError(f"--scheduler {address!r}: expected {scheme}://HOST:PORT with a "
+                             "port in 1..65535")
+
+
+def probe_scheduler(address: str, *, timeout_s: float = CONNECT_TIMEOUT_S) -> None:
+    """Check that a Dask scheduler answers at a ``tcp://`` address, within ``timeout_s``.
+
+    A Dask server sends its handshake (a small frame count, then msgpack) as soon as a
+    client connects; anything else (an HTTP server, a silent listener) is refused with a
+    message instead of Dask's own "Unable to allocate 3.07 EiB" or a long hang.
+    """
+    import socket
+    import struct
+
+    scheme, sep, rest = address.partition("://")
+    if sep and scheme != "tcp":
+        return          # TLS and others: Dask's own connect timeout applies
+    host, _, port = (rest if sep else address).rpartition(":")
+    host = host.strip("[]")
+    try:
+        sock = socket.create_connection((host, int(port)), timeout=timeout_s)
+    except (OSError, ValueError) as exc:
+        raise SchedulerError(f"cannot connect to the Dask scheduler at {address}: "
+                             f"{getattr(exc, 'strerror', None) or exc}") from None
+    with sock:
+        sock.settimeout(timeout_s)
+        try:
+            head = sock.recv(8, socket.MSG_WAITALL)
+        except TimeoutError:
+            raise SchedulerError(f"{address} accepted the connection but sent no Dask "
+                                 f"handshake within {timeout_s:g} s; is a Dask scheduler "
+                                 "listening on that port?") from None
+        except OSError as exc:
+            raise SchedulerError(f"{address}: {exc.strerror or exc}") from None
+    if len(head) < 8 or struct.unpack("<Q", head)[0] > 64:
+        shown = head[:8].decode("ascii", errors="replace")
+        raise SchedulerError(f"{address} does not speak the Dask protocol (it sent "
+                             f"{shown!r}); a different service listens on that port")
+
+
+def iter_frames(spec: RunSpec, indices: Sequence[int], *, workers: int = 1,
+                scheduler: str | None = None, task_timeout_s: float = TASK_TIMEOUT_S,
+                connect_timeout_s: float = CONNECT_TIMEOUT_S) -> Iterator[FrameResult]:
     """Yield the frames ``indices`` in order, computed by ``workers`` processes or Dask.
 
     Parameters
     ----------
     spec : RunSpec
         The run.
-    indices : list of int
+    indices : sequence of int
         Frames to compute, in the order they are yielded.
     workers : int
         Local worker processes (1 = in this process).
     scheduler : str, optional
         ``"local"`` for an embedded Dask ``LocalCluster`` with ``workers`` processes, or the
         address of a running Dask scheduler (``tcp://host:8786``).
+    task_timeout_s : float
+        Longest wait for one frame from Dask (:class:`SchedulerError` beyond).
+    connect_timeout_s : float
+        Longest wait for a Dask scheduler's handshake.
     """
     window = max(2, 2 * workers)   # bounded look-ahead keeps memory flat on long runs
     if scheduler is not None:
         yield from _iter_dask(spec, indices, workers=workers, scheduler=scheduler,
-                              window=window)
+                              window=window, task_timeout_s=task_timeout_s,
+                              connect_timeout_s=connect_timeout_s)
     elif workers <= 1:
         for i in indices:
             yield compute_frame(spec, i)
@@ -138,24 +254,42 @@ def iter_frames(spec: RunSpec, indices: list[int], *, workers: int = 1,
                 raise
 
 
-def _iter_dask(spec: RunSpec, indices: list[int], *, workers: int, scheduler: str,
-               window: int) -> Iterator[FrameResult]:
+def _iter_dask(spec: RunSpec, indices: Sequence[int], *, workers: int, scheduler: str,
+               window: int, task_timeout_s: float, connect_timeout_s: float
+               ) -> Iterator[FrameResult]:
+    check_scheduler_address(scheduler)
+    if scheduler != "local":
+        probe_scheduler(scheduler, timeout_s=connect_timeout_s)
     from dask.distributed import Client, LocalCluster
 
     cluster = None
-    if scheduler == "local":
-        cluster = LocalCluster(n_workers=max(1, workers), threads_per_worker=1,
-                               processes=True, dashboard_address=None)
-        client = Client(cluster)
-    else:
-        client = Client(scheduler)
+    try:
+        if scheduler == "local":
+            cluster = LocalCluster(n_workers=max(1, workers), threads_per_worker=1,
+                                   processes=True, dashboard_address=None)
+            client = Client(cluster, timeout=connect_timeout_s)
+        else:
+            client = Client(scheduler, timeout=connect_timeout_s)
+    except (OSError, TimeoutError) as exc:
+        if cluster is not None:
+            cluster.close()
+        raise SchedulerError(f"cannot connect to the Dask scheduler at {scheduler} within "
+                             f"{connect_timeout_s:g} s: {exc}") from None
     try:
         spec_future = client.scatter(spec, broadcast=True)
 
         def submit() -> Iterator[tuple[int, Callable[[], FrameResult]]]:
             for i in indices:
                 fut = client.submit(compute_frame, spec_future, i, pure=False)
-                yield i, fut.result
+
+                def get(fut: Any = fut, i: int = i) -> FrameResult:
+                    try:
+                        result: FrameResult = fut.result(timeout=task_timeout_s)
+                    except (TimeoutError, asyncio.TimeoutError):
+                        raise SchedulerError(f"frame {i} did not finish within "
+                                             f"{task_timeout_s:g} s on {scheduler}") from None
+                    return result
+                yield i, get
         yield from _in_order(submit(), window)
     finally:
         client.close()
@@ -163,14 +297,29 @@ def _iter_dask(spec: RunSpec, indices: list[int], *, workers: int, scheduler: st
             cluster.close()
 
 
+#: Most frames of one run.
+MAX_FRAMES = 10_000_000
+
+
 def frame_count(n_frames: int | None, duration_s: float | None, frame_rate_hz: float,
                 default: int) -> int:
-    """Frames to produce from ``--frames`` or ``--duration`` (else the project timeline)."""
+    """Frames to produce from ``--frames`` or ``--duration`` (else the project timeline).
+
+    Raises ValueError (naming the option and the limit) beyond :data:`MAX_FRAMES`.
+    """
     if n_frames is not None:
-        return n_frames
-    if duration_s is not None:
-        return max(1, int(round(duration_s * frame_rate_hz)))
-    return default
+        count, what = n_frames, f"--frames {n_frames}"
+    elif duration_s is not None:
+        frames = duration_s * frame_rate_hz
+        if not frames < MAX_FRAMES + 0.5:
+            raise ValueError(f"--duration {duration_s:g} s at {frame_rate_hz:g} Hz gives "
+                             f"{frames:.3g} frames; allowed at most {MAX_FRAMES}")
+        count, what = max(1, int(round(frames))), f"--duration {duration_s:g}"
+    else:
+        count, what = default, "timeline.duration_s × frame_rate_hz"
+    if count > MAX_FRAMES:
+        raise ValueError(f"{what}: {count:.3g} frames; allowed at most {MAX_FRAMES}")
+    return count
 
 
 @dataclass
@@ -187,27 +336,41 @@ class RunReport:
 def run_dataset(project_json: str, base_dir: Path, out: Path, *, n_frames: int, seed: int,
                 overwrite: bool = False, resume: bool = False, workers: int = 1,
                 scheduler: str | None = None, extra_meta: dict[str, Any] | None = None,
-                on_frame: Callable[[int, int, FrameResult], bool] | None = None) -> RunReport:
+                on_frame: Callable[[int, int, FrameResult], bool] | None = None,
+                task_timeout_s: float = TASK_TIMEOUT_S,
+                connect_timeout_s: float = CONNECT_TIMEOUT_S) -> RunReport:
     """Write ``n_frames`` frames of a project into ``out`` (HDF5, or MCAP for ``*.mcap``).
 
     ``on_frame(done, total, result)`` is called after each frame is written; returning
     False stops the run cleanly (as does Ctrl+C), leaving a valid file that
-    ``resume=True`` continues.
+    ``resume=True`` continues. A run that fails before its first frame leaves no file; a
+    failing ``overwrite`` leaves the old file untouched (see :class:`DatasetWriter`).
     """
     from simcore.io.hdf5_writer import DatasetWriter
     from simcore.io.mcap_writer import McapWriter
+    from simcore.preflight import check
+    from simcore.scene.project_io import ProjectError
 
+    # The safety subset of the preflight (callers such as the CLI and the GUI run the whole
+    # of it, with the memory budget and the mesh path policy, before they get here).
+    problems = check(project_from_dict(json.loads(project_json), base_dir=Path(base_dir)),
+                     base_dir=Path(base_dir), memory_budget_bytes=2**63, n_frames=n_frames,
+                     seed=seed, allow_outside_paths=True, parse_meshes=False)
+    if problems:
+        raise ProjectError(f"project for {out}", problems)
     spec = RunSpec(project_json, str(base_dir), seed)
     kind = McapWriter if Path(out).suffix.lower() == ".mcap" else DatasetWriter
     writer = kind(out, project_json=project_json, seed=seed, overwrite=overwrite,
                   resume=resume, extra_meta=extra_meta)
     report = RunReport(out, writer.n_frames, writer.n_frames, n_frames)
     with writer:
-        if writer.n_frames == 0:
-            writer.write_static(static_items(spec))
         try:
-            for result in iter_frames(spec, list(range(writer.n_frames, n_frames)),
-                                      workers=workers, scheduler=scheduler):
+            if writer.n_frames == 0:
+                writer.write_static(static_items(spec))
+            for result in iter_frames(spec, range(writer.n_frames, n_frames),
+                                      workers=workers, scheduler=scheduler,
+                                      task_timeout_s=task_timeout_s,
+                                      connect_timeout_s=connect_timeout_s):
                 for path, rows in result.tables.items():
                     writer.append_rows(path, rows)
                 writer.append(result.items)
@@ -222,5 +385,6 @@ def run_dataset(project_json: str, base_dir: Path, out: Path, *, n_frames: int, 
     return report
 
 
-__all__ = ["FrameResult", "RunReport", "RunSpec", "compute_frame", "frame_count", "iter_frames",
-           "run_dataset", "static_items"]
+__all__ = ["FrameResult", "NonFiniteOutputError", "RunReport", "RunSpec", "SchedulerError",
+           "check_scheduler_address", "compute_frame", "frame_count", "iter_frames",
+           "probe_scheduler", "run_dataset", "static_items"]

@@ -1,6 +1,6 @@
 """Parameter sweeps: one dataset per combination of varied project fields.
 
-A field is named by its path in the project document, with dots and list indices, e.g.
+A field is named by its path in the project (:mod:`simcore.scene.fieldpath`), e.g.
 ``objects[1].pose.position_m[0]`` or ``rig.radar.chirps_per_frame``. Values are a range
 ``START:STOP:STEP`` (STOP included when it falls on the grid) or a list ``v1,v2,v3``.
 """
@@ -10,16 +10,14 @@ from __future__ import annotations
 import copy
 import itertools
 import json
-import re
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from simcore.scene import fieldpath
 from simcore.scene.model import Project
 from simcore.scene.project_io import ProjectError, project_from_dict
-
-_TOKEN = re.compile(r"([^.\[\]]+)|\[(\d+)\]")
 
 
 class SweepError(ValueError):
@@ -32,20 +30,6 @@ class Variation:
 
     path: str
     values: tuple[Any, ...]
-
-
-def parse_path(path: str) -> list[str | int]:
-    """Split ``a.b[2].c`` into ``["a", "b", 2, "c"]``."""
-    parts: list[str | int] = []
-    pos = 0
-    for m in _TOKEN.finditer(path):
-        if m.start() != pos and path[pos:m.start()] != ".":
-            raise SweepError(f"cannot parse field path {path!r}")
-        parts.append(m.group(1) if m.group(1) is not None else int(m.group(2)))
-        pos = m.end()
-    if not parts or pos != len(path):
-        raise SweepError(f"cannot parse field path {path!r}")
-    return parts
 
 
 def _number(text: str) -> int | float:
@@ -66,7 +50,10 @@ def parse_vary(spec: str) -> Variation:
     if "=" not in spec:
         raise SweepError(f"--vary {spec!r}: expected PATH=START:STOP:STEP or PATH=v1,v2")
     path, _, values_text = spec.partition("=")
-    parse_path(path)
+    try:
+        fieldpath.parse(path)
+    except fieldpath.FieldPathError as exc:
+        raise SweepError(f"--vary {spec!r}: {exc}") from None
     if ":" in values_text:
         parts = values_text.split(":")
         if len(parts) != 3:
@@ -85,25 +72,6 @@ def parse_vary(spec: str) -> Variation:
     return Variation(path, values)
 
 
-def set_field(document: dict[str, Any], path: str, value: Any) -> None:
-    """Set a field of a project document in place (the field must exist)."""
-    node: Any = document
-    parts = parse_path(path)
-    for depth, part in enumerate(parts):
-        last = depth == len(parts) - 1
-        where = path if last else "".join(
-            f"[{p}]" if isinstance(p, int) else f".{p}" for p in parts[: depth + 1]).lstrip(".")
-        if isinstance(part, int):
-            if not isinstance(node, list) or part >= len(node):
-                raise SweepError(f"--vary: {where} does not exist in the project")
-        elif not isinstance(node, dict) or part not in node:
-            raise SweepError(f"--vary: {where} does not exist in the project")
-        if last:
-            node[part] = value
-        else:
-            node = node[part]
-
-
 def expand(project: Project, variations: list[Variation]) -> list[tuple[dict[str, Any], Project]]:
     """All combinations: (parameters, validated project) per variant."""
     base = project.model_dump(mode="json")
@@ -112,7 +80,10 @@ def expand(project: Project, variations: list[Variation]) -> list[tuple[dict[str
         params = {v.path: value for v, value in zip(variations, combo, strict=True)}
         doc = copy.deepcopy(base)
         for path, value in params.items():
-            set_field(doc, path, value)
+            try:
+                fieldpath.set_in(doc, path, value)
+            except fieldpath.FieldPathError as exc:
+                raise SweepError(f"--vary: {exc} in the project") from None
         try:
             variants.append((params, project_from_dict(doc, source=f"variant {params}")))
         except ProjectError as exc:

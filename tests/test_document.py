@@ -43,7 +43,7 @@ def test_edits_undo_and_redo_as_one_step_each(doc: ProjectDocument) -> None:
     before = doc.project.objects[0].pose.position_m
     changed: list[object] = []
     doc.projectChanged.connect(changed.append)
-    doc.set_value("objects.0.pose.position_m", [1.0, 2.0, 3.0], text="Move corner")
+    doc.set_value("objects[0].pose.position_m", [1.0, 2.0, 3.0], text="Move corner")
     assert doc.project.objects[0].pose.position_m == (1.0, 2.0, 3.0)
     assert doc.is_dirty and len(changed) == 1
     assert doc.undo_stack.undoText() == "Move corner"
@@ -56,7 +56,7 @@ def test_edits_undo_and_redo_as_one_step_each(doc: ProjectDocument) -> None:
 
 def test_drags_merge_into_one_undo_step(doc: ProjectDocument) -> None:
     for x in (1.0, 1.1, 1.2):
-        doc.set_value("objects.0.pose.position_m", [x, 0.0, 1.0], merge_key="drag")
+        doc.set_value("objects[0].pose.position_m", [x, 0.0, 1.0], merge_key="drag")
     doc.end_merge()
     assert doc.undo_stack.count() == 1
     doc.undo_stack.undo()

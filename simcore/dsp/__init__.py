@@ -49,6 +49,7 @@ from simcore.dsp.maps import (
     range_doppler_power,
     range_profile_power,
 )
+from simcore.dsp.peaks import parabolic_peak_offset
 from simcore.dsp.processing import (
     RadarAxes,
     RadarProducts,
@@ -100,6 +101,7 @@ __all__ = [
     "monopulse_direction_cosine",
     "os_cfar_1d",
     "os_cfar_2d",
+    "parabolic_peak_offset",
     "power_to_db",
     "process_frame",
     "radar_axes",

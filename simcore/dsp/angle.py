@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from simcore.dsp.peaks import parabolic_peak_offset
 from simcore.dsp.windows import as_complex64
 from simcore.scene.dsp_config import AngleMethod
 from simcore.scene.radar_config import Antenna, RadarConfig
@@ -42,6 +43,13 @@ def antenna_positions_m(antennas: Sequence[Antenna]) -> NDArray[np.float64]:
     -------
     positions : ndarray, shape (n, 3), float64
         ``(x, y, 0)`` in metres.
+
+    Examples
+    --------
+    >>> from simcore.scene.radar_config import Antenna
+    >>> antenna_positions_m([Antenna(position_mm=(2.5, 0.0)), Antenna(position_mm=(0.0, -2.5))])
+    array([[ 0.0025,  0.    ,  0.    ],
+           [ 0.    , -0.0025,  0.    ]])
     """
     p = np.zeros((len(antennas), 3))
     for i, a in enumerate(antennas):
@@ -61,6 +69,16 @@ def virtual_array_positions_m(radar_config: RadarConfig) -> NDArray[np.float64]:
     -------
     positions : ndarray, shape (n_tx * n_rx, 3), float64
         Row ``tx_index * n_rx + rx_index`` (m, optical frame).
+
+    Examples
+    --------
+    Two Tx 5 mm apart and two Rx 2.5 mm apart make a 4-element virtual row:
+
+    >>> from simcore.scene.radar_arrays import ula
+    >>> from simcore.scene.radar_config import RadarConfig
+    >>> cfg = RadarConfig(tx=ula(2, 5.0, prefix="tx"), rx=ula(2, 2.5))
+    >>> virtual_array_positions_m(cfg)[:, 0] * 1e3
+    array([0. , 2.5, 5. , 7.5])
     """
     tx = antenna_positions_m(radar_config.tx)
     rx = antenna_positions_m(radar_config.rx)
@@ -81,6 +99,14 @@ def direction_vectors(azimuth_rad: ArrayLike, elevation_rad: ArrayLike = 0.0) ->
     -------
     u : ndarray, shape (*broadcast_shape, 3), float64
         ``(sin az cos el, -sin el, cos az cos el)``.
+
+    Examples
+    --------
+    >>> np.round(direction_vectors(np.radians([0.0, 30.0])), 3) + 0.0
+    array([[0.   , 0.   , 1.   ],
+           [0.5  , 0.   , 0.866]])
+    >>> np.round(direction_vectors(0.0, np.radians(90.0)), 3) + 0.0   # straight up is -y
+    array([ 0., -1.,  0.])
     """
     az, el = np.broadcast_arrays(np.asarray(azimuth_rad, float), np.asarray(elevation_rad, float))
     return np.stack([np.sin(az) * np.cos(el), -np.sin(el), np.cos(az) * np.cos(el)], axis=-1)
@@ -108,6 +134,15 @@ def steering_vectors(
     -------
     a : ndarray, shape (*broadcast_shape, channels), complex128
         ``exp(-j 2 pi (p . u) / lambda)``.
+
+    Examples
+    --------
+    A λ/2 uniform linear array and a source at +30°: the phase falls by π/2 per element.
+
+    >>> ula = np.array([[0.0, 0, 0], [2.5e-3, 0, 0], [5e-3, 0, 0], [7.5e-3, 0, 0]])
+    >>> a = steering_vectors(ula, wavelength_m=5e-3, azimuth_rad=np.radians(30.0))
+    >>> a.shape, bool(np.allclose(a, [1, -1j, -1, 1j]))
+    ((4,), True)
     """
     p = np.asarray(positions_m, dtype=np.float64)
     u = direction_vectors(azimuth_rad, elevation_rad)
@@ -156,6 +191,13 @@ def spatial_covariance(snapshots: ArrayLike) -> NDArray[np.complex128]:
     -------
     covariance : ndarray, shape (..., channels, channels), complex128
         ``R = (1/N) sum_n x_n x_n^H`` for every trailing index.
+
+    Examples
+    --------
+    >>> a = np.array([1, -1j, -1, 1j])
+    >>> r = spatial_covariance(np.tile(a, (8, 1)))    # 8 snapshots of 4 channels
+    >>> r.shape, bool(np.allclose(r, np.outer(a, a.conj())))
+    ((4, 4), True)
     """
     x = np.asarray(snapshots).astype(np.complex128, copy=False)
     n = x.shape[0]
@@ -177,6 +219,14 @@ def bartlett_spectrum(covariance: ArrayLike, steering: ArrayLike) -> NDArray[np.
     -------
     power : ndarray, shape (..., directions), float64
         Power of a unit-amplitude source in its own direction reads 1 (plus noise / M).
+
+    Examples
+    --------
+    >>> ula = np.array([[0.0, 0, 0], [2.5e-3, 0, 0], [5e-3, 0, 0], [7.5e-3, 0, 0]])
+    >>> a = steering_vectors(ula, wavelength_m=5e-3, azimuth_rad=np.radians([-30.0, 0.0, 30.0]))
+    >>> r = spatial_covariance(a[2][None, :])          # one unit source at +30°
+    >>> np.round(bartlett_spectrum(r, a), 3) + 0.0
+    array([0., 0., 1.])
     """
     r = np.asarray(covariance)
     a = np.asarray(steering)
@@ -206,6 +256,14 @@ def capon_spectrum(
     -------
     power : ndarray, shape (..., directions), float64
         Same scale as :func:`bartlett_spectrum` (a unit source reads ≈ 1).
+
+    Examples
+    --------
+    >>> ula = np.array([[0.0, 0, 0], [2.5e-3, 0, 0], [5e-3, 0, 0], [7.5e-3, 0, 0]])
+    >>> a = steering_vectors(ula, wavelength_m=5e-3, azimuth_rad=np.radians([-30.0, 0.0, 30.0]))
+    >>> r = spatial_covariance(a[2][None, :])          # one unit source at +30°
+    >>> np.round(capon_spectrum(r, a), 3) + 0.0
+    array([0., 0., 1.])
     """
     r_inv = _loaded_inverse(np.asarray(covariance), diagonal_loading)
     a = np.asarray(steering)
@@ -245,6 +303,14 @@ def monopulse_direction_cosine(
         ``(p_a - p_b) . u / |p_a - p_b|``, from the phase of ``x_a conj(x_b)``, clipped to
         [-1, 1]; unambiguous when ``|baseline| ≤ lambda / 2``. For a horizontal pair this is
         ``sin(az) cos(el)``; for a vertical pair (baseline along +y) it is ``-sin(el)``.
+
+    Examples
+    --------
+    Element a, 2.5 mm right of element b (λ = 5 mm), lags by π/2: ``sin(az) = 0.5``.
+
+    >>> round(float(monopulse_direction_cosine(-1j, 1.0, baseline_m=2.5e-3,
+    ...                                        wavelength_m=5e-3)), 6)
+    0.5
     """
     phase = np.angle(np.asarray(x_a) * np.conj(np.asarray(x_b)))
     cos = -phase * wavelength_m / (2.0 * np.pi * baseline_m)
@@ -269,6 +335,12 @@ def monopulse_azimuth_rad(
     -------
     azimuth : ndarray, float64
         ``arcsin(-angle(x_a conj x_b) lambda / (2 pi d))`` (rad, positive right).
+
+    Examples
+    --------
+    >>> az = monopulse_azimuth_rad(-1j, 1.0, baseline_m=2.5e-3, wavelength_m=5e-3)
+    >>> round(float(np.degrees(az)), 6)
+    30.0
     """
     return np.arcsin(
         monopulse_direction_cosine(x_a, x_b, baseline_m=baseline_m, wavelength_m=wavelength_m)
@@ -332,6 +404,19 @@ def array_layout(positions_m: ArrayLike) -> ArrayLayout:
     Returns
     -------
     ArrayLayout
+
+    Examples
+    --------
+    The BGT60TR13C-like L of three Rx (λ/2 = 2.5 mm):
+
+    >>> p = np.array([[2.5e-3, 0, 0], [0.0, 0, 0], [0.0, -2.5e-3, 0]])
+    >>> layout = array_layout(p)
+    >>> layout.horizontal_pairs, layout.horizontal_spacing_m
+    (array([[0, 1]]), 0.0025)
+    >>> layout.vertical_pairs, layout.vertical_spacing_m
+    (array([[1, 2]]), 0.0025)
+    >>> layout.row_channels, layout.row_slots
+    (array([1, 0]), array([0, 1]))
     """
     p = np.asarray(positions_m, dtype=np.float64)
     tol = POSITION_TOLERANCE_M
@@ -410,6 +495,15 @@ def fft_beamform(
     spatial_frequency : ndarray, shape (fft_size,), float64
         Cycles per element ``f`` of each bin, in [-0.5, 0.5); the direction cosine is
         ``sin(az) cos(el) = -f * lambda / row_spacing_m``.
+
+    Examples
+    --------
+    A source at +30° on a λ/2 row sits at -0.25 cycles per element, with amplitude 1:
+
+    >>> ula = np.array([[0.0, 0, 0], [2.5e-3, 0, 0], [5e-3, 0, 0], [7.5e-3, 0, 0]])
+    >>> spec, f = fft_beamform(np.array([1, -1j, -1, 1j]), array_layout(ula), fft_size=8)
+    >>> float(f[np.argmax(np.abs(spec))]), round(float(np.abs(spec).max()), 6)
+    (-0.25, 1.0)
     """
     if layout.row_spacing_m <= 0.0:
         raise ValueError(
@@ -461,6 +555,15 @@ def fft_azimuth_power(
         ``|spectrum|^2`` linearly interpolated (circularly) at
         ``f = -sin(az) * row_spacing / lambda``; directions outside the row's
         unambiguous interval alias, as they physically do.
+
+    Examples
+    --------
+    >>> ula = np.array([[0.0, 0, 0], [2.5e-3, 0, 0], [5e-3, 0, 0], [7.5e-3, 0, 0]])
+    >>> x = np.array([1, -1j, -1, 1j])                 # unit source at +30°
+    >>> p = fft_azimuth_power(x, array_layout(ula), wavelength_m=5e-3,
+    ...                       azimuth_rad=np.radians([0.0, 30.0]), fft_size=8)
+    >>> np.round(p, 3) + 0.0
+    array([0., 1.])
     """
     spec, _ = fft_beamform(snapshots, layout, fft_size=fft_size)
     power = np.abs(spec.astype(np.complex128)) ** 2
@@ -488,6 +591,16 @@ def interpolate_fft_power(
     -------
     ndarray, shape (..., n_az), float64
         Circular linear interpolation at ``f = -sin(az) * row_spacing / lambda``.
+
+    Examples
+    --------
+    >>> ula = np.array([[0.0, 0, 0], [2.5e-3, 0, 0], [5e-3, 0, 0], [7.5e-3, 0, 0]])
+    >>> layout = array_layout(ula)
+    >>> spec, _ = fft_beamform(np.array([1, -1j, -1, 1j]), layout, fft_size=8)
+    >>> p = interpolate_fft_power(np.abs(spec) ** 2, layout, wavelength_m=5e-3,
+    ...                           azimuth_rad=np.radians([0.0, 30.0]))
+    >>> np.round(p, 3) + 0.0
+    array([0., 1.])
     """
     p = np.asarray(power, dtype=np.float64)
     n = p.shape[-1]
@@ -497,16 +610,6 @@ def interpolate_fft_power(
     frac = pos - i0
     i1 = (i0 + 1) % n
     return p[..., i0] * (1.0 - frac) + p[..., i1] * frac
-
-
-def _parabolic_offset(left: NDArray[np.float64], mid: NDArray[np.float64],
-                      right: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Vertex offset (in samples, clipped to ±0.5) of a parabola through three points."""
-    denom = left - 2.0 * mid + right
-    with np.errstate(divide="ignore", invalid="ignore"):
-        off = 0.5 * (left - right) / denom
-    off = np.where(denom < 0, off, 0.0)
-    return np.clip(np.nan_to_num(off), -0.5, 0.5)
 
 
 def _refine_grid_peak(power_db: NDArray[np.float64], idx: NDArray[np.int64], axis_vals:
@@ -519,7 +622,7 @@ def _refine_grid_peak(power_db: NDArray[np.float64], idx: NDArray[np.int64], axi
     inner = (idx > 0) & (idx < n - 1)
     i_l = np.clip(idx - 1, 0, n - 1)
     i_r = np.clip(idx + 1, 0, n - 1)
-    off = _parabolic_offset(power_db[rows, i_l], power_db[rows, idx], power_db[rows, i_r])
+    off = parabolic_peak_offset(power_db[rows, i_l], power_db[rows, idx], power_db[rows, i_r])
     off = np.where(inner, off, 0.0)
     step = axis_vals[1] - axis_vals[0]
     return axis_vals[idx] + off * step

@@ -77,7 +77,13 @@ class CfarResult:
 
 
 def os_rank(n_training: int, rank: float) -> int:
-    """Order ``k`` (1-based) used by OS-CFAR: ``round(rank * N)`` clipped to [1, N]."""
+    """Order ``k`` (1-based) used by OS-CFAR: ``round(rank * N)`` clipped to [1, N].
+
+    Examples
+    --------
+    >>> os_rank(16, 0.75), os_rank(16, 0.0), os_rank(16, 2.0)
+    (12, 1, 16)
+    """
     return int(np.clip(round(rank * n_training), 1, n_training))
 
 
@@ -111,6 +117,15 @@ def cfar_threshold_factor(
         Detection when ``power > alpha * S``.
     statistic_mean : float
         ``E[S]`` for unit mean noise power (1 for CA).
+
+    Examples
+    --------
+    Cell averaging over N = 16 exponential cells has the closed form
+    ``alpha = N (pfa**(-1/N) - 1)``:
+
+    >>> alpha, mean = cfar_threshold_factor("ca", n_training=16, pfa=1e-4)
+    >>> round(alpha, 4), round(16 * (1e-4 ** (-1 / 16) - 1), 4), round(mean, 6)
+    (12.4525, 12.4525, 1.0)
     """
     if not 0.0 < pfa < 1.0:
         raise ValueError(f"pfa must be in (0, 1), got {pfa}")
@@ -398,6 +413,18 @@ def cfar_1d(
     -------
     CfarResult
         Arrays of the same shape as ``power``.
+
+    Examples
+    --------
+    One target 30 dB above a flat noise floor of 1:
+
+    >>> power = np.ones(40)
+    >>> power[20] = 1000.0
+    >>> res = cfar_1d(power, method="ca", train=8, guard=2, pfa=1e-4)
+    >>> np.flatnonzero(res.detections), res.n_training, round(res.alpha, 3)
+    (array([20]), 16, 12.452)
+    >>> float(res.noise[20]), round(float(res.threshold[20]), 3)
+    (1.0, 12.452)
     """
     p = np.moveaxis(np.asarray(power, dtype=np.float64), axis, -1)
     shape = p.shape
@@ -451,6 +478,14 @@ def cfar_2d(
     -------
     CfarResult
         Arrays of shape ``(n0, n1)``.
+
+    Examples
+    --------
+    >>> power = np.ones((16, 32))
+    >>> power[5, 10] = 1000.0
+    >>> res = cfar_2d(power, method="ca", train=(2, 4), guard=(1, 1), pfa=1e-4)
+    >>> np.argwhere(res.detections)
+    array([[ 5, 10]])
     """
     p = np.asarray(power, dtype=np.float64)
     if p.ndim != 2:
@@ -461,7 +496,15 @@ def cfar_2d(
 
 def ca_cfar_1d(power: ArrayLike, *, train: int = 8, guard: int = 2, pfa: float = 1e-4,
                n_integrated: int = 1, axis: int = -1, circular: bool = False) -> CfarResult:
-    """Cell-averaging 1-D CFAR; see :func:`cfar_1d`."""
+    """Cell-averaging 1-D CFAR; see :func:`cfar_1d`.
+
+    Examples
+    --------
+    >>> power = np.ones(40)
+    >>> power[[10, 30]] = 500.0
+    >>> np.flatnonzero(ca_cfar_1d(power, train=4, guard=1).detections)
+    array([10, 30])
+    """
     return cfar_1d(power, method="ca", train=train, guard=guard, pfa=pfa,
                    n_integrated=n_integrated, axis=axis, circular=circular)
 
@@ -469,7 +512,15 @@ def ca_cfar_1d(power: ArrayLike, *, train: int = 8, guard: int = 2, pfa: float =
 def os_cfar_1d(power: ArrayLike, *, train: int = 8, guard: int = 2, pfa: float = 1e-4,
                rank: float = 0.75, n_integrated: int = 1, axis: int = -1,
                circular: bool = False) -> CfarResult:
-    """Ordered-statistic 1-D CFAR; see :func:`cfar_1d`."""
+    """Ordered-statistic 1-D CFAR; see :func:`cfar_1d`.
+
+    Examples
+    --------
+    >>> power = np.ones(40)
+    >>> power[[10, 12]] = 500.0     # two close targets: OS is not masked by the neighbour
+    >>> np.flatnonzero(os_cfar_1d(power, train=8, guard=1).detections)
+    array([10, 12])
+    """
     return cfar_1d(power, method="os", train=train, guard=guard, pfa=pfa, rank=rank,
                    n_integrated=n_integrated, axis=axis, circular=circular)
 
@@ -477,7 +528,15 @@ def os_cfar_1d(power: ArrayLike, *, train: int = 8, guard: int = 2, pfa: float =
 def ca_cfar_2d(power: ArrayLike, *, train: tuple[int, int] = (4, 8),
                guard: tuple[int, int] = (1, 2), pfa: float = 1e-4, n_integrated: int = 1,
                circular: tuple[bool, bool] = (True, False)) -> CfarResult:
-    """Cell-averaging 2-D CFAR; see :func:`cfar_2d`."""
+    """Cell-averaging 2-D CFAR; see :func:`cfar_2d`.
+
+    Examples
+    --------
+    >>> power = np.ones((16, 32))
+    >>> power[3, 20] = 1000.0
+    >>> np.argwhere(ca_cfar_2d(power).detections)
+    array([[ 3, 20]])
+    """
     return cfar_2d(power, method="ca", train=train, guard=guard, pfa=pfa,
                    n_integrated=n_integrated, circular=circular)
 
@@ -486,7 +545,15 @@ def os_cfar_2d(power: ArrayLike, *, train: tuple[int, int] = (4, 8),
                guard: tuple[int, int] = (1, 2), pfa: float = 1e-4, rank: float = 0.75,
                n_integrated: int = 1, circular: tuple[bool, bool] = (True, False)
                ) -> CfarResult:
-    """Ordered-statistic 2-D CFAR; see :func:`cfar_2d`."""
+    """Ordered-statistic 2-D CFAR; see :func:`cfar_2d`.
+
+    Examples
+    --------
+    >>> power = np.ones((16, 32))
+    >>> power[0, 7] = 1000.0   # Doppler wraps around: row 0 has full training cells
+    >>> np.argwhere(os_cfar_2d(power).detections)
+    array([[0, 7]])
+    """
     return cfar_2d(power, method="os", train=train, guard=guard, pfa=pfa, rank=rank,
                    n_integrated=n_integrated, circular=circular)
 
@@ -524,6 +591,15 @@ def group_peaks(
     Returns
     -------
     peaks : ndarray of bool, same shape
+
+    Examples
+    --------
+    >>> power = np.array([1.0, 5.0, 4.0, 1.0, 1.0, 3.0, 1.0])
+    >>> hits = power > 2
+    >>> np.flatnonzero(group_peaks(power, hits, neighbourhood=(3,), circular=(False,)))
+    array([1, 5])
+    >>> np.flatnonzero(group_peaks(power, hits, method="cluster"))
+    array([1, 5])
     """
     p = np.asarray(power, dtype=np.float64)
     det = np.asarray(detections, dtype=bool)
@@ -581,6 +657,16 @@ def suppress_sidelobes(
     Returns
     -------
     peaks : ndarray of bool, same shape
+
+    Examples
+    --------
+    A 60 dB target and a 10 dB cell on its Doppler line, with -40 dB window sidelobes: the
+    weak cell is within 6 dB of the sidelobe level and is dropped.
+
+    >>> power = np.array([[1e6], [10.0], [1.0]])     # (doppler, range)
+    >>> peaks = np.array([[True], [True], [False]])
+    >>> suppress_sidelobes(power, peaks, sidelobe_db=-40.0)[:, 0]
+    array([ True, False, False])
     """
     p = np.asarray(power, dtype=np.float64)
     keep = np.asarray(peaks, dtype=bool)

@@ -37,6 +37,12 @@ def range_profile_power(range_cube: ArrayLike) -> NDArray[np.float32]:
     -------
     power : ndarray, shape (channels, range), float32
         Mean over chirps of ``|X|^2`` (linear).
+
+    Examples
+    --------
+    >>> cube = np.array([[[1, 2j, 0]], [[1, 0, 0]]])   # 2 chirps, 1 channel, 3 bins
+    >>> range_profile_power(cube)
+    array([[1., 2., 0.]], dtype=float32)
     """
     x = np.asarray(range_cube)
     return as_float32(np.mean(np.abs(x) ** 2, axis=0))
@@ -55,6 +61,13 @@ def range_doppler_power(rd_cube: ArrayLike) -> NDArray[np.float32]:
     power : ndarray, shape (doppler, range), float32
         Mean over channels of ``|X|^2`` (linear). Its noise is Gamma(L) distributed with
         ``L = channels`` (the ``n_integrated`` of the CFAR functions).
+
+    Examples
+    --------
+    >>> rd = np.zeros((4, 2, 3), dtype=complex)   # (doppler, channels, range)
+    >>> rd[1, :, 2] = [2.0, 2j]
+    >>> range_doppler_power(rd)[1]
+    array([0., 0., 4.], dtype=float32)
     """
     x = np.asarray(rd_cube)
     return as_float32(np.mean(np.abs(x) ** 2, axis=1))
@@ -97,6 +110,20 @@ def range_azimuth_power(
         snapshot reads ≈ 1 in its own direction (Bartlett, FFT and Capon alike). With
         Doppler bins as snapshots, multiply by ``(sum w)^2 / sum w^2`` of the Doppler
         window to restore that scale (Parseval; :func:`simcore.dsp.process_frame` does).
+
+    Examples
+    --------
+    A unit source at +30° azimuth in range bin 1, seen by a λ/2 uniform linear array:
+
+    >>> from simcore.dsp.angle import array_layout, steering_vectors
+    >>> ula = np.array([[0.0, 0, 0], [2.5e-3, 0, 0], [5e-3, 0, 0], [7.5e-3, 0, 0]])
+    >>> az = np.radians([-30.0, 0.0, 30.0])
+    >>> rd = np.zeros((1, 4, 2), dtype=complex)          # (doppler, channels, range)
+    >>> rd[0, :, 1] = steering_vectors(ula, wavelength_m=5e-3, azimuth_rad=np.radians(30.0))
+    >>> np.round(range_azimuth_power(rd, array_layout(ula), wavelength_m=5e-3, azimuth_rad=az), 3)
+    array([[0., 0.],
+           [0., 0.],
+           [0., 1.]], dtype=float32)
     """
     x = np.asarray(rd_cube).astype(np.complex128, copy=False)
     az = np.asarray(azimuth_rad, dtype=np.float64)
@@ -136,6 +163,16 @@ def bird_eye_axes(
         Lateral axis (radar x, right), symmetric about 0.
     z_m : ndarray, shape (nz,), float64
         Forward axis (boresight z) from 0 to ``max_range_m``.
+
+    Examples
+    --------
+    The lateral extent is ``max_range * sin(max_azimuth)``, here 2 m × sin 60° = 1.73 m:
+
+    >>> x, z = bird_eye_axes(max_range_m=2.0, max_azimuth_rad=np.radians(60), resolution_m=0.5)
+    >>> x
+    array([-1.5, -1. , -0.5,  0. ,  0.5,  1. ,  1.5])
+    >>> z
+    array([0. , 0.5, 1. , 1.5, 2. ])
     """
     half = max_range_m * min(1.0, float(np.sin(min(abs(max_azimuth_rad), np.pi / 2))))
     nx = int(np.floor(half / resolution_m))
@@ -171,6 +208,18 @@ def bird_eye_image(
     image : ndarray, shape (nz, nx), float32
         Bilinear interpolation at ``range = hypot(x, z)``, ``azimuth = atan2(x, z)``; NaN
         outside the map's range or azimuth coverage. Row 0 is z = ``z_axis_m[0]``.
+
+    Examples
+    --------
+    A map whose value is the range itself reads ``hypot(x, z)``: 4 m straight ahead and 5 m
+    at (3 m right, 4 m ahead); beyond the map's 9 m it is NaN.
+
+    >>> r = np.arange(10.0)
+    >>> az = np.radians(np.arange(-60.0, 61.0, 10.0))
+    >>> ra = np.tile(r, (az.size, 1))                      # (n_az, n_range)
+    >>> bird_eye_image(ra, range_axis_m=r, azimuth_axis_rad=az, x_axis_m=[0.0, 3.0, 8.0],
+    ...                z_axis_m=[4.0])
+    array([[ 4.,  5., nan]], dtype=float32)
     """
     m = np.asarray(range_azimuth, dtype=np.float64)
     r_ax = np.asarray(range_axis_m, dtype=np.float64)

@@ -27,6 +27,7 @@ from simcore.dsp.maps import (
     range_doppler_power,
     range_profile_power,
 )
+from simcore.dsp.peaks import parabolic_peak_offset
 from simcore.dsp.spectrum import (
     compensate_tdm_doppler,
     doppler_fft,
@@ -210,15 +211,6 @@ class RadarProducts:
         return self.detections.records(frame)
 
 
-def _parabolic(left: NDArray[np.float64], mid: NDArray[np.float64],
-               right: NDArray[np.float64]) -> NDArray[np.float64]:
-    denom = left - 2.0 * mid + right
-    with np.errstate(divide="ignore", invalid="ignore"):
-        off = 0.5 * (left - right) / denom
-    off = np.where(denom < 0, off, 0.0)
-    return np.clip(np.nan_to_num(off), -0.5, 0.5)
-
-
 def _check_cube(cube: NDArray[np.generic], rc: RadarConfig) -> None:
     expected = (rc.chirps_per_frame, len(rc.tx) * len(rc.rx), rc.samples_per_chirp)
     if cube.shape != expected:
@@ -362,11 +354,12 @@ def _detections(
         dr = axes.range_m[1] - axes.range_m[0]
         inner = (i_r > 0) & (i_r < n_rng - 1)
         r_l, r_r = np.clip(i_r - 1, 0, n_rng - 1), np.clip(i_r + 1, 0, n_rng - 1)
-        off_r = np.where(inner, _parabolic(pdb[i_d, r_l], pdb[i_d, i_r], pdb[i_d, r_r]), 0.0)
+        off_r = np.where(
+            inner, parabolic_peak_offset(pdb[i_d, r_l], pdb[i_d, i_r], pdb[i_d, r_r]), 0.0)
         rng = rng + off_r * dr
         if n_dop >= 3:
             dv = axes.velocity_mps[1] - axes.velocity_mps[0]
-            off_v = _parabolic(pdb[(i_d - 1) % n_dop, i_r], pdb[i_d, i_r],
+            off_v = parabolic_peak_offset(pdb[(i_d - 1) % n_dop, i_r], pdb[i_d, i_r],
                                pdb[(i_d + 1) % n_dop, i_r])
             vel = vel + off_v * dv
 

@@ -18,7 +18,7 @@ import h5py
 import numpy as np
 from numpy.typing import NDArray
 
-from simcore.io.hdf5_writer import DatasetExistsError, ResumeError
+from simcore.io.hdf5_writer import DatasetExistsError, ResumeError, temporary_path
 from simcore.io.ros2_messages import (
     TOPIC_TYPES,
     Items,
@@ -61,7 +61,9 @@ class McapWriter:
             raise DatasetExistsError(f"{self.path} already exists; use --overwrite to replace it")
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.project = project_from_dict(json.loads(project_json))
-        self._stream: IO[bytes] = open(self.path, "wb")  # noqa: SIM115 (closed in close())
+        # Written beside the target and renamed into place when finished (as HDF5 runs).
+        self.tmp = temporary_path(self.path)
+        self._stream: IO[bytes] = open(self.tmp, "wb")  # noqa: SIM115 (closed in close())
         self._writer = Writer(self._stream)
         meta = {"project_json": project_json, "seed": str(seed),
                 **{k: str(v) for k, v in (extra_meta or {}).items()}}
@@ -95,17 +97,30 @@ class McapWriter:
         self._rows.clear()
         self.n_frames += 1
 
-    def close(self) -> None:
-        """Finish the MCAP file (summary and index) and close it."""
-        if not self._stream.closed:
-            self._writer.finish()
+    def close(self, *, keep: bool = True) -> None:
+        """Finish the MCAP file (summary and index), close it and put it in place.
+
+        ``keep=False`` (a run that failed) with no frame written deletes it, so a failed
+        start leaves nothing and a failed overwrite leaves the old file untouched.
+        """
+        if self._stream.closed:
+            return
+        discard = not keep and self.n_frames == 0
+        try:
+            if not discard:
+                self._writer.finish()
+        finally:
             self._stream.close()
+        if discard:
+            self.tmp.unlink(missing_ok=True)
+        else:
+            os.replace(self.tmp, self.path)
 
     def __enter__(self) -> McapWriter:
         return self
 
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+    def __exit__(self, exc_type: type[BaseException] | None, *exc: object) -> None:
+        self.close(keep=exc_type is None or issubclass(exc_type, KeyboardInterrupt))
 
 
 def convert_hdf5_to_mcap(source: str | os.PathLike[str], target: str | os.PathLike[str], *,
@@ -132,21 +147,33 @@ def convert_hdf5_to_mcap(source: str | os.PathLike[str], target: str | os.PathLi
         per_frame, static = [], {}
         for name, obj in _datasets(f):
             unit = str(obj.attrs.get("unit", ""))
-            if obj.attrs.get("table", False):
+            if obj.attrs.get("table", False) or obj.attrs.get("table_rows", False) or (
+                    name.endswith("_count")):
                 continue
             if obj.attrs.get("per_frame", False):
                 per_frame.append((name, obj, unit))
-            else:
+            elif name.startswith(("/radar/", "/objects/")):
                 static[name] = (obj[()], unit)
-        det = f["radar/detections"][:] if "radar/detections" in f else None
         with McapWriter(target, project_json=str(meta["project_json"]),
                         seed=int(meta["seed"]), overwrite=overwrite) as writer:
             writer.write_static(static)
             for k in range(n):
-                if det is not None:
-                    writer.append_rows("/radar/detections", det[det["frame"] == k])
+                rows = _detections_of_frame(f, k)
+                if rows is not None:
+                    writer.append_rows("/radar/detections", rows)
                 writer.append({name: (obj[k], unit) for name, obj, unit in per_frame})
     return n
+
+
+def _detections_of_frame(f: h5py.File, k: int) -> NDArray[Any] | None:
+    """Frame ``k``'s detection rows: from the per-frame table, or the flat one."""
+    if "radar/detections_by_frame" in f:
+        return np.asarray(f["radar/detections_by_frame"][k][: int(
+            f["radar/detections_count"][k])])
+    if "radar/detections" in f:
+        det = f["radar/detections"]
+        return np.asarray(det[det["frame"] == k]) if len(det) else np.asarray(det[:0])
+    return None
 
 
 def _datasets(f: h5py.File) -> list[tuple[str, h5py.Dataset]]:

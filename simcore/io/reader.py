@@ -8,7 +8,9 @@ named dimensions (``frame``, ``chirp``, ``channel``, ``sample``, ``row``, ``col`
 each variable is a dask array over the HDF5 dataset, one chunk per frame, so opening a file
 of any size reads only its metadata, and ``ds.radar_range_doppler.isel(frame=3)`` reads one
 chunk. The detections table becomes variables ``detection_<field>`` along ``detection``
-(read when the file is opened: it is small).
+(read when the file is opened: it is small); its per-frame form
+``/radar/detections_by_frame`` becomes ``radar_detections_by_frame_<field>`` along
+(``frame``, ``slot``), valid up to ``radar_detections_count`` in each frame.
 
 Examples
 --------
@@ -65,6 +67,8 @@ DIMS: dict[str, tuple[str, ...]] = {
     "/radar/bird_eye": ("bev_z", "bev_x"),
     "/radar/bird_eye_x_axis": ("bev_x",),
     "/radar/bird_eye_z_axis": ("bev_z",),
+    "/radar/detections_count": (),
+    "/meta/frame_sha256": (),
 }
 
 #: Axis datasets that become coordinates: path → coordinate name.
@@ -126,6 +130,14 @@ def open_dataset(path: str | os.PathLike[str]) -> Any:
             name = ds.name
             unit = str(ds.attrs.get("unit", ""))
             attrs = {"units": unit, "unit": unit, "hdf5_path": name}
+            if ds.attrs.get("table_rows", False):  # per-frame rows, padded: lazy, by field
+                rows = _lazy(ds)
+                base = name.strip("/").replace("/", "_")
+                for field in ds.dtype.names or ():
+                    variables[f"{base}_{field}"] = xr.Variable(
+                        ("frame", "slot"), rows[field],
+                        attrs={"units": DETECTION_UNITS.get(field, ""), "hdf5_path": name})
+                continue
             if ds.attrs.get("table", False):  # the detections: rows of all frames, read now
                 table = ds[()]
                 for field in ds.dtype.names or ():

@@ -1,10 +1,13 @@
-"""Triangle meshes of scene objects, built once per geometry in the object's local frame."""
+"""Triangle meshes of scene objects, built once per geometry in the object's local frame.
+
+Mesh files are parsed and checked by :mod:`simcore.scene.mesh_files` (counts, indices,
+finiteness, size limits) before VTK sees them; VTK's own file readers are not used.
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -17,8 +20,6 @@ from vtkmodules.vtkFiltersSources import (
     vtkPlaneSource,
     vtkSphereSource,
 )
-from vtkmodules.vtkIOGeometry import vtkOBJReader, vtkSTLReader
-from vtkmodules.vtkIOPLY import vtkPLYReader
 
 from simcore.scene.geometry import (
     Box,
@@ -31,6 +32,7 @@ from simcore.scene.geometry import (
     Sphere,
     corner_reflector_axes,
 )
+from simcore.scene.mesh_files import MeshError, read_mesh_arrays
 from simcore.scene.project_io import resolve_mesh_path
 
 SPHERE_THETA_RESOLUTION = 160
@@ -76,10 +78,6 @@ class TriangleMesh:
         return poly
 
 
-class MeshError(ValueError):
-    """A mesh file could not be read or has no triangles."""
-
-
 def _from_polydata(poly: vtkPolyData, *, smooth: bool) -> TriangleMesh:
     tri = vtkTriangleFilter()
     tri.SetInputData(poly)
@@ -115,19 +113,9 @@ def _corner_reflector(geom: CornerReflector) -> TriangleMesh:
 
 
 def _read_mesh_file(path: Path) -> vtkPolyData:
-    readers = {".stl": vtkSTLReader, ".obj": vtkOBJReader, ".ply": vtkPLYReader}
-    reader_cls = readers.get(path.suffix.lower())
-    if reader_cls is None:
-        raise MeshError(f"{path}: unsupported mesh format {path.suffix!r}")
-    if not path.is_file():
-        raise MeshError(f"{path}: mesh file not found")
-    reader: Any = reader_cls()
-    reader.SetFileName(str(path))
-    reader.Update()
-    poly = reader.GetOutput()
-    if poly is None or poly.GetNumberOfCells() == 0:
-        raise MeshError(f"{path}: no surface found in the file")
-    return poly
+    """Parse and check a mesh file in Python, then hand VTK only the checked arrays."""
+    points, triangles = read_mesh_arrays(path)
+    return TriangleMesh(points, np.zeros_like(points), triangles).to_polydata()
 
 
 def build_mesh(geometry: Geometry, *, base_dir: Path | None = None) -> TriangleMesh | None:
@@ -177,3 +165,6 @@ def build_mesh(geometry: Geometry, *, base_dir: Path | None = None) -> TriangleM
         mesh = _from_polydata(_read_mesh_file(path), smooth=False)
         return TriangleMesh(mesh.points * geometry.scale, mesh.normals, mesh.triangles)
     raise TypeError(f"unsupported geometry {type(geometry).__name__}")
+
+
+__all__ = ["MeshError", "TriangleMesh", "build_mesh"]

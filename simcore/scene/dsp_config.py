@@ -9,7 +9,7 @@ peak grouping.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
@@ -21,6 +21,9 @@ WindowName = Literal["none", "hann", "hamming", "blackman", "blackmanharris", "c
 AngleMethod = Literal["monopulse", "fft", "bartlett", "capon"]
 CfarMethod = Literal["ca", "go", "so", "os"]
 PeakGrouping = Literal["none", "local_max", "cluster"]
+
+#: Most grid angles of the azimuth or elevation search grid.
+MAX_ANGLE_BINS = 3601
 
 
 class DspConfig(Model):
@@ -74,8 +77,8 @@ class DspConfig(Model):
     range_window_sidelobe_db: float = Field(80.0, gt=0, le=300)
     remove_dc: bool = True
     range_fft_size: int | None = Field(None, ge=8, le=65536)
-    max_range_m: float | None = Field(None, gt=0)
-    min_range_m: float = Field(0.2, ge=0)
+    max_range_m: float | None = Field(None, gt=0, le=1e5, allow_inf_nan=False)
+    min_range_m: float = Field(0.2, ge=0, le=1e5, allow_inf_nan=False)
 
     # Doppler processing
     doppler_window: WindowName = "chebyshev"
@@ -92,7 +95,7 @@ class DspConfig(Model):
     elevation_max_deg: float = Field(60.0, ge=-90, le=90)
     elevation_step_deg: float = Field(1.0, gt=0, le=45)
     angle_fft_size: int = Field(64, ge=2, le=4096)
-    capon_diagonal_loading: float = Field(1e-3, ge=0)
+    capon_diagonal_loading: float = Field(1e-3, ge=0, le=1e6, allow_inf_nan=False)
     tdm_doppler_compensation: bool = True
 
     # CFAR
@@ -107,14 +110,15 @@ class DspConfig(Model):
 
     # Detections
     peak_grouping: PeakGrouping = "local_max"
-    peak_neighbourhood: tuple[int, int] = (3, 3)
+    peak_neighbourhood: tuple[Annotated[int, Field(le=1001)], Annotated[int, Field(le=1001)]] = (
+        3, 3)
     doppler_sidelobe_margin_db: float | None = Field(6.0, ge=-20, le=100)
-    max_dynamic_range_db: float | None = Field(120.0, gt=0)
+    max_dynamic_range_db: float | None = Field(120.0, gt=0, le=400, allow_inf_nan=False)
     interpolate_peaks: bool = True
-    max_detections: int = Field(256, ge=1)
+    max_detections: int = Field(256, ge=1, le=1_000_000)
 
     # Bird's-eye image
-    bev_resolution_m: float = Field(0.05, gt=0)
+    bev_resolution_m: float = Field(0.05, ge=1e-4, le=100, allow_inf_nan=False)
 
     @model_validator(mode="after")
     def _check(self) -> DspConfig:
@@ -128,6 +132,19 @@ class DspConfig(Model):
                 f"elevation_max_deg ({self.elevation_max_deg}) must exceed elevation_min_deg "
                 f"({self.elevation_min_deg})"
             )
+        for axis in ("azimuth", "elevation"):
+            lo, hi = getattr(self, f"{axis}_min_deg"), getattr(self, f"{axis}_max_deg")
+            step = getattr(self, f"{axis}_step_deg")
+            count = (hi - lo) / step + 1
+            if count > MAX_ANGLE_BINS:
+                raise ValueError(
+                    f"{axis}_step_deg = {step:.3g}° gives {count:.3g} grid angles over "
+                    f"[{lo}, {hi}]°; at most {MAX_ANGLE_BINS} (step >= "
+                    f"{(hi - lo) / (MAX_ANGLE_BINS - 1):.3g}°)")
+        if self.max_range_m is not None and self.min_range_m >= self.max_range_m:
+            raise ValueError(
+                f"min_range_m ({self.min_range_m}) must be below max_range_m "
+                f"({self.max_range_m})")
         if any(n < 1 or n % 2 == 0 for n in self.peak_neighbourhood):
             raise ValueError(
                 f"peak_neighbourhood must be odd sizes >= 1, got {self.peak_neighbourhood}"

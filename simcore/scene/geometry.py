@@ -14,45 +14,45 @@ from typing import Annotated, Literal, Union
 
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import Field
+from pydantic import Field, field_validator
 
-from simcore.scene.base import Model, Positive, PositiveVec3
+from simcore.scene.base import Model, Size, Size3, check_name
 
 
 class Box(Model):
     """Axis-aligned box centred on the origin."""
 
     kind: Literal["box"] = "box"
-    size_m: PositiveVec3 = (1.0, 1.0, 1.0)
+    size_m: Size3 = (1.0, 1.0, 1.0)
 
 
 class Sphere(Model):
     """Sphere centred on the origin."""
 
     kind: Literal["sphere"] = "sphere"
-    radius_m: Positive = 0.5
+    radius_m: Size = 0.5
 
 
 class Cylinder(Model):
     """Closed cylinder along local z, centred on the origin."""
 
     kind: Literal["cylinder"] = "cylinder"
-    radius_m: Positive = 0.25
-    height_m: Positive = 1.0
+    radius_m: Size = 0.25
+    height_m: Size = 1.0
 
 
 class Plane(Model):
     """Rectangle in the local x–y plane, normal +z (seen from both sides)."""
 
     kind: Literal["plane"] = "plane"
-    size_m: tuple[Positive, Positive] = (1.0, 1.0)
+    size_m: tuple[Size, Size] = (1.0, 1.0)
 
 
 class CornerReflector(Model):
     """Trihedral corner reflector, apex at the origin, opening towards local +z."""
 
     kind: Literal["corner_reflector"] = "corner_reflector"
-    edge_m: Positive = 0.1
+    edge_m: Size = 0.1
 
     def rcs_m2(self, wavelength_m: float) -> float:
         """Peak RCS of a triangular trihedral, 4πa⁴/(3λ²) (m²)."""
@@ -63,15 +63,20 @@ class PointTarget(Model):
     """Radar point scatterer of fixed RCS at the origin (invisible to the ToF camera)."""
 
     kind: Literal["point_target"] = "point_target"
-    rcs_m2: Positive = 1.0
+    rcs_m2: float = Field(1.0, ge=1e-12, le=1e6, allow_inf_nan=False)
 
 
 class Mesh(Model):
     """Triangle mesh read from an STL, OBJ or PLY file (path relative to the project file)."""
 
     kind: Literal["mesh"] = "mesh"
-    path: str = Field(min_length=1)
-    scale: Positive = 1.0
+    path: str = Field(min_length=1, max_length=4096)
+    scale: float = Field(1.0, ge=1e-6, le=1e6, allow_inf_nan=False)
+
+    @field_validator("path")
+    @classmethod
+    def _printable(cls, path: str) -> str:
+        return check_name(path, "path")
 
 
 Geometry = Annotated[

@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import json
 import os
+import stat
 import tempfile
+import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -21,6 +23,15 @@ from simcore.scene.model import FORMAT_VERSION, Project
 
 Migration = Callable[[dict[str, Any]], dict[str, Any]]
 
+#: Limits of a project document: file size (bytes), nesting depth, list length, string
+#: length. A real project is a few hundred kB, 12 levels deep.
+MAX_PROJECT_BYTES = 64 * 2**20
+MAX_DEPTH = 64
+MAX_LIST_LENGTH = 100_000
+MAX_STRING_LENGTH = 1_000_000
+#: Longest problem line (characters) and most problems reported.
+MAX_PROBLEM_LENGTH = 400
+MAX_PROBLEMS = 50
 
 
 def _v1_materials_by_band(data: dict[str, Any]) -> dict[str, Any]:
@@ -49,9 +60,50 @@ class ProjectError(ValueError):
 
     def __init__(self, source: str, problems: list[str]):
         self.source = source
-        self.problems = problems
-        lines = "\n".join(f"  - {p}" for p in problems)
+        shown = [cap_line(p) for p in problems[:MAX_PROBLEMS]]
+        if len(problems) > MAX_PROBLEMS:
+            shown.append(f"... and {len(problems) - MAX_PROBLEMS} more problems")
+        self.problems = shown
+        lines = "\n".join(f"  - {p}" for p in shown)
         super().__init__(f"{source}: invalid project\n{lines}")
+
+
+def cap_line(text: str, limit: int = MAX_PROBLEM_LENGTH) -> str:
+    """One line of at most ``limit`` characters (newlines folded, the rest elided)."""
+    line = " ".join(str(text).split())
+    return line if len(line) <= limit else line[: limit - 3] + "..."
+
+
+def document_limits(data: Any) -> list[str]:
+    """Problems with the document's shape: depth, list and string lengths (linear time)."""
+    problems: list[str] = []
+    stack: list[tuple[Any, str, int]] = [(data, "", 0)]
+    while stack and len(problems) < 10:
+        value, where, depth = stack.pop()
+        here = where or "(document)"
+        if depth > MAX_DEPTH:
+            problems.append(f"{here}: nested more than {MAX_DEPTH} levels deep")
+            continue
+        if isinstance(value, str):
+            if len(value) > MAX_STRING_LENGTH:
+                problems.append(f"{here}: string of {len(value)} characters; at most "
+                                f"{MAX_STRING_LENGTH}")
+        elif isinstance(value, list):
+            if len(value) > MAX_LIST_LENGTH:
+                problems.append(f"{here}: list of {len(value)} items; at most "
+                                f"{MAX_LIST_LENGTH}")
+                continue
+            stack.extend((v, f"{where}[{i}]", depth + 1) for i, v in enumerate(value))
+        elif isinstance(value, dict):
+            if len(value) > MAX_LIST_LENGTH:
+                problems.append(f"{here}: object with {len(value)} keys; at most "
+                                f"{MAX_LIST_LENGTH}")
+                continue
+            stack.extend((v, f"{where}.{k}" if where else str(k), depth + 1)
+                         for k, v in value.items())
+        elif isinstance(value, int) and not isinstance(value, bool) and abs(value) > 2**63:
+            problems.append(f"{here}: integer {value:.3g} is out of range; at most 2**63")
+    return problems
 
 
 def _format_loc(loc: tuple[int | str, ...]) -> str:
@@ -78,7 +130,8 @@ def format_validation_error(exc: ValidationError) -> list[str]:
     for err in exc.errors():
         loc = _format_loc(tuple(err["loc"]))
         msg = err["msg"].removeprefix("Value error, ")
-        if err["type"] in ("missing", "model_type", "model_attributes_type") or "input" not in err:
+        if err["type"] in ("missing", "model_type", "model_attributes_type") or "input" not in err \
+                or (err["type"] == "value_error" and isinstance(err["input"], (dict, list))):
             problems.append(f"{loc}: {msg}")
         else:
             problems.append(f"{loc}: {msg} (got {_short(err['input'])})")
@@ -138,8 +191,17 @@ def check_references(project: Project, base_dir: Path) -> list[str]:
                     f"(use {', '.join(MESH_SUFFIXES)})"
                 )
             elif not path.is_file():
-                problems.append(f"objects[{i}].geometry.path: mesh file not found: {path}")
+                what = ("is not a regular file (device, FIFO, socket or directory)"
+                        if _exists(path) else "mesh file not found")
+                problems.append(f"objects[{i}].geometry.path: {what}: {path}")
     return problems
+
+
+def _exists(path: Path) -> bool:
+    try:
+        return path.exists()
+    except OSError:
+        return False
 
 
 def resolve_mesh_path(base_dir: Path, mesh_path: str) -> Path:
@@ -154,11 +216,16 @@ def project_from_dict(data: Any, *, source: str = "project", base_dir: Path | No
     if not isinstance(data, dict):
         kind = type(data).__name__
         raise ProjectError(source, [f"(document): expected a JSON object, got {kind}"])
+    limits = document_limits(data)
+    if limits:
+        raise ProjectError(source, limits)
     data = migrate(data, source)
     try:
         project = Project.model_validate(data)
     except ValidationError as exc:
         raise ProjectError(source, format_validation_error(exc)) from None
+    except RecursionError:
+        raise ProjectError(source, ["(document): nested too deeply"]) from None
     problems = check_references(project, base_dir or Path.cwd())
     if problems:
         raise ProjectError(source, problems)
@@ -173,12 +240,7 @@ def load_project(path: str | os.PathLike[str]) -> Project:
     """Load and validate a project file; raise :class:`ProjectError` naming any bad field."""
     path = Path(path)
     source = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ProjectError(source, ["file not found"]) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ProjectError(source, [f"cannot read file: {exc}"]) from None
+    text = _read_text(path, source)
     try:
         data = json.loads(text, parse_constant=_reject_constant)
     except json.JSONDecodeError as exc:
@@ -186,8 +248,40 @@ def load_project(path: str | os.PathLike[str]) -> Project:
             source, [f"not valid JSON: {exc.msg} at line {exc.lineno}, column {exc.colno}"]
         ) from None
     except ValueError as exc:
-        raise ProjectError(source, [str(exc)]) from None
+        # Also integers of more than 4300 digits (int_max_str_digits).
+        raise ProjectError(source, [cap_line(str(exc))]) from None
+    except RecursionError:
+        raise ProjectError(source, [f"(document): nested more than {MAX_DEPTH} levels deep"]
+                           ) from None
     return project_from_dict(data, source=source, base_dir=path.parent)
+
+
+def _read_text(path: Path, source: str) -> str:
+    """The file's text: a regular file of at most :data:`MAX_PROJECT_BYTES`, UTF-8."""
+    try:
+        st = path.stat()
+    except FileNotFoundError:
+        raise ProjectError(source, ["file not found"]) from None
+    except (OSError, RuntimeError) as exc:
+        raise ProjectError(source, [cap_line(f"cannot read file: {exc}")]) from None
+    if not stat.S_ISREG(st.st_mode):
+        raise ProjectError(source, ["not a regular file (a device, FIFO, socket or directory)"])
+    if st.st_size > MAX_PROJECT_BYTES:
+        raise ProjectError(source, [f"file has {st.st_size} bytes; a project file may have at "
+                                    f"most {MAX_PROJECT_BYTES}"])
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        with os.fdopen(fd, "rb") as fh:
+            raw = fh.read(MAX_PROJECT_BYTES + 1)
+    except OSError as exc:
+        raise ProjectError(source, [cap_line(f"cannot read file: {exc}")]) from None
+    if len(raw) > MAX_PROJECT_BYTES:
+        raise ProjectError(source, [f"file has more than {MAX_PROJECT_BYTES} bytes"])
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ProjectError(source, [f"cannot read file: not UTF-8 text ({exc.reason} at "
+                                    f"byte {exc.start})"]) from None
 
 
 def project_to_json(project: Project) -> str:
@@ -195,18 +289,64 @@ def project_to_json(project: Project) -> str:
     return json.dumps(project.model_dump(mode="json"), indent=2, ensure_ascii=False) + "\n"
 
 
+#: Temporary files of interrupted saves older than this are removed by the next save (s).
+STALE_TEMP_AGE_S = 60.0
+
+
+def _clean_stale_temps(folder: Path, name: str) -> None:
+    """Remove temporary files that an interrupted save of ``name`` left behind."""
+    now = time.time()
+    for tmp in folder.glob(f".{name}.*.tmp"):
+        try:
+            if tmp.is_file() and not tmp.is_symlink() and now - tmp.stat().st_mtime > \
+                    STALE_TEMP_AGE_S:
+                tmp.unlink()
+        except OSError:
+            pass
+
+
+def _fsync_dir(folder: Path) -> None:
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
 def save_project(project: Project, path: str | os.PathLike[str]) -> None:
-    """Write the project atomically: a temporary file in the same folder, then a rename."""
+    """Write the project atomically: a temporary file in the same folder, then a rename.
+
+    A symlink is followed (its target is replaced, the link stays); the file keeps its
+    permission bits (new files get the usual ``0666 & ~umask``); the folder is fsynced so
+    the rename survives a power cut; temporary files of earlier interrupted saves are
+    removed.
+    """
     path = Path(path)
+    if path.is_symlink():
+        path = Path(os.path.realpath(path))
     text = project_to_json(project)
     path.parent.mkdir(parents=True, exist_ok=True)
+    _clean_stale_temps(path.parent, path.name)
+    try:
+        mode = stat.S_IMODE(path.stat().st_mode)
+    except OSError:
+        umask = os.umask(0)
+        os.umask(umask)
+        mode = 0o666 & ~umask
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(text)
             fh.flush()
+            os.fchmod(fh.fileno(), mode)
             os.fsync(fh.fileno())
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+    _fsync_dir(path.parent)

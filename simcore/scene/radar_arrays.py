@@ -24,6 +24,11 @@ def custom_array(positions_mm: Sequence[tuple[float, float]], *, prefix: str = "
         Board positions (mm).
     prefix : str
         Name prefix.
+
+    Examples
+    --------
+    >>> [(a.name, a.position_mm) for a in custom_array([(0, 0), (2.5, -1)], prefix="tx")]
+    [('tx1', (0.0, 0.0)), ('tx2', (2.5, -1.0))]
     """
     return [Antenna(name=f"{prefix}{i + 1}", position_mm=(float(x), float(y)))
             for i, (x, y) in enumerate(positions_mm)]
@@ -35,6 +40,13 @@ def ula(n: int, spacing_mm: float, *, axis: str = "x", origin_mm: tuple[float, f
 
     Element ``i`` sits at ``origin + i * spacing`` along the axis (use a negative spacing to
     grow towards −x or upwards, −y).
+
+    Examples
+    --------
+    >>> [a.position_mm for a in ula(3, 2.5)]
+    [(0.0, 0.0), (2.5, 0.0), (5.0, 0.0)]
+    >>> [a.position_mm for a in ula(2, -2.5, axis="y", origin_mm=(1, 0))]
+    [(1.0, 0.0), (1.0, -2.5)]
     """
     if n < 1:
         raise ValueError(f"ula: n must be at least 1, got {n}")
@@ -48,7 +60,13 @@ def ula(n: int, spacing_mm: float, *, axis: str = "x", origin_mm: tuple[float, f
 
 def ura(nx: int, ny: int, spacing_x_mm: float, spacing_y_mm: float | None = None, *,
         origin_mm: tuple[float, float] = (0, 0), prefix: str = "rx") -> list[Antenna]:
-    """Uniform rectangular array, ``nx`` columns × ``ny`` rows, row by row (x fastest)."""
+    """Uniform rectangular array, ``nx`` columns × ``ny`` rows, row by row (x fastest).
+
+    Examples
+    --------
+    >>> [a.position_mm for a in ura(2, 2, 2.5)]
+    [(0.0, 0.0), (2.5, 0.0), (0.0, 2.5), (2.5, 2.5)]
+    """
     if nx < 1 or ny < 1:
         raise ValueError(f"ura: nx and ny must be at least 1, got {nx}, {ny}")
     sy = spacing_x_mm if spacing_y_mm is None else spacing_y_mm
@@ -64,6 +82,11 @@ def l_shape(n_horizontal: int, n_vertical: int, spacing_mm: float, *,
     The horizontal arm runs from the corner towards +x, the vertical arm upwards (−y). With
     ``n_horizontal = n_vertical = 2`` and λ/2 spacing this is the BGT60TR13C's 3-Rx L:
     ``[(d, 0), (0, 0), (0, -d)]`` (the corner is the second element).
+
+    Examples
+    --------
+    >>> [a.position_mm for a in l_shape(2, 2, 2.5)]
+    [(2.5, 0.0), (0.0, 0.0), (0.0, -2.5)]
     """
     if n_horizontal < 1 or n_vertical < 1:
         raise ValueError("l_shape: both arms need at least one element (the shared corner)")
@@ -75,7 +98,13 @@ def l_shape(n_horizontal: int, n_vertical: int, spacing_mm: float, *,
 
 def circular(n: int, radius_mm: float, *, start_deg: float = 0.0,
              origin_mm: tuple[float, float] = (0, 0), prefix: str = "rx") -> list[Antenna]:
-    """Uniform circular array of ``n`` elements; element 0 at ``start_deg`` from board +x."""
+    """Uniform circular array of ``n`` elements; element 0 at ``start_deg`` from board +x.
+
+    Examples
+    --------
+    >>> [tuple(round(v, 6) + 0.0 for v in a.position_mm) for a in circular(4, 2.0)]
+    [(2.0, 0.0), (0.0, 2.0), (-2.0, 0.0), (0.0, -2.0)]
+    """
     if n < 1:
         raise ValueError(f"circular: n must be at least 1, got {n}")
     if radius_mm <= 0:

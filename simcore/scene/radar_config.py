@@ -17,13 +17,38 @@ from typing import Annotated, Literal, Union
 
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
-from simcore.scene.base import Finite, Model, Vec2
+from simcore.scene.base import Finite, Model, check_name
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.motion import Pose
 
 SPEED_OF_LIGHT = 299_792_458.0
+
+#: Plausible carrier range of an FMCW radar (Hz): 1 GHz (L band) to 300 GHz (sub-THz).
+MIN_START_FREQUENCY_HZ = 1e9
+MAX_CARRIER_FREQUENCY_HZ = 300e9
+#: Largest chirp bandwidth as a fraction of the start frequency.
+MAX_FRACTIONAL_BANDWIDTH = 0.5
+#: ADC sample rate limits (Hz) and the longest chirp or repetition time (s).
+MIN_SAMPLE_RATE_HZ = 1e3
+MAX_SAMPLE_RATE_HZ = 1e10
+MAX_CHIRP_TIME_S = 1.0
+#: Shortest unambiguous range (m): below it the ADC cannot sample any beat frequency of a
+#: target in front of the board.
+MIN_UNAMBIGUOUS_RANGE_M = 0.1
+#: Antenna positions must lie on a board of this half-size (mm).
+MAX_ANTENNA_OFFSET_MM = 1000.0
+#: Most Tx and Rx elements, and virtual channels (Tx × Rx).
+MAX_TX = 64
+MAX_RX = 256
+MAX_CHANNELS = 4096
+#: Largest render grid per axis (pixels, supersampling included): the offscreen GL
+#: framebuffer limit of Mesa llvmpipe and common GPUs.
+MAX_RENDER_AXIS = 16384
+
+AntennaOffsetMm = Annotated[float, Field(ge=-MAX_ANTENNA_OFFSET_MM, le=MAX_ANTENNA_OFFSET_MM,
+                                         allow_inf_nan=False)]
 
 
 class CosinePattern(Model):
@@ -48,9 +73,10 @@ class TablePattern(Model):
     """
 
     kind: Literal["table"] = "table"
-    azimuth_deg: list[Finite] = Field(min_length=2)
-    elevation_deg: list[Finite] = Field(min_length=2)
-    gain_db: list[list[Finite]]
+    azimuth_deg: list[Finite] = Field(min_length=2, max_length=3601)
+    elevation_deg: list[Finite] = Field(min_length=2, max_length=1801)
+    gain_db: list[list[Annotated[float, Field(ge=-300, le=100, allow_inf_nan=False)]]] = Field(
+        max_length=1801)
 
     @model_validator(mode="after")
     def _check(self) -> TablePattern:
@@ -77,9 +103,14 @@ class Antenna(Model):
     ``pattern`` overrides the configuration's ``element_pattern`` for this element.
     """
 
-    name: str = ""
-    position_mm: Vec2 = (0.0, 0.0)
+    name: str = Field("", max_length=256)
+    position_mm: tuple[AntennaOffsetMm, AntennaOffsetMm] = (0.0, 0.0)
     pattern: ElementPattern | None = None
+
+    @field_validator("name")
+    @classmethod
+    def _printable(cls, name: str) -> str:
+        return check_name(name)
 
 
 def default_l_rx(spacing_mm: float = 2.5) -> list[Antenna]:
@@ -105,19 +136,24 @@ class RadarConfig(Model):
 
     preset: str = "bgt60tr13c"
     pose_on_rig: Pose = Pose()
-    start_frequency_hz: float = Field(60e9, gt=0)
-    bandwidth_hz: float = Field(6e9, gt=0)
-    chirp_time_s: float = Field(256e-6, gt=0)
-    sample_rate_hz: float = Field(2e6, gt=0)
+    start_frequency_hz: float = Field(60e9, ge=MIN_START_FREQUENCY_HZ,
+                                      lt=MAX_CARRIER_FREQUENCY_HZ, allow_inf_nan=False)
+    bandwidth_hz: float = Field(6e9, gt=0, le=MAX_FRACTIONAL_BANDWIDTH * MAX_CARRIER_FREQUENCY_HZ,
+                                allow_inf_nan=False)
+    chirp_time_s: float = Field(256e-6, gt=0, le=MAX_CHIRP_TIME_S, allow_inf_nan=False)
+    sample_rate_hz: float = Field(2e6, gt=0, le=MAX_SAMPLE_RATE_HZ, allow_inf_nan=False)
     samples_per_chirp: int = Field(512, ge=8, le=8192)
     chirps_per_frame: int = Field(16, ge=1, le=1024)
-    chirp_repetition_time_s: float = Field(300e-6, gt=0)
+    chirp_repetition_time_s: float = Field(300e-6, gt=0, le=MAX_CHIRP_TIME_S,
+                                           allow_inf_nan=False)
     complex_iq: bool = False
-    tx: list[Antenna] = Field(default_factory=lambda: [Antenna(name="tx1")], min_length=1)
-    rx: list[Antenna] = Field(default_factory=lambda: default_l_rx(), min_length=1)
+    tx: list[Antenna] = Field(default_factory=lambda: [Antenna(name="tx1")], min_length=1,
+                              max_length=MAX_TX)
+    rx: list[Antenna] = Field(default_factory=lambda: default_l_rx(), min_length=1,
+                              max_length=MAX_RX)
     render_width: int = Field(1000, ge=8, le=8192)
     render_height: int = Field(342, ge=8, le=8192)
-    render_fov_h_deg: float = Field(100.0, gt=0, lt=170)
+    render_fov_h_deg: float = Field(100.0, ge=0.1, lt=170)
     render_supersampling: int = Field(
         1, ge=1, le=8,
         description="render sub-pixels per facet and axis; each facet (render_width × "
@@ -133,18 +169,18 @@ class RadarConfig(Model):
         description="voltage gain from the Rx antenna port (50 Ω) to the ADC input")
     noise_figure_db: float = Field(12.0, ge=0, le=60)
     noise_variance_adc: float | None = Field(
-        None, ge=0, allow_inf_nan=False,
+        None, ge=0, le=1e12, allow_inf_nan=False,
         description="receiver noise variance per real channel in FS²; overrides the noise "
                     "figure when set (0 = no noise)")
     leakage_dbc: float | None = Field(
-        -40.0, le=0, allow_inf_nan=False,
+        -40.0, ge=-400, le=0, allow_inf_nan=False,
         description="Tx→Rx leakage power at the Rx port relative to the Tx power "
                     "(None = no leakage)")
-    if_highpass_hz: float = Field(80e3, ge=0, allow_inf_nan=False,
+    if_highpass_hz: float = Field(80e3, ge=0, le=MAX_SAMPLE_RATE_HZ, allow_inf_nan=False,
                                   description="IF high-pass cutoff (0 = none)")
     if_highpass_order: int = Field(1, ge=1, le=8)
     adc_bits: int | None = Field(12, ge=1, le=24, description="None = no quantization")
-    adc_full_scale_v: float = Field(1.0, gt=0, allow_inf_nan=False,
+    adc_full_scale_v: float = Field(1.0, ge=1e-9, le=1e6, allow_inf_nan=False,
                                     description="peak ADC input voltage of the largest code")
     # Scattering and synthesis.
     speckle: bool = Field(
@@ -154,6 +190,39 @@ class RadarConfig(Model):
 
     @model_validator(mode="after")
     def _check(self) -> RadarConfig:
+        if self.sample_rate_hz < MIN_SAMPLE_RATE_HZ:
+            raise ValueError(f"sample_rate_hz = {self.sample_rate_hz:.4g} Hz; allowed "
+                             f"[{MIN_SAMPLE_RATE_HZ:g}, {MAX_SAMPLE_RATE_HZ:g}] Hz")
+        top = self.start_frequency_hz + self.bandwidth_hz
+        if top > MAX_CARRIER_FREQUENCY_HZ:
+            raise ValueError(
+                f"start_frequency_hz + bandwidth_hz = {top:.4g} Hz exceeds the radar band "
+                f"limit {MAX_CARRIER_FREQUENCY_HZ:.4g} Hz")
+        if self.bandwidth_hz > MAX_FRACTIONAL_BANDWIDTH * self.start_frequency_hz:
+            raise ValueError(
+                f"bandwidth_hz = {self.bandwidth_hz:.4g} Hz is more than "
+                f"{MAX_FRACTIONAL_BANDWIDTH:g} × start_frequency_hz "
+                f"({self.start_frequency_hz:.4g} Hz); allowed (0, "
+                f"{MAX_FRACTIONAL_BANDWIDTH * self.start_frequency_hz:.4g}] Hz")
+        if self.max_range_m < MIN_UNAMBIGUOUS_RANGE_M:
+            f_max = self.sample_rate_hz if self.complex_iq else 0.5 * self.sample_rate_hz
+            b_max = f_max * SPEED_OF_LIGHT * self.chirp_time_s / (2 * MIN_UNAMBIGUOUS_RANGE_M)
+            raise ValueError(
+                f"bandwidth_hz = {self.bandwidth_hz:.4g} Hz in chirp_time_s = "
+                f"{self.chirp_time_s:.4g} s puts the ADC's largest beat frequency "
+                f"({f_max:.4g} Hz) at {self.max_range_m:.3g} m; allowed bandwidth_hz <= "
+                f"{b_max:.4g} Hz (unambiguous range >= {MIN_UNAMBIGUOUS_RANGE_M} m)")
+        if len(self.tx) * len(self.rx) > MAX_CHANNELS:
+            raise ValueError(
+                f"{len(self.tx)} tx × {len(self.rx)} rx = {len(self.tx) * len(self.rx)} "
+                f"virtual channels; at most {MAX_CHANNELS}")
+        for axis, size in (("render_width", self.render_width),
+                           ("render_height", self.render_height)):
+            if size * self.render_supersampling > MAX_RENDER_AXIS:
+                raise ValueError(
+                    f"{axis} × render_supersampling = {size} × {self.render_supersampling} = "
+                    f"{size * self.render_supersampling} render pixels; at most "
+                    f"{MAX_RENDER_AXIS} per axis")
         sampling_time = self.samples_per_chirp / self.sample_rate_hz
         if sampling_time > self.chirp_time_s * (1 + 1e-9):
             raise ValueError(
@@ -172,8 +241,13 @@ class RadarConfig(Model):
                 f"({nyquist:g} Hz), or 0 for no high-pass"
             )
         for role, antennas in (("tx", self.tx), ("rx", self.rx)):
-            names = [a.name for a in antennas if a.name]
-            dup = sorted({n for n in names if names.count(n) > 1})
+            seen: set[str] = set()
+            dup_set: set[str] = set()
+            for a in antennas:
+                if a.name and a.name in seen:
+                    dup_set.add(a.name)
+                seen.add(a.name)
+            dup = sorted(dup_set)
             if dup:
                 raise ValueError(f"{role}: duplicate antenna names {dup}")
         return self

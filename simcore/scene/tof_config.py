@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from math import gcd
+from typing import Annotated
 
 from pydantic import Field, model_validator
 
@@ -30,6 +31,11 @@ SPEED_OF_LIGHT = 299_792_458.0
 PLANCK = 6.626_070_15e-34
 #: Largest f / gcd(f1, f2) accepted for two-frequency unwrapping (number of wrap candidates).
 MAX_UNWRAP_RATIO = 256
+#: Modulation frequencies of AMCW cameras (Hz): 1 kHz to 1 GHz.
+MIN_MODULATION_HZ = 1e3
+MAX_MODULATION_HZ = 1e9
+#: Largest render grid per axis (pixels, supersampling included).
+MAX_RENDER_AXIS = 16384
 
 
 class TofCameraConfig(Model):
@@ -47,42 +53,44 @@ class TofCameraConfig(Model):
     fov_v_deg: float = Field(45.0, gt=0, lt=170)
     pose_on_rig: Pose = Pose()
     supersampling: int = Field(2, ge=1, le=8, description="sub-pixels per axis (2 → 2×2)")
-    modulation_frequencies_hz: list[float] = Field(
-        default_factory=lambda: [20e6], min_length=1, max_length=2
-    )
-    wavelength_nm: float = Field(850.0, gt=0)
+    modulation_frequencies_hz: list[
+        Annotated[float, Field(ge=MIN_MODULATION_HZ, le=MAX_MODULATION_HZ, allow_inf_nan=False)]
+    ] = Field(default_factory=lambda: [20e6], min_length=1, max_length=2)
+    wavelength_nm: float = Field(850.0, ge=200, le=20_000, allow_inf_nan=False,
+                                 description="illumination wavelength (nm): UV to thermal IR")
 
     # --- illumination and optics -------------------------------------------------------
     illumination_power_w: float = Field(
-        1.0, gt=0, allow_inf_nan=False,
+        1.0, gt=0, le=1e4, allow_inf_nan=False,
         description="mean optical power of the modulated illumination during exposure (W), "
                     "spread evenly over the camera's field of view")
     exposure_time_s: float = Field(
-        250e-6, gt=0, allow_inf_nan=False,
+        250e-6, ge=1e-9, le=1.0, allow_inf_nan=False,
         description="integration time of each of the four correlation samples (s)")
-    f_number: float = Field(1.2, gt=0, allow_inf_nan=False, description="lens f-number N")
-    pixel_pitch_um: float = Field(17.5, gt=0, allow_inf_nan=False)
+    f_number: float = Field(1.2, ge=0.5, le=64, allow_inf_nan=False,
+                            description="lens f-number N (0.5 is the physical limit in air)")
+    pixel_pitch_um: float = Field(17.5, ge=0.1, le=1000, allow_inf_nan=False)
     quantum_efficiency: float = Field(0.25, gt=0, le=1, allow_inf_nan=False)
     demodulation_contrast: float = Field(
         0.8, gt=0, le=1, allow_inf_nan=False,
         description="modulated fraction m of the signal: C_i = S (1 + m cos(φ + iπ/2)) + B")
     ambient_irradiance_w_m2: float = Field(
-        0.05, ge=0, allow_inf_nan=False,
+        0.05, ge=0, le=1e5, allow_inf_nan=False,
         description="ambient light on the scene within the camera's optical band (W/m²)")
 
     # --- pixel and read-out ------------------------------------------------------------
     full_well_electrons: float = Field(
-        40_000.0, gt=0, allow_inf_nan=False,
+        40_000.0, ge=1, le=1e9, allow_inf_nan=False,
         description="saturation level of one correlation sample (e⁻)")
     conversion_gain_dn_per_electron: float = Field(
-        0.1, gt=0, allow_inf_nan=False, description="read-out gain (DN per e⁻)")
+        0.1, ge=1e-6, le=1e4, allow_inf_nan=False, description="read-out gain (DN per e⁻)")
     adc_bits: int = Field(12, ge=1, le=24)
-    read_noise_electrons: float = Field(20.0, ge=0, allow_inf_nan=False)
+    read_noise_electrons: float = Field(20.0, ge=0, le=1e9, allow_inf_nan=False)
     crosstalk_sigma_px: float = Field(
         0.5, ge=0, le=20, allow_inf_nan=False,
         description="σ of the Gaussian cross-talk kernel on the correlation images (pixels)")
     min_amplitude_dn: float = Field(
-        20.0, ge=0, allow_inf_nan=False,
+        20.0, ge=0, le=2**24, allow_inf_nan=False,
         description="pixels with a smaller demodulated amplitude are invalid (DN)")
     motion_artifacts: bool = Field(
         False, description="take each of the four correlation samples from a render at its "
@@ -90,9 +98,22 @@ class TofCameraConfig(Model):
     sample_interval_s: float = Field(
         1e-3, gt=0, le=1.0, allow_inf_nan=False,
         description="time between the starts of consecutive correlation samples (s)")
+    multipath: bool = Field(
+        False, description="add multipath interference: light reaching a pixel through a "
+                           "second (diffuse) surface the camera sees (one bounce)")
+    multipath_patch_px: int = Field(
+        8, ge=1, le=64,
+        description="the secondary surfaces are sampled every this many sensor pixels "
+                    "(smaller: finer and slower)")
 
     @model_validator(mode="after")
     def _check_frequencies(self) -> TofCameraConfig:
+        for axis, size in (("width", self.width), ("height", self.height)):
+            if size * self.supersampling > MAX_RENDER_AXIS:
+                raise ValueError(
+                    f"{axis} × supersampling = {size} × {self.supersampling} = "
+                    f"{size * self.supersampling} render pixels; at most {MAX_RENDER_AXIS} "
+                    "per axis")
         freqs = self.modulation_frequencies_hz
         if any(not (f > 0 and math.isfinite(f)) for f in freqs):
             raise ValueError("modulation_frequencies_hz must be positive and finite")

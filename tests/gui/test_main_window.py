@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,7 +16,7 @@ from simcore.scene import load_project
 
 pytestmark = pytest.mark.gui
 
-BAD = EXAMPLES_DIR.parent.parent / "tests" / "data" / "bad_projects"
+BAD = Path(__file__).resolve().parent.parent / "data" / "bad_projects"
 
 
 def test_office_screenshot_every_panel_non_blank(make_window, wait_frame, is_non_blank,
@@ -67,7 +68,7 @@ def test_save_reopen_compare_equal(make_window, wait_frame, tmp_path):
     shutil.copy(EXAMPLES_DIR / "office.json", work)
     window = make_window(work)
     wait_frame(window)
-    window.document.set_value("objects.0.pose.position_m", (2.5, 0.1, -0.05))
+    window.document.set_value("objects[0].pose.position_m", (2.5, 0.1, -0.05))
     assert window.document.is_dirty and window.isWindowModified()
     out = tmp_path / "saved.json"
     assert window.save_to(out)

@@ -71,6 +71,15 @@ def object_colors(project: Project, materials: Mapping[str, DualBandMaterial]
 
     Row ``i`` is object ``i``'s ``(r, g, b, reflectance)``; the extra last row (index −1)
     is zeros, for pixels with no object.
+
+    Examples
+    --------
+    >>> from simcore.scene import Box, Project, SceneObject
+    >>> from simcore.scene.project_io import material_table
+    >>> project = Project(objects=[SceneObject(id=1, name="wall", geometry=Box(),
+    ...                                        material="white_paint")])
+    >>> object_colors(project, material_table(project)).tolist()
+    [[0.9, 0.9, 0.88, 1.0], [0.0, 0.0, 0.0, 0.0]]
     """
     rows = []
     for obj in project.objects:

@@ -1,0 +1,451 @@
+"""Preflight: everything a run needs checked before any frame is computed.
+
+:func:`check` lists every problem of a validated :class:`~simcore.scene.model.Project` that
+its schema cannot see: rules across the radar, ToF and DSP configurations, derived
+quantities (wavelength, beat frequencies, étendue, velocities, delays) that must be finite
+and in range, mesh files (path policy, type, size, indices, finiteness) and the memory a
+frame would need against a budget. :func:`estimate_cost` gives the numbers behind the
+memory and disk check. ``tofradar validate`` prints the problems, ``tofradar run`` and the
+GUI refuse to start while there are any. Every message is one line naming the field, the
+value and the allowed range.
+
+The estimate is an upper bound built from array sizes (render buffers, radar cube, DSP maps,
+meshes) plus the interpreter's own footprint; it is not a measurement.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from simcore.scene.base import MAX_COORDINATE_M, MAX_SPEED_MPS, MAX_TIME_S, check_name
+from simcore.scene.geometry import Mesh
+from simcore.scene.mesh_files import (
+    MAX_MESH_FILE_BYTES,
+    MESH_SUFFIXES,
+    MeshError,
+    read_mesh_arrays,
+)
+from simcore.scene.model import Project
+from simcore.scene.motion import Motion, Pose
+from simcore.scene.radar_config import SPEED_OF_LIGHT
+
+#: Longest run accepted (frames) and largest seed (HDF5 stores it as a signed 64-bit int).
+MAX_FRAMES = 10_000_000
+MAX_SEED = 2**63 - 1
+#: Most pixels of the bird's-eye image.
+MAX_BEV_PIXELS = 16_000_000
+#: Python, numpy, VTK and finufft loaded, before any frame (bytes).
+BASE_MEMORY_BYTES = 400 * 2**20
+#: Bytes per render pixel: float buffers (range, points, normals, velocities, …), the
+#: raster and the ray directions, with temporaries.
+BYTES_PER_RENDER_PIXEL = 200
+#: Bytes per radar scatterer (positions, weights, phases, per-task NUFFT strengths).
+BYTES_PER_SCATTERER = 400
+#: Bytes per mesh triangle (points, normals, indices, VTK's copies).
+BYTES_PER_TRIANGLE = 400
+#: Fraction of the available memory a run may plan to use by default.
+MEMORY_BUDGET_FRACTION = 0.8
+#: Rough frame-time model (s per unit); calibrated on office.json, 2-core machine.
+SECONDS_PER_RENDER_PIXEL = 6e-8
+SECONDS_PER_NUFFT_POINT = 2e-9
+SECONDS_PER_DSP_CELL = 5e-9
+
+
+class RunError(RuntimeError):
+    """A run cannot go on, for a reason explained in one line (no traceback needed)."""
+
+
+def _size(n: float) -> str:
+    """Bytes as text with a binary prefix (B … EiB)."""
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
+        if abs(n) < 1024:
+            return f"{n:.1f} {unit}" if unit != "B" else f"{int(n)} B"
+        n /= 1024
+    return f"{n:.1f} EiB"
+
+
+@dataclass(frozen=True)
+class CostEstimate:
+    """Upper-bound resources of one frame of a project.
+
+    Attributes
+    ----------
+    render_pixels : int
+        Pixels rendered per frame (ToF and radar passes, supersampling included).
+    scatterers : int
+        Most radar scatterers per frame (one per radar facet and per point target).
+    transforms : int
+        NUFFTs per frame (one per chirp, Tx and Rx).
+    memory_bytes : int
+        Peak memory of one worker process (bytes).
+    disk_bytes_per_frame : int
+        Uncompressed bytes one frame adds to the dataset.
+    seconds_per_frame : float
+        Rough compute time of one frame on one core pair (s).
+    mesh_triangles : int
+        Triangles of the scene's meshes (an upper bound from file sizes when not parsed).
+    memory_parts : tuple of (str, int)
+        Where the memory goes: (field or stage, bytes), largest first.
+    """
+
+    render_pixels: int
+    scatterers: int
+    transforms: int
+    memory_bytes: int
+    disk_bytes_per_frame: int
+    seconds_per_frame: float
+    mesh_triangles: int = 0
+    memory_parts: tuple[tuple[str, int], ...] = ()
+
+    def describe(self) -> str:
+        """One line: pixels, scatterers, NUFFTs, memory, disk and time per frame."""
+        return (f"{self.render_pixels:,} render pixels, ≤ {self.scatterers:,} scatterers, "
+                f"{self.transforms:,} NUFFTs per frame; memory ≈ {_size(self.memory_bytes)}, "
+                f"disk ≤ {_size(self.disk_bytes_per_frame)} per frame, "
+                f"≈ {self.seconds_per_frame:.2g} s per frame")
+
+
+def _radar_sizes(project: Project) -> dict[str, int]:
+    """Sizes of the radar products without building any axis (fields may be huge)."""
+    rc, dc = project.rig.radar, project.dsp
+    n_fft = dc.range_fft_size or 1 << max(0, (rc.samples_per_chirp - 1).bit_length())
+    n_bins = n_fft if rc.complex_iq else n_fft // 2
+    bin_m = rc.sample_rate_hz / n_fft * SPEED_OF_LIGHT / (2.0 * rc.slope_hz_per_s)
+    if dc.max_range_m is not None and math.isfinite(bin_m) and bin_m > 0:
+        n_bins = min(n_bins, int(dc.max_range_m / bin_m) + 1)
+    n_dop = dc.doppler_fft_size or 2 * (1 << max(0, (rc.chirps_per_frame - 1).bit_length()))
+    n_az = int(math.floor((dc.azimuth_max_deg - dc.azimuth_min_deg) / dc.azimuth_step_deg
+                          + 1e-9)) + 1
+    n_el = int(math.floor((dc.elevation_max_deg - dc.elevation_min_deg)
+                          / dc.elevation_step_deg + 1e-9)) + 1
+    r_max = max(n_bins - 1, 1) * bin_m if math.isfinite(bin_m) else math.inf
+    max_az = math.radians(max(abs(dc.azimuth_min_deg), abs(dc.azimuth_max_deg)))
+    half = r_max * min(1.0, math.sin(min(max_az, math.pi / 2)))
+    bev = (2 * half / dc.bev_resolution_m + 1) * (r_max / dc.bev_resolution_m + 1)
+    return {"n_fft": n_fft, "n_bins": max(n_bins, 0), "n_dop": n_dop, "n_az": n_az,
+            "n_el": n_el, "bev_pixels": int(min(bev, 2**62)) if math.isfinite(bev) else 2**62}
+
+
+def _mesh_triangle_bound(project: Project, base_dir: Path | None) -> int:
+    """Upper bound on mesh triangles from the file sizes (≥ 12 bytes per triangle)."""
+    total = 0
+    for obj in project.objects:
+        if isinstance(obj.geometry, Mesh):
+            path = _mesh_path(base_dir, obj.geometry.path)
+            try:
+                size = path.stat().st_size if path.is_file() else 0
+            except OSError:
+                size = 0
+            total += min(size, MAX_MESH_FILE_BYTES) // 12
+    return total
+
+
+def estimate_cost(project: Project, *, base_dir: Path | None = None,
+                  mesh_triangles: int | None = None) -> CostEstimate:
+    """Estimate the memory, disk and time one frame of ``project`` needs.
+
+    Parameters
+    ----------
+    project : Project
+        A validated project.
+    base_dir : Path, optional
+        The project's folder (for mesh file sizes).
+    mesh_triangles : int, optional
+        Triangles of the scene's meshes when known (else bounded from file sizes).
+
+    Returns
+    -------
+    CostEstimate
+    """
+    tof, rc = project.rig.tof, project.rig.radar
+    tof_px = tof.width * tof.height * tof.supersampling**2
+    if tof.motion_artifacts:
+        tof_px *= 4
+    facets = rc.render_width * rc.render_height
+    radar_px = facets * rc.render_supersampling**2
+    n_point = sum(1 for o in project.objects if o.geometry.kind == "point_target")
+    scatterers = facets + n_point
+    n_ch = len(rc.tx) * len(rc.rx)
+    transforms = rc.chirps_per_frame * n_ch
+    s = _radar_sizes(project)
+    if mesh_triangles is None:
+        mesh_triangles = _mesh_triangle_bound(project, base_dir)
+    cube = rc.chirps_per_frame * n_ch * rc.samples_per_chirp * 16 * 4
+    ffts = (rc.chirps_per_frame * n_ch * s["n_fft"] + s["n_dop"] * n_ch * s["n_bins"]) * 8 * 3
+    el = s["n_el"] if any(a.position_mm[1] for a in (*rc.tx, *rc.rx)) else 1
+    angle = (s["n_bins"] * s["n_az"] * el * 8 + s["n_az"] * el * n_ch * 32
+             + s["bev_pixels"] * 4 * 3)
+    parts = {
+        "rig.tof render (width × height × supersampling²)": tof_px * BYTES_PER_RENDER_PIXEL,
+        "rig.radar render (render_width × render_height × render_supersampling²)":
+            radar_px * BYTES_PER_RENDER_PIXEL,
+        "rig.radar scatterers (render_width × render_height)":
+            scatterers * BYTES_PER_SCATTERER * 2,
+        "rig.radar ADC cube (chirps_per_frame × tx × rx × samples_per_chirp)": cube,
+        "dsp FFTs (range_fft_size, doppler_fft_size)": ffts,
+        "dsp angle maps (azimuth/elevation steps, bev_resolution_m)": angle,
+        "mesh triangles": mesh_triangles * BYTES_PER_TRIANGLE,
+    }
+    memory = BASE_MEMORY_BYTES + sum(parts.values())
+    h, w = tof.height, tof.width
+    sample = 8 if rc.complex_iq else 4
+    disk = (h * w * 37 + n_ch * rc.chirps_per_frame * rc.samples_per_chirp * sample
+            + rc.chirps_per_frame * len(rc.tx) * 8
+            + (n_ch + 1) * s["n_bins"] * 4 + s["n_dop"] * s["n_bins"] * 4
+            + s["n_az"] * s["n_bins"] * 4 + s["bev_pixels"] * 4
+            + project.dsp.max_detections * 36 + 8 + 128 * (1 + len(project.objects)))
+    seconds = (SECONDS_PER_RENDER_PIXEL * (tof_px + radar_px)
+               + SECONDS_PER_NUFFT_POINT * transforms * (scatterers + rc.samples_per_chirp)
+               + SECONDS_PER_DSP_CELL * (n_ch * s["n_dop"] * s["n_bins"]
+                                         + s["n_bins"] * s["n_az"] * el))
+    ordered = tuple(sorted(parts.items(), key=lambda kv: -kv[1]))
+    return CostEstimate(render_pixels=tof_px + radar_px, scatterers=scatterers,
+                        transforms=transforms, memory_bytes=int(memory),
+                        disk_bytes_per_frame=int(disk), seconds_per_frame=float(seconds),
+                        mesh_triangles=int(mesh_triangles), memory_parts=ordered)
+
+
+def available_memory_bytes() -> int:
+    """Memory the system can give a new process now (MemAvailable; else physical RAM)."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (ValueError, OSError, AttributeError):
+        return 8 * 2**30
+
+
+def default_memory_budget() -> int:
+    """Default memory budget of one run: 80 % of the available memory."""
+    return int(available_memory_bytes() * MEMORY_BUDGET_FRACTION)
+
+
+def _mesh_path(base_dir: Path | None, mesh_path: str) -> Path:
+    path = Path(mesh_path)
+    return path if path.is_absolute() else (base_dir or Path.cwd()) / path
+
+
+def mesh_path_problem(base_dir: Path | None, mesh_path: str, *,
+                      allow_outside_paths: bool = False) -> str | None:
+    """Why a mesh path breaks the path policy (None if it does not).
+
+    Inside the project folder (after resolving ``..`` and symlinks) unless
+    ``allow_outside_paths``; a regular file with a mesh suffix, not a device, FIFO,
+    socket, directory or symlink loop.
+    """
+    base = (base_dir or Path.cwd())
+    path = _mesh_path(base, mesh_path)
+    if path.suffix.lower() not in MESH_SUFFIXES:
+        return f"unsupported mesh format {path.suffix!r} (use {', '.join(MESH_SUFFIXES)})"
+    try:
+        real = path.resolve(strict=True)
+    except RuntimeError:
+        return f"symlink loop at {mesh_path!r}"
+    except OSError as exc:
+        if exc.errno == 40:
+            return f"symlink loop at {mesh_path!r}"
+        return f"mesh file not found: {path}"
+    if not allow_outside_paths:
+        try:
+            real.relative_to(base.resolve())
+        except ValueError:
+            return (f"{mesh_path!r} is outside the project folder (move it there or pass "
+                    f"--allow-outside-paths); it resolves to {real}")
+    try:
+        import stat as _stat
+        st = real.stat()
+    except OSError as exc:
+        return f"cannot open {mesh_path!r}: {exc.strerror}"
+    if not _stat.S_ISREG(st.st_mode):
+        return f"{mesh_path!r} is not a regular file (device, FIFO, socket or directory)"
+    if st.st_size > MAX_MESH_FILE_BYTES:
+        return f"{mesh_path!r} has {st.st_size} bytes; allowed at most {MAX_MESH_FILE_BYTES}"
+    return None
+
+
+def _reach(pose: Pose, motion: Motion, t_end: float) -> tuple[float, float]:
+    """Largest distance from the origin and largest speed of a body over [0, t_end]."""
+    base = np.asarray(pose.position_m, dtype=np.float64)
+    if motion.keyframes:
+        offsets = np.array([k.position_m for k in motion.keyframes], dtype=np.float64)
+        reach = float(np.linalg.norm(base + offsets, axis=1).max())
+        times = np.array([k.time_s for k in motion.keyframes])
+        steps = np.linalg.norm(np.diff(offsets, axis=0), axis=1) / np.maximum(
+            np.diff(times), 1e-300) if len(times) > 1 else np.zeros(1)
+        return max(reach, float(np.linalg.norm(base))), float(steps.max())
+    v = np.asarray(motion.velocity_mps, dtype=np.float64)
+    reach = max(float(np.linalg.norm(base)), float(np.linalg.norm(base + v * t_end)))
+    return reach, float(np.linalg.norm(v))
+
+
+def timeline_frames(project: Project) -> float:
+    """Frames of the project's timeline (as ``Timeline.n_frames``, without overflowing)."""
+    frames = project.timeline.duration_s * project.timeline.frame_rate_hz
+    return float(max(1, round(frames))) if math.isfinite(frames) else math.inf
+
+
+def _physics_problems(project: Project, n_frames: int) -> list[str]:
+    """Derived quantities that must be finite and in range."""
+    out: list[str] = []
+    rc, tof, dc = project.rig.radar, project.rig.tof, project.dsp
+    derived = {
+        "rig.radar wavelength (m)": rc.wavelength_m,
+        "rig.radar chirp slope (Hz/s)": rc.slope_hz_per_s,
+        "rig.radar range resolution (m)": rc.range_resolution_m,
+        "rig.radar unambiguous range (m)": rc.max_range_m,
+        "rig.radar velocity resolution (m/s)": rc.velocity_resolution_mps,
+        "rig.radar unambiguous velocity (m/s)": rc.max_velocity_mps,
+        "rig.radar frame duration (s)": rc.frame_duration_s,
+        "rig.tof electrons per radiance": tof.electrons_per_radiance,
+        "rig.tof signal electrons at 1 m": tof.signal_electrons_at_1m,
+        "rig.tof unambiguous range (m)": tof.unambiguous_range_m,
+    }
+    for name, value in derived.items():
+        if not (math.isfinite(value) and value > 0):
+            out.append(f"{name}: derived value {value!r} must be finite and positive")
+    s = _radar_sizes(project)
+    if dc.range_fft_size is not None and dc.range_fft_size < rc.samples_per_chirp:
+        out.append(f"dsp.range_fft_size: {dc.range_fft_size} is below "
+                   f"rig.radar.samples_per_chirp = {rc.samples_per_chirp}; allowed "
+                   f"[{rc.samples_per_chirp}, 65536]")
+    if dc.doppler_fft_size is not None and dc.doppler_fft_size < rc.chirps_per_frame:
+        out.append(f"dsp.doppler_fft_size: {dc.doppler_fft_size} is below "
+                   f"rig.radar.chirps_per_frame = {rc.chirps_per_frame}; allowed "
+                   f"[{rc.chirps_per_frame}, 65536]")
+    n_fft = max(s["n_fft"], 1)
+    bin_m = rc.sample_rate_hz / n_fft * SPEED_OF_LIGHT / (2.0 * rc.slope_hz_per_s)
+    if dc.max_range_m is not None and dc.max_range_m < bin_m:
+        out.append(f"dsp.max_range_m: {dc.max_range_m:g} m keeps fewer than 2 range bins "
+                   f"(bin spacing {bin_m:.4g} m); allowed [{bin_m:.4g}, 1e5] m or null")
+    if dc.min_range_m >= rc.max_range_m:
+        out.append(f"dsp.min_range_m: {dc.min_range_m:g} m is beyond the radar's unambiguous "
+                   f"range {rc.max_range_m:.4g} m; allowed [0, {rc.max_range_m:.4g}) m")
+    if s["bev_pixels"] > MAX_BEV_PIXELS:
+        out.append(f"dsp.bev_resolution_m: {dc.bev_resolution_m:g} m gives a bird's-eye image "
+                   f"of {s['bev_pixels']:.3g} pixels; at most {MAX_BEV_PIXELS} (coarser "
+                   "resolution or a smaller max_range_m)")
+    # Motion: every body stays within the world and below the speed limit; delays finite.
+    t_end = n_frames / project.timeline.frame_rate_hz + rc.frame_duration_s \
+        + 4 * tof.sample_interval_s
+    rig_reach, rig_speed = _reach(project.rig.pose, project.rig.motion, t_end)
+    if rig_reach > MAX_COORDINATE_M:
+        out.append(f"rig.motion: the rig reaches {rig_reach:.3g} m from the origin within "
+                   f"{t_end:.3g} s; allowed ±{MAX_COORDINATE_M:g} m")
+    for i, obj in enumerate(project.objects):
+        reach, speed = _reach(obj.pose, obj.motion, t_end)
+        if reach > MAX_COORDINATE_M:
+            out.append(f"objects[{i}].motion: {obj.name!r} reaches {reach:.3g} m from the "
+                       f"origin within {t_end:.3g} s; allowed ±{MAX_COORDINATE_M:g} m")
+        elif speed + rig_speed > MAX_SPEED_MPS:
+            out.append(f"objects[{i}].motion: relative speed {speed + rig_speed:.3g} m/s to "
+                       f"the rig; allowed at most {MAX_SPEED_MPS:g} m/s")
+        delay = 2 * (reach + rig_reach) / SPEED_OF_LIGHT
+        if not math.isfinite(delay):
+            out.append(f"objects[{i}].pose: round-trip delay {delay!r} s is not finite")
+    return out
+
+
+def check(project: Project, *, base_dir: Path | None = None,
+          memory_budget_bytes: int | None = None, n_frames: int | None = None,
+          seed: int | None = None, allow_outside_paths: bool = False,
+          parse_meshes: bool = True) -> list[str]:
+    """Every problem that would stop or spoil a run of ``project``, one line each.
+
+    Parameters
+    ----------
+    project : Project
+        A project that passed schema validation.
+    base_dir : Path, optional
+        The project's folder (mesh paths are relative to it); default: the working folder.
+    memory_budget_bytes : int, optional
+        Largest memory one frame may need (default: 80 % of the available memory).
+    n_frames : int, optional
+        Frames of the run (default: the project's timeline).
+    seed : int, optional
+        Seed of the run (default: the project's).
+    allow_outside_paths : bool
+        Accept mesh files outside the project folder.
+    parse_meshes : bool
+        Parse every mesh file (counts, indices, finiteness), not just its path and size.
+
+    Returns
+    -------
+    list of str
+        One line per problem, naming the field, the value and the allowed range; empty
+        when the project can run.
+    """
+    out: list[str] = []
+    if not project.objects:
+        out.append("objects: the scene has no objects; add at least one (allowed 1 or more)")
+    for i, obj in enumerate(project.objects):
+        try:
+            check_name(obj.name)
+        except ValueError as exc:
+            out.append(f"objects[{i}].name: {exc}")
+    for i, mat in enumerate(project.materials):
+        try:
+            check_name(mat.name)
+        except ValueError as exc:
+            out.append(f"materials[{i}].name: {exc}")
+    for field in ("name", "description"):
+        text = getattr(project, field)
+        if "\x00" in text or len(text) > 100_000:
+            out.append(f"{field}: must have no NUL character and at most 100000 characters")
+    run_seed = project.seed if seed is None else seed
+    if not 0 <= run_seed <= MAX_SEED:
+        out.append(f"seed: {run_seed} is out of range; allowed [0, {MAX_SEED}]")
+    frames = timeline_frames(project) if n_frames is None else n_frames
+    if frames > MAX_FRAMES:
+        source = "timeline.duration_s × frame_rate_hz" if n_frames is None else "--frames"
+        out.append(f"{source}: {frames:.3g} frames; allowed at most {MAX_FRAMES}")
+        frames = MAX_FRAMES
+    span = frames / project.timeline.frame_rate_hz
+    if not span <= MAX_TIME_S:
+        out.append(f"timeline.frame_rate_hz: {frames:.3g} frames at "
+                   f"{project.timeline.frame_rate_hz:.3g} Hz span {span:.3g} s of simulated "
+                   f"time; allowed at most {MAX_TIME_S:g} s")
+        return out
+    out += _physics_problems(project, int(frames))
+    # Meshes: path policy and file type first (cheap), then the cost, then parsing.
+    mesh_ok: list[tuple[int, Path, Mesh]] = []
+    for i, obj in enumerate(project.objects):
+        if isinstance(obj.geometry, Mesh):
+            problem = mesh_path_problem(base_dir, obj.geometry.path,
+                                        allow_outside_paths=allow_outside_paths)
+            if problem:
+                out.append(f"objects[{i}].geometry.path: {problem}")
+            else:
+                mesh_ok.append((i, _mesh_path(base_dir, obj.geometry.path), obj.geometry))
+    cost = estimate_cost(project, base_dir=base_dir)
+    budget = default_memory_budget() if memory_budget_bytes is None else memory_budget_bytes
+    if cost.memory_bytes > budget:
+        field, part = cost.memory_parts[0]
+        out.append(f"memory: a frame would need ≈ {_size(cost.memory_bytes)}, over the budget "
+                   f"of {_size(budget)}; most of it ({_size(part)}) for {field}")
+        return out   # parsing huge meshes would only take long
+    if parse_meshes:
+        for i, path, geom in mesh_ok:
+            try:
+                points, _ = read_mesh_arrays(path)
+            except MeshError as exc:
+                out.append(f"objects[{i}].geometry.path: {exc}")
+                continue
+            extent = float(np.abs(points).max()) * geom.scale
+            if extent > MAX_COORDINATE_M:
+                out.append(f"objects[{i}].geometry.scale: mesh extent {extent:.3g} m; "
+                           f"allowed at most {MAX_COORDINATE_M:g} m")
+    return out
+
+
+__all__ = ["CostEstimate", "RunError", "available_memory_bytes", "check",
+           "default_memory_budget", "estimate_cost", "mesh_path_problem", "timeline_frames"]

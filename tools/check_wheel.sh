@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# Build the wheel, install it into a fresh venv outside the repository (no GUI extra, so
+# no Qt), and run the console script from a temporary folder on a bundled example:
+# `tofradar examples --copy`, `validate`, `run --frames 2`; then check the HDF5 file.
+# Usage: tools/check_wheel.sh [PYTHON]   (run from the repository root; `make check-wheel`)
+set -euo pipefail
+
+PYTHON=${1:-python3}
+# A PYTHONPATH into the repository would make the fresh venv see the source tree (and its
+# build metadata) instead of the installed wheel.
+unset PYTHONPATH PYTHONHOME
+REPO=$(pwd)
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/tofradar-wheel.XXXXXX")
+# An in-tree build leaves build/ and tofradar.egg-info/ behind: remove them unless they
+# were there before, so that the repository stays as it was.
+CLEAN=""
+for d in build tofradar.egg-info; do [ -e "$REPO/$d" ] || CLEAN="$CLEAN $REPO/$d"; done
+trap 'rm -rf "$WORK" $CLEAN' EXIT
+
+step() { echo "check-wheel: $*"; }
+
+step "building the wheel into $WORK/dist"
+"$PYTHON" -m pip wheel --no-deps -q -w "$WORK/dist" "$REPO"
+WHEEL=$(ls "$WORK"/dist/tofradar-*.whl)
+BUNDLED=$("$PYTHON" -c "import sys, zipfile; print(sum(n.startswith('simcore/_resources/') \
+    for n in zipfile.ZipFile(sys.argv[1]).namelist()))" "$WHEEL")
+step "wheel $(basename "$WHEEL") bundles $BUNDLED resource files"
+if [ "$BUNDLED" -lt 2 ]; then step "FAILED: the wheel lacks the bundled resources"; exit 1; fi
+
+step "creating a fresh venv in $WORK/venv and installing the wheel (dependencies from the index)"
+"$PYTHON" -m venv "$WORK/venv"
+"$WORK/venv/bin/python" -m pip install -q "$WHEEL"
+
+cd "$WORK"
+mkdir run && cd run
+export PATH="$WORK/venv/bin:$PATH"
+step "in $(pwd): tofradar --version; tofradar examples; tofradar examples --copy ex"
+tofradar --version
+tofradar examples
+tofradar examples --copy ex
+step "tofradar validate ex/wall.json"
+tofradar validate ex/wall.json
+step "tofradar run ex/wall.json --frames 2 --out x.h5"
+tofradar run ex/wall.json --frames 2 --out x.h5 --quiet
+step "checking x.h5"
+python - <<'EOF'
+import sys
+
+import h5py
+
+with h5py.File("x.h5", "r") as f:
+    groups = sorted(k for k in f if isinstance(f[k], h5py.Group))
+    n_frames = int(f["meta"].attrs["n_frames"])
+    print(f"check-wheel: x.h5 top-level groups {groups}, n_frames {n_frames}")
+    missing = {"meta", "tof", "radar"} - set(groups)
+    if missing or n_frames != 2:
+        sys.exit(f"check-wheel: FAILED: missing groups {sorted(missing)} or n_frames != 2")
+EOF
+if "$WORK/venv/bin/python" -c "import PyQt6" 2>/dev/null; then
+    step "FAILED: PyQt6 was installed without the [gui] extra"; exit 1
+fi
+step "tofradar gui without the [gui] extra says what to install"
+if tofradar gui 2>gui.err; then step "FAILED: tofradar gui succeeded without Qt"; exit 1; fi
+cat gui.err
+grep -q "tofradar\[gui\]" gui.err
+step "OK"
