@@ -18,11 +18,13 @@ import h5py
 import numpy as np
 from numpy.typing import NDArray
 
+import simcore
 from simcore.io.hdf5_writer import DatasetExistsError, ResumeError, temporary_path
 from simcore.io.ros2_messages import (
     TOPIC_TYPES,
     Items,
     RigDescription,
+    encoder,
     frame_messages,
     message_definition,
     stamp_ns,
@@ -51,7 +53,7 @@ class McapWriter:
     def __init__(self, path: str | os.PathLike[str], *, project_json: str, seed: int,
                  overwrite: bool = False, resume: bool = False,
                  extra_meta: dict[str, Any] | None = None):
-        from mcap_ros2.writer import Writer
+        from mcap.writer import Writer
 
         self.path = Path(path)
         if self.path.exists() and resume:
@@ -65,11 +67,16 @@ class McapWriter:
         self.tmp = temporary_path(self.path)
         self._stream: IO[bytes] = open(self.tmp, "wb")  # noqa: SIM115 (closed in close())
         self._writer = Writer(self._stream)
+        self._writer.start(profile="ros2", library=f"tofradar {simcore.__version__}")
         meta = {"project_json": project_json, "seed": str(seed),
                 **{k: str(v) for k, v in (extra_meta or {}).items()}}
-        self._writer._writer.add_metadata("tofradar", meta)
-        self._schemas = {datatype: self._writer.register_msgdef(
-            datatype, message_definition(datatype)) for datatype in set(TOPIC_TYPES.values())}
+        self._writer.add_metadata("tofradar", meta)
+        # One ROS 2 schema per message type, one CDR channel per topic.
+        schemas = {datatype: self._writer.register_schema(
+            datatype, "ros2msg", message_definition(datatype).encode())
+            for datatype in sorted(set(TOPIC_TYPES.values()))}
+        self._channels = {topic: self._writer.register_channel(topic, "cdr", schemas[datatype])
+                          for topic, datatype in TOPIC_TYPES.items()}
         self._rig: RigDescription | None = None
         self._rows: dict[str, NDArray[Any]] = {}
         self.n_frames = 0
@@ -92,8 +99,9 @@ class McapWriter:
             detections = np.zeros(0, dtype=DETECTION_DTYPE)
         ns = stamp_ns(float(items["/time"][0]))
         for topic, datatype, msg in frame_messages(self._rig, items, detections):
-            self._writer.write_message(topic, self._schemas[datatype], msg, log_time=ns,
-                                       publish_time=ns, sequence=self.n_frames)
+            self._writer.add_message(self._channels[topic], log_time=ns,
+                                     data=encoder(datatype)(msg), publish_time=ns,
+                                     sequence=self.n_frames)
         self._rows.clear()
         self.n_frames += 1
 
