@@ -18,6 +18,7 @@ from pydantic import ValidationError
 from PyQt6.QtCore import QObject, pyqtSignal
 from PyQt6.QtGui import QUndoCommand, QUndoStack
 
+from app.validation import describe_validation_error
 from simcore.scene import (
     DualBandMaterial,
     Project,
@@ -26,7 +27,7 @@ from simcore.scene import (
     load_project,
     save_project,
 )
-from simcore.scene.project_io import ProjectError, check_references, format_validation_error
+from simcore.scene.project_io import ProjectError, check_references
 
 #: Selection key of the sensor rig (objects are selected by their integer id).
 RIG = "rig"
@@ -129,6 +130,9 @@ class ProjectDocument(QObject):
         self._selection: int | str | None = None
         self._materials: dict[str, DualBandMaterial] = {}
         self._materials_for: Project | None = None
+        #: ``before_push(old, new)`` runs before an edit is pushed and raises
+        #: :class:`EditError` to refuse it (cost checks and confirmations of the window).
+        self.before_push: Callable[[Project, Project], None] | None = None
 
     # --- state ------------------------------------------------------------------------
     @property
@@ -197,7 +201,7 @@ class ProjectDocument(QObject):
         try:
             project = Project.model_validate(data)
         except ValidationError as exc:
-            raise EditError("; ".join(format_validation_error(exc))) from None
+            raise EditError("; ".join(describe_validation_error(exc))) from None
         problems = check_references(project, self.base_dir)
         if problems:
             raise EditError("; ".join(problems))
@@ -236,6 +240,8 @@ class ProjectDocument(QObject):
         """Push the replacement of the project by ``new`` (already validated)."""
         if new == self._project:
             return
+        if self.before_push is not None:
+            self.before_push(self._project, new)  # raises EditError to refuse
         self.undo_stack.push(ReplaceProjectCommand(self, self._project, new, text, merge_key))
 
     def set_value(self, path: str, value: Any, *, text: str | None = None,

@@ -97,9 +97,15 @@ class RadarView:
     bev_z_m: F64 | None = None
 
     def profile_peak_range_m(self, *, min_range_m: float = 0.3) -> float:
-        """Range (m) of the strongest bin of the channel-averaged profile beyond ``min_range_m``."""
+        """Range (m) of the strongest bin of the channel-averaged profile beyond ``min_range_m``.
+
+        NaN when no range bin lies beyond ``min_range_m`` (a waveform whose maximum range
+        is shorter than that) or the profile is empty.
+        """
         mean = 10 * np.log10(np.mean(10 ** (self.profile_db / 10), axis=0))
-        mask = self.range_axis_m >= min_range_m
+        mask = (self.range_axis_m >= min_range_m) & np.isfinite(mean)
+        if not mask.any():
+            return float("nan")
         return float(self.range_axis_m[mask][np.argmax(mean[mask])])
 
 

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from typing import Any
 
-from PyQt6.QtCore import QSettings, Qt
+from PyQt6.QtCore import QSettings, Qt, QTimer
 from PyQt6.QtGui import QAction, QCloseEvent, QKeySequence, QShortcut
 from PyQt6.QtWidgets import (
     QDockWidget,
@@ -22,22 +23,46 @@ from PyQt6.QtWidgets import (
 )
 
 from app.antenna_editor import AntennaEditor
-from app.document import ProjectDocument, ProjectError
+from app.document import EditError, ProjectDocument, ProjectError
 from app.export import DatasetExportJob, export_panel_images
 from app.frame_view import FrameView
 from app.material_editor import MaterialEditor
 from app.panels import LivePanel, RangeAzimuthPanel, RangeDopplerPanel, RangeProfilePanel, TofPanel
+from app.rgb_panel import RgbPanel
 from app.scene_editor import ObjectInspector, ObjectListPanel, build_add_menu
 from app.sensor_editor import SensorEditor
 from app.simulation import SimulationController
 from app.time_controls import TimeBar, TimeController
+from app.validation import describe_problem
 from app.viewport import SceneViewport
+from simcore import preflight
 from simcore.resources import EXAMPLES_DIR
+from simcore.scene import Project
 
 MAX_RECENT = 8
-STAGE_LABELS = {"snapshot": "snapshot", "render_tof": "render ToF",
-                "render_radar": "render radar", "tof": "ToF", "radar_scatterers": "scatterers",
-                "radar_synthesis": "IF synthesis", "radar": "radar", "dsp": "DSP"}
+#: An edit whose frame would need more than this (bytes, s) is applied only when confirmed.
+CONFIRM_MEMORY_BYTES = 4 * 2**30
+CONFIRM_SECONDS_PER_FRAME = 3.0
+#: A frame computing longer than this (s) shows its time and enables "Stop frame".
+SLOW_FRAME_S = 0.5
+
+
+def _bytes(n: float) -> str:
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
+        if n < 1024 or unit == "TiB":
+            return f"{n:.1f} {unit}" if unit != "B" else f"{int(n)} B"
+        n /= 1024
+    return f"{n:.1f} TiB"
+
+
+#: Readable names of the engine's stages in the status bar (unknown names are shown as is).
+STAGE_LABELS = {
+    "snapshot": "snapshot", "render_tof": "render ToF", "render_tof_samples": "ToF samples",
+    "render_radar": "render radar", "render_rgb": "render RGB",
+    "render_background": "background", "tof": "ToF", "tof_albedo": "ToF albedo",
+    "radar_scatterers": "scatterers", "radar_background_scatterers": "background scatterers",
+    "radar_synthesis": "IF synthesis", "radar_background_synthesis": "background IF",
+    "radar_receiver": "receiver", "dsp": "DSP", "rgb": "RGB"}
 
 
 class MainWindow(QMainWindow):
@@ -61,10 +86,14 @@ class MainWindow(QMainWindow):
         self.viewport = SceneViewport(self.document)
         self.setCentralWidget(self.viewport)
         self.last_view: FrameView | None = None
+        #: Main-thread time spent showing each of the last frames (ms).
+        self.frame_draw_ms: list[float] = []
         self.last_error_dialog: QMessageBox | None = None
         self.export_job: DatasetExportJob | None = None
         self.progress_dialog: QProgressDialog | None = None
         self._closing = False
+        self._cost_cache: tuple[Project, preflight.CostEstimate, list[str]] | None = None
+        self.document.before_push = self._check_edit
 
         self._build_docks()
         self._build_actions()
@@ -104,6 +133,7 @@ class MainWindow(QMainWindow):
         self.profile_panel = RangeProfilePanel()
         self.rd_panel = RangeDopplerPanel()
         self.ra_panel = RangeAzimuthPanel()
+        self.rgb_panel = RgbPanel()
         self.docks: dict[str, QDockWidget] = {}
         self.docks["scene"] = self._dock("Scene", self.object_list, left, "dock_scene")
         self.docks["inspector"] = self._dock("Inspector", self.inspector, left, "dock_inspector")
@@ -113,6 +143,11 @@ class MainWindow(QMainWindow):
         self.docks["rd"] = self._dock("Range–Doppler", self.rd_panel, right, "dock_rd")
         self.docks["ra"] = self._dock("Range–azimuth", self.ra_panel, right, "dock_ra")
         self.splitDockWidget(self.docks["rd"], self.docks["ra"], Qt.Orientation.Horizontal)
+        # The RGB camera is optional: its panel shares the ToF dock's place and is shown
+        # only while the rig carries one (_follow_rig_sensors).
+        self.docks["rgb"] = self._dock("RGB camera", self.rgb_panel, right, "dock_rgb")
+        self.tabifyDockWidget(self.docks["tof"], self.docks["rgb"])
+        self.docks["tof"].raise_()
         self.docks["antennas"] = self._dock("Antenna array", self.antenna_editor, bottom,
                                             "dock_antennas")
         self.docks["materials"] = self._dock("Materials", self.material_editor, bottom,
@@ -132,7 +167,10 @@ class MainWindow(QMainWindow):
         self.resizeDocks([self.docks["antennas"]], [300], Qt.Orientation.Vertical)
         self.panels: dict[str, LivePanel] = {
             "ToF camera": self.tof_panel, "Range profile": self.profile_panel,
-            "Range-Doppler": self.rd_panel, "Range-azimuth": self.ra_panel}
+            "Range-Doppler": self.rd_panel, "Range-azimuth": self.ra_panel,
+            "RGB camera": self.rgb_panel}
+        self._rgb_shown: bool | None = None
+        self._follow_rig_sensors()
 
     def _action(self, text: str, slot: Any, *, shortcut: Any = None, tip: str = "",
                 checkable: bool = False) -> QAction:
@@ -196,6 +234,12 @@ class MainWindow(QMainWindow):
                                   shortcut=QKeySequence(","))
         self.first_frame_action = a("First frame", lambda: self.time.set_index(0),
                                     shortcut=QKeySequence("Home"))
+        self.cancel_frame_action = a("Stop frame", lambda: self.cancel_frame(),
+                                     shortcut=QKeySequence("Esc"),
+                                     tip="Stop the frame being computed (Esc)")
+        self.cancel_frame_action.setIcon(self.style().standardIcon(
+            QStyle.StandardPixmap.SP_BrowserStop))
+        self.cancel_frame_action.setEnabled(False)
         self.reset_camera_action = a("Reset camera", lambda: self.viewport.reset_camera(),
                                      shortcut=QKeySequence("R"), tip="Look at the whole scene")
         self.show_fov_action = a("Show sensor fields of view", self._toggle_fov, checkable=True,
@@ -233,7 +277,7 @@ class MainWindow(QMainWindow):
             view.addAction(dock.toggleViewAction())
         sim = bar.addMenu("&Simulation")
         sim.addActions([self.play_action, self.step_back_action, self.step_forward_action,
-                        self.first_frame_action])
+                        self.first_frame_action, self.cancel_frame_action])
         help_menu = bar.addMenu("&Help")
         help_menu.addAction("About tofradar", self._about)
 
@@ -271,6 +315,7 @@ class MainWindow(QMainWindow):
         tb.addSeparator()
         self.time_bar = TimeBar(self.time)
         tb.addWidget(self.time_bar)
+        tb.addAction(self.cancel_frame_action)
 
     def _build_status_bar(self) -> None:
         sb = self.statusBar()
@@ -284,25 +329,43 @@ class MainWindow(QMainWindow):
         self.render_label.setToolTip("Render passes so far and latency from edit to display")
         for w in (self.stage_label, self.render_label, self.fps_label, self.busy_label):
             sb.addPermanentWidget(w)
+        # The worker state is polled: a label flipping with every frame would cost a
+        # window repaint of its own each time.
+        self._busy_timer = QTimer(self)
+        self._busy_timer.setInterval(250)
+        self._busy_timer.timeout.connect(self._update_busy)
+        self._busy_timer.start()
 
     def _connect(self) -> None:
         doc = self.document
         doc.projectChanged.connect(self._schedule_frame)
+        doc.projectChanged.connect(self._follow_rig_sensors)
         doc.dirtyChanged.connect(self._update_title)
         doc.pathChanged.connect(self._update_title)
         doc.undo_stack.indexChanged.connect(self._update_title)
         self.time.indexChanged.connect(self._on_time_changed)
         self.sim.frameReady.connect(self._on_frame)
         self.sim.failed.connect(self._on_sim_failed)
-        self.sim.busyChanged.connect(self._on_busy)
+        self.sim.cancelled.connect(self._on_cancelled)
         for editor in (self.object_list, self.inspector, self.material_editor,
                        self.sensor_editor, self.antenna_editor, self.viewport):
             editor.editFailed.connect(self.show_status_error)
         self.inspector.editMaterialRequested.connect(self._edit_material)
 
+    def _follow_rig_sensors(self, *_: object) -> None:
+        """Show the RGB camera's dock when the rig gains one, hide it when it has none."""
+        has_rgb = self.document.project.rig.rgb is not None
+        if has_rgb != self._rgb_shown:
+            self._rgb_shown = has_rgb
+            self.docks["rgb"].toggleViewAction().setEnabled(has_rgb)
+            self.docks["rgb"].setVisible(has_rgb)
+
     # --- simulation -------------------------------------------------------------------
     def _on_sim_failed(self, message: str) -> None:
         self.show_status_error(f"simulation: {message}")
+        for panel in self.panels.values():
+            panel.show_error(f"frame {self.time.index + 1} could not be computed: {message}")
+        self.time.frame_done()  # playback goes on with the next frame
 
     def _schedule_frame(self, *_: object) -> None:
         if not self._closing:
@@ -317,15 +380,36 @@ class MainWindow(QMainWindow):
                              base_dir=self.document.base_dir)
 
     def _on_time_changed(self, _index: int) -> None:
-        self.viewport.set_time(self.time.time_s)
+        if not self.time.playing:
+            # While playing, the 3D view follows the frames shown (_on_frame), so scene
+            # and point cloud change together in one render per shown frame.
+            self.viewport.set_time(self.time.time_s)
         self._schedule_frame()
 
     def _on_frame(self, view: FrameView) -> None:
+        start = time.perf_counter()
+        if self.time.playing:
+            # Compute the next frame while this one is drawn.
+            self.sim.prefetch(self.document.project, self.time.next_index,
+                              base_dir=self.document.base_dir)
         self.last_view = view
-        for panel in self.panels.values():
-            panel.show_frame(view)
-        self.viewport.set_detections(view)
-        self.time.frame_done()
+        try:
+            for panel in self.panels.values():
+                panel.show_frame(view)  # each panel shows its own errors
+            self._show_in_viewport(view)
+            self._show_frame_status(view)
+        finally:
+            self.time.frame_done()
+            self.frame_draw_ms.append((time.perf_counter() - start) * 1e3)
+            del self.frame_draw_ms[:-200]
+
+    def _show_in_viewport(self, view: FrameView) -> None:
+        try:
+            self.viewport.show_frame(view)
+        except Exception as exc:  # noqa: BLE001 - shown; the panels and playback go on
+            self.show_status_error(f"3D view: {type(exc).__name__}: {exc}")
+
+    def _show_frame_status(self, view: FrameView) -> None:
         stages = [f"{STAGE_LABELS.get(k, k)} {v:.0f}" for k, v in view.timings_ms.items()
                   if k not in ("total", "wall")]
         self.stage_label.setText(" · ".join(stages) + " ms" if stages else "")
@@ -338,9 +422,96 @@ class MainWindow(QMainWindow):
         if view.notes:
             self.statusBar().showMessage("; ".join(view.notes), 8000)
 
-    def _on_busy(self, busy: bool) -> None:  # noqa: FBT001
-        self.busy_label.setText("● computing" if busy else "○ idle")
-        self.busy_label.setStyleSheet("color: #ffb74d;" if busy else "color: #81c784;")
+    def _update_busy(self) -> None:
+        busy_for = self.sim.busy_for_s
+        slow = busy_for > SLOW_FRAME_S
+        text = (f"● computing {busy_for:.0f} s — Esc stops" if slow
+                else "● playing" if self.time.playing else "○ idle")
+        if self.busy_label.text() != text:
+            self.busy_label.setText(text)
+            self.busy_label.setStyleSheet("color: #ffb74d;" if slow else "color: #81c784;")
+        if self.cancel_frame_action.isEnabled() != slow:
+            self.cancel_frame_action.setEnabled(slow)
+
+    # --- cost and cancel --------------------------------------------------------------
+    def memory_budget_bytes(self) -> int:
+        """Largest memory a frame may need: the core's default (80 % of what is free)."""
+        return preflight.default_memory_budget()
+
+    def _cost(self, project: Project) -> tuple[preflight.CostEstimate, list[str]]:
+        cached = self._cost_cache
+        if cached is not None and cached[0] is project:
+            return cached[1], cached[2]
+        base = self.document.base_dir
+        cost = preflight.estimate_cost(project, base_dir=base)
+        # Meshes come from the user's own file dialog (any folder); an empty scene is where
+        # every new project starts: neither is refused while editing.
+        problems = [p for p in preflight.check(project, base_dir=base, memory_budget_bytes=2**62,
+                                               parse_meshes=False, allow_outside_paths=True)
+                    if not p.startswith("objects: the scene has no objects")]
+        return cost, problems
+
+    def _check_edit(self, old: Project, new: Project) -> None:
+        """Refuse an edit that preflight finds wrong or that costs more than allowed.
+
+        Problems the project already had are not held against the edit. A frame over the
+        memory budget is refused; one over :data:`CONFIRM_MEMORY_BYTES` or
+        :data:`CONFIRM_SECONDS_PER_FRAME` needs :meth:`confirm_costly`.
+        """
+        old_cost, old_problems = self._cost(old)
+        cost, problems = self._cost(new)
+        new_problems = [p for p in problems if p not in old_problems]
+        if new_problems:
+            raise EditError("; ".join(describe_problem(p) for p in new_problems))
+        self._cost_cache = (new, cost, problems)
+        heavier = (cost.memory_bytes > old_cost.memory_bytes
+                   or cost.seconds_per_frame > old_cost.seconds_per_frame)
+        if not heavier:
+            return
+        budget = self.memory_budget_bytes()
+        if cost.memory_bytes > budget:
+            field, part = cost.memory_parts[0]
+            raise EditError(f"not applied: a frame would need ≈ {_bytes(cost.memory_bytes)} "
+                            f"of memory, over the budget of {_bytes(budget)} (80 % of the "
+                            f"free memory); most of it ({_bytes(part)}) for {field}")
+        if (cost.memory_bytes > CONFIRM_MEMORY_BYTES
+                or cost.seconds_per_frame > CONFIRM_SECONDS_PER_FRAME) \
+                and not self.confirm_costly(cost):
+            raise EditError(f"not applied (declined): a frame would need ≈ "
+                            f"{_bytes(cost.memory_bytes)} of memory and ≈ "
+                            f"{cost.seconds_per_frame:.0f} s")
+
+    def confirm_costly(self, cost: preflight.CostEstimate) -> bool:
+        """Ask whether to apply a costly configuration (tests replace this method)."""
+        answer = QMessageBox.question(
+            self, "Costly configuration",
+            f"Every frame of this configuration would need about "
+            f"{_bytes(cost.memory_bytes)} of memory and {cost.seconds_per_frame:.0f} s "
+            f"({cost.render_pixels:,} render pixels, {cost.scatterers:,} radar scatterers, "
+            f"{cost.transforms:,} NUFFTs).\n\nApply it anyway? A running frame can be "
+            "stopped with Esc.",
+            QMessageBox.StandardButton.Yes | QMessageBox.StandardButton.No,
+            QMessageBox.StandardButton.No)
+        return answer == QMessageBox.StandardButton.Yes
+
+    def cancel_frame(self) -> bool:
+        """Stop the frame being computed (the simulation process restarts)."""
+        index = self.time.index
+        if not self.sim.busy:
+            return False
+        self.time.set_playing(False)
+        self.sim.cancel()
+        shown = "nothing" if self.last_view is None else f"frame {self.last_view.index + 1}"
+        for panel in self.panels.values():
+            panel.show_error(f"frame {index + 1} was stopped; this is {shown}")
+        self.statusBar().showMessage(
+            f"Frame {index + 1} stopped. Step or press ▶ to compute it again, or change "
+            "the configuration (Undo).", 15000)
+        self._update_busy()
+        return True
+
+    def _on_cancelled(self) -> None:
+        self.time.frame_done()
 
     def frame_is_current(self) -> bool:
         """True when the panels show the frame of the latest project state and time."""
@@ -557,6 +728,8 @@ class MainWindow(QMainWindow):
             self.restoreGeometry(geometry)
         if state is not None:
             self.restoreState(state)
+            self._rgb_shown = None  # the saved layout may show it: follow the project again
+            self._follow_rig_sensors()
 
     def _save_layout(self) -> None:
         self.settings.setValue("window/geometry", self.saveGeometry())

@@ -23,7 +23,7 @@ from PyQt6.QtWidgets import (
 )
 
 from app.document import RIG, EditError, ProjectDocument, library_names
-from app.widgets import set_quietly, spin, try_edit
+from app.widgets import BIG, set_quietly, spin, try_edit
 
 BAND_FIELDS: list[tuple[str, str, float, float, float, str]] = [
     # field, label, min, max, step, tooltip
@@ -88,7 +88,8 @@ class BandEditor(QGroupBox):
         form = QFormLayout(self)
         self.widgets: dict[str, Any] = {}
         for field, label, lo, hi, step, tip in BAND_FIELDS:
-            box = spin(minimum=lo, maximum=hi, decimals=3, step=step,
+            del lo, hi  # the model checks the range and says why at the field
+            box = spin(minimum=-BIG, maximum=BIG, decimals=3, step=step,
                        tooltip=f"{BAND_TITLES[band]}: {tip}")
             box.valueChanged.connect(lambda v, f=field: self.edited.emit(self.band, f, float(v)))
             form.addRow(label, box)
@@ -208,9 +209,11 @@ class MaterialEditor(QWidget):
         self.assign_button.setEnabled(self.document.selected_index() is not None)
 
     def _on_edited(self, band: str, field: str, value: Any) -> None:
+        editor = self.tof_editor if band == "tof" else self.radar_editor
+        widget = editor.widgets.get(field)
         try_edit(self.editFailed.emit,
                  lambda: set_material_field(self.document, self.current, band, field, value),
-                 self.refresh)
+                 self.refresh, field=widget)
 
     def set_opacity(self, band: str, invisible: bool) -> None:  # noqa: FBT001
         """Make the current material invisible (opacity 0) or opaque (1) in ``band``."""

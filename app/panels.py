@@ -4,10 +4,19 @@ Every panel shows the latest :class:`~app.frame_view.FrameView`; when the panel 
 (a closed or tabbed-away dock) the view is kept and drawn when the panel is shown again,
 so no time is spent drawing what nobody sees. Hovering over a plot shows the value under
 the cursor in the panel's read-out line.
+
+Drawing a frame costs little: a panel only sets new data on its items. Plot titles, legends,
+axis ranges and colour-bar levels are set only when they change (the ranges with some
+hysteresis), because each such change re-lays out and repaints the axes; the per-frame text
+(time, counts, peak) goes into a plain label above the plot. A panel that cannot draw a
+frame shows why in its own error line and keeps going: one panel's failure never stops the
+others or playback.
 """
 
 from __future__ import annotations
 
+import logging
+import traceback
 from typing import Any
 
 import numpy as np
@@ -28,6 +37,50 @@ CHANNEL_COLOURS = ["#4fc3f7", "#ffb74d", "#81c784", "#e57373", "#ba68c8", "#fff1
                    "#4db6ac", "#f06292"]
 DETECTION_BRUSH = pg.mkBrush(255, 255, 255, 40)
 DETECTION_PEN = pg.mkPen("#ffffff", width=1.5)
+log = logging.getLogger(__name__)
+
+
+def _set_text(label: Any, text: str) -> None:
+    """Set a label's text only when it changed (a change re-lays out the label)."""
+    if label.text() != text:
+        label.setText(text)
+
+
+def _set_title(plot: pg.PlotItem, text: str) -> None:
+    """Set a plot title only when it changed (a change re-lays out the whole plot)."""
+    if getattr(plot, "_tofradar_title", None) != text:
+        plot._tofradar_title = text  # noqa: SLF001 - our own marker on the item
+        plot.setTitle(text)
+
+
+def _set_view_range(plot: pg.PlotItem, key: Any, *, x: tuple[float, float],
+                    y: tuple[float, float]) -> None:
+    """Set the plot's view range when ``key`` (the data extent) changed; else leave it.
+
+    Auto-range is off: re-fitting the view to every frame's data would move the axes, and
+    repaint them, on every frame. A user's zoom is kept until the data extent changes.
+    """
+    if getattr(plot, "_tofradar_range_key", None) != key:
+        plot._tofradar_range_key = key  # noqa: SLF001
+        plot.vb.setRange(xRange=x, yRange=y, padding=0.0)
+
+
+def follow_levels(current: tuple[float, float] | None, low: float, high: float, *,
+                  tolerance: float) -> tuple[float, float]:
+    """Colour levels that follow (low, high) with hysteresis.
+
+    The current levels are kept while both ends are within ``tolerance`` of the new ones,
+    so the colour bar (its axis) is re-laid out only when the data's range really moves.
+    """
+    if (current is not None and abs(current[0] - low) <= tolerance
+            and abs(current[1] - high) <= tolerance):
+        return current
+    return (float(low), float(high))
+
+
+def _set_bar_levels(bar: pg.ColorBarItem, levels: tuple[float, float]) -> None:
+    if tuple(bar.levels()) != tuple(levels):
+        bar.setLevels(levels)
 
 
 class LivePanel(QWidget):
@@ -39,6 +92,18 @@ class LivePanel(QWidget):
         super().__init__(parent)
         self._pending: FrameView | None = None
         self.view: FrameView | None = None
+        #: Frames drawn, and the message of the last frame that could not be drawn.
+        self.draw_count = 0
+        self.error: str | None = None
+        self.info = QLabel(" ")
+        self.info.setObjectName("info")
+        self.info.setStyleSheet("color: #c8ccd2; padding: 1px 4px;")
+        self.info.setToolTip("What the panel shows: frame time and counts")
+        self.error_label = QLabel("")
+        self.error_label.setObjectName("error")
+        self.error_label.setWordWrap(True)
+        self.error_label.setStyleSheet("color: #ff6b6b; padding: 1px 4px;")
+        self.error_label.setVisible(False)
         self.readout = QLabel(" ")
         self.readout.setObjectName("readout")
         self.readout.setStyleSheet("color: #c8ccd2; font-family: monospace; padding: 1px 4px;")
@@ -48,6 +113,8 @@ class LivePanel(QWidget):
         self._layout.setSpacing(1)
 
     def _finish_layout(self, widget: QWidget) -> None:
+        self._layout.addWidget(self.info)
+        self._layout.addWidget(self.error_label)
         self._layout.addWidget(widget, 1)
         self._layout.addWidget(self.readout)
 
@@ -70,11 +137,35 @@ class LivePanel(QWidget):
             return
         view, self._pending = self._pending, None
         self.view = view
-        self.draw(view)
+        try:
+            self.draw(view)
+        except Exception as exc:  # noqa: BLE001 - shown in this panel; the others go on
+            self.show_error(f"frame {view.index + 1} could not be drawn here: "
+                            f"{type(exc).__name__}: {exc}")
+            log.warning("%s: drawing frame %d failed\n%s", self.title, view.index,
+                        traceback.format_exc())
+        else:
+            self.draw_count += 1
+            if self.error is not None:
+                self.error = None
+                self.error_label.setVisible(False)
+
+    def show_error(self, message: str) -> None:
+        """Show ``message`` in the panel's error line (until the next frame draws)."""
+        self.error = message
+        _set_text(self.error_label, f"⚠ {message}")
+        self.error_label.setVisible(True)
 
     def draw(self, view: FrameView) -> None:
         """Draw ``view`` (subclasses)."""
         raise NotImplementedError
+
+    def _no_radar(self, view: FrameView) -> bool:
+        """True (and say so) when the frame has no radar products."""
+        if view.radar is not None:
+            return False
+        _set_text(self.info, "no radar products in this frame")
+        return True
 
 
 def _image_plot(title: str, *, x_label: tuple[str, str], y_label: tuple[str, str]
@@ -82,7 +173,8 @@ def _image_plot(title: str, *, x_label: tuple[str, str], y_label: tuple[str, str
     plot = pg.PlotItem(title=title)
     plot.setLabel("bottom", *x_label)
     plot.setLabel("left", *y_label)
-    plot.showGrid(x=True, y=True, alpha=0.15)
+    # No grid over images: an axis that draws a grid covers the whole plot, so every new
+    # image would repaint the axes (their text included) too.
     image = pg.ImageItem(axisOrder="row-major")
     plot.addItem(image)
     return plot, image
@@ -125,26 +217,41 @@ class TofPanel(LivePanel):
         self.graphics.addItem(self.amp_plot, row=0, col=2)
         self.amp_bar = _colour_bar(self.graphics.ci, self.amp_image, "inferno",
                                    "amplitude (DN)", row=0, col=3)
+        self._amp_levels: tuple[float, float] | None = None
+        self._amp_unit = "DN"
+        self._invalid: NDArray[np.bool_] | None = None
         self._finish_layout(self.graphics)
         for plot in (self.depth_plot, self.amp_plot):
+            plot.disableAutoRange()
             plot.scene().sigMouseMoved.connect(self._on_hover)
 
     def draw(self, view: FrameView) -> None:  # noqa: D102
         tof = view.tof
         depth = np.nan_to_num(tof.depth_m, nan=0.0)
         self.depth_image.setImage(depth, autoLevels=False)
-        self.depth_bar.setLevels((0.0, float(tof.max_range_m)))
+        _set_bar_levels(self.depth_bar, (0.0, float(tof.max_range_m)))
         amp = tof.amplitude
         hi = float(np.percentile(amp[tof.valid], 99)) if tof.valid.any() else 1.0
+        hi = max(hi, 1e-6)
+        levels = follow_levels(self._amp_levels, 0.0, hi, tolerance=0.15 * hi)
+        self._amp_levels = levels
         self.amp_image.setImage(amp, autoLevels=False)
-        self.amp_bar.setLevels((0.0, max(hi, 1e-6)))
-        self.amp_bar.setLabel("right", f"amplitude ({tof.amplitude_unit})")
-        overlay = np.zeros((*tof.valid.shape, 4), dtype=np.uint8)
-        overlay[~tof.valid] = INVALID_RGBA
-        self.depth_invalid.setImage(overlay, autoLevels=False, levels=(0, 255))
-        self.amp_invalid.setImage(overlay, autoLevels=False, levels=(0, 255))
-        self.depth_plot.setTitle(f"depth   t = {view.time_s:.2f} s")
-        self.amp_plot.setTitle(f"amplitude   {int((~tof.valid).sum())} invalid px")
+        _set_bar_levels(self.amp_bar, levels)
+        if self._amp_unit != tof.amplitude_unit:
+            self._amp_unit = tof.amplitude_unit
+            self.amp_bar.setLabel("right", f"amplitude ({tof.amplitude_unit})")
+        invalid = ~tof.valid
+        if self._invalid is None or not np.array_equal(invalid, self._invalid):
+            self._invalid = invalid
+            overlay = np.zeros((*tof.valid.shape, 4), dtype=np.uint8)
+            overlay[invalid] = INVALID_RGBA
+            self.depth_invalid.setImage(overlay, autoLevels=False, levels=(0, 255))
+            self.amp_invalid.setImage(overlay, autoLevels=False, levels=(0, 255))
+        h, w = depth.shape
+        for plot in (self.depth_plot, self.amp_plot):
+            _set_view_range(plot, (h, w), x=(0, w), y=(0, h))
+        _set_text(self.info, f"t = {view.time_s:.2f} s   frame {view.index + 1}   "
+                             f"{int(invalid.sum())} invalid px")
 
     def _on_hover(self, pos: QPointF) -> None:
         if self.view is None:
@@ -190,38 +297,57 @@ class RangeProfilePanel(LivePanel):
                                           brush=pg.mkBrush("#ffeb3b"))
         self.plot.addItem(self.markers)
         self.legend.addItem(self.markers, "detections")
+        self._names: list[str] = []
+        self._y: tuple[float, float] | None = None
+        self.plot.disableAutoRange()
         self._finish_layout(self.plot_widget)
         self.plot.scene().sigMouseMoved.connect(self._on_hover)
 
     def draw(self, view: FrameView) -> None:  # noqa: D102
-        radar = view.radar
-        if radar is None:
+        if self._no_radar(view):
             return
+        radar = view.radar
+        assert radar is not None
         n = radar.profile_db.shape[0]
-        while len(self.curves) < n:
-            colour = CHANNEL_COLOURS[len(self.curves) % len(CHANNEL_COLOURS)]
-            self.curves.append(self.plot.plot(pen=pg.mkPen(colour, width=1.3), name=""))
-        while len(self.curves) > n:
-            curve = self.curves.pop()
-            self.plot.removeItem(curve)
-            self.legend.removeItem(curve)
+        names = list(radar.channel_names[:n])
+        if names != self._names:
+            self._rebuild_curves(names)
+        r = radar.range_axis_m
         for i, curve in enumerate(self.curves):
-            curve.setData(radar.range_axis_m, radar.profile_db[i])
-            self.legend.removeItem(curve)
-            self.legend.addItem(curve, radar.channel_names[i])
-        self.legend.setColumnCount(1 if n <= 4 else 3)
-        if radar.threshold_db is not None and len(radar.threshold_db) == len(radar.range_axis_m):
-            self.threshold.setData(radar.range_axis_m, radar.threshold_db)
+            curve.setData(r, radar.profile_db[i])
+        if radar.threshold_db is not None and len(radar.threshold_db) == len(r):
+            self.threshold.setData(r, radar.threshold_db)
         else:
             self.threshold.setData([], [])
         det = radar.detections
         if len(det):
             mean = 10 * np.log10(np.mean(10 ** (radar.profile_db / 10), axis=0))
-            levels = np.interp(det.range_m, radar.range_axis_m, mean) + 2.0
+            levels = np.interp(det.range_m, r, mean) + 2.0
             self.markers.setData(det.range_m, levels)
         else:
             self.markers.setData([], [])
-        self.plot.setTitle(f"range profile   peak {radar.profile_peak_range_m():.2f} m")
+        finite = radar.profile_db[np.isfinite(radar.profile_db)]
+        lo = float(np.floor(finite.min() / 10) * 10) if finite.size else -100.0
+        hi = float(np.ceil(finite.max() / 10) * 10 + 10) if finite.size else 0.0
+        self._y = follow_levels(self._y, lo, hi, tolerance=10.0)
+        x_max = float(r[-1]) if len(r) else 1.0
+        _set_view_range(self.plot, (len(r), x_max, self._y), x=(0.0, x_max), y=self._y)
+        peak = radar.profile_peak_range_m()
+        peak_text = "—" if not np.isfinite(peak) else f"{peak:.2f} m"
+        _set_text(self.info, f"t = {view.time_s:.2f} s   peak {peak_text}   "
+                             f"{len(det)} detections")
+
+    def _rebuild_curves(self, names: list[str]) -> None:
+        for curve in self.curves:
+            self.plot.removeItem(curve)
+            self.legend.removeItem(curve)
+        self.curves = []
+        for i, name in enumerate(names):
+            colour = CHANNEL_COLOURS[i % len(CHANNEL_COLOURS)]
+            curve = self.plot.plot(pen=pg.mkPen(colour, width=1.3), name=name)
+            self.curves.append(curve)
+        self.legend.setColumnCount(1 if len(names) <= 4 else 3)
+        self._names = names
 
     def _on_hover(self, pos: QPointF) -> None:
         radar = None if self.view is None else self.view.radar
@@ -240,6 +366,17 @@ def _rect(x: NDArray[np.float64], y: NDArray[np.float64]) -> QRectF:
     dx = float(x[1] - x[0]) if len(x) > 1 else 1.0
     dy = float(y[1] - y[0]) if len(y) > 1 else 1.0
     return QRectF(float(x[0]) - dx / 2, float(y[0]) - dy / 2, dx * len(x), dy * len(y))
+
+
+def _set_image_rect(image: pg.ImageItem, plot: pg.PlotItem, rect: QRectF) -> None:
+    """Place ``image`` on ``rect`` and fit the view to it, only when the rectangle changed."""
+    # setRect scales by the image size of the moment: a new shape needs it again.
+    shape = None if image.image is None else image.image.shape
+    key = (shape, rect.x(), rect.y(), rect.width(), rect.height())
+    if getattr(image, "_tofradar_rect", None) != key:
+        image._tofradar_rect = key  # noqa: SLF001
+        image.setRect(rect)
+        _set_view_range(plot, key, x=(rect.left(), rect.right()), y=(rect.top(), rect.bottom()))
 
 
 class RangeDopplerPanel(LivePanel):
@@ -261,21 +398,26 @@ class RangeDopplerPanel(LivePanel):
                                           brush=DETECTION_BRUSH)
         self.markers.setZValue(10)
         self.plot.addItem(self.markers)
+        self.plot.disableAutoRange()
+        self._levels: tuple[float, float] | None = None
         self._finish_layout(self.graphics)
         self.plot.scene().sigMouseMoved.connect(self._on_hover)
 
     def draw(self, view: FrameView) -> None:  # noqa: D102
-        radar = view.radar
-        if radar is None:
+        if self._no_radar(view):
             return
+        radar = view.radar
+        assert radar is not None
         rd = radar.range_doppler_db
         self.image.setImage(rd, autoLevels=False)
-        self.image.setRect(_rect(radar.range_axis_m, radar.velocity_axis_mps))
-        hi = float(np.max(rd))
-        self.bar.setLevels((hi - 60.0, hi))
+        _set_image_rect(self.image, self.plot, _rect(radar.range_axis_m,
+                                                     radar.velocity_axis_mps))
+        hi = float(np.nanmax(rd))
+        self._levels = follow_levels(self._levels, hi - 60.0, hi, tolerance=3.0)
+        _set_bar_levels(self.bar, self._levels)
         det = radar.detections
         self.markers.setData(det.range_m, det.velocity_mps)
-        self.plot.setTitle(f"{len(det)} detections")
+        _set_text(self.info, f"t = {view.time_s:.2f} s   {len(det)} detections")
 
     def _on_hover(self, pos: QPointF) -> None:
         radar = None if self.view is None else self.view.radar
@@ -314,6 +456,8 @@ class RangeAzimuthPanel(LivePanel):
         self.plot.addItem(self.markers)
         self._grid_key: tuple[Any, ...] | None = None
         self._lookup: tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.bool_]] | None = None
+        self._levels: tuple[float, float] | None = None
+        self.plot.disableAutoRange()
         self._finish_layout(self.graphics)
         self.plot.scene().sigMouseMoved.connect(self._on_hover)
 
@@ -333,11 +477,12 @@ class RangeAzimuthPanel(LivePanel):
         self._extent = QRectF(-n * self.pixel_m, 0.0, 2 * n * self.pixel_m, n * self.pixel_m)
 
     def draw(self, view: FrameView) -> None:  # noqa: D102
-        radar = view.radar
-        if radar is None:
+        if self._no_radar(view):
             return
+        radar = view.radar
+        assert radar is not None
         ra = radar.range_azimuth_db
-        hi = float(np.max(ra))
+        hi = float(np.nanmax(ra))
         if radar.bev_db is not None and radar.bev_x_m is not None and radar.bev_z_m is not None:
             # The DSP's own Cartesian resampling of the range–azimuth map.
             bev = radar.bev_db
@@ -354,12 +499,13 @@ class RangeAzimuthPanel(LivePanel):
             rect = self._extent
         self.bev = bev
         self.image.setImage(np.nan_to_num(bev, nan=hi - 200.0), autoLevels=False)
-        self.image.setRect(rect)
-        self.bar.setLevels((hi - 40.0, hi))
+        _set_image_rect(self.image, self.plot, rect)
+        self._levels = follow_levels(self._levels, hi - 40.0, hi, tolerance=3.0)
+        _set_bar_levels(self.bar, self._levels)
         det = radar.detections
         a = np.deg2rad(det.azimuth_deg)
         self.markers.setData(det.range_m * np.sin(a), det.range_m * np.cos(a))
-        self.plot.setTitle(f"bird's-eye   {len(det)} detections")
+        _set_text(self.info, f"t = {view.time_s:.2f} s   {len(det)} detections")
 
     def _on_hover(self, pos: QPointF) -> None:
         radar = None if self.view is None else self.view.radar

@@ -40,7 +40,7 @@ from app.scene_edits import (
     import_mesh,
     rename_object,
 )
-from app.widgets import VectorEdit, set_quietly, spin, try_edit
+from app.widgets import BIG, VectorEdit, set_quietly, spin, try_edit
 from simcore.scene import Project, fieldpath
 
 RIG_LABEL = "Sensor rig (ToF + radar)"
@@ -246,11 +246,13 @@ class ObjectInspector(QScrollArea):
         pform = QFormLayout(self.pose_box)
         self.position_edit = VectorEdit(suffix="m", decimals=3, step=0.05,
                                         tooltip="position of the origin (m, world frame)")
-        self.position_edit.edited.connect(lambda v: self._set_pose("position_m", v))
+        self.position_edit.edited.connect(
+            lambda v: self._set_pose("position_m", v, self.position_edit))
         self.rotation_edit = VectorEdit(suffix="°", decimals=2, step=5.0, minimum=-360,
                                         maximum=360,
                                         tooltip="rotation about world x, then y, then z (°)")
-        self.rotation_edit.edited.connect(lambda v: self._set_pose("rotation_deg", v))
+        self.rotation_edit.edited.connect(
+            lambda v: self._set_pose("rotation_deg", v, self.rotation_edit))
         pform.addRow("position", self.position_edit)
         pform.addRow("rotation", self.rotation_edit)
         outer.addWidget(self.pose_box)
@@ -260,11 +262,13 @@ class ObjectInspector(QScrollArea):
         mform = QFormLayout(self.motion_box)
         self.velocity_edit = VectorEdit(suffix="m/s", decimals=3, step=0.1,
                                         tooltip="constant linear velocity (m/s, world frame)")
-        self.velocity_edit.edited.connect(lambda v: self._set_motion("velocity_mps", v))
+        self.velocity_edit.edited.connect(
+            lambda v: self._set_motion("velocity_mps", v, self.velocity_edit))
         self.angular_edit = VectorEdit(suffix="°/s", decimals=2, step=5.0,
                                        tooltip="constant angular velocity about world axes "
                                                "through the origin (°/s)")
-        self.angular_edit.edited.connect(lambda v: self._set_motion("angular_velocity_dps", v))
+        self.angular_edit.edited.connect(
+            lambda v: self._set_motion("angular_velocity_dps", v, self.angular_edit))
         self.repeat_combo = QComboBox()
         self.repeat_combo.addItems(["hold", "loop", "back_and_forth"])
         self.repeat_combo.setToolTip("After the last keyframe: hold the pose, loop, or play "
@@ -310,19 +314,22 @@ class ObjectInspector(QScrollArea):
         idx = self.document.selected_index()
         return None if idx is None else f"objects[{idx}]"
 
-    def _set(self, sub: str, value: Any, text: str) -> None:
+    def _set(self, sub: str, value: Any, text: str, field: QWidget | None = None) -> None:
+        """Set one field of the selection; a refused value stays in ``field``, marked."""
         base = self._base_path()
         if base is None:
             return
         try_edit(self.editFailed.emit,
                  lambda: self.document.set_value(f"{base}.{sub}", value, text=text),
-                 self.refresh)
+                 self.refresh, field=field)
 
-    def _set_pose(self, field: str, value: tuple[float, ...]) -> None:
-        self._set(f"pose.{field}", value, "Move" if field == "position_m" else "Rotate")
+    def _set_pose(self, field: str, value: tuple[float, ...], widget: QWidget | None = None
+                  ) -> None:
+        self._set(f"pose.{field}", value, "Move" if field == "position_m" else "Rotate",
+                  widget)
 
-    def _set_motion(self, field: str, value: Any) -> None:
-        self._set(f"motion.{field}", value, "Edit motion")
+    def _set_motion(self, field: str, value: Any, widget: QWidget | None = None) -> None:
+        self._set(f"motion.{field}", value, "Edit motion", widget)
 
     # --- view -------------------------------------------------------------------------
     def refresh(self, *_: object) -> None:
@@ -375,15 +382,17 @@ class ObjectInspector(QScrollArea):
             for field, label, unit, n, minimum in GEOMETRY_FIELDS.get(kind, []):
                 tip = f"{label} ({unit})" if unit else label
                 if n == 1:
-                    w = spin(minimum=minimum, maximum=1e4, decimals=4, step=0.01, suffix=unit,
+                    # Wide range: the model refuses bad sizes, with the reason at the field.
+                    del minimum
+                    w = spin(minimum=-BIG, maximum=BIG, decimals=4, step=0.01, suffix=unit,
                              tooltip=tip)
-                    w.valueChanged.connect(lambda v, f=field: self._set(
-                        f"geometry.{f}", float(v), f"Set {f}"))
+                    w.valueChanged.connect(lambda v, f=field, w=w: self._set(
+                        f"geometry.{f}", float(v), f"Set {f}", w))
                 else:
                     w = VectorEdit(labels=("x", "y", "z")[:n], suffix=unit, decimals=3,
-                                   step=0.05, minimum=minimum, tooltip=tip)
-                    w.edited.connect(lambda v, f=field: self._set(
-                        f"geometry.{f}", tuple(v), f"Set {f}"))
+                                   step=0.05, tooltip=tip)
+                    w.edited.connect(lambda v, f=field, w=w: self._set(
+                        f"geometry.{f}", tuple(v), f"Set {f}", w))
                 self.geometry_form.addRow(label, w)
                 self._geometry_widgets[field] = w
             self._geometry_kind = kind

@@ -26,8 +26,8 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.document import EditError, ProjectDocument
-from app.widgets import VectorEdit, int_spin, set_quietly, spin, try_edit
+from app.document import ProjectDocument
+from app.widgets import BIG, INT_MAX, VectorEdit, int_spin, set_quietly, spin, try_edit
 from simcore.scene import Project
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.scene.snapshot import take_snapshot
@@ -157,32 +157,37 @@ class SensorEditor(QScrollArea):
         self.tof_preset.activated.connect(lambda _i: self.apply_tof_preset(
             self.tof_preset.currentText()))
         form.addRow("preset", self.tof_preset)
-        self.tof_width = int_spin(minimum=1, maximum=4096, suffix="px",
+        # Widget ranges are wide on purpose: the model decides and says why at the field.
+        self.tof_width = int_spin(minimum=0, maximum=INT_MAX, suffix="px",
                                   tooltip="sensor columns")
-        self.tof_width.valueChanged.connect(lambda v: self._set("rig.tof.width", int(v)))
-        self.tof_height = int_spin(minimum=1, maximum=4096, suffix="px", tooltip="sensor rows")
-        self.tof_height.valueChanged.connect(lambda v: self._set("rig.tof.height", int(v)))
+        self.tof_width.valueChanged.connect(
+            lambda v: self._set("rig.tof.width", int(v), self.tof_width))
+        self.tof_height = int_spin(minimum=0, maximum=INT_MAX, suffix="px", tooltip="sensor rows")
+        self.tof_height.valueChanged.connect(
+            lambda v: self._set("rig.tof.height", int(v), self.tof_height))
         form.addRow("width", self.tof_width)
         form.addRow("height", self.tof_height)
         self.tof_widgets: dict[str, Any] = {}
         for field, label, unit, lo, hi, tip in TOF_FIELDS:
-            w = spin(minimum=lo, maximum=hi, decimals=2, step=1.0, suffix=unit, tooltip=tip)
-            w.valueChanged.connect(lambda v, f=field: self._set(f"rig.tof.{f}", float(v)))
+            del lo, hi
+            w = spin(minimum=-BIG, maximum=BIG, decimals=2, step=1.0, suffix=unit, tooltip=tip)
+            w.valueChanged.connect(lambda v, f=field, w=w: self._set(f"rig.tof.{f}", float(v), w))
             form.addRow(label, w)
             self.tof_widgets[field] = w
-        self.tof_ss = int_spin(minimum=1, maximum=8, suffix="×",
+        self.tof_ss = int_spin(minimum=0, maximum=INT_MAX, suffix="×",
                                tooltip="sub-pixels per axis of the render (flying pixels)")
-        self.tof_ss.valueChanged.connect(lambda v: self._set("rig.tof.supersampling", int(v)))
+        self.tof_ss.valueChanged.connect(
+            lambda v: self._set("rig.tof.supersampling", int(v), self.tof_ss))
         form.addRow("supersampling", self.tof_ss)
-        self.tof_f1 = spin(minimum=0.1, maximum=1000, decimals=2, step=1.0, suffix="MHz",
+        self.tof_f1 = spin(minimum=-BIG, maximum=BIG, decimals=2, step=1.0, suffix="MHz",
                            tooltip="modulation frequency f1; unambiguous range c/(2 f1)")
-        self.tof_f1.valueChanged.connect(lambda _v: self._set_frequencies())
+        self.tof_f1.valueChanged.connect(lambda _v: self._set_frequencies(self.tof_f1))
         self.tof_f2_on = QCheckBox("2nd frequency")
         self.tof_f2_on.setToolTip("Two-frequency phase unwrapping")
-        self.tof_f2_on.toggled.connect(lambda _on: self._set_frequencies())
-        self.tof_f2 = spin(minimum=0.1, maximum=1000, decimals=2, step=1.0, suffix="MHz",
+        self.tof_f2_on.toggled.connect(lambda _on: self._set_frequencies(self.tof_f2_on))
+        self.tof_f2 = spin(minimum=-BIG, maximum=BIG, decimals=2, step=1.0, suffix="MHz",
                            tooltip="second modulation frequency f2")
-        self.tof_f2.valueChanged.connect(lambda _v: self._set_frequencies())
+        self.tof_f2.valueChanged.connect(lambda _v: self._set_frequencies(self.tof_f2))
         form.addRow("modulation f1", self.tof_f1)
         row = QHBoxLayout()
         row.addWidget(self.tof_f2_on)
@@ -190,10 +195,12 @@ class SensorEditor(QScrollArea):
         form.addRow(row)
         self.tof_pos = VectorEdit(suffix="m", step=0.01,
                                   tooltip="camera position on the rig (m; x fwd, y left, z up)")
-        self.tof_pos.edited.connect(lambda v: self._set("rig.tof.pose_on_rig.position_m", v))
+        self.tof_pos.edited.connect(
+            lambda v: self._set("rig.tof.pose_on_rig.position_m", v, self.tof_pos))
         self.tof_rot = VectorEdit(suffix="°", decimals=1, step=5.0, minimum=-360, maximum=360,
                                   tooltip="camera rotation on the rig (°)")
-        self.tof_rot.edited.connect(lambda v: self._set("rig.tof.pose_on_rig.rotation_deg", v))
+        self.tof_rot.edited.connect(
+            lambda v: self._set("rig.tof.pose_on_rig.rotation_deg", v, self.tof_rot))
         form.addRow("position on rig", self.tof_pos)
         form.addRow("rotation on rig", self.tof_rot)
         self.tof_derived = QLabel("")
@@ -213,35 +220,38 @@ class SensorEditor(QScrollArea):
         form.addRow("preset", self.radar_preset)
         self.radar_widgets: dict[str, Any] = {}
         for field, label, scale, unit, dec, lo, tip in RADAR_FIELDS:
-            w = spin(minimum=lo, maximum=1e6, decimals=dec, step=1.0, suffix=unit,
+            del lo
+            w = spin(minimum=-BIG, maximum=BIG, decimals=dec, step=1.0, suffix=unit,
                      tooltip=f"{tip} ({unit})")
-            w.valueChanged.connect(lambda v, f=field, s=scale: self._set(f"rig.radar.{f}",
-                                                                         float(v) / s))
+            w.valueChanged.connect(lambda v, f=field, s=scale, w=w: self._set(
+                f"rig.radar.{f}", float(v) / s, w))
             form.addRow(label, w)
             self.radar_widgets[field] = w
-        self.samples = int_spin(minimum=8, maximum=8192, tooltip="ADC samples per chirp N_s")
+        self.samples = int_spin(minimum=0, maximum=INT_MAX, tooltip="ADC samples per chirp N_s")
         self.samples.valueChanged.connect(lambda v: self._set("rig.radar.samples_per_chirp",
-                                                              int(v)))
-        self.chirps = int_spin(minimum=1, maximum=1024, tooltip="chirps per frame N_c (per Tx)")
+                                                              int(v), self.samples))
+        self.chirps = int_spin(minimum=0, maximum=INT_MAX,
+                               tooltip="chirps per frame N_c (per Tx)")
         self.chirps.valueChanged.connect(lambda v: self._set("rig.radar.chirps_per_frame",
-                                                             int(v)))
+                                                             int(v), self.chirps))
         form.addRow("samples / chirp", self.samples)
         form.addRow("chirps / frame", self.chirps)
         self.iq = QCheckBox("complex IQ sampling")
         self.iq.setToolTip("complex (IQ) IF instead of real: doubles the unambiguous range")
-        self.iq.toggled.connect(lambda on: self._set("rig.radar.complex_iq", bool(on)))
+        self.iq.toggled.connect(lambda on: self._set("rig.radar.complex_iq", bool(on), self.iq))
         form.addRow(self.iq)
-        self.render_fov = spin(minimum=1, maximum=169, decimals=1, step=5, suffix="°",
+        self.render_fov = spin(minimum=-BIG, maximum=BIG, decimals=1, step=5, suffix="°",
                                tooltip="horizontal field of view of the radar render pass")
         self.render_fov.valueChanged.connect(lambda v: self._set("rig.radar.render_fov_h_deg",
-                                                                 float(v)))
-        self.render_w = int_spin(minimum=8, maximum=8192, suffix="px",
+                                                                 float(v), self.render_fov))
+        self.render_w = int_spin(minimum=0, maximum=INT_MAX, suffix="px",
                                  tooltip="radar render pass width (angular sampling)")
-        self.render_w.valueChanged.connect(lambda v: self._set("rig.radar.render_width", int(v)))
-        self.render_h = int_spin(minimum=8, maximum=8192, suffix="px",
+        self.render_w.valueChanged.connect(lambda v: self._set("rig.radar.render_width", int(v),
+                                                               self.render_w))
+        self.render_h = int_spin(minimum=0, maximum=INT_MAX, suffix="px",
                                  tooltip="radar render pass height")
         self.render_h.valueChanged.connect(lambda v: self._set("rig.radar.render_height",
-                                                               int(v)))
+                                                               int(v), self.render_h))
         form.addRow("render FOV", self.render_fov)
         grid = QHBoxLayout()
         grid.addWidget(self.render_w)
@@ -250,11 +260,11 @@ class SensorEditor(QScrollArea):
         self.radar_pos = VectorEdit(suffix="m", step=0.01,
                                     tooltip="radar position on the rig (m; x fwd, y left, z up)")
         self.radar_pos.edited.connect(lambda v: self._set("rig.radar.pose_on_rig.position_m",
-                                                          v))
+                                                          v, self.radar_pos))
         self.radar_rot = VectorEdit(suffix="°", decimals=1, step=5.0, minimum=-360,
                                     maximum=360, tooltip="radar rotation on the rig (°)")
         self.radar_rot.edited.connect(lambda v: self._set("rig.radar.pose_on_rig.rotation_deg",
-                                                          v))
+                                                          v, self.radar_rot))
         form.addRow("position on rig", self.radar_pos)
         form.addRow("rotation on rig", self.radar_rot)
         return box
@@ -274,29 +284,32 @@ class SensorEditor(QScrollArea):
             combo = QComboBox()
             combo.addItems(items)
             combo.setToolTip(tip)
-            combo.activated.connect(lambda _i, f=field, c=combo: self._set(f"dsp.{f}",
-                                                                         c.currentText()))
+            combo.activated.connect(lambda _i, f=field, c=combo: self._set(
+                f"dsp.{f}", c.currentText(), c))
             form.addRow(label, combo)
             self.dsp_combos[field] = combo
         self.cfar_dims = QComboBox()
         self.cfar_dims.addItems(["2-D (range–Doppler)", "1-D (range)"])
         self.cfar_dims.setToolTip("CFAR on the range–Doppler map or along range only")
         self.cfar_dims.activated.connect(
-            lambda i: self._set("dsp.cfar_dimensions", 2 if i == 0 else 1))
+            lambda i: self._set("dsp.cfar_dimensions", 2 if i == 0 else 1, self.cfar_dims))
         form.addRow("CFAR dimensions", self.cfar_dims)
-        self.pfa = spin(minimum=1.0, maximum=12.0, decimals=1, step=0.5, suffix="",
+        self.pfa = spin(minimum=-BIG, maximum=BIG, decimals=1, step=0.5, suffix="",
                         tooltip="false-alarm probability per cell: Pfa = 10^-value")
         self.pfa.setPrefix("Pfa = 1e-")
-        self.pfa.valueChanged.connect(lambda v: self._set("dsp.cfar_pfa", float(10 ** -v)))
+        self.pfa.valueChanged.connect(
+            lambda v: self._set("dsp.cfar_pfa", float(10.0 ** -min(max(v, -300.0), 300.0)),
+                                self.pfa))
         form.addRow("false-alarm rate", self.pfa)
         self.clutter = QCheckBox("static clutter removal")
         self.clutter.setToolTip("subtract the mean over chirps: keeps only what moves")
         self.clutter.toggled.connect(lambda on: self._set("dsp.static_clutter_removal",
-                                                          bool(on)))
+                                                          bool(on), self.clutter))
         form.addRow(self.clutter)
-        self.min_range = spin(minimum=0.0, maximum=100.0, decimals=2, step=0.05, suffix="m",
+        self.min_range = spin(minimum=-BIG, maximum=BIG, decimals=2, step=0.05, suffix="m",
                               tooltip="detections closer than this are discarded (leakage)")
-        self.min_range.valueChanged.connect(lambda v: self._set("dsp.min_range_m", float(v)))
+        self.min_range.valueChanged.connect(
+            lambda v: self._set("dsp.min_range_m", float(v), self.min_range))
         form.addRow("min detection range", self.min_range)
         return box
 
@@ -316,16 +329,17 @@ class SensorEditor(QScrollArea):
         return box
 
     # --- edits ------------------------------------------------------------------------
-    def _set(self, path: str, value: Any) -> None:
+    def _set(self, path: str, value: Any, field: QWidget | None = None) -> None:
+        """Set one field; a refused value stays in ``field``, marked with the reason."""
         try_edit(self.editFailed.emit,
                  lambda: self.document.set_value(path, value, text=f"Set {path.split('.')[-1]}"),
-                 self.refresh)
+                 self.refresh, field=field)
 
-    def _set_frequencies(self) -> None:
+    def _set_frequencies(self, field: QWidget | None = None) -> None:
         freqs = [self.tof_f1.value() * 1e6]
         if self.tof_f2_on.isChecked():
             freqs.append(self.tof_f2.value() * 1e6)
-        self._set("rig.tof.modulation_frequencies_hz", freqs)
+        self._set("rig.tof.modulation_frequencies_hz", freqs, field)
 
     def apply_tof_preset(self, name: str) -> None:
         """Replace the ToF settings by preset ``name``, keeping the mounting pose."""
@@ -336,7 +350,8 @@ class SensorEditor(QScrollArea):
             d["rig"]["tof"] = cfg
 
         try_edit(self.editFailed.emit,
-                 lambda: self.document.edit(f"ToF preset {name}", mutate), self.refresh)
+                 lambda: self.document.edit(f"ToF preset {name}", mutate), self.refresh,
+                 field=self.tof_preset)
 
     def apply_radar_preset(self, name: str) -> None:
         """Replace the radar settings by preset ``name``, keeping pose and render grid."""
@@ -348,11 +363,9 @@ class SensorEditor(QScrollArea):
                 cfg[keep] = old[keep]
             d["rig"]["radar"] = cfg
 
-        try:
-            self.document.edit(f"Radar preset {name}", mutate)
-        except EditError as exc:
-            self.editFailed.emit(str(exc))
-            self.refresh()
+        try_edit(self.editFailed.emit,
+                 lambda: self.document.edit(f"Radar preset {name}", mutate), self.refresh,
+                 field=self.radar_preset)
 
     # --- view -------------------------------------------------------------------------
     def refresh(self, *_: object) -> None:

@@ -13,22 +13,28 @@ class TimeController(QObject):
 
     While playing, the controller advances one frame per tick of the timeline's frame
     rate, but only once the frame shown has been computed (``frame_done``): playback runs
-    in real time when the simulator keeps up and as fast as it can when it does not.
+    in real time when the simulator keeps up, and when it does not, it advances as soon as
+    the late frame is shown. :attr:`next_index` is the frame playback shows next, which
+    the window asks the simulator to compute ahead while it draws the current one.
 
     Signals
     -------
     indexChanged(int)
     playingChanged(bool)
+    frameShown(int)
+        The frame of the current index was shown (or could not be computed).
     """
 
     indexChanged = pyqtSignal(int)
     playingChanged = pyqtSignal(bool)
+    frameShown = pyqtSignal(int)
 
     def __init__(self, document: ProjectDocument, parent: QObject | None = None):
         super().__init__(parent)
         self.document = document
         self._index = 0
         self._waiting = False
+        self._due = False
         self._timer = QTimer(self)
         self._timer.timeout.connect(self._tick)
         document.projectChanged.connect(self._clamp)
@@ -48,6 +54,11 @@ class TimeController(QObject):
     def time_s(self) -> float:
         """Time of the current frame (s)."""
         return self.document.project.timeline.frame_time(self._index)
+
+    @property
+    def next_index(self) -> int:
+        """The frame playback shows after the current one (wraps around)."""
+        return (self._index + 1) % max(self.n_frames, 1)
 
     @property
     def playing(self) -> bool:
@@ -79,14 +90,21 @@ class TimeController(QObject):
             self._timer.start(max(15, int(1000 / rate)))
         else:
             self._timer.stop()
+            self._due = False
         self.playingChanged.emit(playing)
 
     def frame_done(self) -> None:
-        """The frame of the current index has been shown."""
+        """The frame of the current index has been shown (or could not be computed)."""
         self._waiting = False
+        self.frameShown.emit(self._index)
+        if self._due and self.playing:
+            self._due = False
+            self.step(1)  # a tick passed while the frame was computing: go on at once
 
     def _tick(self) -> None:
-        if not self._waiting:
+        if self._waiting:
+            self._due = True
+        else:
             self.step(1)
 
     def _rewind(self) -> None:
@@ -137,7 +155,10 @@ class TimeBar(QWidget):
         for w in (self.first_button, self.back_button, self.play_button, self.forward_button,
                   self.slider, self.label):
             layout.addWidget(w)
-        controller.indexChanged.connect(self.refresh)
+        # While playing, the read-out follows the frames shown, so it repaints together
+        # with the panels instead of once more at every tick.
+        controller.indexChanged.connect(lambda _i: None if controller.playing else self.refresh())
+        controller.frameShown.connect(self.refresh)
         controller.playingChanged.connect(self._on_playing)
         controller.document.projectChanged.connect(self.refresh)
         self.refresh()

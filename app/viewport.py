@@ -10,6 +10,7 @@ undoable edit (all steps of one drag merge into one undo step).
 
 from __future__ import annotations
 
+import time
 from typing import Any
 
 import numpy as np
@@ -38,6 +39,8 @@ from simcore.scene import Project
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
 
 SelectionKey = int | str | None
+#: After a render of T ms the view waits RENDER_DUTY × T ms before the next one.
+RENDER_DUTY = 1.0
 
 
 class TransformGizmo(AffineWidget3D):
@@ -114,12 +117,16 @@ class SceneViewport(QWidget):
         layout.addWidget(self.plotter.interactor)
         self.setMinimumSize(320, 240)
         self._time_s = 0.0
-        self._snapshot: SceneSnapshot | None = None
+        self._snap: SceneSnapshot | None = None
+        self._snap_stale = False
+        self._object_poses: dict[int, NDArray[np.float64]] = {}
+        self._rig_pose: NDArray[np.float64] | None = None
         self._actors: dict[int, tuple[str, Any]] = {}  # id -> (geometry key, actor)
         self._rig_actors: dict[str, Any] = {}
         self._sensor_key = ""
         self._cloud: pv.PolyData | None = None
         self._cloud_actor: Any = None
+        self._cloud_key: tuple[Any, ...] = ()
         self._gizmo: TransformGizmo | None = None
         self._gizmo_proxy: Any = None
         self._gizmo_key: SelectionKey = None
@@ -131,11 +138,16 @@ class SceneViewport(QWidget):
         self._slabs: dict[int, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
         self._drawn_state: tuple[Any, ...] | None = None
         self._closed = False
-        self._render_timer = QTimer(self)
-        self._render_timer.setSingleShot(True)
-        self._render_timer.setInterval(0)
-        self._render_timer.timeout.connect(self.render_now)
+        #: VTK renders of the view so far.
         self.render_count = 0
+        self.last_render_ms = 0.0
+        self._render_t0 = 0.0
+        self._render_pause_until = 0.0
+        self._pause_timer = QTimer(self)
+        self._pause_timer.setSingleShot(True)
+        self._pause_timer.timeout.connect(self.request_render)
+        self.plotter.ren_win.AddObserver("StartEvent", self._render_started)
+        self.plotter.ren_win.AddObserver("EndEvent", self._count_render)
         self._setup_scene()
         document.projectChanged.connect(self._on_project_changed)
         document.projectReplaced.connect(self._on_project_replaced)
@@ -172,27 +184,42 @@ class SceneViewport(QWidget):
 
     # --- rendering (never into a hidden view) ------------------------------------------
     def request_render(self) -> None:
-        """Render soon (coalescing requests) if visible, else when next shown."""
+        """Render with the next repaint of the window if visible, else when next shown.
+
+        The pyvistaqt widget renders the scene in its paint handler and Qt merges update
+        requests: however many edits or frames ask in one pass of the event loop, the
+        view renders once, in the same window repaint as the panels that changed with it.
+        On a slow (software OpenGL) machine the view renders at most once per
+        :data:`RENDER_DUTY` × its own render time, so it cannot take the GUI thread from
+        input: a request inside that pause is drawn by the next request after it (the next
+        frame while playing) or, when none comes, by a timer at the end of the pause.
+        """
         if self._closed:
             return
-        if self.isVisible() and self.plotter.isVisible():
-            self._needs_render = False
-            self._render_timer.start()
-        else:
+        if not (self.isVisible() and self.plotter.isVisible()):
             self._needs_render = True
+            return
+        self._needs_render = False
+        wait_s = self._render_pause_until - time.perf_counter()
+        if wait_s > 0:
+            if not self._pause_timer.isActive():
+                self._pause_timer.start(int(wait_s * 1e3) + 1)
+            return
+        self._pause_timer.stop()
+        self.plotter.update()
 
     def render_now(self) -> None:
-        """Schedule the repaint of the view (only while visible).
+        """Schedule the repaint of the view (only while visible)."""
+        self.request_render()
 
-        The pyvistaqt widget renders the scene in its paint handler, and Qt merges update
-        requests, so this costs one render per repaint, however many edits asked for it.
-        """
-        if self._closed or not (self.isVisible() and self.plotter.isVisible()):
-            self._needs_render = not self._closed
-            return
-        self._render_timer.stop()
+    def _render_started(self, *_: Any) -> None:
+        self._render_t0 = time.perf_counter()
+
+    def _count_render(self, *_: Any) -> None:
         self.render_count += 1
-        self.plotter.update()
+        end = time.perf_counter()
+        self.last_render_ms = (end - self._render_t0) * 1e3
+        self._render_pause_until = end + RENDER_DUTY * (end - self._render_t0)
 
     def showEvent(self, event: Any) -> None:  # noqa: N802, D102 - Qt API
         super().showEvent(event)
@@ -236,7 +263,10 @@ class SceneViewport(QWidget):
         if self._closed:
             return
         snap = take_snapshot(project, self._time_s)
-        self._snapshot = snap
+        self._snap, self._snap_stale = snap, False
+        self._object_poses = {o.id: s.transform for o, s in zip(project.objects, snap.objects,
+                                                                 strict=True)}
+        self._rig_pose = snap.rig.transform
         materials = self.document.material_table()
         seen = set()
         self._slabs.clear()
@@ -294,6 +324,47 @@ class SceneViewport(QWidget):
         self._drawn_state = state
         self._sync_gizmo()
         self.request_render()
+
+    @property
+    def _snapshot(self) -> SceneSnapshot | None:
+        """The scene at the time shown (computed when asked after a frame's fast update)."""
+        if self._snap_stale or self._snap is None:
+            self._snap = take_snapshot(self.document.project, self._time_s)
+            self._snap_stale = False
+        return self._snap
+
+    def show_frame(self, view: FrameView) -> None:
+        """Show the scene as frame ``view`` saw it, with its radar points: one render.
+
+        During playback the objects' poses come from the frame itself, so no scene snapshot
+        is taken here and only the actors that moved are touched. A moving rig, a moving
+        selection (the gizmo follows it) or an object list that differs take the full path.
+        """
+        if self._closed:
+            return
+        project = self.document.project
+        poses = np.asarray(view.object_poses)
+        rig_same = self._rig_pose is not None and np.array_equal(view.rig_pose, self._rig_pose)
+        ids = [o.id for o in project.objects]
+        fast = (rig_same and len(poses) == len(ids) and all(i in self._actors for i in ids)
+                and not (self._gizmo is not None and self._gizmo.dragging))
+        if fast:
+            moved = [i for i, oid in enumerate(ids)
+                     if not np.array_equal(poses[i], self._object_poses.get(oid))]
+            if self.document.selection in {ids[i] for i in moved}:
+                fast = False
+        if not fast:
+            self.set_time(view.time_s)
+        elif view.time_s != self._time_s:
+            self._time_s = float(view.time_s)
+            self._snap_stale = True
+            for i in moved:
+                self._actors[ids[i]][1].user_matrix = poses[i]
+                self._object_poses[ids[i]] = poses[i]
+            if moved:
+                self._drawn_state = None  # the next edit re-checks everything
+                self.request_render()
+        self.set_detections(view)
 
     def _sync_rig(self, project: Project, snap: SceneSnapshot) -> None:
         rig = project.rig
@@ -398,12 +469,21 @@ class SceneViewport(QWidget):
             return
         det = None if view is None or view.radar is None else view.radar.detections
         if det is None or len(det) == 0:
+            key: tuple[Any, ...] = ()
+        else:
+            xyz = np.asarray(det.xyz_world_m, dtype=float)
+            velocity = np.asarray(det.velocity_mps, dtype=float)
+            vmax = float(self.document.project.rig.radar.max_velocity_mps)
+            key = (xyz.tobytes(), velocity.tobytes(), vmax)
+        if key == self._cloud_key:
+            return  # the same points: no render
+        self._cloud_key = key
+        if not key:
             self._cloud_actor.SetVisibility(False)
         else:
-            cloud = pv.PolyData(np.asarray(det.xyz_world_m, dtype=float))
-            cloud["radial velocity (m/s)"] = np.asarray(det.velocity_mps, dtype=float)
+            cloud = pv.PolyData(xyz)
+            cloud["radial velocity (m/s)"] = velocity
             self._cloud.copy_from(cloud)
-            vmax = float(self.document.project.rig.radar.max_velocity_mps)
             self._cloud_actor.mapper.scalar_range = (-vmax, vmax)
             self._cloud_actor.SetVisibility(True)
         self.request_render()

@@ -1,4 +1,9 @@
-"""Small input widgets with units: spin boxes, 2-/3-vectors, and an edit helper."""
+"""Small input widgets with units: spin boxes, 2-/3-vectors, field errors and an edit helper.
+
+Spin boxes accept far more than the model does, so that a value out of range reaches the
+model and is refused with its reason at the field (:func:`show_field_error`: a red frame
+and a line under the field), instead of being clamped silently to the widget's limits.
+"""
 
 from __future__ import annotations
 
@@ -6,11 +11,22 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from PyQt6.QtCore import QSignalBlocker, pyqtSignal
-from PyQt6.QtWidgets import QDoubleSpinBox, QHBoxLayout, QSpinBox, QWidget
+from PyQt6.QtWidgets import (
+    QDoubleSpinBox,
+    QFormLayout,
+    QHBoxLayout,
+    QLabel,
+    QLayout,
+    QSpinBox,
+    QWidget,
+)
 
 from app.document import EditError
 
 BIG = 1e9
+#: Widest range of integer spin boxes (Qt's are 32-bit).
+INT_MAX = 2**31 - 1
+_ERROR_STYLE = "border: 1px solid #ff6b6b; border-radius: 2px;"
 
 
 def spin(*, minimum: float = -BIG, maximum: float = BIG, decimals: int = 3, step: float = 0.1,
@@ -44,7 +60,8 @@ def int_spin(*, minimum: int = 0, maximum: int = 1_000_000, suffix: str = "",
 
 
 def set_quietly(widget: Any, value: Any) -> None:
-    """Set a widget's value without emitting its change signals."""
+    """Set a widget's value without emitting its change signals (clears its field error)."""
+    clear_field_error(widget)
     with QSignalBlocker(widget):
         if hasattr(widget, "setValue"):
             widget.setValue(value)
@@ -81,6 +98,7 @@ class VectorEdit(QWidget):
 
     def set_value(self, value: Sequence[float]) -> None:
         """Show ``value`` without emitting ``edited``."""
+        clear_field_error(self)
         for box, v in zip(self.boxes, value, strict=True):
             set_quietly(box, float(v))
 
@@ -88,14 +106,98 @@ class VectorEdit(QWidget):
         self.edited.emit(self.value())
 
 
+def _layout_contains(layout: QLayout, widget: QWidget) -> bool:
+    for i in range(layout.count()):
+        item = layout.itemAt(i)
+        if item is None:
+            continue
+        if item.widget() is widget:
+            return True
+        sub = item.layout()
+        if sub is not None and _layout_contains(sub, widget):
+            return True
+    return False
+
+
+def _form_row(widget: QWidget) -> tuple[QFormLayout, int] | None:
+    """The form layout and row that hold ``widget`` (directly or in a row's sub-layout)."""
+    w: QWidget | None = widget
+    while w is not None and w.parentWidget() is not None:
+        layout = w.parentWidget().layout()
+        if isinstance(layout, QFormLayout):
+            row, _ = layout.getWidgetPosition(w)
+            if row >= 0:
+                return layout, row
+            for r in range(layout.rowCount()):
+                item = layout.itemAt(r, QFormLayout.ItemRole.FieldRole)
+                if item is not None and item.layout() is not None and \
+                        _layout_contains(item.layout(), w):
+                    return layout, r
+        w = w.parentWidget()
+    return None
+
+
+def field_error(widget: QWidget) -> str | None:
+    """The error shown at ``widget``, or None."""
+    value = widget.property("fieldError")
+    return str(value) if value else None
+
+
+def show_field_error(widget: QWidget, message: str) -> None:
+    """Mark ``widget`` invalid: red frame, the reason in a line under it and in its tooltip."""
+    if not field_error(widget):
+        widget.setProperty("plainToolTip", widget.toolTip())
+        widget.setProperty("plainStyle", widget.styleSheet())
+    widget.setProperty("fieldError", message)
+    widget.setStyleSheet(_ERROR_STYLE)
+    widget.setToolTip(f"⚠ {message}\n\n{widget.property('plainToolTip') or ''}".strip())
+    label = widget.property("errorLabel")
+    if not isinstance(label, QLabel):
+        label = QLabel()
+        label.setWordWrap(True)
+        label.setStyleSheet("color: #ff6b6b;")
+        label.setObjectName("fieldError")
+        place = _form_row(widget)
+        if place is not None:
+            form, row = place
+            form.insertRow(row + 1, "", label)
+        elif widget.parentWidget() is not None and widget.parentWidget().layout() is not None:
+            widget.parentWidget().layout().addWidget(label)
+        widget.setProperty("errorLabel", label)
+    label.setText(f"⚠ {message}")
+    label.setVisible(True)
+
+
+def clear_field_error(widget: QWidget) -> None:
+    """Remove the mark of :func:`show_field_error` (the field holds a valid value again)."""
+    if not isinstance(widget, QWidget) or not field_error(widget):
+        return
+    widget.setProperty("fieldError", "")
+    widget.setStyleSheet(str(widget.property("plainStyle") or ""))
+    widget.setToolTip(str(widget.property("plainToolTip") or ""))
+    label = widget.property("errorLabel")
+    if isinstance(label, QLabel):
+        label.setVisible(False)
+
+
 def try_edit(report: Callable[[str], None], action: Callable[[], Any],
-             revert: Callable[[], None] | None = None) -> bool:
-    """Run an edit; on :class:`EditError` report its message and revert the widgets."""
+             revert: Callable[[], None] | None = None, *, field: QWidget | None = None) -> bool:
+    """Run an edit; on :class:`EditError` show why.
+
+    With ``field`` (the widget that was edited) the reason is shown at the field and the
+    field keeps the refused value for the user to correct; nothing is pushed on the undo
+    stack. Without it the message goes to ``report`` and ``revert`` restores the widgets.
+    """
     try:
         action()
     except EditError as exc:
+        if field is not None:
+            show_field_error(field, str(exc))
+            return False
         report(str(exc))
         if revert is not None:
             revert()
         return False
+    if field is not None:
+        clear_field_error(field)
     return True

@@ -200,7 +200,8 @@ class FrameEngine:
                     background = (bg_raster, bg, changed)
             bg_pair = None if background is None else background[:2]
             buffers = self._shade(raster, bg_pair, timings, label)
-            sample_buffers = tuple(self._shade(r, bg_pair, timings, label) for r in samples)
+            sample_buffers = tuple(self._shade(r, bg_pair, timings, f"{label}_samples")
+                                   for r in samples)
 
             def stage(name: str, fn: Callable[[], T], *, reads: Hashable,
                       inputs: Sequence[object] = ()) -> T:

@@ -65,7 +65,7 @@ def make_window(qtbot, tmp_path: Path) -> Iterator:
         window.close()
         # Closing released the VTK window and stopped the simulation worker.
         assert window.viewport._closed
-        assert window.sim._worker.isFinished()
+        assert not window.sim.is_running()
         window.deleteLater()
     QApplication.processEvents()
 

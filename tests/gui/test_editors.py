@@ -9,6 +9,7 @@ import pyvista as pv
 from PyQt6.QtWidgets import QMessageBox
 
 from app.scene_edits import import_mesh
+from app.widgets import field_error
 
 pytestmark = pytest.mark.gui
 
@@ -25,14 +26,14 @@ def test_sensor_editor_derived_quantities_and_aliasing_warnings(make_window, wai
     assert "3.20 m" in ed.derived.text() and "1.25 cm" in ed.derived.text()
     assert not ed.warnings.isHidden()
     assert "unambiguous range" in ed.warnings.text()
-    # An invalid edit is refused with a message naming the problem; the project is unchanged.
-    before = window.document.project
-    messages = []
-    ed.editFailed.connect(messages.append)
-    ed.radar_widgets["chirp_time_s"].setValue(50.0)  # 512 samples at 1 MHz need 512 µs
+    # An invalid edit is refused with the reason at the field; the project is unchanged.
+    before, steps = window.document.project, window.document.undo_stack.count()
+    field = ed.radar_widgets["chirp_time_s"]
+    field.setValue(50.0)  # 512 samples at 1 MHz need 512 µs
     assert window.document.project is before
-    assert messages and "chirp_time_s" in messages[-1]
-    assert ed.radar_widgets["chirp_time_s"].value() == pytest.approx(256.0)
+    assert window.document.undo_stack.count() == steps
+    assert "exceeds chirp time = 50.0 µs" in (field_error(field) or ""), field_error(field)
+    assert field.value() == pytest.approx(50.0), "the refused value stays, marked"
     # A preset replaces the waveform and antennas but keeps the mounting pose.
     ed.apply_radar_preset("tdm_mimo_2tx4rx")
     radar = window.document.project.rig.radar
