@@ -146,3 +146,17 @@ def test_object_ground_truth_matches_the_detections_and_the_geometry(point_targe
     items = frame.hdf5_items()
     assert items["/objects/aabb"][0].shape == (3, 2, 3)
     assert items["/objects/radar_azimuth"][1] == "deg"
+
+
+def test_a_noiseless_receiver_labels_without_warnings() -> None:
+    rc = RadarConfig(noise_variance_adc=0.0, if_highpass_hz=0)
+    dc = DspConfig()
+    axes = radar_axes(rc, dc)
+    scat = Scatterers.from_arrays(np.array([[0, 0, axes.range_m[50]]]), np.array([1.0]))
+    scat = Scatterers(**{**scat.__dict__, "object_index": np.array([0], dtype=np.int32)})
+    mid = axes.velocity_mps.size // 2
+    with np.errstate(all="raise"):
+        labels = label_detections(_detections([50, 200], [mid, mid], axes), scat,
+                                  np.array([4]), rc, dc, axes)
+    np.testing.assert_array_equal(labels.object_id, [4, -1])
+    np.testing.assert_allclose(labels.power_fraction, [1.0, 0.0])

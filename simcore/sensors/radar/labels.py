@@ -318,7 +318,8 @@ def label_detections(detections: Detections, scatterers: Scatterers | Sequence[
     best_power = per_object[np.arange(n), best]
     is_object = best_power > noise
     object_id = np.where(is_object, ids[best], -1).astype(np.int32)
-    fraction = np.where(is_object, best_power / total, 0.0).astype(np.float32)
+    fraction = np.divide(best_power, total, out=np.zeros(n), where=is_object & (total > 0))
+    fraction = fraction.astype(np.float32)
     return DetectionLabels(object_id, fraction, np.zeros(n, dtype=bool))
 
 
