@@ -83,6 +83,9 @@ class TofOutput:
         Ground-truth range (m), NaN where no surface.
     gt_object_id : ndarray, shape (H, W), int32
         Ground-truth object id, −1 where no surface.
+    exposure_time_s : float
+        Exposure time of each correlation sample in this frame (s): the configured one, or
+        auto-exposure's choice.
     """
 
     depth_m: NDArray[np.float32]
@@ -93,6 +96,7 @@ class TofOutput:
     correlation: NDArray[np.float32]
     gt_range: NDArray[np.float32]
     gt_object_id: NDArray[np.int32]
+    exposure_time_s: float = 0.0
 
     def hdf5_items(self) -> dict[str, tuple[NDArray[np.generic], str]]:
         """Per-frame datasets of the HDF5 layout: path → (array without frame axis, unit)."""
@@ -104,6 +108,7 @@ class TofOutput:
             "/tof/correlation": (self.correlation, "DN"),
             "/tof/gt_range": (self.gt_range, "m"),
             "/tof/gt_object_id": (self.gt_object_id, "1"),
+            "/tof/exposure_time": (np.asarray(self.exposure_time_s, dtype=np.float64), "s"),
         }
 
 
@@ -306,10 +311,34 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     return planes
 
 
+def auto_exposure_s(reference: RenderBuffers, config: TofCameraConfig) -> float:
+    """The exposure that puts the brightest 1 % of pixels at the target level (s).
+
+    From a noise-free look at ``reference`` (the previous frame's render): the largest
+    correlation sample of a pixel is at most ``(S + B)(1 + m)``; its 99th percentile over
+    the pixels that see a surface, at the configured exposure, scales linearly with the
+    exposure time. The result is clipped to ``config.exposure_range_s``.
+    """
+    k = config.supersampling
+    _, signal, ambient = _sample_signal(reference, config)
+    offset = _block_mean(signal + ambient, k)
+    seen = _block_mean((reference.object_index >= 0).astype(np.float32), k) > 0
+    low, high = config.exposure_range_s
+    if not seen.any():
+        return float(high)
+    peak = float(np.percentile(offset[seen], 99)) * (1.0 + config.demodulation_contrast)
+    if peak <= 0:
+        return float(high)
+    wanted = config.exposure_time_s * config.auto_exposure_target * (
+        config.full_well_electrons / peak)
+    return float(min(max(wanted, low), high))
+
+
 def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                  rng: np.random.Generator, noise: bool = True,
                  sample_buffers: Sequence[RenderBuffers] | None = None,
-                 albedo: NDArray[np.float32] | None = None) -> TofOutput:
+                 albedo: NDArray[np.float32] | None = None,
+                 exposure_reference: RenderBuffers | None = None) -> TofOutput:
     """Simulate one AMCW ToF frame from the ToF band's supersampled render.
 
     Parameters
@@ -332,6 +361,9 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
     albedo : ndarray, shape (H·k, W·k), optional
         Diffuse albedo of the ToF band per render pixel (``(1 − metallic) reflectance``);
         needed when ``config.multipath`` is on (:mod:`simcore.sensors.tof.multipath`).
+    exposure_reference : RenderBuffers, optional
+        With ``config.auto_exposure``: the render auto-exposure looks at (the previous
+        frame's, like a real camera's; default ``buffers``) — :func:`auto_exposure_s`.
 
     Returns
     -------
@@ -355,6 +387,11 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
     if sample_buffers is not None and len(sample_buffers) != 4:
         raise ValueError(f"sample_buffers needs the 4 correlation samples' renders, "
                          f"got {len(sample_buffers)}")
+
+    if config.auto_exposure:
+        exposure = auto_exposure_s(buffers if exposure_reference is None
+                                   else exposure_reference, config)
+        config = config.model_copy(update={"exposure_time_s": exposure})
 
     # 1. Per sub-pixel signal/ambient electrons per sample and range.
     #    In float32 like the buffers (relative rounding 6e-8; the phase of a 10 m range is
@@ -426,4 +463,5 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         correlation=correlation,
         gt_range=gt_range,
         gt_object_id=gt_id,
+        exposure_time_s=float(config.exposure_time_s),
     )

@@ -26,16 +26,25 @@ class TofSensor:
         return RenderRequest(self.name, self.band, project.rig.tof.render_intrinsics())
 
     def sample_offsets_s(self, project: Project) -> tuple[float, ...]:
-        """With motion artefacts: renders at the 2nd to 4th correlation samples' times."""
+        """Times of extra renders: motion artefacts, then the previous frame (auto-exposure).
+
+        With motion artefacts, the 2nd to 4th correlation samples' start times; with
+        auto-exposure, one frame period earlier (the frame auto-exposure looks at).
+        """
         cfg = project.rig.tof
-        if not cfg.motion_artifacts:
-            return ()
-        return tuple(i * cfg.sample_interval_s for i in (1, 2, 3))
+        offsets: tuple[float, ...] = ()
+        if cfg.motion_artifacts:
+            offsets += tuple(i * cfg.sample_interval_s for i in (1, 2, 3))
+        if cfg.auto_exposure:
+            offsets += (-1.0 / project.timeline.frame_rate_hz,)
+        return offsets
 
     def simulate(self, ctx: SensorContext) -> TofOutput:
         """The camera model over the render (and the sample renders, if any)."""
         cfg = ctx.project.rig.tof
-        samples = (ctx.buffers, *ctx.sample_buffers) if ctx.sample_buffers else None
+        extra = list(ctx.sample_buffers)
+        previous = extra.pop() if cfg.auto_exposure else None
+        samples = (ctx.buffers, *extra) if extra else None
         albedo = None
         if cfg.multipath:
             albedo = ctx.stage("tof_albedo", lambda: diffuse_albedo(ctx.project, ctx.buffers),
@@ -44,7 +53,7 @@ class TofSensor:
                                inputs=(ctx.buffers,))
         return ctx.stage(
             "tof", lambda: simulate_tof(ctx.buffers, cfg, rng=ctx.rng, sample_buffers=samples,
-                                        albedo=albedo),
+                                        albedo=albedo, exposure_reference=previous),
             reads=(config_key(cfg), ctx.seed, ctx.index),
             inputs=(ctx.buffers, *ctx.sample_buffers))
 
