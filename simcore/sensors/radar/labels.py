@@ -6,7 +6,7 @@ of every scatterer of the frame in that cell is
     P_k = A_k² · |W_r(δr_k)|² · |W_d(δv_k)|² · S(f_k) · B_k
 
 with ``A_k = C √(σ_k ḡ_k) / R_k² · |H(f_b)|`` the scatterer's IF amplitude (radar equation
-of :func:`~simcore.sensors.radar.synthesis.amplitude_scale_fs`, ``ḡ`` the element pattern
+of :func:`~simcore.sensors.radar.equation.amplitude_scale_fs`, ``ḡ`` the element pattern
 gains averaged over the Tx–Rx pairs, ``|H|² = x/(1+x)``, ``x = (f_b/f_c)^(2n)``, the
 receiver's order-n Butterworth IF high-pass), ``W_r`` and ``W_d`` the
 range- and Doppler-window responses (normalised to 1 at their peak, as the DSP's
@@ -43,12 +43,8 @@ from simcore.dsp.processing import RadarAxes
 from simcore.dsp.windows import make_window
 from simcore.scene.dsp_config import DspConfig
 from simcore.scene.radar_config import SPEED_OF_LIGHT, Antenna, RadarConfig
+from simcore.sensors.radar.equation import amplitude_scale_fs, element_gain, noise_std_fs
 from simcore.sensors.radar.scatterers import Scatterers
-from simcore.sensors.radar.synthesis import (
-    amplitude_scale_fs,
-    element_gain,
-    noise_std_fs,
-)
 
 #: Oversampling of the tabulated window responses (table points per FFT bin).
 OVERSAMPLING = 32
