@@ -9,6 +9,7 @@ import os
 import signal
 import sys
 import threading
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -258,6 +259,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     """One dataset per combination of the varied fields, with the parameters recorded."""
     from simcore.io.hdf5_writer import DatasetExistsError, DiskFullError, ResumeError
     from simcore.preflight import check as check_project
+    from simcore.preflight import estimate_cost
     from simcore.runner import frame_count, run_dataset
     from simcore.sweep import SweepError, expand, parameters_json, parse_vary
 
@@ -289,6 +291,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                                  memory_budget_bytes=2**63 if args.force else None)
         if problems:
             raise ProjectError(f"{project_path} variant {i} {parameters_json(params)}", problems)
+        _check_disk(path, estimate_cost(variant, base_dir=project_path.parent), n_frames,
+                    force=args.force)
         print(f"[{i + 1}/{len(variants)}] {path.name}: {parameters_json(params)}")
         try:
             with stop_on_sigint() as stop:
@@ -609,13 +613,19 @@ def main(argv: Sequence[str] | None = None, *,
     if args.command is None:
         args = parser.parse_args(["gui", *(argv or [])])
     args.gui_launcher = gui_launcher
+    debug = args.debug or getattr(args, "debug_global", False)
+    if not debug:
+        # Numerical warnings are not messages for the user (the outputs are checked); worker
+        # processes inherit the setting through the environment.
+        warnings.simplefilter("ignore", RuntimeWarning)
+        os.environ.setdefault("PYTHONWARNINGS", "ignore::RuntimeWarning")
     try:
         return int(args.func(args))
     except KeyboardInterrupt:
         print("tofradar: interrupted", file=sys.stderr)
         return 130
     except Exception as exc:  # noqa: BLE001 — the one top-level error path
-        if args.debug or getattr(args, "debug_global", False):
+        if debug:
             raise
         return _report_error(exc)
 
