@@ -1,4 +1,4 @@
-"""The ``tofradar`` command line: gui, run, validate, bench."""
+"""The ``tofradar`` command line: gui, run, convert, serve, validate, bench."""
 
 from __future__ import annotations
 
@@ -445,7 +445,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("run", help="render frames headlessly into an HDF5 dataset",
                        parents=common)
     p.add_argument("project", help="project JSON file")
-    p.add_argument("--out", required=True, help="output HDF5 file")
+    p.add_argument("--out", required=True,
+                   help="output file: HDF5 (.h5, default) or an MCAP recording (.mcap)")
     p.add_argument("--frames", type=_frames_int, help="number of frames (default: timeline)")
     p.add_argument("--duration", type=_positive_float, metavar="S",
                    help="simulated seconds (frames = S × frame rate)")
@@ -487,6 +488,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true", help="fewer frames (for tests)")
     p.add_argument("--quiet", action="store_true", help="no progress messages")
     p.set_defaults(func=cmd_report)
+
+    _add_robotics_commands(sub, common)
 
     p = sub.add_parser("validate", help="check a project file as 'run' would", parents=common)
     p.add_argument("project", help="project JSON file")
@@ -551,6 +554,70 @@ def _report_error(exc: BaseException) -> int:
     text = text if len(text) <= 300 else text[:297] + "..."
     _print_error(f"{name}: {text} (run with --debug for the traceback)")
     return 1
+
+
+def cmd_convert(args: argparse.Namespace) -> int:
+    """Convert an HDF5 dataset into an MCAP recording with ROS 2 messages."""
+    from simcore.io.hdf5_writer import DatasetExistsError
+    from simcore.io.mcap_writer import convert_hdf5_to_mcap
+
+    source, target = Path(args.source), Path(args.to)
+    if not source.is_file():
+        raise CliError(f"{source}: no such dataset")
+    if target.suffix.lower() != ".mcap":
+        raise CliError(f"--to {target}: only MCAP (.mcap) is supported")
+    try:
+        n = convert_hdf5_to_mcap(source, target, overwrite=args.overwrite)
+    except DatasetExistsError as exc:
+        raise CliError(str(exc)) from None
+    print(f"wrote {n} frames to {target}")
+    return 0
+
+
+def cmd_serve(args: argparse.Namespace) -> int:
+    """Publish frames live over the Foxglove WebSocket protocol."""
+    from simcore.io.live import serve
+
+    project_path = Path(args.project)
+    project = load_project(project_path)
+    _preflight(project, project_path, args, n_frames=args.frames, seed=args.seed)
+
+    def ready(port: int) -> None:
+        print(f"serving on ws://{args.host}:{port} (Foxglove WebSocket protocol)", flush=True)
+
+    with stop_on_sigint() as stop:
+        report = serve(project, base_dir=project_path.parent, host=args.host, port=args.port,
+                       n_frames=args.frames, loop=args.loop, realtime=not args.fast,
+                       wait_for_client=not args.no_wait, seed=args.seed, on_ready=ready,
+                       stop=stop)
+    print(f"published {report.frames_published} frames")
+    return 0
+
+
+def _add_robotics_commands(sub: argparse._SubParsersAction[_Parser],
+                           common: list[_Parser]) -> None:
+    """The ``convert`` and ``serve`` subcommands (docs/robotics.md)."""
+    p = sub.add_parser("convert", help="convert an HDF5 dataset into an MCAP recording",
+                       parents=common)
+    p.add_argument("source", help="HDF5 dataset")
+    p.add_argument("--to", required=True, help="output MCAP file (.mcap)")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
+    p.set_defaults(func=cmd_convert)
+
+    p = sub.add_parser("serve", help="publish frames live over the Foxglove WebSocket protocol",
+                       parents=common)
+    p.add_argument("project", help="project JSON file")
+    p.add_argument("--host", default="127.0.0.1", help="interface (default 127.0.0.1)")
+    p.add_argument("--port", type=_int_at_least(0, 65535), default=8765,
+                   help="TCP port (default 8765; 0 = any free port)")
+    p.add_argument("--frames", type=_frames_int, help="frames to publish (default: timeline)")
+    p.add_argument("--loop", action="store_true", help="repeat the timeline until Ctrl+C")
+    p.add_argument("--fast", action="store_true",
+                   help="publish as fast as frames are computed (default: timeline frame rate)")
+    p.add_argument("--no-wait", action="store_true",
+                   help="start at once (default: wait until a client subscribes)")
+    p.add_argument("--seed", type=_seed_int, help="random seed (default: project's)")
+    p.set_defaults(func=cmd_serve)
 
 
 def main(argv: Sequence[str] | None = None, *,

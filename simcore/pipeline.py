@@ -29,6 +29,7 @@ from numpy.typing import NDArray
 
 from simcore.engine import FrameEngine
 from simcore.render.buffers import RenderBuffers
+from simcore.scene.ground_truth import ObjectTruth, object_ground_truth
 from simcore.scene.model import Project
 from simcore.scene.snapshot import SceneSnapshot
 from simcore.sensors.base import H5Items
@@ -58,6 +59,9 @@ class Frame:
         Each sensor's render pass.
     timings_ms : dict
         Wall time of each stage that ran (ms; the two chains overlap) and ``total``.
+    objects : ObjectTruth or None
+        Per-object ground truth (velocities, bounding boxes, range/velocity/angles from
+        the radar), written to ``/objects/...``.
     """
 
     index: int
@@ -68,6 +72,7 @@ class Frame:
     outputs: dict[str, Any]
     buffers: dict[str, RenderBuffers]
     timings_ms: dict[str, float] = field(default_factory=dict)
+    objects: ObjectTruth | None = None
 
     def hdf5_items(self) -> H5Items:
         """Per-frame datasets of the HDF5 layout: path → (array without frame axis, unit)."""
@@ -76,6 +81,8 @@ class Frame:
             "/poses/rig": (self.rig_pose, "m"),
             "/poses/objects": (self.object_poses, "m"),
         }
+        if self.objects is not None:
+            items.update(self.objects.hdf5_items())
         for output in self.outputs.values():
             items.update(output.hdf5_items())
         return items
@@ -142,10 +149,13 @@ class Simulator:
         """Compute frame ``index`` of the timeline: snapshot, renders, every sensor."""
         result = self.engine.frame(index)
         snap = result.snapshot
+        meshes = self.engine.renderer.geometry.meshes
+        truth = object_ground_truth(self.project, snap,
+                                    [None if m is None else m.points for m in meshes])
         return Frame(index=index, time_s=snap.time_s, rig_pose=snap.rig.transform,
                      object_poses=snap.object_transforms(), snapshot=snap,
                      outputs=result.outputs, buffers=result.buffers,
-                     timings_ms=result.timings_ms)
+                     timings_ms=result.timings_ms, objects=truth)
 
     @property
     def render_count(self) -> int:

@@ -345,7 +345,7 @@ def run_dataset(project_json: str, base_dir: Path, out: Path, *, n_frames: int, 
                 on_frame: Callable[[int, int, FrameResult], bool] | None = None,
                 task_timeout_s: float = TASK_TIMEOUT_S,
                 connect_timeout_s: float = CONNECT_TIMEOUT_S) -> RunReport:
-    """Write ``n_frames`` frames of a project into ``out`` (HDF5).
+    """Write ``n_frames`` frames of a project into ``out`` (HDF5, or MCAP for ``*.mcap``).
 
     ``on_frame(done, total, result)`` is called after each frame is written; returning
     False stops the run cleanly (as does Ctrl+C), leaving a valid file that
@@ -353,6 +353,7 @@ def run_dataset(project_json: str, base_dir: Path, out: Path, *, n_frames: int, 
     failing ``overwrite`` leaves the old file untouched (see :class:`DatasetWriter`).
     """
     from simcore.io.hdf5_writer import DatasetWriter
+    from simcore.io.mcap_writer import McapWriter
     from simcore.preflight import check
     from simcore.scene.project_io import ProjectError
 
@@ -364,8 +365,9 @@ def run_dataset(project_json: str, base_dir: Path, out: Path, *, n_frames: int, 
     if problems:
         raise ProjectError(f"project for {out}", problems)
     spec = RunSpec(project_json, str(base_dir), seed)
-    writer = DatasetWriter(out, project_json=project_json, seed=seed, overwrite=overwrite,
-                           resume=resume, extra_meta=extra_meta)
+    kind = McapWriter if Path(out).suffix.lower() == ".mcap" else DatasetWriter
+    writer = kind(out, project_json=project_json, seed=seed, overwrite=overwrite,
+                  resume=resume, extra_meta=extra_meta)
     report = RunReport(out, writer.n_frames, writer.n_frames, n_frames)
     with writer:
         try:

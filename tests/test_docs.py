@@ -40,6 +40,22 @@ from simcore.resources import example_path
 subprocess.run([sys.executable, "-m", "simcore.cli", "run", str(example_path("wall")),
                 "--out", "out/demo.h5", "--frames", "2", "--quiet"], check=True)
 """,
+    # A recording for the MCAP reader, and a live server (any free port: the client's
+    # connect() to the documented 8765 is sent there) for the WebSocket client.
+    "robotics.md": """
+import atexit, subprocess, sys
+import websockets.sync.client as _client
+from simcore.resources import example_path
+subprocess.run([sys.executable, "-m", "simcore.cli", "run", str(example_path("point_targets")),
+                "--out", "run.mcap", "--frames", "2", "--quiet"], check=True)
+_server = subprocess.Popen([sys.executable, "-m", "simcore.cli", "serve",
+                            str(example_path("point_targets")), "--port", "0", "--frames", "3",
+                            "--fast"], stdout=subprocess.PIPE, text=True)
+atexit.register(_server.kill)
+_port = _server.stdout.readline().split()[2].rsplit(":", 1)[1]
+_connect = _client.connect
+_client.connect = lambda url, **kw: _connect(url.replace(":8765", ":" + _port), **kw)
+""",
     "dsp.md": _FRAME + """
 cube, radar_config, frame_index = _frame.outputs["radar"].raw.adc, project.rig.radar, 0
 T = _frame.snapshot.sensor("radar").transform

@@ -415,7 +415,8 @@ def test_products_shapes_axes_and_hdf5_items() -> None:
     assert np.isnan(bev[0, 0])  # outside the azimuth coverage
     empty = prod.detections.records(0)[:0]
     assert empty.dtype.names == ("frame", "range", "velocity", "azimuth_deg", "elevation_deg",
-                                 "x", "y", "z", "snr_db")
+                                 "x", "y", "z", "snr_db", "object_id", "power_fraction",
+                                 "ghost")
 
 
 def test_static_clutter_removal_keeps_only_movers() -> None:

@@ -14,7 +14,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from simcore.dsp.angle import direction_vectors
 
-#: Record layout of the ``/radar/detections`` table (radar optical frame, m, m/s, deg, dB).
+#: Record layout of the ``/radar/detections`` table (radar optical frame, m, m/s, deg, dB),
+#: with the ground-truth label of each detection: the id of the object contributing most
+#: power to its cell (−1 = noise), that power fraction, and whether it is a multipath ghost.
 DETECTION_DTYPE = np.dtype([
     ("frame", "<i8"),
     ("range", "<f4"),
@@ -25,12 +27,16 @@ DETECTION_DTYPE = np.dtype([
     ("y", "<f4"),
     ("z", "<f4"),
     ("snr_db", "<f4"),
+    ("object_id", "<i4"),
+    ("power_fraction", "<f4"),
+    ("ghost", "?"),
 ])
 
 #: Units of the fields of :data:`DETECTION_DTYPE`, in field order.
 DETECTION_UNITS = {
     "frame": "1", "range": "m", "velocity": "m/s", "azimuth_deg": "deg",
     "elevation_deg": "deg", "x": "m", "y": "m", "z": "m", "snr_db": "dB",
+    "object_id": "1", "power_fraction": "1", "ghost": "",
 }
 
 
@@ -131,7 +137,8 @@ class Detections:
         Returns
         -------
         ndarray, shape (n,), dtype :data:`DETECTION_DTYPE`
-            Radar-frame coordinates.
+            Radar-frame coordinates; the label fields hold "unlabelled" (``object_id`` −1,
+        ``power_fraction`` 0, ``ghost`` False) until the radar sensor fills them in.
         """
         out = np.zeros(len(self), dtype=DETECTION_DTYPE)
         out["frame"] = frame
@@ -143,4 +150,5 @@ class Detections:
         out["y"] = self.xyz_radar_m[:, 1]
         out["z"] = self.xyz_radar_m[:, 2]
         out["snr_db"] = self.snr_db
+        out["object_id"] = -1
         return out

@@ -23,6 +23,12 @@ from simcore.sensors.radar.background import (
     changed_cells,
 )
 from simcore.sensors.radar.frontend import RadarOutput, radar_output, radar_scatterers
+from simcore.sensors.radar.labels import (
+    DetectionLabels,
+    LabelScatterers,
+    label_detections,
+    prepare_scatterers,
+)
 from simcore.sensors.radar.synthesis import ComplexCube, prepare, synthesize_if
 
 
@@ -36,18 +42,31 @@ class RadarFrameOutput:
         ADC cube (chirps, tx*rx, samples) and chirp times.
     dsp : RadarProducts
         Range/Doppler/angle maps, CFAR detections and point cloud of ``raw``.
+    labels : DetectionLabels or None
+        Ground truth of each detection of ``dsp.detections`` (object id, power fraction,
+        ghost flag); None = unlabelled.
     """
 
     raw: RadarOutput
     dsp: RadarProducts
+    labels: DetectionLabels | None = None
 
     def hdf5_items(self) -> H5Items:
         """Per-frame datasets of the raw data and the maps."""
         return {**self.raw.hdf5_items(), **self.dsp.hdf5_items()}
 
     def table_rows(self, index: int) -> dict[str, NDArray[np.void]]:
-        """Rows this frame adds to the detections table."""
-        return {"/radar/detections": self.dsp.detection_records(index)}
+        """Rows this frame adds to the detections table (with their labels)."""
+        rows = self.dsp.detection_records(index)
+        if self.labels is not None and len(self.labels) == len(rows):
+            rows["object_id"] = self.labels.object_id
+            rows["power_fraction"] = self.labels.power_fraction
+            rows["ghost"] = self.labels.ghost
+        return {"/radar/detections": rows}
+
+
+#: Prepared scatterer sets and their signs whose sum is a frame's scatterers (labels).
+_LabelParts = list[tuple[LabelScatterers, float]]
 
 
 class RadarSensor:
@@ -83,8 +102,11 @@ class RadarSensor:
                               lambda: synthesize_if(scatterers, cfg, prepared=prepared),
                               reads=config_key(cfg), inputs=(scatterers, prepared))
             n_scatterers = transformed = len(scatterers)
+            parts = [(ctx.stage("radar_label_scatterers",
+                                lambda: prepare_scatterers(scatterers, cfg),
+                                reads=config_key(cfg), inputs=(scatterers,)), 1.0)]
         else:
-            ideal, n_scatterers, transformed = found
+            ideal, n_scatterers, transformed, parts = found
         raw = ctx.stage(
             "radar_receiver",
             lambda: radar_output(ideal, cfg, rng=ctx.rng, time_s=ctx.time_s,
@@ -94,7 +116,13 @@ class RadarSensor:
         dsp = ctx.stage(
             "dsp", lambda: process_frame(raw.adc, cfg, ctx.project.dsp, radar_to_world=to_world),
             reads=(config_key(cfg, ctx.project.dsp), to_world.tobytes()), inputs=(raw,))
-        return RadarFrameOutput(raw=raw, dsp=dsp)
+        ids = np.array([o.id for o in ctx.project.objects], dtype=np.int32)
+        labels = ctx.stage(
+            "radar_labels",
+            lambda: label_detections(dsp.detections, parts, ids, cfg, ctx.project.dsp, dsp.axes),
+            reads=(config_key(cfg, ctx.project.dsp), ids.tobytes()),
+            inputs=(dsp, *(p for p, _ in parts)))
+        return RadarFrameOutput(raw=raw, dsp=dsp, labels=labels)
 
     def static_items(self, project: Project) -> H5Items:
         """The axes of the radar maps."""
@@ -109,10 +137,12 @@ def _scatterer_reads(ctx: SensorContext, cfg: RadarConfig) -> object:
 
 
 def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
-                           ) -> tuple[ComplexCube, int, int] | None:
+                           ) -> tuple[ComplexCube, int, int, _LabelParts] | None:
     """The frame's IF as background IF − changed background facets + the frame's there.
 
-    Returns (IF, scatterers in the frame, scatterers transformed), or None when the
+    Returns (IF, scatterers in the frame, scatterers transformed, the same sum for the
+    detection labels: the background's prepared scatterers (kept across frames) with sign
+    +1, the hidden facets' with −1 and the frame's own there with +1), or None when the
     engine gave no background or too much of the render changed.
     """
     bg = ctx.background
@@ -136,8 +166,11 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
         "radar_background_synthesis",
         lambda: synthesize_if(background.scatterers, cfg, prepared=background_prepared),
         reads=config_key(cfg), inputs=(background, background_prepared))
+    background_labels = ctx.stage("radar_background_label_scatterers",
+                                  lambda: prepare_scatterers(background.scatterers, cfg),
+                                  reads=config_key(cfg), inputs=(background,))
 
-    def frame_if() -> tuple[ComplexCube, int, int]:
+    def frame_if() -> tuple[ComplexCube, int, int, _LabelParts]:
         pixels = cell_pixels(cells, ctx.buffers.intrinsics, facets)
         others = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
                                   pixels=pixels)
@@ -148,7 +181,10 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
         if len(others):
             out += synthesize_if(others, cfg)
         n = len(background.scatterers) - len(hidden) + len(others)
-        return out, n, len(hidden) + len(others)
+        parts = [(background_labels, 1.0), (prepare_scatterers(hidden, cfg), -1.0),
+                 (prepare_scatterers(others, cfg), 1.0)]
+        return out, n, len(hidden) + len(others), parts
 
     return ctx.stage("radar_synthesis", frame_if, reads=(reads, config_key(cfg)),
                      inputs=(ctx.buffers, bg.buffers))
+

@@ -1,0 +1,175 @@
+"""Read a dataset as an ``xarray.Dataset``: named dimensions, SI coordinates, lazy arrays.
+
+:func:`open_dataset` maps every array of the HDF5 layout (``docs/dataset.md``) onto one
+variable named after its path (``/radar/range_doppler`` → ``radar_range_doppler``), with
+named dimensions (``frame``, ``chirp``, ``channel``, ``sample``, ``row``, ``col``,
+``range``, ``velocity``, ``azimuth``, …) and coordinates (``time`` in s, ``range`` in m,
+``velocity`` in m/s, ``azimuth`` in deg, object names and ids). Arrays stay in the file:
+each variable is a dask array over the HDF5 dataset, one chunk per frame, so opening a file
+of any size reads only its metadata, and ``ds.radar_range_doppler.isel(frame=3)`` reads one
+chunk. The detections table becomes variables ``detection_<field>`` along ``detection``
+(read when the file is opened: it is small); its per-frame form
+``/radar/detections_by_frame`` becomes ``radar_detections_by_frame_<field>`` along
+(``frame``, ``slot``), valid up to ``radar_detections_count`` in each frame.
+
+Examples
+--------
+>>> ds = open_dataset("out/demo.h5")  # doctest: +SKIP
+>>> ds.radar_range_doppler.isel(frame=3).plot()  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import h5py
+import numpy as np
+
+from simcore.dsp.detections import DETECTION_UNITS
+
+#: Dimension names of each dataset of the layout, without the leading ``frame`` axis of
+#: per-frame arrays.
+DIMS: dict[str, tuple[str, ...]] = {
+    "/poses/rig": ("pose_row", "pose_col"),
+    "/poses/objects": ("object", "pose_row", "pose_col"),
+    "/objects/names": ("object",),
+    "/objects/ids": ("object",),
+    "/objects/velocity": ("object", "xyz"),
+    "/objects/angular_velocity": ("object", "xyz"),
+    "/objects/aabb": ("object", "corner", "xyz"),
+    "/objects/obb_center": ("object", "xyz"),
+    "/objects/obb_rotation": ("object", "xyz", "axis"),
+    "/objects/obb_size": ("object", "axis"),
+    "/objects/reference_point": ("object", "xyz"),
+    "/objects/radar_range": ("object",),
+    "/objects/radar_radial_velocity": ("object",),
+    "/objects/radar_azimuth": ("object",),
+    "/objects/radar_elevation": ("object",),
+    "/tof/depth": ("row", "col"),
+    "/tof/amplitude": ("row", "col"),
+    "/tof/intensity": ("row", "col"),
+    "/tof/valid": ("row", "col"),
+    "/tof/correlation": ("tap", "row", "col"),
+    "/tof/gt_range": ("row", "col"),
+    "/tof/gt_object_id": ("row", "col"),
+    "/rgb/image": ("rgb_row", "rgb_col", "color"),
+    "/rgb/gt_object_id": ("rgb_row", "rgb_col"),
+    "/radar/adc": ("chirp", "channel", "sample"),
+    "/radar/chirp_start_time": ("chirp", "tx"),
+    "/radar/range_axis": ("range",),
+    "/radar/velocity_axis": ("velocity",),
+    "/radar/azimuth_axis": ("azimuth",),
+    "/radar/range_profile": ("channel", "range"),
+    "/radar/range_profile_integrated": ("range",),
+    "/radar/range_doppler": ("velocity", "range"),
+    "/radar/range_azimuth": ("azimuth", "range"),
+    "/radar/bird_eye": ("bev_z", "bev_x"),
+    "/radar/bird_eye_x_axis": ("bev_x",),
+    "/radar/bird_eye_z_axis": ("bev_z",),
+    "/radar/detections_count": (),
+    "/meta/frame_sha256": (),
+}
+
+#: Axis datasets that become coordinates: path → coordinate name.
+COORDS = {
+    "/radar/range_axis": "range",
+    "/radar/velocity_axis": "velocity",
+    "/radar/azimuth_axis": "azimuth",
+    "/radar/bird_eye_x_axis": "bev_x",
+    "/radar/bird_eye_z_axis": "bev_z",
+    "/objects/names": "object_name",
+    "/objects/ids": "object_id",
+}
+
+_LABELS = {"xyz": ["x", "y", "z"], "corner": ["min", "max"], "color": ["r", "g", "b"]}
+
+
+def _datasets(f: h5py.File) -> list[h5py.Dataset]:
+    found: list[h5py.Dataset] = []
+    f.visititems(lambda name, obj: found.append(obj) if isinstance(obj, h5py.Dataset)
+                 else None)
+    return found
+
+
+def _lazy(ds: h5py.Dataset) -> Any:
+    """A dask array over an HDF5 dataset, one chunk per frame (nothing read yet)."""
+    import dask.array as da
+
+    chunks = ds.chunks if ds.chunks is not None else ds.shape
+    return da.from_array(ds, chunks=chunks, name=f"tofradar:{ds.file.filename}:{ds.name}",
+                         lock=True, asarray=True)
+
+
+def open_dataset(path: str | os.PathLike[str]) -> Any:
+    """Open a tofradar HDF5 dataset as a lazy ``xarray.Dataset``.
+
+    Parameters
+    ----------
+    path : path-like
+        The HDF5 file (``docs/dataset.md``).
+
+    Returns
+    -------
+    xarray.Dataset
+        One variable per array (``/a/b`` → ``a_b``), dimensions named as in :data:`DIMS`
+        behind a leading ``frame`` for per-frame arrays, coordinates ``time`` (s) on
+        ``frame``, ``range`` (m), ``velocity`` (m/s), ``azimuth`` (deg), ``bev_x``/``bev_z``
+        (m), ``object_name``/``object_id``; every variable and coordinate carries its unit
+        in the attributes ``units`` and ``unit``. The file stays open until ``ds.close()``.
+        Attributes of ``/meta`` become the dataset's attributes.
+    """
+    import xarray as xr
+
+    f = h5py.File(path, "r")
+    try:
+        n_frames = int(f["meta"].attrs["n_frames"])
+        variables: dict[str, Any] = {}
+        coords: dict[str, Any] = {}
+        for ds in _datasets(f):
+            name = ds.name
+            unit = str(ds.attrs.get("unit", ""))
+            attrs = {"units": unit, "unit": unit, "hdf5_path": name}
+            if ds.attrs.get("table_rows", False):  # per-frame rows, padded: lazy, by field
+                rows = _lazy(ds)
+                base = name.strip("/").replace("/", "_")
+                for field in ds.dtype.names or ():
+                    variables[f"{base}_{field}"] = xr.Variable(
+                        ("frame", "slot"), rows[field],
+                        attrs={"units": DETECTION_UNITS.get(field, ""), "hdf5_path": name})
+                continue
+            if ds.attrs.get("table", False):  # the detections: rows of all frames, read now
+                table = ds[()]
+                for field in ds.dtype.names or ():
+                    variables[f"detection_{field}"] = xr.Variable(
+                        ("detection",), table[field],
+                        attrs={"units": DETECTION_UNITS.get(field, ""), "hdf5_path": name})
+                continue
+            per_frame = bool(ds.attrs.get("per_frame", False)) or (
+                name == "/time" and ds.shape == (n_frames,))
+            inner = DIMS.get(name) or tuple(
+                f"{name.strip('/').replace('/', '_')}_dim{i}"
+                for i in range(ds.ndim - per_frame))
+            dims = (("frame",) if per_frame else ()) + inner
+            if len(dims) != ds.ndim:
+                raise ValueError(f"{path}: {name} has shape {ds.shape}, expected dims {dims}")
+            if name == "/time" or name in COORDS:  # small: read now, as coordinates
+                values = ds.asstr()[()] if ds.dtype.kind == "O" else ds[()]
+                coords[COORDS.get(name, "time")] = xr.Variable(dims, values, attrs=attrs)
+            else:
+                var = xr.Variable(dims, _lazy(ds), attrs=attrs)
+                variables[name.strip("/").replace("/", "_")] = var
+        coords["frame"] = xr.Variable(("frame",), np.arange(n_frames))
+        for dim, labels in _LABELS.items():
+            coords.setdefault(dim, xr.Variable((dim,), np.array(labels)))
+        meta = {k: (v.decode() if isinstance(v, bytes) else v)
+                for k, v in f["meta"].attrs.items()}
+        dataset = xr.Dataset(variables, coords=coords, attrs=meta)
+        # Only dims that some variable uses keep their label coordinates.
+        unused = [d for d in _LABELS if d not in dataset.dims]
+        dataset = dataset.drop_vars(unused)
+    except Exception:
+        f.close()
+        raise
+    dataset.set_close(f.close)
+    return dataset

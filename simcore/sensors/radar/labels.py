@@ -1,0 +1,327 @@
+"""Ground-truth labels of radar detections: which object put the power into a detection's cell.
+
+For every detection (a range–Doppler cell with an estimated direction) the expected power
+of every scatterer of the frame in that cell is
+
+    P_k = A_k² · |W_r(δr_k)|² · |W_d(δv_k)|² · S(f_k) · B_k
+
+with ``A_k = C √(σ_k ḡ_k) / R_k² · |H(f_b)|`` the scatterer's IF amplitude (radar equation
+of :func:`~simcore.sensors.radar.equation.amplitude_scale_fs`, ``ḡ`` the element pattern
+gains averaged over the Tx–Rx pairs, ``|H|² = x/(1+x)``, ``x = (f_b/f_c)^(2n)``, the
+receiver's order-n Butterworth IF high-pass), ``W_r`` and ``W_d`` the
+range- and Doppler-window responses (normalised to 1 at their peak, as the DSP's
+amplitude-normalised spectra) at the scatterer's offset from the cell's centre in FFT bins
+(Doppler offsets wrap), ``S`` the static-clutter filter (``1 − |D_N(f)|²``, ``D_N`` the
+normalised Dirichlet kernel of ``N`` chirps at the Doppler frequency ``f`` in cycles per
+chirp; 1 when the filter is off) and ``B_k = |a(u_det)ᴴ a(u_k)|² / N_ch²`` the Bartlett beam
+response of the virtual array towards the detection's direction. The expected noise power of
+the beam-formed cell is ``P_n = κ σ_n² (Σw_r²/(Σw_r)²) (Σw_d²/(Σw_d)²) / N_ch`` (``κ = 4`` for
+real IF, ``2`` for IQ, ``σ_n`` the receiver noise per real channel).
+
+A detection is labelled with the object whose scatterers sum to the most power, and
+``power_fraction = P_object / (Σ_k P_k + P_n)``; when even that object's power is below the
+noise power the detection is noise (``object_id = −1``). The model ignores real-IF image
+frequencies, range–Doppler coupling and motion within the frame (each a fraction of a bin),
+and scatterers whose range offset from the cell puts them below ``RANGE_FLOOR`` of the
+range window's peak (or more than ``MAX_RANGE_OFFSET_BINS`` bins away): the scatterers are
+sorted by range once (:func:`prepare_scatterers`, kept across frames for a still
+background), and each detection sums only those near its range.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simcore.dsp.angle import direction_vectors, virtual_array_positions_m
+from simcore.dsp.detections import Detections
+from simcore.dsp.processing import RadarAxes
+from simcore.dsp.windows import make_window
+from simcore.scene.dsp_config import DspConfig
+from simcore.scene.radar_config import SPEED_OF_LIGHT, Antenna, RadarConfig
+from simcore.sensors.radar.equation import amplitude_scale_fs, element_gain, noise_std_fs
+from simcore.sensors.radar.scatterers import Scatterers
+
+#: Oversampling of the tabulated window responses (table points per FFT bin).
+OVERSAMPLING = 32
+#: Window power below which a scatterer's range offset from a cell is ignored (−70 dB).
+RANGE_FLOOR = 1e-7
+#: ... or beyond this many range-FFT bins, for windows whose sidelobes stay above it.
+MAX_RANGE_OFFSET_BINS = 64
+
+
+@dataclass(frozen=True)
+class DetectionLabels:
+    """Ground-truth labels of one frame's detections (same order as the detections).
+
+    Attributes
+    ----------
+    object_id : ndarray, shape (n,), int32
+        Project id of the object contributing most power to the detection's cell; −1 for
+        noise (no object above the noise power).
+    power_fraction : ndarray, shape (n,), float32
+        That object's share of the cell's expected power (scatterers + noise), in [0, 1].
+    ghost : ndarray, shape (n,), bool
+        Multipath ghost (always False: the simulator has no multipath yet).
+    """
+
+    object_id: NDArray[np.int32]
+    power_fraction: NDArray[np.float32]
+    ghost: NDArray[np.bool_]
+
+    def __len__(self) -> int:
+        return int(self.object_id.size)
+
+    @classmethod
+    def unlabelled(cls, n: int) -> DetectionLabels:
+        """``n`` detections labelled as noise."""
+        return cls(np.full(n, -1, dtype=np.int32), np.zeros(n, dtype=np.float32),
+                   np.zeros(n, dtype=bool))
+
+
+@lru_cache(maxsize=16)
+def _window_power_table(name: str, length: int, sidelobe_db: float, fft_size: int
+                        ) -> NDArray[np.float64]:
+    """``|W(δ)|²`` on ``fft_size * OVERSAMPLING`` offsets δ of one bin / OVERSAMPLING (peak 1)."""
+    w = make_window(name, length, sidelobe_db=sidelobe_db).astype(np.float64)  # type: ignore[arg-type]
+    spec = np.fft.fft(w, n=fft_size * OVERSAMPLING)
+    table = np.abs(spec) ** 2 / float(np.sum(w)) ** 2
+    table.setflags(write=False)
+    return table
+
+
+def _lookup(table: NDArray[np.float64], offset_bins: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Tabulated window power at offsets in FFT bins (periodic in the FFT length)."""
+    idx = np.rint(offset_bins * OVERSAMPLING).astype(np.int64) % table.size
+    return table[idx]
+
+
+def _noise_gain(name: str, length: int, sidelobe_db: float) -> float:
+    """``Σw² / (Σw)²`` of a window: the noise power of an amplitude-normalised bin."""
+    w = make_window(name, length, sidelobe_db=sidelobe_db).astype(np.float64)  # type: ignore[arg-type]
+    return float(np.sum(w**2) / np.sum(w) ** 2)
+
+
+def _mean_pair_gain(config: RadarConfig, directions: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Element power gain ``g_t g_r`` averaged over the Tx–Rx pairs, shape (M,)."""
+    cache: dict[str, NDArray[np.float64]] = {}
+
+    def gain(antenna: Antenna) -> NDArray[np.float64]:
+        pattern = antenna.pattern or config.element_pattern
+        key = pattern.model_dump_json()
+        if key not in cache:
+            cache[key] = element_gain(pattern, directions)
+        return cache[key]
+
+    g_tx = np.mean([gain(a) for a in config.tx], axis=0)
+    g_rx = np.mean([gain(a) for a in config.rx], axis=0)
+    return np.asarray(g_tx * g_rx, dtype=np.float64)
+
+
+@dataclass(frozen=True)
+class LabelScatterers:
+    """What each scatterer of a set brings to any detection cell, sorted by range.
+
+    Depends only on the scatterers and the radar configuration, so the stage cache keeps it
+    for a still background across frames. Built by :func:`prepare_scatterers`.
+
+    Attributes
+    ----------
+    range_m : ndarray, shape (M,), float64
+        Distance from the radar (m), ascending.
+    velocity_mps : ndarray, shape (M,), float64
+        Radial velocity (m/s, + = moving away).
+    power : ndarray, shape (M,), float64
+        Peak power in its own cell, ``A²`` (FS²; module docstring).
+    steering : ndarray, shape (M, channels), complex64
+        Virtual-array response towards the scatterer.
+    object_index : ndarray, shape (M,), intp
+        Index of its object in the project (−1: none).
+    doppler_cycles : ndarray, shape (M,), float64
+        Doppler frequency in cycles per chirp interval (for the static-clutter filter).
+    """
+
+    range_m: NDArray[np.float64]
+    velocity_mps: NDArray[np.float64]
+    power: NDArray[np.float64]
+    steering: NDArray[np.complex64]
+    object_index: NDArray[np.intp]
+    doppler_cycles: NDArray[np.float64]
+
+    def __len__(self) -> int:
+        return int(self.range_m.size)
+
+
+def prepare_scatterers(scatterers: Scatterers, radar_config: RadarConfig) -> LabelScatterers:
+    """Per-scatterer terms of the cell power (radar equation, high-pass, array response).
+
+    Parameters
+    ----------
+    scatterers : Scatterers
+        Scatterers in the radar optical frame (m, m/s, m²).
+    radar_config : RadarConfig
+        Waveform, antennas and receiver.
+
+    Returns
+    -------
+    LabelScatterers
+        The scatterers sorted by range.
+    """
+    rc = radar_config
+    pos = scatterers.positions_m
+    r = np.maximum(np.sqrt(np.einsum("ij,ij->i", pos, pos)), 1e-9)
+    order = np.argsort(r, kind="stable")
+    pos, r = pos[order], r[order]
+    u = pos / r[:, None]
+    v_radial = np.einsum("ij,ij->i", scatterers.velocities_mps[order], u)
+    power = amplitude_scale_fs(rc) ** 2 * scatterers.rcs_m2[order] * _mean_pair_gain(rc, pos)
+    power /= r**4
+    if rc.if_highpass_hz > 0:
+        # |H|² of the order-n Butterworth IF high-pass at the beat frequency.
+        x = (2.0 * rc.slope_hz_per_s * r / SPEED_OF_LIGHT / rc.if_highpass_hz) ** (
+            2 * rc.if_highpass_order)
+        power *= x / (1.0 + x)
+    phase = u @ (-2.0 * np.pi / rc.wavelength_m * virtual_array_positions_m(rc).T)
+    steering = np.exp(1j * phase.astype(np.float32)).astype(np.complex64, copy=False)
+    cycles = v_radial * 2.0 * len(rc.tx) * rc.chirp_repetition_time_s / rc.wavelength_m
+    return LabelScatterers(r, v_radial, power, steering,
+                           scatterers.object_index[order].astype(np.intp), cycles)
+
+
+def cell_power_by_object(prepared: LabelScatterers, detections: Detections, n_objects: int,
+                         radar_config: RadarConfig, dsp_config: DspConfig, axes: RadarAxes
+                         ) -> NDArray[np.float64]:
+    """Expected power of each object's scatterers in each detection's cell.
+
+    Parameters
+    ----------
+    prepared : LabelScatterers
+        The scatterers (:func:`prepare_scatterers`).
+    detections : Detections
+        The detections (cells and directions).
+    n_objects : int
+        Number of project objects.
+    radar_config, dsp_config : RadarConfig, DspConfig
+        The configurations the detections were made with.
+    axes : RadarAxes
+        Axes of the range–Doppler map.
+
+    Returns
+    -------
+    ndarray, shape (n, n_objects + 1), float64
+        Power (FS², beam-formed cell) per detection and object; the last column holds the
+        scatterers of no object.
+    """
+    rc, dc = radar_config, dsp_config
+    n = len(detections)
+    out = np.zeros((n, n_objects + 1))
+    if n == 0 or len(prepared) == 0:
+        return out
+    n_ch = len(rc.tx) * len(rc.rx)
+    range_table = _window_power_table(dc.range_window, rc.samples_per_chirp,
+                                      dc.range_window_sidelobe_db, axes.range_fft_size)
+    doppler_table = _window_power_table(dc.doppler_window, rc.chirps_per_frame,
+                                        dc.doppler_window_sidelobe_db, axes.doppler_fft_size)
+    dr = SPEED_OF_LIGHT * rc.sample_rate_hz / (2.0 * rc.slope_hz_per_s * axes.range_fft_size)
+    dv = float(axes.velocity_mps[1] - axes.velocity_mps[0]) if axes.velocity_mps.size > 1 else 1.0
+    reach_m = _range_reach_bins(range_table) * dr
+    cell_range = axes.range_m[detections.range_index]
+    cell_velocity = axes.velocity_mps[detections.doppler_index]
+    a_det = np.exp(-2j * np.pi * (direction_vectors(
+        np.deg2rad(detections.azimuth_deg), np.deg2rad(detections.elevation_deg))
+        @ virtual_array_positions_m(rc).T) / rc.wavelength_m).astype(np.complex64)  # (n, ch)
+    column = np.where((prepared.object_index >= 0) & (prepared.object_index < n_objects),
+                      prepared.object_index, n_objects)
+    keep = _clutter_filter(prepared.doppler_cycles, rc.chirps_per_frame) if (
+        dc.static_clutter_removal) else None
+    bounds = np.searchsorted(prepared.range_m, np.stack([cell_range - reach_m,
+                                                         cell_range + reach_m], axis=1))
+    for j, (lo, hi) in enumerate(bounds):
+        if hi <= lo:
+            continue
+        near = slice(int(lo), int(hi))
+        power = prepared.power[near] * _lookup(range_table,
+                                               (prepared.range_m[near] - cell_range[j]) / dr)
+        power *= _lookup(doppler_table, (prepared.velocity_mps[near] - cell_velocity[j]) / dv)
+        power *= np.abs(prepared.steering[near] @ a_det[j].conj()) ** 2 / n_ch**2
+        if keep is not None:
+            power *= keep[near]
+        out[j] = np.bincount(column[near], weights=power, minlength=n_objects + 1)
+    return out
+
+
+def _clutter_filter(cycles: NDArray[np.float64], n_chirps: int) -> NDArray[np.float64]:
+    """Power kept by mean removal over ``n_chirps`` chirps: ``1 − |D_N(f)|²``."""
+    sin_f = np.sin(np.pi * cycles)
+    small = np.abs(sin_f) < 1e-12
+    d = np.where(small, 1.0, np.sin(np.pi * n_chirps * cycles)
+                 / (n_chirps * np.where(small, 1.0, sin_f)))
+    return np.asarray(1.0 - d**2, dtype=np.float64)
+
+
+def label_detections(detections: Detections, scatterers: Scatterers | Sequence[
+        tuple[LabelScatterers, float]], object_ids: NDArray[np.integer],
+                     radar_config: RadarConfig, dsp_config: DspConfig, axes: RadarAxes
+                     ) -> DetectionLabels:
+    """Attribute each detection to the object contributing most power to its cell.
+
+    Parameters
+    ----------
+    detections : Detections
+        The frame's detections (cells ``doppler_index``, ``range_index``; directions
+        ``azimuth_deg``, ``elevation_deg``).
+    scatterers : Scatterers, or sequence of (LabelScatterers, float)
+        Every scatterer of the frame (radar optical frame, m and m/s; ``object_index``
+        into the project's objects); or prepared sets with signs whose signed sum is the
+        frame's (a still background + the frame's facets − the background's hidden ones).
+    object_ids : ndarray, shape (objects,), int
+        Project id of each object, in project order.
+    radar_config : RadarConfig
+        Waveform, antennas and receiver the cube was synthesised with.
+    dsp_config : DspConfig
+        The processing the detections come from (windows, FFT sizes, clutter filter).
+    axes : RadarAxes
+        Axes of the range–Doppler map (bin centres: m, m/s).
+
+    Returns
+    -------
+    DetectionLabels
+        One label per detection (module docstring for the model).
+    """
+    n = len(detections)
+    rc, dc = radar_config, dsp_config
+    parts = ([(prepare_scatterers(scatterers, rc), 1.0)] if isinstance(scatterers, Scatterers)
+             else list(scatterers))
+    if n == 0:
+        return DetectionLabels.unlabelled(n)
+    n_objects = len(object_ids)
+    per_object = np.zeros((n, n_objects + 1))
+    for prepared, sign in parts:
+        per_object += sign * cell_power_by_object(prepared, detections, n_objects, rc, dc, axes)
+    per_object = np.maximum(per_object, 0.0)
+
+    n_ch = len(rc.tx) * len(rc.rx)
+    noise = (4.0 if not rc.complex_iq else 2.0) * noise_std_fs(rc) ** 2 / n_ch
+    noise *= _noise_gain(dc.range_window, rc.samples_per_chirp, dc.range_window_sidelobe_db)
+    noise *= _noise_gain(dc.doppler_window, rc.chirps_per_frame, dc.doppler_window_sidelobe_db)
+    total = per_object.sum(axis=1) + noise
+    ids = np.append(np.asarray(object_ids, dtype=np.int32), -1)
+    best = np.argmax(per_object[:, :n_objects], axis=1) if n_objects else np.full(n, n_objects)
+    best_power = per_object[np.arange(n), best]
+    is_object = best_power > noise
+    object_id = np.where(is_object, ids[best], -1).astype(np.int32)
+    fraction = np.divide(best_power, total, out=np.zeros(n), where=is_object & (total > 0))
+    fraction = fraction.astype(np.float32)
+    return DetectionLabels(object_id, fraction, np.zeros(n, dtype=bool))
+
+
+def _range_reach_bins(range_table: NDArray[np.float64]) -> float:
+    """Largest range offset (FFT bins) where the window power reaches ``RANGE_FLOOR``."""
+    half = range_table[: range_table.size // 2]
+    above = np.flatnonzero(half >= RANGE_FLOOR)
+    reach = (above.max() + 1) / OVERSAMPLING if above.size else 1.0
+    return float(min(reach, MAX_RANGE_OFFSET_BINS))

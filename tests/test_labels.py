@@ -1,0 +1,162 @@
+"""Ground-truth labels of radar detections (simcore.sensors.radar.labels)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from simcore.dsp import radar_axes
+from simcore.dsp.detections import Detections
+from simcore.pipeline import Simulator
+from simcore.resources import example_path
+from simcore.scene import load_project
+from simcore.scene.dsp_config import DspConfig
+from simcore.scene.geometry import corner_reflector_axes
+from simcore.scene.radar_config import RadarConfig
+from simcore.sensors.radar.labels import label_detections
+from simcore.sensors.radar.scatterers import Scatterers
+
+
+def _detections(range_index, doppler_index, axes) -> Detections:
+    ri = np.asarray(range_index, dtype=np.int64)
+    di = np.asarray(doppler_index, dtype=np.int64)
+    z = np.zeros(ri.size)
+    xyz = np.stack([z, z, axes.range_m[ri]], axis=1)
+    return Detections(di, ri, axes.range_m[ri], axes.velocity_mps[di], z, z.copy(), z + 20,
+                      z.copy(), xyz)
+
+
+def test_two_objects_in_one_cell_share_its_power_by_rcs() -> None:
+    rc = RadarConfig(noise_variance_adc=1e-16, if_highpass_hz=0)
+    dc = DspConfig()
+    axes = radar_axes(rc, dc)
+    ri, di = 100, axes.velocity_mps.size // 2 + 3  # a range bin centre, a moving Doppler bin
+    r, v = axes.range_m[ri], axes.velocity_mps[di]
+    scat = Scatterers.from_arrays(np.array([[0, 0, r], [0, 0, r]]), np.array([3.0, 1.0]),
+                                  velocities_mps=np.array([[0, 0, v], [0, 0, v]]))
+    scat = Scatterers(**{**scat.__dict__, "object_index": np.array([0, 1], dtype=np.int32)})
+    det = _detections([ri, ri + 60], [di, di], axes)  # the two targets' cell; an empty one
+    labels = label_detections(det, scat, np.array([10, 20]), rc, dc, axes)
+    np.testing.assert_array_equal(labels.object_id, [10, -1])
+    np.testing.assert_allclose(labels.power_fraction, [0.75, 0.0], atol=1e-4)
+    np.testing.assert_array_equal(labels.ghost, [False, False])
+
+
+def test_static_clutter_removal_leaves_a_still_target_unlabelled() -> None:
+    rc = RadarConfig(noise_variance_adc=1e-12, if_highpass_hz=0)
+    dc = DspConfig(static_clutter_removal=True)
+    axes = radar_axes(rc, dc)
+    ri, di = 100, axes.velocity_mps.size // 2  # zero velocity
+    scat = Scatterers.from_arrays(np.array([[0, 0, axes.range_m[ri]]]), np.array([1.0]))
+    scat = Scatterers(**{**scat.__dict__, "object_index": np.array([0], dtype=np.int32)})
+    labels = label_detections(_detections([ri], [di], axes), scat, np.array([7]), rc, dc, axes)
+    np.testing.assert_array_equal(labels.object_id, [-1])
+
+
+POINT_TARGETS = load_project(example_path("point_targets"))
+
+
+def _corner_ranges(frame) -> dict[int, float]:
+    radar = frame.snapshot.sensor("radar").position
+    return {o.id: float(np.linalg.norm(s.origin - radar))
+            for o, s in zip(POINT_TARGETS.objects, frame.snapshot.objects, strict=True)}
+
+
+@pytest.fixture(scope="module")
+def point_target_frames():
+    # A high false-alarm rate puts detections in empty space too.
+    dsp = POINT_TARGETS.dsp.model_copy(update={"cfar_pfa": 0.05,
+                                               "doppler_sidelobe_margin_db": None})
+    noisy = POINT_TARGETS.model_copy(update={"dsp": dsp})
+    with Simulator(POINT_TARGETS) as sim:
+        plain = sim.frame(2)
+    with Simulator(noisy) as sim:
+        alarms = sim.frame(2)
+    return plain, alarms
+
+
+def test_every_point_target_detection_carries_its_corner_reflectors_id(point_target_frames):
+    frame = point_target_frames[0]
+    rows = frame.outputs["radar"].table_rows(frame.index)["/radar/detections"]
+    ranges = _corner_ranges(frame)
+    assert len(rows) == 3
+    for row in rows:
+        nearest = min(ranges, key=lambda k: abs(ranges[k] - row["range"]))
+        assert row["object_id"] == nearest
+        assert row["power_fraction"] > 0.99
+        assert not row["ghost"]
+    assert sorted(rows["object_id"]) == [1, 2, 3]
+
+
+def test_detections_of_empty_space_are_noise(point_target_frames):
+    frame = point_target_frames[1]
+    rows = frame.outputs["radar"].table_rows(frame.index)["/radar/detections"]
+    ranges = np.array(list(_corner_ranges(frame).values()))
+    far = np.min(np.abs(rows["range"][:, None] - ranges[None, :]), axis=1) > 0.3
+    assert np.count_nonzero(far) >= 10
+    np.testing.assert_array_equal(rows["object_id"][far], -1)
+    np.testing.assert_array_equal(rows["power_fraction"][far], 0.0)
+    assert set(rows["object_id"][~far]) <= {-1, 1, 2, 3}
+
+
+def test_corner_reflector_behind_the_paper_box_is_labelled() -> None:
+    project = load_project(example_path("office"))
+    corner = next(o for o in project.objects if o.name == "corner_reflector")
+    results = []
+    for accelerate in (True, False):
+        with Simulator(project, reuse_static=accelerate) as sim:
+            sim.frame(0)
+            frame = sim.frame(1)  # over the still background when accelerated
+        results.append(frame.outputs["radar"].table_rows(1)["/radar/detections"])
+        radar = frame.snapshot.sensor("radar").transform
+        index = [o.id for o in project.objects].index(corner.id)
+        apex = np.linalg.inv(radar) @ np.append(frame.snapshot.objects[index].origin, 1.0)
+    rows = results[0]
+    near = np.linalg.norm(np.stack([rows["x"], rows["y"], rows["z"]], 1) - apex[:3], axis=1)
+    k = int(np.argmin(near))
+    assert near[k] < 0.3
+    assert rows["object_id"][k] == corner.id
+    assert rows["power_fraction"][k] > 0.9
+    # The still-background accelerator builds the same scatterers: the same labels.
+    np.testing.assert_array_equal(results[0]["object_id"], results[1]["object_id"])
+    np.testing.assert_allclose(results[0]["power_fraction"], results[1]["power_fraction"],
+                               atol=1e-3)
+
+
+def test_object_ground_truth_matches_the_detections_and_the_geometry(point_target_frames):
+    frame = point_target_frames[0]
+    truth = frame.objects
+    rows = frame.outputs["radar"].table_rows(frame.index)["/radar/detections"]
+    for row in rows:
+        k = [o.id for o in POINT_TARGETS.objects].index(int(row["object_id"]))
+        assert abs(truth.radar_range_m[k] - row["range"]) < 0.01
+        assert abs(truth.radar_radial_velocity_mps[k] - row["velocity"]) < 0.05
+        assert abs(truth.radar_azimuth_deg[k] - row["azimuth_deg"]) < 1.0
+    # corner_2 moves at 1 m/s along boresight; the others stand still.
+    np.testing.assert_allclose(truth.radar_radial_velocity_mps, [0.0, 1.0, 0.0], atol=1e-9)
+    np.testing.assert_allclose(np.linalg.norm(truth.velocity_mps, axis=1), [0.0, 1.0, 0.0])
+    # A trihedral: apex at the origin, edge vectors a · corner_reflector_axes().
+    local = np.vstack([np.zeros(3), corner_reflector_axes() * 0.06])
+    np.testing.assert_allclose(truth.obb_size_m, np.tile(np.ptp(local, axis=0), (3, 1)))
+    for k in range(3):
+        corners = truth.aabb_m[k]
+        assert np.all(corners[0] <= truth.obb_center_m[k]) and np.all(
+            truth.obb_center_m[k] <= corners[1])
+        np.testing.assert_allclose(truth.obb_rotation[k], frame.object_poses[k][:3, :3])
+    items = frame.hdf5_items()
+    assert items["/objects/aabb"][0].shape == (3, 2, 3)
+    assert items["/objects/radar_azimuth"][1] == "deg"
+
+
+def test_a_noiseless_receiver_labels_without_warnings() -> None:
+    rc = RadarConfig(noise_variance_adc=0.0, if_highpass_hz=0)
+    dc = DspConfig()
+    axes = radar_axes(rc, dc)
+    scat = Scatterers.from_arrays(np.array([[0, 0, axes.range_m[50]]]), np.array([1.0]))
+    scat = Scatterers(**{**scat.__dict__, "object_index": np.array([0], dtype=np.int32)})
+    mid = axes.velocity_mps.size // 2
+    with np.errstate(all="raise"):
+        labels = label_detections(_detections([50, 200], [mid, mid], axes), scat,
+                                  np.array([4]), rc, dc, axes)
+    np.testing.assert_array_equal(labels.object_id, [4, -1])
+    np.testing.assert_allclose(labels.power_fraction, [1.0, 0.0])
