@@ -27,6 +27,7 @@ import datetime as _dt
 import errno
 import hashlib
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -52,6 +53,10 @@ class DatasetExistsError(FileExistsError):
 
 class ResumeError(ValueError):
     """An existing file cannot be continued with ``--resume``."""
+
+
+#: Room kept free for HDF5's own metadata when a frame is written (bytes).
+SPACE_MARGIN_BYTES = 256 * 1024
 
 
 class DiskFullError(OSError):
@@ -265,6 +270,7 @@ class DatasetWriter:
         :class:`DiskFullError` says how many frames are complete.
         """
         n = self.n_frames
+        self._check_space(n, items)
         try:
             stored = self._write_rows(n)
             for path, (array, unit) in items.items():
@@ -292,6 +298,26 @@ class DatasetWriter:
         if not self._placed and not self._replace_at_end:
             os.replace(self.tmp, self.path)     # first complete frame: now visible
             self._placed = True
+
+    def _check_space(self, n: int, items: dict[str, tuple[NDArray[Any], str]]) -> None:
+        """Refuse a frame that may not fit on the disk, before anything of it is written.
+
+        HDF5 cannot be trusted after a write failed half-way (closing such a file may damage
+        chunks of earlier frames), so a frame starts only when the disk has room for all of
+        it uncompressed, plus a margin for the file's own bookkeeping.
+        """
+        need = sum(np.asarray(a).nbytes for a, _ in items.values())
+        need += sum(np.asarray(r).nbytes for r, _ in getattr(self, "_pending_rows", {}).values())
+        need += SPACE_MARGIN_BYTES
+        try:
+            free = shutil.disk_usage(self.tmp.parent).free
+        except OSError:
+            return
+        if free < need:
+            raise DiskFullError(
+                errno.ENOSPC, f"disk full: frame {n} needs up to {need / 2**20:.2f} MiB but only "
+                f"{free / 2**20:.2f} MiB are free on {self.tmp.parent}; {n} complete frames "
+                "are kept")
 
     # ------------------------------------------------------------------ closing
     def _truncate(self) -> None:
