@@ -181,6 +181,12 @@ class RadarConfig(Model):
     if_highpass_hz: float = Field(80e3, ge=0, le=MAX_SAMPLE_RATE_HZ, allow_inf_nan=False,
                                   description="IF high-pass cutoff (0 = none)")
     if_highpass_order: int = Field(1, ge=1, le=8)
+    if_lowpass_hz: float = Field(
+        0.0, ge=0, le=MAX_SAMPLE_RATE_HZ, allow_inf_nan=False,
+        description="IF anti-aliasing low-pass cutoff (Butterworth, 0 = none): beat "
+                    "frequencies above it, e.g. targets beyond the maximum range, are "
+                    "attenuated instead of folding back at full level")
+    if_lowpass_order: int = Field(4, ge=1, le=8)
     adc_bits: int | None = Field(12, ge=1, le=24, description="None = no quantization")
     adc_full_scale_v: float = Field(1.0, ge=1e-9, le=1e6, allow_inf_nan=False,
                                     description="peak ADC input voltage of the largest code")
@@ -246,6 +252,10 @@ class RadarConfig(Model):
                 f"if_highpass_hz ({self.if_highpass_hz:g} Hz) must be below the IF bandwidth "
                 f"({nyquist:g} Hz), or 0 for no high-pass"
             )
+        if 0 < self.if_lowpass_hz <= self.if_highpass_hz:
+            raise ValueError(
+                f"if_lowpass_hz ({self.if_lowpass_hz:g} Hz) must be above the high-pass "
+                f"cutoff ({self.if_highpass_hz:g} Hz), or 0 for no anti-aliasing filter")
         for role, antennas in (("tx", self.tx), ("rx", self.rx)):
             seen: set[str] = set()
             dup_set: set[str] = set()

@@ -116,6 +116,38 @@ def highpass_response(freq_hz: NDArray[np.floating] | float, cutoff_hz: float, o
     return h
 
 
+def lowpass_response(freq_hz: NDArray[np.floating] | float, cutoff_hz: float, order: int
+                     ) -> NDArray[np.complex128]:
+    """Frequency response of an analog Butterworth low-pass, ``H(j 2π f)``.
+
+    ``H(s) = Π_k (−p_k) / (s − p_k)`` with the Butterworth poles ``p_k`` of
+    :func:`highpass_response`; ``|H|² = 1 / (1 + x^{2n})``, ``x = f / cutoff``.
+    ``cutoff_hz = 0`` gives ``H = 1``.
+
+    Examples
+    --------
+    >>> round(float(abs(lowpass_response(2e6, 1e6, 4)) ** 2), 6)   # 1 / (1 + 2⁸)
+    0.003891
+    """
+    f = np.asarray(freq_hz, dtype=np.float64)
+    if cutoff_hz <= 0:
+        return np.ones(f.shape, dtype=np.complex128)
+    k = np.arange(1, order + 1)
+    poles = 2 * np.pi * cutoff_hz * np.exp(1j * np.pi * (2 * k + order - 1) / (2 * order))
+    s = 2j * np.pi * f
+    h = np.ones(f.shape, dtype=np.complex128)
+    for p in poles:
+        h *= -p / (s - p)
+    return h
+
+
+def if_filter_response(freq_hz: NDArray[np.floating] | float, config: RadarConfig
+                       ) -> NDArray[np.complex128]:
+    """The IF chain's filters at beat frequency ``freq_hz``: high-pass × anti-aliasing."""
+    return (highpass_response(freq_hz, config.if_highpass_hz, config.if_highpass_order)
+            * lowpass_response(freq_hz, config.if_lowpass_hz, config.if_lowpass_order))
+
+
 def element_gain(pattern: ElementPattern, directions: NDArray[np.floating]
                  ) -> NDArray[np.float64]:
     """Power gain of an element pattern relative to its boresight peak.
@@ -175,5 +207,5 @@ def pattern_gains(config: RadarConfig, directions: NDArray[np.float64]
 
 
 __all__ = ["BOLTZMANN", "R_REF_OHM", "T0_K", "amplitude_scale_fs", "element_gain",
-           "highpass_response", "if_amplitude_fs", "leakage_amplitude_fs", "noise_std_fs",
-           "pattern_gains"]
+           "highpass_response", "if_amplitude_fs", "if_filter_response", "leakage_amplitude_fs",
+           "lowpass_response", "noise_std_fs", "pattern_gains"]

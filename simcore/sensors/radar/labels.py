@@ -185,6 +185,11 @@ def prepare_scatterers(scatterers: Scatterers, radar_config: RadarConfig) -> Lab
         x = (2.0 * rc.slope_hz_per_s * r / SPEED_OF_LIGHT / rc.if_highpass_hz) ** (
             2 * rc.if_highpass_order)
         power *= x / (1.0 + x)
+    if rc.if_lowpass_hz > 0:
+        # |H|² of the anti-aliasing low-pass: 1 / (1 + (f_b / f_lp)^{2n}).
+        x = (2.0 * rc.slope_hz_per_s * r / SPEED_OF_LIGHT / rc.if_lowpass_hz) ** (
+            2 * rc.if_lowpass_order)
+        power /= 1.0 + x
     phase = u @ (-2.0 * np.pi / rc.wavelength_m * virtual_array_positions_m(rc).T)
     steering = np.exp(1j * phase.astype(np.float32)).astype(np.complex64, copy=False)
     cycles = v_radial * 2.0 * len(rc.tx) * rc.chirp_repetition_time_s / rc.wavelength_m

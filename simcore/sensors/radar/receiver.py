@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.sensors.radar.equation import (
-    highpass_response,
+    if_filter_response,
     leakage_amplitude_fs,
     noise_std_fs,
 )
@@ -37,7 +37,7 @@ def leakage_if(config: RadarConfig) -> ComplexCube:
     for t in range(n_tx):
         for r in range(n_rx):
             tau = float(np.linalg.norm(p_tx[t] - p_rx[r])) / SPEED_OF_LIGHT
-            h = highpass_response(slope * tau, config.if_highpass_hz, config.if_highpass_order)
+            h = if_filter_response(slope * tau, config)
             out[0, t * n_rx + r] = amp * h * np.exp(1j * (
                 2 * np.pi * f_c * tau + 2 * np.pi * slope * tau * t_n - np.pi * slope * tau**2))
     return out
@@ -68,15 +68,15 @@ def receiver_noise(config: RadarConfig, shape: tuple[int, ...], rng: np.random.G
         noise = sigma * (rng.standard_normal(shape) + 1j * rng.standard_normal(shape))
     else:
         noise = sigma * rng.standard_normal(shape)
-    if config.if_highpass_hz > 0 and sigma > 0:
+    if (config.if_highpass_hz > 0 or config.if_lowpass_hz > 0) and sigma > 0:
         n = shape[-1]
         if config.complex_iq:
             f = np.fft.fftfreq(n, 1.0 / config.sample_rate_hz)
-            h = highpass_response(f, config.if_highpass_hz, config.if_highpass_order)
+            h = if_filter_response(f, config)
             noise = np.fft.ifft(np.fft.fft(noise, axis=-1) * h, axis=-1)
         else:
             f = np.fft.rfftfreq(n, 1.0 / config.sample_rate_hz)
-            h = highpass_response(f, config.if_highpass_hz, config.if_highpass_order)
+            h = if_filter_response(f, config)
             noise = np.fft.irfft(np.fft.rfft(noise, axis=-1) * h, n=n, axis=-1)
     return noise
 

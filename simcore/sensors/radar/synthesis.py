@@ -58,6 +58,7 @@ from simcore.sensors.radar.equation import (
     element_gain,
     highpass_response,
     if_amplitude_fs,
+    if_filter_response,
     leakage_amplitude_fs,
     noise_std_fs,
     pattern_gains,
@@ -200,6 +201,13 @@ class _Waveform:
     quad_per_m2: float          # π K / c²
     x_per_m: float              # f_b / f_cut per metre of path (0: no high-pass)
     poles: tuple[tuple[float, float], ...]   # high-pass poles / (2π f_cut)
+    lp_x_per_m: float = 0.0     # f_b / f_lowpass per metre of path (0: no low-pass)
+    lp_poles: tuple[tuple[float, float], ...] = ()   # low-pass poles / (2π f_lowpass)
+
+    @property
+    def filtered(self) -> bool:
+        """Whether the IF chain has a high-pass or an anti-aliasing low-pass."""
+        return bool(self.poles or self.lp_poles)
 
     @classmethod
     def of(cls, config: RadarConfig) -> _Waveform:
@@ -215,12 +223,19 @@ class _Waveform:
             k = np.arange(1, order + 1)
             p = np.exp(1j * np.pi * (2 * k + order - 1) / (2 * order))
             poles = tuple((float(z.real), float(z.imag)) for z in p)
+        lp_cutoff, lp_order = config.if_lowpass_hz, config.if_lowpass_order
+        lp_poles: tuple[tuple[float, float], ...] = ()
+        if lp_cutoff > 0:
+            k = np.arange(1, lp_order + 1)
+            p = np.exp(1j * np.pi * (2 * k + lp_order - 1) / (2 * lp_order))
+            lp_poles = tuple((float(z.real), float(z.imag)) for z in p)
         return cls(
             n_s=n_s, eps=config.nufft_tolerance,
             single=config.nufft_tolerance >= SINGLE_PRECISION_TOLERANCE,
             theta_per_m=theta_per_tau / c, phase_per_m=phase_per_tau / c,
             quad_per_m2=np.pi * slope / c**2,
-            x_per_m=slope / (c * cutoff) if cutoff > 0 else 0.0, poles=poles)
+            x_per_m=slope / (c * cutoff) if cutoff > 0 else 0.0, poles=poles,
+            lp_x_per_m=slope / (c * lp_cutoff) if lp_cutoff > 0 else 0.0, lp_poles=lp_poles)
 
 
 _PLANS = threading.local()
@@ -286,19 +301,36 @@ def _highpass_factor(x: NDArray[np.float32], pole: tuple[float, float]
     return x * u / den, x * np.float32(-p_re) / den
 
 
+def _lowpass_factor(x: NDArray[np.float32], pole: tuple[float, float]
+                    ) -> tuple[NDArray[np.floating[Any]], NDArray[np.floating[Any]]]:
+    """Real and imaginary parts of ``−p / (jx − p)`` for a pole ``p`` on the unit circle."""
+    p_re, p_im = pole
+    u = x - np.float32(p_im)
+    den = u * u
+    den += np.float32(p_re * p_re)
+    re = (np.float32(p_re * p_re) - np.float32(p_im) * u) / den
+    return re, x * np.float32(p_re) / den
+
+
 def _highpass32(wave: _Waveform, path: NDArray[np.float64]
                 ) -> tuple[NDArray[np.floating[Any]], NDArray[np.floating[Any]]]:
-    """Real and imaginary parts of the high-pass at the beat frequency of ``path`` (float32).
+    """Real and imaginary parts of the IF filters at the beat frequency of ``path`` (float32).
 
-    ``H(f_b) = Π_k jx / (jx − p_k)``, ``x = f_b / f_cut``, in float32 real arithmetic; call
-    only when the waveform has a high-pass (``wave.poles``).
+    High-pass ``Π_k jx / (jx − p_k)``, ``x = f_b / f_cut``, times the anti-aliasing low-pass
+    ``Π_k (−p_k) / (jx' − p_k)``, ``x' = f_b / f_lowpass``, in float32 real arithmetic; call
+    only when the waveform has a filter (``wave.filtered``).
     """
     x = path.astype(np.float32)
-    x *= np.float32(wave.x_per_m)
-    h_re, h_im = _highpass_factor(x, wave.poles[0])
-    for pole in wave.poles[1:]:
-        f_re, f_im = _highpass_factor(x, pole)
-        h_re, h_im = h_re * f_re - h_im * f_im, h_re * f_im + h_im * f_re
+    h_re: NDArray[np.floating[Any]] = np.ones_like(x)
+    h_im: NDArray[np.floating[Any]] = np.zeros_like(x)
+    for poles, per_m, factor in ((wave.poles, wave.x_per_m, _highpass_factor),
+                                 (wave.lp_poles, wave.lp_x_per_m, _lowpass_factor)):
+        if not poles:
+            continue
+        xs = x * np.float32(per_m)
+        for pole in poles:
+            f_re, f_im = factor(xs, pole)
+            h_re, h_im = h_re * f_re - h_im * f_im, h_re * f_im + h_im * f_re
     return h_re, h_im
 
 
@@ -320,7 +352,7 @@ def _pair_weights(wave: _Waveform, path: NDArray[np.float64], amp: NDArray[np.fl
     arg32 = _wrap(arg).astype(np.float32)
     cos, sin = np.cos(arg32), np.sin(arg32)
     w = np.empty(path.shape, dtype=np.complex64 if wave.single else np.complex128)
-    if wave.poles:
+    if wave.filtered:
         h_re, h_im = _highpass32(wave, path)
         a_re, a_im = amp * h_re, amp * h_im
         w.real = cos * a_re - sin * a_im
@@ -651,7 +683,7 @@ def _frame_amplitudes(prep: PreparedScatterers, rows: slice, t: int, r: int,
     ph = prep.phase[rows].astype(np.float32)
     cos, sin = np.cos(ph), np.sin(ph)
     out = np.empty(len(amp), dtype=np.complex128)
-    if wave.poles:
+    if wave.filtered:
         h_re, h_im = _highpass32(wave, d_t + d_r)
         a_re, a_im = amp * h_re, amp * h_im
         out.real = cos * a_re - sin * a_im
@@ -865,8 +897,7 @@ def synthesize_if_direct(scatterers: Scatterers, config: RadarConfig, *,
         for r in range(n_rx):
             r_t = np.linalg.norm(x0 - p_tx[t], axis=1)
             r_r = np.linalg.norm(x0 - p_rx[r], axis=1)
-            h = highpass_response(slope * (r_t + r_r) / SPEED_OF_LIGHT, config.if_highpass_hz,
-                                  config.if_highpass_order)
+            h = if_filter_response(slope * (r_t + r_r) / SPEED_OF_LIGHT, config)
             amp[t, r] = (if_amplitude_fs(config, scatterers.rcs_m2, g_tx[t], g_rx[r], r_t, r_r)
                          * h * np.exp(1j * scatterers.phase_rad))
     for i, m in enumerate(idx):
