@@ -75,6 +75,9 @@ class MainWindow(QMainWindow):
         self.document = ProjectDocument(parent=self)
         self.sim = SimulationController(self)
         self.time = TimeController(self.document, self)
+        # Connected before any view: an edit's frame is requested first, so the simulation
+        # computes it while the editors and the 3D view update.
+        self.document.projectChanged.connect(self._schedule_frame)
         self.viewport = SceneViewport(self.document)
         self.setCentralWidget(self.viewport)
         self.last_view: FrameView | None = None
@@ -321,7 +324,6 @@ class MainWindow(QMainWindow):
 
     def _connect(self) -> None:
         doc = self.document
-        doc.projectChanged.connect(self._schedule_frame)
         doc.dirtyChanged.connect(self._update_title)
         doc.pathChanged.connect(self._update_title)
         doc.undo_stack.indexChanged.connect(self._update_title)
