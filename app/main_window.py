@@ -28,6 +28,7 @@ from app.export import DatasetExportJob, export_panel_images
 from app.frame_view import FrameView
 from app.material_editor import MaterialEditor
 from app.panels import LivePanel, RangeAzimuthPanel, RangeDopplerPanel, RangeProfilePanel, TofPanel
+from app.rgb_panel import RgbPanel
 from app.scene_editor import ObjectInspector, ObjectListPanel, build_add_menu
 from app.sensor_editor import SensorEditor
 from app.simulation import SimulationController
@@ -52,9 +53,16 @@ def _bytes(n: float) -> str:
             return f"{n:.1f} {unit}" if unit != "B" else f"{int(n)} B"
         n /= 1024
     return f"{n:.1f} TiB"
-STAGE_LABELS = {"snapshot": "snapshot", "render_tof": "render ToF",
-                "render_radar": "render radar", "tof": "ToF", "radar_scatterers": "scatterers",
-                "radar_synthesis": "IF synthesis", "radar": "radar", "dsp": "DSP"}
+
+
+#: Readable names of the engine's stages in the status bar (unknown names are shown as is).
+STAGE_LABELS = {
+    "snapshot": "snapshot", "render_tof": "render ToF", "render_tof_samples": "ToF samples",
+    "render_radar": "render radar", "render_rgb": "render RGB",
+    "render_background": "background", "tof": "ToF", "tof_albedo": "ToF albedo",
+    "radar_scatterers": "scatterers", "radar_background_scatterers": "background scatterers",
+    "radar_synthesis": "IF synthesis", "radar_background_synthesis": "background IF",
+    "radar_receiver": "receiver", "dsp": "DSP", "rgb": "RGB"}
 
 
 class MainWindow(QMainWindow):
@@ -128,6 +136,7 @@ class MainWindow(QMainWindow):
         self.profile_panel = RangeProfilePanel()
         self.rd_panel = RangeDopplerPanel()
         self.ra_panel = RangeAzimuthPanel()
+        self.rgb_panel = RgbPanel()
         self.docks: dict[str, QDockWidget] = {}
         self.docks["scene"] = self._dock("Scene", self.object_list, left, "dock_scene")
         self.docks["inspector"] = self._dock("Inspector", self.inspector, left, "dock_inspector")
@@ -137,6 +146,11 @@ class MainWindow(QMainWindow):
         self.docks["rd"] = self._dock("Range–Doppler", self.rd_panel, right, "dock_rd")
         self.docks["ra"] = self._dock("Range–azimuth", self.ra_panel, right, "dock_ra")
         self.splitDockWidget(self.docks["rd"], self.docks["ra"], Qt.Orientation.Horizontal)
+        # The RGB camera is optional: its panel shares the ToF dock's place and is shown
+        # only while the rig carries one (_follow_rig_sensors).
+        self.docks["rgb"] = self._dock("RGB camera", self.rgb_panel, right, "dock_rgb")
+        self.tabifyDockWidget(self.docks["tof"], self.docks["rgb"])
+        self.docks["tof"].raise_()
         self.docks["antennas"] = self._dock("Antenna array", self.antenna_editor, bottom,
                                             "dock_antennas")
         self.docks["materials"] = self._dock("Materials", self.material_editor, bottom,
@@ -156,7 +170,10 @@ class MainWindow(QMainWindow):
         self.resizeDocks([self.docks["antennas"]], [300], Qt.Orientation.Vertical)
         self.panels: dict[str, LivePanel] = {
             "ToF camera": self.tof_panel, "Range profile": self.profile_panel,
-            "Range-Doppler": self.rd_panel, "Range-azimuth": self.ra_panel}
+            "Range-Doppler": self.rd_panel, "Range-azimuth": self.ra_panel,
+            "RGB camera": self.rgb_panel}
+        self._rgb_shown: bool | None = None
+        self._follow_rig_sensors()
 
     def _action(self, text: str, slot: Any, *, shortcut: Any = None, tip: str = "",
                 checkable: bool = False) -> QAction:
@@ -324,6 +341,7 @@ class MainWindow(QMainWindow):
 
     def _connect(self) -> None:
         doc = self.document
+        doc.projectChanged.connect(self._follow_rig_sensors)
         doc.dirtyChanged.connect(self._update_title)
         doc.pathChanged.connect(self._update_title)
         doc.undo_stack.indexChanged.connect(self._update_title)
@@ -335,6 +353,14 @@ class MainWindow(QMainWindow):
                        self.sensor_editor, self.antenna_editor, self.viewport):
             editor.editFailed.connect(self.show_status_error)
         self.inspector.editMaterialRequested.connect(self._edit_material)
+
+    def _follow_rig_sensors(self, *_: object) -> None:
+        """Show the RGB camera's dock when the rig gains one, hide it when it has none."""
+        has_rgb = self.document.project.rig.rgb is not None
+        if has_rgb != self._rgb_shown:
+            self._rgb_shown = has_rgb
+            self.docks["rgb"].toggleViewAction().setEnabled(has_rgb)
+            self.docks["rgb"].setVisible(has_rgb)
 
     # --- simulation -------------------------------------------------------------------
     def _on_sim_failed(self, message: str) -> None:
@@ -704,6 +730,8 @@ class MainWindow(QMainWindow):
             self.restoreGeometry(geometry)
         if state is not None:
             self.restoreState(state)
+            self._rgb_shown = None  # the saved layout may show it: follow the project again
+            self._follow_rig_sensors()
 
     def _save_layout(self) -> None:
         self.settings.setValue("window/geometry", self.saveGeometry())

@@ -166,7 +166,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     seed = project.seed if args.seed is None else args.seed
     try:
         n_frames = frame_count(args.frames, args.duration, project.timeline.frame_rate_hz,
-                               project.timeline.n_frames)
+                               _timeline_default(project, args))
     except ValueError as exc:
         raise CliError(str(exc)) from None
     out = Path(args.out)
@@ -212,6 +212,19 @@ def cmd_run(args: argparse.Namespace) -> int:
     else:
         print(f"{out} already has {report.first_frame} frames; nothing to do")
     return 0
+
+
+def _timeline_default(project: Project, args: argparse.Namespace) -> int:
+    """Frames of the project's timeline when neither --frames nor --duration is given."""
+    from simcore.preflight import timeline_frames
+
+    if args.frames is not None or args.duration is not None:
+        return 0
+    frames = timeline_frames(project)
+    if frames > MAX_FRAMES:
+        raise CliError(f"{args.project}: timeline.duration_s × frame_rate_hz = {frames:.3g} "
+                       f"frames; allowed at most {MAX_FRAMES} (or pass --frames)")
+    return int(frames)
 
 
 def _preview_axes(project: Project) -> PreviewAxes:
@@ -268,7 +281,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         seed = variant.seed if args.seed is None else args.seed
         try:
             n_frames = frame_count(args.frames, args.duration, variant.timeline.frame_rate_hz,
-                                   variant.timeline.n_frames)
+                                   _timeline_default(variant, args))
         except ValueError as exc:
             raise CliError(str(exc)) from None
         problems = check_project(variant, base_dir=project_path.parent, n_frames=n_frames,

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from simcore.scene.base import MAX_COORDINATE_M, MAX_SPEED_MPS, check_name
+from simcore.scene.base import MAX_COORDINATE_M, MAX_SPEED_MPS, MAX_TIME_S, check_name
 from simcore.scene.geometry import Mesh
 from simcore.scene.mesh_files import (
     MAX_MESH_FILE_BYTES,
@@ -288,6 +288,12 @@ def _reach(pose: Pose, motion: Motion, t_end: float) -> tuple[float, float]:
     return reach, float(np.linalg.norm(v))
 
 
+def timeline_frames(project: Project) -> float:
+    """Frames of the project's timeline (as ``Timeline.n_frames``, without overflowing)."""
+    frames = project.timeline.duration_s * project.timeline.frame_rate_hz
+    return float(max(1, round(frames))) if math.isfinite(frames) else math.inf
+
+
 def _physics_problems(project: Project, n_frames: int) -> list[str]:
     """Derived quantities that must be finite and in range."""
     out: list[str] = []
@@ -398,12 +404,18 @@ def check(project: Project, *, base_dir: Path | None = None,
     run_seed = project.seed if seed is None else seed
     if not 0 <= run_seed <= MAX_SEED:
         out.append(f"seed: {run_seed} is out of range; allowed [0, {MAX_SEED}]")
-    frames = project.timeline.n_frames if n_frames is None else n_frames
+    frames = timeline_frames(project) if n_frames is None else n_frames
     if frames > MAX_FRAMES:
         source = "timeline.duration_s × frame_rate_hz" if n_frames is None else "--frames"
         out.append(f"{source}: {frames:.3g} frames; allowed at most {MAX_FRAMES}")
         frames = MAX_FRAMES
-    out += _physics_problems(project, frames)
+    span = frames / project.timeline.frame_rate_hz
+    if not span <= MAX_TIME_S:
+        out.append(f"timeline.frame_rate_hz: {frames:.3g} frames at "
+                   f"{project.timeline.frame_rate_hz:.3g} Hz span {span:.3g} s of simulated "
+                   f"time; allowed at most {MAX_TIME_S:g} s")
+        return out
+    out += _physics_problems(project, int(frames))
     # Meshes: path policy and file type first (cheap), then the cost, then parsing.
     mesh_ok: list[tuple[int, Path, Mesh]] = []
     for i, obj in enumerate(project.objects):
@@ -435,5 +447,5 @@ def check(project: Project, *, base_dir: Path | None = None,
     return out
 
 
-__all__ = ["CostEstimate", "RunError", "available_memory_bytes", "check", "default_memory_budget",
-           "estimate_cost", "mesh_path_problem"]
+__all__ = ["CostEstimate", "RunError", "available_memory_bytes", "check",
+           "default_memory_budget", "estimate_cost", "mesh_path_problem", "timeline_frames"]

@@ -41,12 +41,11 @@ subprocess.run([sys.executable, "-m", "simcore.cli", "run", str(example_path("wa
                 "--out", "out/demo.h5", "--frames", "2", "--quiet"], check=True)
 """,
     "dsp.md": _FRAME + """
-cube, radar_config = _frame.outputs["radar"].raw.adc, project.rig.radar
-T, frame_index = _frame.rig_pose, 0
+cube, radar_config, frame_index = _frame.outputs["radar"].raw.adc, project.rig.radar, 0
+T = _frame.snapshot.sensor("radar").transform
 """,
     "physics_radar.md": _FRAME + """
 snapshot, radar_buffers, seed = _frame.snapshot, _frame.buffers["radar"], 1
-rng = np.random.default_rng(seed)
 """,
 }
 

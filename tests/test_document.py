@@ -64,7 +64,7 @@ def test_drags_merge_into_one_undo_step(doc: ProjectDocument) -> None:
 
 
 def test_an_invalid_edit_is_refused_and_leaves_no_undo_step(doc: ProjectDocument) -> None:
-    with pytest.raises(EditError, match="chirps_per_frame"):
+    with pytest.raises(EditError, match=r"chirps.*≥ 1 \(got 0\)"):
         doc.set_value("rig.radar.chirps_per_frame", 0)
     assert doc.undo_stack.count() == 0 and not doc.is_dirty
 
@@ -81,3 +81,29 @@ def test_selection_follows_the_objects(doc: ProjectDocument) -> None:
     doc.edit("Delete", lambda d: d["objects"].pop(0))
     assert doc.selection is None, "deleting the selected object clears the selection"
     assert seen[-1] is None
+
+
+def test_time_controller_clamps_steps_and_waits_for_each_frame(doc: ProjectDocument) -> None:
+    from app.time_controls import TimeController
+
+    time = TimeController(doc)
+    n = doc.project.timeline.n_frames            # point_targets: 10 frames at 10 Hz
+    assert n == round(doc.project.timeline.duration_s * doc.project.timeline.frame_rate_hz)
+    time.set_index(n + 5)
+    assert time.index == n - 1 and time.time_s == pytest.approx((n - 1) / 10.0)
+    time.set_index(-3)
+    assert time.index == 0
+    time.step(2)
+    assert time.index == 2 and time.next_index == 3
+    # While a frame is being computed, a playback tick is remembered, not skipped ahead.
+    time._tick()
+    assert time.index == 2
+    time._timer.start(1000)   # playing, without waiting for real ticks
+    shown: list[int] = []
+    time.frameShown.connect(shown.append)
+    time.frame_done()         # the frame of index 2 is shown: the pending tick moves on
+    assert shown == [2] and time.index == 3
+    time.set_playing(False)
+    # A shorter timeline clamps the index.
+    doc.set_value("timeline.duration_s", 0.2)
+    assert time.index == 1

@@ -162,3 +162,20 @@ def test_a_wavelength_edit_recomputes_the_scatterers() -> None:
     peak = [f.outputs["radar"].dsp.range_doppler_db.max() for f in (first, second)]
     # σ = 4πa⁴/(3λ²): 61 GHz vs 60 GHz gives (61/60)² in power at the same range.
     assert peak[1] - peak[0] > 0
+
+
+def test_auto_exposure_looks_at_the_previous_frame() -> None:
+    """With auto-exposure the ToF sensor asks for a render one frame period earlier; run in
+    order, that render is the previous frame's own (no extra GPU pass)."""
+    path = example_path("office")
+    project = load_project(path)
+    project.rig.tof.auto_exposure = True
+    with Simulator(project, base_dir=path.parent) as sim:
+        sim.frame(0)
+        renders = sim.render_count
+        frame = sim.frame(1)
+        assert sim.render_count - renders == 2          # radar + ToF of frame 1 only
+    exposure = frame.outputs["tof"].exposure_time_s
+    low, high = project.rig.tof.exposure_range_s
+    assert low <= exposure <= high
+    assert frame.hdf5_items()["/tof/exposure_time"][0] == exposure

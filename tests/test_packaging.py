@@ -23,7 +23,7 @@ from simcore.examples import ExamplesError, copy_examples, list_examples, mesh_f
 from simcore.resources import EXAMPLES_DIR, MATERIALS_FILE, RESOURCES_DIR, example_path
 
 ROOT = Path(__file__).resolve().parents[1]
-# The example files of the repository's resources folder (what the package must ship).
+# The repository's examples folder: what the package must list and copy.
 EXAMPLE_NAMES = sorted(p.stem for p in (ROOT / "resources" / "examples").glob("*.json"))
 
 
@@ -58,6 +58,7 @@ def test_package_data_covers_every_bundled_file():
 
 def test_list_examples_names_and_one_line_summaries():
     found = list_examples()
+    assert {"office", "wall", "point_targets"} <= set(EXAMPLE_NAMES)
     assert [e.name for e in found] == EXAMPLE_NAMES
     for e in found:
         assert e.summary and "\n" not in e.summary and not e.summary.endswith(".")
@@ -66,9 +67,12 @@ def test_list_examples_names_and_one_line_summaries():
 def test_examples_command_lists_them(capsys):
     assert main(["examples"]) == 0
     out = capsys.readouterr().out.splitlines()
-    assert [line.split()[0] for line in out[:len(EXAMPLE_NAMES)]] == [
-        f"{n}.json" for n in EXAMPLE_NAMES]
-    assert out[0].split(None, 1)[1].startswith("The sensor rig moves back and forth")
+    n = len(EXAMPLE_NAMES)
+    assert [line.split()[0] for line in out[:n]] == [f"{name}.json" for name in EXAMPLE_NAMES]
+    wall = out[EXAMPLE_NAMES.index("wall")].split(None, 1)[1]
+    assert wall == ("A flat concrete wall 2.0 m in front of the rig, normal to the boresight, "
+                    "larger than both fields of view")
+    assert out[n] == "copy them into a folder with: tofradar examples --copy DIR"
 
 
 def test_examples_copy_then_refuse_to_overwrite(tmp_path, capsys):
@@ -82,8 +86,8 @@ def test_examples_copy_then_refuse_to_overwrite(tmp_path, capsys):
     assert main(["examples", "--copy", str(target)]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1
-    assert re.search(rf"ex/doppler_back_and_forth\.json exists already \(and "
-                     rf"{len(EXAMPLE_NAMES) - 1} more\); not overwriting", err), err
+    first, more = EXAMPLE_NAMES[0], len(EXAMPLE_NAMES) - 1
+    assert f"ex/{first}.json exists already (and {more} more); not overwriting" in err, err
     assert (target / "wall.json").read_text() == "mine"
 
 

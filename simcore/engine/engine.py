@@ -124,7 +124,9 @@ class FrameEngine:
                  seed: int | None = None, accelerate: bool = True, threads: bool = True):
         self.seed = project.seed if seed is None else seed
         self.renderer = SceneRenderer(project, base_dir=base_dir)
-        self.cache = StageCache(enabled=accelerate)
+        # Six results per stage: a frame, its ToF sample renders (motion artefacts, the
+        # previous frame for auto-exposure) and an edit's re-run stay cached together.
+        self.cache = StageCache(keep=6, enabled=accelerate)
         self.background = StillBackground() if accelerate else None
         self.threads = threads
         self._worker: ThreadPoolExecutor | None = None
@@ -220,7 +222,10 @@ class FrameEngine:
                 label: str, hide: tuple[bool, ...] | None = None) -> Raster:
         reads = (self._scene_version, request, hide,
                  None if hide is not None else _state_key(snap, request.sensor))
-        return self.cache.run(f"raster:{request.sensor}:{label}",
+        # One name per pass kind (frame or background): a sample render at another time is
+        # the same pass, so the previous frame's render serves auto-exposure.
+        kind = "background" if hide is not None else "frame"
+        return self.cache.run(f"raster:{request.sensor}:{kind}",
                               lambda: self.renderer.rasterize(snap, request, hide=hide),
                               reads=reads, timings=timings, label=label)
 
@@ -233,7 +238,8 @@ class FrameEngine:
 
     def _shade(self, raster: Raster, background: tuple[Raster, RenderBuffers] | None,
                timings: dict[str, float], label: str) -> RenderBuffers:
-        return self.cache.run(f"shade:{raster.sensor}:{label}",
+        kind = "background" if label == "render_background" else "frame"
+        return self.cache.run(f"shade:{raster.sensor}:{kind}",
                               lambda: self.renderer.shade(raster, background=background),
                               reads=(), inputs=(raster,), timings=timings, label=label)
 

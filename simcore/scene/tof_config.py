@@ -98,6 +98,31 @@ class TofCameraConfig(Model):
     sample_interval_s: float = Field(
         1e-3, gt=0, le=1.0, allow_inf_nan=False,
         description="time between the starts of consecutive correlation samples (s)")
+    auto_exposure: bool = Field(
+        False, description="choose each frame's exposure time from the previous frame's "
+                           "signal, like the camera's auto-exposure modes")
+    auto_exposure_target: float = Field(
+        0.6, gt=0, le=1, allow_inf_nan=False,
+        description="auto-exposure puts the brightest 1 % of pixels at this fraction of "
+                    "the full well")
+    exposure_range_s: tuple[float, float] = Field(
+        (1e-6, 2e-3), description="shortest and longest exposure auto-exposure may choose "
+                                   "(s)")
+    multipath: bool = Field(
+        False, description="add multipath interference: light reaching a pixel through a "
+                           "second (diffuse) surface the camera sees (one bounce)")
+    multipath_patch_px: int = Field(
+        8, ge=1, le=64,
+        description="the secondary surfaces are sampled every this many sensor pixels "
+                    "(smaller: finer and slower)")
+
+    @model_validator(mode="after")
+    def _check_exposure_range(self) -> TofCameraConfig:
+        low, high = self.exposure_range_s
+        if not (1e-9 <= low <= high <= 1.0):
+            raise ValueError(f"exposure_range_s must be 1 ns ≤ shortest ≤ longest ≤ 1 s "
+                             f"(got {low:g} s, {high:g} s)")
+        return self
 
     @model_validator(mode="after")
     def _check_frequencies(self) -> TofCameraConfig:
@@ -202,6 +227,7 @@ def pmd_pico_flexx() -> TofCameraConfig:
         supersampling=2,
         modulation_frequencies_hz=[20e6],
         wavelength_nm=850.0,
+        auto_exposure=True,
     )
 
 

@@ -39,6 +39,7 @@ from simcore.scene.materials import DualBandMaterial
 from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot
+from simcore.sensors.radar.kinematics import motion_maps
 
 #: Smallest cos(incidence) used in the pixel area (grazing guard, ≈ 88.9°).
 COS_MIN = 0.02
@@ -66,7 +67,7 @@ class Scatterers:
     positions_m : ndarray, shape (M, 3), float64
         Scatterer positions, radar optical frame (x right, y down, z boresight), m.
     velocities_mps : ndarray, shape (M, 3), float64
-        Velocities relative to the radar, optical frame (m/s).
+        Velocities relative to the radar at ``time_s``, optical frame (m/s).
     rcs_m2 : ndarray, shape (M,), float64
         Radar cross-section of each scatterer (m²).
     phase_rad : ndarray, shape (M,), float64
@@ -82,6 +83,12 @@ class Scatterers:
         the same static surface from the same pose give equal keys and equal values,
         which lets the IF of a static background be re-used
         (:meth:`simcore.sensors.radar.frontend.RadarFrontEnd.set_background`).
+    accelerations_mps2 : ndarray, shape (M, 3), float64, or None
+        Accelerations relative to the radar at ``time_s``, optical frame (m/s²); None means
+        zeros. With the velocities they define the motion model of the synthesis over a
+        frame, ``x(t) = x + v t + a t² / 2`` (t from ``time_s``); a rotating rig gives
+        static points a relative (centripetal and Coriolis) acceleration
+        (:mod:`simcore.sensors.radar.kinematics`).
     """
 
     time_s: float
@@ -93,6 +100,7 @@ class Scatterers:
     object_index: NDArray[np.int32]
     kind: NDArray[np.int8]
     facet_key: NDArray[np.int64] | None = None
+    accelerations_mps2: NDArray[np.float64] | None = None
 
     def __len__(self) -> int:
         return int(self.rcs_m2.shape[0])
@@ -105,13 +113,43 @@ class Scatterers:
             rcs_m2=self.rcs_m2[index], phase_rad=self.phase_rad[index],
             object_index=self.object_index[index], kind=self.kind[index],
             facet_key=None if self.facet_key is None else self.facet_key[index],
+            accelerations_mps2=(None if self.accelerations_mps2 is None
+                                else self.accelerations_mps2[index]),
         )
+
+    @property
+    def accelerations(self) -> NDArray[np.float64]:
+        """``accelerations_mps2``, zeros when it is None; shape (M, 3), m/s²."""
+        if self.accelerations_mps2 is None:
+            return np.zeros((len(self), 3))
+        return self.accelerations_mps2
+
+    def moving(self) -> NDArray[np.bool_]:
+        """Scatterers with a non-zero velocity or acceleration relative to the radar, (M,)."""
+        vel = self.velocities_mps
+        out = (vel[:, 0] != 0.0) | (vel[:, 1] != 0.0) | (vel[:, 2] != 0.0)
+        if self.accelerations_mps2 is not None:
+            out |= np.any(self.accelerations_mps2 != 0.0, axis=1)
+        return out
+
+    def positions_at(self, times_s: NDArray[np.floating]) -> NDArray[np.float64]:
+        """Positions of the motion model at times after ``time_s``, shape (M, T, 3), m.
+
+        ``x + v t + a t² / 2`` for every scatterer and every time in ``times_s`` (shape (T,),
+        seconds from the frame start); the default trajectory of the synthesis.
+        """
+        t = np.asarray(times_s, dtype=np.float64).reshape(1, -1, 1)
+        pos = self.positions_m[:, None, :] + self.velocities_mps[:, None, :] * t
+        if self.accelerations_mps2 is not None:
+            pos = pos + 0.5 * self.accelerations_mps2[:, None, :] * t**2
+        return pos
 
     @classmethod
     def from_arrays(cls, positions_m: NDArray[np.floating], rcs_m2: NDArray[np.floating], *,
                     velocities_mps: NDArray[np.floating] | None = None,
                     phase_rad: NDArray[np.floating] | None = None, time_s: float = 0.0,
-                    wavelength_m: float = 0.0) -> Scatterers:
+                    wavelength_m: float = 0.0,
+                    accelerations_mps2: NDArray[np.floating] | None = None) -> Scatterers:
         """Build scatterers directly (tests, custom scenes); missing arrays are zeros.
 
         Parameters
@@ -126,6 +164,8 @@ class Scatterers:
             Extra scattering phase (rad).
         time_s, wavelength_m : float
             Frame start time (s); wavelength of the analytic RCS (0 = not applicable).
+        accelerations_mps2 : ndarray, shape (M, 3), optional
+            Relative accelerations, optical frame (m/s²); default none (zeros).
         """
         pos = np.asarray(positions_m, dtype=np.float64).reshape(-1, 3)
         m = len(pos)
@@ -138,6 +178,8 @@ class Scatterers:
                        else np.asarray(phase_rad, dtype=np.float64).reshape(m)),
             object_index=np.full(m, -1, dtype=np.int32),
             kind=np.full(m, KIND_POINT_TARGET, dtype=np.int8),
+            accelerations_mps2=(None if accelerations_mps2 is None else np.asarray(
+                accelerations_mps2, dtype=np.float64).reshape(m, 3)),
         )
 
 
@@ -467,6 +509,7 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
         phase[n:] = 0.0
         obj[n:] = extra_obj
         kinds[n:] = extra_kind
+    acc = _rotation_kinematics(snapshot, pos, vel, obj)
     return Scatterers(
         time_s=float(snapshot.time_s),
         wavelength_m=float(wavelength_m),
@@ -477,4 +520,69 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
         object_index=obj,
         kind=kinds,
         facet_key=key,
+        accelerations_mps2=acc,
     )
+
+
+def _affine(x: NDArray[np.float64], m: NDArray[np.float64], c: NDArray[np.float64]
+            ) -> NDArray[np.float64]:
+    """``x Mᵀ + c`` for x of shape (n, 3), column by column.
+
+    No BLAS call: OpenBLAS answers such thin products with threads that spin.
+    """
+    out = x[:, 0:1] * m[:, 0]
+    out += x[:, 1:2] * m[:, 1]
+    out += x[:, 2:3] * m[:, 2]
+    out += c
+    return out
+
+
+def _rotation_kinematics(snapshot: SceneSnapshot, pos: NDArray[np.float64],
+                         vel: NDArray[np.float64], obj: NDArray[np.int32]
+                         ) -> NDArray[np.float64] | None:
+    """Exact relative velocities (in place) and accelerations where something rotates.
+
+    The render's velocities are exact for translating objects and a translating rig; a
+    rotating object or a turning rig adds relative velocity (the rig's rotation) and
+    acceleration (centripetal, Coriolis), from
+    :func:`~simcore.sensors.radar.kinematics.rigid_point_motion`. None when nothing rotates
+    (all accelerations zero).
+    """
+    rig_turns = bool(np.any(snapshot.rig.angular_velocity_rps))
+    turning = [i for i, o in enumerate(snapshot.objects)
+               if rig_turns or np.any(o.angular_velocity_rps)]
+    if not turning or not len(pos):
+        return None
+    # Objects with the same maps (every still object under a turning rig) form one group.
+    groups: dict[bytes, list[int]] = {}
+    maps: dict[bytes, tuple[NDArray[np.float64], ...]] = {}
+    for i in turning:
+        m = motion_maps(snapshot.objects[i], snapshot.rig, snapshot.sensors["radar"])
+        key = b"".join(a.tobytes() for a in m)
+        groups.setdefault(key, []).append(i)
+        maps[key] = m
+    group_of = np.full(len(snapshot.objects) + 1, -1, dtype=np.int32)
+    for g, members in enumerate(groups.values()):
+        group_of[members] = g
+    gid = np.take(group_of, obj)
+    counts = np.bincount(gid + 1, minlength=len(groups) + 1)
+    keys = list(groups)
+    # The largest group over every row (no gathers), then the others and the rows of no
+    # group (accelerations 0, render velocities) on their own rows.
+    big = int(np.argmax(counts[1:]))
+    keep = np.flatnonzero(gid != big)
+    vel_keep = vel[keep]
+    m_v, c_v, m_a, c_a = maps[keys[big]]
+    vel[:] = _affine(pos, m_v, c_v)
+    acc = _affine(pos, m_a, c_a)
+    vel[keep] = vel_keep
+    acc[keep] = 0.0
+    for g, key in enumerate(keys):
+        if g == big or not counts[g + 1]:
+            continue
+        sel = np.flatnonzero(gid == g)
+        m_v, c_v, m_a, c_a = maps[key]
+        x = pos[sel]
+        vel[sel] = _affine(x, m_v, c_v)
+        acc[sel] = _affine(x, m_a, c_a)
+    return acc

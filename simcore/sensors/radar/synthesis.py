@@ -1,184 +1,105 @@
-"""FMCW IF synthesis: the radar equation, the exact per-pair delay, NUFFT and direct sums.
+"""FMCW IF synthesis: exact time-varying delays, NUFFT fast path and the direct sum.
 
-Signal model (``docs/physics_radar.md``). For Tx ``t``, Rx ``r``, chirp ``m`` starting at
-``T_mt`` after the frame start and scatterer ``k`` at ``X_k + v_k T_mt``::
+Signal model (``docs/physics_radar.md``). For Tx ``t``, Rx ``r`` and scatterer ``k``, the
+sample ``n`` of chirp ``m`` is taken at ``t = T_mt + t_n`` after the frame start
+(``T_mt`` = ``config.chirp_start_times_s()``, ``t_n = n / f_s``); the scatterer is then at
+``x_k(t)`` (its motion model ``x + v t + a t²/2``, or an exact ``trajectory``) and
 
-    τ   = (|X − p_t| + |X − p_r|) / c                     exact bistatic delay
-    f_b = K τ                                             beat frequency
-    a   = C √(σ g_t(u) g_r(u)) / (|X − p_t| |X − p_r|) · H(f_b)
-    y[n] = Σ_k a · exp(j (2π f_c τ + 2π f_b n / f_s − π K τ² + φ_k))
+    τ(t) = (|x_k(t) − p_t| + |x_k(t) − p_r|) / c              exact bistatic delay
+    y[m, n] = Σ_k a_k · exp(j (2π (f_c + K t_n) τ(t) − π K τ(t)² + φ_k))
 
-with ``C`` the radar-equation calibration of :func:`amplitude_scale_fs`, ``g`` the element
-power patterns in the direction ``u`` of ``X_k`` from the array origin, ``H`` the IF
-high-pass's frequency response and ``φ_k`` the scatterer's extra phase (speckle). The real
-IF is ``Re y``; complex IQ is ``y``. Units: ADC full scale (FS).
+with ``a_k = A_k H(K τ_k)`` the radar-equation amplitude
+(:func:`~simcore.sensors.radar.equation.if_amplitude_fs`) and the IF high-pass response at
+the scatterer's frame-start position, held over the frame, and ``φ_k`` its scattering phase
+(speckle). Because τ varies within each chirp, an up-chirp shifts a receding target's beat
+frequency by its Doppler ``f_c τ'`` (range–Doppler coupling) and targets migrate in range
+across the chirps. The real IF is ``Re y``; complex IQ is ``y``. Units: ADC full scale (FS).
 
-:func:`synthesize_if` evaluates ``y`` with finufft: for every (chirp, Tx, Rx) one 1-D type-1
-transform over the scatterers, whose non-uniform points are the per-sample phase
-increments ``2π f_b / f_s`` (exact: nothing is assumed constant across chirps or
-antennas). Scatterers that do not move relative to the radar give identical chirps; they
-are transformed once per pair. :func:`synthesize_if_direct` is the literal sum, the
-reference the fast path is tested against.
+:func:`synthesize_if` (fast path, finufft):
+
+* scatterers that do not move relative to the radar: one 1-D type-1 transform per Tx–Rx
+  pair over the samples, identical in every chirp;
+* moving scatterers: per Tx–Rx pair one 2-D type-3 transform from the sources
+  ``(τ_c, β)`` (delay at the frame centre, delay rate) to the targets
+  ``(2π (f_inst(n) − f_r), 2π f_inst(n) (t − t_c))`` of all the pair's samples: with a
+  delay linear in time the phase ``2π f_inst τ(t)`` is exactly bilinear in sources and
+  targets, so range–Doppler coupling, range migration and the TDM chirp timing are exact.
+  The curvature of the delay (acceleration, rotation, geometry) enters as a short Taylor
+  series of extra transforms with the same points, whose length is chosen per scatterer
+  from the tolerance; scatterers whose remaining model error exceeds it are synthesised
+  over halves of the frame, quarters, … single chirps, and finally by the direct sum.
+
+:func:`synthesize_if_direct` is the literal sum with exact positions at every sample, the
+reference the fast path is tested against. Both are pure functions: the per-scatterer
+arrays that do not depend on the radar (:func:`prepare`) are an explicit argument, so a
+caller that synthesises one scatterer set several times (antenna edits) keeps them.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import threading
-import weakref
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Literal
 
 import finufft
 import numpy as np
 from numpy.typing import NDArray
-from scipy.interpolate import RegularGridInterpolator
 
-from simcore.scene.radar_config import (
-    SPEED_OF_LIGHT,
-    CosinePattern,
-    ElementPattern,
-    RadarConfig,
-    TablePattern,
+from simcore.scene.radar_config import SPEED_OF_LIGHT, ElementPattern, RadarConfig
+from simcore.sensors.radar.equation import (
+    BOLTZMANN,
+    R_REF_OHM,
+    T0_K,
+    amplitude_scale_fs,
+    element_gain,
+    highpass_response,
+    if_amplitude_fs,
+    leakage_amplitude_fs,
+    noise_std_fs,
+    pattern_gains,
+)
+from simcore.sensors.radar.kinematics import Trajectory
+from simcore.sensors.radar.receiver import (
+    leakage_if,
+    quantize,
+    receiver_chain,
+    receiver_noise,
 )
 from simcore.sensors.radar.scatterers import Scatterers
 
-BOLTZMANN = 1.380649e-23
-#: Reference noise temperature of the noise figure (K).
-T0_K = 290.0
-#: Reference impedance of the power → voltage conversion at the Rx port (Ω).
-R_REF_OHM = 50.0
-
 ComplexCube = NDArray[np.complex128]
+SynthesisMethod = Literal["nufft", "direct"]
 
+#: Scatterers per NUFFT task: bounds the temporaries (≈ 1 MB per array) and balances the
+#: tasks over the worker threads. The transforms of the blocks of a pair are summed.
+BLOCK = 65536
+#: ``nufft_tolerance`` at or above which finufft's single-precision (complex64) plans are
+#: used for static scatterers: ≈ 2× faster, but the float32 points limit them to ≈ 3e-5
+#: relative error (−90 dB on the office scene) whatever their own tolerance.
+SINGLE_PRECISION_TOLERANCE = 1e-4
+#: Default number of threads of :func:`synthesize_if` (numpy and finufft release the GIL).
+DEFAULT_THREADS = max(1, min(2, os.cpu_count() or 1))
+#: Smallest per-scatterer model error (rad of IF phase, ≈ relative amplitude error) the
+#: moving-scatterer path aims at: below it the float32 weights' rounding (≈ 1e-7) and the
+#: transforms dominate anyway. The budget is ``max(nufft_tolerance, MOTION_TOLERANCE_FLOOR)``.
+MOTION_TOLERANCE_FLOOR = 1e-4
+#: Longest curvature series (highest power) before a scatterer is split over shorter blocks.
+MAX_SERIES_ORDER = 4
+#: Scatterers × samples below which a fallback block is summed directly (a type-3
+#: transform costs ≈ 0.5–4 ms whatever its size; the direct sum ≈ 30 ns per term).
+DIRECT_MAX_TERMS = 32768
+#: Scatterers per chunk of the position and path-length arithmetic (cache-sized arrays).
+FIT_CHUNK = 16384
+#: Scatterers up to which the series vectors share the main transform call.
+MERGE_SERIES_POINTS = 32768
+#: Loosest tolerance of the curvature-series transforms (their terms are small).
+SERIES_NUFFT_TOLERANCE = 1e-3
 
-# --------------------------------------------------------------------------- calibration
-def amplitude_scale_fs(config: RadarConfig) -> float:
-    """Calibration constant ``C`` of the IF amplitude (FS · m / √m², see module docstring).
-
-    A scatterer of RCS σ at distances ``R_t`` (from the Tx) and ``R_r`` (from the Rx)
-    receives the power ``P_r = P_t G_t g_t G_r g_r λ² σ / ((4π)³ R_t² R_r²)`` (radar
-    equation); its IF tone has the peak voltage ``√(2 R_ref P_r) · 10^(if_gain_db/20)`` at
-    the ADC input, i.e. the amplitude ``C √(σ g_t g_r) / (R_t R_r)`` in FS with
-
-        C = √(2 R_ref P_t G_t G_r λ² / (4π)³) · 10^(if_gain_db/20) / V_fs.
-    """
-    p_t = 1e-3 * 10.0 ** (config.tx_power_dbm / 10.0)
-    g = 10.0 ** ((config.tx_gain_dbi + config.rx_gain_dbi) / 10.0)
-    lam = config.wavelength_m
-    volts = np.sqrt(2.0 * R_REF_OHM * p_t * g * lam**2 / (4.0 * np.pi) ** 3)
-    return float(volts * 10.0 ** (config.if_gain_db / 20.0) / config.adc_full_scale_v)
-
-
-def noise_std_fs(config: RadarConfig) -> float:
-    """Receiver noise standard deviation per real channel (I or Q) at the ADC (FS).
-
-    ``noise_variance_adc`` when set; otherwise thermal noise ``k T0 F B R_ref`` in the
-    Nyquist band ``B = f_s / 2`` of each real channel, referred to the ADC input through
-    the IF gain.
-    """
-    if config.noise_variance_adc is not None:
-        return float(np.sqrt(config.noise_variance_adc))
-    f = 10.0 ** (config.noise_figure_db / 10.0)
-    power = BOLTZMANN * T0_K * f * 0.5 * config.sample_rate_hz
-    volts = np.sqrt(power * R_REF_OHM) * 10.0 ** (config.if_gain_db / 20.0)
-    return float(volts / config.adc_full_scale_v)
-
-
-def leakage_amplitude_fs(config: RadarConfig) -> float:
-    """Peak amplitude of the Tx→Rx leakage tone at the ADC, before the high-pass (FS)."""
-    if config.leakage_dbc is None:
-        return 0.0
-    p = 1e-3 * 10.0 ** ((config.tx_power_dbm + config.leakage_dbc) / 10.0)
-    volts = np.sqrt(2.0 * R_REF_OHM * p) * 10.0 ** (config.if_gain_db / 20.0)
-    return float(volts / config.adc_full_scale_v)
-
-
-def highpass_response(freq_hz: NDArray[np.floating] | float, cutoff_hz: float, order: int
-                      ) -> NDArray[np.complex128]:
-    """Frequency response of an analog Butterworth high-pass, ``H(j 2π f)``.
-
-    ``H(s) = Π_k s / (s − p_k)`` with the ``order`` Butterworth poles ``p_k`` on the circle of
-    radius ``2π cutoff_hz`` in the left half plane; ``|H|² = x^{2n} / (1 + x^{2n})`` with
-    ``x = f / cutoff``. ``cutoff_hz = 0`` gives ``H = 1``. Negative frequencies (complex IQ)
-    get ``H(−f) = conj H(f)``.
-    """
-    f = np.asarray(freq_hz, dtype=np.float64)
-    if cutoff_hz <= 0:
-        return np.ones(f.shape, dtype=np.complex128)
-    k = np.arange(1, order + 1)
-    poles = 2 * np.pi * cutoff_hz * np.exp(1j * np.pi * (2 * k + order - 1) / (2 * order))
-    s = 2j * np.pi * f
-    h = np.ones(f.shape, dtype=np.complex128)
-    for p in poles:
-        h *= s / (s - p)
-    return h
-
-
-def element_gain(pattern: ElementPattern, directions: NDArray[np.floating]
-                 ) -> NDArray[np.float64]:
-    """Power gain of an element pattern relative to its boresight peak.
-
-    Parameters
-    ----------
-    pattern : CosinePattern or TablePattern
-        The element pattern.
-    directions : ndarray, shape (M, 3)
-        Directions in the radar optical frame (need not be unit vectors).
-
-    Returns
-    -------
-    ndarray, shape (M,)
-        Linear power gain (1 on boresight for a cosine pattern).
-    """
-    d = np.asarray(directions, dtype=np.float64)
-    horiz = np.hypot(d[:, 0], d[:, 2])
-    if isinstance(pattern, CosinePattern):
-        # cos az = z / √(x² + z²), cos el = √(x² + z²) / |d|: no trigonometric calls.
-        norm = np.hypot(horiz, d[:, 1])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            cos_az = np.where(horiz > 0, d[:, 2] / horiz, 1.0)
-            cos_el = np.where(norm > 0, horiz / norm, 1.0)
-            g = (np.maximum(cos_az, 0.0) ** pattern.exponent_az
-                 * np.maximum(cos_el, 0.0) ** pattern.exponent_el)
-        return np.asarray(g, dtype=np.float64)
-    az = np.arctan2(d[:, 0], d[:, 2])
-    el = np.arctan2(-d[:, 1], horiz)
-    if isinstance(pattern, TablePattern):
-        az_t = np.asarray(pattern.azimuth_deg)
-        el_t = np.asarray(pattern.elevation_deg)
-        interp = RegularGridInterpolator((el_t, az_t), np.asarray(pattern.gain_db))
-        pts = np.stack([np.clip(np.degrees(el), el_t[0], el_t[-1]),
-                        np.clip(np.degrees(az), az_t[0], az_t[-1])], axis=-1)
-        return np.asarray(10.0 ** (interp(pts) / 10.0), dtype=np.float64)
-    raise TypeError(f"unknown element pattern {pattern!r}")
-
-
-def _pattern_gains(config: RadarConfig, directions: NDArray[np.float64]
-                   ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Per-element pattern gains, shapes (tx, M) and (rx, M); shared patterns computed once."""
-    cache: dict[str, NDArray[np.float64]] = {}
-
-    def gain(pattern: ElementPattern) -> NDArray[np.float64]:
-        key = pattern.model_dump_json()
-        if key not in cache:
-            cache[key] = element_gain(pattern, directions)
-        return cache[key]
-
-    g_tx = np.array([gain(a.pattern or config.element_pattern) for a in config.tx])
-    g_rx = np.array([gain(a.pattern or config.element_pattern) for a in config.rx])
-    return g_tx.reshape(len(config.tx), -1), g_rx.reshape(len(config.rx), -1)
-
-
-def _scatterer_weights(scatterers: Scatterers, config: RadarConfig
-                       ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """``C √(σ g_t g_r)`` per pair and the scatterers' phases; shape (tx, rx, M) and (M,)."""
-    g_tx, g_rx = _pattern_gains(config, scatterers.positions_m)
-    base = amplitude_scale_fs(config) * np.sqrt(scatterers.rcs_m2)
-    amp = base[None, None, :] * np.sqrt(g_tx[:, None, :] * g_rx[None, :, :])
-    return amp, scatterers.phase_rad
+_TWO_PI = 2.0 * np.pi
 
 
 def check_wavelength(scatterers: Scatterers, config: RadarConfig) -> None:
@@ -191,77 +112,80 @@ def check_wavelength(scatterers: Scatterers, config: RadarConfig) -> None:
         )
 
 
-# --------------------------------------------------------------------------- synthesis
-#: Scatterers per NUFFT task: bounds the temporaries (≈ 1 MB per array) and balances the
-#: tasks over the worker threads. The transforms of the blocks of a pair are summed.
-BLOCK = 65536
-#: ``nufft_tolerance`` at or above which finufft's single-precision (complex64) plans are
-#: used: ≈ 2× faster, but the float32 points limit them to ≈ 3e-5 relative error (−90 dB
-#: on the office scene) whatever their own tolerance.
-SINGLE_PRECISION_TOLERANCE = 1e-4
-#: Default number of threads of :func:`synthesize_if` (numpy and finufft release the GIL).
-DEFAULT_THREADS = max(1, min(2, os.cpu_count() or 1))
+# --------------------------------------------------------------------------- prepared
+@dataclass(frozen=True, eq=False)
+class PreparedScatterers:
+    """Per-scatterer arrays of a :class:`Scatterers` that do not depend on the radar.
 
-_TWO_PI = 2.0 * np.pi
+    Made by :func:`prepare`; pass it to :func:`synthesize_if` to skip this work when the
+    same scatterers are synthesised again (an antenna edit). Static scatterers come first,
+    then moving ones; coordinates are stored one contiguous row per axis.
 
-
-class _Prepared:
-    """Per-scatterer arrays that do not depend on the antennas or the waveform.
-
-    Kept for the latest :class:`Scatterers` object (by identity), so that re-synthesising
-    the same scatterers with other antennas (an antenna drag in the GUI) skips them.
+    Attributes
+    ----------
+    source : Scatterers
+        The scatterers these arrays belong to.
+    n_static : int
+        Number of static scatterers (the first rows).
+    order : ndarray of int, shape (M,)
+        Index in ``source`` of each prepared row.
+    accelerates : bool
+        Whether any scatterer has a non-zero acceleration.
+    positions : ndarray, shape (M, 3)
+        Positions at the frame start, static first (m).
+    pos, vel, acc : ndarray, shape (3, M)
+        Positions (m), velocities (m/s), accelerations (m/s²), one row per axis.
+    rcs : ndarray, shape (M,), float32
+        RCS (m²).
+    phase : ndarray, shape (M,), float64
+        Scattering phases (rad).
     """
 
-    def __init__(self, scatterers: Scatterers):
-        self.ref = weakref.ref(scatterers)
-        vel = scatterers.velocities_mps
-        moving = (vel[:, 0] != 0.0) | (vel[:, 1] != 0.0) | (vel[:, 2] != 0.0)
-        n_moving = int(np.count_nonzero(moving))
-        n_static = len(moving) - n_moving
-        self.groups = {False: slice(0, n_static), True: slice(n_static, len(moving))}
-        # Static scatterers first, then moving ones; each group a contiguous slice.
-        order: NDArray[np.intp] | slice = slice(None)
-        if n_moving and n_static:
-            order = np.concatenate([np.flatnonzero(~moving), np.flatnonzero(moving)])
-        self.positions = scatterers.positions_m[order]
-        # Structure of arrays: one contiguous row per coordinate.
-        self.pos = np.ascontiguousarray(self.positions.T)
-        self.vel = (np.ascontiguousarray(vel[order].T) if n_moving
-                    else np.zeros((3, len(moving))))
-        self.sqrt_rcs = np.sqrt(scatterers.rcs_m2[order]).astype(np.float32)
-        self.phase = np.ascontiguousarray(scatterers.phase_rad[order], dtype=np.float64)
-        self._gains: dict[str, NDArray[np.float32]] = {}
-        self._lock = threading.Lock()
+    source: Scatterers
+    n_static: int
+    order: NDArray[np.intp]
+    accelerates: bool
+    positions: NDArray[np.float64]
+    pos: NDArray[np.float64]
+    vel: NDArray[np.float64]
+    acc: NDArray[np.float64]
+    rcs: NDArray[np.float32]
+    phase: NDArray[np.float64]
+    _gains: dict[str, NDArray[np.float32]] = field(default_factory=dict, repr=False)
+    _lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
 
-    def amplitude_gain(self, pattern: ElementPattern) -> NDArray[np.float32]:
-        """``√g`` of an element pattern towards every scatterer, shape (M,), float32."""
+    def __len__(self) -> int:
+        return int(self.rcs.shape[0])
+
+    def gain(self, pattern: ElementPattern) -> NDArray[np.float32]:
+        """Power gain ``g`` of an element pattern towards every scatterer, (M,) float32."""
         key = pattern.model_dump_json()
         with self._lock:
             if key not in self._gains:
-                g = element_gain(pattern, self.positions)
-                self._gains[key] = np.sqrt(g).astype(np.float32)
+                self._gains[key] = element_gain(pattern, self.positions).astype(np.float32)
             return self._gains[key]
 
 
-_PREPARED: list[_Prepared] = []
-_PREPARED_LOCK = threading.Lock()
-
-
-#: Scatterer sets whose prepared arrays are kept (least recently used dropped first): a
-#: static background, a frame and its small subsets.
-_PREPARED_KEEP = 4
-
-
-def _prepared(scatterers: Scatterers) -> _Prepared:
-    with _PREPARED_LOCK:
-        live = [q for q in _PREPARED if q.ref() is not None]
-        for p in live:
-            if p.ref() is scatterers:
-                _PREPARED[:] = [q for q in live if q is not p] + [p]
-                return p
-        p = _Prepared(scatterers)
-        _PREPARED[:] = live[-(_PREPARED_KEEP - 1):] + [p]
-        return p
+def prepare(scatterers: Scatterers) -> PreparedScatterers:
+    """Arrays of :func:`synthesize_if` that depend on the scatterers only (see the class)."""
+    moving = scatterers.moving()
+    n_moving = int(np.count_nonzero(moving))
+    n_static = len(moving) - n_moving
+    order = np.arange(len(moving))
+    if n_moving and n_static:
+        order = np.concatenate([np.flatnonzero(~moving), np.flatnonzero(moving)])
+        sc = scatterers.subset(order)
+    else:
+        sc = scatterers                         # already in order: no gathers
+    return PreparedScatterers(
+        source=scatterers, n_static=n_static, order=order,
+        accelerates=sc.accelerations_mps2 is not None and bool(
+            np.any(sc.accelerations_mps2 != 0.0)),
+        positions=sc.positions_m, pos=np.ascontiguousarray(sc.positions_m.T),
+        vel=np.ascontiguousarray(sc.velocities_mps.T),
+        acc=np.ascontiguousarray(sc.accelerations.T),
+        rcs=sc.rcs_m2.astype(np.float32),
+        phase=np.ascontiguousarray(sc.phase_rad, dtype=np.float64))
 
 
 @dataclass(frozen=True)
@@ -317,8 +241,21 @@ def _plan(wave: _Waveform) -> finufft.Plan:
     return plans[key]
 
 
+def _plan3(n_trans: int, eps: float) -> finufft.Plan:
+    """2-D type-3 plan of the calling thread (double precision) for ``n_trans`` vectors."""
+    plans: dict[tuple[int, float], finufft.Plan] = getattr(_PLANS, "plans3", None) or {}
+    _PLANS.plans3 = plans
+    key = (n_trans, eps)
+    if key not in plans:
+        # Unsorted points: the fine grid (≈ 600 × 20 at the preset) stays in cache anyway.
+        # upsampfac 2 (finufft picks 1.25 at some tolerances: wider kernels, 20 % slower).
+        plans[key] = finufft.Plan(3, 2, n_trans=n_trans, eps=eps, isign=1, nthreads=1,
+                                  spread_sort=0, upsampfac=2.0, dtype="complex128")
+    return plans[key]
+
+
 def _distance(pos: NDArray[np.float64], p: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``|X − p|`` for positions ``pos`` of shape (3, B) (one row per coordinate)."""
+    """``|X − p|`` for positions ``pos`` of shape (3, ...) (one row per coordinate)."""
     d = pos[0] - p[0]
     d *= d
     tmp = pos[1] - p[1]
@@ -349,87 +286,424 @@ def _highpass_factor(x: NDArray[np.float32], pole: tuple[float, float]
     return x * u / den, x * np.float32(-p_re) / den
 
 
-def _pair_weights(wave: _Waveform, d_t: NDArray[np.float64], d_r: NDArray[np.float64],
-                  amp: NDArray[np.float32], phase: NDArray[np.float64]
-                  ) -> tuple[NDArray[np.floating], NDArray[np.complexfloating]]:
-    """NUFFT points and weights of scatterers for one Tx–Rx pair.
+def _highpass32(wave: _Waveform, path: NDArray[np.float64]
+                ) -> tuple[NDArray[np.floating[Any]], NDArray[np.floating[Any]]]:
+    """Real and imaginary parts of the high-pass at the beat frequency of ``path`` (float32).
 
-    ``amp`` is ``C √(σ g_t g_r) / R_t`` (float32); the rest of the amplitude, the phase and
-    the point come from the path length. Phases are reduced modulo 2π in float64 before
-    the float32 cos/sin (relative error ≈ 1e-7, −140 dB); points stay float64 for double
-    plans.
+    ``H(f_b) = Π_k jx / (jx − p_k)``, ``x = f_b / f_cut``, in float32 real arithmetic; call
+    only when the waveform has a high-pass (``wave.poles``).
     """
-    path = d_t + d_r
+    x = path.astype(np.float32)
+    x *= np.float32(wave.x_per_m)
+    h_re, h_im = _highpass_factor(x, wave.poles[0])
+    for pole in wave.poles[1:]:
+        f_re, f_im = _highpass_factor(x, pole)
+        h_re, h_im = h_re * f_re - h_im * f_im, h_re * f_im + h_im * f_re
+    return h_re, h_im
+
+
+def _pair_weights(wave: _Waveform, path: NDArray[np.float64], amp: NDArray[np.float32],
+                  phase: NDArray[np.float64]
+                  ) -> tuple[NDArray[np.floating], NDArray[np.complexfloating]]:
+    """NUFFT points and weights of static scatterers for one Tx–Rx pair.
+
+    ``amp`` is the radar-equation amplitude (float32); the high-pass, the phase and the
+    point come from the path length ``path`` (m). Phases are reduced modulo 2π in float64
+    before the float32 cos/sin (relative error ≈ 1e-7, −140 dB); points stay float64 for
+    double plans.
+    """
     theta = _wrap(path * wave.theta_per_m)
     arg = path * -wave.quad_per_m2
     arg += wave.phase_per_m
     arg *= path
     arg += phase
     arg32 = _wrap(arg).astype(np.float32)
-    a = amp / d_r.astype(np.float32)
     cos, sin = np.cos(arg32), np.sin(arg32)
     w = np.empty(path.shape, dtype=np.complex64 if wave.single else np.complex128)
     if wave.poles:
-        # H(f_b) = Π_k jx / (jx − p_k), x = f_b / f_cut, in float32 real arithmetic.
-        x = path.astype(np.float32)
-        x *= np.float32(wave.x_per_m)
-        h_re, h_im = _highpass_factor(x, wave.poles[0])
-        for pole in wave.poles[1:]:
-            f_re, f_im = _highpass_factor(x, pole)
-            h_re, h_im = h_re * f_re - h_im * f_im, h_re * f_im + h_im * f_re
-        a_re, a_im = a * h_re, a * h_im
+        h_re, h_im = _highpass32(wave, path)
+        a_re, a_im = amp * h_re, amp * h_im
         w.real = cos * a_re - sin * a_im
         w.imag = sin * a_re + cos * a_im
     else:
-        w.real = cos * a
-        w.imag = sin * a
+        w.real = cos * amp
+        w.imag = sin * amp
     return (theta.astype(np.float32) if wave.single else theta), w
 
 
-#: One task: chirps (None: static scatterers, the same in every chirp), Tx, block.
-_Task = tuple[tuple[int, ...] | None, int, slice]
-
-
-def _run_task(task: _Task, prep: _Prepared, wave: _Waveform, config: RadarConfig,
-              amp_tx: list[NDArray[np.float32]], amp_rx: list[NDArray[np.float32]]
-              ) -> list[NDArray[np.complexfloating]]:
-    """One block of scatterers, one Tx, some chirps (one row for static ones): every Rx.
-
-    The weights of all the task's chirps are computed together (one set of numpy calls);
-    each chirp is its own type-1 transform.
-
-    Returns
-    -------
-    list of ndarray, shape (chirps or 1, samples)
-        One per Rx.
-    """
-    chirps, t, rows = task
+def _static_task(prep: PreparedScatterers, rows: slice, t: int, wave: _Waveform,
+                 config: RadarConfig) -> list[NDArray[np.complexfloating]]:
+    """One block of static scatterers, one Tx, every Rx: one transform each, shape (N,)."""
     pos = prep.pos[:, rows]
-    n = pos.shape[1]
-    reps = 1
-    if chirps is not None:
-        reps = len(chirps)
-        starts = config.chirp_start_times_s()[list(chirps), t]
-        pos = (pos[:, None, :] + prep.vel[:, rows][:, None, :] * starts[None, :, None]
-               ).reshape(3, reps * n)
     d_t = _distance(pos, config.tx_positions_m()[t])
-    base = np.tile(prep.sqrt_rcs[rows] * amp_tx[t][rows], reps)
-    base /= d_t.astype(np.float32)
-    base *= np.float32(amplitude_scale_fs(config))
-    phase = np.tile(prep.phase[rows], reps)
+    rcs = prep.rcs[rows]
+    g_t = prep.gain(config.tx[t].pattern or config.element_pattern)[rows]
+    d_t32 = d_t.astype(np.float32)
     plan = _plan(wave)
     out = []
     for r, p_r in enumerate(config.rx_positions_m()):
-        theta, w = _pair_weights(wave, d_t, _distance(pos, p_r),
-                                 base * np.tile(amp_rx[r][rows], reps), phase)
-        y = np.empty((reps, wave.n_s), dtype=w.dtype)
-        for k in range(reps):
-            plan.setpts(theta[k * n:(k + 1) * n])
-            y[k] = plan.execute(w[k * n:(k + 1) * n])
-        out.append(y)
+        d_r = _distance(pos, p_r)
+        g_r = prep.gain(config.rx[r].pattern or config.element_pattern)[rows]
+        amp = if_amplitude_fs(config, rcs, g_t, g_r, d_t32, d_r.astype(np.float32))
+        theta, w = _pair_weights(wave, d_t + d_r, amp, prep.phase[rows])
+        plan.setpts(theta)
+        out.append(plan.execute(w))
     return out
 
 
+# --------------------------------------------------------------------------- moving
+@dataclass(frozen=True)
+class _Sweep:
+    """Timing and frequency constants of the moving-scatterer path for one configuration.
+
+    ``f_inst(n) = f_c + K t_n`` is the instantaneous transmit frequency at sample ``n``;
+    ``f_r`` its value at the centre of the sampled sweep.
+    """
+
+    t_n: NDArray[np.float64]          # (N,) sample times after the chirp start (s)
+    starts: NDArray[np.float64]       # (chirps, tx) chirp start times (s)
+    f_inst: NDArray[np.float64]       # (N,) Hz
+    f_r: float
+    f_max: float
+    rel_df: float                     # max |f_inst − f_r| / f_r
+    slope: float
+    eps: float                        # per-scatterer budget, model + series (rad)
+    eps_model: float                  # at most this much of it for the model's remainder
+    eps_nufft: float                  # tolerance of the main transforms
+
+    @classmethod
+    def of(cls, config: RadarConfig) -> _Sweep:
+        t_n = config.sample_times_s()
+        slope = config.slope_hz_per_s
+        f_inst = config.start_frequency_hz + slope * t_n
+        f_r = float(config.start_frequency_hz + slope * 0.5 * (t_n[0] + t_n[-1]))
+        eps = max(config.nufft_tolerance, MOTION_TOLERANCE_FLOOR)
+        return cls(t_n=t_n, starts=config.chirp_start_times_s(), f_inst=f_inst, f_r=f_r,
+                   f_max=float(f_inst[-1]), rel_df=float(np.abs(f_inst - f_r).max() / f_r),
+                   slope=slope, eps=eps, eps_model=0.5 * eps,
+                   eps_nufft=max(config.nufft_tolerance, 0.1 * eps))
+
+
+@dataclass(frozen=True)
+class _Targets:
+    """Type-3 targets of the samples of chirps ``m0 … m1−1`` of one Tx (flattened)."""
+
+    t_c: float                        # block centre time (s)
+    half: float                       # half the block's duration U (s)
+    s: NDArray[np.float64]            # 2π (f_inst − f_r), (J,)
+    t: NDArray[np.float64]            # 2π f_inst (t − t_c), (J,)
+    b: NDArray[np.float64]            # 2π f_inst ((t − t_c)² − q̄), (J,)
+    b2: NDArray[np.float64]           # 2π (t − t_c)(f_inst − f_r), (J,)
+    q_mean: float                     # q̄ = mean of (t − t_c)² over the block (s²)
+    b_max: float
+
+    @classmethod
+    def of(cls, sweep: _Sweep, tx: int, m0: int, m1: int) -> _Targets:
+        times = sweep.starts[m0:m1, tx][:, None] + sweep.t_n[None, :]
+        t_c = 0.5 * float(times[0, 0] + times[-1, -1])
+        u = times - t_c
+        q = u * u
+        q_mean = float(q.mean())
+        f = np.broadcast_to(sweep.f_inst, u.shape)
+        b = (_TWO_PI * f * (q - q_mean)).ravel()
+        return cls(t_c=t_c, half=0.5 * float(times[-1, -1] - times[0, 0]),
+                   s=(_TWO_PI * (f - sweep.f_r)).ravel(), t=(_TWO_PI * f * u).ravel(),
+                   b=b, b2=(_TWO_PI * u * (f - sweep.f_r)).ravel(), q_mean=q_mean,
+                   b_max=float(np.abs(b).max()))
+
+
+#: Fit nodes of a block, in units of its half-duration U from its centre: the parabola goes
+#: through nodes 0, 2, 4; the others measure the model's error.
+_NODES = np.array([-1.0, -0.5, 0.0, 0.5, 1.0])
+#: With an exact trajectory (possibly with kinks): four more check nodes.
+_NODES_FINE = np.array([-1.0, -0.5, 0.0, 0.5, 1.0, -0.75, -0.25, 0.25, 0.75])
+
+
+@dataclass(frozen=True)
+class _Motion:
+    """Where the moving scatterers are: their motion model, or an exact trajectory."""
+
+    prep: PreparedScatterers
+    trajectory: Trajectory | None = None
+
+    @property
+    def nodes(self) -> NDArray[np.float64]:
+        return _NODES if self.trajectory is None else _NODES_FINE
+
+    def positions(self, idx: NDArray[np.intp], times: NDArray[np.float64]
+                  ) -> NDArray[np.float64]:
+        """Positions of prepared rows ``idx`` at ``times``, shape (3, T, len(idx)) (m)."""
+        prep = self.prep
+        if self.trajectory is not None:
+            pos = np.asarray(self.trajectory(times), dtype=np.float64)      # (M, T, 3)
+            return np.ascontiguousarray(pos[prep.order[idx]].transpose(2, 1, 0))
+        t = times[None, :, None]
+        out = prep.pos[:, None, idx] + prep.vel[:, None, idx] * t
+        if prep.accelerates:
+            out += 0.5 * prep.acc[:, None, idx] * (t * t)
+        return out
+
+
+def _series_order(a: NDArray[np.float64], eps: NDArray[np.float64] | float
+                  ) -> NDArray[np.int8]:
+    """Smallest ``P`` with ``a^(P+1) / (P+1)! ≤ eps`` (MAX_SERIES_ORDER + 1 if none)."""
+    order = np.zeros(a.shape, dtype=np.int8)
+    term = a.copy()
+    for p in range(1, MAX_SERIES_ORDER + 2):
+        above = term > eps
+        if not above.any():
+            break
+        order += above
+        term *= a
+        term /= p + 1
+    return order
+
+
+def _direct_chirp(sweep: _Sweep, positions: NDArray[np.float64], p_t: NDArray[np.float64],
+                  p_r: NDArray[np.float64], weights: NDArray[np.complex128]
+                  ) -> NDArray[np.complex128]:
+    """Literal sum over scatterers for one chirp: ``Σ_k w_k e^{j(2π f_inst τ − πKτ²)}``.
+
+    ``positions`` has shape (3, N, B) (one row per axis, then samples, then scatterers).
+    """
+    tau = (_distance(positions, p_t) + _distance(positions, p_r)) / SPEED_OF_LIGHT
+    phase = _TWO_PI * sweep.f_inst[:, None] * tau - np.pi * sweep.slope * tau * tau
+    return np.asarray(np.exp(1j * phase) @ weights, dtype=np.complex128)
+
+
+@dataclass(frozen=True)
+class _Fit:
+    """Delay model of scatterers over one block (module docstring); arrays of shape (B,)."""
+
+    tau: NDArray[np.float64]          # delay at the block centre (s)
+    beta: NDArray[np.float64]         # delay rate (s/s)
+    alpha: NDArray[np.float64]        # curvature coefficient of 2π f_inst u² (s/s²)
+    gamma: NDArray[np.float64]        # coefficient Kτβ/f_r of b2 (s)
+    cross: NDArray[np.bool_]          # the first-order γ term is added
+    order: NDArray[np.int8]           # series length P
+    ok: NDArray[np.bool_]             # model within the budget
+
+
+def _fit(path: NDArray[np.float64], nodes: NDArray[np.float64], tg: _Targets, sweep: _Sweep
+         ) -> _Fit:
+    """Fit ``L(t_c + u) ≈ L₀ + L₁ u + L₂ u²/2`` to path lengths at ``t_c + U·nodes``.
+
+    The parabola goes through the block's ends and centre; its largest deviation at the
+    other nodes (±U/2, and ±U/4, ±3U/4 for a trajectory), ×1.5, which bounds a cubic or
+    quartic remainder over the whole block, is the geometric model error. Added to it: the
+    terms of ``−πKτ²`` folded approximately into the sources (``docs/physics_radar.md``).
+    A scatterer is within the model when that error is at most ``eps_model`` and a series
+    of at most :data:`MAX_SERIES_ORDER` terms brings the curvature within what is left of
+    ``eps``.
+    """
+    c, k, big_u = SPEED_OF_LIGHT, sweep.slope, tg.half
+    l0 = path[2]
+    l1 = (path[4] - path[0]) * (0.5 / big_u)
+    l2 = (path[4] - 2.0 * l0 + path[0]) * (1.0 / big_u**2)
+    res = np.zeros_like(l0)
+    for j in [1, 3, *range(5, len(path))]:
+        u = big_u * float(nodes[j])
+        np.maximum(res, np.abs(path[j] - (l0 + u * l1 + (0.5 * u * u) * l2)), out=res)
+    tau, beta, alpha2 = l0 * (1.0 / c), l1 * (1.0 / c), l2 * (0.5 / c)
+    alpha = alpha2 - (k / (2.0 * sweep.f_r)) * beta * beta
+    gamma = (k / sweep.f_r) * tau * beta
+    err = res * (_TWO_PI * sweep.f_max / c * 1.5)
+    err += (np.pi * k * big_u**2 * sweep.rel_df) * beta * beta
+    err += (_TWO_PI * k * big_u**2) * np.abs(tau * alpha2)
+    a = np.abs(alpha) * tg.b_max
+    # −2πKτβu is in the sources up to 2π γ u (f_inst − f_r): a first-order term when needed.
+    g = np.abs(gamma) * float(np.abs(tg.b2).max())
+    cross = g > 0.1 * sweep.eps_model
+    err += np.where(cross, 0.5 * g * g + a * g, g)
+    # The series gets what the model leaves of the budget (at least half of it).
+    order = _series_order(a, sweep.eps - np.minimum(err, sweep.eps_model))
+    ok = (err <= sweep.eps_model) & (order <= MAX_SERIES_ORDER)
+    return _Fit(tau=tau, beta=beta, alpha=alpha, gamma=gamma, cross=cross, order=order, ok=ok)
+
+
+def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg: _Targets,
+               sweep: _Sweep) -> NDArray[np.complex128]:
+    """IF of the scatterers ``sel`` of a fit at the block's targets, shape (J,).
+
+    One type-3 transform of ``w e^{j(s x + t y)}`` with ``x = τ + α q̄``,
+    ``y = β (1 − Kτ/f_r)``, ``w = a e^{j(φ + 2π f_r x − πKτ²)}``, plus the curvature series
+    ``Σ_q (jα)^q/q! b^q`` (q = 1 … P) and, where needed, ``jγ b2``: extra vectors with the
+    same points, in the main call when most scatterers need them or they are few (a call
+    has a fixed cost of ≈ 5 ms), else in one more call over those that do, at the looser
+    tolerance their small size allows.
+    """
+    k = sweep.slope
+    tau, alpha = fit.tau[sel], fit.alpha[sel]
+    x = tau + alpha * tg.q_mean
+    y = fit.beta[sel] * (1.0 - (k / sweep.f_r) * tau)
+    arg = x * (_TWO_PI * sweep.f_r)
+    arg -= (np.pi * k) * tau * tau
+    arg32 = _wrap(arg).astype(np.float32)
+    w = w0[sel] * (np.cos(arg32) + 1j * np.sin(arg32))
+    order, cross = fit.order[sel], fit.cross[sel]
+    needs = (order > 0) | cross
+    n_needs = int(np.count_nonzero(needs))
+    if not n_needs:
+        plan = _plan3(1, sweep.eps_nufft)
+        plan.setpts(x, y, None, tg.s, tg.t)
+        return np.asarray(plan.execute(w), dtype=np.complex128)
+    merge = len(sel) <= MERGE_SERIES_POINTS or n_needs > 0.7 * len(sel)
+    part = np.arange(len(sel)) if merge else np.flatnonzero(needs)
+    # Rows 0 … P−1: the curvature series, term q+1 at most a^(q+1)/(q+1)! of the main one;
+    # row P: the first-order γ term. A tolerance of (eps/2) / max(a, g) does for all.
+    p_max = int(order.max())
+    n_cross = int(cross.any())
+    ia = 1j * alpha[part]
+    coef = np.zeros((p_max + n_cross, len(part)), dtype=np.complex128)
+    if p_max:
+        coef[0] = w[part] * ia
+        for q in range(1, p_max):
+            coef[q] = coef[q - 1] * ia / (q + 1)
+    size = float(np.abs(alpha[part]).max()) * tg.b_max
+    if n_cross:
+        gamma = np.where(cross[part], fit.gamma[sel[part]], 0.0)
+        coef[p_max] = w[part] * 1j * gamma
+        size = max(size, float(np.abs(gamma).max() * np.abs(tg.b2).max()))
+    if merge:
+        plan = _plan3(1 + len(coef), sweep.eps_nufft)
+        plan.setpts(x, y, None, tg.s, tg.t)
+        f = plan.execute(np.concatenate([w[None], coef]))
+        blk, f = f[0], f[1:]
+    else:
+        plan = _plan3(1, sweep.eps_nufft)
+        plan.setpts(x, y, None, tg.s, tg.t)
+        blk = plan.execute(w)
+        eps = min(max(sweep.eps_nufft, 0.5 * sweep.eps / max(size, 1e-300)),
+                  SERIES_NUFFT_TOLERANCE)
+        eps = 10.0 ** np.floor(np.log10(eps))           # few distinct plans per thread
+        plan = _plan3(len(coef), eps)
+        plan.setpts(x[part], y[part], None, tg.s, tg.t)
+        f = plan.execute(coef if len(coef) > 1 else coef[0]).reshape(len(coef), -1)
+    corr = np.zeros_like(blk)
+    for q in range(p_max - 1, -1, -1):                  # Horner in b
+        corr = (corr + f[q]) * tg.b
+    if n_cross:
+        corr += f[p_max] * tg.b2
+    return np.asarray(blk + corr, dtype=np.complex128)
+
+
+def _moving_block(motion: _Motion, idx: NDArray[np.intp], w0: NDArray[np.complex128],
+                  pair: tuple[int, NDArray[np.float64], NDArray[np.float64]],
+                  m0: int, m1: int, sweep: _Sweep, out: NDArray[np.complex128],
+                  path: NDArray[np.float64] | None = None) -> None:
+    """Add the IF of moving scatterers ``idx`` over chirps ``m0 … m1−1`` of one pair to ``out``.
+
+    The scatterers within the delay model of the block (:func:`_fit`) are transformed
+    (:func:`_transform`); the others go to the two halves of the block, or to the direct
+    sum when they are few (:data:`DIRECT_MAX_TERMS`) or the block is a single chirp.
+
+    Parameters
+    ----------
+    idx : ndarray of int, shape (B,)
+        Prepared rows.
+    w0 : ndarray, shape (B,), complex128
+        Frame-constant amplitudes ``a_k e^{jφ_k}`` for this pair (FS).
+    pair : (int, ndarray (3,), ndarray (3,))
+        Tx index, Tx position and Rx position (m).
+    out : ndarray, shape (chirps, samples), complex128
+        This pair's IF, added to.
+    path : ndarray, shape (5, B), optional
+        Path lengths at the block's fit nodes, if the caller has them (m).
+    """
+    if not len(idx):
+        return
+    tx, p_t, p_r = pair
+    tg = _Targets.of(sweep, tx, m0, m1)
+    if path is None:
+        pos = motion.positions(idx, tg.t_c + tg.half * motion.nodes)
+        path = _distance(pos, p_t) + _distance(pos, p_r)
+    fit = _fit(path, motion.nodes, tg, sweep)
+    sel = np.flatnonzero(fit.ok)
+    n_blk = m1 - m0
+    if len(sel):
+        out[m0:m1] += _transform(fit, sel, w0, tg, sweep).reshape(n_blk, -1)
+    rest = np.flatnonzero(~fit.ok)
+    if not len(rest):
+        return
+    if n_blk > 1 and len(rest) * tg.s.size > DIRECT_MAX_TERMS:
+        mid = (m0 + m1) // 2
+        _moving_block(motion, idx[rest], w0[rest], pair, m0, mid, sweep, out)
+        _moving_block(motion, idx[rest], w0[rest], pair, mid, m1, sweep, out)
+        return
+    for m in range(m0, m1):
+        times = sweep.starts[m, tx] + sweep.t_n
+        out[m] += _direct_chirp(sweep, motion.positions(idx[rest], times), p_t, p_r,
+                                w0[rest])
+
+
+def _frame_amplitudes(prep: PreparedScatterers, rows: slice, t: int, r: int,
+                      config: RadarConfig, wave: _Waveform, d_t: NDArray[np.float64],
+                      d_r: NDArray[np.float64]) -> NDArray[np.complex128]:
+    """``a_k e^{jφ_k}`` of one pair: radar equation × high-pass at the frame start (FS).
+
+    ``d_t``, ``d_r`` are the distances to the Tx and the Rx at the frame start (m); float32
+    arithmetic as for static scatterers.
+    """
+    g_t = prep.gain(config.tx[t].pattern or config.element_pattern)[rows]
+    g_r = prep.gain(config.rx[r].pattern or config.element_pattern)[rows]
+    amp = if_amplitude_fs(config, prep.rcs[rows], g_t, g_r, d_t.astype(np.float32),
+                          d_r.astype(np.float32))
+    ph = prep.phase[rows].astype(np.float32)
+    cos, sin = np.cos(ph), np.sin(ph)
+    out = np.empty(len(amp), dtype=np.complex128)
+    if wave.poles:
+        h_re, h_im = _highpass32(wave, d_t + d_r)
+        a_re, a_im = amp * h_re, amp * h_im
+        out.real = cos * a_re - sin * a_im
+        out.imag = sin * a_re + cos * a_im
+    else:
+        out.real = cos * amp
+        out.imag = sin * amp
+    return out
+
+
+def _moving_task(motion: _Motion, rows: slice, t: int, sweep: _Sweep, wave: _Waveform,
+                 config: RadarConfig) -> list[NDArray[np.complex128]]:
+    """One block of moving scatterers, one Tx, every Rx: the IF over all chirps.
+
+    The positions at the frame's fit nodes are computed once for all Rx, in cache-sized
+    chunks; the transforms then take the whole block at once (their fixed cost is paid
+    once per block).
+
+    Returns
+    -------
+    list of ndarray, shape (chirps, samples)
+        One per Rx.
+    """
+    n_c, n_rx = config.chirps_per_frame, len(config.rx)
+    idx = np.arange(rows.start, rows.stop)
+    tg = _Targets.of(sweep, t, 0, n_c)
+    times = np.concatenate([[0.0], tg.t_c + tg.half * motion.nodes])
+    p_t, p_rx = config.tx_positions_m()[t], config.rx_positions_m()
+    d0_t = np.empty(len(idx))
+    d0_r = np.empty((n_rx, len(idx)))
+    path = np.empty((n_rx, len(times) - 1, len(idx)))
+    # A trajectory returns every scatterer at each call: call it once per block then.
+    chunk = FIT_CHUNK if motion.trajectory is None else max(len(idx), 1)
+    for lo in range(0, len(idx), chunk):
+        hi = min(lo + chunk, len(idx))
+        pos = motion.positions(idx[lo:hi], times)                      # (3, T, b)
+        d_t = _distance(pos, p_t)
+        d0_t[lo:hi] = d_t[0]
+        for r in range(n_rx):
+            d_r = _distance(pos, p_rx[r])
+            d0_r[r, lo:hi] = d_r[0]
+            np.add(d_t[1:], d_r[1:], out=path[r, :, lo:hi])
+    outs = []
+    for r in range(n_rx):
+        out = np.zeros((n_c, config.samples_per_chirp), dtype=np.complex128)
+        w0 = _frame_amplitudes(motion.prep, rows, t, r, config, wave, d0_t, d0_r[r])
+        _moving_block(motion, idx, w0, (t, p_t, p_rx[r]), 0, n_c, sweep, out, path=path[r])
+        outs.append(out)
+    return outs
+
+
+# --------------------------------------------------------------------------- entry points
 _POOLS: dict[int, ThreadPoolExecutor] = {}
 _POOLS_LOCK = threading.Lock()
 
@@ -451,24 +725,42 @@ def _pool(threads: int) -> ThreadPoolExecutor:
         return _POOLS[threads]
 
 
-def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int | None = None
-                  ) -> ComplexCube:
+#: One task: (moving?, scatterer rows, Tx).
+_Task = tuple[bool, slice, int]
+
+
+def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int | None = None,
+                  prepared: PreparedScatterers | None = None,
+                  trajectory: Trajectory | None = None) -> ComplexCube:
     """Noise-free complex IF of all scatterers with finufft (fast path).
 
-    Static scatterers (zero relative velocity) are transformed once per Tx–Rx pair and
-    broadcast over the chirps; moving ones once per pair and chirp. Blocks of
-    :data:`BLOCK` scatterers run as independent tasks on ``threads`` threads; their
-    results are summed in a fixed order, so the output does not depend on ``threads``.
+    Static scatterers (no velocity or acceleration relative to the radar) are transformed
+    once per Tx–Rx pair and broadcast over the chirps; moving ones by one 2-D type-3
+    transform per pair over all its chirps and samples, with the exact linear-delay model,
+    a curvature series and a per-scatterer fallback to shorter blocks (module docstring,
+    ``docs/physics_radar.md``). Blocks of :data:`BLOCK` scatterers run as independent
+    tasks on ``threads`` threads; their results are summed in a fixed order, so the output
+    does not depend on ``threads``.
 
     Parameters
     ----------
     scatterers : Scatterers
-        Point scatterers in the radar frame.
+        Point scatterers in the radar frame, with their motion over the frame.
     config : RadarConfig
-        Waveform, antennas, gains, IF high-pass and ``nufft_tolerance`` (below
-        :data:`SINGLE_PRECISION_TOLERANCE`: double-precision transforms).
+        Waveform, antennas, gains, IF high-pass and ``nufft_tolerance``: the transforms'
+        tolerance and, at least :data:`MOTION_TOLERANCE_FLOOR`, the per-scatterer budget
+        of the moving-scatterer model.
     threads : int, optional
         Worker threads (default :data:`DEFAULT_THREADS`; 1 runs on the calling thread).
+    prepared : PreparedScatterers, optional
+        ``prepare(scatterers)``, when the caller keeps it (otherwise made here).
+    trajectory : callable, optional
+        ``times_s (T,) → positions (M, T, 3)``: exact radar-frame positions of all the
+        scatterers at times after the frame start (m), when their motion over the frame is
+        not the model ``x + v t + a t²/2`` (a keyframed path that turns a corner within the
+        frame). Every scatterer is then treated as moving, the model is fitted to the
+        trajectory block by block and checked at more nodes; it is called with a few times
+        per block and returns all the scatterers each time, so it suits small sets.
 
     Returns
     -------
@@ -482,47 +774,56 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
     out = np.zeros((n_c, n_tx * n_rx, n_s), dtype=np.complex128)
     if len(scatterers) == 0:
         return out
-    prep = _prepared(scatterers)
+    if prepared is None:
+        prepared = prepare(scatterers)
+    elif prepared.source is not scatterers:
+        raise ValueError("prepared belongs to another Scatterers object; use prepare(scatterers)")
+    prep = prepared
+    if trajectory is not None:
+        prep = dataclasses.replace(prep, n_static=0)
+    motion = _Motion(prep, trajectory)
     wave = _Waveform.of(config)
-    amp_tx = [prep.amplitude_gain(a.pattern or config.element_pattern) for a in config.tx]
-    amp_rx = [prep.amplitude_gain(a.pattern or config.element_pattern) for a in config.rx]
+    sweep = _Sweep.of(config)
 
     tasks: list[_Task] = []
-    for moves, group in prep.groups.items():
-        for lo in range(group.start, group.stop, BLOCK):
-            rows = slice(lo, min(lo + BLOCK, group.stop))
-            # Moving scatterers: chirps in chunks of about BLOCK points per task.
-            per_task = max(1, BLOCK // (rows.stop - rows.start))
-            chunks = ([tuple(range(c, min(c + per_task, n_c))) for c in range(0, n_c, per_task)]
-                      if moves else [None])
-            for t in range(n_tx):
-                for chirps in chunks:
-                    tasks.append((chirps, t, rows))
+    for lo in range(0, prep.n_static, BLOCK):
+        rows = slice(lo, min(lo + BLOCK, prep.n_static))
+        tasks.extend((False, rows, t) for t in range(n_tx))
+    n_threads = DEFAULT_THREADS if threads is None else max(1, int(threads))
+    # Moving scatterers: as few tasks as keep the threads busy (each type-3 transform has a
+    # fixed cost of ≈ 2 ms at its 8192 targets, whatever its number of points).
+    step = max(BLOCK, -(-(len(prep) - prep.n_static) // n_threads))
+    for lo in range(prep.n_static, len(prep), step):
+        rows = slice(lo, min(lo + step, len(prep)))
+        tasks.extend((True, rows, t) for t in range(n_tx))
 
     def run(task: _Task) -> list[NDArray[np.complexfloating]]:
-        return _run_task(task, prep, wave, config, amp_tx, amp_rx)
+        moves, rows, t = task
+        if moves:
+            return list(_moving_task(motion, rows, t, sweep, wave, config))
+        return _static_task(prep, rows, t, wave, config)
 
-    n_threads = DEFAULT_THREADS if threads is None else max(1, int(threads))
     results: Iterator[list[NDArray[np.complexfloating]]]
     if n_threads == 1 or len(tasks) == 1:
         results = map(run, tasks)
     else:
         results = _pool(n_threads).map(run, tasks)
-    for (chirps, t, _), ys in zip(tasks, results, strict=True):
+    for (_, _, t), ys in zip(tasks, results, strict=True):
         for r, y in enumerate(ys):
-            if chirps is None:
-                out[:, t * n_rx + r] += y
-            else:
-                out[chirps[0]:chirps[-1] + 1, t * n_rx + r] += y
+            out[:, t * n_rx + r] += y   # (N,) broadcasts over the chirps
     return out
 
 
 def synthesize_if_direct(scatterers: Scatterers, config: RadarConfig, *,
-                         chirps: NDArray[np.integer] | None = None, chunk: int = 2048
-                         ) -> ComplexCube:
+                         chirps: NDArray[np.integer] | None = None, chunk: int = 512,
+                         trajectory: Trajectory | None = None) -> ComplexCube:
     """Noise-free complex IF by the literal sum over scatterers and samples (reference).
 
-    Costs O(chirps · tx · rx · M · samples); use it on small scenes or a few chirps.
+    Every sample of every chirp and Tx–Rx pair takes the scatterers' exact positions at its
+    own time ``t = T_mt + t_n`` and sums ``a_k exp(j (2π (f_c + K t_n) τ(t) − π K τ(t)²
+    + φ_k))``; the amplitudes ``a_k`` (radar equation, element patterns, high-pass) are
+    those of the positions at the frame start. Costs O(chirps · tx · rx · M · samples);
+    use it on small scenes or a few chirps.
 
     Parameters
     ----------
@@ -534,6 +835,10 @@ def synthesize_if_direct(scatterers: Scatterers, config: RadarConfig, *,
         Chirp indices to compute (default all).
     chunk : int
         Scatterers per vectorised block.
+    trajectory : callable, optional
+        ``times_s (T,) → positions (M, T, 3)``: exact radar-frame positions at times after
+        the frame start (m); default the scatterers' motion model
+        (:meth:`Scatterers.positions_at`).
 
     Returns
     -------
@@ -547,143 +852,44 @@ def synthesize_if_direct(scatterers: Scatterers, config: RadarConfig, *,
     out = np.zeros((len(idx), n_tx * n_rx, len(t_n)), dtype=np.complex128)
     if len(scatterers) == 0:
         return out
-    amp, phase = _scatterer_weights(scatterers, config)
+    traj: Callable[[NDArray[np.floating]], NDArray[np.float64]] = (
+        scatterers.positions_at if trajectory is None else trajectory)
+    x0 = scatterers.positions_m
     p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()
+    g_tx, g_rx = pattern_gains(config, x0)
+    f_inst = config.start_frequency_hz + config.slope_hz_per_s * t_n
+    slope = config.slope_hz_per_s
     starts = config.chirp_start_times_s()
-    f_c, slope = config.start_frequency_hz, config.slope_hz_per_s
+    amp = np.empty((n_tx, n_rx, len(x0)), dtype=np.complex128)
+    for t in range(n_tx):
+        for r in range(n_rx):
+            r_t = np.linalg.norm(x0 - p_tx[t], axis=1)
+            r_r = np.linalg.norm(x0 - p_rx[r], axis=1)
+            h = highpass_response(slope * (r_t + r_r) / SPEED_OF_LIGHT, config.if_highpass_hz,
+                                  config.if_highpass_order)
+            amp[t, r] = (if_amplitude_fs(config, scatterers.rcs_m2, g_tx[t], g_rx[r], r_t, r_r)
+                         * h * np.exp(1j * scatterers.phase_rad))
     for i, m in enumerate(idx):
         for t in range(n_tx):
+            x = np.asarray(traj(starts[m, t] + t_n), dtype=np.float64)   # (M, N, 3)
             for r in range(n_rx):
                 acc = np.zeros(len(t_n), dtype=np.complex128)
-                for lo in range(0, len(scatterers), chunk):
+                for lo in range(0, len(x0), chunk):
                     k = slice(lo, lo + chunk)
-                    x = scatterers.positions_m[k] + scatterers.velocities_mps[k] * starts[m, t]
-                    r_t = np.sqrt(np.sum((x - p_tx[t]) ** 2, axis=1))
-                    r_r = np.sqrt(np.sum((x - p_rx[r]) ** 2, axis=1))
-                    tau = ((r_t + r_r) / SPEED_OF_LIGHT)[:, None]
-                    h = highpass_response(slope * tau[:, 0], config.if_highpass_hz,
-                                          config.if_highpass_order)
-                    a = amp[t, r, k] / (r_t * r_r) * h
-                    ph = (2 * np.pi * f_c * tau + 2 * np.pi * slope * tau * t_n[None, :]
-                          - np.pi * slope * tau**2 + phase[k, None])
-                    acc += a @ np.exp(1j * ph)
+                    r_t = np.sqrt(np.sum((x[k] - p_tx[t]) ** 2, axis=-1))
+                    r_r = np.sqrt(np.sum((x[k] - p_rx[r]) ** 2, axis=-1))
+                    tau = (r_t + r_r) / SPEED_OF_LIGHT                      # (chunk, N)
+                    ph = 2 * np.pi * f_inst[None, :] * tau - np.pi * slope * tau**2
+                    acc += amp[t, r, k] @ np.exp(1j * ph)
                 out[i, t * n_rx + r] = acc
     return out
 
 
-# --------------------------------------------------------------------------- receiver
-def leakage_if(config: RadarConfig) -> ComplexCube:
-    """Tx→Rx leakage of every pair: one tone over the direct board path, all chirps equal.
-
-    Returns
-    -------
-    ndarray, shape (1, tx*rx, samples), complex128
-        Complex IF in FS (broadcasts over chirps), high-pass applied.
-    """
-    n_tx, n_rx = len(config.tx), len(config.rx)
-    t_n = config.sample_times_s()
-    out = np.zeros((1, n_tx * n_rx, len(t_n)), dtype=np.complex128)
-    amp = leakage_amplitude_fs(config)
-    if amp == 0.0:
-        return out
-    p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()
-    f_c, slope = config.start_frequency_hz, config.slope_hz_per_s
-    for t in range(n_tx):
-        for r in range(n_rx):
-            tau = float(np.linalg.norm(p_tx[t] - p_rx[r])) / SPEED_OF_LIGHT
-            h = highpass_response(slope * tau, config.if_highpass_hz, config.if_highpass_order)
-            out[0, t * n_rx + r] = amp * h * np.exp(1j * (
-                2 * np.pi * f_c * tau + 2 * np.pi * slope * tau * t_n - np.pi * slope * tau**2))
-    return out
-
-
-def receiver_noise(config: RadarConfig, shape: tuple[int, ...], rng: np.random.Generator
-                   ) -> NDArray[np.float64] | NDArray[np.complex128]:
-    """White receiver noise shaped by the IF high-pass, real or complex per ``complex_iq``.
-
-    Parameters
-    ----------
-    config : RadarConfig
-        The radar (noise level, high-pass, IQ).
-    shape : tuple
-        Output shape; the last axis is fast time (samples).
-    rng : numpy.random.Generator
-        Source of randomness.
-
-    Returns
-    -------
-    ndarray
-        Noise in FS, variance ``noise_std_fs(config)**2`` per real channel before the
-        high-pass (the high-pass removes the part of it below its cutoff).
-    """
-    sigma = noise_std_fs(config)
-    noise: NDArray[np.float64] | NDArray[np.complex128]
-    if config.complex_iq:
-        noise = sigma * (rng.standard_normal(shape) + 1j * rng.standard_normal(shape))
-    else:
-        noise = sigma * rng.standard_normal(shape)
-    if config.if_highpass_hz > 0 and sigma > 0:
-        n = shape[-1]
-        if config.complex_iq:
-            f = np.fft.fftfreq(n, 1.0 / config.sample_rate_hz)
-            h = highpass_response(f, config.if_highpass_hz, config.if_highpass_order)
-            noise = np.fft.ifft(np.fft.fft(noise, axis=-1) * h, axis=-1)
-        else:
-            f = np.fft.rfftfreq(n, 1.0 / config.sample_rate_hz)
-            h = highpass_response(f, config.if_highpass_hz, config.if_highpass_order)
-            noise = np.fft.irfft(np.fft.rfft(noise, axis=-1) * h, n=n, axis=-1)
-    return noise
-
-
-def quantize(x: NDArray[np.float64], bits: int | None) -> tuple[NDArray[np.float64], int]:
-    """Round to the ADC grid and clip at full scale (FS units).
-
-    The LSB is ``2 / 2**bits``; codes run from ``-2**(bits-1)`` to ``2**(bits-1) - 1``.
-
-    Returns
-    -------
-    quantized : ndarray, same shape as ``x``
-        Quantized values (FS).
-    clipped : int
-        Number of values that exceeded full scale.
-    """
-    if bits is None:
-        return x, 0
-    half = 2 ** (bits - 1)
-    codes = np.rint(x * half)
-    clipped = int(np.count_nonzero((codes < -half) | (codes > half - 1)))
-    return np.clip(codes, -half, half - 1) / half, clipped
-
-
-def receiver_chain(ideal: ComplexCube, config: RadarConfig, rng: np.random.Generator
-                   ) -> tuple[NDArray[np.float32] | NDArray[np.complex64], int]:
-    """Leakage, noise, quantization: the ADC cube from the noise-free complex IF.
-
-    Parameters
-    ----------
-    ideal : ndarray, shape (chirps, tx*rx, samples), complex128
-        Output of :func:`synthesize_if` (FS).
-    config : RadarConfig
-        Receiver settings.
-    rng : numpy.random.Generator
-        Source of the noise.
-
-    Returns
-    -------
-    adc : ndarray, shape (chirps, tx*rx, samples)
-        float32 (real IF) or complex64 (IQ), FS.
-    clipped : int
-        Number of real values (I and Q counted separately) clipped at full scale.
-    """
-    x = ideal + leakage_if(config)
-    noise = receiver_noise(config, x.shape, rng)
-    if config.complex_iq:
-        z = x + noise
-        i_q, c_i = quantize(z.real, config.adc_bits)
-        q_q, c_q = quantize(z.imag, config.adc_bits)
-        return (i_q + 1j * q_q).astype(np.complex64), c_i + c_q
-    real, clipped = quantize(x.real + noise.real, config.adc_bits)
-    return real.astype(np.float32), clipped
-
-
-SynthesisMethod = Literal["nufft", "direct"]
+__all__ = [
+    "BLOCK", "BOLTZMANN", "DEFAULT_THREADS", "MAX_SERIES_ORDER", "MOTION_TOLERANCE_FLOOR",
+    "R_REF_OHM", "SINGLE_PRECISION_TOLERANCE", "T0_K", "ComplexCube", "PreparedScatterers",
+    "SynthesisMethod", "amplitude_scale_fs", "check_wavelength", "element_gain",
+    "highpass_response", "if_amplitude_fs", "leakage_amplitude_fs", "leakage_if",
+    "noise_std_fs", "prepare", "quantize", "receiver_chain", "receiver_noise",
+    "synthesize_if", "synthesize_if_direct",
+]

@@ -39,6 +39,7 @@ from scipy.ndimage import gaussian_filter
 
 from simcore.render.buffers import RenderBuffers, downsample_ground_truth
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
+from simcore.sensors.tof.multipath import one_bounce, senders_from_render
 
 #: Float dtype of every sensor-resolution ToF image.
 FLOAT = np.float32
@@ -82,6 +83,9 @@ class TofOutput:
         Ground-truth range (m), NaN where no surface.
     gt_object_id : ndarray, shape (H, W), int32
         Ground-truth object id, −1 where no surface.
+    exposure_time_s : float
+        Exposure time of each correlation sample in this frame (s): the configured one, or
+        auto-exposure's choice.
     """
 
     depth_m: NDArray[np.float32]
@@ -92,6 +96,7 @@ class TofOutput:
     correlation: NDArray[np.float32]
     gt_range: NDArray[np.float32]
     gt_object_id: NDArray[np.int32]
+    exposure_time_s: float = 0.0
 
     def hdf5_items(self) -> dict[str, tuple[NDArray[np.generic], str]]:
         """Per-frame datasets of the HDF5 layout: path → (array without frame axis, unit)."""
@@ -103,6 +108,7 @@ class TofOutput:
             "/tof/correlation": (self.correlation, "DN"),
             "/tof/gt_range": (self.gt_range, "m"),
             "/tof/gt_object_id": (self.gt_object_id, "1"),
+            "/tof/exposure_time": (np.asarray(self.exposure_time_s, dtype=np.float64), "s"),
         }
 
 
@@ -265,9 +271,74 @@ def _correlation_from_samples(sample_buffers: Sequence[RenderBuffers], config: T
     return _crosstalk(as_float(np.stack(planes)), config.crosstalk_sigma_px)
 
 
+def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
+                      albedo: NDArray[np.float32]) -> NDArray[np.float32]:
+    """One-bounce indirect light per sensor pixel: offset and phasor planes (electrons).
+
+    Returns
+    -------
+    ndarray, shape (1 + 2·F, H, W), float32
+        ``S_ind`` and, per modulation frequency, ``m Re(S_ind e^{iφ})``,
+        ``m Im(S_ind e^{iφ})`` — laid out like the direct planes of :func:`simulate_tof`.
+    """
+    k = config.supersampling
+    hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
+    senders = senders_from_render(
+        buffers.points_m, buffers.normals, np.where(hit, albedo, FLOAT(0.0)),
+        as_float(buffers.intrinsics.pixel_solid_angle()), hit,
+        stride=config.multipath_patch_px * k)
+    # Receivers: each sensor pixel's mean surface point, normal and albedo.
+    weight = hit.astype(np.float32)
+    count = np.maximum(_block_mean(weight, k), FLOAT(1e-12))
+    pts = np.stack([_block_mean(np.where(hit, buffers.points_m[..., i], 0.0), k) / count
+                    for i in range(3)], axis=-1)
+    nrm = np.stack([_block_mean(np.where(hit, buffers.normals[..., i], 0.0), k) / count
+                    for i in range(3)], axis=-1)
+    nrm /= np.maximum(np.linalg.norm(nrm, axis=-1, keepdims=True), FLOAT(1e-12))
+    rho = _block_mean(np.where(hit, albedo, 0.0), k) / count
+    seen = _block_mean(weight, k) > 0
+    h, w = seen.shape
+    magnitude, phasors = one_bounce(as_float(pts[seen]), as_float(nrm[seen]), senders,
+                                    list(config.modulation_frequencies_hz))
+    scale = as_float(rho[seen] * FLOAT(config.signal_electrons_at_1m)
+                     * _block_mean(weight, k)[seen])
+    planes = np.zeros((1 + 2 * len(phasors), h, w), dtype=np.float32)
+    planes[0][seen] = magnitude * scale
+    contrast = FLOAT(config.demodulation_contrast)
+    for j, (re, im) in enumerate(phasors):
+        planes[1 + 2 * j][seen] = re * scale * contrast
+        planes[2 + 2 * j][seen] = im * scale * contrast
+    return planes
+
+
+def auto_exposure_s(reference: RenderBuffers, config: TofCameraConfig) -> float:
+    """The exposure that puts the brightest 1 % of pixels at the target level (s).
+
+    From a noise-free look at ``reference`` (the previous frame's render): the largest
+    correlation sample of a pixel is at most ``(S + B)(1 + m)``; its 99th percentile over
+    the pixels that see a surface, at the configured exposure, scales linearly with the
+    exposure time. The result is clipped to ``config.exposure_range_s``.
+    """
+    k = config.supersampling
+    _, signal, ambient = _sample_signal(reference, config)
+    offset = _block_mean(signal + ambient, k)
+    seen = _block_mean((reference.object_index >= 0).astype(np.float32), k) > 0
+    low, high = config.exposure_range_s
+    if not seen.any():
+        return float(high)
+    peak = float(np.percentile(offset[seen], 99)) * (1.0 + config.demodulation_contrast)
+    if peak <= 0:
+        return float(high)
+    wanted = config.exposure_time_s * config.auto_exposure_target * (
+        config.full_well_electrons / peak)
+    return float(min(max(wanted, low), high))
+
+
 def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                  rng: np.random.Generator, noise: bool = True,
-                 sample_buffers: Sequence[RenderBuffers] | None = None) -> TofOutput:
+                 sample_buffers: Sequence[RenderBuffers] | None = None,
+                 albedo: NDArray[np.float32] | None = None,
+                 exposure_reference: RenderBuffers | None = None) -> TofOutput:
     """Simulate one AMCW ToF frame from the ToF band's supersampled render.
 
     Parameters
@@ -287,6 +358,12 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         Renders at the four correlation samples' own exposure times (motion artefacts):
         sample ``i`` is taken from ``sample_buffers[i]``; ``buffers`` still gives the ground
         truth at the frame time. ``None`` takes all four from ``buffers``.
+    albedo : ndarray, shape (H·k, W·k), optional
+        Diffuse albedo of the ToF band per render pixel (``(1 − metallic) reflectance``);
+        needed when ``config.multipath`` is on (:mod:`simcore.sensors.tof.multipath`).
+    exposure_reference : RenderBuffers, optional
+        With ``config.auto_exposure``: the render auto-exposure looks at (the previous
+        frame's, like a real camera's; default ``buffers``) — :func:`auto_exposure_s`.
 
     Returns
     -------
@@ -311,6 +388,11 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         raise ValueError(f"sample_buffers needs the 4 correlation samples' renders, "
                          f"got {len(sample_buffers)}")
 
+    if config.auto_exposure:
+        exposure = auto_exposure_s(buffers if exposure_reference is None
+                                   else exposure_reference, config)
+        config = config.model_copy(update={"exposure_time_s": exposure})
+
     # 1. Per sub-pixel signal/ambient electrons per sample and range.
     #    In float32 like the buffers (relative rounding 6e-8; the phase of a 10 m range is
     #    accurate to 1e-6 rad, 1 µm of depth at 20 MHz), with SIMD cos/sin.
@@ -326,6 +408,14 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         planes += [_block_mean(m_signal * np.cos(phase), k),
                    _block_mean(m_signal * np.sin(phase), k)]
 
+    # Multipath interference: the one-bounce light, added as phasors before read-out.
+    indirect = None
+    if config.multipath:
+        if albedo is None:
+            raise ValueError("multipath needs the diffuse albedo of the render (albedo=...)")
+        indirect = _multipath_planes(buffers, config, albedo)
+        planes = [plane + extra for plane, extra in zip(planes, indirect, strict=True)]
+
     # 3. Cross-talk (linear, so it may act on offset and phasor planes alike).
     mixed = _crosstalk(as_float(np.stack(planes)), config.crosstalk_sigma_px)
 
@@ -335,6 +425,11 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
     for j, f_mod in enumerate(config.modulation_frequencies_hz):
         if sample_buffers is not None:
             corr_e = _correlation_from_samples(sample_buffers, config, f_mod)
+            if indirect is not None:
+                extra = _crosstalk(indirect[[0, 1 + 2 * j, 2 + 2 * j]],
+                                   config.crosstalk_sigma_px)
+                o, re, im = extra
+                corr_e = corr_e + np.stack([o + re, o - im, o - re, o + im])
         else:
             o, re, im = mixed[0], mixed[1 + 2 * j], mixed[2 + 2 * j]
             corr_e = np.stack([o + re, o - im, o - re, o + im])
@@ -368,4 +463,5 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         correlation=correlation,
         gt_range=gt_range,
         gt_object_id=gt_id,
+        exposure_time_s=float(config.exposure_time_s),
     )

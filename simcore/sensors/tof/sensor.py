@@ -2,8 +2,13 @@
 
 from __future__ import annotations
 
+import numpy as np
+from numpy.typing import NDArray
+
+from simcore.render.buffers import RenderBuffers
 from simcore.render.renderer import RenderRequest
 from simcore.scene.model import Project
+from simcore.scene.project_io import material_table
 from simcore.sensors.base import H5Items, SensorContext, config_key
 from simcore.sensors.tof.camera import TofOutput, simulate_tof
 
@@ -21,21 +26,52 @@ class TofSensor:
         return RenderRequest(self.name, self.band, project.rig.tof.render_intrinsics())
 
     def sample_offsets_s(self, project: Project) -> tuple[float, ...]:
-        """With motion artefacts: renders at the 2nd to 4th correlation samples' times."""
+        """Times of extra renders: motion artefacts, then the previous frame (auto-exposure).
+
+        With motion artefacts, the 2nd to 4th correlation samples' start times; with
+        auto-exposure, one frame period earlier (the frame auto-exposure looks at).
+        """
         cfg = project.rig.tof
-        if not cfg.motion_artifacts:
-            return ()
-        return tuple(i * cfg.sample_interval_s for i in (1, 2, 3))
+        offsets: tuple[float, ...] = ()
+        if cfg.motion_artifacts:
+            offsets += tuple(i * cfg.sample_interval_s for i in (1, 2, 3))
+        if cfg.auto_exposure:
+            offsets += (-1.0 / project.timeline.frame_rate_hz,)
+        return offsets
 
     def simulate(self, ctx: SensorContext) -> TofOutput:
         """The camera model over the render (and the sample renders, if any)."""
         cfg = ctx.project.rig.tof
-        samples = (ctx.buffers, *ctx.sample_buffers) if ctx.sample_buffers else None
+        extra = list(ctx.sample_buffers)
+        previous = extra.pop() if cfg.auto_exposure else None
+        samples = (ctx.buffers, *extra) if extra else None
+        albedo = None
+        if cfg.multipath:
+            albedo = ctx.stage("tof_albedo", lambda: diffuse_albedo(ctx.project, ctx.buffers),
+                               reads=config_key(*ctx.project.materials,
+                                                *ctx.project.objects),
+                               inputs=(ctx.buffers,))
         return ctx.stage(
-            "tof", lambda: simulate_tof(ctx.buffers, cfg, rng=ctx.rng, sample_buffers=samples),
+            "tof", lambda: simulate_tof(ctx.buffers, cfg, rng=ctx.rng, sample_buffers=samples,
+                                        albedo=albedo, exposure_reference=previous),
             reads=(config_key(cfg), ctx.seed, ctx.index),
             inputs=(ctx.buffers, *ctx.sample_buffers))
 
     def static_items(self, project: Project) -> H5Items:
         """No run-constant datasets."""
         return {}
+
+
+def diffuse_albedo(project: Project, buffers: RenderBuffers) -> NDArray[np.float32]:
+    """Diffuse albedo ``(1 − metallic) · reflectance`` of the ToF band per render pixel.
+
+    Returns
+    -------
+    ndarray, shape (H, W), float32
+        0 where no surface is seen.
+    """
+    table = material_table(project)
+    per_object = [table[o.material].band("tof") for o in project.objects]
+    values = np.array([(1.0 - b.metallic) * b.reflectance for b in per_object] + [0.0],
+                      dtype=np.float32)
+    return values[buffers.object_index]
