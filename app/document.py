@@ -15,10 +15,11 @@ from pathlib import Path
 from typing import Any
 
 from pydantic import ValidationError
-from PyQt6.QtCore import QObject, pyqtSignal
+from PyQt6.QtCore import QObject, QStandardPaths, pyqtSignal
 from PyQt6.QtGui import QUndoCommand, QUndoStack
 
 from app.validation import describe_validation_error
+from simcore.resources import EXAMPLES_DIR
 from simcore.scene import (
     DualBandMaterial,
     Project,
@@ -31,6 +32,35 @@ from simcore.scene.project_io import ProjectError, check_references
 
 #: Selection key of the sensor rig (objects are selected by their integer id).
 RIG = "rig"
+
+#: Folder of the last project opened or saved in this session (Save As starts there).
+_LAST_FOLDER: list[Path] = []
+
+
+def is_bundled_example(path: str | Path) -> bool:
+    """True when ``path`` lies in the bundled examples folder (resolved: it is a link)."""
+    try:
+        return Path(path).resolve().is_relative_to(EXAMPLES_DIR.resolve())
+    except OSError:
+        return False
+
+
+def remember_last_folder(recent_files: list[str]) -> None:
+    """Start Save As in the folder of the newest recent file that is not an example.
+
+    The main window calls this with its recent-files list, so the last used folder carries
+    over from the previous session.
+    """
+    for f in recent_files:
+        if not is_bundled_example(f) and Path(f).parent.is_dir():
+            _LAST_FOLDER[:] = [Path(f).parent]
+            return
+
+
+def documents_folder() -> Path:
+    """The user's documents folder (home when the platform names none)."""
+    found = QStandardPaths.writableLocation(QStandardPaths.StandardLocation.DocumentsLocation)
+    return Path(found) if found else Path.home()
 
 _MERGE_IDS: dict[str, int] = {}
 
@@ -124,15 +154,20 @@ class ProjectDocument(QObject):
                  parent: QObject | None = None):
         super().__init__(parent)
         self.undo_stack = QUndoStack(self)
-        self.undo_stack.cleanChanged.connect(lambda clean: self.dirtyChanged.emit(not clean))
+        # A bound method, not a lambda: Qt drops the connection when the document goes.
+        self.undo_stack.cleanChanged.connect(self._on_clean_changed)
         self._project = project if project is not None else Project()
         self._path = path
+        self._template: Path | None = None
         self._selection: int | str | None = None
         self._materials: dict[str, DualBandMaterial] = {}
         self._materials_for: Project | None = None
         #: ``before_push(old, new)`` runs before an edit is pushed and raises
         #: :class:`EditError` to refuse it (cost checks and confirmations of the window).
         self.before_push: Callable[[Project, Project], None] | None = None
+
+    def _on_clean_changed(self, clean: bool) -> None:  # noqa: FBT001 - Qt slot
+        self.dirtyChanged.emit(not clean)
 
     # --- state ------------------------------------------------------------------------
     @property
@@ -142,13 +177,54 @@ class ProjectDocument(QObject):
 
     @property
     def path(self) -> Path | None:
-        """The project file, or ``None`` for a project never saved."""
+        """The project file, or ``None`` for a project never saved (or an opened example)."""
         return self._path
+
+    @property
+    def template(self) -> Path | None:
+        """The bundled example this project was opened from and not yet saved elsewhere.
+
+        Examples are templates: the document has no file (:attr:`path` is ``None``), so Save
+        asks for a location, and :meth:`save` refuses to write into the examples folder.
+        """
+        return self._template
+
+    @property
+    def display_name(self) -> str:
+        """File name for titles: ``office.json``, ``office (example)`` or ``untitled``."""
+        if self._path is not None:
+            return self._path.name
+        if self._template is not None:
+            return f"{self._template.stem} (example)"
+        return "untitled"
 
     @property
     def base_dir(self) -> Path:
         """Folder that relative mesh paths are resolved against."""
-        return self._path.parent if self._path is not None else Path.cwd()
+        if self._path is not None:
+            return self._path.parent
+        if self._template is not None:
+            return self._template.parent
+        return Path.cwd()
+
+    def suggested_save_path(self) -> Path:
+        """Where Save As starts: the last folder used, with the project's file name.
+
+        The last folder opened or saved in this session (never the examples folder), else
+        the project's own folder, else the user's documents folder.
+        """
+        if self._path is not None:
+            name = self._path.name
+        elif self._template is not None:
+            name = self._template.name
+        else:
+            name = f"{self._project.name or 'untitled'}.json"
+        folders = [*_LAST_FOLDER[-1:]]
+        if self._path is not None:
+            folders.append(self._path.parent)
+        folders.append(documents_folder())
+        folder = next(f for f in folders if not is_bundled_example(f / name))
+        return folder / name
 
     @property
     def is_dirty(self) -> bool:
@@ -270,10 +346,12 @@ class ProjectDocument(QObject):
         self.projectChanged.emit(project)
 
     # --- files ------------------------------------------------------------------------
-    def replace(self, project: Project, path: Path | None) -> None:
+    def replace(self, project: Project, path: Path | None, *,
+                template: Path | None = None) -> None:
         """Start over with ``project`` (New, Open): clears history and selection."""
         self.undo_stack.clear()
         self._path = path
+        self._template = template
         self._selection = None
         self._project = project
         self.undo_stack.setClean()
@@ -288,23 +366,45 @@ class ProjectDocument(QObject):
         self.replace(project if project is not None else Project(), None)
 
     def open(self, path: str | Path) -> None:
-        """Load ``path``; on :class:`ProjectError` the current project stays untouched."""
+        """Load ``path``; on :class:`ProjectError` the current project stays untouched.
+
+        A bundled example opens as a template: no file (Save asks where), see
+        :attr:`template`.
+        """
         path = Path(path)
         project = load_project(path)
-        self.replace(project, path.resolve())
+        if is_bundled_example(path):
+            self.replace(project, None, template=path.resolve())
+        else:
+            self.replace(project, path.resolve())
+            _LAST_FOLDER[:] = [path.resolve().parent]
 
     def save(self, path: str | Path | None = None) -> Path:
-        """Save atomically to ``path`` (default: the current file) and mark clean."""
+        """Save atomically to ``path`` (default: the current file) and mark clean.
+
+        Raises
+        ------
+        ValueError
+            No file name (a new project or an opened example): use ``save(path)``.
+        PermissionError
+            ``path`` is in the bundled examples folder (examples are read-only templates).
+        """
         target = Path(path) if path is not None else self._path
         if target is None:
             raise ValueError("no file name: use save(path)")
         target = target.resolve()
+        if is_bundled_example(target):
+            raise PermissionError(f"{target} is a bundled example (a read-only template); "
+                                  "save the project in another folder")
         save_project(self._project, target)
+        _LAST_FOLDER[:] = [target.parent]
         if target != self._path:
             self._path = target
+            self._template = None
             self.pathChanged.emit(target)
         self.undo_stack.setClean()
         return target
 
 
-__all__ = ["RIG", "EditError", "ProjectDocument", "ProjectError", "ReplaceProjectCommand"]
+__all__ = ["RIG", "EditError", "ProjectDocument", "ProjectError", "ReplaceProjectCommand",
+           "documents_folder", "is_bundled_example", "remember_last_folder"]

@@ -16,6 +16,7 @@ def main(project_path: str | Path | None = None) -> int:
     """
     from PyQt6.QtWidgets import QApplication
 
+    from app.help import maybe_show_first_run_guide
     from app.main_window import MainWindow
     from app.theme import apply_dark_theme
 
@@ -25,6 +26,7 @@ def main(project_path: str | Path | None = None) -> int:
     apply_dark_theme(app)  # type: ignore[arg-type]
     window = MainWindow(project_path)
     window.show()
+    maybe_show_first_run_guide(window, window.settings)
     return int(app.exec())
 
 

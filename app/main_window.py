@@ -23,9 +23,10 @@ from PyQt6.QtWidgets import (
 )
 
 from app.antenna_editor import AntennaEditor
-from app.document import EditError, ProjectDocument, ProjectError
+from app.document import EditError, ProjectDocument, ProjectError, remember_last_folder
 from app.export import DatasetExportJob, export_panel_images
 from app.frame_view import FrameView
+from app.help import install_help_menu
 from app.material_editor import MaterialEditor
 from app.panels import LivePanel, RangeAzimuthPanel, RangeDopplerPanel, RangeProfilePanel, TofPanel
 from app.rgb_panel import RgbPanel
@@ -33,6 +34,7 @@ from app.scene_editor import ObjectInspector, ObjectListPanel, build_add_menu
 from app.sensor_editor import SensorEditor
 from app.simulation import SimulationController
 from app.time_controls import TimeBar, TimeController
+from app.timeline_editor import TimelineEditor
 from app.validation import describe_problem
 from app.viewport import SceneViewport
 from simcore import preflight
@@ -62,7 +64,7 @@ STAGE_LABELS = {
     "render_background": "background", "tof": "ToF", "tof_albedo": "ToF albedo",
     "radar_scatterers": "scatterers", "radar_background_scatterers": "background scatterers",
     "radar_synthesis": "IF synthesis", "radar_background_synthesis": "background IF",
-    "radar_receiver": "receiver", "dsp": "DSP", "rgb": "RGB"}
+    "radar_receiver": "receiver", "radar_prepare": "prepare", "dsp": "DSP", "rgb": "RGB"}
 
 
 class MainWindow(QMainWindow):
@@ -99,6 +101,7 @@ class MainWindow(QMainWindow):
         self.document.before_push = self._check_edit
 
         self._build_docks()
+        self._build_explore_docks()
         self._build_actions()
         self._build_menus()
         self._build_toolbar()
@@ -170,10 +173,21 @@ class MainWindow(QMainWindow):
         self.resizeDocks([self.docks["antennas"]], [300], Qt.Orientation.Vertical)
         self.panels: dict[str, LivePanel] = {
             "ToF camera": self.tof_panel, "Range profile": self.profile_panel,
-            "Range-Doppler": self.rd_panel, "Range-azimuth": self.ra_panel,
-            "RGB camera": self.rgb_panel}
+            "Range-Doppler": self.rd_panel, "Range-azimuth": self.ra_panel}
         self._rgb_shown: bool | None = None
         self._follow_rig_sensors()
+
+    def _build_explore_docks(self) -> None:
+        """Timeline & seed dock, keyframes at the current time (issue #17)."""
+        self.timeline_editor = TimelineEditor(self.document)
+        self.timeline_editor.editFailed.connect(self.show_status_error)
+        self.docks["timeline"] = self._dock("Timeline and seed", self.timeline_editor,
+                                            Qt.DockWidgetArea.BottomDockWidgetArea,
+                                            "dock_timeline")
+        self.tabifyDockWidget(self.docks["sensors"], self.docks["timeline"])
+        self.docks["antennas"].raise_()
+        self.inspector.time_source = lambda: self.time.time_s
+        remember_last_folder(self.recent_files())  # Save As starts there
 
     def _action(self, text: str, slot: Any, *, shortcut: Any = None, tip: str = "",
                 checkable: bool = False) -> QAction:
@@ -282,7 +296,7 @@ class MainWindow(QMainWindow):
         sim.addActions([self.play_action, self.step_back_action, self.step_forward_action,
                         self.first_frame_action, self.cancel_frame_action])
         help_menu = bar.addMenu("&Help")
-        help_menu.addAction("About tofradar", self._about)
+        self.help_actions = install_help_menu(self, help_menu)
 
     def _build_toolbar(self) -> None:
         icon = self.style().standardIcon
@@ -359,6 +373,11 @@ class MainWindow(QMainWindow):
         has_rgb = self.document.project.rig.rgb is not None
         if has_rgb != self._rgb_shown:
             self._rgb_shown = has_rgb
+            # A live panel (drawn, exported) only while the rig carries the camera.
+            if has_rgb:
+                self.panels["RGB camera"] = self.rgb_panel
+            else:
+                self.panels.pop("RGB camera", None)
             self.docks["rgb"].toggleViewAction().setEnabled(has_rgb)
             self.docks["rgb"].setVisible(has_rgb)
 
@@ -535,14 +554,8 @@ class MainWindow(QMainWindow):
         box.open()
         return box
 
-    def _about(self) -> None:
-        QMessageBox.about(self, "About tofradar",
-                          "tofradar — synchronized AMCW ToF camera and FMCW radar simulation "
-                          "from one 3D scene.")
-
     def _update_title(self, *_: object) -> None:
-        path = self.document.path
-        name = path.name if path is not None else "untitled"
+        name = self.document.display_name  # "office (example)" for a bundled template
         self.setWindowTitle(f"{name}[*] — tofradar")
         self.setWindowModified(self.document.is_dirty)
 
@@ -617,7 +630,8 @@ class MainWindow(QMainWindow):
 
     def save_as(self) -> bool:
         """Ask for a file name and save there."""
-        path, _ = QFileDialog.getSaveFileName(self, "Save project as", str(self.document.base_dir),
+        start = self.document.suggested_save_path()  # last used folder, never the examples
+        path, _ = QFileDialog.getSaveFileName(self, "Save project as", str(start),
                                               "tofradar projects (*.json)")
         if not path:
             return False

@@ -1,7 +1,10 @@
-"""Dual-band material editor: ToF (near-IR) and radar parameters side by side.
+"""Material editor: ToF (near-IR), radar and visible-band parameters side by side, and colour.
 
 Materials come from the bundled library and the project; editing a library material saves
 an override of the same name into the project (the library file is never written).
+
+A material is shared by every object that names it: the editor says which objects an edit
+changes, and **Make unique** gives the selected object its own copy first.
 """
 
 from __future__ import annotations
@@ -9,8 +12,10 @@ from __future__ import annotations
 from typing import Any
 
 from PyQt6.QtCore import QSignalBlocker, pyqtSignal
+from PyQt6.QtGui import QColor
 from PyQt6.QtWidgets import (
     QCheckBox,
+    QColorDialog,
     QComboBox,
     QFormLayout,
     QGroupBox,
@@ -40,7 +45,66 @@ BAND_FIELDS: list[tuple[str, str, float, float, float, str]] = [
      "angle-independent extra return of a retroreflector (band response units)"),
 ]
 
-BAND_TITLES = {"tof": "ToF (near-IR)", "radar": "Radar (mm-wave)"}
+BAND_TITLES = {"tof": "ToF (near-IR)", "radar": "Radar (mm-wave)",
+               "visible": "Visible (RGB camera)"}
+
+#: Check boxes and toggle buttons whose state reads at a glance on the dark theme.
+STYLE_SHEET = """
+QCheckBox::indicator { width: 14px; height: 14px; border: 1px solid #9aa4ae;
+                       border-radius: 3px; background: #15181c; }
+QCheckBox::indicator:checked { background: #4fc3f7; border-color: #b3e5fc; }
+QCheckBox::indicator:hover { border-color: #ffffff; }
+QPushButton:checked { background: #ff8a65; color: #15181c; font-weight: bold;
+                      border: 1px solid #ffccbc; border-radius: 3px; }
+"""
+
+
+def objects_using(document: ProjectDocument, name: str) -> list[str]:
+    """Names of the objects whose material is ``name``."""
+    return [o.name for o in document.project.objects if o.material == name]
+
+
+def set_material_color(document: ProjectDocument, name: str,
+                       rgb: tuple[float, float, float]) -> None:
+    """Set the visible colour (linear RGB, 0–1) of material ``name``."""
+    table = document.material_table()
+    if name not in table:
+        raise EditError(f"materials: unknown material {name!r}")
+    value = tuple(float(round(c, 4)) for c in rgb)
+
+    def mutate(d: dict[str, Any]) -> None:
+        for m in d["materials"]:
+            if m["name"] == name:
+                m["color_rgb"] = value
+                return
+        mat = table[name].model_dump()
+        mat["color_rgb"] = value
+        d["materials"].append(mat)
+
+    document.edit(f"Material {name}: colour", mutate)
+
+
+def make_unique(document: ProjectDocument, object_index: int) -> str:
+    """Give object ``object_index`` its own copy of its material; returns the copy's name.
+
+    The copy is called ``<material>_<object>`` (with a number if taken); the other objects
+    keep the shared material. One undo step.
+    """
+    obj = document.project.objects[object_index]
+    table = document.material_table()
+    base = f"{obj.material}_{obj.name}"
+    new_name, i = base, 2
+    while new_name in table:
+        new_name, i = f"{base}_{i}", i + 1
+    mat = table[obj.material].model_dump()
+    mat["name"] = new_name
+
+    def mutate(d: dict[str, Any]) -> None:
+        d["materials"].append(mat)
+        d["objects"][object_index]["material"] = new_name
+
+    document.edit(f"Make material of {obj.name} unique", mutate)
+    return new_name
 
 
 def set_material_field(document: ProjectDocument, name: str, band: str, field: str,
@@ -130,14 +194,31 @@ class MaterialEditor(QWidget):
         self.assign_button.clicked.connect(self.assign_to_selection)
         top.addWidget(self.assign_button)
         layout.addLayout(top)
+        self.color_button = QPushButton("colour")
+        self.color_button.setToolTip("Colour in visible light (linear RGB), what the RGB camera "
+                                     "and the 3D view show")
+        self.color_button.clicked.connect(self._pick_color)
+        top.insertWidget(2, self.color_button)
         self.description = QLabel("")
         self.description.setWordWrap(True)
         self.description.setStyleSheet("color: #9aa4ae;")
         layout.addWidget(self.description)
+        users = QHBoxLayout()
+        self.users = QLabel("")
+        self.users.setWordWrap(True)
+        self.users.setToolTip("Objects that use this material: an edit changes all of them")
+        users.addWidget(self.users, 1)
+        self.unique_button = QPushButton("Make unique")
+        self.unique_button.setToolTip("Give the selected object its own copy of this material, "
+                                      "so edits change only that object")
+        self.unique_button.clicked.connect(self.make_selected_unique)
+        users.addWidget(self.unique_button)
+        layout.addLayout(users)
         bands = QHBoxLayout()
         self.tof_editor = BandEditor("tof")
         self.radar_editor = BandEditor("radar")
-        for ed in (self.tof_editor, self.radar_editor):
+        self.visible_editor = BandEditor("visible")
+        for ed in (self.tof_editor, self.radar_editor, self.visible_editor):
             ed.edited.connect(self._on_edited)
             bands.addWidget(ed)
         layout.addLayout(bands)
@@ -164,6 +245,7 @@ class MaterialEditor(QWidget):
         buttons.addStretch(1)
         layout.addLayout(buttons)
         layout.addStretch(1)
+        self.setStyleSheet(STYLE_SHEET)
         document.projectChanged.connect(self.refresh)
         document.selectionChanged.connect(self._follow_selection)
         self.refresh()
@@ -184,6 +266,8 @@ class MaterialEditor(QWidget):
         idx = self.document.selected_index()
         if key != RIG and idx is not None:
             self.show_material(self.document.project.objects[idx].material)
+        else:
+            self.refresh()
 
     def refresh(self, *_: object) -> None:
         """Re-read the material list and the current material's values."""
@@ -202,14 +286,63 @@ class MaterialEditor(QWidget):
         self.description.setText(mat.description or "")
         self.tof_editor.show_values(mat.band("tof"))
         self.radar_editor.show_values(mat.band("radar"))
+        self.visible_editor.show_values(mat.band("visible"))
+        colour = QColor.fromRgbF(*mat.color_rgb)
+        text = "#101010" if colour.lightnessF() > 0.5 else "#f0f0f0"
+        self.color_button.setStyleSheet(f"background: {colour.name()}; color: {text};")
+        self.color_button.setText("colour " + ", ".join(f"{c:.2f}" for c in mat.color_rgb))
+        self._show_users()
         set_quietly(self.radar_invisible, mat.band("radar").opacity == 0.0)
         set_quietly(self.tof_invisible, mat.band("tof").opacity == 0.0)
         self.revert_button.setEnabled(self.current in project_names
                                       and self.current in self._library)
         self.assign_button.setEnabled(self.document.selected_index() is not None)
 
+    def _show_users(self) -> None:
+        users = objects_using(self.document, self.current)
+        idx = self.document.selected_index()
+        selected = self.document.project.objects[idx] if idx is not None else None
+        if not users:
+            self.users.setText("Used by no object.")
+            self.users.setStyleSheet("color: #9aa4ae;")
+        elif len(users) == 1:
+            self.users.setText(f"Used by {users[0]}.")
+            self.users.setStyleSheet("color: #9aa4ae;")
+        else:
+            self.users.setText(f"Shared by {len(users)} objects: {', '.join(users)} — an edit "
+                               "changes all of them.")
+            self.users.setStyleSheet("color: #ffb74d;")
+        self.unique_button.setEnabled(
+            selected is not None and selected.material == self.current and len(users) > 1)
+
+    def make_selected_unique(self) -> None:
+        """Give the selected object its own copy of the current material and edit that."""
+        idx = self.document.selected_index()
+        if idx is None:
+            return
+        new: list[str] = []
+        if try_edit(self.editFailed.emit,
+                    lambda: new.append(make_unique(self.document, idx))):
+            self.show_material(new[0])
+
+    def _pick_color(self) -> None:
+        mat = self.document.material_table().get(self.current)
+        if mat is None:
+            return
+        colour = QColorDialog.getColor(QColor.fromRgbF(*mat.color_rgb), self,
+                                       f"Colour of {self.current}")
+        if colour.isValid():
+            self.set_color((colour.redF(), colour.greenF(), colour.blueF()))
+
+    def set_color(self, rgb: tuple[float, float, float]) -> None:
+        """Set the current material's visible colour (linear RGB, 0–1)."""
+        name = self.current
+        try_edit(self.editFailed.emit, lambda: set_material_color(self.document, name, rgb),
+                 self.refresh)
+
     def _on_edited(self, band: str, field: str, value: Any) -> None:
-        editor = self.tof_editor if band == "tof" else self.radar_editor
+        editor = {"tof": self.tof_editor, "radar": self.radar_editor,
+                  "visible": self.visible_editor}[band]
         widget = editor.widgets.get(field)
         try_edit(self.editFailed.emit,
                  lambda: set_material_field(self.document, self.current, band, field, value),

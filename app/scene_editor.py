@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from PyQt6.QtCore import QSignalBlocker, Qt, pyqtSignal
 from PyQt6.QtGui import QAction
 from PyQt6.QtWidgets import (
@@ -161,7 +162,8 @@ def build_add_menu(parent: QWidget, document: ProjectDocument, report: Any) -> Q
     menu = QMenu("&Add", parent)
     for kind in NEW_OBJECTS:
         action = QAction(KIND_LABELS[kind], menu)
-        action.setToolTip(f"Add a {KIND_LABELS[kind].lower()} 2 m in front of the rig")
+        action.setToolTip(f"Add a {KIND_LABELS[kind].lower()} on the sensors' boresight, 2 m "
+                          "ahead (further if taken), facing them")
         action.triggered.connect(lambda _=False, k=kind: try_edit(
             report, lambda: add_object(document, k)))
         menu.addAction(action)
@@ -189,6 +191,42 @@ GEOMETRY_FIELDS: dict[str, list[tuple[str, str, str, int, float]]] = {
     "point_target": [("rcs_m2", "RCS", "m²", 1, 1e-6)],
     "mesh": [("scale", "scale", "", 1, 1e-6)],
 }
+
+
+def new_keyframes(keyframes: list[dict[str, Any]], timeline: Any, now: float | None
+                  ) -> list[dict[str, Any]]:
+    """Keyframes with one more, where "Add keyframe" puts it.
+
+    The first keyframe goes at t = 0 with zero offsets (the base pose). Later ones go at the
+    current time ``now`` with the offsets interpolated there (copied after the last one), or,
+    when a keyframe is already at ``now`` (or there is no current time), halfway between the
+    last keyframe and the timeline's last frame, or one frame period after the last keyframe
+    when it is at the end already.
+    """
+    zero = (0.0, 0.0, 0.0)
+    if not keyframes:
+        return [{"time_s": 0.0, "position_m": zero, "rotation_deg": zero}]
+    times = np.array([k["time_s"] for k in keyframes], dtype=float)
+    period = 1.0 / timeline.frame_rate_hz
+    end = timeline.frame_time(timeline.n_frames - 1)
+    if now is not None and np.all(np.abs(times - now) > 1e-9):
+        t = float(now)
+    elif times[-1] < end - 0.5 * period:
+        t = float(round((0.5 * (times[-1] + end)) / period) * period)
+        t = t if t > times[-1] + 1e-9 else end
+    else:
+        t = float(times[-1] + period)
+    t = round(t, 9)
+    fields = ("position_m", "rotation_deg")
+    if t >= times[-1]:
+        values = {f: keyframes[-1][f] for f in fields}
+    elif t <= times[0]:
+        values = {f: keyframes[0][f] for f in fields}
+    else:
+        values = {f: tuple(float(np.interp(t, times, [k[f][i] for k in keyframes]))
+                           for i in range(3)) for f in fields}
+    out = [*keyframes, {"time_s": t, **values}]
+    return sorted(out, key=lambda k: k["time_s"])
 
 
 class ObjectInspector(QScrollArea):
@@ -291,7 +329,10 @@ class ObjectInspector(QScrollArea):
         mform.addRow(self.keyframe_table)
         kf_buttons = QHBoxLayout()
         self.add_keyframe_button = QPushButton("Add keyframe")
-        self.add_keyframe_button.setToolTip("Append a keyframe 1 s after the last one")
+        self.add_keyframe_button.setToolTip(
+            "Add a keyframe at the current time (the first one at t = 0, the base pose), "
+            "with the offsets the object has then; when one is already there, halfway "
+            "between the last keyframe and the last frame")
         self.add_keyframe_button.clicked.connect(self._add_keyframe)
         self.remove_keyframe_button = QPushButton("Remove keyframe")
         self.remove_keyframe_button.clicked.connect(self._remove_keyframe)
@@ -302,6 +343,8 @@ class ObjectInspector(QScrollArea):
         outer.addWidget(self.motion_box)
         outer.addStretch(1)
 
+        #: Current time of the time controls (s); set by the main window.
+        self.time_source: Any = None
         document.projectChanged.connect(self.refresh)
         document.selectionChanged.connect(self.refresh)
         self.refresh()
@@ -456,12 +499,8 @@ class ObjectInspector(QScrollArea):
         self._set_motion("keyframes", keyframes)
 
     def _add_keyframe(self) -> None:
-        keyframes = self._keyframes()
-        t = keyframes[-1]["time_s"] + 1.0 if keyframes else 0.0
-        last = keyframes[-1] if keyframes else {"position_m": (0.0, 0.0, 0.0),
-                                                "rotation_deg": (0.0, 0.0, 0.0)}
-        keyframes.append({"time_s": t, "position_m": last["position_m"],
-                          "rotation_deg": last["rotation_deg"]})
+        now = float(self.time_source()) if self.time_source is not None else None
+        keyframes = new_keyframes(self._keyframes(), self.document.project.timeline, now)
         base = self._base_path()
         if base is None:
             return

@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from app.document import ProjectDocument
 from simcore.scene.snapshot import take_snapshot
@@ -40,12 +41,68 @@ def unique_name(document: ProjectDocument, base: str) -> str:
     return f"{stem}_{i}"
 
 
+#: Kinds whose front (local +z) is turned towards the sensors when added.
+FACING_KINDS = ("plane", "corner_reflector")
+
+
+def sensor_boresight(document: ProjectDocument, *, t: float = 0.0
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Mean origin and unit boresight (optical z) of the rig's sensors at time ``t`` (world)."""
+    snap = take_snapshot(document.project, t)
+    frames = [s.transform for s in snap.sensors.values()] or [snap.rig.transform]
+    origin = np.mean([f[:3, 3] for f in frames], axis=0)
+    if snap.sensors:
+        axis = np.sum([f[:3, 2] for f in frames], axis=0)
+    else:
+        axis = snap.rig.transform[:3, 0]  # body x: forward
+    return origin, axis / np.linalg.norm(axis)
+
+
+#: A new object keeps this far from existing objects' origins along the boresight (m).
+ADD_CLEARANCE_M = 0.4
+
+
 def point_in_front_of_rig(document: ProjectDocument, distance_m: float = 2.0, *,
                           t: float = 0.0) -> tuple[float, float, float]:
-    """World point ``distance_m`` ahead of the rig (its body x axis) at the rig's height."""
-    rig = take_snapshot(document.project, t).rig.transform
-    p = rig[:3, 3] + rig[:3, 0] * distance_m
+    """World point on the sensors' boresight, ``distance_m`` from their mean origin.
+
+    When an object already sits there (origin closer than :data:`ADD_CLEARANCE_M`), the
+    point moves further out along the boresight in steps of that clearance (up to 10 m).
+    """
+    origin, axis = sensor_boresight(document, t=t)
+    snap = take_snapshot(document.project, t)
+    taken = np.array([o.origin for o in snap.objects]).reshape(-1, 3)
+    d = distance_m
+    while d < distance_m + 10.0:
+        p = origin + axis * d
+        if not len(taken) or np.min(np.linalg.norm(taken - p, axis=1)) >= ADD_CLEARANCE_M:
+            break
+        d += ADD_CLEARANCE_M
     return (float(round(p[0], 4)), float(round(p[1], 4)), float(round(p[2], 4)))
+
+
+def facing_rotation_deg(document: ProjectDocument, kind: str, *, t: float = 0.0
+                        ) -> tuple[float, float, float]:
+    """Rotation (x-y-z extrinsic, degrees) that turns a new object towards the sensors.
+
+    Planes and corner reflectors get their local +z (normal, opening) pointing back along
+    the boresight, local x horizontal; other kinds only turn about the vertical to the
+    boresight's heading (a box shows the sensors a face, a cylinder stays upright).
+    """
+    _, b = sensor_boresight(document, t=t)
+    if kind in FACING_KINDS:
+        z = -b
+        x = np.cross((0.0, 0.0, 1.0), z)
+        if np.linalg.norm(x) < 1e-6:  # looking straight up or down
+            x = np.array([1.0, 0.0, 0.0])
+        x /= np.linalg.norm(x)
+        matrix = np.column_stack([x, np.cross(z, x), z])
+    else:
+        yaw = np.arctan2(b[1], b[0]) if np.hypot(b[0], b[1]) > 1e-6 else 0.0
+        matrix = Rotation.from_euler("z", yaw).as_matrix()
+    euler = Rotation.from_matrix(matrix).as_euler("xyz", degrees=True)
+    return (float(round(euler[0], 6)) + 0.0, float(round(euler[1], 6)) + 0.0,
+            float(round(euler[2], 6)) + 0.0)
 
 
 def add_object(document: ProjectDocument, kind: str, *, name: str | None = None,
@@ -56,10 +113,9 @@ def add_object(document: ProjectDocument, kind: str, *, name: str | None = None,
     geom = dict(geometry if geometry is not None else default_geom)
     oid = document.project.next_object_id()
     pos = position_m if position_m is not None else point_in_front_of_rig(document)
-    rotation = (0.0, 0.0, 0.0)
-    if kind == "corner_reflector":
-        # Open towards the rig: local +z (the reflector's axis) along the world -x.
-        rotation = (0.0, -90.0, 0.0)
+    # Facing the sensors: a plane's normal and a corner reflector's opening point back
+    # along the boresight (a rig at the origin looking along +x gives (0, -90, 0)).
+    rotation = facing_rotation_deg(document, kind)
     obj = {
         "id": oid,
         "name": unique_name(document, name or kind),

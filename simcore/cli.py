@@ -9,6 +9,7 @@ import os
 import signal
 import sys
 import threading
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -145,6 +146,22 @@ def _check_disk(out: Path, cost: CostEstimate, frames: int, *, force: bool) -> N
                        "or pass --force (compression usually saves 2-5x)")
 
 
+#: Default wall-time budget of one ``run`` (s): longer runs need ``--max-hours`` or --force.
+TIME_BUDGET_S = 24 * 3600.0
+
+
+def _check_time(cost: CostEstimate, frames: int, args: argparse.Namespace) -> None:
+    """Refuse a run whose estimated duration exceeds ``--max-hours`` (unless --force)."""
+    budget = getattr(args, "max_hours", None)
+    budget_s = TIME_BUDGET_S if budget is None else budget * 3600.0
+    need = cost.seconds_per_frame * frames
+    if need > budget_s and not args.force:
+        raise CliError(f"{frames} frames would take about {need / 3600:.1f} h "
+                       f"(≈ {cost.seconds_per_frame:.2f} s per frame on this machine), over "
+                       f"the {budget_s / 3600:g} h budget; write fewer frames, raise "
+                       "--max-hours, or pass --force")
+
+
 def cmd_validate(args: argparse.Namespace) -> int:
     """Check a project file as ``run`` would; print OK and the cost, or every problem."""
     project = load_project(args.project)
@@ -178,6 +195,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         _check_scheduler(args.scheduler)
     cost = _preflight(project, project_path, args, n_frames=n_frames, seed=seed)
     _check_disk(out, cost, n_frames, force=args.force)
+    _check_time(cost, n_frames, args)
     preview_axes = _preview_axes(project) if args.preview else None
     bar = tqdm(total=n_frames, desc="frames", unit="frame", file=sys.stderr,
                disable=args.quiet)
@@ -258,6 +276,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     """One dataset per combination of the varied fields, with the parameters recorded."""
     from simcore.io.hdf5_writer import DatasetExistsError, DiskFullError, ResumeError
     from simcore.preflight import check as check_project
+    from simcore.preflight import estimate_cost
     from simcore.runner import frame_count, run_dataset
     from simcore.sweep import SweepError, expand, parameters_json, parse_vary
 
@@ -289,6 +308,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                                  memory_budget_bytes=2**63 if args.force else None)
         if problems:
             raise ProjectError(f"{project_path} variant {i} {parameters_json(params)}", problems)
+        variant_cost = estimate_cost(variant, base_dir=project_path.parent)
+        _check_disk(path, variant_cost, n_frames, force=args.force)
+        _check_time(variant_cost, n_frames, args)
         print(f"[{i + 1}/{len(variants)}] {path.name}: {parameters_json(params)}")
         try:
             with stop_on_sigint() as stop:
@@ -396,7 +418,10 @@ def _common(*, debug_only: bool = False) -> _Parser:
 def _run_options(p: argparse.ArgumentParser) -> None:
     """Options shared by ``run`` and ``sweep``: limits, Dask timeouts."""
     p.add_argument("--force", action="store_true",
-                   help="run even when the memory or disk estimate exceeds what is available")
+                   help="run even when the memory, disk or time estimate exceeds its budget")
+    p.add_argument("--max-hours", type=_positive_float, default=None, metavar="H",
+                   help=f"time budget of one run (default {TIME_BUDGET_S / 3600:g} h): "
+                        "longer runs are refused unless --force")
     p.add_argument("--task-timeout", type=_positive_float, default=TASK_TIMEOUT_S, metavar="S",
                    help=f"longest wait for one frame on Dask (default {TASK_TIMEOUT_S:g} s)")
     p.add_argument("--connect-timeout", type=_positive_float, default=CONNECT_TIMEOUT_S,
@@ -542,13 +567,19 @@ def main(argv: Sequence[str] | None = None, *,
     if args.command is None:
         args = parser.parse_args(["gui", *(argv or [])])
     args.gui_launcher = gui_launcher
+    debug = args.debug or getattr(args, "debug_global", False)
+    if not debug:
+        # Numerical warnings are not messages for the user (the outputs are checked); worker
+        # processes inherit the setting through the environment.
+        warnings.simplefilter("ignore", RuntimeWarning)
+        os.environ.setdefault("PYTHONWARNINGS", "ignore::RuntimeWarning")
     try:
         return int(args.func(args))
     except KeyboardInterrupt:
         print("tofradar: interrupted", file=sys.stderr)
         return 130
     except Exception as exc:  # noqa: BLE001 — the one top-level error path
-        if args.debug or getattr(args, "debug_global", False):
+        if debug:
             raise
         return _report_error(exc)
 

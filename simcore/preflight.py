@@ -37,6 +37,8 @@ from simcore.scene.radar_config import SPEED_OF_LIGHT
 #: Longest run accepted (frames) and largest seed (HDF5 stores it as a signed 64-bit int).
 MAX_FRAMES = 10_000_000
 MAX_SEED = 2**63 - 1
+#: Closest approach of a point target or corner reflector to a radar antenna (m).
+MIN_CLEARANCE_M = 0.01
 #: Most pixels of the bird's-eye image.
 MAX_BEV_PIXELS = 16_000_000
 #: Python, numpy, VTK and finufft loaded, before any frame (bytes).
@@ -311,8 +313,10 @@ def _physics_problems(project: Project, n_frames: int) -> list[str]:
         "rig.tof unambiguous range (m)": tof.unambiguous_range_m,
     }
     for name, value in derived.items():
-        if not (math.isfinite(value) and value > 0):
-            out.append(f"{name}: derived value {value!r} must be finite and positive")
+        # float32 carries the images and the IF cube: stay well inside its range.
+        if not (math.isfinite(value) and 1e-30 < value < 1e30):
+            out.append(f"{name}: derived value {value:.3g} is out of range; allowed "
+                       "(1e-30, 1e30)")
     s = _radar_sizes(project)
     if dc.range_fft_size is not None and dc.range_fft_size < rc.samples_per_chirp:
         out.append(f"dsp.range_fft_size: {dc.range_fft_size} is below "
@@ -352,7 +356,40 @@ def _physics_problems(project: Project, n_frames: int) -> list[str]:
         delay = 2 * (reach + rig_reach) / SPEED_OF_LIGHT
         if not math.isfinite(delay):
             out.append(f"objects[{i}].pose: round-trip delay {delay!r} s is not finite")
+    out += _clearance_problems(project, n_frames)
     return out
+
+
+def _clearance_problems(project: Project, n_frames: int) -> list[str]:
+    """Point targets and corner reflectors must stay clear of the radar's antennas.
+
+    Their scatterers are placed analytically (not through the render, whose near plane
+    keeps surfaces away), so one at an antenna would divide by a zero distance. Checked at
+    up to 128 frame times spread over the run.
+    """
+    from simcore.scene.snapshot import take_snapshot
+
+    analytic = [i for i, o in enumerate(project.objects)
+                if o.geometry.kind in ("point_target", "corner_reflector")]
+    if not analytic:
+        return []
+    rc = project.rig.radar
+    elements = np.concatenate([rc.tx_positions_m(), rc.rx_positions_m()])
+    frames = np.unique(np.linspace(0, max(n_frames - 1, 0), min(n_frames, 128)).astype(int))
+    worst: dict[int, tuple[float, float]] = {}
+    for k in frames:
+        t = project.timeline.frame_time(int(k))
+        snap = take_snapshot(project, t)
+        to_world = snap.sensor("radar").transform
+        ants = elements @ to_world[:3, :3].T + to_world[:3, 3]
+        for i in analytic:
+            origin = snap.objects[i].transform[:3, 3]
+            d = float(np.linalg.norm(ants - origin, axis=1).min())
+            if d < worst.get(i, (math.inf, 0.0))[0]:
+                worst[i] = (d, t)
+    return [f"objects[{i}].pose: {project.objects[i].name!r} comes within {d:.3g} m of a radar "
+            f"antenna at t = {t:.3g} s; allowed at least {MIN_CLEARANCE_M} m"
+            for i, (d, t) in sorted(worst.items()) if d < MIN_CLEARANCE_M]
 
 
 def check(project: Project, *, base_dir: Path | None = None,

@@ -16,6 +16,7 @@ import multiprocessing
 import signal
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -249,6 +250,11 @@ def iter_frames(spec: RunSpec, indices: Sequence[int], *, workers: int = 1,
                     yield i, fut.result
             try:
                 yield from _in_order(submit(), window)
+            except BrokenProcessPool:
+                pool.shutdown(wait=False, cancel_futures=True)
+                raise RunError("a worker process died (killed, out of memory or a crash in "
+                               "native code); the file keeps every complete frame, continue "
+                               "with --resume") from None
             except BaseException:
                 pool.shutdown(wait=False, cancel_futures=True)
                 raise

@@ -273,3 +273,30 @@ def test_full_disk_is_one_message_and_a_resumable_file(tmp_path, tiny_disk):
     assert main(["run", str(project), "--out", str(out), "--seed", str(SEED), "--quiet",
                  "--resume"]) == 0
     assert_same_data(out, reference_path)
+
+
+def test_a_killed_worker_process_is_one_message_and_a_valid_file(tmp_path):
+    psutil = pytest.importorskip("psutil")
+    project = small_project(tmp_path)
+    out = tmp_path / "workers.h5"
+    proc = subprocess.Popen(cli("run", str(project), "--out", str(out), "--frames", "100000",
+                                "--quiet", "--workers", "2"), stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 300
+    while time.monotonic() < deadline and proc.poll() is None and not out.exists():
+        time.sleep(0.05)
+    assert proc.poll() is None, "the run ended before a worker could be killed"
+    workers = [c for c in psutil.Process(proc.pid).children()
+               if "spawn_main" in " ".join(c.cmdline())]
+    assert workers
+    workers[0].kill()
+    try:
+        _, err = proc.communicate(timeout=120)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        pytest.fail("no exit 120 s after a worker was killed")
+    lines = err.strip().splitlines()
+    assert proc.returncode == 2 and len(lines) == 1, err
+    assert lines[0].startswith("tofradar: error: a worker process died") and "--resume" in err
+    with h5py.File(out, "r") as f:
+        n = int(f["meta"].attrs["n_frames"])
+        assert n >= 1 and f["time"].shape == (n,)

@@ -66,8 +66,13 @@ CASES: dict[str, tuple[str, Callable[[Project], Project] | None, tuple[int, ...]
     "static scene": ("wall", None, (0, 3), {"render_radar", "render_tof", "radar_scatterers",
                                             "radar_synthesis"}),
     # Antenna edit: renders and scatterers re-used, the IF synthesised again.
-    "antenna edit": ("point_targets", _move_rx, (2, 2), {"render_radar", "render_tof",
-                                                         "radar_scatterers", "tof"}),
+    "antenna edit": ("wall", _move_rx, (2, 2), {"render_radar", "render_tof",
+                                                "radar_scatterers", "radar_prepare", "tof"}),
+    # The same over a still background (a corner reflector moves): the background's
+    # scatterers are re-used, its IF is synthesised again for the new antennas.
+    "antenna edit over background": ("point_targets", _move_rx, (2, 2), {
+        "render_radar", "render_tof", "radar_background_scatterers",
+        "radar_background_prepare", "tof"}),
     # DSP edit: everything up to the ADC cube re-used.
     "dsp edit": ("point_targets", _dsp_edit, (2, 2), {"render_radar", "radar_synthesis",
                                                      "radar_receiver", "tof"}),

@@ -293,6 +293,12 @@ ATTACKS = {
     "frame rate 1e-300": (lambda d: d.update(timeline={"frame_rate_hz": 1e-300,
                                                       "duration_s": 1e-300}),
                           "timeline.frame_rate_hz"),
+    "IF high-pass 1e-300 Hz": (lambda d: d["rig"]["radar"].update(if_highpass_hz=1e-300),
+                               "rig.radar: if_highpass_hz"),
+    "ToF field of view 1e-300°": (lambda d: d["rig"]["tof"].update(fov_v_deg=1e-300),
+                                  "rig.tof.fov_v_deg"),
+    "corner reflector on the radar": (lambda d: d["objects"][1]["pose"].update(
+        position_m=[1e-300, -0.03, 1.0]), "objects[1].pose"),
     "object drifting out of the world": (lambda d: (
         d["objects"][0]["motion"].update(velocity_mps=[9000, 0, 0]),
         d["timeline"].update(duration_s=100.0)), "objects[0].motion"),
@@ -491,3 +497,35 @@ def test_out_must_be_a_regular_file_and_a_symlink_stays(tmp_path, capsys):
     assert link.is_symlink()
     with h5py.File(target, "r") as f:
         assert f["meta"].attrs["n_frames"] == 2
+
+
+def test_object_count_is_capped_before_validation():
+    from simcore.scene.project_io import MAX_OBJECTS
+
+    doc = base_project_dict()
+    doc["objects"] = [dict(doc["objects"][-1], id=i, name=f"o{i}")
+                      for i in range(MAX_OBJECTS + 1)]
+    with pytest.raises(ProjectError, match=f"objects: {MAX_OBJECTS + 1} entries; allowed at "
+                                           f"most {MAX_OBJECTS}"):
+        project_from_dict(doc)
+
+
+def test_a_run_over_the_time_budget_is_refused_with_the_numbers(tmp_path, capsys):
+    """The estimated wall time (frames × the preflight's seconds per frame) against
+    --max-hours: refused by name unless --force, before any file is written."""
+    from simcore.cli import main
+    from simcore.preflight import estimate_cost
+    from simcore.resources import example_path
+    from simcore.scene import load_project
+
+    path = example_path("wall")
+    per_frame = estimate_cost(load_project(path), base_dir=path.parent).seconds_per_frame
+    frames = 1000
+    hours = 0.5 * per_frame * frames / 3600          # half of what the run needs
+    out = tmp_path / "x.h5"
+    code = main(["run", str(path), "--out", str(out), "--frames", str(frames),
+                 "--max-hours", f"{hours:.9f}"])
+    err = capsys.readouterr().err
+    assert code != 0 and not out.exists()
+    assert len(err.strip().splitlines()) == 1 and "--max-hours" in err
+    assert f"{per_frame * frames / 3600:.1f} h" in err

@@ -282,7 +282,8 @@ RETRO_SIZE, RETRO_LEFT, RETRO_UP = (0.2, 0.2), 0.3117, 0.0523
 
 @pytest.fixture(scope="module")
 def retro_scene() -> tuple[Project, RenderBuffers]:
-    cfg = pmd_pico_flexx()
+    # A fixed exposure: the saturation level is what is tested (auto-exposure would move it).
+    cfg = pmd_pico_flexx().model_copy(update={"auto_exposure": False})
     project = scene([
         facing_plane(1, "wall", RETRO_WALL, (20.0, 20.0), "concrete"),
         facing_plane(2, "tape", RETRO_DIST, RETRO_SIZE, "ir_retroreflector_tape",
@@ -363,7 +364,8 @@ def test_seeded_frames_are_reproducible(wall_json):
     assert not np.array_equal(a.correlation, c.correlation)
     items = a.hdf5_items()
     assert set(items) == {"/tof/depth", "/tof/amplitude", "/tof/valid", "/tof/correlation",
-                          "/tof/gt_range", "/tof/gt_object_id", "/tof/intensity"}
+                          "/tof/gt_range", "/tof/gt_object_id", "/tof/intensity",
+                          "/tof/exposure_time"}
     assert items["/tof/depth"][1] == "m" and items["/tof/valid"][0].dtype == np.bool_
     assert items["/tof/correlation"][0].shape == (4, 171, 224)
     assert items["/tof/gt_object_id"][0].dtype == np.int32

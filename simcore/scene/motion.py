@@ -70,7 +70,7 @@ class Motion(Model):
 
     velocity_mps: Velocity3 = (0.0, 0.0, 0.0)
     angular_velocity_dps: AngularVelocity3 = (0.0, 0.0, 0.0)
-    keyframes: list[Keyframe] = Field(default_factory=list, max_length=100_000)
+    keyframes: list[Keyframe] = Field(default_factory=list, max_length=10_000)
     repeat: Literal["hold", "loop", "back_and_forth"] = "hold"
 
     @model_validator(mode="after")

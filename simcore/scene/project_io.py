@@ -29,6 +29,7 @@ MAX_PROJECT_BYTES = 64 * 2**20
 MAX_DEPTH = 64
 MAX_LIST_LENGTH = 100_000
 MAX_STRING_LENGTH = 1_000_000
+MAX_OBJECTS = 4096
 #: Longest problem line (characters) and most problems reported.
 MAX_PROBLEM_LENGTH = 400
 MAX_PROBLEMS = 50
@@ -75,8 +76,19 @@ def cap_line(text: str, limit: int = MAX_PROBLEM_LENGTH) -> str:
 
 
 def document_limits(data: Any) -> list[str]:
-    """Problems with the document's shape: depth, list and string lengths (linear time)."""
+    """Problems with the document's shape: depth, list and string lengths (linear time).
+
+    Objects and materials are capped more tightly (:data:`MAX_OBJECTS`): validating one
+    costs about a millisecond, and each is rendered every frame.
+    """
     problems: list[str] = []
+    if isinstance(data, dict):
+        for key in ("objects", "materials"):
+            items = data.get(key)
+            if isinstance(items, list) and len(items) > MAX_OBJECTS:
+                problems.append(f"{key}: {len(items)} entries; allowed at most {MAX_OBJECTS}")
+        if problems:
+            return problems
     stack: list[tuple[Any, str, int]] = [(data, "", 0)]
     while stack and len(problems) < 10:
         value, where, depth = stack.pop()

@@ -37,6 +37,8 @@ MAX_CHIRP_TIME_S = 1.0
 #: Shortest unambiguous range (m): below it the ADC cannot sample any beat frequency of a
 #: target in front of the board.
 MIN_UNAMBIGUOUS_RANGE_M = 0.1
+#: Lowest IF high-pass cutoff other than 0 (Hz): below it the filter's pole overflows.
+MIN_HIGHPASS_HZ = 1.0
 #: Antenna positions must lie on a board of this half-size (mm).
 MAX_ANTENNA_OFFSET_MM = 1000.0
 #: Most Tx and Rx elements, and virtual channels (Tx × Rx).
@@ -235,6 +237,10 @@ class RadarConfig(Model):
                 f"shorter than chirp_time_s ({self.chirp_time_s * 1e6:.1f} µs)"
             )
         nyquist = self.sample_rate_hz if self.complex_iq else 0.5 * self.sample_rate_hz
+        if 0 < self.if_highpass_hz < MIN_HIGHPASS_HZ:
+            raise ValueError(
+                f"if_highpass_hz = {self.if_highpass_hz:.3g} Hz; allowed 0 (no high-pass) or "
+                f"[{MIN_HIGHPASS_HZ:g}, {nyquist:g}) Hz")
         if self.if_highpass_hz >= nyquist:
             raise ValueError(
                 f"if_highpass_hz ({self.if_highpass_hz:g} Hz) must be below the IF bandwidth "

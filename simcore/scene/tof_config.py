@@ -49,8 +49,8 @@ class TofCameraConfig(Model):
     preset: str = "pmd_pico_flexx"
     width: int = Field(224, ge=1, le=4096)
     height: int = Field(171, ge=1, le=4096)
-    fov_h_deg: float = Field(62.0, gt=0, lt=170)
-    fov_v_deg: float = Field(45.0, gt=0, lt=170)
+    fov_h_deg: float = Field(62.0, ge=0.1, lt=170)
+    fov_v_deg: float = Field(45.0, ge=0.1, lt=170)
     pose_on_rig: Pose = Pose()
     supersampling: int = Field(2, ge=1, le=8, description="sub-pixels per axis (2 → 2×2)")
     modulation_frequencies_hz: list[

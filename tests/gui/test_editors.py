@@ -47,7 +47,7 @@ def test_sensor_editor_derived_quantities_and_aliasing_warnings(make_window, wai
 def test_antenna_layout_presets(make_window):
     window = make_window()
     ed = window.antenna_editor
-    half = ed.board.snap_step_mm
+    half = 0.5 * window.document.project.rig.radar.wavelength_m * 1e3  # spacing 0.5 λ
     original = window.document.project.rig.radar
     ed.n_spin.setValue(4)
     ed.apply_layout("ULA")
@@ -217,7 +217,8 @@ def test_motion_editing_in_inspector_and_shortcuts(make_window, qtbot):
     assert doc.project.objects[doc.index_of(oid)].motion.keyframes[1].position_m[2] == 0.4
     insp.keyframe_table.item(1, 0).setText("0")  # time not after keyframe 1: refused
     assert messages and "keyframe" in messages[-1]
-    assert doc.project.objects[doc.index_of(oid)].motion.keyframes[1].time_s == 1.0
+    # "Add keyframe" put keyframe 2 at the current time, the last frame (0.9 s).
+    assert doc.project.objects[doc.index_of(oid)].motion.keyframes[1].time_s == 0.9
     # Ctrl+Z / Ctrl+Shift+Z undo and redo from anywhere in the window.
     n = doc.undo_stack.index()
     window.raise_()

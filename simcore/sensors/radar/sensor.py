@@ -23,7 +23,7 @@ from simcore.sensors.radar.background import (
     changed_cells,
 )
 from simcore.sensors.radar.frontend import RadarOutput, radar_output, radar_scatterers
-from simcore.sensors.radar.synthesis import ComplexCube, synthesize_if
+from simcore.sensors.radar.synthesis import ComplexCube, prepare, synthesize_if
 
 
 @dataclass(frozen=True)
@@ -75,8 +75,13 @@ class RadarSensor:
                 "radar_scatterers",
                 lambda: radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed),
                 reads=_scatterer_reads(ctx, cfg), inputs=(ctx.buffers,))
-            ideal = ctx.stage("radar_synthesis", lambda: synthesize_if(scatterers, cfg),
-                              reads=config_key(cfg), inputs=(scatterers,))
+            # Per-scatterer arrays that do not depend on antennas or waveform: an antenna
+            # edit re-uses them with the scatterers.
+            prepared = ctx.stage("radar_prepare", lambda: prepare(scatterers), reads=(),
+                                 inputs=(scatterers,))
+            ideal = ctx.stage("radar_synthesis",
+                              lambda: synthesize_if(scatterers, cfg, prepared=prepared),
+                              reads=config_key(cfg), inputs=(scatterers, prepared))
             n_scatterers = transformed = len(scatterers)
         else:
             ideal, n_scatterers, transformed = found
@@ -124,9 +129,13 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
             radar_scatterers(ctx.project, ctx.snapshot, bg.buffers, seed=ctx.seed),
             len(ctx.project.objects)),
         reads=reads, inputs=(bg.buffers,))
-    background_if = ctx.stage("radar_background_synthesis",
-                              lambda: synthesize_if(background.scatterers, cfg),
-                              reads=config_key(cfg), inputs=(background,))
+    background_prepared = ctx.stage("radar_background_prepare",
+                                    lambda: prepare(background.scatterers), reads=(),
+                                    inputs=(background,))
+    background_if = ctx.stage(
+        "radar_background_synthesis",
+        lambda: synthesize_if(background.scatterers, cfg, prepared=background_prepared),
+        reads=config_key(cfg), inputs=(background, background_prepared))
 
     def frame_if() -> tuple[ComplexCube, int, int]:
         pixels = cell_pixels(cells, ctx.buffers.intrinsics, facets)
