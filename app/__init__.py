@@ -4,5 +4,6 @@ The GUI is a view and an editor of the same :class:`simcore.scene.Project` the C
 Every edit goes through :class:`app.document.ProjectDocument` (an undo command that
 replaces the project by a validated copy and emits one ``projectChanged`` signal); views
 listen to the document and hold no simulation state of their own. Frames are computed in
-:class:`app.simulation.SimulationController`'s worker thread.
+a separate simulation process (:mod:`app.sim_process`) driven by
+:class:`app.simulation.SimulationController`.
 """

@@ -123,6 +123,10 @@ class LivePanel(QWidget):
         self._pending = view
         if self.isVisible():
             self._flush()
+        elif self.error is not None:
+            # A message about an older frame (stopped, not computed) no longer applies.
+            self.error = None
+            self.error_label.setVisible(False)
 
     def showEvent(self, event: Any) -> None:  # noqa: N802, D102 - Qt API
         super().showEvent(event)

@@ -86,10 +86,14 @@ def scene_radial_extent(project: Project, t: float = 0.0) -> tuple[np.ndarray, n
     return np.array(ranges), np.array(velocities)
 
 
-def radar_warnings(project: Project) -> list[str]:
-    """Aliasing and array warnings for the project's radar (empty if none)."""
+def radar_warnings(project: Project, extent: tuple[np.ndarray, np.ndarray] | None = None
+                   ) -> list[str]:
+    """Aliasing and array warnings for the project's radar (empty if none).
+
+    ``extent`` is :func:`scene_radial_extent` of the project when already known.
+    """
     cfg = project.rig.radar
-    ranges, velocities = scene_radial_extent(project)
+    ranges, velocities = scene_radial_extent(project) if extent is None else extent
     try:
         from simcore.scene.radar_config import aliasing_warnings
     except ImportError:
@@ -143,6 +147,8 @@ class SensorEditor(QScrollArea):
         self.tabs.addTab(radar_page, "Radar")
         self.tabs.addTab(self._build_dsp(), "Radar processing")
         self.tabs.addTab(self._build_tof(), "ToF camera")
+        self._extent_key: tuple[Any, ...] | None = None
+        self._extent: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
         document.projectChanged.connect(self.refresh)
         self.refresh()
 
@@ -437,7 +443,11 @@ class SensorEditor(QScrollArea):
         self.derived.setText("<table>" + "".join(
             f"<tr><td style='color:#9aa4ae; padding-right:8px'>{k}</td><td>{v}</td></tr>"
             for k, v in rows) + "</table>")
-        warnings = radar_warnings(project)
+        # The scene's ranges and velocities need a snapshot: only when the scene moved.
+        key = (project.objects, project.rig.pose, project.rig.motion, radar.pose_on_rig)
+        if key != self._extent_key:
+            self._extent_key, self._extent = key, scene_radial_extent(project)
+        warnings = radar_warnings(project, self._extent)
         self.warnings.setText("\n".join(f"⚠ {w}" for w in warnings))
         self.warnings.setVisible(bool(warnings))
 

@@ -17,10 +17,10 @@ so the GUI thread never waits for it. The child owns the
   waits.
 - **Cancel.** :meth:`~SimulationController.cancel` terminates the process (the engine has
   no cancellation points inside a frame) and starts a fresh one; control returns at once.
-- **Priorities.** The child is a separate process: its threads never hold the GUI's GIL,
-  and the kernel shares the cores between the GUI thread and the simulator's threads.
-  ``TOFRADAR_SIM_NICE`` can lower its priority; measured, that bought no input latency
-  and lost playback rate whenever other jobs shared the machine, so it is 0 by default.
+- **Priorities.** The child is a separate process, so its threads never hold the GUI's
+  GIL, and it runs at a lower CPU priority (nice 5, ``TOFRADAR_SIM_NICE``): when the
+  cores are short, the GUI thread comes first; the simulator still gets every cycle the
+  GUI leaves idle.
 """
 
 from __future__ import annotations
@@ -44,8 +44,9 @@ from app.frame_view import FrameView
 from simcore.scene import Project
 
 #: CPU priority offset of the simulation process (``TOFRADAR_SIM_NICE`` overrides it).
-#: Measured on a shared 2-core machine, 5 bought no input latency and halved playback.
-DEFAULT_NICE = 0
+#: Measured (shared 2-core machine, load 8–9, a burst of edits): longest GUI stall
+#: 228–282 ms at 5 against 554–584 ms at 0; see docs/gui.md.
+DEFAULT_NICE = 5
 #: The process is not restarted after this many deaths in a row before it was ready.
 MAX_FAILED_STARTS = 3
 

@@ -119,6 +119,8 @@ class SceneViewport(QWidget):
         self._time_s = 0.0
         self._snap: SceneSnapshot | None = None
         self._snap_stale = False
+        self._synced_key: tuple[Any, ...] | None = None
+        self._synced_time: float | None = None
         self._object_poses: dict[int, NDArray[np.float64]] = {}
         self._rig_pose: NDArray[np.float64] | None = None
         self._actors: dict[int, tuple[str, Any]] = {}  # id -> (geometry key, actor)
@@ -257,13 +259,29 @@ class SceneViewport(QWidget):
         self._sync(self.document.project)
 
     def _on_project_changed(self, project: Project) -> None:
+        # An edit of what the view does not draw (antennas, waveform, DSP, materials'
+        # radar band…) costs no snapshot and no render.
+        key = self._scene_key(project)
+        if key == self._synced_key and self._synced_time == self._time_s:
+            return
         self._sync(project)
+
+    @staticmethod
+    def _scene_key(project: Project) -> tuple[Any, ...]:
+        """Everything of a project that the 3D view draws (compared with ==)."""
+        rig = project.rig
+        return (project.objects, project.materials, rig.pose, rig.motion,
+                rig.tof.pose_on_rig, rig.radar.pose_on_rig, rig.tof.fov_h_deg,
+                rig.tof.fov_v_deg, rig.tof.unambiguous_range_m, rig.radar.render_fov_h_deg,
+                radar_fov_v_deg(project), rig.radar.max_range_m)
 
     def _sync(self, project: Project) -> None:
         if self._closed:
             return
         snap = take_snapshot(project, self._time_s)
         self._snap, self._snap_stale = snap, False
+        self._synced_key = self._scene_key(project)
+        self._synced_time = self._time_s
         self._object_poses = {o.id: s.transform for o, s in zip(project.objects, snap.objects,
                                                                  strict=True)}
         self._rig_pose = snap.rig.transform

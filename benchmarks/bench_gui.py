@@ -17,7 +17,9 @@ after moving an object and after changing an object's material. Then the main wi
   of a posted event (the time a key press would wait);
 - **edit → panels current**: medians over ``--edits`` edits of the time from the edit
   (through the document, as the editors do) until the panels show the frame of the new
-  state — antenna move, object move, material change.
+  state — antenna move, object move, material change — with two parts of it: the GUI's
+  own handling of the edit until the frame is requested (validation, preflight, every
+  view's update) and the frame's wall time in the simulation process.
 
 The load average is printed: on a shared machine compare runs only at similar load. No
 number here is asserted anywhere; the acceptance ratios are printed for reading.
@@ -201,19 +203,33 @@ def gui_figures(path: Path, *, seconds: float, edits: int) -> dict[str, Any]:
                 f"objects[{obj}].material", ("wood", "aluminium")[k % 2]),
         }
         latency: dict[str, float] = {}
+        parts: dict[str, dict[str, float]] = {}
+        sent: list[float] = []
+        request = window.sim.request
+
+        def timed_request(*args: Any, **kwargs: Any) -> Any:
+            sent.append(time.perf_counter())
+            return request(*args, **kwargs)
+
+        window.sim.request = timed_request
         for name, edit in kinds.items():
-            times = []
+            times, before, compute = [], [], []
             for k in range(edits + 1):
                 app.processEvents()
                 time.sleep(0.2)  # the window idle, as after a user's pause
+                sent.clear()
                 t0 = time.perf_counter()
                 edit(k)
                 _wait(app, window.frame_is_current)
                 app.processEvents()  # the paint of the panels
                 if k:  # the first of each kind warms caches
                     times.append((time.perf_counter() - t0) * 1e3)
+                    before.append((sent[0] - t0) * 1e3 if sent else float("nan"))
+                    compute.append(window.last_view.timings_ms.get("wall", float("nan")))
             latency[name] = statistics.median(times)
-        return {"playback": playback, "latency": latency}
+            parts[name] = {"edit_to_request_ms": statistics.median(before),
+                           "simulation_process_ms": statistics.median(compute)}
+        return {"playback": playback, "latency": latency, "latency_parts": parts}
     finally:
         window.document.undo_stack.setClean()
         window.close()
@@ -254,9 +270,11 @@ def main() -> None:
     for name, core_key in (("antenna_edit_ms", "antenna_edit_ms"),
                            ("object_move_ms", "frame_ms"),
                            ("material_change_ms", "frame_ms")):
+        part = gui["latency_parts"][name]
         print(f"{name[:-3].replace('_', ' ')} → panels: {lat[name]:.0f} ms "
               f"({lat[name] / core[core_key]:.1f} × core {core_key[:-3].replace('_', ' ')} "
-              f"{core[core_key]:.0f} ms)")
+              f"{core[core_key]:.0f} ms; edit → request {part['edit_to_request_ms']:.0f} ms, "
+              f"simulation process {part['simulation_process_ms']:.0f} ms)")
 
 
 if __name__ == "__main__":

@@ -30,7 +30,10 @@ def _assert_panels_current(window, wait_frame) -> None:
     wait_frame(window)
     for name, panel in window.panels.items():
         assert panel.error is None, f"{name}: {panel.error}"
-        assert panel.view is window.last_view, f"{name} shows an older frame"
+        # A hidden panel (the RGB camera without an RGB camera on the rig) keeps the frame
+        # to draw when shown.
+        current = panel.view if panel.isVisible() else panel._pending or panel.view
+        assert current is window.last_view, f"{name} shows an older frame"
 
 
 @pytest.mark.parametrize(("field", "value", "words"), [
@@ -125,6 +128,8 @@ def test_one_failing_panel_leaves_the_others_current(make_window, wait_frame, qt
     assert broken.error is not None and "forced failure" in broken.error
     assert broken.error_label.isVisible()
     for panel, count in zip(others, counts, strict=True):
+        if not panel.isVisible():
+            continue  # draws when shown
         assert panel.error is None
         assert panel.draw_count >= count + 3
         assert panel.view is window.last_view
@@ -153,6 +158,7 @@ def test_a_radar_with_a_tiny_range_still_draws(make_window, wait_frame, qtbot):
     tiny = dataclasses.replace(view, radar=short)
     window._on_frame(tiny)
     for name, panel in window.panels.items():
+        panel.draw_now()
         assert panel.error is None, f"{name}: {panel.error}"
         assert panel.view is tiny
     assert "peak —" in window.profile_panel.info.text()
@@ -174,7 +180,8 @@ def test_cancelling_a_long_frame_returns_control_at_once(make_window, wait_frame
     elapsed = ticked[0] - t0
     assert elapsed < 1.0, f"control came back after {elapsed:.2f} s"
     assert not window.sim.busy and window.sim.process_id != pid
-    assert all(p.error and "stopped" in p.error for p in window.panels.values())
+    assert all(p.error and "stopped" in p.error for p in window.panels.values()
+               if p.isVisible())
     assert not window.time.playing
     # Undo the costly edit: the fresh process computes the frame.
     window.undo_action.trigger()
