@@ -39,6 +39,9 @@ class Detections:
         Points in the radar optical frame (x right, y down, z forward).
     xyz_world_m : ndarray, shape (n, 3)
         The same points in the world frame.
+    object_id : ndarray, shape (n,), int32, or None
+        Ground-truth label: the id of the object contributing most power to each
+        detection's cell, −1 for noise (None when the frame has no labels).
     """
 
     range_m: F64
@@ -48,6 +51,7 @@ class Detections:
     snr_db: F64
     xyz_radar_m: F64
     xyz_world_m: F64
+    object_id: NDArray[np.int32] | None = None
 
     @classmethod
     def empty(cls) -> Detections:
@@ -186,7 +190,8 @@ def channel_names(project: Project) -> list[str]:
     return [f"{t}·{r}" for t in tx for r in rx]
 
 
-def radar_view_from_products(dsp: Any, project: Project, radar_transform: F64) -> RadarView:
+def radar_view_from_products(dsp: Any, project: Project, radar_transform: F64, *,
+                             labels: Any = None) -> RadarView:
     """Adapt :class:`simcore.dsp.RadarProducts` to a :class:`RadarView`."""
     ax = dsp.axes
     velocity = np.asarray(ax.velocity_mps, dtype=np.float64)
@@ -206,7 +211,9 @@ def radar_view_from_products(dsp: Any, project: Project, radar_transform: F64) -
     detections = Detections(
         np.asarray(det.range_m, dtype=np.float64), np.asarray(det.velocity_mps, dtype=float),
         np.asarray(det.azimuth_deg, dtype=float), np.asarray(det.elevation_deg, dtype=float),
-        np.asarray(det.snr_db, dtype=float), xyz, world)
+        np.asarray(det.snr_db, dtype=float), xyz, world,
+        None if labels is None or len(labels.object_id) != len(xyz)
+        else np.asarray(labels.object_id, dtype=np.int32))
     profile = np.asarray(dsp.range_profile_db, dtype=np.float32)
     names = channel_names(project)
     if len(names) != profile.shape[0]:
@@ -233,7 +240,8 @@ def _radar_view(frame: Any, project: Project, notes: list[str]) -> RadarView | N
     if radar is None:
         notes.append("the rig carries no radar")
         return None
-    return radar_view_from_products(radar.dsp, project, frame.buffers["radar"].sensor.transform)
+    return radar_view_from_products(radar.dsp, project, frame.buffers["radar"].sensor.transform,
+                                    labels=getattr(radar, "labels", None))
 
 
 def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> FrameView:

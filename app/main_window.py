@@ -289,6 +289,11 @@ class MainWindow(QMainWindow):
         edit.addActions([self.duplicate_action, self.rename_action, self.delete_action])
         view = bar.addMenu("&View")
         view.addActions([self.reset_camera_action, self.show_fov_action])
+        self.label_colours_action = self._action(
+            "Colour detections by object", self.set_colour_by_label, checkable=True,
+            tip="Colour the radar detections in the range–Doppler and range–azimuth maps by "
+                "their ground-truth object (grey: noise, no object in the cell)")
+        view.addAction(self.label_colours_action)
         view.addSeparator()
         for dock in self.docks.values():
             view.addAction(dock.toggleViewAction())
@@ -367,6 +372,15 @@ class MainWindow(QMainWindow):
                        self.sensor_editor, self.antenna_editor, self.viewport):
             editor.editFailed.connect(self.show_status_error)
         self.inspector.editMaterialRequested.connect(self._edit_material)
+
+    def set_colour_by_label(self, on: bool) -> None:  # noqa: FBT001 - Qt slot
+        """Colour detection markers by ground-truth object (True) or plainly (False)."""
+        for panel in (self.rd_panel, self.ra_panel):
+            panel.colour_by_label = bool(on)
+            if panel.view is not None:
+                panel.show_frame(panel.view)
+        if self.label_colours_action.isChecked() != bool(on):
+            self.label_colours_action.setChecked(bool(on))
 
     def _follow_rig_sensors(self, *_: object) -> None:
         """Show the RGB camera's dock when the rig gains one, hide it when it has none."""

@@ -36,8 +36,26 @@ INVALID_RGBA = (255, 0, 200, 255)
 CHANNEL_COLOURS = ["#4fc3f7", "#ffb74d", "#81c784", "#e57373", "#ba68c8", "#fff176",
                    "#4db6ac", "#f06292"]
 DETECTION_BRUSH = pg.mkBrush(255, 255, 255, 40)
+#: Detections labelled noise (no object above the noise in their cell), when coloured.
+NOISE_BRUSH = pg.mkBrush(150, 150, 150, 90)
 DETECTION_PEN = pg.mkPen("#ffffff", width=1.5)
 log = logging.getLogger(__name__)
+
+
+def label_brush(object_id: int) -> Any:
+    """Brush of a detection coloured by its ground-truth label (grey for noise, −1)."""
+    if object_id < 0:
+        return NOISE_BRUSH
+    colour = pg.intColor(int(object_id), hues=9, values=1, alpha=200)
+    return pg.mkBrush(colour)
+
+
+def detection_brushes(detections: Any, *, by_label: bool) -> Any:
+    """One brush per detection: by ground-truth label when asked and known, else plain."""
+    labels = getattr(detections, "object_id", None)
+    if not by_label or labels is None:
+        return DETECTION_BRUSH
+    return [label_brush(int(i)) for i in labels]
 
 
 def _set_text(label: Any, text: str) -> None:
@@ -92,6 +110,8 @@ class LivePanel(QWidget):
         super().__init__(parent)
         self._pending: FrameView | None = None
         self.view: FrameView | None = None
+        #: Colour detection markers by their ground-truth object (View menu).
+        self.colour_by_label = False
         #: Frames drawn, and the message of the last frame that could not be drawn.
         self.draw_count = 0
         self.error: str | None = None
@@ -420,7 +440,8 @@ class RangeDopplerPanel(LivePanel):
         self._levels = follow_levels(self._levels, hi - 60.0, hi, tolerance=3.0)
         _set_bar_levels(self.bar, self._levels)
         det = radar.detections
-        self.markers.setData(det.range_m, det.velocity_mps)
+        self.markers.setData(det.range_m, det.velocity_mps,
+                             brush=detection_brushes(det, by_label=self.colour_by_label))
         _set_text(self.info, f"t = {view.time_s:.2f} s   {len(det)} detections")
 
     def _on_hover(self, pos: QPointF) -> None:
@@ -508,7 +529,8 @@ class RangeAzimuthPanel(LivePanel):
         _set_bar_levels(self.bar, self._levels)
         det = radar.detections
         a = np.deg2rad(det.azimuth_deg)
-        self.markers.setData(det.range_m * np.sin(a), det.range_m * np.cos(a))
+        self.markers.setData(det.range_m * np.sin(a), det.range_m * np.cos(a),
+                             brush=detection_brushes(det, by_label=self.colour_by_label))
         _set_text(self.info, f"t = {view.time_s:.2f} s   {len(det)} detections")
 
     def _on_hover(self, pos: QPointF) -> None:
