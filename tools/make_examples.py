@@ -70,6 +70,20 @@ office_rgb.description = ("The office scene with an RGB camera (640x480, 69 x 42
                           "from one snapshot per frame.")
 office_rgb.rig.rgb = RgbCameraConfig(pose_on_rig=Pose(position_m=(0, 0.06, 0)))
 save_project(office_rgb, "resources/examples/office_rgb.json")
+# office_walkthrough.json: the rig carried through the office on a keyframed path with turns.
+walk = office.model_copy(deep=True)
+walk.name = "office_walkthrough"
+walk.description = ("The office with the sensor rig carried through it at walking speed on a "
+                    "keyframed path with turns (about 1 m/s, up to 30 deg/s) while the person "
+                    "walks: every frame is seen from a new pose (the moving-rig case).")
+walk.rig.motion = Motion(keyframes=[
+    Keyframe(time_s=0.0, position_m=(0.3, 0.0, 0.0)),
+    Keyframe(time_s=1.5, position_m=(1.8, 0.0, 0.0)),
+    Keyframe(time_s=2.5, position_m=(2.6, 0.4, 0.0), rotation_deg=(0.0, 0.0, 30.0)),
+    Keyframe(time_s=3.5, position_m=(3.1, 1.0, 0.0), rotation_deg=(0.0, 0.0, 60.0)),
+    Keyframe(time_s=4.0, position_m=(3.2, 1.3, 0.0), rotation_deg=(0.0, 0.0, 75.0)),
+], repeat="hold")
+save_project(walk, "resources/examples/office_walkthrough.json")
 print(len(O))
 
 # doppler_back_and_forth.json: the rig moves back and forth (sinusoidally, 0.5 m peak to
