@@ -64,7 +64,8 @@ STAGE_LABELS = {
     "render_background": "background", "tof": "ToF", "tof_albedo": "ToF albedo",
     "radar_scatterers": "scatterers", "radar_background_scatterers": "background scatterers",
     "radar_synthesis": "IF synthesis", "radar_background_synthesis": "background IF",
-    "radar_receiver": "receiver", "radar_prepare": "prepare", "dsp": "DSP", "rgb": "RGB"}
+    "radar_receiver": "receiver", "radar_prepare": "prepare", "dsp": "DSP", "rgb": "RGB",
+    "radar_labels": "labels", "radar_label_scatterers": "label scatterers"}
 
 
 class MainWindow(QMainWindow):
