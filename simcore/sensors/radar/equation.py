@@ -95,6 +95,20 @@ def leakage_amplitude_fs(config: RadarConfig) -> float:
     return float(volts / config.adc_full_scale_v)
 
 
+def butterworth_poles(order: int) -> NDArray[np.complex128]:
+    """The ``order`` poles of a Butterworth filter normalised to a 1 rad/s cutoff.
+
+    They lie on the unit circle in the left half plane, ``exp(jπ(2k + n − 1)/(2n))``.
+
+    Examples
+    --------
+    >>> np.round(butterworth_poles(2), 6)
+    array([-0.707107+0.707107j, -0.707107-0.707107j])
+    """
+    k = np.arange(1, order + 1)
+    return np.exp(1j * np.pi * (2 * k + order - 1) / (2 * order))
+
+
 def highpass_response(freq_hz: NDArray[np.floating] | float, cutoff_hz: float, order: int
                       ) -> NDArray[np.complex128]:
     """Frequency response of an analog Butterworth high-pass, ``H(j 2π f)``.
@@ -107,11 +121,9 @@ def highpass_response(freq_hz: NDArray[np.floating] | float, cutoff_hz: float, o
     f = np.asarray(freq_hz, dtype=np.float64)
     if cutoff_hz <= 0:
         return np.ones(f.shape, dtype=np.complex128)
-    k = np.arange(1, order + 1)
-    poles = 2 * np.pi * cutoff_hz * np.exp(1j * np.pi * (2 * k + order - 1) / (2 * order))
     s = 2j * np.pi * f
     h = np.ones(f.shape, dtype=np.complex128)
-    for p in poles:
+    for p in 2 * np.pi * cutoff_hz * butterworth_poles(order):
         h *= s / (s - p)
     return h
 
@@ -132,11 +144,9 @@ def lowpass_response(freq_hz: NDArray[np.floating] | float, cutoff_hz: float, or
     f = np.asarray(freq_hz, dtype=np.float64)
     if cutoff_hz <= 0:
         return np.ones(f.shape, dtype=np.complex128)
-    k = np.arange(1, order + 1)
-    poles = 2 * np.pi * cutoff_hz * np.exp(1j * np.pi * (2 * k + order - 1) / (2 * order))
     s = 2j * np.pi * f
     h = np.ones(f.shape, dtype=np.complex128)
-    for p in poles:
+    for p in 2 * np.pi * cutoff_hz * butterworth_poles(order):
         h *= -p / (s - p)
     return h
 
@@ -206,6 +216,7 @@ def pattern_gains(config: RadarConfig, directions: NDArray[np.float64]
     return g_tx.reshape(len(config.tx), -1), g_rx.reshape(len(config.rx), -1)
 
 
-__all__ = ["BOLTZMANN", "R_REF_OHM", "T0_K", "amplitude_scale_fs", "element_gain",
+__all__ = ["BOLTZMANN", "R_REF_OHM", "T0_K", "amplitude_scale_fs", "butterworth_poles",
+           "element_gain",
            "highpass_response", "if_amplitude_fs", "if_filter_response", "leakage_amplitude_fs",
            "lowpass_response", "noise_std_fs", "pattern_gains"]

@@ -55,6 +55,7 @@ from simcore.sensors.radar.equation import (
     R_REF_OHM,
     T0_K,
     amplitude_scale_fs,
+    butterworth_poles,
     element_gain,
     highpass_response,
     if_amplitude_fs,
@@ -220,15 +221,12 @@ class _Waveform:
         cutoff, order = config.if_highpass_hz, config.if_highpass_order
         poles: tuple[tuple[float, float], ...] = ()
         if cutoff > 0:
-            k = np.arange(1, order + 1)
-            p = np.exp(1j * np.pi * (2 * k + order - 1) / (2 * order))
-            poles = tuple((float(z.real), float(z.imag)) for z in p)
+            poles = tuple((float(z.real), float(z.imag)) for z in butterworth_poles(order))
         lp_cutoff, lp_order = config.if_lowpass_hz, config.if_lowpass_order
         lp_poles: tuple[tuple[float, float], ...] = ()
         if lp_cutoff > 0:
-            k = np.arange(1, lp_order + 1)
-            p = np.exp(1j * np.pi * (2 * k + lp_order - 1) / (2 * lp_order))
-            lp_poles = tuple((float(z.real), float(z.imag)) for z in p)
+            lp_poles = tuple((float(z.real), float(z.imag))
+                             for z in butterworth_poles(lp_order))
         return cls(
             n_s=n_s, eps=config.nufft_tolerance,
             single=config.nufft_tolerance >= SINGLE_PRECISION_TOLERANCE,
