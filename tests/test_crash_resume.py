@@ -17,6 +17,7 @@ from typing import Any
 import h5py
 import numpy as np
 import pytest
+from h5data import assert_same_data, datasets
 from hostile import base_project_dict, write_project
 
 from simcore.cli import main
@@ -37,19 +38,6 @@ def small_project(tmp_path: Path) -> Path:
     return write_project(doc, tmp_path / "crash.json")
 
 
-def datasets(path: Path) -> dict[str, np.ndarray]:
-    out: dict[str, np.ndarray] = {}
-    with h5py.File(path, "r") as f:
-        f.visititems(lambda n, o: out.__setitem__(n, o[()]) if isinstance(o, h5py.Dataset)
-                     else None)
-    return out
-
-
-def assert_same_data(a: Path, b: Path) -> None:
-    da, db = datasets(a), datasets(b)
-    assert sorted(da) == sorted(db)
-    for key in da:
-        np.testing.assert_array_equal(da[key], db[key], err_msg=key)
 
 
 def assert_frames_intact(path: Path, reference: dict[str, np.ndarray]) -> int:

@@ -9,6 +9,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+from h5data import assert_same_data, datasets
 
 from simcore.cli import main
 from simcore.resources import example_path
@@ -27,19 +28,6 @@ def small_project(tmp_path: Path, name: str = "point_targets") -> Path:
     return path
 
 
-def datasets(path: Path) -> dict[str, np.ndarray]:
-    out: dict[str, np.ndarray] = {}
-    with h5py.File(path) as f:
-        f.visititems(lambda n, o: out.__setitem__(n, o[()]) if isinstance(o, h5py.Dataset)
-                     else None)
-    return out
-
-
-def assert_same_data(a: Path, b: Path) -> None:
-    da, db = datasets(a), datasets(b)
-    assert sorted(da) == sorted(db)
-    for key in da:
-        np.testing.assert_array_equal(da[key], db[key], err_msg=key)
 
 
 def run(project: Path, out: Path, *extra: str) -> int:
