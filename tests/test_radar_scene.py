@@ -14,6 +14,7 @@ from simcore.resources import example_path
 from simcore.scene import Box, PointTarget, Pose, Project, SceneObject, load_project
 from simcore.scene.model import SensorRig
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
+from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
 from simcore.sensors.radar import radar_scatterers, simulate_radar
 from simcore.sensors.radar.scatterers import KIND_CORNER_REFLECTOR, KIND_POINT_TARGET
@@ -28,6 +29,25 @@ def radar_render(renderer: SceneRenderer, project: Project, config: RadarConfig,
                  ) -> tuple[SceneSnapshot, RenderBuffers]:
     snap = take_snapshot(project, t)
     return snap, renderer.render(snap, RenderRequest("radar", "radar", config.render_intrinsics()))
+
+
+def transfer_matrix_transmission(eps_r: float, loss_tangent: float, thickness_m: float,
+                                 frequency_hz: float) -> complex:
+    """One-way transmission of a slab in air at normal incidence (transfer matrices).
+
+    The ABCD matrix of a line section of impedance η = η₀/n and length d,
+    ``[[cos δ, j η sin δ], [j sin δ / η, cos δ]]`` with δ = k₀ n d, between two air half
+    spaces gives ``T = 2 / (A + B/η₀ + C η₀ + D)``; relative to the same path through air
+    it is multiplied by e^{+j k₀ d}. (Independent of the Airy-sum form in the code.)
+    """
+    n = np.sqrt(eps_r * (1 - 1j * loss_tangent))
+    k0 = 2 * np.pi * frequency_hz / SPEED_OF_LIGHT
+    delta = k0 * n * thickness_m
+    eta0 = 376.730313668
+    eta = eta0 / n
+    a, b = np.cos(delta), 1j * eta * np.sin(delta)
+    c, d = 1j * np.sin(delta) / eta, np.cos(delta)
+    return complex(2 / (a + b / eta0 + c * eta0 + d) * np.exp(1j * k0 * thickness_m))
 
 
 def radar_position(project: Project) -> np.ndarray:
@@ -159,13 +179,30 @@ def test_corner_reflector_behind_paper_box_appears_in_radar_data(make_renderer: 
     u, v = tof_intr.project((apex_world - t[:3, 3]) @ t[:3, :3])
     assert tof_buf.object_index[int(v), int(u)] == box
 
-    # Radar: the box is not rendered, the reflector becomes its analytic scatterer …
-    assert not np.any(buffers.object_index == box)
-    scat = radar_scatterers(project, snap, buffers)
+    # Radar: the paper box is drawn but transmits; seen through it (the second pass
+    # without it), the reflector is its analytic scatterer, attenuated twice by the box's
+    # paper wall (slab transmission, computed here by the transfer-matrix method).
+    assert np.any(buffers.object_index == box)
+    hide = tuple(i == box for i in range(len(names)))
+    through = renderer.render(snap, RenderRequest("radar", "radar", cfg.render_intrinsics()),
+                              hide=hide)
+    alone = radar_scatterers(project, snap, buffers)
+    assert not np.any(alone.kind == KIND_CORNER_REFLECTOR)      # opaque without the pass
+    scat = radar_scatterers(project, snap, buffers, see_through=through)
     is_cr = scat.kind == KIND_CORNER_REFLECTOR
     assert is_cr.sum() == 1 and scat.object_index[is_cr][0] == cr
     r_cr = float(np.linalg.norm(scat.positions_m[is_cr][0]))
     assert_allclose(r_cr, np.linalg.norm(apex_world - snap.sensors["radar"].position), rtol=1e-9)
+    paper = material_table(project)["paper"].band("radar")
+    t_slab = transfer_matrix_transmission(paper.permittivity, paper.loss_tangent,
+                                          paper.thickness_m, SPEED_OF_LIGHT / cfg.wavelength_m)
+    # The same reflector with nothing in front (the pass without the box, used as the
+    # frame's render) has the unattenuated RCS.
+    open_view = radar_scatterers(project, snap, through)
+    sigma_open = open_view.rcs_m2[open_view.kind == KIND_CORNER_REFLECTOR][0]
+    print(f"paper |T|² = {abs(t_slab) ** 2:.4f}; reflector RCS {sigma_open:.4g} m² open, "
+          f"{scat.rcs_m2[is_cr][0]:.4g} m² behind the box")
+    assert_allclose(scat.rcs_m2[is_cr][0], sigma_open * abs(t_slab) ** 4, rtol=1e-6)
 
     # … and its return stands out of the office clutter in the noisy ADC data.
     rng_seed = 11

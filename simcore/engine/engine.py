@@ -191,10 +191,18 @@ class FrameEngine:
         samples = [self._raster(take_snapshot(project, snap.time_s + dt), request, timings,
                                 f"render_{sensor.name}_samples")
                    for dt in sensor.sample_offsets_s(project)]
-        bg_raster = self._background_raster(snap, request, timings)
+        hide = _see_through(sensor, project)
+        through = (None if hide is None else
+                   self._raster(snap, request, timings, f"render_{sensor.name}_see_through",
+                                hide=hide, kind="see_through"))
+        bg_raster = None if through is not None else self._background_raster(snap, request,
+                                                                              timings)
 
         def chain() -> tuple[RenderBuffers, SensorOutput]:
             background = None
+            see_through = (None if through is None else
+                           self._shade(through, None, timings,
+                                       f"render_{sensor.name}_see_through"))
             if bg_raster is not None:
                 bg = self._shade(bg_raster, None, timings, "render_background")
                 changed = changed_pixels(raster, (bg_raster, bg))
@@ -213,18 +221,21 @@ class FrameEngine:
                 buffers=buffers, sample_buffers=sample_buffers,
                 rng=frame_rng(self.seed, index, sensor.rng_stream), stage=stage,
                 background=(None if background is None
-                            else Background(background[1], background[2])))
+                            else Background(background[1], background[2])),
+                see_through=see_through)
             return buffers, sensor.simulate(ctx)
 
         return chain
 
     def _raster(self, snap: SceneSnapshot, request: RenderRequest, timings: dict[str, float],
-                label: str, hide: tuple[bool, ...] | None = None) -> Raster:
+                label: str, hide: tuple[bool, ...] | None = None,
+                kind: str | None = None) -> Raster:
+        # One name per pass kind (frame, background, see-through): a sample render at
+        # another time is the same pass, so the previous frame's render serves
+        # auto-exposure. The background is still: its render does not read the poses.
+        kind = kind or ("background" if hide is not None else "frame")
         reads = (self._scene_version, request, hide,
-                 None if hide is not None else _state_key(snap, request.sensor))
-        # One name per pass kind (frame or background): a sample render at another time is
-        # the same pass, so the previous frame's render serves auto-exposure.
-        kind = "background" if hide is not None else "frame"
+                 None if kind == "background" else _state_key(snap, request.sensor))
         return self.cache.run(f"raster:{request.sensor}:{kind}",
                               lambda: self.renderer.rasterize(snap, request, hide=hide),
                               reads=reads, timings=timings, label=label)
@@ -238,7 +249,8 @@ class FrameEngine:
 
     def _shade(self, raster: Raster, background: tuple[Raster, RenderBuffers] | None,
                timings: dict[str, float], label: str) -> RenderBuffers:
-        kind = "background" if label == "render_background" else "frame"
+        kind = ("background" if label == "render_background" else
+                "see_through" if label.endswith("_see_through") else "frame")
         return self.cache.run(f"shade:{raster.sensor}:{kind}",
                               lambda: self.renderer.shade(raster, background=background),
                               reads=(), inputs=(raster,), timings=timings, label=label)
@@ -261,6 +273,13 @@ class FrameEngine:
             self._worker.shutdown(wait=True)
             self._worker = None
         self.renderer.close()
+
+
+def _see_through(sensor: Sensor, project: Project) -> tuple[bool, ...] | None:
+    """The sensor's see-through mask, or None when it has none or hides nothing."""
+    method = getattr(sensor, "see_through", None)
+    hide = None if method is None else method(project)
+    return tuple(hide) if hide is not None and any(hide) else None
 
 
 def _stamped(buffers: RenderBuffers, snap: SceneSnapshot, sensor: str) -> RenderBuffers:

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from simcore.render.meshes import TriangleMesh
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.snapshot import SensorState
 
@@ -47,6 +48,9 @@ class RenderBuffers:
         Velocity of the surface point relative to the sensor origin, optical frame (m/s).
     radial_velocity_mps : ndarray, shape (H, W), float32
         Range rate d|X - p_sensor|/dt (m/s), positive when moving away.
+    meshes : tuple of TriangleMesh or None
+        Each object's triangles in its own frame (None: no surface), as rendered; empty
+        when unknown.
     """
 
     band: str
@@ -62,6 +66,7 @@ class RenderBuffers:
     intensity: NDArray[np.float32]
     velocity_mps: NDArray[np.float32]
     radial_velocity_mps: NDArray[np.float32]
+    meshes: tuple[TriangleMesh | None, ...] = ()
 
     @property
     def valid(self) -> NDArray[np.bool_]:

@@ -254,11 +254,16 @@ class RenderRequest:
         (opacity > 0 in that band) and which reflectance parameters shade them.
     intrinsics : PinholeIntrinsics
         Pixel grid of the pass.
+    geometry_only : bool
+        Shade only what visibility needs: ``range_m``, ``object_index`` and
+        ``object_id``. The other fields are read-only zeros (no normals, intensity or
+        velocities), which makes shading several times cheaper.
     """
 
     sensor: str
     band: str
     intrinsics: PinholeIntrinsics
+    geometry_only: bool = False
 
 
 @dataclass(frozen=True)
@@ -289,6 +294,7 @@ class Raster:
     visible: tuple[bool, ...]
     geometry: _Geometry = field(repr=False)
     tables: _BandTables = field(repr=False)
+    geometry_only: bool = False
 
 
 @dataclass(frozen=True)
@@ -374,9 +380,10 @@ class SceneRenderer:
         return [bool(op > 0) and mesh is not None
                 for op, mesh in zip(self._opacity[band], self.geometry.meshes, strict=True)]
 
-    def render(self, snapshot: SceneSnapshot, request: RenderRequest) -> RenderBuffers:
-        """Render one pass (:meth:`rasterize` then :meth:`shade`)."""
-        return self.shade(self.rasterize(snapshot, request))
+    def render(self, snapshot: SceneSnapshot, request: RenderRequest, *,
+               hide: tuple[bool, ...] | None = None) -> RenderBuffers:
+        """Render one pass (:meth:`rasterize` then :meth:`shade`), ``hide``: objects left out."""
+        return self.shade(self.rasterize(snapshot, request, hide=hide))
 
     def rasterize(self, snapshot: SceneSnapshot, request: RenderRequest, *,
                   hide: Sequence[bool] | None = None) -> Raster:
@@ -397,7 +404,8 @@ class SceneRenderer:
         self.render_count += 1
         return Raster(snapshot=snapshot, sensor=request.sensor, band=request.band,
                       intrinsics=request.intrinsics, labels=labels, visible=tuple(visible),
-                      geometry=self.geometry, tables=tables)
+                      geometry=self.geometry, tables=tables,
+                      geometry_only=request.geometry_only)
 
     def shade(self, raster: Raster, *, background: tuple[Raster, RenderBuffers] | None = None
               ) -> RenderBuffers:
@@ -448,7 +456,7 @@ def _shade(raster: Raster, background: tuple[Raster, RenderBuffers] | None = Non
         px = _shade_pixels(raster, None)
         out = {name: values.reshape(h, w, *values.shape[1:]) for name, values in px.items()}
     return RenderBuffers(band=band, time_s=snapshot.time_s, intrinsics=intr, sensor=sensor,
-                         **out)
+                         meshes=tuple(raster.geometry.meshes), **out)
 
 
 #: Per-pixel fields of :class:`RenderBuffers`.
@@ -542,6 +550,19 @@ def _shade_pixels(raster: Raster, idx: NDArray[np.intp] | None
     obj = np.take(geo.label_object, label)
     obj[~valid] = -1
     pixel = np.arange(label.size) if idx is None else idx        # flat image index
+    if raster.geometry_only:
+        zero = np.zeros(1, dtype=np.float32)
+        return {
+            "range_m": t * ray_norm,
+            "points_m": np.broadcast_to(zero, (label.size, 3)),
+            "normals": np.broadcast_to(zero, (label.size, 3)),
+            "cos_incidence": np.broadcast_to(zero, (label.size,)),
+            "object_index": obj,
+            "object_id": np.take(tables.ids, obj),
+            "intensity": np.broadcast_to(zero, (label.size,)),
+            "velocity_mps": np.broadcast_to(zero, (label.size, 3)),
+            "radial_velocity_mps": np.broadcast_to(zero, (label.size,)),
+        }
 
     # Smooth surfaces: interpolate vertex normals with barycentric weights.
     smooth = np.take(geo.label_smooth, label)

@@ -19,11 +19,22 @@ For the radar band ``f`` is the normalised radar cross-section per unit area sig
 The specular term is the Beckmann/Kirchhoff rough-surface lobe with rms slope
 ``roughness``; ``metallic`` removes the diffuse part. ``opacity`` 0 removes the object
 from that band's render pass entirely (the band sees through it).
+
+Smooth interfaces (radar band, :mod:`simcore.sensors.radar.scatterers`): a band material
+with a ``permittivity`` (or ``metallic`` = 1, a perfect conductor) also reflects
+*coherently*, with the Fresnel reflection coefficient of its interface at normal incidence
+(:func:`slab_coefficients`), reduced by its rms surface height ``height_rms_m`` as in the
+Kirchhoff model (coherent power factor ``exp(-(2 k h cos θ)²)``); the rough-surface lobe above
+then carries only the incoherent remainder ``1 − exp(-(2 k h cos θ)²)``. With a
+``thickness_m`` the material is a slab that transmits: the band sees what lies behind it,
+attenuated by the slab's transmission coefficient on the way in and out.
 """
 
 from __future__ import annotations
 
+import cmath
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -51,6 +62,44 @@ class BandMaterial(Model):
     opacity: Fraction = 1.0
     retroreflector: bool = False
     retro_gain: NonNegative = 0.0
+    permittivity: float | None = Field(
+        None, ge=1.0, le=1000.0, allow_inf_nan=False,
+        description="relative permittivity ε′ in this band; None: no smooth interface "
+                    "(incoherent lobe only)")
+    loss_tangent: float = Field(0.0, ge=0.0, le=100.0, allow_inf_nan=False,
+                                description="dielectric loss tangent tan δ = ε″/ε′")
+    thickness_m: float | None = Field(
+        None, gt=0.0, le=1.0, allow_inf_nan=False,
+        description="slab thickness (m); None: thick (nothing is transmitted)")
+    height_rms_m: float = Field(0.0, ge=0.0, le=0.1, allow_inf_nan=False,
+                                description="rms surface height (m): removes coherent "
+                                            "reflection, 0 = smooth")
+
+    def is_smooth_interface(self) -> bool:
+        """Whether the material reflects coherently (a permittivity, or a metal)."""
+        return self.permittivity is not None or self.metallic >= 1.0
+
+    def coefficients(self, frequency_hz: float) -> tuple[complex, complex]:
+        """(reflection Γ, one-way transmission T) at normal incidence, at ``frequency_hz``.
+
+        A metal (``metallic`` = 1) gives (−1, 0); a material without a permittivity gives
+        (0, 0) for a thick object and (0, 1) when ``thickness_m`` is set (no interface
+        model: an invisible sheet); otherwise :func:`slab_coefficients`. T is relative to
+        the same path through air (the phase of the extra electrical length included).
+        """
+        if self.metallic >= 1.0:
+            return -1.0 + 0j, 0j
+        if self.permittivity is None:
+            return 0j, (1.0 + 0j) if self.thickness_m is not None else 0j
+        return slab_coefficients(self.permittivity, self.loss_tangent, self.thickness_m,
+                                 frequency_hz)
+
+    def coherent_factor(self, cos_theta: NDArray[np.floating], wavelength_m: float
+                        ) -> NDArray[np.float64]:
+        """Kirchhoff coherent power fraction ``exp(-(4π h cos θ / λ)²)`` of a rough interface."""
+        g = (4.0 * math.pi * self.height_rms_m / wavelength_m
+             * np.asarray(cos_theta, dtype=np.float64))
+        return np.exp(-g * g)
 
 
 RGB = tuple[Fraction, Fraction, Fraction]
@@ -111,6 +160,50 @@ def load_material_library(path: Path = MATERIALS_FILE) -> dict[str, DualBandMate
     except (OSError, json.JSONDecodeError, KeyError, TypeError, ValidationError) as exc:
         raise MaterialLibraryError(f"material library {path}: {exc}") from exc
     return {name: m.model_copy(deep=True) for name, m in _LIBRARY_CACHE[key].items()}
+
+
+def slab_coefficients(permittivity: float, loss_tangent: float, thickness_m: float | None,
+                      frequency_hz: float) -> tuple[complex, complex]:
+    """Reflection and transmission of a dielectric half-space or slab at normal incidence.
+
+    With the complex refractive index ``n = √(ε′ (1 − j tan δ))``, the single interface
+    reflects ``r = (1 − n) / (1 + n)``. A slab of thickness ``d`` (one-way phase
+    ``δ = k₀ n d``) reflects and transmits, summing its internal reflections
+    (Born & Wolf §1.6; Orfanidis, *Electromagnetic Waves and Antennas*, §6.1)::
+
+        Γ = r (1 − e^{−2jδ}) / (1 − r² e^{−2jδ})
+        T = (1 − r²) e^{−jδ} / (1 − r² e^{−2jδ}) · e^{+j k₀ d}
+
+    (T relative to the same path through air). A half-space (``thickness_m`` None)
+    transmits nothing.
+
+    Parameters
+    ----------
+    permittivity : float
+        Real relative permittivity ε′ (≥ 1).
+    loss_tangent : float
+        tan δ = ε″ / ε′ (≥ 0).
+    thickness_m : float or None
+        Slab thickness d (m), or None for a half-space.
+    frequency_hz : float
+        Frequency (Hz).
+
+    Returns
+    -------
+    (complex, complex)
+        Γ and T (amplitude ratios; e^{+jωt} convention).
+    """
+    n = cmath.sqrt(permittivity * (1.0 - 1j * loss_tangent))
+    r = (1.0 - n) / (1.0 + n)
+    if thickness_m is None:
+        return r, 0j
+    k0 = 2.0 * math.pi * frequency_hz / 299_792_458.0
+    e1 = cmath.exp(-1j * k0 * n * thickness_m)
+    e2 = e1 * e1
+    den = 1.0 - r * r * e2
+    gamma = r * (1.0 - e2) / den
+    trans = (1.0 - r * r) * e1 / den * cmath.exp(1j * k0 * thickness_m)
+    return gamma, trans
 
 
 def band_response(

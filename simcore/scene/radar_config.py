@@ -53,6 +53,10 @@ AntennaOffsetMm = Annotated[float, Field(ge=-MAX_ANTENNA_OFFSET_MM, le=MAX_ANTEN
                                          allow_inf_nan=False)]
 
 
+#: Two-way pattern level down to which the radar render should cover the field of view (dB).
+COVERAGE_LEVEL_DB = -20.0
+
+
 class CosinePattern(Model):
     """Separable cosine-power element pattern (power gain relative to boresight).
 
@@ -153,9 +157,15 @@ class RadarConfig(Model):
                               max_length=MAX_TX)
     rx: list[Antenna] = Field(default_factory=lambda: default_l_rx(), min_length=1,
                               max_length=MAX_RX)
-    render_width: int = Field(1000, ge=8, le=8192)
-    render_height: int = Field(342, ge=8, le=8192)
-    render_fov_h_deg: float = Field(100.0, ge=0.1, lt=170)
+    render_width: int = Field(
+        480, ge=8, le=8192,
+        description="radar render pixels across; the render only decides which surface "
+                    "facets are seen")
+    render_height: int = Field(480, ge=8, le=8192)
+    render_fov_h_deg: float = Field(
+        132.0, ge=0.1, lt=170,
+        description="horizontal field of view of the radar render (square pixels); the "
+                    "default covers the two-way element pattern down to −20 dB")
     render_supersampling: int = Field(
         1, ge=1, le=8,
         description="render sub-pixels per facet and axis; each facet (render_width × "
@@ -342,6 +352,26 @@ class RadarConfig(Model):
         slots = np.arange(self.chirps_per_frame)[:, None] * n_tx + np.arange(n_tx)[None, :]
         return np.asarray(slots * self.chirp_repetition_time_s, dtype=np.float64)
 
+    def pattern_coverage_deg(self, level_db: float = COVERAGE_LEVEL_DB
+                             ) -> tuple[float, float]:
+        """Half-angles (azimuth, elevation) inside which the two-way pattern ≥ ``level_db``.
+
+        The two-way pattern is the largest product of a Tx and an Rx element's power
+        gains (relative to boresight); it is scanned along the azimuth axis (elevation
+        0) and the elevation axis (azimuth 0), in 0.1° steps up to 89.9°.
+        """
+        angles = np.arange(0.0, 90.0, 0.1)
+        floor = 10.0 ** (level_db / 10.0)
+        out = []
+        for axis in ("az", "el"):
+            tx = np.max([_axis_gain(a.pattern or self.element_pattern, axis, angles)
+                         for a in self.tx], axis=0)
+            rx = np.max([_axis_gain(a.pattern or self.element_pattern, axis, angles)
+                         for a in self.rx], axis=0)
+            above = np.flatnonzero(tx * rx >= floor)
+            out.append(float(angles[above[-1]]) if len(above) else 0.0)
+        return out[0], out[1]
+
     def facet_intrinsics(self) -> PinholeIntrinsics:
         """Facet grid: one scatterer per grid cell and object (square cells over the FOV)."""
         return PinholeIntrinsics.from_fov(self.render_width, self.render_height,
@@ -350,6 +380,24 @@ class RadarConfig(Model):
     def render_intrinsics(self) -> PinholeIntrinsics:
         """Pixel grid of the radar render pass: the facet grid × ``render_supersampling``."""
         return self.facet_intrinsics().scaled(self.render_supersampling)
+
+
+def _axis_gain(pattern: ElementPattern, axis: str, angles_deg: NDArray[np.float64]
+               ) -> NDArray[np.float64]:
+    """Power gain of a pattern along one axis (the other angle 0), both signs' maximum."""
+    if isinstance(pattern, CosinePattern):
+        exp = pattern.exponent_az if axis == "az" else pattern.exponent_el
+        return np.asarray(np.maximum(np.cos(np.radians(angles_deg)), 0.0) ** exp)
+    az = np.asarray(pattern.azimuth_deg)
+    el = np.asarray(pattern.elevation_deg)
+    table = np.asarray(pattern.gain_db)
+    if axis == "az":
+        row = table[int(np.argmin(np.abs(el)))]
+        both = [np.interp(s * angles_deg, az, row, left=-300, right=-300) for s in (1, -1)]
+    else:
+        col = table[:, int(np.argmin(np.abs(az)))]
+        both = [np.interp(s * angles_deg, el, col, left=-300, right=-300) for s in (1, -1)]
+    return np.asarray(10.0 ** (np.maximum(both[0], both[1]) / 10.0))
 
 
 def _positions_m(antennas: list[Antenna]) -> NDArray[np.float64]:
@@ -411,8 +459,17 @@ def aliasing_warnings(
         iu = np.triu_indices(len(pos), 1)
         if np.any(diff[iu] < 1e-9):
             out.append(f"{role}: two antennas share the same position")
-    virt = config.virtual_positions_m()
     intr = config.render_intrinsics()
+    az_need, el_need = config.pattern_coverage_deg()
+    for name, need, fov in (("horizontal", az_need, intr.fov_h_deg),
+                            ("vertical", el_need, intr.fov_v_deg)):
+        if 0.5 * fov + 0.5 < need:
+            out.append(
+                f"the radar render covers ±{0.5 * fov:.0f}° {name}ly but the two-way antenna "
+                f"pattern stays above {COVERAGE_LEVEL_DB:.0f} dB out to ±{need:.0f}°: returns "
+                f"from outside the render are lost (raise render_fov_h_deg or the render's "
+                f"{'width' if name == 'horizontal' else 'height'})")
+    virt = config.virtual_positions_m()
     for axis, name, fov in ((0, "horizontal", intr.fov_h_deg), (1, "vertical", intr.fov_v_deg)):
         coords = np.unique(np.round(virt[:, axis], 9))
         if len(coords) >= 2:

@@ -97,6 +97,9 @@ class SensorContext:
         Runs or re-uses a named step (see :class:`StageRunner`).
     background : Background or None
         Still-background information for this sensor's render, when the accelerator applies.
+    see_through : RenderBuffers or None
+        The same pass with the objects of :meth:`Sensor.see_through` hidden (what lies
+        behind the band's partially transparent objects); None when it hides nothing.
     """
 
     project: Project
@@ -108,6 +111,7 @@ class SensorContext:
     rng: np.random.Generator
     stage: StageRunner
     background: Background | None = None
+    see_through: RenderBuffers | None = None
 
     @property
     def time_s(self) -> float:
@@ -143,6 +147,15 @@ class Sensor(Protocol):
 
     def sample_offsets_s(self, project: Project) -> tuple[float, ...]:
         """Times after the frame's (s) at which it needs extra renders of the same pass."""
+        ...
+
+    def see_through(self, project: Project) -> tuple[bool, ...] | None:
+        """Objects to hide in a second pass that sees through them (partial transmission).
+
+        None (or no True) when the band has no partially transparent object; otherwise
+        the engine renders the pass again without them (:attr:`SensorContext.see_through`).
+        A sensor class without this method gets no second pass.
+        """
         ...
 
     def simulate(self, ctx: SensorContext) -> SensorOutput:

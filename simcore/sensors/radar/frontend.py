@@ -94,7 +94,8 @@ class RadarOutput:
 
 def radar_scatterers(project: Project, snapshot: SceneSnapshot, buffers: RenderBuffers, *,
                      config: RadarConfig | None = None, seed: int | None = None,
-                     pixels: NDArray[np.bool_] | None = None) -> Scatterers:
+                     pixels: NDArray[np.bool_] | None = None,
+                     see_through: RenderBuffers | None = None) -> Scatterers:
     """Point scatterers of a frame (independent of antennas, waveform timing, receiver).
 
     Parameters
@@ -111,13 +112,16 @@ def radar_scatterers(project: Project, snapshot: SceneSnapshot, buffers: RenderB
         Speckle realisation (default: the project's seed).
     pixels : ndarray of bool, shape (H, W), optional
         Only the facets covering these render pixels (plus the analytic targets).
+    see_through : RenderBuffers, optional
+        The radar render without its partially transparent objects
+        (:meth:`RadarSensor.see_through`): what lies behind them, attenuated.
     """
     cfg = project.rig.radar if config is None else config
     return scatterers_from_render(
         project, snapshot, buffers, wavelength_m=cfg.wavelength_m,
         facets=cfg.facet_intrinsics(), speckle=cfg.speckle,
         seed=project.seed if seed is None else seed, materials=material_table(project),
-        pixels=pixels)
+        pixels=pixels, see_through=see_through)
 
 
 def radar_output(ideal: ComplexCube, config: RadarConfig, *, rng: np.random.Generator,

@@ -1,19 +1,10 @@
-"""Radar scatterers from the radar render pass: surface facets plus analytic point targets.
+"""Radar scatterers of a frame: surface facets plus analytic point targets.
 
-Every valid pixel of the radar render is a patch of surface with the radar cross-section
-
-    σ_pix = σ⁰(θ) · dA,    dA = R² Ω_pix / max(cos θ, COS_MIN),
-
-so that the summed power of an extended surface does not depend on the render resolution
-(σ⁰(θ) is the radar band's material response, ``RenderBuffers.intensity``). The render may
-be supersampled: the ``s × s`` sub-pixels of each cell of the *facet grid* (the radar's
-``render_width × render_height``) are merged per object into one scatterer (RCS summed,
-position and velocity RCS-weighted), so refining the render refines each facet's RCS,
-position and occlusion without changing the number or the phases of the scatterers.
-
-The σ⁰ model is an incoherent (power) model of rough surfaces: each facet also carries a
-random phase (speckle), a fixed hash of its facet index, object and seed (see
-``docs/physics_radar.md``).
+Surfaces are the objects' physical-optics facets fixed to their surfaces
+(:mod:`simcore.sensors.radar.surfaces`): each seen facet is one scatterer at its centroid
+whose complex amplitude (√RCS and phase) holds its coherent PO reflection and its diffuse,
+rough-surface part with a surface-attached random phase. The radar render decides only
+which facets are seen, so the scatterers do not depend on the render grid.
 
 Trihedral corner reflectors (``CornerReflector`` geometry) are not faceted: their pixels
 are dropped and replaced by one point scatterer at the apex whose RCS follows the
@@ -27,12 +18,12 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from simcore.render.buffers import RenderBuffers
+from simcore.render.meshes import TriangleMesh, build_mesh
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.geometry import CornerReflector, PointTarget, corner_reflector_axes
 from simcore.scene.materials import DualBandMaterial
@@ -40,6 +31,7 @@ from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot
 from simcore.sensors.radar.kinematics import motion_maps
+from simcore.sensors.radar.surfaces import facet_returns, transmission_coefficients
 
 #: Smallest cos(incidence) used in the pixel area (grazing guard, ≈ 88.9°).
 COS_MIN = 0.02
@@ -215,169 +207,61 @@ def trihedral_effective_area(directions: NDArray[np.floating], edge_m: float
     return np.where(lo > 0, np.maximum(area, 0.0), 0.0) * edge_m**2
 
 
-def _splitmix64(x: NDArray[np.uint64]) -> NDArray[np.uint64]:
-    x = x + np.uint64(0x9E3779B97F4A7C15)
-    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
-    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
-    return x ^ (x >> np.uint64(31))
+def _object_meshes(project: Project, buffers: RenderBuffers
+                   ) -> tuple[TriangleMesh | None, ...]:
+    """Each object's mesh in its frame: the render's, else built here (no mesh files)."""
+    if len(buffers.meshes) == len(project.objects):
+        return buffers.meshes
+    out: list[TriangleMesh | None] = []
+    for o in project.objects:
+        try:
+            out.append(build_mesh(o.geometry))
+        except (OSError, ValueError):
+            out.append(None)
+    return tuple(out)
 
 
-def speckle_phase(facet_rows: NDArray[np.integer], facet_cols: NDArray[np.integer],
-                  object_ids: NDArray[np.integer], *, seed: int = 0) -> NDArray[np.float64]:
-    """Uniform random phase of each (facet, object), a fixed hash of its indices.
-
-    The same facet of the same object always gets the same phase, whatever the render
-    supersampling, so a static scene seen by a static radar gives the same data in every
-    frame; ``seed`` selects another realisation.
-
-    Parameters
-    ----------
-    facet_rows, facet_cols : ndarray, shape (M,)
-        Facet-grid indices.
-    object_ids : ndarray, shape (M,)
-        Project ids of the objects.
-    seed : int
-        Speckle realisation.
-
-    Returns
-    -------
-    ndarray, shape (M,)
-        Phases in [0, 2π) (rad).
-    """
-    h = np.full(np.shape(facet_rows), np.uint64(seed & 0xFFFFFFFFFFFFFFFF), dtype=np.uint64)
-    with np.errstate(over="ignore"):
-        for part in (object_ids, facet_rows, facet_cols):
-            h = _splitmix64(h ^ np.asarray(part, dtype=np.int64).astype(np.uint64))
-    return (h >> np.uint64(11)).astype(np.float64) * (2.0 * np.pi / 2.0**53)
-
-
-def _speckle_phase_grid(rows: NDArray[np.integer], cols: NDArray[np.integer],
-                        obj: NDArray[np.integer], ids: NDArray[np.int64], *, height: int,
-                        seed: int) -> NDArray[np.float64]:
-    """:func:`speckle_phase` of ``(rows, cols, ids[obj])``, bit for bit, computed faster.
-
-    The first two rounds of the hash depend only on (object, row): they are tabulated
-    for every object and row of the grid, so only the last round runs per scatterer.
-    """
-    h = np.full(len(ids), np.uint64(seed & 0xFFFFFFFFFFFFFFFF), dtype=np.uint64)
-    with np.errstate(over="ignore"):
-        h = _splitmix64(h ^ ids.astype(np.uint64))                       # (objects,)
-        table = _splitmix64(h[:, None] ^ np.arange(height, dtype=np.uint64)[None, :])
-        key = np.asarray(obj, dtype=np.int64) * height + np.asarray(rows, dtype=np.int64)
-        last = _splitmix64(np.take(table.ravel(), key)
-                           ^ np.asarray(cols, dtype=np.int64).astype(np.uint64))
-    return (last >> np.uint64(11)).astype(np.float64) * (2.0 * np.pi / 2.0**53)
-
-
-def _supersampling(buffers: RenderBuffers, facets: PinholeIntrinsics) -> int:
-    """Sub-pixels per facet and axis, or 0 if the render grid is not the facet grid × s."""
-    intr = buffers.intrinsics
-    s = intr.width // facets.width
-    if s < 1 or intr.width != s * facets.width or intr.height != s * facets.height:
-        return 0
-    ref = facets.scaled(s)
-    close = np.allclose([intr.fx, intr.fy, intr.cx, intr.cy],
-                        [ref.fx, ref.fy, ref.cx, ref.cy], rtol=1e-9, atol=1e-9)
-    return s if close else 0
-
-
-_SOLID_ANGLE: dict[PinholeIntrinsics, NDArray[np.float64]] = {}
-
-
-def _pixel_solid_angle(intr: PinholeIntrinsics) -> NDArray[np.float64]:
-    """Cached :meth:`PinholeIntrinsics.pixel_solid_angle` (read-only)."""
-    omega = _SOLID_ANGLE.get(intr)
-    if omega is None:
-        if len(_SOLID_ANGLE) > 8:
-            _SOLID_ANGLE.clear()
-        omega = intr.pixel_solid_angle()
-        omega.setflags(write=False)
-        _SOLID_ANGLE[intr] = omega
-    return omega
-
-
-def _facet_scatterers(project: Project, buffers: RenderBuffers,
+def _facet_scatterers(project: Project, snapshot: SceneSnapshot, buffers: RenderBuffers,
                       facets: PinholeIntrinsics | None, exclude: NDArray[np.bool_], *,
+                      wavelength_m: float, materials: Mapping[str, DualBandMaterial],
                       speckle: bool, seed: int, extra: int = 0,
-                      pixels: NDArray[np.bool_] | None = None
+                      pixels: NDArray[np.bool_] | None = None,
+                      see_through: RenderBuffers | None = None
                       ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
                                  NDArray[np.float64], NDArray[np.int32], NDArray[np.int64]]:
-    """Positions, velocities, RCS, phases, object indices and keys of the facet scatterers.
+    """Positions, velocities, RCS, phases, object indices and keys of the surface facets.
 
-    Every array has ``extra`` more rows at the end, left for the caller to fill. Only the
-    render pixels where ``pixels`` is true are used, if given.
+    The facets are the objects' surface facets seen in the render
+    (:func:`~simcore.sensors.radar.surfaces.facet_returns`); the key of each is its
+    facet-grid cell (of its centroid) times the number of objects plus its object. Every
+    array has ``extra`` more rows at the end, left for the caller to fill.
     """
-    obj_img = buffers.object_index
-    width = buffers.intrinsics.width
-    valid = obj_img >= 0
-    valid &= np.isfinite(buffers.range_m)
-    if pixels is not None:
-        valid &= pixels
-    if exclude.any():
-        valid &= ~np.take(exclude, np.clip(obj_img, 0, None))
-    # Flat pixel indices: 1-D gathers from the raveled buffers (no copies of the images).
-    idx = np.flatnonzero(valid)
-    rng = np.take(buffers.range_m, idx).astype(np.float64)
-    cos_inc = np.maximum(np.take(buffers.cos_incidence, idx).astype(np.float64), COS_MIN)
-    omega = np.take(_pixel_solid_angle(buffers.intrinsics), idx)
-    rcs = np.take(buffers.intensity, idx).astype(np.float64)
-    rcs *= rng * rng
-    rcs *= omega
-    rcs /= cos_inc
-    keep = rcs > 0
-    if not keep.all():
-        idx, rcs = idx[keep], rcs[keep]
-    obj = np.take(obj_img, idx)
-    rows, cols = np.divmod(idx, width)
-    ids = np.array([o.id for o in project.objects], dtype=np.int64)
-
-    s = _supersampling(buffers, facets) if facets is not None else 0
-    if s <= 1:
-        # One scatterer per pixel, gathered straight into the (longer) outputs.
-        n = len(idx)
-        pos = np.empty((n + extra, 3))
-        vel = np.empty((n + extra, 3))
-        pos[:n] = np.take(buffers.points_m.reshape(-1, 3), idx, axis=0)
-        vel[:n] = np.take(buffers.velocity_mps.reshape(-1, 3), idx, axis=0)
-        phase = np.zeros(n + extra)
-        if speckle and n:
-            phase[:n] = _speckle_phase_grid(rows, cols, obj, ids, height=obj_img.shape[0],
-                                            seed=seed)
-        key = np.full(n + extra, -1, dtype=np.int64)
-        np.multiply(idx, max(len(ids), 1), out=key[:n])
-        key[:n] += obj
-        return pos, vel, _grow(rcs, extra), phase, _grow(obj.astype(np.int32), extra), key
-
-    # Supersampled render: merge the s × s sub-pixels of each facet per object.
-    pos_px = np.take(buffers.points_m.reshape(-1, 3), idx, axis=0).astype(np.float64)
-    vel_px = np.take(buffers.velocity_mps.reshape(-1, 3), idx, axis=0).astype(np.float64)
-    n_obj = max(len(project.objects), 1)
-    f_rows, f_cols = rows // s, cols // s
-    key = (f_rows * (buffers.intrinsics.width // s) + f_cols) * n_obj + obj
-    uniq, inverse = np.unique(key, return_inverse=True)
-    total = np.bincount(inverse, weights=rcs).astype(np.float64)
-    pos = np.stack([np.bincount(inverse, weights=rcs * pos_px[:, k]) for k in range(3)],
-                   axis=1) / total[:, None]
-    vel = np.stack([np.bincount(inverse, weights=rcs * vel_px[:, k]) for k in range(3)],
-                   axis=1) / total[:, None]
-    merged_obj = uniq % n_obj
-    cell = uniq // n_obj
-    width = buffers.intrinsics.width // s
-    rows, cols = cell // width, cell % width
-    if speckle and len(merged_obj):
-        phase = speckle_phase(rows, cols, ids[merged_obj], seed=seed)
-    else:
-        phase = np.zeros(len(merged_obj))
-    return (_grow(pos, extra), _grow(vel, extra), _grow(total, extra), _grow(phase, extra),
-            _grow(merged_obj.astype(np.int32), extra),
-            np.concatenate([uniq.astype(np.int64), np.full(extra, -1, dtype=np.int64)]))
-
-
-def _grow(a: NDArray[Any], extra: int) -> NDArray[Any]:
-    """``a`` with ``extra`` more rows of zeros."""
-    if not extra:
-        return a
-    return np.concatenate([a, np.zeros((extra, *a.shape[1:]), dtype=a.dtype)])
+    found = facet_returns(project, snapshot, buffers, _object_meshes(project, buffers),
+                          wavelength_m=wavelength_m, materials=materials, speckle=speckle,
+                          seed=seed, exclude=exclude, pixels=pixels,
+                          see_through=see_through)
+    n = len(found.object_index)
+    pos = np.empty((n + extra, 3))
+    pos[:n] = found.positions_m
+    vel = np.zeros((n + extra, 3))
+    radar = snapshot.sensors["radar"]
+    for i in np.unique(found.object_index):
+        rel = (snapshot.objects[i].velocity_mps - radar.velocity_mps) @ radar.rotation
+        vel[:n][found.object_index == i] = rel
+    rcs = np.zeros(n + extra)
+    rcs[:n] = np.abs(found.amplitude) ** 2
+    phase = np.zeros(n + extra)
+    phase[:n] = np.angle(found.amplitude)
+    obj = np.zeros(n + extra, dtype=np.int32)
+    obj[:n] = found.object_index
+    key = np.full(n + extra, -1, dtype=np.int64)
+    render = buffers.intrinsics
+    grid = render if facets is None else facets
+    rows, cols = np.divmod(found.pixel, render.width)
+    f_rows = np.minimum(rows * grid.height // render.height, grid.height - 1)
+    f_cols = np.minimum(cols * grid.width // render.width, grid.width - 1)
+    key[:n] = (f_rows * grid.width + f_cols) * max(len(project.objects), 1) + found.object_index
+    return pos, vel, rcs, phase, obj, key
 
 
 def _radar_frame(snapshot: SceneSnapshot, world_points: NDArray[np.float64]
@@ -396,25 +280,44 @@ def _relative_velocity(snapshot: SceneSnapshot, index: int, world_point: NDArray
 def _unoccluded(buffers: RenderBuffers, point_radar: NDArray[np.float64], object_index: int
                 ) -> bool:
     """True unless a rendered surface of another object lies in front of ``point_radar``."""
+    return _in_front(buffers, point_radar, object_index) < 0
+
+
+def _in_front(buffers: RenderBuffers, point_radar: NDArray[np.float64], object_index: int
+              ) -> int:
+    """The other object a render shows in front of ``point_radar``, or −1."""
     if point_radar[2] <= 0:
-        return True  # behind the board: the antenna pattern decides
+        return -1  # behind the board: the antenna pattern decides
     intr = buffers.intrinsics
     u, v = intr.project(point_radar)
     col, row = int(np.floor(u)), int(np.floor(v))
     if not (0 <= col < intr.width and 0 <= row < intr.height):
-        return True  # outside the render: nothing known in front of it
+        return -1  # outside the render: nothing known in front of it
     hit = int(buffers.object_index[row, col])
     rng = float(buffers.range_m[row, col])
     if hit < 0 or hit == object_index or not np.isfinite(rng):
-        return True
-    return rng >= float(np.linalg.norm(point_radar)) - OCCLUSION_TOLERANCE_M
+        return -1
+    return -1 if rng >= float(np.linalg.norm(point_radar)) - OCCLUSION_TOLERANCE_M else hit
+
+
+def _path_factor(buffers: RenderBuffers, see_through: RenderBuffers | None,
+                 trans: NDArray[np.complex128], point_radar: NDArray[np.float64],
+                 object_index: int) -> complex:
+    """Two-way amplitude factor of the path to an analytic target: 1, T², or 0 (hidden)."""
+    if see_through is None:
+        return 1.0 if _unoccluded(buffers, point_radar, object_index) else 0.0
+    if not _unoccluded(see_through, point_radar, object_index):
+        return 0.0
+    front = _in_front(buffers, point_radar, object_index)
+    return 1.0 if front < 0 else complex(trans[front]) ** 2
 
 
 def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: RenderBuffers,
                            *, wavelength_m: float, facets: PinholeIntrinsics | None = None,
                            speckle: bool = True, seed: int = 0,
                            materials: Mapping[str, DualBandMaterial] | None = None,
-                           pixels: NDArray[np.bool_] | None = None) -> Scatterers:
+                           pixels: NDArray[np.bool_] | None = None,
+                           see_through: RenderBuffers | None = None) -> Scatterers:
     """All radar scatterers of a frame from its snapshot and radar render.
 
     Parameters
@@ -442,6 +345,10 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
         Use only these render pixels for the facets (whole facets when the render is
         supersampled); the facets they cover come out as from the whole render. Analytic
         targets are always included.
+    see_through : RenderBuffers, optional
+        The render with the partially transparent objects hidden (see
+        :func:`~simcore.sensors.radar.surfaces.facet_returns`): what lies behind them is
+        seen through them, attenuated by their two-way transmission.
 
     Returns
     -------
@@ -458,8 +365,10 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
                          for o in objects], dtype=bool)
 
     # ---------------------------------------------------------------- analytic targets
-    table = materials
+    table = materials if materials is not None else material_table(project)
+    trans = transmission_coefficients(project, table, wavelength_m)
     extra_pos, extra_vel, extra_rcs, extra_obj, extra_kind = [], [], [], [], []
+    extra_phase: list[float] = []
     edge_axes = corner_reflector_axes()
     for i, o in enumerate(objects):
         geom = o.geometry
@@ -469,12 +378,11 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
         apex_world = state.origin
         apex = _radar_frame(snapshot, apex_world[None, :])[0]
         if isinstance(geom, CornerReflector):
-            if table is None:
-                table = material_table(project)
             material = table.get(o.material)
             if material is not None and material.band("radar").opacity <= 0:
                 continue  # not drawn in the radar pass: the radar sees through it
-            if not _unoccluded(buffers, apex, i):
+            path = _path_factor(buffers, see_through, trans, apex, i)
+            if path == 0:
                 continue
             to_radar_world = snapshot.sensors["radar"].position - apex_world
             to_radar_world /= max(float(np.linalg.norm(to_radar_world)), 1e-300)
@@ -483,7 +391,8 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
             sigma = 4.0 * np.pi * float(area) ** 2 / wavelength_m**2
             kind = KIND_CORNER_REFLECTOR
         else:
-            if not _unoccluded(buffers, apex, i):
+            path = _path_factor(buffers, see_through, trans, apex, i)
+            if path == 0:
                 continue
             sigma = geom.rcs_m2
             kind = KIND_POINT_TARGET
@@ -491,22 +400,24 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
             continue
         extra_pos.append(apex)
         extra_vel.append(_relative_velocity(snapshot, i, apex_world))
-        extra_rcs.append(sigma)
+        extra_rcs.append(sigma * abs(path) ** 2)
+        extra_phase.append(float(np.angle(path)))
         extra_obj.append(i)
         extra_kind.append(kind)
 
     # ---------------------------------------------------------------- facets, then those
     n_extra = len(extra_rcs)
-    pos, vel, rcs, phase, obj, key = _facet_scatterers(project, buffers, facets, analytic,
-                                                       speckle=speckle, seed=seed,
-                                                       extra=n_extra, pixels=pixels)
+    pos, vel, rcs, phase, obj, key = _facet_scatterers(
+        project, snapshot, buffers, facets, analytic, wavelength_m=wavelength_m,
+        materials=table, speckle=speckle, seed=seed, extra=n_extra, pixels=pixels,
+        see_through=see_through)
     n = len(pos) - n_extra
     kinds = np.full(n + n_extra, KIND_FACET, dtype=np.int8)
     if n_extra:
         pos[n:] = extra_pos
         vel[n:] = extra_vel
         rcs[n:] = extra_rcs
-        phase[n:] = 0.0
+        phase[n:] = extra_phase
         obj[n:] = extra_obj
         kinds[n:] = extra_kind
     acc = _rotation_kinematics(snapshot, pos, vel, obj)

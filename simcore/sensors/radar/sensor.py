@@ -29,6 +29,7 @@ from simcore.sensors.radar.labels import (
     label_detections,
     prepare_scatterers,
 )
+from simcore.sensors.radar.surfaces import transmissive_objects
 from simcore.sensors.radar.synthesis import ComplexCube, prepare, synthesize_if
 
 
@@ -78,12 +79,17 @@ class RadarSensor:
     on_worker = True
 
     def render_request(self, project: Project) -> RenderRequest:
-        """The radar pass: facet grid × render supersampling, square pixels."""
-        return RenderRequest(self.name, self.band, project.rig.radar.render_intrinsics())
+        """The radar pass (visibility only): facet grid × render supersampling, square pixels."""
+        return RenderRequest(self.name, self.band, project.rig.radar.render_intrinsics(),
+                             geometry_only=True)
 
     def sample_offsets_s(self, project: Project) -> tuple[float, ...]:
         """No extra renders: motion within the frame is the scatterers' velocities."""
         return ()
+
+    def see_through(self, project: Project) -> tuple[bool, ...] | None:
+        """The objects that transmit part of the radar wave (slabs: glass, paper, wood)."""
+        return transmissive_objects(project, project.rig.radar.wavelength_m)
 
     def simulate(self, ctx: SensorContext) -> RadarFrameOutput:
         """Scatterers, IF synthesis, receiver and DSP of one frame."""
@@ -92,8 +98,9 @@ class RadarSensor:
         if found is None:
             scatterers = ctx.stage(
                 "radar_scatterers",
-                lambda: radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed),
-                reads=_scatterer_reads(ctx, cfg), inputs=(ctx.buffers,))
+                lambda: radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
+                                         see_through=ctx.see_through),
+                reads=_scatterer_reads(ctx, cfg), inputs=(ctx.buffers, ctx.see_through))
             # Per-scatterer arrays that do not depend on antennas or waveform: an antenna
             # edit re-uses them with the scatterers.
             prepared = ctx.stage("radar_prepare", lambda: prepare(scatterers), reads=(),

@@ -29,6 +29,10 @@ class RgbSensor:
         """The visible-band pass from the camera, one render pixel per image pixel."""
         return RenderRequest(self.name, self.band, self._config(project).render_intrinsics())
 
+    def see_through(self, project: Project) -> tuple[bool, ...] | None:
+        """No second pass: the band's objects are opaque or invisible (opacity 0)."""
+        return None
+
     def sample_offsets_s(self, project: Project) -> tuple[float, ...]:
         """No extra renders."""
         return ()

@@ -25,6 +25,10 @@ class TofSensor:
         """The supersampled near-infrared pass from the camera."""
         return RenderRequest(self.name, self.band, project.rig.tof.render_intrinsics())
 
+    def see_through(self, project: Project) -> tuple[bool, ...] | None:
+        """No second pass: the band's objects are opaque or invisible (opacity 0)."""
+        return None
+
     def sample_offsets_s(self, project: Project) -> tuple[float, ...]:
         """Times of extra renders: motion artefacts, then the previous frame (auto-exposure).
 
