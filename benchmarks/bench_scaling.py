@@ -97,7 +97,8 @@ def measure(project: Project, frames: int) -> dict[str, Any]:
                 stages.setdefault(k, []).append(v)
         assert frame is not None
         scatterers = radar_scatterers(project, frame.snapshot, frame.buffers["radar"],
-                                      seed=sim.seed)
+                                      seed=sim.seed,
+                                      see_through=frame.see_through.get("radar"))
         cfg = project.rig.radar
         full = []
         for _ in range(3):

@@ -92,7 +92,8 @@ def if_synthesis_accuracy(simulator: Simulator, index: int, *, subset: int = 100
     frame = simulator.frame(index)
     cfg = simulator.project.rig.radar
     scatterers = radar_scatterers(simulator.project, frame.snapshot, frame.buffers["radar"],
-                                  seed=simulator.seed)
+                                  seed=simulator.seed,
+                                  see_through=frame.see_through.get("radar"))
     n = len(scatterers)
     rng = np.random.default_rng(seed)
     pick = np.sort(rng.choice(n, size=min(subset, n), replace=False))
@@ -196,7 +197,8 @@ def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
             else float("nan")
         accuracy = if_synthesis_accuracy(sim, index, subset=subset)
         scatterers = radar_scatterers(project, frame.snapshot, frame.buffers["radar"],
-                                      seed=sim.seed)
+                                      seed=sim.seed,
+                                      see_through=frame.see_through.get("radar"))
         moving = int(np.count_nonzero(np.any(scatterers.velocities_mps != 0.0, axis=1)))
         triangles = len(sim.engine.renderer.geometry.triangles)
     frame_ms = _median(walls)

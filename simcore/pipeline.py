@@ -57,6 +57,9 @@ class Frame:
         its DSP products), ``"rgb"`` (:class:`~simcore.sensors.rgb.RgbOutput`) when on.
     buffers : dict of str to RenderBuffers
         Each sensor's render pass.
+    see_through : dict of str to RenderBuffers
+        The see-through pass of the sensors that have one (the radar, when the scene has
+        partially transparent objects: :meth:`RadarSensor.see_through`).
     timings_ms : dict
         Wall time of each stage that ran (ms; the two chains overlap) and ``total``.
     objects : ObjectTruth or None
@@ -73,6 +76,7 @@ class Frame:
     buffers: dict[str, RenderBuffers]
     timings_ms: dict[str, float] = field(default_factory=dict)
     objects: ObjectTruth | None = None
+    see_through: dict[str, RenderBuffers] = field(default_factory=dict)
 
     def hdf5_items(self) -> H5Items:
         """Per-frame datasets of the HDF5 layout: path → (array without frame axis, unit)."""
@@ -155,7 +159,8 @@ class Simulator:
         return Frame(index=index, time_s=snap.time_s, rig_pose=snap.rig.transform,
                      object_poses=snap.object_transforms(), snapshot=snap,
                      outputs=result.outputs, buffers=result.buffers,
-                     timings_ms=result.timings_ms, objects=truth)
+                     timings_ms=result.timings_ms, objects=truth,
+                     see_through=result.see_through)
 
     @property
     def render_count(self) -> int:

@@ -493,7 +493,8 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
     office = load_project(example_path("office"))
     with Simulator(office) as sim:
         frame = sim.frame(0)
-        sc = radar_scatterers(office, frame.snapshot, frame.buffers["radar"], seed=sim.seed)
+        sc = radar_scatterers(office, frame.snapshot, frame.buffers["radar"], seed=sim.seed,
+                              see_through=frame.see_through.get("radar"))
         rng = np.random.default_rng(0)
         subset = sc.subset(np.sort(rng.choice(len(sc), size=min(len(sc), 800 if quick
                                                                  else 2000), replace=False)))

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-import finufft
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
@@ -13,8 +12,8 @@ from simcore.render import PinholeIntrinsics, RenderBuffers, RenderRequest, Scen
 from simcore.resources import example_path
 from simcore.scene import Box, PointTarget, Pose, Project, SceneObject, load_project
 from simcore.scene.model import SensorRig
-from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.scene.project_io import material_table
+from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
 from simcore.sensors.radar import radar_scatterers, simulate_radar
 from simcore.sensors.radar.scatterers import KIND_CORNER_REFLECTOR, KIND_POINT_TARGET
@@ -106,14 +105,11 @@ def test_point_targets_range_and_power(make_renderer: Renderer) -> None:
         assert abs(power_err_db) <= 0.5
 
 
-def test_wall_peak_power_does_not_depend_on_render_resolution(make_renderer: Renderer) -> None:
-    """Acceptance: doubling the render resolution changes the wall's peak power < 1 dB.
-
-    The render is refined (supersampling 1 → 2, 1000×342 → 2000×684 pixels) under the same
-    facet grid: the data themselves (speckle included) keep their peak power. With the
-    facet grid doubled too, the speckle realisation changes, so there the *expected*
-    (speckle-averaged) peak power is compared, computed from the scatterers' RCS.
-    """
+def test_wall_peak_power_does_not_depend_on_render_supersampling(make_renderer: Renderer
+                                                                  ) -> None:
+    """Supersampling the radar render (480² → 960² pixels) leaves the data unchanged: the
+    scatterers are surface facets, the render only decides which are seen (the render
+    grid doubled is checked in ``test_radar_surfaces``)."""
     project = load_project(example_path("wall"))
     renderer = make_renderer(project)
     base = project.rig.radar.model_copy(update={**IDEAL, "if_highpass_hz": 80e3})
@@ -121,7 +117,6 @@ def test_wall_peak_power_does_not_depend_on_render_resolution(make_renderer: Ren
     snap, coarse_buf = radar_render(renderer, project, base)
     _, fine_buf = radar_render(renderer, project, fine)
     assert fine_buf.shape == (2 * coarse_buf.shape[0], 2 * coarse_buf.shape[1])
-
     peaks = []
     for cfg, buf in ((base, coarse_buf), (fine, fine_buf)):
         out = simulate_radar(radar_scatterers(project, snap, buf, config=cfg), cfg,
@@ -129,35 +124,7 @@ def test_wall_peak_power_does_not_depend_on_render_resolution(make_renderer: Ren
         spec = range_spectrum(out.adc[0, 1].astype(np.float64), pad=1)
         peaks.append(20 * np.log10(np.abs(spec).max()))
     print(f"wall peak: {peaks[0]:.3f} dBFS at 1×, {peaks[1]:.3f} dBFS at 2× render")
-    assert abs(peaks[1] - peaks[0]) < 1.0
-
-    # Facet grid doubled as well: expected peak power E|X_b|² = Σ_k |a_k|² |W(θ_k − 2πb/N)|².
-    expected = []
-    n = base.samples_per_chirp
-    w = np.hanning(n)
-    autocorr = np.correlate(w, w, mode="full")          # lags −(n−1) … n−1
-    lags = np.arange(-n + 1, n)
-    dense = base.model_copy(update={"render_width": 2 * base.render_width,
-                                    "render_height": 2 * base.render_height})
-    for cfg, buf in ((base, coarse_buf), (dense, fine_buf)):
-        assert cfg.render_intrinsics() == buf.intrinsics
-        scat = radar_scatterers(project, snap, buf, config=cfg)
-        r = np.linalg.norm(scat.positions_m, axis=1)
-        x, y, z = scat.positions_m.T
-        az, el = np.arctan2(x, z), np.arctan2(-y, np.hypot(x, z))
-        q = cfg.element_pattern.exponent_az
-        power = scat.rcs_m2 * (np.cos(az) * np.cos(el)) ** (4 * q) / r**4
-        theta = 2 * np.pi * cfg.slope_hz_per_s * 2 * r / SPEED_OF_LIGHT / cfg.sample_rate_hz
-        # Σ_l r_l e^{-j2πbl/N} S_l with S_l = Σ_k p_k e^{jθ_k l} (a type-1 NUFFT, modes −n…n−1).
-        bins = np.arange(60, 140)
-        modes = finufft.nufft1d1(np.mod(theta + np.pi, 2 * np.pi) - np.pi,
-                                 power.astype(np.complex128), 2 * n, eps=1e-12)
-        s_l = modes[lags + n]
-        profile = np.real(np.exp(-2j * np.pi * np.outer(bins, lags) / n) @ (autocorr * s_l))
-        expected.append(10 * np.log10(profile.max()))
-    print(f"wall expected peak: {expected[0]:.4f} dB (1000×342 facets), "
-          f"{expected[1]:.4f} dB (2000×684 facets)")
-    assert abs(expected[1] - expected[0]) < 0.1
+    assert abs(peaks[1] - peaks[0]) < 0.5
 
 
 def test_corner_reflector_behind_paper_box_appears_in_radar_data(make_renderer: Renderer

@@ -8,6 +8,7 @@ from scenes import wall_project
 
 from simcore.render import PinholeIntrinsics, RenderRequest
 from simcore.scene import Box, Motion, Plane, Pose, Project, SceneObject, Sphere
+from simcore.scene.materials import BandMaterial, DualBandMaterial
 from simcore.scene.model import SensorRig
 from simcore.scene.snapshot import take_snapshot
 
@@ -59,11 +60,14 @@ def test_sphere_silhouette_and_range(make_renderer):
 
 
 def test_radar_transparent_object_absent_from_radar_pass(make_renderer):
-    project = Project(objects=[
+    invisible = DualBandMaterial(name="radar_invisible_card",
+                                 bands={"tof": BandMaterial(reflectance=0.8),
+                                        "radar": BandMaterial(opacity=0.0)})
+    project = Project(materials=[invisible], objects=[
         SceneObject(id=1, name="wall", geometry=Box(size_m=(0.2, 40, 30)),
                     pose=Pose(position_m=(4.1, 0, 0)), material="concrete"),
         SceneObject(id=2, name="box", geometry=Box(size_m=(0.3, 0.6, 0.6)),
-                    pose=Pose(position_m=(2.0, 0, 0)), material="paper"),
+                    pose=Pose(position_m=(2.0, 0, 0)), material="radar_invisible_card"),
         SceneObject(id=3, name="pane", geometry=Box(size_m=(0.01, 0.6, 0.6)),
                     pose=Pose(position_m=(1.0, 1.0, 0)), material="glass"),
     ])
@@ -73,7 +77,7 @@ def test_radar_transparent_object_absent_from_radar_pass(make_renderer):
     radar = renderer.render(snap, RenderRequest("radar", "radar", RADAR))
     assert 2 in tof.object_id and 2 not in radar.object_id
     assert 3 in radar.object_id and 3 not in tof.object_id
-    # Behind the paper box the radar sees the wall at 4 m on boresight.
+    # Behind the invisible box the radar sees the wall at 4 m on boresight.
     r, c = RADAR.height // 2, RADAR.width // 2
     assert radar.object_id[r, c] == 1
     assert abs(radar.range_m[r, c] - 4.0) < 2e-3

@@ -48,6 +48,7 @@ class FrameResult:
     outputs: dict[str, Any]
     buffers: dict[str, RenderBuffers]
     timings_ms: dict[str, float] = field(default_factory=dict)
+    see_through: dict[str, RenderBuffers] = field(default_factory=dict)
 
 
 def _single_threaded_blas() -> None:
@@ -161,10 +162,11 @@ class FrameEngine:
         # GPU passes on this thread; worker sensors' rasters first so their chain starts.
         order = sorted(self.sensors, key=lambda s: not (s.on_worker and self.threads))
         futures: dict[str, Future[tuple[RenderBuffers, SensorOutput]]] = {}
+        through: dict[str, RenderBuffers] = {}
         results: dict[str, tuple[RenderBuffers, SensorOutput]] = {}
         try:
             for sensor in order:
-                chain = self._sensor_chain(sensor, snap, index, timings)
+                chain = self._sensor_chain(sensor, snap, index, timings, through)
                 if sensor.on_worker and self.threads:
                     futures[sensor.name] = self._pool().submit(chain)
                 else:
@@ -178,10 +180,11 @@ class FrameEngine:
             index=index, snapshot=snap,
             outputs={n: results[n][1] for n in names},
             buffers={n: _stamped(results[n][0], snap, n) for n in names},
-            timings_ms=timings)
+            timings_ms=timings,
+            see_through={n: _stamped(b, snap, n) for n, b in through.items()})
 
     def _sensor_chain(self, sensor: Sensor, snap: SceneSnapshot, index: int,
-                      timings: dict[str, float]
+                      timings: dict[str, float], through_out: dict[str, RenderBuffers]
                       ) -> Callable[[], tuple[RenderBuffers, SensorOutput]]:
         """Rasterise the sensor's passes now; return the rest (shading, physics) to run."""
         project = self.project
@@ -195,14 +198,17 @@ class FrameEngine:
         through = (None if hide is None else
                    self._raster(snap, request, timings, f"render_{sensor.name}_see_through",
                                 hide=hide, kind="see_through"))
-        bg_raster = None if through is not None else self._background_raster(snap, request,
-                                                                              timings)
+        bg_raster = self._background_raster(snap, request, timings)
+        bg_through = None
+        if bg_raster is not None and hide is not None:
+            assert self.background is not None and self.background.hide is not None
+            both = tuple(a or b for a, b in zip(self.background.hide, hide, strict=True))
+            bg_through = self._raster(snap, request, timings, "render_background",
+                                      hide=both, kind="background_see_through")
 
         def chain() -> tuple[RenderBuffers, SensorOutput]:
             background = None
-            see_through = (None if through is None else
-                           self._shade(through, None, timings,
-                                       f"render_{sensor.name}_see_through"))
+            changed = None
             if bg_raster is not None:
                 bg = self._shade(bg_raster, None, timings, "render_background")
                 changed = changed_pixels(raster, (bg_raster, bg))
@@ -210,6 +216,24 @@ class FrameEngine:
                     background = (bg_raster, bg, changed)
             bg_pair = None if background is None else background[:2]
             buffers = self._shade(raster, bg_pair, timings, label)
+            see_through = bg_see_through = None
+            if through is not None:
+                through_pair = None
+                if bg_through is not None and background is not None:
+                    bg_see_through = self._shade(bg_through, None, timings,
+                                                 "render_background", kind="background_"
+                                                 "see_through")
+                    through_pair = (bg_through, bg_see_through)
+                    more = changed_pixels(through, through_pair)
+                    if more is None:
+                        background = through_pair = bg_see_through = None
+                    else:
+                        background = (background[0], background[1],
+                                      np.union1d(background[2], more))
+                see_through = self._shade(through, through_pair, timings,
+                                          f"render_{sensor.name}_see_through",
+                                          kind="see_through")
+                through_out[sensor.name] = see_through
             sample_buffers = tuple(self._shade(r, bg_pair, timings, label) for r in samples)
 
             def stage(name: str, fn: Callable[[], T], *, reads: Hashable,
@@ -221,7 +245,7 @@ class FrameEngine:
                 buffers=buffers, sample_buffers=sample_buffers,
                 rng=frame_rng(self.seed, index, sensor.rng_stream), stage=stage,
                 background=(None if background is None
-                            else Background(background[1], background[2])),
+                            else Background(background[1], background[2], bg_see_through)),
                 see_through=see_through)
             return buffers, sensor.simulate(ctx)
 
@@ -235,7 +259,7 @@ class FrameEngine:
         # auto-exposure. The background is still: its render does not read the poses.
         kind = kind or ("background" if hide is not None else "frame")
         reads = (self._scene_version, request, hide,
-                 None if kind == "background" else _state_key(snap, request.sensor))
+                 None if kind.startswith("background") else _state_key(snap, request.sensor))
         return self.cache.run(f"raster:{request.sensor}:{kind}",
                               lambda: self.renderer.rasterize(snap, request, hide=hide),
                               reads=reads, timings=timings, label=label)
@@ -248,9 +272,9 @@ class FrameEngine:
                             hide=self.background.hide)
 
     def _shade(self, raster: Raster, background: tuple[Raster, RenderBuffers] | None,
-               timings: dict[str, float], label: str) -> RenderBuffers:
-        kind = ("background" if label == "render_background" else
-                "see_through" if label.endswith("_see_through") else "frame")
+               timings: dict[str, float], label: str, kind: str | None = None
+               ) -> RenderBuffers:
+        kind = kind or ("background" if label == "render_background" else "frame")
         return self.cache.run(f"shade:{raster.sensor}:{kind}",
                               lambda: self.renderer.shade(raster, background=background),
                               reads=(), inputs=(raster,), timings=timings, label=label)

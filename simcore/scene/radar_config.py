@@ -203,7 +203,8 @@ class RadarConfig(Model):
     # Scattering and synthesis.
     speckle: bool = Field(
         default=True,
-        description="random surface-attached phase per render pixel (rough surfaces)")
+        description="random phase of each surface facet's diffuse part, fixed to the "
+                    "surface (rough-surface speckle); off: phase 0")
     nufft_tolerance: float = Field(1e-9, ge=1e-14, le=1e-2)
 
     @model_validator(mode="after")

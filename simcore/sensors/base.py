@@ -64,11 +64,16 @@ class Background:
     buffers : RenderBuffers
         The still objects' render (same pass, same sensor pose).
     changed : ndarray of intp, shape (K,)
-        Flat pixel indices where the frame's render differs from ``buffers``.
+        Flat pixel indices where the frame's render differs from ``buffers`` (or its
+        see-through pass from ``see_through``).
+    see_through : RenderBuffers or None
+        The still objects' see-through pass (:attr:`SensorContext.see_through`), when the
+        sensor has one.
     """
 
     buffers: RenderBuffers
     changed: NDArray[np.intp]
+    see_through: RenderBuffers | None = None
 
 
 @dataclass(frozen=True)

@@ -155,6 +155,8 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
     bg = ctx.background
     if bg is None or bg.buffers.shape != ctx.buffers.shape:
         return None
+    if (ctx.see_through is None) != (bg.see_through is None):
+        return None
     facets = cfg.facet_intrinsics()
     cells = changed_cells(bg.changed, ctx.buffers.intrinsics, facets)
     if cells is None:
@@ -163,9 +165,10 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
     background = ctx.stage(
         "radar_background_scatterers",
         lambda: BackgroundFacets.of(
-            radar_scatterers(ctx.project, ctx.snapshot, bg.buffers, seed=ctx.seed),
+            radar_scatterers(ctx.project, ctx.snapshot, bg.buffers, seed=ctx.seed,
+                             see_through=bg.see_through),
             len(ctx.project.objects)),
-        reads=reads, inputs=(bg.buffers,))
+        reads=reads, inputs=(bg.buffers, bg.see_through))
     background_prepared = ctx.stage("radar_background_prepare",
                                     lambda: prepare(background.scatterers), reads=(),
                                     inputs=(background,))
@@ -180,7 +183,7 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
     def frame_if() -> tuple[ComplexCube, int, int, _LabelParts]:
         pixels = cell_pixels(cells, ctx.buffers.intrinsics, facets)
         others = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
-                                  pixels=pixels)
+                                  pixels=pixels, see_through=ctx.see_through)
         hidden = background.in_cells(cells)
         out = background_if.copy()
         if len(hidden):
@@ -193,5 +196,5 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
         return out, n, len(hidden) + len(others), parts
 
     return ctx.stage("radar_synthesis", frame_if, reads=(reads, config_key(cfg)),
-                     inputs=(ctx.buffers, bg.buffers))
+                     inputs=(ctx.buffers, bg.buffers, ctx.see_through))
 
