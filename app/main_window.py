@@ -189,6 +189,7 @@ class MainWindow(QMainWindow):
         self.docks["antennas"].raise_()
         self.inspector.time_source = lambda: self.time.time_s
         remember_last_folder(self.recent_files())  # Save As starts there
+        self._build_explore_links()
 
     def _action(self, text: str, slot: Any, *, shortcut: Any = None, tip: str = "",
                 checkable: bool = False) -> QAction:
@@ -295,6 +296,7 @@ class MainWindow(QMainWindow):
             tip="Colour the radar detections in the range–Doppler and range–azimuth maps by "
                 "their ground-truth object (grey: noise, no object in the cell)")
         view.addAction(self.label_colours_action)
+        view.addActions([self.truth_action, self.freeze_action, self.difference_action])
         view.addSeparator()
         for dock in self.docks.values():
             view.addAction(dock.toggleViewAction())
@@ -382,6 +384,88 @@ class MainWindow(QMainWindow):
                 panel.show_frame(panel.view)
         if self.label_colours_action.isChecked() != bool(on):
             self.label_colours_action.setChecked(bool(on))
+
+    # --- ground truth, linked selection, A/B comparison (issue #17) -----------------------
+    def _build_explore_links(self) -> None:
+        """Ground-truth marks, detection ↔ object selection and A/B comparison in the panels."""
+        self.truth_action = self._action(
+            "Show ground truth", self.set_show_truth, checkable=True,
+            tip="Mark each object's true range, radial velocity and azimuth on the radar "
+                "panels and outline the objects in the ToF images")
+        self.truth_action.setChecked(True)
+        self.freeze_action = self._action(
+            "Freeze reference A", lambda: self.freeze_reference(),
+            shortcut=QKeySequence("Ctrl+Shift+F"),
+            tip="Keep the current range profile and maps as reference A (all radar panels)")
+        self.difference_action = self._action(
+            "Show difference A − B", self.set_show_difference, checkable=True,
+            tip="Show the current radar panels minus the frozen reference (dB)")
+        self.difference_action.setEnabled(False)
+        #: What the last clicked detection measured (also in the panels' read-out line).
+        self.detection_info = ""
+        for panel in self.comparable_panels():
+            panel.detectionClicked.connect(self.select_detection)
+            panel.objectClicked.connect(self.document.select)
+        self.document.selectionChanged.connect(self._follow_selection)
+        self.document.projectChanged.connect(self._follow_project_in_panels)
+        self._follow_project_in_panels()
+
+    def comparable_panels(self) -> list[LivePanel]:
+        """The radar panels (A/B comparison, clickable detections)."""
+        return [self.profile_panel, self.rd_panel, self.ra_panel]
+
+    def _follow_project_in_panels(self, *_: object) -> None:
+        for panel in (self.tof_panel, *self.comparable_panels()):
+            panel.set_project(self.document.project)
+
+    def _follow_selection(self, key: object) -> None:
+        selected = key if isinstance(key, int) and not isinstance(key, bool) else None
+        for panel in (self.tof_panel, *self.comparable_panels()):
+            panel.set_selected(selected)
+
+    def set_show_truth(self, on: bool) -> None:  # noqa: FBT001 - Qt slot
+        """Show or hide the ground-truth marks and outlines."""
+        for panel in (self.tof_panel, *self.comparable_panels()):
+            panel.set_show_truth(bool(on))
+        if self.truth_action.isChecked() != bool(on):
+            self.truth_action.setChecked(bool(on))
+
+    def freeze_reference(self) -> None:
+        """Freeze every radar panel's current frame as reference A."""
+        for panel in self.comparable_panels():
+            panel.freeze_reference()
+        self.difference_action.setEnabled(self.last_view is not None)
+        if self.last_view is not None:
+            self.statusBar().showMessage(
+                f"Reference A: frame {self.last_view.index + 1}. Edit the configuration, "
+                "then View → Show difference A − B", 8000)
+
+    def set_show_difference(self, on: bool) -> None:  # noqa: FBT001 - Qt slot
+        """Show the radar panels as the difference to the frozen reference."""
+        for panel in self.comparable_panels():
+            panel.set_show_difference(bool(on))
+        if self.difference_action.isChecked() != bool(on):
+            self.difference_action.setChecked(bool(on))
+
+    def select_detection(self, index: int) -> None:
+        """Select the object of detection ``index`` of the shown frame and say what it is."""
+        radar = None if self.last_view is None else self.last_view.radar
+        if radar is None or not 0 <= index < len(radar.detections):
+            return
+        det = radar.detections
+        oid = -1 if det.object_id is None else int(det.object_id[index])
+        names = {o.id: o.name for o in self.document.project.objects}
+        what = names.get(oid, f"object {oid}") if oid >= 0 else "noise (no object)"
+        self.detection_info = (
+            f"detection {index + 1}: SNR {det.snr_db[index]:.1f} dB, range "
+            f"{det.range_m[index]:.3f} m, velocity {det.velocity_mps[index]:+.3f} m/s, "
+            f"azimuth {det.azimuth_deg[index]:+.1f}°, elevation "
+            f"{det.elevation_deg[index]:+.1f}° → {what}")
+        for panel in self.comparable_panels():
+            panel.readout.setText(self.detection_info)
+        self.statusBar().showMessage(self.detection_info, 20000)
+        if oid >= 0:
+            self.document.select(oid)
 
     def _follow_rig_sensors(self, *_: object) -> None:
         """Show the RGB camera's dock when the rig gains one, hide it when it has none."""
