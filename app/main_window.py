@@ -6,18 +6,21 @@ import time
 from pathlib import Path
 from typing import Any
 
-from PyQt6.QtCore import QSettings, Qt, QTimer
+from PyQt6.QtCore import QSettings, QSize, Qt, QTimer
 from PyQt6.QtGui import QAction, QCloseEvent, QKeySequence, QShortcut
 from PyQt6.QtWidgets import (
     QDockWidget,
     QFileDialog,
+    QFrame,
     QInputDialog,
     QLabel,
     QMainWindow,
     QMenu,
     QMessageBox,
     QProgressDialog,
+    QScrollArea,
     QStyle,
+    QTabBar,
     QToolButton,
     QWidget,
 )
@@ -49,6 +52,29 @@ CONFIRM_SECONDS_PER_FRAME = 3.0
 SLOW_FRAME_S = 0.5
 
 
+#: Window size on a large screen; a smaller screen gets what fits (initial_window_size).
+PREFERRED_SIZE = (1720, 1020)
+
+
+def initial_window_size(screen: Any) -> QSize:
+    """The preferred window size, shrunk to 95 % of the screen's available area."""
+    w, h = PREFERRED_SIZE
+    if screen is not None:
+        area = screen.availableGeometry()
+        w, h = min(w, int(area.width() * 0.95)), min(h, int(area.height() * 0.95))
+    return QSize(w, h)
+
+
+def scrolled(widget: QWidget) -> QScrollArea:
+    """``widget`` in a frameless scroll area: a dock stays usable when the window is small."""
+    area = QScrollArea()
+    area.setWidget(widget)
+    area.setWidgetResizable(True)
+    area.setFrameShape(QFrame.Shape.NoFrame)
+    area.setObjectName(f"scroll_{type(widget).__name__}")
+    return area
+
+
 def _bytes(n: float) -> str:
     for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
         if n < 1024 or unit == "TiB":
@@ -66,6 +92,14 @@ STAGE_LABELS = {
     "radar_synthesis": "IF synthesis", "radar_background_synthesis": "background IF",
     "radar_receiver": "receiver", "radar_prepare": "prepare", "dsp": "DSP", "rgb": "RGB",
     "radar_labels": "labels", "radar_label_scatterers": "label scatterers"}
+
+
+def stage_label(key: str) -> str:
+    """Readable name of an engine stage: ``radar_background_prepare`` → "background prepare"."""
+    if key in STAGE_LABELS:
+        return STAGE_LABELS[key]
+    words = key.removeprefix("radar_").replace("_", " ")
+    return words.replace("tof", "ToF").replace("rgb", "RGB").replace("dsp", "DSP")
 
 
 class MainWindow(QMainWindow):
@@ -108,7 +142,8 @@ class MainWindow(QMainWindow):
         self._build_toolbar()
         self._build_status_bar()
         self._connect()
-        self.resize(1720, 1020)
+        self.resize(initial_window_size(self.screen()))  # 1720×1020, or what fits the screen
+        self._default_state = self.saveState()  # View → Reset layout
         self._restore_layout()
         self._update_title()
         if project_path is not None:
@@ -142,6 +177,8 @@ class MainWindow(QMainWindow):
         self.ra_panel = RangeAzimuthPanel()
         self.rgb_panel = RgbPanel()
         self.docks: dict[str, QDockWidget] = {}
+        self.setCorner(Qt.Corner.BottomRightCorner, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.setCorner(Qt.Corner.BottomLeftCorner, Qt.DockWidgetArea.LeftDockWidgetArea)
         self.docks["scene"] = self._dock("Scene", self.object_list, left, "dock_scene")
         self.docks["inspector"] = self._dock("Inspector", self.inspector, left, "dock_inspector")
         self.docks["tof"] = self._dock("ToF camera", self.tof_panel, right, "dock_tof")
@@ -155,16 +192,19 @@ class MainWindow(QMainWindow):
         self.docks["rgb"] = self._dock("RGB camera", self.rgb_panel, right, "dock_rgb")
         self.tabifyDockWidget(self.docks["tof"], self.docks["rgb"])
         self.docks["tof"].raise_()
-        self.docks["antennas"] = self._dock("Antenna array", self.antenna_editor, bottom,
-                                            "dock_antennas")
-        self.docks["materials"] = self._dock("Materials", self.material_editor, bottom,
-                                             "dock_materials")
+        self.docks["antennas"] = self._dock("Antenna array", scrolled(self.antenna_editor),
+                                            bottom, "dock_antennas")
+        self.docks["materials"] = self._dock("Materials", scrolled(self.material_editor),
+                                             bottom, "dock_materials")
         self.docks["sensors"] = self._dock("Sensors", self.sensor_editor, bottom, "dock_sensors")
-        self.tabifyDockWidget(self.docks["antennas"], self.docks["materials"])
-        self.tabifyDockWidget(self.docks["materials"], self.docks["sensors"])
+        self.timeline_editor = TimelineEditor(self.document)
+        self.docks["timeline"] = self._dock("Timeline and seed", scrolled(self.timeline_editor),
+                                            bottom, "dock_timeline")
+        # One tab group built in one go: a group re-formed step by step leaves stale tab
+        # bars of its earlier forms drawn over the other docks.
+        for name in ("materials", "sensors", "timeline"):
+            self.tabifyDockWidget(self.docks["antennas"], self.docks[name])
         self.docks["antennas"].raise_()
-        self.setCorner(Qt.Corner.BottomRightCorner, Qt.DockWidgetArea.RightDockWidgetArea)
-        self.setCorner(Qt.Corner.BottomLeftCorner, Qt.DockWidgetArea.LeftDockWidgetArea)
         self.resizeDocks([self.docks["scene"], self.docks["tof"]], [390, 690],
                          Qt.Orientation.Horizontal)
         self.resizeDocks([self.docks["tof"], self.docks["profile"], self.docks["rd"]],
@@ -179,14 +219,8 @@ class MainWindow(QMainWindow):
         self._follow_rig_sensors()
 
     def _build_explore_docks(self) -> None:
-        """Timeline & seed dock, keyframes at the current time (issue #17)."""
-        self.timeline_editor = TimelineEditor(self.document)
+        """Timeline & seed editor's errors, keyframes at the current time (issue #17)."""
         self.timeline_editor.editFailed.connect(self.show_status_error)
-        self.docks["timeline"] = self._dock("Timeline and seed", self.timeline_editor,
-                                            Qt.DockWidgetArea.BottomDockWidgetArea,
-                                            "dock_timeline")
-        self.tabifyDockWidget(self.docks["sensors"], self.docks["timeline"])
-        self.docks["antennas"].raise_()
         self.inspector.time_source = lambda: self.time.time_s
         remember_last_folder(self.recent_files())  # Save As starts there
         self._build_explore_links()
@@ -300,6 +334,11 @@ class MainWindow(QMainWindow):
         view.addSeparator()
         for dock in self.docks.values():
             view.addAction(dock.toggleViewAction())
+        view.addSeparator()
+        self.reset_layout_action = self._action(
+            "Reset &layout", lambda: self.reset_layout(),
+            tip="Put every panel back where it was at the first start")
+        view.addAction(self.reset_layout_action)
         sim = bar.addMenu("&Simulation")
         sim.addActions([self.play_action, self.step_back_action, self.step_forward_action,
                         self.first_frame_action, self.cancel_frame_action])
@@ -530,7 +569,7 @@ class MainWindow(QMainWindow):
             self.show_status_error(f"3D view: {type(exc).__name__}: {exc}")
 
     def _show_frame_status(self, view: FrameView) -> None:
-        stages = [f"{STAGE_LABELS.get(k, k)} {v:.0f}" for k, v in view.timings_ms.items()
+        stages = [f"{stage_label(k)} {v:.0f}" for k, v in view.timings_ms.items()
                   if k not in ("total", "wall")]
         self.stage_label.setText(" · ".join(stages) + " ms" if stages else "")
         self.render_label.setText(f"renders {view.render_count} · latency "
@@ -863,6 +902,36 @@ class MainWindow(QMainWindow):
             self.restoreState(state)
             self._rgb_shown = None  # the saved layout may show it: follow the project again
             self._follow_rig_sensors()
+        self.hide_stale_tab_bars()
+
+    def reset_layout(self) -> None:
+        """Put every dock back where a first start puts it, sized to the screen."""
+        self.restoreState(self._default_state)
+        self.resize(initial_window_size(self.screen()))
+        self._rgb_shown = None
+        self._follow_rig_sensors()
+        self.hide_stale_tab_bars()
+
+    def hide_stale_tab_bars(self) -> list[QTabBar]:
+        """Hide dock tab bars left over from a tab group's earlier forms; return them.
+
+        Qt (6.x) keeps the tab bar of a two-dock group visible after a third dock joins it,
+        drawn over whatever dock lies there (the "Antenna array | Materials" bar over the
+        Inspector). A live bar shows exactly one tab group of two or more visible docks.
+        """
+        by_title = {d.windowTitle(): d for d in self.docks.values()}
+        stale = []
+        for bar in self.findChildren(QTabBar):
+            if bar.parent() is not self or not bar.isVisibleTo(self):
+                continue
+            titles = {bar.tabText(i) for i in range(bar.count())}
+            first = by_title.get(bar.tabText(0)) if bar.count() else None
+            group = set() if first is None else {first.windowTitle()} | {
+                d.windowTitle() for d in self.tabifiedDockWidgets(first) if d.isVisibleTo(self)}
+            if len(titles) < 2 or titles != group:
+                bar.hide()
+                stale.append(bar)
+        return stale
 
     def _save_layout(self) -> None:
         self.settings.setValue("window/geometry", self.saveGeometry())

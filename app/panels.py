@@ -24,7 +24,15 @@ import pyqtgraph as pg
 from numpy.typing import NDArray
 from PyQt6.QtCore import QPointF, QRectF, Qt, pyqtSignal
 from PyQt6.QtGui import QColor, QFont
-from PyQt6.QtWidgets import QCheckBox, QHBoxLayout, QLabel, QPushButton, QVBoxLayout, QWidget
+from PyQt6.QtWidgets import (
+    QCheckBox,
+    QHBoxLayout,
+    QLabel,
+    QPushButton,
+    QSizePolicy,
+    QVBoxLayout,
+    QWidget,
+)
 
 from app.frame_view import FrameView, ObjectMarks
 from simcore.dsp.profile import range_profile_cfar
@@ -49,6 +57,8 @@ TRUTH_SELECTED_PEN = pg.mkPen("#ffeb3b", width=2.5)
 #: ToF outlines of objects (RGBA): every object, the selected one.
 OUTLINE_RGBA = (255, 255, 255, 150)
 OUTLINE_SELECTED_RGBA = (255, 235, 59, 255)
+#: With more ground-truth marks than this in a panel, only the selected object is labelled.
+MAX_TRUTH_LABELS = 6
 #: Colour map and half-range (dB) of difference views (A/B comparison).
 DIFF_CMAP = "CET-D1"
 DIFF_SPAN_DB = 20.0
@@ -185,6 +195,8 @@ class LivePanel(QWidget):
         self.info.setObjectName("info")
         self.info.setStyleSheet("color: #c8ccd2; padding: 1px 4px;")
         self.info.setToolTip("What the panel shows: frame time and counts")
+        # The text may be cut on a small screen; it never widens the panel.
+        self.info.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self.error_label = QLabel("")
         self.error_label.setObjectName("error")
         self.error_label.setWordWrap(True)
@@ -224,10 +236,6 @@ class LivePanel(QWidget):
             row.addWidget(b)
 
     # --- linked selection, ground truth, A/B comparison ---------------------------------
-    def set_project(self, project: Project) -> None:
-        """Follow the project: object names (subclasses read more)."""
-        self.object_names = {o.id: o.name for o in project.objects}
-
     def set_selected(self, object_id: int | None) -> None:
         """Highlight the returns and the outline of object ``object_id`` (None: nothing)."""
         if object_id != self.selected_id:
@@ -268,9 +276,28 @@ class LivePanel(QWidget):
         """Name of an object for marks and read-outs."""
         return self.object_names.get(int(object_id), f"object {object_id}")
 
+    def set_project(self, project: Project) -> None:
+        """Follow the project: object names, the radar's angular coverage (subclasses more)."""
+        self.object_names = {o.id: o.name for o in project.objects}
+        self.coverage_deg = (project.dsp.azimuth_min_deg, project.dsp.azimuth_max_deg,
+                             project.dsp.elevation_min_deg, project.dsp.elevation_max_deg)
+
     def _visible_marks(self, view: FrameView) -> ObjectMarks | None:
-        """The frame's ground truth, when shown (NaN ranges: no radar)."""
-        return view.objects if self.show_truth else None
+        """The frame's ground truth inside the radar's angular coverage, when shown."""
+        marks = view.objects if self.show_truth else None
+        if marks is None:
+            return None
+        az0, az1, el0, el1 = getattr(self, "coverage_deg", (-90.0, 90.0, -90.0, 90.0))
+        keep = ((marks.azimuth_deg >= az0) & (marks.azimuth_deg <= az1)
+                & (marks.elevation_deg >= el0) & (marks.elevation_deg <= el1)
+                & np.isfinite(marks.range_m))
+        return ObjectMarks(marks.object_id[keep], marks.range_m[keep],
+                           marks.radial_velocity_mps[keep], marks.azimuth_deg[keep],
+                           marks.elevation_deg[keep])
+
+    def _labelled(self, object_id: int, n_shown: int) -> bool:
+        """Whether a truth mark gets its name (all when few, else only the selected one)."""
+        return n_shown <= MAX_TRUTH_LABELS or object_id == self.selected_id
 
     def show_frame(self, view: FrameView | None) -> None:
         """Show ``view`` now if visible, else remember it for when the panel is shown."""
@@ -490,14 +517,15 @@ class RangeProfilePanel(LivePanel):
         self.plot.setLabel("bottom", "range", "m")
         self.plot.setLabel("left", "power", "dB")
         self.plot.showGrid(x=True, y=True, alpha=0.2)
-        self.legend = self.plot.addLegend(offset=(-8, 8), labelTextSize="8pt",
-                                          brush=pg.mkBrush(21, 24, 28, 170))
+        self.legend = self.plot.addLegend(offset=(-4, 4), labelTextSize="7pt",
+                                          brush=pg.mkBrush(21, 24, 28, 150),
+                                          verSpacing=-6)
         self.curves: list[pg.PlotDataItem] = []
         self.processed = self.plot.plot(pen=pg.mkPen("#ffffff", width=2.0),
-                                        name="processed (mean over Doppler)")
+                                        name="processed")
         self.threshold = self.plot.plot(pen=pg.mkPen("#ff8a65", width=1.2,
                                                      style=Qt.PenStyle.DashLine),
-                                        name="1-D CFAR threshold")
+                                        name="1-D CFAR")
         self.reference_curve = self.plot.plot(pen=pg.mkPen("#9e9e9e", width=1.2,
                                                            style=Qt.PenStyle.DotLine))
         self.difference_curve = self.plot.plot(pen=pg.mkPen("#ce93d8", width=1.6))
@@ -633,8 +661,9 @@ class RangeProfilePanel(LivePanel):
             selected = oid == self.selected_id
             line.setPen(TRUTH_SELECTED_PEN if selected else pg.mkPen(
                 "#80deea", width=1, style=Qt.PenStyle.DashLine))
-            if line.label.toPlainText() != self.object_label(oid):
-                line.label.setFormat(self.object_label(oid))
+            text = self.object_label(oid) if self._labelled(oid, len(shown)) else ""
+            if line.label.format != text:
+                line.label.setFormat(text)
 
     def _rebuild_curves(self, names: list[str]) -> None:
         for curve in self.curves:
@@ -780,7 +809,7 @@ class MapPanel(LivePanel):
             assert marks is not None
             k = keep[n]
             oid = int(marks.object_id[k])
-            label.setVisible(True)
+            label.setVisible(self._labelled(oid, len(keep)))
             label.setText(self.object_label(oid),
                           color="#ffeb3b" if oid == self.selected_id else "#80deea")
             label.setPos(float(np.asarray(x)[k]), float(np.asarray(y)[k]))
