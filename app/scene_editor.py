@@ -32,6 +32,7 @@ from PyQt6.QtWidgets import (
 )
 
 from app.document import RIG, EditError, ProjectDocument
+from app.mesh_import import MeshImportDialog
 from app.scene_edits import (
     KIND_LABELS,
     NEW_OBJECTS,
@@ -173,8 +174,15 @@ def build_add_menu(parent: QWidget, document: ProjectDocument, report: Any) -> Q
     def import_dialog() -> None:
         path, _ = QFileDialog.getOpenFileName(parent, "Import mesh", str(document.base_dir),
                                               "Meshes (*.stl *.obj *.ply)")
-        if path:
-            try_edit(report, lambda: import_mesh(document, Path(path)))
+        if not path:
+            return
+        try:
+            dialog = MeshImportDialog(Path(path), parent)
+        except Exception as exc:  # noqa: BLE001 - any unreadable file: say why
+            report(f"cannot read {Path(path).name}: {exc}")
+            return
+        if dialog.exec() == MeshImportDialog.DialogCode.Accepted:
+            try_edit(report, lambda: import_mesh(document, Path(path), scale=dialog.scale))
 
     action.triggered.connect(import_dialog)
     menu.addAction(action)
