@@ -6,21 +6,41 @@ import time
 from pathlib import Path
 from typing import Any
 
-from PyQt6.QtCore import QSettings, QSize, Qt, QTimer
-from PyQt6.QtGui import QAction, QCloseEvent, QKeySequence, QShortcut
+from PyQt6.QtCore import QEvent, QObject, QPointF, QSettings, QSize, Qt, QTimer
+from PyQt6.QtGui import (
+    QAction,
+    QCloseEvent,
+    QColor,
+    QIcon,
+    QKeyEvent,
+    QKeySequence,
+    QPainter,
+    QPainterPath,
+    QPen,
+    QPixmap,
+    QPolygonF,
+    QShortcut,
+)
 from PyQt6.QtWidgets import (
+    QAbstractButton,
+    QAbstractSpinBox,
+    QApplication,
+    QComboBox,
     QDockWidget,
     QFileDialog,
     QFrame,
     QInputDialog,
     QLabel,
+    QLineEdit,
     QMainWindow,
     QMenu,
     QMessageBox,
+    QPlainTextEdit,
     QProgressDialog,
     QScrollArea,
     QStyle,
     QTabBar,
+    QTextEdit,
     QToolButton,
     QWidget,
 )
@@ -92,6 +112,52 @@ STAGE_LABELS = {
     "radar_synthesis": "IF synthesis", "radar_background_synthesis": "background IF",
     "radar_receiver": "receiver", "radar_prepare": "prepare", "dsp": "DSP", "rgb": "RGB",
     "radar_labels": "labels", "radar_label_scatterers": "label scatterers"}
+
+
+def history_icon(*, redo: bool) -> QIcon:
+    """The standard undo (or redo) icon: a curved arrow turning back (or forward)."""
+    themed = QIcon.fromTheme(QIcon.ThemeIcon.EditRedo if redo else QIcon.ThemeIcon.EditUndo)
+    if not themed.isNull():
+        return themed
+    pixmap = QPixmap(32, 32)
+    pixmap.fill(Qt.GlobalColor.transparent)
+    painter = QPainter(pixmap)
+    painter.setRenderHint(QPainter.RenderHint.Antialiasing)
+    if redo:
+        painter.translate(32, 0)
+        painter.scale(-1, 1)
+    pen = QPen(QColor("#d0d4da"), 3.0)
+    pen.setCapStyle(Qt.PenCapStyle.RoundCap)
+    painter.setPen(pen)
+    path = QPainterPath(QPointF(8, 13))
+    path.cubicTo(QPointF(16, 6), QPointF(29, 9), QPointF(26, 20))
+    path.cubicTo(QPointF(24, 26), QPointF(18, 27), QPointF(14, 26))
+    painter.drawPath(path)
+    painter.setBrush(QColor("#d0d4da"))
+    painter.setPen(Qt.PenStyle.NoPen)
+    painter.drawPolygon(QPolygonF([QPointF(3, 14), QPointF(12, 6), QPointF(13, 18)]))
+    painter.end()
+    return QIcon(pixmap)
+
+
+class SpaceGoesToWidgets(QObject):
+    """Let Space reach the focused button, field or list instead of Play / pause.
+
+    Qt offers a key to the focus widget first as a ShortcutOverride event; accepting it
+    for widgets that use Space themselves makes the window-wide shortcut step aside.
+    """
+
+    #: Widgets for which Space means something (lists and views keep it for playback).
+    TAKERS = (QAbstractButton, QLineEdit, QAbstractSpinBox, QComboBox, QTextEdit,
+              QPlainTextEdit)
+
+    def eventFilter(self, obj: QObject | None, event: QEvent | None) -> bool:  # noqa: N802, D102
+        if (event is not None and event.type() == QEvent.Type.ShortcutOverride
+                and isinstance(event, QKeyEvent) and event.key() == Qt.Key.Key_Space
+                and event.modifiers() == Qt.KeyboardModifier.NoModifier
+                and isinstance(obj, self.TAKERS)):
+            event.accept()
+        return False
 
 
 def stage_label(key: str) -> str:
@@ -351,11 +417,13 @@ class MainWindow(QMainWindow):
         for action, kind in ((self.new_action, pix.SP_FileIcon),
                              (self.open_action, pix.SP_DialogOpenButton),
                              (self.save_action, pix.SP_DialogSaveButton),
-                             (self.undo_action, pix.SP_ArrowBack),
-                             (self.redo_action, pix.SP_ArrowForward),
                              (self.delete_action, pix.SP_TrashIcon),
                              (self.reset_camera_action, pix.SP_BrowserReload)):
             action.setIcon(icon(kind))
+        # Curved arrows (the desktop theme's edit-undo/redo when it has them), not the
+        # browser's back/forward arrows.
+        self.undo_action.setIcon(history_icon(redo=False))
+        self.redo_action.setIcon(history_icon(redo=True))
         tb = self.addToolBar("Main")
         tb.setObjectName("toolbar_main")
         tb.setMovable(False)
@@ -448,13 +516,17 @@ class MainWindow(QMainWindow):
         self.document.selectionChanged.connect(self._follow_selection)
         self.document.projectChanged.connect(self._follow_project_in_panels)
         self._follow_project_in_panels()
+        self.space_filter = SpaceGoesToWidgets(self)
+        app = QApplication.instance()
+        if app is not None:
+            app.installEventFilter(self.space_filter)
 
     def comparable_panels(self) -> list[LivePanel]:
         """The radar panels (A/B comparison, clickable detections)."""
         return [self.profile_panel, self.rd_panel, self.ra_panel]
 
     def _follow_project_in_panels(self, *_: object) -> None:
-        for panel in (self.tof_panel, *self.comparable_panels()):
+        for panel in (self.tof_panel, self.rgb_panel, *self.comparable_panels()):
             panel.set_project(self.document.project)
 
     def _follow_selection(self, key: object) -> None:
@@ -950,6 +1022,9 @@ class MainWindow(QMainWindow):
         if self._closing:
             return
         self._closing = True
+        app = QApplication.instance()
+        if app is not None:
+            app.removeEventFilter(self.space_filter)
         self._save_layout()
         self.time.set_playing(False)
         if self.export_job is not None and self.export_job.isRunning():

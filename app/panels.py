@@ -65,6 +65,12 @@ DIFF_SPAN_DB = 20.0
 log = logging.getLogger(__name__)
 
 
+#: Shown in every live panel while the scene has no objects.
+EMPTY_SCENE_HINT = ("The scene is empty: the ToF camera sees no surface (magenta = no valid "
+                    "depth) and the radar only noise. Add an object (Add ▾ in the toolbar): "
+                    "it lands 2 m in front of the sensors, facing them.")
+
+
 def plural(n: int, word: str) -> str:
     """``1 detection``, ``2 detections``."""
     return f"{n} {word}" if n == 1 else f"{n} {word}s"
@@ -202,6 +208,12 @@ class LivePanel(QWidget):
         self.error_label.setWordWrap(True)
         self.error_label.setStyleSheet("color: #ff6b6b; padding: 1px 4px;")
         self.error_label.setVisible(False)
+        #: Why the panel shows little: an empty scene (set_project).
+        self.hint = QLabel(EMPTY_SCENE_HINT)
+        self.hint.setObjectName("hint")
+        self.hint.setWordWrap(True)
+        self.hint.setStyleSheet("color: #9aa4ae; font-style: italic; padding: 1px 4px;")
+        self.hint.setVisible(False)
         self.readout = QLabel(" ")
         self.readout.setObjectName("readout")
         self.readout.setStyleSheet("color: #c8ccd2; font-family: monospace; padding: 1px 4px;")
@@ -217,6 +229,7 @@ class LivePanel(QWidget):
         if self.comparable:
             self._build_compare_buttons(top)
         self._layout.addLayout(top)
+        self._layout.addWidget(self.hint)
         self._layout.addWidget(self.error_label)
         self._layout.addWidget(widget, 1)
         self._layout.addWidget(self.readout)
@@ -279,6 +292,7 @@ class LivePanel(QWidget):
     def set_project(self, project: Project) -> None:
         """Follow the project: object names, the radar's angular coverage (subclasses more)."""
         self.object_names = {o.id: o.name for o in project.objects}
+        self.hint.setVisible(not project.objects)
         self.coverage_deg = (project.dsp.azimuth_min_deg, project.dsp.azimuth_max_deg,
                              project.dsp.elevation_min_deg, project.dsp.elevation_max_deg)
 

@@ -32,16 +32,13 @@ from app.document import ProjectDocument
 from app.field_editors import DETECTION, LINK_BUDGET, PROCESSING, FieldForm
 from app.widgets import BIG, INT_MAX, VectorEdit, int_spin, set_quietly, spin, try_edit
 from simcore.scene import Project
-from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
+from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig, aliasing_warnings
+from simcore.scene.radar_presets import RADAR_PRESETS
 from simcore.scene.snapshot import take_snapshot
 
 
 def radar_presets() -> dict[str, Callable[..., RadarConfig]]:
-    """Named radar presets (from :mod:`simcore.scene.radar_presets` when present)."""
-    try:
-        from simcore.scene.radar_presets import RADAR_PRESETS
-    except ImportError:
-        return {"bgt60tr13c": RadarConfig}
+    """Named radar presets (:mod:`simcore.scene.radar_presets`)."""
     return dict(RADAR_PRESETS)
 
 
@@ -97,17 +94,6 @@ def radar_warnings(project: Project, extent: tuple[np.ndarray, np.ndarray] | Non
     """
     cfg = project.rig.radar
     ranges, velocities = scene_radial_extent(project) if extent is None else extent
-    try:
-        from simcore.scene.radar_config import aliasing_warnings
-    except ImportError:
-        out = []
-        if ranges.size and ranges.max() > cfg.max_range_m:
-            out.append(f"objects up to {ranges.max():.2f} m lie beyond the unambiguous range "
-                       f"{cfg.max_range_m:.2f} m and alias")
-        if velocities.size and np.abs(velocities).max() > cfg.max_velocity_mps:
-            out.append(f"objects move faster than ±{cfg.max_velocity_mps:.2f} m/s and alias "
-                       "in Doppler")
-        return out
     return aliasing_warnings(cfg, ranges_m=ranges, radial_velocities_mps=velocities)
 
 
