@@ -574,6 +574,7 @@ class MainWindow(QMainWindow):
             f"{det.elevation_deg[index]:+.1f}° → {what}")
         for panel in self.comparable_panels():
             panel.readout.setText(self.detection_info)
+            panel.readout.setToolTip(self.detection_info)  # the line may be cut
         self.statusBar().showMessage(self.detection_info, 20000)
         if oid >= 0:
             self.document.select(oid)

@@ -218,6 +218,7 @@ class LivePanel(QWidget):
         self.readout.setObjectName("readout")
         self.readout.setStyleSheet("color: #c8ccd2; font-family: monospace; padding: 1px 4px;")
         self.readout.setToolTip("Value under the mouse cursor")
+        self.readout.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self._layout = QVBoxLayout(self)
         self._layout.setContentsMargins(2, 2, 2, 2)
         self._layout.setSpacing(1)
