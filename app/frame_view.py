@@ -134,6 +134,43 @@ class TofView:
     valid: NDArray[np.bool_]
     max_range_m: float
     amplitude_unit: str = "DN"
+    # --- issue #17 (ground-truth overlays): id image for object outlines ---------------
+    #: Ground-truth object id per pixel (−1 = no surface), shape (H, W); None if unknown.
+    gt_object_id: NDArray[np.int32] | None = None
+    # --- end issue #17 ---------------------------------------------------------------------
+
+
+# --- issue #17 (ground-truth overlays) ---------------------------------------------------
+@dataclass
+class ObjectMarks:
+    """Where each object of the frame truly is, seen from the radar (``K`` objects).
+
+    Attributes
+    ----------
+    object_id : ndarray, shape (K,), int32
+        Project ids (project order).
+    range_m, radial_velocity_mps, azimuth_deg, elevation_deg : ndarray, shape (K,)
+        Range (m), radial velocity (m/s, + = away), azimuth and elevation (deg) of each
+        object's reference point in the radar frame (:mod:`simcore.scene.ground_truth`).
+    """
+
+    object_id: NDArray[np.int32]
+    range_m: F64
+    radial_velocity_mps: F64
+    azimuth_deg: F64
+    elevation_deg: F64
+
+
+def object_marks(truth: Any, project: Project) -> ObjectMarks | None:
+    """Adapt a frame's :class:`simcore.scene.ground_truth.ObjectTruth` (None → None)."""
+    if truth is None or len(truth.radar_range_m) != len(project.objects):
+        return None
+    return ObjectMarks(np.array([o.id for o in project.objects], dtype=np.int32),
+                       np.asarray(truth.radar_range_m, dtype=np.float64),
+                       np.asarray(truth.radar_radial_velocity_mps, dtype=np.float64),
+                       np.asarray(truth.radar_azimuth_deg, dtype=np.float64),
+                       np.asarray(truth.radar_elevation_deg, dtype=np.float64))
+# --- end issue #17 -----------------------------------------------------------------------
 
 
 @dataclass
@@ -152,6 +189,8 @@ class FrameView:
     request_serial: int = 0
     latency_ms: float = 0.0
     notes: list[str] = field(default_factory=list)
+    #: Ground truth of every object from the radar (issue #17); None when unknown.
+    objects: ObjectMarks | None = None
 
 
 # --------------------------------------------------------------------------------------
@@ -164,8 +203,10 @@ def _tof_view(frame: Any, project: Project) -> TofView:
     tof = frame.outputs["tof"]
     valid = np.asarray(tof.valid, dtype=bool)
     depth = np.where(valid, tof.depth_m, np.nan).astype(np.float32)
+    gt_id = getattr(tof, "gt_object_id", None)  # issue #17: object outlines
     return TofView(depth, np.asarray(tof.amplitude, dtype=np.float32), valid,
-                   float(cfg.combined_unambiguous_range_m))
+                   float(cfg.combined_unambiguous_range_m),
+                   gt_object_id=None if gt_id is None else np.asarray(gt_id, dtype=np.int32))
 
 
 # --------------------------------------------------------------------------------------
@@ -262,4 +303,5 @@ def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> 
         timings_ms=timings,
         render_count=render_count,
         notes=notes,
+        objects=object_marks(getattr(frame, "objects", None), project),  # issue #17
     )

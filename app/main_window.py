@@ -6,18 +6,41 @@ import time
 from pathlib import Path
 from typing import Any
 
-from PyQt6.QtCore import QSettings, Qt, QTimer
-from PyQt6.QtGui import QAction, QCloseEvent, QKeySequence, QShortcut
+from PyQt6.QtCore import QEvent, QObject, QPointF, QSettings, QSize, Qt, QTimer
+from PyQt6.QtGui import (
+    QAction,
+    QCloseEvent,
+    QColor,
+    QIcon,
+    QKeyEvent,
+    QKeySequence,
+    QPainter,
+    QPainterPath,
+    QPen,
+    QPixmap,
+    QPolygonF,
+    QShortcut,
+)
 from PyQt6.QtWidgets import (
+    QAbstractButton,
+    QAbstractSpinBox,
+    QApplication,
+    QComboBox,
     QDockWidget,
     QFileDialog,
+    QFrame,
     QInputDialog,
     QLabel,
+    QLineEdit,
     QMainWindow,
     QMenu,
     QMessageBox,
+    QPlainTextEdit,
     QProgressDialog,
+    QScrollArea,
     QStyle,
+    QTabBar,
+    QTextEdit,
     QToolButton,
     QWidget,
 )
@@ -49,6 +72,29 @@ CONFIRM_SECONDS_PER_FRAME = 3.0
 SLOW_FRAME_S = 0.5
 
 
+#: Window size on a large screen; a smaller screen gets what fits (initial_window_size).
+PREFERRED_SIZE = (1720, 1020)
+
+
+def initial_window_size(screen: Any) -> QSize:
+    """The preferred window size, shrunk to 95 % of the screen's available area."""
+    w, h = PREFERRED_SIZE
+    if screen is not None:
+        area = screen.availableGeometry()
+        w, h = min(w, int(area.width() * 0.95)), min(h, int(area.height() * 0.95))
+    return QSize(w, h)
+
+
+def scrolled(widget: QWidget) -> QScrollArea:
+    """``widget`` in a frameless scroll area: a dock stays usable when the window is small."""
+    area = QScrollArea()
+    area.setWidget(widget)
+    area.setWidgetResizable(True)
+    area.setFrameShape(QFrame.Shape.NoFrame)
+    area.setObjectName(f"scroll_{type(widget).__name__}")
+    return area
+
+
 def _bytes(n: float) -> str:
     for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
         if n < 1024 or unit == "TiB":
@@ -66,6 +112,60 @@ STAGE_LABELS = {
     "radar_synthesis": "IF synthesis", "radar_background_synthesis": "background IF",
     "radar_receiver": "receiver", "radar_prepare": "prepare", "dsp": "DSP", "rgb": "RGB",
     "radar_labels": "labels", "radar_label_scatterers": "label scatterers"}
+
+
+def history_icon(*, redo: bool) -> QIcon:
+    """The standard undo (or redo) icon: a curved arrow turning back (or forward)."""
+    themed = QIcon.fromTheme(QIcon.ThemeIcon.EditRedo if redo else QIcon.ThemeIcon.EditUndo)
+    if not themed.isNull():
+        return themed
+    pixmap = QPixmap(32, 32)
+    pixmap.fill(Qt.GlobalColor.transparent)
+    painter = QPainter(pixmap)
+    painter.setRenderHint(QPainter.RenderHint.Antialiasing)
+    if redo:
+        painter.translate(32, 0)
+        painter.scale(-1, 1)
+    pen = QPen(QColor("#d0d4da"), 3.0)
+    pen.setCapStyle(Qt.PenCapStyle.RoundCap)
+    painter.setPen(pen)
+    path = QPainterPath(QPointF(8, 13))
+    path.cubicTo(QPointF(16, 6), QPointF(29, 9), QPointF(26, 20))
+    path.cubicTo(QPointF(24, 26), QPointF(18, 27), QPointF(14, 26))
+    painter.drawPath(path)
+    painter.setBrush(QColor("#d0d4da"))
+    painter.setPen(Qt.PenStyle.NoPen)
+    painter.drawPolygon(QPolygonF([QPointF(3, 14), QPointF(12, 6), QPointF(13, 18)]))
+    painter.end()
+    return QIcon(pixmap)
+
+
+class SpaceGoesToWidgets(QObject):
+    """Let Space reach the focused button, field or list instead of Play / pause.
+
+    Qt offers a key to the focus widget first as a ShortcutOverride event; accepting it
+    for widgets that use Space themselves makes the window-wide shortcut step aside.
+    """
+
+    #: Widgets for which Space means something (lists and views keep it for playback).
+    TAKERS = (QAbstractButton, QLineEdit, QAbstractSpinBox, QComboBox, QTextEdit,
+              QPlainTextEdit)
+
+    def eventFilter(self, obj: QObject | None, event: QEvent | None) -> bool:  # noqa: N802, D102
+        if (event is not None and event.type() == QEvent.Type.ShortcutOverride
+                and isinstance(event, QKeyEvent) and event.key() == Qt.Key.Key_Space
+                and event.modifiers() == Qt.KeyboardModifier.NoModifier
+                and isinstance(obj, self.TAKERS)):
+            event.accept()
+        return False
+
+
+def stage_label(key: str) -> str:
+    """Readable name of an engine stage: ``radar_background_prepare`` → "background prepare"."""
+    if key in STAGE_LABELS:
+        return STAGE_LABELS[key]
+    words = key.removeprefix("radar_").replace("_", " ")
+    return words.replace("tof", "ToF").replace("rgb", "RGB").replace("dsp", "DSP")
 
 
 class MainWindow(QMainWindow):
@@ -108,7 +208,8 @@ class MainWindow(QMainWindow):
         self._build_toolbar()
         self._build_status_bar()
         self._connect()
-        self.resize(1720, 1020)
+        self.resize(initial_window_size(self.screen()))  # 1720×1020, or what fits the screen
+        self._default_state = self.saveState()  # View → Reset layout
         self._restore_layout()
         self._update_title()
         if project_path is not None:
@@ -142,6 +243,8 @@ class MainWindow(QMainWindow):
         self.ra_panel = RangeAzimuthPanel()
         self.rgb_panel = RgbPanel()
         self.docks: dict[str, QDockWidget] = {}
+        self.setCorner(Qt.Corner.BottomRightCorner, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.setCorner(Qt.Corner.BottomLeftCorner, Qt.DockWidgetArea.LeftDockWidgetArea)
         self.docks["scene"] = self._dock("Scene", self.object_list, left, "dock_scene")
         self.docks["inspector"] = self._dock("Inspector", self.inspector, left, "dock_inspector")
         self.docks["tof"] = self._dock("ToF camera", self.tof_panel, right, "dock_tof")
@@ -155,16 +258,19 @@ class MainWindow(QMainWindow):
         self.docks["rgb"] = self._dock("RGB camera", self.rgb_panel, right, "dock_rgb")
         self.tabifyDockWidget(self.docks["tof"], self.docks["rgb"])
         self.docks["tof"].raise_()
-        self.docks["antennas"] = self._dock("Antenna array", self.antenna_editor, bottom,
-                                            "dock_antennas")
-        self.docks["materials"] = self._dock("Materials", self.material_editor, bottom,
-                                             "dock_materials")
+        self.docks["antennas"] = self._dock("Antenna array", scrolled(self.antenna_editor),
+                                            bottom, "dock_antennas")
+        self.docks["materials"] = self._dock("Materials", scrolled(self.material_editor),
+                                             bottom, "dock_materials")
         self.docks["sensors"] = self._dock("Sensors", self.sensor_editor, bottom, "dock_sensors")
-        self.tabifyDockWidget(self.docks["antennas"], self.docks["materials"])
-        self.tabifyDockWidget(self.docks["materials"], self.docks["sensors"])
+        self.timeline_editor = TimelineEditor(self.document)
+        self.docks["timeline"] = self._dock("Timeline and seed", scrolled(self.timeline_editor),
+                                            bottom, "dock_timeline")
+        # One tab group built in one go: a group re-formed step by step leaves stale tab
+        # bars of its earlier forms drawn over the other docks.
+        for name in ("materials", "sensors", "timeline"):
+            self.tabifyDockWidget(self.docks["antennas"], self.docks[name])
         self.docks["antennas"].raise_()
-        self.setCorner(Qt.Corner.BottomRightCorner, Qt.DockWidgetArea.RightDockWidgetArea)
-        self.setCorner(Qt.Corner.BottomLeftCorner, Qt.DockWidgetArea.LeftDockWidgetArea)
         self.resizeDocks([self.docks["scene"], self.docks["tof"]], [390, 690],
                          Qt.Orientation.Horizontal)
         self.resizeDocks([self.docks["tof"], self.docks["profile"], self.docks["rd"]],
@@ -179,16 +285,11 @@ class MainWindow(QMainWindow):
         self._follow_rig_sensors()
 
     def _build_explore_docks(self) -> None:
-        """Timeline & seed dock, keyframes at the current time (issue #17)."""
-        self.timeline_editor = TimelineEditor(self.document)
+        """Timeline & seed editor's errors, keyframes at the current time (issue #17)."""
         self.timeline_editor.editFailed.connect(self.show_status_error)
-        self.docks["timeline"] = self._dock("Timeline and seed", self.timeline_editor,
-                                            Qt.DockWidgetArea.BottomDockWidgetArea,
-                                            "dock_timeline")
-        self.tabifyDockWidget(self.docks["sensors"], self.docks["timeline"])
-        self.docks["antennas"].raise_()
         self.inspector.time_source = lambda: self.time.time_s
         remember_last_folder(self.recent_files())  # Save As starts there
+        self._build_explore_links()
 
     def _action(self, text: str, slot: Any, *, shortcut: Any = None, tip: str = "",
                 checkable: bool = False) -> QAction:
@@ -295,9 +396,15 @@ class MainWindow(QMainWindow):
             tip="Colour the radar detections in the range–Doppler and range–azimuth maps by "
                 "their ground-truth object (grey: noise, no object in the cell)")
         view.addAction(self.label_colours_action)
+        view.addActions([self.truth_action, self.freeze_action, self.difference_action])
         view.addSeparator()
         for dock in self.docks.values():
             view.addAction(dock.toggleViewAction())
+        view.addSeparator()
+        self.reset_layout_action = self._action(
+            "Reset &layout", lambda: self.reset_layout(),
+            tip="Put every panel back where it was at the first start")
+        view.addAction(self.reset_layout_action)
         sim = bar.addMenu("&Simulation")
         sim.addActions([self.play_action, self.step_back_action, self.step_forward_action,
                         self.first_frame_action, self.cancel_frame_action])
@@ -310,11 +417,13 @@ class MainWindow(QMainWindow):
         for action, kind in ((self.new_action, pix.SP_FileIcon),
                              (self.open_action, pix.SP_DialogOpenButton),
                              (self.save_action, pix.SP_DialogSaveButton),
-                             (self.undo_action, pix.SP_ArrowBack),
-                             (self.redo_action, pix.SP_ArrowForward),
                              (self.delete_action, pix.SP_TrashIcon),
                              (self.reset_camera_action, pix.SP_BrowserReload)):
             action.setIcon(icon(kind))
+        # Curved arrows (the desktop theme's edit-undo/redo when it has them), not the
+        # browser's back/forward arrows.
+        self.undo_action.setIcon(history_icon(redo=False))
+        self.redo_action.setIcon(history_icon(redo=True))
         tb = self.addToolBar("Main")
         tb.setObjectName("toolbar_main")
         tb.setMovable(False)
@@ -383,6 +492,93 @@ class MainWindow(QMainWindow):
         if self.label_colours_action.isChecked() != bool(on):
             self.label_colours_action.setChecked(bool(on))
 
+    # --- ground truth, linked selection, A/B comparison (issue #17) -----------------------
+    def _build_explore_links(self) -> None:
+        """Ground-truth marks, detection ↔ object selection and A/B comparison in the panels."""
+        self.truth_action = self._action(
+            "Show ground truth", self.set_show_truth, checkable=True,
+            tip="Mark each object's true range, radial velocity and azimuth on the radar "
+                "panels and outline the objects in the ToF images")
+        self.truth_action.setChecked(True)
+        self.freeze_action = self._action(
+            "Freeze reference A", lambda: self.freeze_reference(),
+            shortcut=QKeySequence("Ctrl+Shift+F"),
+            tip="Keep the current range profile and maps as reference A (all radar panels)")
+        self.difference_action = self._action(
+            "Show difference A − B", self.set_show_difference, checkable=True,
+            tip="Show the current radar panels minus the frozen reference (dB)")
+        self.difference_action.setEnabled(False)
+        #: What the last clicked detection measured (also in the panels' read-out line).
+        self.detection_info = ""
+        for panel in self.comparable_panels():
+            panel.detectionClicked.connect(self.select_detection)
+            panel.objectClicked.connect(self.document.select)
+        self.document.selectionChanged.connect(self._follow_selection)
+        self.document.projectChanged.connect(self._follow_project_in_panels)
+        self._follow_project_in_panels()
+        self.space_filter = SpaceGoesToWidgets(self)
+        app = QApplication.instance()
+        if app is not None:
+            app.installEventFilter(self.space_filter)
+
+    def comparable_panels(self) -> list[LivePanel]:
+        """The radar panels (A/B comparison, clickable detections)."""
+        return [self.profile_panel, self.rd_panel, self.ra_panel]
+
+    def _follow_project_in_panels(self, *_: object) -> None:
+        for panel in (self.tof_panel, self.rgb_panel, *self.comparable_panels()):
+            panel.set_project(self.document.project)
+
+    def _follow_selection(self, key: object) -> None:
+        selected = key if isinstance(key, int) and not isinstance(key, bool) else None
+        for panel in (self.tof_panel, *self.comparable_panels()):
+            panel.set_selected(selected)
+
+    def set_show_truth(self, on: bool) -> None:  # noqa: FBT001 - Qt slot
+        """Show or hide the ground-truth marks and outlines."""
+        for panel in (self.tof_panel, *self.comparable_panels()):
+            panel.set_show_truth(bool(on))
+        if self.truth_action.isChecked() != bool(on):
+            self.truth_action.setChecked(bool(on))
+
+    def freeze_reference(self) -> None:
+        """Freeze every radar panel's current frame as reference A."""
+        for panel in self.comparable_panels():
+            panel.freeze_reference()
+        self.difference_action.setEnabled(self.last_view is not None)
+        if self.last_view is not None:
+            self.statusBar().showMessage(
+                f"Reference A: frame {self.last_view.index + 1}. Edit the configuration, "
+                "then View → Show difference A − B", 8000)
+
+    def set_show_difference(self, on: bool) -> None:  # noqa: FBT001 - Qt slot
+        """Show the radar panels as the difference to the frozen reference."""
+        for panel in self.comparable_panels():
+            panel.set_show_difference(bool(on))
+        if self.difference_action.isChecked() != bool(on):
+            self.difference_action.setChecked(bool(on))
+
+    def select_detection(self, index: int) -> None:
+        """Select the object of detection ``index`` of the shown frame and say what it is."""
+        radar = None if self.last_view is None else self.last_view.radar
+        if radar is None or not 0 <= index < len(radar.detections):
+            return
+        det = radar.detections
+        oid = -1 if det.object_id is None else int(det.object_id[index])
+        names = {o.id: o.name for o in self.document.project.objects}
+        what = names.get(oid, f"object {oid}") if oid >= 0 else "noise (no object)"
+        self.detection_info = (
+            f"detection {index + 1}: SNR {det.snr_db[index]:.1f} dB, range "
+            f"{det.range_m[index]:.3f} m, velocity {det.velocity_mps[index]:+.3f} m/s, "
+            f"azimuth {det.azimuth_deg[index]:+.1f}°, elevation "
+            f"{det.elevation_deg[index]:+.1f}° → {what}")
+        for panel in self.comparable_panels():
+            panel.readout.setText(self.detection_info)
+            panel.readout.setToolTip(self.detection_info)  # the line may be cut
+        self.statusBar().showMessage(self.detection_info, 20000)
+        if oid >= 0:
+            self.document.select(oid)
+
     def _follow_rig_sensors(self, *_: object) -> None:
         """Show the RGB camera's dock when the rig gains one, hide it when it has none."""
         has_rgb = self.document.project.rig.rgb is not None
@@ -446,7 +642,7 @@ class MainWindow(QMainWindow):
             self.show_status_error(f"3D view: {type(exc).__name__}: {exc}")
 
     def _show_frame_status(self, view: FrameView) -> None:
-        stages = [f"{STAGE_LABELS.get(k, k)} {v:.0f}" for k, v in view.timings_ms.items()
+        stages = [f"{stage_label(k)} {v:.0f}" for k, v in view.timings_ms.items()
                   if k not in ("total", "wall")]
         self.stage_label.setText(" · ".join(stages) + " ms" if stages else "")
         self.render_label.setText(f"renders {view.render_count} · latency "
@@ -779,6 +975,36 @@ class MainWindow(QMainWindow):
             self.restoreState(state)
             self._rgb_shown = None  # the saved layout may show it: follow the project again
             self._follow_rig_sensors()
+        self.hide_stale_tab_bars()
+
+    def reset_layout(self) -> None:
+        """Put every dock back where a first start puts it, sized to the screen."""
+        self.restoreState(self._default_state)
+        self.resize(initial_window_size(self.screen()))
+        self._rgb_shown = None
+        self._follow_rig_sensors()
+        self.hide_stale_tab_bars()
+
+    def hide_stale_tab_bars(self) -> list[QTabBar]:
+        """Hide dock tab bars left over from a tab group's earlier forms; return them.
+
+        Qt (6.x) keeps the tab bar of a two-dock group visible after a third dock joins it,
+        drawn over whatever dock lies there (the "Antenna array | Materials" bar over the
+        Inspector). A live bar shows exactly one tab group of two or more visible docks.
+        """
+        by_title = {d.windowTitle(): d for d in self.docks.values()}
+        stale = []
+        for bar in self.findChildren(QTabBar):
+            if bar.parent() is not self or not bar.isVisibleTo(self):
+                continue
+            titles = {bar.tabText(i) for i in range(bar.count())}
+            first = by_title.get(bar.tabText(0)) if bar.count() else None
+            group = set() if first is None else {first.windowTitle()} | {
+                d.windowTitle() for d in self.tabifiedDockWidgets(first) if d.isVisibleTo(self)}
+            if len(titles) < 2 or titles != group:
+                bar.hide()
+                stale.append(bar)
+        return stale
 
     def _save_layout(self) -> None:
         self.settings.setValue("window/geometry", self.saveGeometry())
@@ -797,6 +1023,9 @@ class MainWindow(QMainWindow):
         if self._closing:
             return
         self._closing = True
+        app = QApplication.instance()
+        if app is not None:
+            app.removeEventFilter(self.space_filter)
         self._save_layout()
         self.time.set_playing(False)
         if self.export_job is not None and self.export_job.isRunning():

@@ -356,8 +356,10 @@ class MaterialEditor(QWidget):
         """Give the selected object the current material."""
         idx = self.document.selected_index()
         if idx is not None:
+            name = self.document.project.objects[idx].name
             try_edit(self.editFailed.emit, lambda: self.document.set_value(
-                f"objects[{idx}].material", self.current, text="Set material"))
+                f"objects[{idx}].material", self.current,
+                text=f"Set material of {name} to {self.current}"))
 
     def revert_to_library(self) -> None:
         """Remove the project's override of the current library material."""

@@ -22,11 +22,22 @@ from typing import Any
 import numpy as np
 import pyqtgraph as pg
 from numpy.typing import NDArray
-from PyQt6.QtCore import QPointF, QRectF, Qt
+from PyQt6.QtCore import QPointF, QRectF, Qt, pyqtSignal
 from PyQt6.QtGui import QColor, QFont
-from PyQt6.QtWidgets import QLabel, QVBoxLayout, QWidget
+from PyQt6.QtWidgets import (
+    QCheckBox,
+    QHBoxLayout,
+    QLabel,
+    QPushButton,
+    QSizePolicy,
+    QVBoxLayout,
+    QWidget,
+)
 
-from app.frame_view import FrameView
+from app.frame_view import FrameView, ObjectMarks
+from simcore.dsp.profile import range_profile_cfar
+from simcore.scene import Project
+from simcore.scene.dsp_config import DspConfig
 
 pg.setConfigOptions(imageAxisOrder="row-major", antialias=True, background="#15181c",
                     foreground="#c8ccd2")
@@ -39,7 +50,58 @@ DETECTION_BRUSH = pg.mkBrush(255, 255, 255, 40)
 #: Detections labelled noise (no object above the noise in their cell), when coloured.
 NOISE_BRUSH = pg.mkBrush(150, 150, 150, 90)
 DETECTION_PEN = pg.mkPen("#ffffff", width=1.5)
+#: Returns of the selected object, and its ground-truth mark.
+SELECTED_PEN = pg.mkPen("#ffeb3b", width=3.0)
+TRUTH_PEN = pg.mkPen("#80deea", width=1.5)
+TRUTH_SELECTED_PEN = pg.mkPen("#ffeb3b", width=2.5)
+#: ToF outlines of objects (RGBA): every object, the selected one.
+OUTLINE_RGBA = (255, 255, 255, 150)
+OUTLINE_SELECTED_RGBA = (255, 235, 59, 255)
+#: With more ground-truth marks than this in a panel, only the selected object is labelled.
+MAX_TRUTH_LABELS = 6
+#: Colour map and half-range (dB) of difference views (A/B comparison).
+DIFF_CMAP = "CET-D1"
+DIFF_SPAN_DB = 20.0
 log = logging.getLogger(__name__)
+
+
+#: Shown in every live panel while the scene has no objects.
+EMPTY_SCENE_HINT = ("The scene is empty: the ToF camera sees no surface (magenta = no valid "
+                    "depth) and the radar only noise. Add an object (Add ▾ in the toolbar): "
+                    "it lands 2 m in front of the sensors, facing them.")
+
+
+def plural(n: int, word: str) -> str:
+    """``1 detection``, ``2 detections``."""
+    return f"{n} {word}" if n == 1 else f"{n} {word}s"
+
+
+def detection_pens(detections: Any, selected_id: int | None) -> Any:
+    """One pen per detection: the selected object's returns stand out (yellow, thick)."""
+    labels = getattr(detections, "object_id", None)
+    if selected_id is None or labels is None:
+        return DETECTION_PEN
+    return [SELECTED_PEN if int(i) == selected_id else DETECTION_PEN for i in labels]
+
+
+def object_outlines(ids: NDArray[np.int32], selected_id: int | None) -> NDArray[np.uint8]:
+    """RGBA image (H, W, 4) of the boundaries between objects in a ground-truth id image.
+
+    A pixel is on an outline when it shows an object (id ≥ 0) and a 4-neighbour shows
+    another id (another object or the background); the selected object's outline is drawn
+    in :data:`OUTLINE_SELECTED_RGBA`, the others in :data:`OUTLINE_RGBA`.
+    """
+    edge = np.zeros(ids.shape, dtype=bool)
+    edge[:, :-1] |= ids[:, :-1] != ids[:, 1:]
+    edge[:, 1:] |= ids[:, 1:] != ids[:, :-1]
+    edge[:-1, :] |= ids[:-1, :] != ids[1:, :]
+    edge[1:, :] |= ids[1:, :] != ids[:-1, :]
+    edge &= ids >= 0
+    out = np.zeros((*ids.shape, 4), dtype=np.uint8)
+    out[edge] = OUTLINE_RGBA
+    if selected_id is not None:
+        out[edge & (ids == selected_id)] = OUTLINE_SELECTED_RGBA
+    return out
 
 
 def label_brush(object_id: int) -> Any:
@@ -102,9 +164,21 @@ def _set_bar_levels(bar: pg.ColorBarItem, levels: tuple[float, float]) -> None:
 
 
 class LivePanel(QWidget):
-    """Base class: keeps the latest frame view and draws it only while visible."""
+    """Base class: keeps the latest frame view and draws it only while visible.
+
+    Signals
+    -------
+    detectionClicked(int)
+        The user clicked the marker of this index in ``view.radar.detections``.
+    objectClicked(int)
+        The user clicked the ground-truth mark of the object with this id.
+    """
 
     title = "panel"
+    detectionClicked = pyqtSignal(int)
+    objectClicked = pyqtSignal(int)
+    #: Whether the panel has an A/B comparison (freeze a reference, show the difference).
+    comparable = False
 
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
@@ -112,6 +186,14 @@ class LivePanel(QWidget):
         self.view: FrameView | None = None
         #: Colour detection markers by their ground-truth object (View menu).
         self.colour_by_label = False
+        #: Mark each object's true position (View → Show ground truth).
+        self.show_truth = True
+        #: Object names by id and the selected object id (linked selection).
+        self.object_names: dict[int, str] = {}
+        self.selected_id: int | None = None
+        #: A/B comparison: the frozen reference frame and whether the difference is shown.
+        self.reference: FrameView | None = None
+        self.show_difference = False
         #: Frames drawn, and the message of the last frame that could not be drawn.
         self.draw_count = 0
         self.error: str | None = None
@@ -119,24 +201,118 @@ class LivePanel(QWidget):
         self.info.setObjectName("info")
         self.info.setStyleSheet("color: #c8ccd2; padding: 1px 4px;")
         self.info.setToolTip("What the panel shows: frame time and counts")
+        # The text may be cut on a small screen; it never widens the panel.
+        self.info.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self.error_label = QLabel("")
         self.error_label.setObjectName("error")
         self.error_label.setWordWrap(True)
         self.error_label.setStyleSheet("color: #ff6b6b; padding: 1px 4px;")
         self.error_label.setVisible(False)
+        #: Why the panel shows little: an empty scene (set_project).
+        self.hint = QLabel(EMPTY_SCENE_HINT)
+        self.hint.setObjectName("hint")
+        self.hint.setWordWrap(True)
+        self.hint.setStyleSheet("color: #9aa4ae; font-style: italic; padding: 1px 4px;")
+        self.hint.setVisible(False)
         self.readout = QLabel(" ")
         self.readout.setObjectName("readout")
         self.readout.setStyleSheet("color: #c8ccd2; font-family: monospace; padding: 1px 4px;")
         self.readout.setToolTip("Value under the mouse cursor")
+        self.readout.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self._layout = QVBoxLayout(self)
         self._layout.setContentsMargins(2, 2, 2, 2)
         self._layout.setSpacing(1)
 
     def _finish_layout(self, widget: QWidget) -> None:
-        self._layout.addWidget(self.info)
+        top = self.top_row = QHBoxLayout()
+        top.setContentsMargins(0, 0, 0, 0)
+        top.addWidget(self.info, 1)
+        if self.comparable:
+            self._build_compare_buttons(top)
+        self._layout.addLayout(top)
+        self._layout.addWidget(self.hint)
         self._layout.addWidget(self.error_label)
         self._layout.addWidget(widget, 1)
         self._layout.addWidget(self.readout)
+
+    def _build_compare_buttons(self, row: QHBoxLayout) -> None:
+        self.freeze_button = QPushButton("Freeze A")
+        self.freeze_button.setToolTip("Keep this frame as reference A; after an edit, "
+                                      "'A − B' shows the difference (dB)")
+        self.freeze_button.clicked.connect(self.freeze_reference)
+        self.diff_button = QPushButton("A − B")
+        self.diff_button.setCheckable(True)
+        self.diff_button.setEnabled(False)
+        self.diff_button.setToolTip("Show the current frame minus the frozen reference (dB)")
+        self.diff_button.toggled.connect(self.set_show_difference)
+        for b in (self.freeze_button, self.diff_button):
+            b.setStyleSheet("padding: 0px 6px;")
+            row.addWidget(b)
+
+    # --- linked selection, ground truth, A/B comparison ---------------------------------
+    def set_selected(self, object_id: int | None) -> None:
+        """Highlight the returns and the outline of object ``object_id`` (None: nothing)."""
+        if object_id != self.selected_id:
+            self.selected_id = object_id
+            self.redraw()
+
+    def set_show_truth(self, on: bool) -> None:  # noqa: FBT001 - Qt slot
+        """Show or hide the ground-truth marks."""
+        if bool(on) != self.show_truth:
+            self.show_truth = bool(on)
+            self.redraw()
+
+    def freeze_reference(self) -> None:
+        """Keep the frame shown now as the reference of the difference view."""
+        self.reference = self.view
+        if self.comparable:
+            self.diff_button.setEnabled(self.reference is not None)
+            self.freeze_button.setText("Freeze A ✓" if self.reference is not None
+                                       else "Freeze A")
+
+    def set_show_difference(self, on: bool) -> None:  # noqa: FBT001 - Qt slot
+        """Show the current frame minus the reference (needs a frozen reference)."""
+        on = bool(on) and self.reference is not None
+        if self.comparable and self.diff_button.isChecked() != on:
+            self.diff_button.setChecked(on)
+        if on != self.show_difference:
+            self.show_difference = on
+            self.redraw()
+
+    def redraw(self) -> None:
+        """Draw the current frame again (a display option changed)."""
+        if self._pending is None and self.view is not None:
+            self._pending = self.view
+        if self.isVisible():
+            self._flush()
+
+    def object_label(self, object_id: int) -> str:
+        """Name of an object for marks and read-outs."""
+        return self.object_names.get(int(object_id), f"object {object_id}")
+
+    def set_project(self, project: Project) -> None:
+        """Follow the project: object names, the radar's angular coverage (subclasses more)."""
+        self.object_names = {o.id: o.name for o in project.objects}
+        self.hint.setVisible(not project.objects)
+        self.coverage_deg = (project.dsp.azimuth_min_deg, project.dsp.azimuth_max_deg,
+                             project.dsp.elevation_min_deg, project.dsp.elevation_max_deg)
+
+    def _visible_marks(self, view: FrameView) -> ObjectMarks | None:
+        """The frame's ground truth inside the radar's angular coverage, when shown."""
+        marks = view.objects if self.show_truth else None
+        if marks is None:
+            return None
+        az0, az1, el0, el1 = getattr(self, "coverage_deg", (-90.0, 90.0, -90.0, 90.0))
+        keep = ((marks.azimuth_deg >= az0) & (marks.azimuth_deg <= az1)
+                & (marks.elevation_deg >= el0) & (marks.elevation_deg <= el1)
+                & np.isfinite(marks.range_m))
+        return ObjectMarks(marks.object_id[keep], marks.range_m[keep],
+                           marks.radial_velocity_mps[keep], marks.azimuth_deg[keep],
+                           marks.elevation_deg[keep])
+
+    def _labelled(self, object_id: int, n_shown: int) -> bool:
+        """Whether a truth mark gets its name (all when few, else only the selected one)."""
+        return n_shown <= MAX_TRUTH_LABELS or object_id == self.selected_id
 
     def show_frame(self, view: FrameView | None) -> None:
         """Show ``view`` now if visible, else remember it for when the panel is shown."""
@@ -244,6 +420,16 @@ class TofPanel(LivePanel):
         self._amp_levels: tuple[float, float] | None = None
         self._amp_unit = "DN"
         self._invalid: NDArray[np.bool_] | None = None
+        # Ground-truth outlines of the objects (the selected one in yellow).
+        self.depth_outline = pg.ImageItem(axisOrder="row-major")
+        self.amp_outline = pg.ImageItem(axisOrder="row-major")
+        self._outline_key: tuple[Any, ...] | None = None
+        for plot, outline in ((self.depth_plot, self.depth_outline),
+                              (self.amp_plot, self.amp_outline)):
+            plot.addItem(outline)
+            outline.setZValue(6)
+            for side in ("bottom", "left"):
+                plot.getAxis(side).enableAutoSIPrefix(False)  # "px", never "kpx"
         self._finish_layout(self.graphics)
         for plot in (self.depth_plot, self.amp_plot):
             plot.disableAutoRange()
@@ -263,7 +449,7 @@ class TofPanel(LivePanel):
         _set_bar_levels(self.amp_bar, levels)
         if self._amp_unit != tof.amplitude_unit:
             self._amp_unit = tof.amplitude_unit
-            self.amp_bar.setLabel("right", f"amplitude ({tof.amplitude_unit})")
+            self.amp_bar.getAxis("left").setLabel(f"amplitude ({tof.amplitude_unit})")
         invalid = ~tof.valid
         if self._invalid is None or not np.array_equal(invalid, self._invalid):
             self._invalid = invalid
@@ -271,11 +457,28 @@ class TofPanel(LivePanel):
             overlay[invalid] = INVALID_RGBA
             self.depth_invalid.setImage(overlay, autoLevels=False, levels=(0, 255))
             self.amp_invalid.setImage(overlay, autoLevels=False, levels=(0, 255))
+        self._draw_outlines(tof.gt_object_id if self.show_truth else None)
         h, w = depth.shape
         for plot in (self.depth_plot, self.amp_plot):
             _set_view_range(plot, (h, w), x=(0, w), y=(0, h))
         _set_text(self.info, f"t = {view.time_s:.2f} s   frame {view.index + 1}   "
-                             f"{int(invalid.sum())} invalid px")
+                             f"{int(invalid.sum())} invalid px (magenta)")
+
+    def _draw_outlines(self, ids: NDArray[np.int32] | None) -> None:
+        """Outline every object of the ground-truth id image; the selected one in yellow."""
+        if ids is None:
+            for item in (self.depth_outline, self.amp_outline):
+                item.setVisible(False)
+            self._outline_key = None
+            return
+        key = (ids.shape, self.selected_id, hash(ids.tobytes()))
+        if key != self._outline_key:
+            self._outline_key = key
+            self.outlines = object_outlines(ids, self.selected_id)
+            for item in (self.depth_outline, self.amp_outline):
+                item.setImage(self.outlines, autoLevels=False, levels=(0, 255))
+        for item in (self.depth_outline, self.amp_outline):
+            item.setVisible(True)
 
     def _on_hover(self, pos: QPointF) -> None:
         if self.view is None:
@@ -292,74 +495,190 @@ class TofPanel(LivePanel):
                                 f"amplitude {tof.amplitude[row, col]:.1f} {tof.amplitude_unit}")
                     else:
                         text = f"px ({col}, {row})  invalid"
+                    ids = tof.gt_object_id
+                    if ids is not None and ids.shape == tof.depth_m.shape and ids[row, col] >= 0:
+                        text += f"  [{self.object_label(int(ids[row, col]))}]"
                     self.readout.setText(text)
                 return
 
 
 class RangeProfilePanel(LivePanel):
-    """Range-FFT magnitude (dB) versus range (m) per Rx, CFAR threshold, detections."""
+    """Processed range profile (dB) with its own 1-D CFAR threshold, detections, truth.
+
+    The profile is the range–Doppler map the detector works on (static clutter removal,
+    windows and channel integration included) averaged over Doppler, and the dashed
+    threshold is a 1-D CFAR along range on that same curve
+    (:func:`simcore.dsp.profile.range_profile_cfar`), so curve and threshold are on one
+    scale. The chirp-averaged raw spectra of the channels can be shown beside it (labelled
+    "raw"). Vertical lines mark each object's true range; A/B comparison shows a frozen
+    reference profile and the difference.
+    """
 
     title = "Range profile"
+    comparable = True
 
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
+        self.dsp = DspConfig()
+        self.looks = 1
+        self.show_raw = False
         self.plot_widget = pg.PlotWidget(title="range profile")
-        self.plot_widget.setToolTip("Range-FFT magnitude per receive channel (dB, chirp "
-                                    "average) versus range (m); dashed: CFAR threshold; "
-                                    "triangles: detections")
+        self.plot_widget.setToolTip(
+            "Processed range profile: the range–Doppler map (clutter removal and windows "
+            "applied, channels integrated) averaged over Doppler, dB; dashed: 1-D CFAR "
+            "threshold on this curve; triangles: detections of the 2-D detector; vertical "
+            "lines: true range of each object; 'raw channels': chirp-averaged raw spectra")
         self.plot = self.plot_widget.getPlotItem()
         self.plot.setLabel("bottom", "range", "m")
-        self.plot.setLabel("left", "magnitude", "dB")
+        self.plot.setLabel("left", "power", "dB")
         self.plot.showGrid(x=True, y=True, alpha=0.2)
-        self.legend = self.plot.addLegend(offset=(60, 8), labelTextSize="8pt",
-                                          brush=pg.mkBrush(21, 24, 28, 200))
+        self.legend = self.plot.addLegend(offset=(-4, 4), labelTextSize="7pt",
+                                          brush=pg.mkBrush(21, 24, 28, 150),
+                                          verSpacing=-6)
         self.curves: list[pg.PlotDataItem] = []
-        self.threshold = self.plot.plot(pen=pg.mkPen("#ffffff", width=1.2,
+        self.processed = self.plot.plot(pen=pg.mkPen("#ffffff", width=2.0),
+                                        name="processed")
+        self.threshold = self.plot.plot(pen=pg.mkPen("#ff8a65", width=1.2,
                                                      style=Qt.PenStyle.DashLine),
-                                         name="CFAR threshold")
+                                        name="1-D CFAR")
+        self.reference_curve = self.plot.plot(pen=pg.mkPen("#9e9e9e", width=1.2,
+                                                           style=Qt.PenStyle.DotLine))
+        self.difference_curve = self.plot.plot(pen=pg.mkPen("#ce93d8", width=1.6))
         self.markers = pg.ScatterPlotItem(symbol="t1", size=11, pen=pg.mkPen("#ffeb3b"),
                                           brush=pg.mkBrush("#ffeb3b"))
+        self.markers.sigClicked.connect(self._on_marker_clicked)
         self.plot.addItem(self.markers)
         self.legend.addItem(self.markers, "detections")
+        self.truth_lines: list[pg.InfiniteLine] = []
+        self.raw_box = QCheckBox("raw channels")
+        self.raw_box.setToolTip("Also draw each channel's chirp-averaged raw range spectrum "
+                                "(before clutter removal and Doppler processing)")
+        self.raw_box.toggled.connect(self.set_show_raw)
         self._names: list[str] = []
         self._y: tuple[float, float] | None = None
+        self.profile_db: NDArray[np.float32] | None = None
+        self.threshold_db: NDArray[np.float32] | None = None
         self.plot.disableAutoRange()
         self._finish_layout(self.plot_widget)
+        self.top_row.insertWidget(1, self.raw_box)
         self.plot.scene().sigMouseMoved.connect(self._on_hover)
+
+    def set_project(self, project: Project) -> None:  # noqa: D102
+        super().set_project(project)
+        radar = project.rig.radar
+        self.dsp = project.dsp
+        self.looks = max(1, len(radar.tx) * len(radar.rx) * radar.chirps_per_frame)
+
+    def set_show_raw(self, on: bool) -> None:  # noqa: FBT001 - Qt slot
+        """Show the raw per-channel spectra beside the processed profile."""
+        self.show_raw = bool(on)
+        self.redraw()
+
+    def processed_profile(self, view: FrameView) -> Any:
+        """The frame's processed profile and its 1-D CFAR (:class:`ProfileCfar`)."""
+        assert view.radar is not None
+        d = self.dsp
+        return range_profile_cfar(view.radar.range_doppler_db, method=d.cfar_method,
+                                  train=d.cfar_train_range, guard=d.cfar_guard_range,
+                                  pfa=d.cfar_pfa, rank=d.cfar_os_rank, n_integrated=self.looks)
 
     def draw(self, view: FrameView) -> None:  # noqa: D102
         if self._no_radar(view):
             return
         radar = view.radar
         assert radar is not None
-        n = radar.profile_db.shape[0]
-        names = list(radar.channel_names[:n])
-        if names != self._names:
-            self._rebuild_curves(names)
         r = radar.range_axis_m
-        for i, curve in enumerate(self.curves):
-            curve.setData(r, radar.profile_db[i])
-        if radar.threshold_db is not None and len(radar.threshold_db) == len(r):
-            self.threshold.setData(r, radar.threshold_db)
+        prof = self.processed_profile(view)
+        self.profile_db, self.threshold_db = prof.profile_db, prof.threshold_db
+        ref = self._reference_profile(len(r))
+        diff = self.show_difference and ref is not None
+        self._draw_raw(radar, visible=self.show_raw and not diff)
+        if diff:
+            assert ref is not None
+            delta = prof.profile_db - ref
+            self.difference_curve.setData(r, delta)
+            for item in (self.processed, self.threshold, self.reference_curve):
+                item.setData([], [])
+            span = max(DIFF_SPAN_DB / 2, float(np.ceil(np.nanmax(np.abs(delta)) / 5) * 5))
+            _set_title(self.plot, "A − B: current minus frozen reference (dB)")
+            self._y = (-span, span)
         else:
-            self.threshold.setData([], [])
+            self.difference_curve.setData([], [])
+            self.processed.setData(r, prof.profile_db)
+            self.threshold.setData(r, prof.threshold_db)
+            if ref is not None:
+                self.reference_curve.setData(r, ref)
+            else:
+                self.reference_curve.setData([], [])
+            _set_title(self.plot, "range profile (processed) + reference A" if ref is not None
+                       else "range profile (processed)")
+            curves = [prof.profile_db, prof.threshold_db]
+            if self.show_raw:
+                curves.append(radar.profile_db.ravel())
+            finite = np.concatenate([c[np.isfinite(c)] for c in curves])
+            lo = float(np.floor(finite.min() / 10) * 10) if finite.size else -100.0
+            hi = float(np.ceil(finite.max() / 10) * 10 + 10) if finite.size else 0.0
+            self._y = follow_levels(self._y, lo, hi, tolerance=10.0)
         det = radar.detections
-        if len(det):
-            mean = 10 * np.log10(np.mean(10 ** (radar.profile_db / 10), axis=0))
-            levels = np.interp(det.range_m, r, mean) + 2.0
-            self.markers.setData(det.range_m, levels)
+        if len(det) and not diff:
+            levels = np.interp(det.range_m, r, prof.profile_db) + 2.0
+            self.markers.setData(det.range_m, levels,
+                                 pen=detection_pens(det, self.selected_id))
         else:
             self.markers.setData([], [])
-        finite = radar.profile_db[np.isfinite(radar.profile_db)]
-        lo = float(np.floor(finite.min() / 10) * 10) if finite.size else -100.0
-        hi = float(np.ceil(finite.max() / 10) * 10 + 10) if finite.size else 0.0
-        self._y = follow_levels(self._y, lo, hi, tolerance=10.0)
+        self._draw_truth(self._visible_marks(view), x_max=float(r[-1]) if len(r) else 0.0)
         x_max = float(r[-1]) if len(r) else 1.0
         _set_view_range(self.plot, (len(r), x_max, self._y), x=(0.0, x_max), y=self._y)
-        peak = radar.profile_peak_range_m()
-        peak_text = "—" if not np.isfinite(peak) else f"{peak:.2f} m"
-        _set_text(self.info, f"t = {view.time_s:.2f} s   peak {peak_text}   "
-                             f"{len(det)} detections")
+        peak = self._peak_range(r, prof)
+        _set_text(self.info, f"t = {view.time_s:.2f} s   {peak}   {plural(len(det), 'detection')}")
+
+    def _peak_range(self, r: NDArray[np.float64], prof: Any) -> str:
+        """The strongest range bin above the profile's own threshold ('—' on pure noise)."""
+        # Beyond the leakage zone, like RadarView.profile_peak_range_m.
+        above = prof.detections & (r >= max(self.dsp.min_range_m, 0.3))
+        if not above.any():
+            return "peak —"
+        i = int(np.flatnonzero(above)[np.argmax(prof.profile_db[above])])
+        return f"peak {r[i]:.2f} m"
+
+    def _reference_profile(self, n: int) -> NDArray[np.float32] | None:
+        ref = self.reference
+        if ref is None or ref.radar is None or len(ref.radar.range_axis_m) != n:
+            return None
+        return self.processed_profile(ref).profile_db
+
+    def _draw_raw(self, radar: Any, *, visible: bool) -> None:
+        n = radar.profile_db.shape[0]
+        names = [f"{name} raw" for name in radar.channel_names[:n]] if visible else []
+        if names != self._names:
+            self._rebuild_curves(names)
+        for i, curve in enumerate(self.curves):
+            curve.setData(radar.range_axis_m, radar.profile_db[i])
+
+    def _draw_truth(self, marks: ObjectMarks | None, *, x_max: float) -> None:
+        shown = [] if marks is None else [
+            (int(i), float(rng)) for i, rng in zip(marks.object_id, marks.range_m, strict=True)
+            if np.isfinite(rng) and 0 < rng <= x_max]
+        while len(self.truth_lines) < len(shown):
+            line = pg.InfiniteLine(angle=90, movable=False, pen=TRUTH_PEN,
+                                   label="", labelOpts={"position": 0.92, "color": "#80deea",
+                                                        "rotateAxis": (1, 0)})
+            self.plot.addItem(line)
+            self.truth_lines.append(line)
+        for k, line in enumerate(self.truth_lines):
+            if k >= len(shown):
+                line.setVisible(False)
+                continue
+            oid, rng = shown[k]
+            line.setVisible(True)
+            line.setValue(rng)
+            line.object_id = oid
+            selected = oid == self.selected_id
+            line.setPen(TRUTH_SELECTED_PEN if selected else pg.mkPen(
+                "#80deea", width=1, style=Qt.PenStyle.DashLine))
+            text = self.object_label(oid) if self._labelled(oid, len(shown)) else ""
+            if line.label.format != text:
+                line.label.setFormat(text)
 
     def _rebuild_curves(self, names: list[str]) -> None:
         for curve in self.curves:
@@ -368,10 +687,15 @@ class RangeProfilePanel(LivePanel):
         self.curves = []
         for i, name in enumerate(names):
             colour = CHANNEL_COLOURS[i % len(CHANNEL_COLOURS)]
-            curve = self.plot.plot(pen=pg.mkPen(colour, width=1.3), name=name)
+            curve = self.plot.plot(pen=pg.mkPen(colour, width=1.0), name=name)
+            curve.setZValue(-1)
             self.curves.append(curve)
         self.legend.setColumnCount(1 if len(names) <= 4 else 3)
         self._names = names
+
+    def _on_marker_clicked(self, _item: Any, points: Any, *_: Any) -> None:
+        if len(points):
+            self.detectionClicked.emit(int(points[0].index()))
 
     def _on_hover(self, pos: QPointF) -> None:
         radar = None if self.view is None else self.view.radar
@@ -380,9 +704,14 @@ class RangeProfilePanel(LivePanel):
         p = self.plot.vb.mapSceneToView(pos)
         i = int(np.clip(np.searchsorted(radar.range_axis_m, p.x()), 0,
                         len(radar.range_axis_m) - 1))
+        text = f"range {radar.range_axis_m[i]:.3f} m:"
+        if self.profile_db is not None and len(self.profile_db) == len(radar.range_axis_m):
+            assert self.threshold_db is not None
+            text += (f" processed {self.profile_db[i]:.1f} (threshold "
+                     f"{self.threshold_db[i]:.1f})")
         values = "  ".join(f"{name} {radar.profile_db[k, i]:.1f}"
                            for k, name in enumerate(radar.channel_names))
-        self.readout.setText(f"range {radar.range_axis_m[i]:.3f} m: {values} dB")
+        self.readout.setText(f"{text}  raw {values} dB")
 
 
 def _rect(x: NDArray[np.float64], y: NDArray[np.float64]) -> QRectF:
@@ -403,46 +732,142 @@ def _set_image_rect(image: pg.ImageItem, plot: pg.PlotItem, rect: QRectF) -> Non
         _set_view_range(plot, key, x=(rect.left(), rect.right()), y=(rect.top(), rect.bottom()))
 
 
-class RangeDopplerPanel(LivePanel):
-    """Range–Doppler map (dB) with CFAR detections."""
+class MapPanel(LivePanel):
+    """A radar map panel: image, colour bar, detections, truth marks, A/B difference."""
+
+    comparable = True
+    cmap = "viridis"
+    bar_label = "power (dB)"
+
+    def _build_map(self, title: str, *, x_label: tuple[str, str], y_label: tuple[str, str],
+                   tooltip: str) -> None:
+        self.graphics = pg.GraphicsLayoutWidget()
+        self.graphics.setToolTip(tooltip)
+        self.plot, self.image = _image_plot(title, x_label=x_label, y_label=y_label)
+        self.graphics.addItem(self.plot, row=0, col=0)
+        self.bar = _colour_bar(self.graphics.ci, self.image, self.cmap, self.bar_label, row=0,
+                               col=1)
+        self.markers = pg.ScatterPlotItem(symbol="o", size=12, pen=DETECTION_PEN,
+                                          brush=DETECTION_BRUSH)
+        self.markers.setZValue(10)
+        self.markers.sigClicked.connect(self._on_marker_clicked)
+        self.plot.addItem(self.markers)
+        # Below the detections: a click on a detection over its own truth mark means it.
+        self.truth = pg.ScatterPlotItem(symbol="+", size=16, pen=TRUTH_PEN, brush=None)
+        self.truth.setZValue(9)
+        self.truth.sigClicked.connect(self._on_truth_clicked)
+        self.plot.addItem(self.truth)
+        self.truth_labels: list[pg.TextItem] = []
+        self._diff_shown: bool | None = None
+        self._levels: tuple[float, float] | None = None
+        self.plot.disableAutoRange()
+        self._finish_layout(self.graphics)
+        self.plot.scene().sigMouseMoved.connect(self._on_hover)
+
+    def _on_marker_clicked(self, _item: Any, points: Any, *_: Any) -> None:
+        if len(points):
+            self.detectionClicked.emit(int(points[0].index()))
+
+    def _on_truth_clicked(self, _item: Any, points: Any, *_: Any) -> None:
+        if len(points) and points[0].data() is not None:
+            self.objectClicked.emit(int(points[0].data()))
+
+    def _on_hover(self, pos: QPointF) -> None:
+        raise NotImplementedError
+
+    def _show_map(self, image: NDArray[np.float32], reference: NDArray[np.float32] | None, *,
+                  span_db: float, fill: float | None = None) -> None:
+        """Draw ``image`` (dB), or ``image − reference`` in the difference view."""
+        diff = self.show_difference and reference is not None and \
+            reference.shape == image.shape
+        if diff != self._diff_shown:
+            self._diff_shown = diff
+            self.bar.setColorMap(pg.colormap.get(DIFF_CMAP if diff else self.cmap))
+            self.bar.getAxis("left").setLabel("A − B (dB)" if diff else self.bar_label)
+            self._levels = None
+        if diff:
+            assert reference is not None
+            delta = np.nan_to_num(image - reference, nan=0.0)
+            self.image.setImage(delta, autoLevels=False)
+            _set_bar_levels(self.bar, (-DIFF_SPAN_DB, DIFF_SPAN_DB))
+            return
+        hi = float(np.nanmax(image))
+        self.image.setImage(image if fill is None else np.nan_to_num(image, nan=hi - fill),
+                            autoLevels=False)
+        self._levels = follow_levels(self._levels, hi - span_db, hi, tolerance=3.0)
+        _set_bar_levels(self.bar, self._levels)
+
+    def _show_detections(self, det: Any, x: Any, y: Any) -> None:
+        self.markers.setData(x, y, brush=detection_brushes(det, by_label=self.colour_by_label),
+                             pen=detection_pens(det, self.selected_id))
+
+    def _show_truth(self, marks: ObjectMarks | None, x: Any, y: Any, inside: Any) -> None:
+        """Crosses at each object's true position (map coordinates ``x``, ``y``)."""
+        if marks is None:
+            self.truth.setData([], [])
+            keep: list[int] = []
+        else:
+            keep = [k for k in range(len(marks.object_id)) if inside[k]]
+            pens = [TRUTH_SELECTED_PEN if int(marks.object_id[k]) == self.selected_id
+                    else TRUTH_PEN for k in keep]
+            self.truth.setData(np.asarray(x)[keep], np.asarray(y)[keep], pen=pens,
+                               data=[int(marks.object_id[k]) for k in keep])
+        while len(self.truth_labels) < len(keep):
+            label = pg.TextItem("", color="#80deea", anchor=(0, 1))
+            label.setZValue(11)
+            self.plot.addItem(label)
+            self.truth_labels.append(label)
+        for n, label in enumerate(self.truth_labels):
+            if n >= len(keep):
+                label.setVisible(False)
+                continue
+            assert marks is not None
+            k = keep[n]
+            oid = int(marks.object_id[k])
+            label.setVisible(self._labelled(oid, len(keep)))
+            label.setText(self.object_label(oid),
+                          color="#ffeb3b" if oid == self.selected_id else "#80deea")
+            label.setPos(float(np.asarray(x)[k]), float(np.asarray(y)[k]))
+
+
+
+class RangeDopplerPanel(MapPanel):
+    """Range–Doppler map (dB) with CFAR detections and each object's true (range, velocity)."""
 
     title = "Range–Doppler"
 
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
-        self.graphics = pg.GraphicsLayoutWidget()
-        self.graphics.setToolTip("Range–Doppler map (dB, channels integrated); circles: CFAR "
-                                 "detections; velocity positive = moving away (m/s)")
-        self.plot, self.image = _image_plot("range–Doppler", x_label=("range", "m"),
-                                            y_label=("radial velocity", "m/s"))
-        self.graphics.addItem(self.plot, row=0, col=0)
-        self.bar = _colour_bar(self.graphics.ci, self.image, "viridis", "power (dB)", row=0,
-                               col=1)
-        self.markers = pg.ScatterPlotItem(symbol="o", size=12, pen=DETECTION_PEN,
-                                          brush=DETECTION_BRUSH)
-        self.markers.setZValue(10)
-        self.plot.addItem(self.markers)
-        self.plot.disableAutoRange()
-        self._levels: tuple[float, float] | None = None
-        self._finish_layout(self.graphics)
-        self.plot.scene().sigMouseMoved.connect(self._on_hover)
+        self._build_map("range–Doppler", x_label=("range", "m"),
+                        y_label=("radial velocity", "m/s"),
+                        tooltip="Range–Doppler map (dB, channels integrated); circles: CFAR "
+                                "detections (click one to select its object); crosses: each "
+                                "object's true range and radial velocity; velocity positive "
+                                "= moving away (m/s)")
 
     def draw(self, view: FrameView) -> None:  # noqa: D102
         if self._no_radar(view):
             return
         radar = view.radar
         assert radar is not None
-        rd = radar.range_doppler_db
-        self.image.setImage(rd, autoLevels=False)
+        ref = None if self.reference is None or self.reference.radar is None \
+            else self.reference.radar.range_doppler_db
+        self._show_map(radar.range_doppler_db, ref, span_db=60.0)
         _set_image_rect(self.image, self.plot, _rect(radar.range_axis_m,
                                                      radar.velocity_axis_mps))
-        hi = float(np.nanmax(rd))
-        self._levels = follow_levels(self._levels, hi - 60.0, hi, tolerance=3.0)
-        _set_bar_levels(self.bar, self._levels)
         det = radar.detections
-        self.markers.setData(det.range_m, det.velocity_mps,
-                             brush=detection_brushes(det, by_label=self.colour_by_label))
-        _set_text(self.info, f"t = {view.time_s:.2f} s   {len(det)} detections")
+        self._show_detections(det, det.range_m, det.velocity_mps)
+        marks = self._visible_marks(view)
+        if marks is not None:
+            r, v = marks.range_m, marks.radial_velocity_mps
+            vmax = float(np.max(np.abs(radar.velocity_axis_mps))) if len(
+                radar.velocity_axis_mps) else 0.0
+            inside = (np.isfinite(r) & (r > 0) & (r <= radar.range_axis_m[-1])
+                      & (np.abs(v) <= vmax + 1e-9))
+            self._show_truth(marks, r, v, inside)
+        else:
+            self._show_truth(None, [], [], [])
+        _set_text(self.info, f"t = {view.time_s:.2f} s   {plural(len(det), 'detection')}")
 
     def _on_hover(self, pos: QPointF) -> None:
         radar = None if self.view is None else self.view.radar
@@ -456,7 +881,7 @@ class RangeDopplerPanel(LivePanel):
                              f"{radar.range_doppler_db[vi, ri]:.1f} dB")
 
 
-class RangeAzimuthPanel(LivePanel):
+class RangeAzimuthPanel(MapPanel):
     """Bird's-eye range–azimuth map (dB) in radar x (right) / z (forward) metres."""
 
     title = "Range–azimuth"
@@ -464,27 +889,14 @@ class RangeAzimuthPanel(LivePanel):
 
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
-        self.graphics = pg.GraphicsLayoutWidget()
-        self.graphics.setToolTip("Range–azimuth map seen from above (dB): lateral x to the "
-                                 "right and forward distance from the radar (m); circles: "
-                                 "detections")
-        self.plot, self.image = _image_plot("bird's-eye",
-                                            x_label=("lateral x", "m"),
-                                            y_label=("forward", "m"))
+        self._build_map("bird's-eye", x_label=("lateral x", "m"), y_label=("forward", "m"),
+                        tooltip="Range–azimuth map seen from above (dB): lateral x to the "
+                                "right and forward distance from the radar (m); circles: "
+                                "detections (click one to select its object); crosses: each "
+                                "object's true position")
         self.plot.setAspectLocked(True)
-        self.graphics.addItem(self.plot, row=0, col=0)
-        self.bar = _colour_bar(self.graphics.ci, self.image, "viridis", "power (dB)", row=0,
-                               col=1)
-        self.markers = pg.ScatterPlotItem(symbol="o", size=12, pen=DETECTION_PEN,
-                                          brush=DETECTION_BRUSH)
-        self.markers.setZValue(10)
-        self.plot.addItem(self.markers)
         self._grid_key: tuple[Any, ...] | None = None
         self._lookup: tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.bool_]] | None = None
-        self._levels: tuple[float, float] | None = None
-        self.plot.disableAutoRange()
-        self._finish_layout(self.graphics)
-        self.plot.scene().sigMouseMoved.connect(self._on_hover)
 
     def _build_lookup(self, r: NDArray[np.float64], az_deg: NDArray[np.float64]) -> None:
         r_max = float(r[-1])
@@ -501,37 +913,45 @@ class RangeAzimuthPanel(LivePanel):
         self._lookup = (ai, ri, inside)
         self._extent = QRectF(-n * self.pixel_m, 0.0, 2 * n * self.pixel_m, n * self.pixel_m)
 
+    def bird_eye(self, radar: Any) -> tuple[NDArray[np.float32], QRectF]:
+        """Bird's-eye image (dB, NaN outside the coverage) of a radar view and its extent."""
+        if radar.bev_db is not None and radar.bev_x_m is not None and radar.bev_z_m is not None:
+            # The DSP's own Cartesian resampling of the range–azimuth map.
+            return radar.bev_db, _rect(radar.bev_x_m, radar.bev_z_m)
+        r, az = radar.range_axis_m, radar.azimuth_axis_deg
+        key = (len(r), float(r[0]), float(r[-1]), len(az), float(az[0]), float(az[-1]))
+        if key != self._grid_key:
+            self._build_lookup(r, az)
+            self._grid_key = key
+        assert self._lookup is not None
+        ai, ri, inside = self._lookup
+        bev = np.where(inside, radar.range_azimuth_db[ai, ri], np.nan).astype(np.float32)
+        return bev, self._extent
+
     def draw(self, view: FrameView) -> None:  # noqa: D102
         if self._no_radar(view):
             return
         radar = view.radar
         assert radar is not None
-        ra = radar.range_azimuth_db
-        hi = float(np.nanmax(ra))
-        if radar.bev_db is not None and radar.bev_x_m is not None and radar.bev_z_m is not None:
-            # The DSP's own Cartesian resampling of the range–azimuth map.
-            bev = radar.bev_db
-            rect = _rect(radar.bev_x_m, radar.bev_z_m)
-        else:
-            r, az = radar.range_axis_m, radar.azimuth_axis_deg
-            key = (len(r), float(r[0]), float(r[-1]), len(az), float(az[0]), float(az[-1]))
-            if key != self._grid_key:
-                self._build_lookup(r, az)
-                self._grid_key = key
-            assert self._lookup is not None
-            ai, ri, inside = self._lookup
-            bev = np.where(inside, ra[ai, ri], np.nan).astype(np.float32)
-            rect = self._extent
+        bev, rect = self.bird_eye(radar)
         self.bev = bev
-        self.image.setImage(np.nan_to_num(bev, nan=hi - 200.0), autoLevels=False)
+        ref = None
+        if self.reference is not None and self.reference.radar is not None:
+            ref = self.bird_eye(self.reference.radar)[0]
+        self._show_map(bev, ref, span_db=40.0, fill=200.0)
         _set_image_rect(self.image, self.plot, rect)
-        self._levels = follow_levels(self._levels, hi - 40.0, hi, tolerance=3.0)
-        _set_bar_levels(self.bar, self._levels)
         det = radar.detections
         a = np.deg2rad(det.azimuth_deg)
-        self.markers.setData(det.range_m * np.sin(a), det.range_m * np.cos(a),
-                             brush=detection_brushes(det, by_label=self.colour_by_label))
-        _set_text(self.info, f"t = {view.time_s:.2f} s   {len(det)} detections")
+        self._show_detections(det, det.range_m * np.sin(a), det.range_m * np.cos(a))
+        marks = self._visible_marks(view)
+        if marks is not None:
+            r, az = marks.range_m, np.deg2rad(marks.azimuth_deg)
+            inside = np.isfinite(r) & (r > 0) & (r <= radar.range_axis_m[-1]) & (
+                np.abs(az) < np.pi / 2)
+            self._show_truth(marks, r * np.sin(az), r * np.cos(az), inside)
+        else:
+            self._show_truth(None, [], [], [])
+        _set_text(self.info, f"t = {view.time_s:.2f} s   {plural(len(det), 'detection')}")
 
     def _on_hover(self, pos: QPointF) -> None:
         radar = None if self.view is None else self.view.radar

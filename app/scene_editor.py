@@ -32,6 +32,7 @@ from PyQt6.QtWidgets import (
 )
 
 from app.document import RIG, EditError, ProjectDocument
+from app.mesh_import import MeshImportDialog
 from app.scene_edits import (
     KIND_LABELS,
     NEW_OBJECTS,
@@ -173,8 +174,15 @@ def build_add_menu(parent: QWidget, document: ProjectDocument, report: Any) -> Q
     def import_dialog() -> None:
         path, _ = QFileDialog.getOpenFileName(parent, "Import mesh", str(document.base_dir),
                                               "Meshes (*.stl *.obj *.ply)")
-        if path:
-            try_edit(report, lambda: import_mesh(document, Path(path)))
+        if not path:
+            return
+        try:
+            dialog = MeshImportDialog(Path(path), parent)
+        except Exception as exc:  # noqa: BLE001 - any unreadable file: say why
+            report(f"cannot read {Path(path).name}: {exc}")
+            return
+        if dialog.exec() == MeshImportDialog.DialogCode.Accepted:
+            try_edit(report, lambda: import_mesh(document, Path(path), scale=dialog.scale))
 
     action.triggered.connect(import_dialog)
     menu.addAction(action)
@@ -357,11 +365,23 @@ class ObjectInspector(QScrollArea):
         idx = self.document.selected_index()
         return None if idx is None else f"objects[{idx}]"
 
+    def _subject(self) -> str:
+        """What the selection is called in undo texts: the object's name or "sensor rig"."""
+        if self.document.selection == RIG:
+            return "sensor rig"
+        idx = self.document.selected_index()
+        return "" if idx is None else self.document.project.objects[idx].name
+
     def _set(self, sub: str, value: Any, text: str, field: QWidget | None = None) -> None:
-        """Set one field of the selection; a refused value stays in ``field``, marked."""
+        """Set one field of the selection; a refused value stays in ``field``, marked.
+
+        The undo text names the object: "Move desk1_top", "Edit motion of sensor rig".
+        """
         base = self._base_path()
         if base is None:
             return
+        joiner = " of " if " " in text else " "
+        text = f"{text}{joiner}{self._subject()}"
         try_edit(self.editFailed.emit,
                  lambda: self.document.set_value(f"{base}.{sub}", value, text=text),
                  self.refresh, field=field)
@@ -383,8 +403,9 @@ class ObjectInspector(QScrollArea):
         is_rig = key == RIG
         has = is_rig or idx is not None
         self.object_box.setVisible(idx is not None)
-        self.pose_box.setEnabled(has)
-        self.motion_box.setEnabled(has)
+        # Hidden, not greyed: greyed boxes would show the last selection's values.
+        self.pose_box.setVisible(has)
+        self.motion_box.setVisible(has)
         if not has:
             self.heading.setText("Nothing selected — click an object in the 3D view or list")
             return
@@ -512,7 +533,7 @@ class ObjectInspector(QScrollArea):
             node["motion"]["angular_velocity_dps"] = (0.0, 0.0, 0.0)
 
         try:
-            self.document.edit("Add keyframe", mutate)
+            self.document.edit(f"Add keyframe to {self._subject()}", mutate)
         except EditError as exc:
             self.editFailed.emit(str(exc))
 

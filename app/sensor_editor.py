@@ -13,9 +13,11 @@ from typing import Any
 
 import numpy as np
 from PyQt6.QtCore import QSignalBlocker, pyqtSignal
+from PyQt6.QtGui import QValidator
 from PyQt6.QtWidgets import (
     QCheckBox,
     QComboBox,
+    QDoubleSpinBox,
     QFormLayout,
     QGroupBox,
     QHBoxLayout,
@@ -27,18 +29,16 @@ from PyQt6.QtWidgets import (
 )
 
 from app.document import ProjectDocument
+from app.field_editors import DETECTION, LINK_BUDGET, PROCESSING, FieldForm
 from app.widgets import BIG, INT_MAX, VectorEdit, int_spin, set_quietly, spin, try_edit
 from simcore.scene import Project
-from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
+from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig, aliasing_warnings
+from simcore.scene.radar_presets import RADAR_PRESETS
 from simcore.scene.snapshot import take_snapshot
 
 
 def radar_presets() -> dict[str, Callable[..., RadarConfig]]:
-    """Named radar presets (from :mod:`simcore.scene.radar_presets` when present)."""
-    try:
-        from simcore.scene.radar_presets import RADAR_PRESETS
-    except ImportError:
-        return {"bgt60tr13c": RadarConfig}
+    """Named radar presets (:mod:`simcore.scene.radar_presets`)."""
     return dict(RADAR_PRESETS)
 
 
@@ -94,18 +94,38 @@ def radar_warnings(project: Project, extent: tuple[np.ndarray, np.ndarray] | Non
     """
     cfg = project.rig.radar
     ranges, velocities = scene_radial_extent(project) if extent is None else extent
-    try:
-        from simcore.scene.radar_config import aliasing_warnings
-    except ImportError:
-        out = []
-        if ranges.size and ranges.max() > cfg.max_range_m:
-            out.append(f"objects up to {ranges.max():.2f} m lie beyond the unambiguous range "
-                       f"{cfg.max_range_m:.2f} m and alias")
-        if velocities.size and np.abs(velocities).max() > cfg.max_velocity_mps:
-            out.append(f"objects move faster than ±{cfg.max_velocity_mps:.2f} m/s and alias "
-                       "in Doppler")
-        return out
     return aliasing_warnings(cfg, ranges_m=ranges, radial_velocities_mps=velocities)
+
+
+class PfaSpin(QDoubleSpinBox):
+    """A false-alarm rate shown as ``1e-06`` (the box's value is −log10 Pfa)."""
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.setRange(0.01, 300.0)
+        self.setDecimals(9)  # the exponent: Pfa to 1e-8 relative
+        self.setSingleStep(0.5)
+        self.setKeyboardTracking(False)
+        self.setPrefix("Pfa = ")
+
+    def textFromValue(self, value: float) -> str:  # noqa: N802, D102 - Qt API
+        return f"{10.0 ** -value:.3g}"
+
+    def valueFromText(self, text: str) -> float:  # noqa: N802, D102 - Qt API
+        try:
+            pfa = float(text.removeprefix(self.prefix()).strip())
+        except ValueError:
+            return self.value()
+        return float(-np.log10(pfa)) if 0 < pfa < 1 else self.value()
+
+    def validate(self, text: str, pos: int) -> tuple[QValidator.State, str, int]:  # noqa: D102
+        body = text.removeprefix(self.prefix()).strip()
+        try:
+            pfa = float(body)
+        except ValueError:
+            return QValidator.State.Intermediate, text, pos
+        ok = 0 < pfa < 1
+        return (QValidator.State.Acceptable if ok else QValidator.State.Intermediate), text, pos
 
 
 # field, label, scale (display units per SI unit), unit, decimals, minimum, tooltip
@@ -145,7 +165,8 @@ class SensorEditor(QScrollArea):
         row.addWidget(self._build_radar(), 1)
         row.addWidget(self._build_derived(), 1)
         self.tabs.addTab(radar_page, "Radar")
-        self.tabs.addTab(self._build_dsp(), "Radar processing")
+        self.tabs.addTab(self._build_link_budget(), "Link budget")
+        self.tabs.addTab(self._build_dsp_page(), "Radar processing")
         self.tabs.addTab(self._build_tof(), "ToF camera")
         self._extent_key: tuple[Any, ...] | None = None
         self._extent: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
@@ -275,6 +296,32 @@ class SensorEditor(QScrollArea):
         form.addRow("rotation on rig", self.radar_rot)
         return box
 
+    def _build_link_budget(self) -> QWidget:
+        box = QGroupBox("Link budget and receiver")
+        box.setToolTip("Transmit power, antenna gains and the receiver chain: they set the "
+                       "signal and noise levels of the ADC data")
+        layout = QVBoxLayout(box)
+        self.link_form = FieldForm(self.document, LINK_BUDGET)
+        self.link_form.editFailed.connect(self.editFailed)
+        layout.addWidget(self.link_form)
+        layout.addStretch(1)
+        return box
+
+    def _build_dsp_page(self) -> QWidget:
+        page = QWidget()
+        row = QHBoxLayout(page)
+        row.setContentsMargins(2, 2, 2, 2)
+        row.addWidget(self._build_dsp(), 1)
+        self.detection_form = FieldForm(self.document, DETECTION)
+        self.processing_form = FieldForm(self.document, PROCESSING)
+        for title, form in (("Detection (CFAR cells)", self.detection_form),
+                            ("Range, Doppler and angle options", self.processing_form)):
+            form.editFailed.connect(self.editFailed)
+            box = QGroupBox(title)
+            QVBoxLayout(box).addWidget(form)
+            row.addWidget(box, 1)
+        return page
+
     def _build_dsp(self) -> QWidget:
         box = QGroupBox("Radar processing (DSP)")
         form = QFormLayout(box)
@@ -300,9 +347,9 @@ class SensorEditor(QScrollArea):
         self.cfar_dims.activated.connect(
             lambda i: self._set("dsp.cfar_dimensions", 2 if i == 0 else 1, self.cfar_dims))
         form.addRow("CFAR dimensions", self.cfar_dims)
-        self.pfa = spin(minimum=-BIG, maximum=BIG, decimals=1, step=0.5, suffix="",
-                        tooltip="false-alarm probability per cell: Pfa = 10^-value")
-        self.pfa.setPrefix("Pfa = 1e-")
+        self.pfa = PfaSpin()
+        self.pfa.setToolTip("false-alarm probability per cell (0 < Pfa < 1), e.g. 1e-6; "
+                            "the arrows step by half a decade")
         self.pfa.valueChanged.connect(
             lambda v: self._set("dsp.cfar_pfa", float(10.0 ** -min(max(v, -300.0), 300.0)),
                                 self.pfa))
