@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 from PyQt6.QtCore import QSignalBlocker, pyqtSignal
 from PyQt6.QtGui import QColor
 from PyQt6.QtWidgets import (
@@ -29,6 +30,7 @@ from PyQt6.QtWidgets import (
 
 from app.document import RIG, EditError, ProjectDocument, library_names
 from app.widgets import BIG, set_quietly, spin, try_edit
+from simcore.scene.materials import BandMaterial
 
 BAND_FIELDS: list[tuple[str, str, float, float, float, str]] = [
     # field, label, min, max, step, tooltip
@@ -43,6 +45,22 @@ BAND_FIELDS: list[tuple[str, str, float, float, float, str]] = [
      "0: the band sees through the object (it is not rendered in this band)"),
     ("retro_gain", "retro gain", 0.0, 1e6, 1.0,
      "angle-independent extra return of a retroreflector (band response units)"),
+]
+
+#: Smooth-interface fields of the radar band: field, label, unit scale (shown = SI × scale),
+#: step, tooltip. 0 shown means "not set" for the optional ones (permittivity, thickness).
+INTERFACE_FIELDS: list[tuple[str, str, float, float, str]] = [
+    ("permittivity", "permittivity ε′", 1.0, 0.1,
+     "relative permittivity at 60 GHz; 0 = no smooth interface (diffuse lobe only). Sets "
+     "the coherent (physical-optics) reflection Γ = (1 − n)/(1 + n)"),
+    ("loss_tangent", "loss tangent tan δ", 1.0, 0.01,
+     "dielectric loss ε″/ε′: absorption inside a slab"),
+    ("thickness_m", "thickness (mm)", 1e3, 0.5,
+     "slab thickness in mm; 0 = thick (transmits nothing). A slab transmits: the radar "
+     "sees what is behind it, attenuated by T² (in and out)"),
+    ("height_rms_m", "rms height (mm)", 1e3, 0.05,
+     "rms surface height in mm: removes coherent reflection, "
+     "exp(−(4π h cos θ / λ)²) of it stays coherent"),
 ]
 
 BAND_TITLES = {"tof": "ToF (near-IR)", "radar": "Radar (mm-wave)",
@@ -141,6 +159,24 @@ def save_material_as(document: ProjectDocument, source: str, new_name: str) -> N
     document.edit(f"Save material {new_name}", mutate)
 
 
+def _from_shown(field: str, shown: float, scale: float) -> float | None:
+    """Model value of a shown interface field (0 = not set for the optional ones)."""
+    if field in ("permittivity", "thickness_m") and shown == 0.0:
+        return None
+    return float(shown) / scale
+
+
+def interface_summary(band_material: BandMaterial, frequency_hz: float = 63e9) -> str:
+    """"Γ … dB, two-way transmission … dB" of a radar band material, in words."""
+    if not band_material.is_smooth_interface():
+        return "no smooth interface: diffuse return only"
+    gamma, trans = band_material.coefficients(frequency_hz)
+    refl = f"Γ = {20 * np.log10(max(abs(gamma), 1e-12)):.1f} dB"
+    if abs(trans) <= 1e-9:
+        return f"{refl}; opaque"
+    return f"{refl}; two-way transmission {40 * np.log10(abs(trans)):.1f} dB"
+
+
 class BandEditor(QGroupBox):
     """The parameters of one band."""
 
@@ -164,11 +200,32 @@ class BandEditor(QGroupBox):
         retro.toggled.connect(lambda on: self.edited.emit(self.band, "retroreflector", bool(on)))
         form.addRow("", retro)
         self.widgets["retroreflector"] = retro
+        self.scales: dict[str, float] = {}
+        self.interface = QLabel("")
+        if band == "radar":
+            for field, label, scale, step, tip in INTERFACE_FIELDS:
+                box = spin(minimum=-BIG, maximum=BIG, decimals=4, step=step,
+                           tooltip=f"{BAND_TITLES[band]}: {tip}")
+                box.valueChanged.connect(
+                    lambda v, f=field, k=scale: self.edited.emit(self.band, f,
+                                                                 _from_shown(f, v, k)))
+                form.addRow(label, box)
+                self.widgets[field] = box
+                self.scales[field] = scale
+            self.interface.setWordWrap(True)
+            self.interface.setToolTip("Reflection and two-way transmission of this material "
+                                      "at 63 GHz, normal incidence")
+            form.addRow(self.interface)
 
     def show_values(self, band_material: Any) -> None:
         """Show a :class:`BandMaterial`."""
         for field, w in self.widgets.items():
-            set_quietly(w, getattr(band_material, field))
+            value = getattr(band_material, field)
+            if field in self.scales:
+                value = 0.0 if value is None else value * self.scales[field]
+            set_quietly(w, value)
+        if self.band == "radar":
+            self.interface.setText(interface_summary(band_material))
 
 
 class MaterialEditor(QWidget):

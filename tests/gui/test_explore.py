@@ -507,3 +507,33 @@ def test_help_menu_timeline_dock_and_keyframe_at_current_time(make_window, qtbot
     assert window.time.n_frames == 30 and window.time_bar.slider.maximum() == 29
     window.undo_action.trigger()
     assert window.time_bar.slider.maximum() == 9
+
+
+def test_radar_interface_fields_edit_save_and_undo(material_editor, tmp_path):
+    """Glass: thickness in mm at the field, the slab's transmission read-out follows, the
+    edit is one undo step and survives save/load."""
+    ed = material_editor
+    doc = ed.document
+    idx = ed.combo.findText("glass", Qt.MatchFlag.MatchContains)
+    ed.combo.setCurrentIndex(idx)
+    ed.refresh()
+    assert ed.current == "glass"
+    box = ed.radar_editor.widgets["thickness_m"]
+    assert box.value() == pytest.approx(4.0)                      # 4 mm in the library
+    before = ed.radar_editor.interface.text()
+    box.setValue(8.0)
+    band = doc.material_table()["glass"].band("radar")
+    assert band.thickness_m == pytest.approx(0.008)
+    # The read-out is the material's own two-way transmission at 63 GHz, recomputed.
+    _, t = band.coefficients(63e9)
+    assert f"{40 * np.log10(abs(t)):.1f} dB" in ed.radar_editor.interface.text()
+    assert ed.radar_editor.interface.text() != before
+    path = tmp_path / "glass.json"
+    doc.save(path)
+    assert load_project(path).materials[0].band("radar").thickness_m == pytest.approx(0.008)
+    doc.undo_stack.undo()
+    assert doc.material_table()["glass"].band("radar").thickness_m == pytest.approx(0.004)
+    # 0 means "thick": nothing transmitted.
+    box.setValue(0.0)
+    assert doc.material_table()["glass"].band("radar").thickness_m is None
+    assert "opaque" in ed.radar_editor.interface.text()
