@@ -245,9 +245,11 @@ def _facet_scatterers(project: Project, snapshot: SceneSnapshot, buffers: Render
     pos[:n] = found.positions_m
     vel = np.zeros((n + extra, 3))
     radar = snapshot.sensors["radar"]
-    for i in np.unique(found.object_index):
-        rel = (snapshot.objects[i].velocity_mps - radar.velocity_mps) @ radar.rotation
-        vel[:n][found.object_index == i] = rel
+    # Translation of each object relative to the radar (rotation: _rotation_kinematics).
+    rel = np.array([(s.velocity_mps - radar.velocity_mps) @ radar.rotation
+                    for s in snapshot.objects]).reshape(-1, 3)
+    if n and np.any(rel):
+        vel[:n] = rel[found.object_index]
     rcs = np.zeros(n + extra)
     rcs[:n] = np.abs(found.amplitude) ** 2
     phase = np.zeros(n + extra)

@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import math
 import weakref
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -76,6 +76,10 @@ class SurfaceFacets:
     source_normals, source_points : ndarray, shape (T, 3)
         Outward normal and one corner of every mesh triangle: a facet can face the radar
         only when its (planar) source triangle does.
+    edges : ndarray, shape (N, 3, 3)
+        Per facet: the edge vectors v1 − v0, v2 − v0 and the corner v0 − centroid (m).
+    longest : ndarray, shape (N,)
+        Longest edge (m).
     """
 
     vertices: NDArray[np.float64]
@@ -85,6 +89,8 @@ class SurfaceFacets:
     area2: NDArray[np.float64]
     source_normals: NDArray[np.float64]
     source_points: NDArray[np.float64]
+    edges: NDArray[np.float64]
+    longest: NDArray[np.float64]
 
     def __len__(self) -> int:
         return int(self.source.shape[0])
@@ -176,9 +182,14 @@ def surface_facets(mesh: TriangleMesh) -> SurfaceFacets:
     src_n /= np.maximum(np.linalg.norm(src_n, axis=1), 1e-300)[:, None]
     outward = mesh.normals[mesh.triangles].sum(axis=1)
     src_n[np.einsum("ij,ij->i", src_n, outward) < 0] *= -1.0
-    cross = np.cross(verts[:, 1] - verts[:, 0], verts[:, 2] - verts[:, 0])
-    facets = SurfaceFacets(verts, src, src_n[src], verts.mean(axis=1),
-                           np.linalg.norm(cross, axis=1), src_n, tri[:, 0].copy())
+    e1, e2 = verts[:, 1] - verts[:, 0], verts[:, 2] - verts[:, 0]
+    cross = np.cross(e1, e2)
+    centroids = verts.mean(axis=1)
+    longest = np.sqrt(np.max(np.stack([np.sum(e1 * e1, axis=1), np.sum(e2 * e2, axis=1),
+                                       np.sum((e2 - e1) ** 2, axis=1)]), axis=0))
+    facets = SurfaceFacets(verts, src, src_n[src], centroids, np.linalg.norm(cross, axis=1),
+                           src_n, tri[:, 0].copy(),
+                           np.stack([e1, e2, verts[:, 0] - centroids], axis=1), longest)
     key = id(mesh)
     _FACETS[key] = (weakref.ref(mesh, lambda _ref: _FACETS.pop(key, None)), facets)
     return facets
@@ -232,19 +243,41 @@ def facet_integral(v: NDArray[np.float64], c: NDArray[np.float64], dist: NDArray
     k : float
         Wavenumber 2π/λ (rad/m).
     """
-    out = _far_field_integral(v, c, dist, k)
-    edge = np.max(np.linalg.norm(v - np.roll(v, 1, axis=1), axis=2), axis=1)
-    limit = np.sqrt(np.pi * dist / (2.0 * k))                    # √(λR/4)
+    e1, e2 = v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]
+    edge = np.sqrt(np.max(np.stack([np.sum(e1 * e1, axis=1), np.sum(e2 * e2, axis=1),
+                                    np.sum((e2 - e1) ** 2, axis=1)]), axis=0))
+    area2 = np.linalg.norm(np.cross(e1, e2), axis=1)
+    return _facet_integral(v, c, dist, k, e1=e1, e2=e2, d0=v[:, 0] - c, area2=area2,
+                           edge=edge)
+
+
+def _facet_integral(v: NDArray[np.float64] | Callable[[NDArray[np.intp]], NDArray[np.float64]],
+                    c: NDArray[np.float64], dist: NDArray[np.float64], k: float, *,
+                    e1: NDArray[np.float64], e2: NDArray[np.float64], d0: NDArray[np.float64],
+                    area2: NDArray[np.float64], edge: NDArray[np.float64]
+                    ) -> NDArray[np.complex128]:
+    """:func:`facet_integral` from the facets' edges, in any frame.
+
+    ``e1, e2`` are the edge vectors v1 − v0, v2 − v0 and ``d0`` the corner v0 − centroid,
+    expressed in the same frame as ``c`` (so that dot products are the radar frame's);
+    ``v`` (or a function of facet indices giving them) holds the corners in the radar
+    frame, needed only for facets that are split.
+    """
     wv = (2.0 * k / dist)[:, None] * c
-    alpha = np.einsum("ij,ij->i", wv, v[:, 1] - v[:, 0])
-    beta = np.einsum("ij,ij->i", wv, v[:, 2] - v[:, 0])
+    alpha = np.einsum("ij,ij->i", wv, e1)
+    beta = np.einsum("ij,ij->i", wv, e2)
+    out = area2 * triangle_integral(alpha, beta) * np.exp(1j * np.einsum("ij,ij->i", wv, d0))
+    limit = np.sqrt(np.pi * dist / (2.0 * k))                    # √(λR/4)
     span = np.maximum(np.maximum(np.abs(alpha), np.abs(beta)), np.abs(alpha - beta))
     n = np.ceil(edge / limit).astype(np.int64)
     refine = (n > 1) & (span < 6.0 * np.pi)
+    if not refine.any():
+        return out
     for count in np.unique(n[refine]):
         sel = np.flatnonzero(refine & (n == count))
+        corners = v(sel) if callable(v) else v[sel]
         bary = _template(int(min(count, 16)))
-        sub = np.einsum("pkj,tjd->tpkd", bary, v[sel])                 # (m, p, 3, 3)
+        sub = np.einsum("pkj,tjd->tpkd", bary, corners)                # (m, p, 3, 3)
         m, p = sub.shape[:2]
         sub = sub.reshape(-1, 3, 3)
         sc = sub.mean(axis=1)
@@ -415,12 +448,13 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
     through_obj = None if see_through is None else see_through.object_index.ravel()
     through_rng = None if see_through is None else see_through.range_m.ravel()
     pix_angle = 1.0 / min(intr.fx, intr.fy)
-    shown = np.zeros(len(project.objects) + 1, dtype=bool)
-    shown[np.unique(full_obj[full_obj >= 0])] = True
+    n_obj = len(project.objects)
+    shown = np.bincount(full_obj + 1, minlength=n_obj + 1)[1:] > 0
     if through_obj is not None:
-        shown[np.unique(through_obj[through_obj >= 0])] = True
+        shown |= np.bincount(through_obj + 1, minlength=n_obj + 1)[1:] > 0
 
     parts: list[tuple[NDArray[Any], ...]] = []
+    corner_fns: list[Callable[[NDArray[np.intp]], NDArray[np.float64]]] = []
     for i, (o, mesh) in enumerate(zip(project.objects, meshes, strict=True)):
         if mesh is None or not shown[i] or (exclude is not None and exclude[i]):
             continue
@@ -467,7 +501,12 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
             continue
         pix, c, dist, cos_t, area2, cand = (pix[sel], c[sel], dist[sel], cos_t[sel],
                                             area2[sel], cand[sel])
-        v = facets.vertices[cand] @ rot.T + off
+        # Dot products with the facet's edges are frame independent: take the direction
+        # into the object's frame instead of the corners into the radar's.
+        c_obj = c @ rot                                                    # Rᵀ c
+        edges = facets.edges[cand]
+        geometry = (c_obj, edges[:, 0], edges[:, 1], edges[:, 2], area2, facets.longest[cand])
+        corners = _corners(facets.vertices, cand, rot, off)
         if speckle:
             phase = _phases(seed, o.id, len(facets))[cand]
         else:
@@ -479,22 +518,54 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
             path = np.where(nearer, trans[front] ** 2, 1.0 + 0j)
         else:
             path = np.ones(len(cand), dtype=np.complex128)
-        parts.append((c, v, dist, cos_t, 0.5 * area2, phase, path,
-                      np.full(len(cand), i, dtype=np.int32), pix))
+        parts.append((c, dist, cos_t, phase, path, np.full(len(cand), i, dtype=np.int32),
+                      pix, *geometry))
+        corner_fns.append(corners)
     if not parts:
         return FacetReturns(np.zeros((0, 3)), np.zeros(0, np.complex128),
                             np.zeros(0, np.int32), np.zeros(0, np.int64))
-    c, v, dist, cos_t, area, phase, path, obj, pix = (
-        np.concatenate([p[j] for p in parts]) for j in range(9))
-    return FacetReturns(c, _amplitudes(mat, obj, v, c, dist, cos_t, area, phase, k,
-                                       wavelength_m, speckle=speckle) * path, obj, pix)
+    c, dist, cos_t, phase, path, obj, pix, c_obj, e1, e2, d0, area2, longest = (
+        np.concatenate([p[j] for p in parts]) for j in range(13))
+    offsets = np.cumsum([0] + [len(p[0]) for p in parts])
+
+    def corners_of(sel: NDArray[np.intp]) -> NDArray[np.float64]:
+        """Radar-frame corners of the (concatenated) facets ``sel``."""
+        out = np.empty((len(sel), 3, 3))
+        part = np.searchsorted(offsets, sel, side="right") - 1
+        for j in np.unique(part):
+            mask = part == j
+            out[mask] = corner_fns[j](sel[mask] - offsets[j])
+        return out
+
+    def coherent(sel: NDArray[np.intp]) -> NDArray[np.complex128]:
+        if len(sel) == len(dist):                                  # every facet: no gathers
+            return _facet_integral(corners_of, c_obj, dist, k, e1=e1, e2=e2, d0=d0,
+                                   area2=area2, edge=longest)
+        return _facet_integral(lambda local: corners_of(sel[local]), c_obj[sel], dist[sel],
+                               k, e1=e1[sel], e2=e2[sel], d0=d0[sel], area2=area2[sel],
+                               edge=longest[sel])
+
+    amp = _amplitudes(mat, obj, cos_t, 0.5 * area2, phase, coherent,
+                      wavelength_m=wavelength_m, speckle=speckle)
+    return FacetReturns(c, amp * path, obj, pix)
 
 
-def _amplitudes(mat: _RadarMaterial, obj: NDArray[np.int32], v: NDArray[np.float64],
-                c: NDArray[np.float64], dist: NDArray[np.float64], cos_t: NDArray[np.float64],
-                area: NDArray[np.float64], phase: NDArray[np.float64], k: float,
-                wavelength_m: float, *, speckle: bool) -> NDArray[np.complex128]:
-    """Coherent PO plus diffuse amplitude (√m² with phase) of every seen facet."""
+def _corners(vertices: NDArray[np.float64], cand: NDArray[np.intp], rot: NDArray[np.float64],
+             off: NDArray[np.float64]) -> Callable[[NDArray[np.intp]], NDArray[np.float64]]:
+    """Radar-frame corners of facets ``cand[local]``, computed when asked."""
+    def get(local: NDArray[np.intp]) -> NDArray[np.float64]:
+        return np.asarray(vertices[cand[local]] @ rot.T + off, dtype=np.float64)
+    return get
+
+
+def _amplitudes(mat: _RadarMaterial, obj: NDArray[np.int32], cos_t: NDArray[np.float64],
+                area: NDArray[np.float64], phase: NDArray[np.float64],
+                coherent: Callable[[NDArray[np.intp]], NDArray[np.complex128]], *,
+                wavelength_m: float, speckle: bool) -> NDArray[np.complex128]:
+    """Coherent PO plus diffuse amplitude (√m² with phase) of every seen facet.
+
+    ``coherent(sel)`` gives the PO phase integral (m²) of the facets ``sel``.
+    """
     cos_i = np.clip(cos_t, 0.0, 1.0)
     smooth = np.take(mat.smooth, obj)
     amp = np.zeros(len(obj), dtype=np.complex128)
@@ -504,9 +575,8 @@ def _amplitudes(mat: _RadarMaterial, obj: NDArray[np.int32], v: NDArray[np.float
         o = obj[sel]
         g = 4.0 * math.pi * np.take(mat.height_rms, o) * cos_i[sel] / wavelength_m
         rho2[sel] = np.exp(-g * g)
-        integral = facet_integral(v[sel], c[sel], dist[sel], k)
         amp[sel] = (2.0 * math.sqrt(math.pi) / wavelength_m * np.take(mat.gamma, o)
-                    * np.sqrt(rho2[sel]) * cos_i[sel]) * integral
+                    * np.sqrt(rho2[sel]) * cos_i[sel]) * coherent(sel)
     # Diffuse part: the band response with the lobe's incoherent fraction.
     cc = np.clip(cos_i, 1e-6, 1.0)
     m2 = np.take(mat.roughness, obj) ** 2
