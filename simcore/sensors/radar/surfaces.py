@@ -449,9 +449,13 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
     through_rng = None if see_through is None else see_through.range_m.ravel()
     pix_angle = 1.0 / min(intr.fx, intr.fy)
     n_obj = len(project.objects)
-    shown = np.bincount(full_obj + 1, minlength=n_obj + 1)[1:] > 0
+    wanted = None if pixels is None else pixels.ravel()
+    # Objects shown at all (in the wanted pixels): the others' facets are not looked at.
+    shown = np.bincount((full_obj if wanted is None else full_obj[wanted]) + 1,
+                        minlength=n_obj + 1)[1:] > 0
     if through_obj is not None:
-        shown |= np.bincount(through_obj + 1, minlength=n_obj + 1)[1:] > 0
+        shown |= np.bincount((through_obj if wanted is None else through_obj[wanted]) + 1,
+                             minlength=n_obj + 1)[1:] > 0
 
     parts: list[tuple[NDArray[Any], ...]] = []
     corner_fns: list[Callable[[NDArray[np.intp]], NDArray[np.float64]]] = []
@@ -482,6 +486,8 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
         sel = np.flatnonzero(ok)
         pix = (row[sel] * w + col[sel]).astype(np.int64)
         first = obj_img[pix] == i
+        if wanted is not None:
+            first &= wanted[pix]
         sel, pix = sel[first], pix[first]
         c = c[sel]
         cand = cand[sel]
@@ -494,8 +500,6 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
         tol = VISIBILITY_TOLERANCE_M + 1.5 * dist * pix_angle * np.sqrt(
             1.0 - cos_s * cos_s) / cos_s + 0.5 * np.sqrt(area2)
         seen = (cos_t > 0) & (np.abs(rng_img[pix] - dist) <= tol)
-        if pixels is not None:
-            seen &= pixels.ravel()[pix]
         sel = np.flatnonzero(seen)
         if not len(sel):
             continue
