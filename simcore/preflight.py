@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from simcore.scene.base import MAX_COORDINATE_M, MAX_SPEED_MPS, MAX_TIME_S, check_name
-from simcore.scene.geometry import Mesh
+from simcore.scene.geometry import Box, Cylinder, Mesh, Plane, Sphere
 from simcore.scene.mesh_files import (
     MAX_MESH_FILE_BYTES,
     MESH_SUFFIXES,
@@ -168,15 +168,16 @@ def estimate_cost(project: Project, *, base_dir: Path | None = None,
     tof_px = tof.width * tof.height * tof.supersampling**2
     if tof.motion_artifacts:
         tof_px *= 4
-    facets = rc.render_width * rc.render_height
-    radar_px = facets * rc.render_supersampling**2
-    n_point = sum(1 for o in project.objects if o.geometry.kind == "point_target")
-    scatterers = facets + n_point
+    radar_px = rc.render_width * rc.render_height * rc.render_supersampling**2
+    if mesh_triangles is None:
+        mesh_triangles = _mesh_triangle_bound(project, base_dir)
+    n_point = sum(1 for o in project.objects if o.geometry.kind in ("point_target",
+                                                                    "corner_reflector"))
+    # Surface facets (at most 10 cm, fixed to the objects): about half face the radar.
+    scatterers = int(0.5 * _surface_facets(project, mesh_triangles)) + n_point
     n_ch = len(rc.tx) * len(rc.rx)
     transforms = rc.chirps_per_frame * n_ch
     s = _radar_sizes(project)
-    if mesh_triangles is None:
-        mesh_triangles = _mesh_triangle_bound(project, base_dir)
     cube = rc.chirps_per_frame * n_ch * rc.samples_per_chirp * 16 * 4
     ffts = (rc.chirps_per_frame * n_ch * s["n_fft"] + s["n_dop"] * n_ch * s["n_bins"]) * 8 * 3
     el = s["n_el"] if any(a.position_mm[1] for a in (*rc.tx, *rc.rx)) else 1
@@ -186,7 +187,7 @@ def estimate_cost(project: Project, *, base_dir: Path | None = None,
         "rig.tof render (width × height × supersampling²)": tof_px * BYTES_PER_RENDER_PIXEL,
         "rig.radar render (render_width × render_height × render_supersampling²)":
             radar_px * BYTES_PER_RENDER_PIXEL,
-        "rig.radar scatterers (render_width × render_height)":
+        "rig.radar scatterers (surface facets of the objects)":
             scatterers * BYTES_PER_SCATTERER * 2,
         "rig.radar ADC cube (chirps_per_frame × tx × rx × samples_per_chirp)": cube,
         "dsp FFTs (range_fft_size, doppler_fft_size)": ffts,
@@ -210,6 +211,25 @@ def estimate_cost(project: Project, *, base_dir: Path | None = None,
                         transforms=transforms, memory_bytes=int(memory),
                         disk_bytes_per_frame=int(disk), seconds_per_frame=float(seconds),
                         mesh_triangles=int(mesh_triangles), memory_parts=ordered)
+
+
+def _surface_facets(project: Project, mesh_triangles: int) -> float:
+    """Surface facets of every object (10 cm facets; tessellations' own triangles)."""
+    facet_area = 0.5 * 0.1 * 0.1 * 0.5           # a facet is about half a 10 cm square
+    total = float(mesh_triangles)
+    for o in project.objects:
+        g = o.geometry
+        if isinstance(g, Box):
+            a, b, c = g.size_m
+            total += 2 * (a * b + b * c + c * a) / facet_area + 12
+        elif isinstance(g, Plane):
+            total += g.size_m[0] * g.size_m[1] / facet_area + 2
+        elif isinstance(g, Sphere):
+            total += max(4 * math.pi * g.radius_m**2 / facet_area, 25_600)
+        elif isinstance(g, Cylinder):
+            r, h = g.radius_m, g.height_m
+            total += max((2 * math.pi * r * h + 2 * math.pi * r * r) / facet_area, 508)
+    return total
 
 
 def available_memory_bytes() -> int:
