@@ -602,7 +602,8 @@ class SceneViewport(QWidget):
         """
         project = self.document.project
         rig = take_snapshot(project, self._time_s).rig.transform
-        bounds = self._framed_bounds(with_objects=bool(project.objects and self._actors))
+        with_objects = bool(project.objects and self._actors)
+        bounds = self._framed_bounds(with_objects=with_objects)
         centre = (bounds[::2] + bounds[1::2]) / 2
         fwd = rig[:3, 0].copy()
         fwd[2] = 0.0
@@ -614,7 +615,9 @@ class SceneViewport(QWidget):
         self.plotter.camera_position = [tuple(centre + direction), tuple(centre), (0, 0, 1)]
         renderer = self.plotter.renderer
         renderer.ResetCamera(*bounds)
-        # ResetCamera fits the bounding sphere; zoom until the box's corners reach the edges.
+        # ResetCamera fits the bounding sphere; zoom until the box's corners reach the edges
+        # (a room's far corners are empty; the frustums of an empty project keep a margin).
+        fill = 0.98 if with_objects else 0.88
         corners = [(x, y, z) for x in bounds[:2] for y in bounds[2:4] for z in bounds[4:]]
         extent = 0.0
         for corner in corners:
@@ -623,7 +626,7 @@ class SceneViewport(QWidget):
             vx, vy, _ = renderer.GetViewPoint()
             extent = max(extent, abs(vx), abs(vy))
         if extent > 1e-6:
-            camera.zoom(float(np.clip(0.98 / extent, 0.5, 3.0)))
+            camera.zoom(float(np.clip(fill / extent, 0.5, 3.0)))
         self.plotter.reset_camera_clipping_range()
         self._update_cutaway(render=False)
         self.request_render()
