@@ -163,6 +163,9 @@ def gui_figures(path: Path, *, seconds: float, edits: int) -> dict[str, Any]:
         probe = _Responsiveness()
         draw_ms = getattr(window, "frame_draw_ms", [])  # absent before issue 14
         draw_ms.clear()
+        render_ms = getattr(window.viewport, "render_ms", [])  # absent before the offscreen view
+        render_ms.clear()
+        renders0 = window.viewport.render_count
         probe.start()
         window.time.set_playing(True)
         c0, m0, t0 = time.process_time(), time.thread_time(), time.perf_counter()
@@ -172,6 +175,7 @@ def gui_figures(path: Path, *, seconds: float, edits: int) -> dict[str, Any]:
             time.sleep(0.001)
         wall = time.perf_counter() - t0
         n = shown[0] - n0
+        renders = window.viewport.render_count - renders0
         cpu, main = time.process_time() - c0, time.thread_time() - m0
         window.time.set_playing(False)
         probe.stop()
@@ -181,6 +185,8 @@ def gui_figures(path: Path, *, seconds: float, edits: int) -> dict[str, Any]:
             "main_thread_ms_per_frame": main * 1e3 / max(n, 1),
             "gui_process_cpu_ms_per_frame": cpu * 1e3 / max(n, 1),
             "on_frame_ms_median": statistics.median(draw_ms or [0.0]),
+            "view_renders_per_frame": renders / max(n, 1),
+            "view_render_ms_median": statistics.median(render_ms or [float("nan")]),
             "timer_delay_ms_max": max(probe.gaps or [0.0]),
             "timer_delay_ms_p99": float(np.percentile(probe.gaps or [0.0], 99)),
             "posted_event_ms_max": max(probe.posted or [0.0]),
@@ -265,16 +271,20 @@ def main() -> None:
           f"min(core {core['fps']:.1f}, timeline {p['timeline_fps']:.0f})); main thread "
           f"{p['main_thread_ms_per_frame']:.1f} ms CPU per shown frame (on_frame median "
           f"{p['on_frame_ms_median']:.1f} ms), GUI process {p['gui_process_cpu_ms_per_frame']:.1f}"
-          f" ms CPU per frame; input delay max {p['posted_event_ms_max']:.0f} ms, p99 "
-          f"{p['posted_event_ms_p99']:.0f} ms")
+          f" ms CPU per frame; 3D view {p['view_renders_per_frame']:.2f} renders per frame, "
+          f"{p['view_render_ms_median']:.0f} ms each; input delay max "
+          f"{p['posted_event_ms_max']:.0f} ms, p99 {p['posted_event_ms_p99']:.0f} ms")
     for name, core_key in (("antenna_edit_ms", "antenna_edit_ms"),
                            ("object_move_ms", "frame_ms"),
                            ("material_change_ms", "frame_ms")):
         part = gui["latency_parts"][name]
+        # The core's own time for the same edit: the part of the latency the GUI cannot cut.
+        own = "" if core_key == name else (f", {lat[name] / core[name]:.2f} × the core's own "
+                                           f"{name[:-3].replace('_', ' ')} {core[name]:.0f} ms")
         print(f"{name[:-3].replace('_', ' ')} → panels: {lat[name]:.0f} ms "
               f"({lat[name] / core[core_key]:.1f} × core {core_key[:-3].replace('_', ' ')} "
-              f"{core[core_key]:.0f} ms; edit → request {part['edit_to_request_ms']:.0f} ms, "
-              f"simulation process {part['simulation_process_ms']:.0f} ms)")
+              f"{core[core_key]:.0f} ms{own}; edit → request {part['edit_to_request_ms']:.0f} "
+              f"ms, simulation process {part['simulation_process_ms']:.0f} ms)")
 
 
 if __name__ == "__main__":
