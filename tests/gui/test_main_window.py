@@ -207,7 +207,7 @@ def test_gizmo_mouse_drag_moves_object_one_undo_step(make_window, wait_frame, qt
     x, y, _ = ren.GetDisplayPoint()
     widget = view.plotter.interactor
     h = widget.height()
-    start = QPoint(int(x), int(h - y - 1))
+    start = QPoint(round(x), round(h - y - 1))
     QTest.mouseMove(widget, start)
     qtbot.wait(50)
     assert gizmo._selected_actor is arrow, "mouse is not over the gizmo's y arrow"
