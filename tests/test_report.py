@@ -11,7 +11,7 @@ def test_quick_report_figures_and_numbers(tmp_path):
     out = tmp_path / "validation"
     assert main(["report", "--out", str(out), "--quick", "--quiet"]) == 0
     figures = sorted(p.name for p in out.glob("fig*.png"))
-    assert len(figures) == 6
+    assert len(figures) == 9
     assert all((out / f).stat().st_size > 20_000 for f in figures)   # real plots, not blanks
     readme = (out / "README.md").read_text()
     assert all(f in readme for f in figures)
@@ -27,6 +27,8 @@ def test_quick_report_figures_and_numbers(tmp_path):
     assert radar["corner_over_clutter_db"] > 10             # seen through the paper box
     assert radar["noise_floor_db"] < radar["corner_peak_db"] - 30
     assert radar["near_zero_db"] < radar["noise_floor_db"]   # high-pass roll-off
+    assert radar["clutter_1p5_2p3_over_noise_db"] >= 12      # the floor, not empty space
+    assert "in the empty space before" not in readme           # the old ±22° artefact
     assert n["office_range_azimuth"]["corner_detected_error_m"] < 0.15
 
     dop = n["doppler"]
@@ -46,3 +48,17 @@ def test_quick_report_figures_and_numbers(tmp_path):
     side = n["side_by_side"]
     assert side["time_s"] == side["radar_time_s"]
     assert side["tof_points"] > 10_000 and side["radar_detections"] > 0
+
+    # Surfaces (#15): the bars of the issue, measured by the report itself.
+    surf = n["surfaces"]
+    assert "## 7. Surfaces" in readme
+    plate = surf["plate"]
+    assert abs(plate["normal_incidence_error_db"]) <= 1.0       # 4πA²/λ²
+    assert plate["main_lobe_max_abs_error_db"] <= 1.0           # the PO sinc, main lobe
+    assert plate["at_first_null_db"] < -20
+    assert max(plate["angles_deg"]) > plate["first_null_deg"]  # swept beyond the null
+    assert surf["sphere"]["max_abs_error_db"] <= 1.5            # πr²
+    assert surf["office_floor"]["floor_over_noise_db"] >= 12    # 1.5–2.3 m
+    rig = surf["moving_rig"]
+    assert rig["frames"] == 20 and rig["step_m"] == 0.02
+    assert rig["max_step_beyond_model_db"] <= 1.0
