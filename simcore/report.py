@@ -29,7 +29,7 @@ from simcore.scene.geometry import Box, CornerReflector, Cylinder, Plane, Sphere
 from simcore.scene.model import Project, SceneObject, SensorRig
 from simcore.scene.motion import Motion, Pose
 from simcore.scene.project_io import load_project
-from simcore.scene.radar_config import SPEED_OF_LIGHT, CosinePattern, RadarConfig
+from simcore.scene.radar_config import COVERAGE_LEVEL_DB, SPEED_OF_LIGHT, CosinePattern, RadarConfig
 from simcore.scene.snapshot import take_snapshot
 from simcore.sensors.radar import radar_scatterers, simulate_radar
 from simcore.sensors.radar.sensor import RadarSensor
@@ -269,7 +269,8 @@ def office_radar_profile(frame: Frame, project: Project, out: Path
         f"{numbers['leakage_peak_db']:.0f} dBFS, and the receiver noise floor (the same "
         f"receiver and DSP without any scatterer) sits at {noise_db:.0f} dBFS. The radar "
         f"render covers the antennas' field of view (±{half_fov:.0f}°, the two-way element "
-        f"pattern down to −20 dB), so the floor {height:.2f} m below the radar is in the "
+        f"pattern down to {COVERAGE_LEVEL_DB:.0f} dB), so the floor {height:.2f} m below "
+        f"the radar is in the "
         f"scene from {nearest_surface:.2f} m, where the render's lower edge meets it: its "
         f"grazing clutter lifts the spectrum 6 dB over the noise from {clutter_start:.2f} m "
         f"and by {band_over:.0f} dB on average between 1.5 and 2.3 m (section 7.2 separates "
@@ -1028,10 +1029,12 @@ def surfaces_office_floor(frame: Frame, project: Project, out: Path
     _save(fig, out / name)
     text = (
         f"The radar render covers the antennas' field of view (±{half_fov:.0f}° in azimuth "
-        f"and elevation, the two-way element pattern down to −20 dB), so the floor under the "
+        f"and elevation, the two-way element pattern down to {COVERAGE_LEVEL_DB:.0f} dB), so "
+        f"the floor under the "
         f"radar ({height:.2f} m below it) is in the scene from where the render's lower edge "
         f"meets it, {height:.2f} m / sin {half_fov:.0f}° = {edge_m:.2f} m, outwards (the floor "
-        f"nearer than that lies beyond the pattern's −20 dB edge and is left out). The "
+        f"nearer than that lies beyond the pattern's {COVERAGE_LEVEL_DB:.0f} dB edge and is left "
+        f"out). The "
         f"floor's {numbers['floor_scatterers']} facets alone, through the same receiver and "
         f"DSP, rise 6 dB above the receiver noise from {floor_start:.2f} m and stand "
         f"{floor_over:.1f} dB over it on average between 1.5 and 2.3 m; the whole scene is "

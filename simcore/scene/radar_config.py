@@ -54,7 +54,7 @@ AntennaOffsetMm = Annotated[float, Field(ge=-MAX_ANTENNA_OFFSET_MM, le=MAX_ANTEN
 
 
 #: Two-way pattern level down to which the radar render should cover the field of view (dB).
-COVERAGE_LEVEL_DB = -20.0
+COVERAGE_LEVEL_DB = -25.0
 
 
 class CosinePattern(Model):
@@ -158,14 +158,14 @@ class RadarConfig(Model):
     rx: list[Antenna] = Field(default_factory=lambda: default_l_rx(), min_length=1,
                               max_length=MAX_RX)
     render_width: int = Field(
-        480, ge=8, le=8192,
+        640, ge=8, le=8192,
         description="radar render pixels across; the render only decides which surface "
                     "facets are seen")
-    render_height: int = Field(480, ge=8, le=8192)
+    render_height: int = Field(640, ge=8, le=8192)
     render_fov_h_deg: float = Field(
-        132.0, ge=0.1, lt=170,
+        142.0, ge=0.1, lt=170,
         description="horizontal field of view of the radar render (square pixels); the "
-                    "default covers the two-way element pattern down to −20 dB")
+                    "default covers the two-way element pattern down to −25 dB")
     render_supersampling: int = Field(
         1, ge=1, le=8,
         description="render sub-pixels per facet and axis; each facet (render_width × "
