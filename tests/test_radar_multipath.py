@@ -257,3 +257,31 @@ def test_synthesis_antenna_override_matches_the_direct_sum() -> None:
     assert np.max(np.abs(plain - ref)) > 0.1 * np.max(np.abs(ref))   # the override acts
     with pytest.raises(ValueError, match="tx_positions_m"):
         synthesize_if(sc, cfg, tx_positions_m=np.zeros((2, 3)))
+
+
+def test_simulator_adds_the_ghosts_on_the_plain_and_the_background_path() -> None:
+    """The radar_multipath stage: both the plain path and the still-background
+    accelerator add the same ghosts to the raw cube (a small box moves, the rest is still)."""
+    from simcore.pipeline import Simulator
+
+    project = scene(render_width=120, render_height=120)
+    mover = SceneObject(id=9, name="mover", geometry=Box(size_m=(0.2, 0.2, 0.2)),
+                        pose=Pose(position_m=(4.5, -1.0, Z)), material="concrete",
+                        motion=Motion(velocity_mps=(0.0, 0.5, 0.0)))
+    project = project.model_copy(update={"objects": [*project.objects, mover]})
+    off = project.model_copy(deep=True)
+    off.rig.radar.multipath_order = 0
+    cubes, stages = {}, {}
+    for name, proj, reuse in (("plain", project, False), ("background", project, True),
+                              ("off", off, True)):
+        with Simulator(proj, reuse_static=reuse) as sim:
+            sim.frame(0)
+            f1 = sim.frame(1)
+            cubes[name], stages[name] = f1.outputs["radar"].raw.adc, set(f1.timings_ms)
+    assert "radar_multipath" in stages["plain"] and "radar_multipath" in stages["background"]
+    assert "radar_scatterers" in stages["plain"]
+    assert "radar_scatterers" not in stages["background"]      # the accelerator ran
+    assert "radar_multipath" not in stages["off"]
+    scale = np.max(np.abs(cubes["plain"]))
+    assert np.max(np.abs(cubes["background"] - cubes["plain"])) < 1e-6 * scale
+    assert np.max(np.abs(cubes["off"] - cubes["plain"])) > 1e-3 * scale
