@@ -206,6 +206,14 @@ class RadarConfig(Model):
         description="random phase of each surface facet's diffuse part, fixed to the "
                     "surface (rough-surface speckle); off: phase 0")
     nufft_tolerance: float = Field(1e-9, ge=1e-14, le=1e-2)
+    multipath_order: Literal[0, 1, 2] = Field(
+        0,
+        description="specular multipath by the image method (simcore.sensors.radar."
+                    "multipath): 0 = single bounce only; 1 = add radar → reflector → target "
+                    "→ radar and its reverse (ghosts × Γ); 2 = also radar → reflector → "
+                    "target → reflector → radar (× Γ²). Reflectors are large planar faces "
+                    "of smooth, strongly reflecting materials (metal); off by default for "
+                    "its cost (docs/physics_radar.md)")
 
     @model_validator(mode="after")
     def _check(self) -> RadarConfig:

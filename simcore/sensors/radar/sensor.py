@@ -29,6 +29,8 @@ from simcore.sensors.radar.labels import (
     label_detections,
     prepare_scatterers,
 )
+from simcore.sensors.radar.multipath import multipath_if
+from simcore.sensors.radar.scatterers import Scatterers
 from simcore.sensors.radar.surfaces import transmissive_objects
 from simcore.sensors.radar.synthesis import ComplexCube, prepare, synthesize_if
 
@@ -95,6 +97,7 @@ class RadarSensor:
         """Scatterers, IF synthesis, receiver and DSP of one frame."""
         cfg = ctx.project.rig.radar
         found = _ideal_over_background(ctx, cfg)
+        scatterers = None
         if found is None:
             scatterers = ctx.stage(
                 "radar_scatterers",
@@ -114,6 +117,8 @@ class RadarSensor:
                                 reads=config_key(cfg), inputs=(scatterers,)), 1.0)]
         else:
             ideal, n_scatterers, transformed, parts = found
+        if cfg.multipath_order > 0:
+            ideal = _with_multipath(ctx, cfg, ideal, scatterers)
         raw = ctx.stage(
             "radar_receiver",
             lambda: radar_output(ideal, cfg, rng=ctx.rng, time_s=ctx.time_s,
@@ -134,6 +139,28 @@ class RadarSensor:
     def static_items(self, project: Project) -> H5Items:
         """The axes of the radar maps."""
         return static_axes_items(project.rig.radar, project.dsp)
+
+
+def _with_multipath(ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
+                    scatterers: Scatterers | None) -> ComplexCube:
+    """``ideal`` plus the IF of the frame's multipath ghosts (stage ``radar_multipath``).
+
+    The ghosts come from all the frame's scatterers (computed here when the frame's IF
+    was built over the still background), so both paths add the same ghosts. The ghosts
+    are not among the detection labels' scatterers.
+    """
+    def run() -> ComplexCube:
+        sc = scatterers
+        if sc is None:
+            sc = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
+                                  see_through=ctx.see_through)
+        return ideal + multipath_if(ctx.project, ctx.snapshot, sc, cfg, buffers=ctx.buffers)
+
+    to_world = ctx.snapshot.sensor("radar").transform
+    return ctx.stage("radar_multipath", run,
+                     reads=(_scatterer_reads(ctx, cfg), config_key(cfg), ctx.time_s,
+                            to_world.tobytes()),
+                     inputs=(ideal, ctx.buffers, ctx.see_through))
 
 
 def _scatterer_reads(ctx: SensorContext, cfg: RadarConfig) -> object:

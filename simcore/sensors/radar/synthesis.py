@@ -74,6 +74,8 @@ from simcore.sensors.radar.receiver import (
 from simcore.sensors.radar.scatterers import Scatterers
 
 ComplexCube = NDArray[np.complex128]
+#: Tx positions (n_tx, 3) and Rx positions (n_rx, 3) of a synthesis (m).
+_Antennas = tuple[NDArray[np.float64], NDArray[np.float64]]
 SynthesisMethod = Literal["nufft", "direct"]
 
 #: Scatterers per NUFFT task: bounds the temporaries (≈ 1 MB per array) and balances the
@@ -362,16 +364,17 @@ def _pair_weights(wave: _Waveform, path: NDArray[np.float64], amp: NDArray[np.fl
 
 
 def _static_task(prep: PreparedScatterers, rows: slice, t: int, wave: _Waveform,
-                 config: RadarConfig) -> list[NDArray[np.complexfloating]]:
+                 config: RadarConfig, antennas: _Antennas
+                 ) -> list[NDArray[np.complexfloating]]:
     """One block of static scatterers, one Tx, every Rx: one transform each, shape (N,)."""
     pos = prep.pos[:, rows]
-    d_t = _distance(pos, config.tx_positions_m()[t])
+    d_t = _distance(pos, antennas[0][t])
     rcs = prep.rcs[rows]
     g_t = prep.gain(config.tx[t].pattern or config.element_pattern)[rows]
     d_t32 = d_t.astype(np.float32)
     plan = _plan(wave)
     out = []
-    for r, p_r in enumerate(config.rx_positions_m()):
+    for r, p_r in enumerate(antennas[1]):
         d_r = _distance(pos, p_r)
         g_r = prep.gain(config.rx[r].pattern or config.element_pattern)[rows]
         amp = if_amplitude_fs(config, rcs, g_t, g_r, d_t32, d_r.astype(np.float32))
@@ -693,7 +696,7 @@ def _frame_amplitudes(prep: PreparedScatterers, rows: slice, t: int, r: int,
 
 
 def _moving_task(motion: _Motion, rows: slice, t: int, sweep: _Sweep, wave: _Waveform,
-                 config: RadarConfig) -> list[NDArray[np.complex128]]:
+                 config: RadarConfig, antennas: _Antennas) -> list[NDArray[np.complex128]]:
     """One block of moving scatterers, one Tx, every Rx: the IF over all chirps.
 
     The positions at the frame's fit nodes are computed once for all Rx, in cache-sized
@@ -709,7 +712,7 @@ def _moving_task(motion: _Motion, rows: slice, t: int, sweep: _Sweep, wave: _Wav
     idx = np.arange(rows.start, rows.stop)
     tg = _Targets.of(sweep, t, 0, n_c)
     times = np.concatenate([[0.0], tg.t_c + tg.half * motion.nodes])
-    p_t, p_rx = config.tx_positions_m()[t], config.rx_positions_m()
+    p_t, p_rx = antennas[0][t], antennas[1]
     d0_t = np.empty(len(idx))
     d0_r = np.empty((n_rx, len(idx)))
     path = np.empty((n_rx, len(times) - 1, len(idx)))
@@ -759,9 +762,34 @@ def _pool(threads: int) -> ThreadPoolExecutor:
 _Task = tuple[bool, slice, int]
 
 
+def antenna_positions(config: RadarConfig, tx_positions_m: NDArray[np.floating] | None,
+                      rx_positions_m: NDArray[np.floating] | None) -> _Antennas:
+    """Tx and Rx positions of a synthesis: the config's, or the caller's overrides.
+
+    An override must have one row per Tx (Rx) of ``config``, shape (n, 3), radar optical
+    frame (m); the image method of :mod:`simcore.sensors.radar.multipath` passes mirrored
+    antennas. Anything else than finite numbers of that shape is refused.
+    """
+    out = []
+    for name, given, default in (("tx_positions_m", tx_positions_m, config.tx_positions_m),
+                                 ("rx_positions_m", rx_positions_m, config.rx_positions_m)):
+        want = default()
+        if given is None:
+            out.append(want)
+            continue
+        arr = np.asarray(given, dtype=np.float64)
+        if arr.shape != want.shape or not np.all(np.isfinite(arr)):
+            raise ValueError(f"{name} must be finite with shape {want.shape}, got "
+                             f"shape {arr.shape}")
+        out.append(arr)
+    return out[0], out[1]
+
+
 def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int | None = None,
                   prepared: PreparedScatterers | None = None,
-                  trajectory: Trajectory | None = None) -> ComplexCube:
+                  trajectory: Trajectory | None = None,
+                  tx_positions_m: NDArray[np.floating] | None = None,
+                  rx_positions_m: NDArray[np.floating] | None = None) -> ComplexCube:
     """Noise-free complex IF of all scatterers with finufft (fast path).
 
     Static scatterers (no velocity or acceleration relative to the radar) are transformed
@@ -791,6 +819,11 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
         frame). Every scatterer is then treated as moving, the model is fitted to the
         trajectory block by block and checked at more nodes; it is called with a few times
         per block and returns all the scatterers each time, so it suits small sets.
+    tx_positions_m, rx_positions_m : ndarray, shape (n_tx, 3) and (n_rx, 3), optional
+        Antenna positions used for the path lengths (delays and spreading) instead of
+        ``config.tx_positions_m()`` / ``rx_positions_m()``, radar optical frame (m): the
+        image method's mirrored antennas. The element patterns are still evaluated in the
+        direction of each scatterer from the array origin.
 
     Returns
     -------
@@ -799,6 +832,7 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
         ``t * n_rx + r`` is Tx ``t`` with Rx ``r``.
     """
     check_wavelength(scatterers, config)
+    antennas = antenna_positions(config, tx_positions_m, rx_positions_m)
     n_c, n_s = config.chirps_per_frame, config.samples_per_chirp
     n_tx, n_rx = len(config.tx), len(config.rx)
     out = np.zeros((n_c, n_tx * n_rx, n_s), dtype=np.complex128)
@@ -830,8 +864,8 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
     def run(task: _Task) -> list[NDArray[np.complexfloating]]:
         moves, rows, t = task
         if moves:
-            return list(_moving_task(motion, rows, t, sweep, wave, config))
-        return _static_task(prep, rows, t, wave, config)
+            return list(_moving_task(motion, rows, t, sweep, wave, config, antennas))
+        return _static_task(prep, rows, t, wave, config, antennas)
 
     results: Iterator[list[NDArray[np.complexfloating]]]
     if n_threads == 1 or len(tasks) == 1:
@@ -846,7 +880,9 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
 
 def synthesize_if_direct(scatterers: Scatterers, config: RadarConfig, *,
                          chirps: NDArray[np.integer] | None = None, chunk: int = 512,
-                         trajectory: Trajectory | None = None) -> ComplexCube:
+                         trajectory: Trajectory | None = None,
+                         tx_positions_m: NDArray[np.floating] | None = None,
+                         rx_positions_m: NDArray[np.floating] | None = None) -> ComplexCube:
     """Noise-free complex IF by the literal sum over scatterers and samples (reference).
 
     Every sample of every chirp and Tx–Rx pair takes the scatterers' exact positions at its
@@ -869,6 +905,8 @@ def synthesize_if_direct(scatterers: Scatterers, config: RadarConfig, *,
         ``times_s (T,) → positions (M, T, 3)``: exact radar-frame positions at times after
         the frame start (m); default the scatterers' motion model
         (:meth:`Scatterers.positions_at`).
+    tx_positions_m, rx_positions_m : ndarray, optional
+        Antenna position overrides, as in :func:`synthesize_if`.
 
     Returns
     -------
@@ -885,7 +923,7 @@ def synthesize_if_direct(scatterers: Scatterers, config: RadarConfig, *,
     traj: Callable[[NDArray[np.floating]], NDArray[np.float64]] = (
         scatterers.positions_at if trajectory is None else trajectory)
     x0 = scatterers.positions_m
-    p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()
+    p_tx, p_rx = antenna_positions(config, tx_positions_m, rx_positions_m)
     g_tx, g_rx = pattern_gains(config, x0)
     f_inst = config.start_frequency_hz + config.slope_hz_per_s * t_n
     slope = config.slope_hz_per_s
@@ -917,8 +955,8 @@ def synthesize_if_direct(scatterers: Scatterers, config: RadarConfig, *,
 __all__ = [
     "BLOCK", "BOLTZMANN", "DEFAULT_THREADS", "MAX_SERIES_ORDER", "MOTION_TOLERANCE_FLOOR",
     "R_REF_OHM", "SINGLE_PRECISION_TOLERANCE", "T0_K", "ComplexCube", "PreparedScatterers",
-    "SynthesisMethod", "amplitude_scale_fs", "check_wavelength", "element_gain",
-    "highpass_response", "if_amplitude_fs", "leakage_amplitude_fs", "leakage_if",
+    "SynthesisMethod", "amplitude_scale_fs", "antenna_positions", "check_wavelength",
+    "element_gain", "highpass_response", "if_amplitude_fs", "leakage_amplitude_fs", "leakage_if",
     "noise_std_fs", "prepare", "quantize", "receiver_chain", "receiver_noise",
     "synthesize_if", "synthesize_if_direct",
 ]

@@ -1,0 +1,455 @@
+"""Radar multipath by the image method: ghosts of targets seen via planar specular reflectors.
+
+A large, smooth, strongly reflecting planar face (a metal wall, a metal plate) acts as a
+mirror at 60 GHz. A target ``p`` in front of it is then also reached over the paths
+
+* (a) Tx → plane → p → Rx and (b) Tx → p → plane → Rx (order 1, amplitude × Γ), and
+* (c) Tx → plane → p → plane → Rx (order 2, amplitude × Γ²),
+
+whose lengths are those of straight paths to the mirror images: the mirrored leg of (a)
+has the length ``|p − Tx'|`` with ``Tx'`` the Tx mirrored in the plane, and (c) is the
+image ``p'`` of ``p`` seen by the real array. So (a) and (b) are synthesised as the real
+scatterers with mirrored Tx (Rx) positions (``tx_positions_m=`` / ``rx_positions_m=`` of
+:func:`~simcore.sensors.radar.synthesis.synthesize_if`) and (c) as image scatterers with
+mirrored positions and velocities. The delays are the exact bistatic delays of the unfolded
+paths and the spreading is the radar equation over them, so the ghosts come out at the
+ranges ``R``, ``(R + R_m)/2`` and ``R_m`` (``R_m`` = range of the image), the Doppler of the
+image and, for (c), the angle of the image; their IF is added to the ideal IF before the
+receiver, so every DSP stage sees them.
+
+Reflectors (:func:`find_reflectors`) are the planar faces of ``Box`` and ``Plane`` objects
+whose radar material has ``|Γ| ≥`` :data:`MIN_REFLECTION` at normal incidence and whose
+area is at least :data:`MIN_AREA_M2`; a ``Plane`` reflects on both sides, a box face on
+its outer side. Curved surfaces (spheres, cylinders) and mesh files are left single-bounce.
+The Kirchhoff coherent factor of the material's rms height at the path's incidence angle
+scales Γ.
+
+A path counts only when (1) the radar and the target are on the reflecting side of the
+plane, (2) the mirrored leg (from the array origin towards the image) crosses the plane
+inside the reflector's rectangle (aperture test) and (3) the radar render shows the
+reflector at that crossing point (nothing in front of it; a crossing point outside the
+render is accepted, the element pattern weighs it). The leg from the crossing point to the
+target is not tested for occlusion.
+
+Element patterns: each leg uses the direction in which it leaves the real array, i.e.
+towards the real target for a direct leg and towards the image (the reflection point) for a
+mirrored leg. Path (c) gets this from the image position; for (a) and (b), synthesised at
+the real position, the mirrored leg's gain ratio ``g(image)/g(target)`` (of the first Tx or
+Rx's pattern) is folded into the ghost's RCS. Target aspect: a trihedral corner reflector
+takes its RCS in the direction of the image radar for (c) and the geometric mean of the two
+directions for the bistatic (a) and (b); surface facets keep the amplitude of their direct
+(monostatic) return. The reflector's motion relative to the radar along its normal is
+included for (c) (the image velocity) and neglected for (a) and (b) (exact when the radar
+moves parallel to the reflector or not at all).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simcore.render.buffers import RenderBuffers
+from simcore.scene.geometry import Box, CornerReflector, Plane, corner_reflector_axes
+from simcore.scene.materials import DualBandMaterial
+from simcore.scene.model import Project
+from simcore.scene.project_io import material_table
+from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
+from simcore.scene.snapshot import SceneSnapshot
+from simcore.sensors.radar.equation import element_gain
+from simcore.sensors.radar.scatterers import (
+    KIND_CORNER_REFLECTOR,
+    Scatterers,
+    trihedral_effective_area,
+)
+from simcore.sensors.radar.synthesis import ComplexCube, synthesize_if
+
+#: Smallest normal-incidence |Γ| of a reflector's material (metal 1, concrete ≈ 0.4).
+MIN_REFLECTION = 0.5
+#: Smallest area of a reflecting face (m²).
+MIN_AREA_M2 = 0.04
+#: A target nearer to the plane than this (m), or behind it, has no image path.
+MIN_DISTANCE_M = 1e-3
+#: Smallest gain of a direct leg for the pattern ratio of a mirrored one (power).
+MIN_GAIN = 1e-9
+
+
+@dataclass(frozen=True)
+class Reflector:
+    """One planar specular reflector (a rectangle), in the radar optical frame.
+
+    Attributes
+    ----------
+    object_index : int
+        Index of its object in ``project.objects``.
+    center_m : ndarray, shape (3,)
+        Rectangle centre (m).
+    axes : ndarray, shape (2, 3)
+        Unit in-plane edge directions.
+    half_size_m : ndarray, shape (2,)
+        Half extents along ``axes`` (m).
+    normal : ndarray, shape (3,)
+        Unit normal of the reflecting side (outward for a box face).
+    two_sided : bool
+        Reflects on both sides (a ``Plane``).
+    gamma : complex
+        Normal-incidence reflection coefficient of the material (metal −1).
+    height_rms_m : float
+        Rms surface height of the material (m).
+    normal_speed_mps : float
+        Speed of the plane along ``normal`` relative to the radar (m/s).
+    """
+
+    object_index: int
+    center_m: NDArray[np.float64]
+    axes: NDArray[np.float64]
+    half_size_m: NDArray[np.float64]
+    normal: NDArray[np.float64]
+    two_sided: bool
+    gamma: complex
+    height_rms_m: float
+    normal_speed_mps: float
+
+    def mirror(self, points: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Mirror images of ``points`` (..., 3) in the reflector's plane."""
+        s = (points - self.center_m) @ self.normal
+        return np.asarray(points - 2.0 * s[..., None] * self.normal)
+
+    def mirror_vectors(self, vectors: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Mirror free vectors (..., 3) (velocities, accelerations) in the plane."""
+        return np.asarray(vectors - 2.0 * (vectors @ self.normal)[..., None] * self.normal)
+
+
+def _faces(geometry: Box | Plane) -> list[tuple[NDArray[np.float64], NDArray[np.float64],
+                                                NDArray[np.float64], NDArray[np.float64],
+                                                bool]]:
+    """(centre, axes (2, 3), half sizes (2,), normal, two-sided) of a shape's faces, local."""
+    eye = np.eye(3)
+    if isinstance(geometry, Plane):
+        a, b = geometry.size_m
+        return [(np.zeros(3), eye[:2].copy(), 0.5 * np.array([a, b]), eye[2].copy(), True)]
+    size = np.asarray(geometry.size_m, dtype=np.float64)
+    out = []
+    for k in range(3):
+        i, j = (k + 1) % 3, (k + 2) % 3
+        half = 0.5 * np.array([size[i], size[j]])
+        for sign in (1.0, -1.0):
+            out.append((sign * 0.5 * size[k] * eye[k], eye[[i, j]].copy(), half,
+                        sign * eye[k], False))
+    return out
+
+
+def find_reflectors(project: Project, snapshot: SceneSnapshot, wavelength_m: float, *,
+                    materials: Mapping[str, DualBandMaterial] | None = None,
+                    min_reflection: float = MIN_REFLECTION, min_area_m2: float = MIN_AREA_M2
+                    ) -> list[Reflector]:
+    """The significant planar specular reflectors of a frame, in the radar optical frame.
+
+    Parameters
+    ----------
+    project, snapshot : Project, SceneSnapshot
+        The scene and its state at the frame.
+    wavelength_m : float
+        Radar wavelength (Γ is evaluated at ``c / λ``), m.
+    materials : mapping, optional
+        The project's material table, if the caller has it.
+    min_reflection, min_area_m2 : float
+        Thresholds on the normal-incidence |Γ| and on the face area (m²).
+    """
+    table = material_table(project) if materials is None else materials
+    radar = snapshot.sensors["radar"]
+    r_rad, p_rad = radar.rotation, radar.position
+    freq = SPEED_OF_LIGHT / wavelength_m
+    out: list[Reflector] = []
+    for i, o in enumerate(project.objects):
+        if not isinstance(o.geometry, (Box, Plane)):
+            continue
+        mat = table.get(o.material)
+        if mat is None:
+            continue
+        band = mat.band("radar")
+        if band.opacity <= 0:
+            continue
+        gamma = complex(band.coefficients(freq)[0])
+        if abs(gamma) < min_reflection:
+            continue
+        state = snapshot.objects[i]
+        t = state.transform
+        rel_v = (np.asarray(state.velocity_mps) - radar.velocity_mps) @ r_rad
+        for c, axes, half, n, two in _faces(o.geometry):
+            # World (object transforms may scale), then the radar frame.
+            c_w = t[:3, :3] @ c + t[:3, 3]
+            ax_w = axes @ t[:3, :3].T
+            scale = np.linalg.norm(ax_w, axis=1)
+            half_w = half * scale
+            if 4.0 * half_w[0] * half_w[1] < min_area_m2:
+                continue
+            n_w = np.cross(ax_w[0], ax_w[1])
+            n_w /= max(float(np.linalg.norm(n_w)), 1e-300)
+            if n_w @ (t[:3, :3] @ n) < 0:
+                n_w = -n_w
+            normal = n_w @ r_rad
+            out.append(Reflector(
+                object_index=i, center_m=(c_w - p_rad) @ r_rad,
+                axes=(ax_w / scale[:, None]) @ r_rad, half_size_m=half_w, normal=normal,
+                two_sided=two, gamma=gamma, height_rms_m=float(band.height_rms_m),
+                normal_speed_mps=float(rel_v @ normal)))
+    return out
+
+
+@dataclass(frozen=True)
+class ImagePaths:
+    """The valid image paths of one reflector (rows of the primary scatterers).
+
+    Attributes
+    ----------
+    reflector : Reflector
+        The reflector, its normal turned towards the radar.
+    rows : ndarray of int, shape (K,)
+        Primary scatterers with a valid path.
+    images_m : ndarray, shape (K, 3)
+        Their mirror images (m).
+    gamma : ndarray, shape (K,), complex128
+        Effective reflection coefficient of each path (Γ × coherent factor).
+    """
+
+    reflector: Reflector
+    rows: NDArray[np.intp]
+    images_m: NDArray[np.float64]
+    gamma: NDArray[np.complex128]
+
+
+def image_paths(reflector: Reflector, scatterers: Scatterers, buffers: RenderBuffers | None,
+                wavelength_m: float) -> ImagePaths | None:
+    """Primary scatterers with a valid path via ``reflector`` (module docstring), or None."""
+    refl = reflector
+    s0 = float(-refl.center_m @ refl.normal)            # signed distance of the radar
+    if abs(s0) < MIN_DISTANCE_M:
+        return None
+    if s0 < 0:
+        if not refl.two_sided:
+            return None
+        refl = Reflector(refl.object_index, refl.center_m, refl.axes, refl.half_size_m,
+                         -refl.normal, True, refl.gamma, refl.height_rms_m,
+                         -refl.normal_speed_mps)
+        s0 = -s0
+    pos = scatterers.positions_m
+    s = (pos - refl.center_m) @ refl.normal
+    ok = (s > MIN_DISTANCE_M) & (scatterers.object_index != refl.object_index) & (
+        scatterers.rcs_m2 > 0)
+    rows = np.flatnonzero(ok)
+    if not len(rows):
+        return None
+    images = pos[rows] - 2.0 * s[rows, None] * refl.normal
+    # Crossing point of the leg origin → image with the plane.
+    q = (s0 / (s0 + s[rows]))[:, None] * images
+    local = (q - refl.center_m) @ refl.axes.T
+    inside = np.all(np.abs(local) <= refl.half_size_m, axis=1)
+    if buffers is not None:
+        inside &= _reflector_seen(buffers, q, refl.object_index)
+    if not np.any(inside):
+        return None
+    rows, images, q = rows[inside], images[inside], q[inside]
+    cos_i = s0 / np.maximum(np.linalg.norm(q, axis=1), 1e-300)
+    g = 4.0 * np.pi * refl.height_rms_m * cos_i / wavelength_m
+    gamma = refl.gamma * np.exp(-0.5 * g * g)
+    return ImagePaths(refl, rows, images, gamma.astype(np.complex128))
+
+
+def _reflector_seen(buffers: RenderBuffers, points: NDArray[np.float64], object_index: int
+                    ) -> NDArray[np.bool_]:
+    """Whether the render shows the reflector at each point (outside the render: True)."""
+    intr = buffers.intrinsics
+    out = np.ones(len(points), dtype=bool)
+    front = points[:, 2] > 0
+    if not np.any(front):
+        return out
+    uv = intr.project(points[front])
+    col = np.floor(uv[:, 0]).astype(np.int64)
+    row = np.floor(uv[:, 1]).astype(np.int64)
+    within = (col >= 0) & (col < intr.width) & (row >= 0) & (row < intr.height)
+    seen = np.ones(len(uv), dtype=bool)
+    seen[within] = buffers.object_index[row[within], col[within]] == object_index
+    out[front] = seen
+    return out
+
+
+def _corner_aspect(project: Project, snapshot: SceneSnapshot, scatterers: Scatterers,
+                   rows: NDArray[np.intp], towards: NDArray[np.float64]
+                   ) -> NDArray[np.float64]:
+    """RCS ratio σ(towards) / σ(radar) of the corner reflectors among ``rows`` (1 elsewhere).
+
+    ``towards`` (K, 3) are the points (radar frame) the reflector is seen from instead of
+    the radar origin.
+    """
+    out = np.ones(len(rows))
+    kinds = scatterers.kind[rows]
+    sel = np.flatnonzero(kinds == KIND_CORNER_REFLECTOR)
+    if not len(sel):
+        return out
+    r_rad = snapshot.sensors["radar"].rotation
+    edges = corner_reflector_axes()
+    for k in sel:
+        i = int(scatterers.object_index[rows[k]])
+        geom = project.objects[i].geometry
+        if not isinstance(geom, CornerReflector):
+            continue
+        r_obj = snapshot.objects[i].transform[:3, :3]
+        apex = scatterers.positions_m[rows[k]]
+        areas = []
+        for target in (np.zeros(3), towards[k]):
+            d = target - apex
+            d /= max(float(np.linalg.norm(d)), 1e-300)
+            areas.append(float(trihedral_effective_area(edges @ (r_obj.T @ (r_rad @ d)),
+                                                        geom.edge_m)))
+        out[k] = (areas[1] / areas[0]) ** 2 if areas[0] > 0 else 0.0
+    return out
+
+
+def _ghosts(scatterers: Scatterers, rows: NDArray[np.intp], positions: NDArray[np.float64],
+            velocities: NDArray[np.float64], accelerations: NDArray[np.float64] | None,
+            amplitude: NDArray[np.complex128]) -> Scatterers:
+    """Scatterers ``rows`` moved to ``positions`` with complex amplitude × ``amplitude``."""
+    rcs = scatterers.rcs_m2[rows] * np.abs(amplitude) ** 2
+    return Scatterers(
+        time_s=scatterers.time_s, wavelength_m=scatterers.wavelength_m,
+        positions_m=np.ascontiguousarray(positions), velocities_mps=velocities,
+        rcs_m2=rcs, phase_rad=scatterers.phase_rad[rows] + np.angle(amplitude),
+        object_index=scatterers.object_index[rows], kind=scatterers.kind[rows],
+        accelerations_mps2=accelerations)
+
+
+@dataclass(frozen=True)
+class GhostSet:
+    """Ghost scatterers of one kind of path, with the antenna positions to synthesise them.
+
+    ``tx_positions_m`` / ``rx_positions_m`` None = the configuration's (real) antennas.
+    ``order`` is 1 or 2, ``reflector`` the object index of the reflector.
+    """
+
+    scatterers: Scatterers
+    order: int
+    reflector: int
+    tx_positions_m: NDArray[np.float64] | None = None
+    rx_positions_m: NDArray[np.float64] | None = None
+
+
+def ghost_scatterers(project: Project, snapshot: SceneSnapshot, scatterers: Scatterers,
+                     config: RadarConfig, *, buffers: RenderBuffers | None = None,
+                     order: int | None = None,
+                     reflectors: list[Reflector] | None = None) -> list[GhostSet]:
+    """The multipath ghosts of a frame's primary scatterers, by kind of path.
+
+    Parameters
+    ----------
+    project, snapshot : Project, SceneSnapshot
+        Scene and state (reflector geometry, corner reflectors' orientation).
+    scatterers : Scatterers
+        The frame's primary (single-bounce) scatterers, radar frame.
+    config : RadarConfig
+        The radar (antenna positions, patterns, wavelength).
+    buffers : RenderBuffers, optional
+        The frame's radar render: the reflection point must be seen in it (None: no test).
+    order : int, optional
+        1 or 2 (default ``config.multipath_order``); 0 gives no ghosts.
+    reflectors : list of Reflector, optional
+        Default :func:`find_reflectors`.
+
+    Returns
+    -------
+    list of GhostSet
+        Per reflector: path (a) (mirrored Tx), path (b) (mirrored Rx) and, for order 2,
+        path (c) (image scatterers, real antennas).
+    """
+    order = config.multipath_order if order is None else int(order)
+    if order <= 0 or len(scatterers) == 0:
+        return []
+    lam = config.wavelength_m
+    if reflectors is None:
+        reflectors = find_reflectors(project, snapshot, lam)
+    p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()
+    pat_t = config.tx[0].pattern or config.element_pattern
+    pat_r = config.rx[0].pattern or config.element_pattern
+    out: list[GhostSet] = []
+    for refl in reflectors:
+        paths = image_paths(refl, scatterers, buffers, lam)
+        if paths is None:
+            continue
+        rows, images, gamma, r = paths.rows, paths.images_m, paths.gamma, paths.reflector
+        pos = scatterers.positions_m[rows]
+        vel = scatterers.velocities_mps[rows]
+        acc = (None if scatterers.accelerations_mps2 is None
+               else scatterers.accelerations_mps2[rows])
+        origin_image = r.mirror(np.zeros(3))
+        aspect2 = _corner_aspect(project, snapshot, scatterers, rows,
+                                 np.broadcast_to(origin_image, images.shape).copy())
+        # Order 1: real positions, one mirrored antenna set; pattern ratio on that leg.
+        g_direct_t = np.maximum(element_gain(pat_t, pos), MIN_GAIN)
+        g_direct_r = np.maximum(element_gain(pat_r, pos), MIN_GAIN)
+        ratio_t = element_gain(pat_t, images) / g_direct_t
+        ratio_r = element_gain(pat_r, images) / g_direct_r
+        aspect1 = np.sqrt(aspect2)
+        out.append(GhostSet(
+            _ghosts(scatterers, rows, pos, vel, acc, gamma * np.sqrt(ratio_t * aspect1)),
+            1, r.object_index, tx_positions_m=r.mirror(p_tx)))
+        out.append(GhostSet(
+            _ghosts(scatterers, rows, pos, vel, acc, gamma * np.sqrt(ratio_r * aspect1)),
+            1, r.object_index, rx_positions_m=r.mirror(p_rx)))
+        if order >= 2:
+            v_img = r.mirror_vectors(vel) + 2.0 * r.normal_speed_mps * r.normal
+            a_img = None if acc is None else r.mirror_vectors(acc)
+            out.append(GhostSet(
+                _ghosts(scatterers, rows, images, v_img, a_img, gamma**2 * np.sqrt(aspect2)),
+                2, r.object_index))
+    return out
+
+
+def multipath_if(project: Project, snapshot: SceneSnapshot, scatterers: Scatterers,
+                 config: RadarConfig, *, buffers: RenderBuffers | None = None,
+                 order: int | None = None, threads: int | None = None) -> ComplexCube:
+    """Ideal IF of all the multipath ghosts of a frame (to add to the direct IF).
+
+    See :func:`ghost_scatterers`; the order-2 sets of every reflector are synthesised in
+    one call (real antennas), the order-1 sets one call each.
+
+    Returns
+    -------
+    ndarray, shape (chirps, tx*rx, samples), complex128
+        Zeros when there are no ghosts.
+    """
+    sets = ghost_scatterers(project, snapshot, scatterers, config, buffers=buffers,
+                            order=order)
+    out = np.zeros((config.chirps_per_frame, len(config.tx) * len(config.rx),
+                    config.samples_per_chirp), dtype=np.complex128)
+    second = [g.scatterers for g in sets if g.order == 2]
+    for g in sets:
+        if g.order == 1 and len(g.scatterers):
+            out += synthesize_if(g.scatterers, config, threads=threads,
+                                 tx_positions_m=g.tx_positions_m,
+                                 rx_positions_m=g.rx_positions_m)
+    if second:
+        out += synthesize_if(_concat(second), config, threads=threads)
+    return out
+
+
+def _concat(sets: list[Scatterers]) -> Scatterers:
+    """One :class:`Scatterers` of several (same time and wavelength)."""
+    if len(sets) == 1:
+        return sets[0]
+    acc = [s.accelerations for s in sets] if any(
+        s.accelerations_mps2 is not None for s in sets) else None
+    return Scatterers(
+        time_s=sets[0].time_s, wavelength_m=sets[0].wavelength_m,
+        positions_m=np.concatenate([s.positions_m for s in sets]),
+        velocities_mps=np.concatenate([s.velocities_mps for s in sets]),
+        rcs_m2=np.concatenate([s.rcs_m2 for s in sets]),
+        phase_rad=np.concatenate([s.phase_rad for s in sets]),
+        object_index=np.concatenate([s.object_index for s in sets]),
+        kind=np.concatenate([s.kind for s in sets]),
+        accelerations_mps2=None if acc is None else np.concatenate(acc))
+
+
+__all__ = ["MIN_AREA_M2", "MIN_REFLECTION", "GhostSet", "ImagePaths", "Reflector",
+           "find_reflectors", "ghost_scatterers", "image_paths", "multipath_if"]

@@ -1,0 +1,302 @@
+"""Radar multipath (image method): ghosts at the analytic range, angle, Doppler and power.
+
+Scene: a trihedral corner reflector at range R on boresight and a large aluminium plate
+parallel to boresight at lateral offset H (to the radar's left). The image of the corner
+in the plate is at lateral 2H, range ``R_m = √(R² + 4H²)``; the ghosts of order 1 lie at
+``(R + R_m)/2`` and order 2 at ``R_m`` in the direction of the image. The expected powers
+are computed independently from the same corner seen by a radar moved to the mirrored
+position (the image geometry: its element pattern and the corner's aspect there) and from
+the direct return, times |Γ| per bounce.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import pytest
+
+from simcore.render import RenderRequest, SceneRenderer
+from simcore.scene import Box, CornerReflector, Plane, Pose, Project, SceneObject
+from simcore.scene.model import SensorRig
+from simcore.scene.motion import Motion
+from simcore.scene.radar_config import SPEED_OF_LIGHT, Antenna, RadarConfig
+from simcore.scene.snapshot import take_snapshot
+from simcore.sensors.radar import radar_scatterers
+from simcore.sensors.radar.multipath import find_reflectors, ghost_scatterers, multipath_if
+from simcore.sensors.radar.scatterers import Scatterers
+from simcore.sensors.radar.synthesis import synthesize_if, synthesize_if_direct
+
+Renderer = Callable[..., SceneRenderer]
+
+R, H, Z = 3.0, 1.0, 1.0
+N_RX = 16
+
+
+def radar_config(**kw: object) -> RadarConfig:
+    lam = SPEED_OF_LIGHT / 63e9
+    rx = [Antenna(name=f"rx{i}", position_mm=(i * 0.5 * lam * 1e3, 0.0)) for i in range(N_RX)]
+    base = {"noise_variance_adc": 0.0, "leakage_dbc": None, "adc_bits": None,
+            "if_highpass_hz": 0.0, "speckle": False, "rx": rx, "render_width": 200,
+            "render_height": 200, "multipath_order": 2}
+    base.update(kw)
+    return RadarConfig(**base)  # type: ignore[arg-type]
+
+
+def scene(plate_material: str = "aluminium", *, rig_y: float = 0.0, plate: bool = True,
+          occluder: bool = False, velocity: float = 0.0, **kw: object) -> Project:
+    cfg = radar_config(**kw)
+    objs = [SceneObject(id=1, name="corner", geometry=CornerReflector(edge_m=0.1),
+                        pose=Pose(position_m=(R, 0.0, Z), rotation_deg=(0, -90, 0)),
+                        material="radar_retroreflector",
+                        motion=Motion(velocity_mps=(velocity, 0.0, 0.0)))]
+    if plate:
+        objs.append(SceneObject(id=2, name="plate", geometry=Plane(size_m=(8.0, 2.0)),
+                                pose=Pose(position_m=(3.0, H, Z), rotation_deg=(90, 0, 0)),
+                                material=plate_material))
+    if occluder:
+        # An absorber block in front of the plate around the order-2 reflection point
+        # (x = R/2 on the plate), clear of the direct line of sight.
+        objs.append(SceneObject(id=3, name="block", geometry=Box(size_m=(1.6, 0.2, 1.0)),
+                                pose=Pose(position_m=(1.6, H - 0.2, Z)),
+                                material="radar_absorber"))
+    return Project(objects=objs, rig=SensorRig(pose=Pose(position_m=(0.0, rig_y, Z)),
+                                               radar=cfg))
+
+
+def frame(make_renderer: Renderer, project: Project
+          ) -> tuple[Scatterers, np.ndarray, np.ndarray]:
+    """(scatterers, direct IF, ghost IF) of frame 0."""
+    cfg = project.rig.radar
+    renderer = make_renderer(project)
+    snap = take_snapshot(project, 0.0)
+    buf = renderer.render(snap, RenderRequest("radar", "radar", cfg.render_intrinsics()))
+    sc = radar_scatterers(project, snap, buf)
+    ghost = multipath_if(project, snap, sc, cfg, buffers=buf)
+    return sc, synthesize_if(sc, cfg), ghost
+
+
+def k_mid(cfg: RadarConfig) -> float:
+    """Wavenumber at the centre of the sampled sweep (rad/m)."""
+    t = cfg.sample_times_s()
+    return 2 * np.pi * (cfg.start_frequency_hz + cfg.slope_hz_per_s * t.mean()) / SPEED_OF_LIGHT
+
+
+def beam_range(cfg: RadarConfig, y: np.ndarray, az_deg: float, pad: int = 16
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """(ranges (m), complex amplitude) of chirp rows ``y`` (chirps, rx, samples) steered to
+    ``az_deg`` (Hann over Rx and samples, normalised so a lone tone of amplitude A gives A)."""
+    x = cfg.rx_positions_m()[:, 0]
+    w_a = np.hanning(N_RX + 2)[1:-1]
+    steer = w_a * np.exp(1j * k_mid(cfg) * x * np.sin(np.radians(az_deg))) / w_a.sum()
+    beam = np.einsum("mrn,r->mn", y, steer)
+    n = cfg.samples_per_chirp
+    w = np.hanning(n)
+    spec = np.fft.fft(beam * w, n=pad * n, axis=-1) / w.sum()
+    f = np.fft.fftfreq(pad * n, 1 / cfg.sample_rate_hz)
+    ranges = SPEED_OF_LIGHT * f / (2 * cfg.slope_hz_per_s)
+    return ranges, spec
+
+
+def peak(cfg: RadarConfig, y: np.ndarray, az_deg: float, r_expect: float
+         ) -> tuple[float, float]:
+    """(range, amplitude) of the largest peak within ±1 range bin of ``r_expect``."""
+    ranges, spec = beam_range(cfg, y[:1], az_deg)
+    near = np.flatnonzero(np.abs(ranges - r_expect) <= cfg.range_resolution_m)
+    i = near[np.argmax(np.abs(spec[0, near]))]
+    return float(ranges[i]), float(np.abs(spec[0, i]))
+
+
+def best_angle(cfg: RadarConfig, y: np.ndarray, r: float, around: float) -> float:
+    """Azimuth (deg) of the largest beam at range ``r`` within ±15° of ``around``."""
+    angles = np.arange(around - 15, around + 15.01, 0.1)
+    amps = [peak(cfg, y, a, r)[1] for a in angles]
+    return float(angles[int(np.argmax(amps))])
+
+
+def image_geometry() -> tuple[float, float, float]:
+    """(R_m, azimuth of the image in degrees (board x right = world −y), θ_m)."""
+    r_m = float(np.hypot(R, 2 * H))
+    az = float(np.degrees(np.arctan2(-2 * H, R)))
+    return r_m, az, abs(az)
+
+
+def db(a: float, b: float) -> float:
+    return float(20 * np.log10(a / b))
+
+
+def test_ghosts_at_image_range_angle_and_power(make_renderer: Renderer) -> None:
+    """Acceptance: R, (R+R_m)/2, R_m within ¼ bin, image angles ±2°, power ±1 dB."""
+    project = scene()
+    cfg = project.rig.radar
+    sc, direct, ghost = frame(make_renderer, project)
+    r_m, az_img, _ = image_geometry()
+    quarter = 0.25 * cfg.range_resolution_m
+    total = direct + ghost
+
+    # Direct corner at R, boresight; its amplitude is the reference of the direct leg.
+    r0, a_direct = peak(cfg, total, 0.0, R)
+    assert abs(r0 - R) < quarter
+    assert abs(best_angle(cfg, total, R, 0.0)) < 2.0
+
+    # The same corner seen by a radar at the mirrored position (the image geometry).
+    mirror = scene(rig_y=2 * H, plate=False)
+    _, direct_m, _ = frame(make_renderer, mirror)
+    _, a_mirror = peak(cfg, direct_m, -az_img, r_m)   # seen at +θ_m from there
+    gamma = 1.0                                        # aluminium, height 10 µm: |Γ| ≈ 1
+
+    # Order 2 at R_m in the image direction: amplitude |Γ|² × the mirrored radar's.
+    r2, a2 = peak(cfg, total, az_img, r_m)
+    assert abs(r2 - r_m) < quarter, (r2, r_m)
+    assert abs(best_angle(cfg, total, r_m, az_img) - az_img) < 2.0
+    print(f"order 2 angle {best_angle(cfg, total, r_m, az_img):+.1f}° (image {az_img:+.1f}°)")
+    assert abs(db(a2, gamma**2 * a_mirror)) < 1.0, db(a2, a_mirror)
+    print(f"direct {r0:.4f} m (R {R}); order 2 {r2:.4f} m (R_m {r_m:.4f}), "
+          f"{db(a2, gamma**2 * a_mirror):+.2f} dB vs image radar equation")
+
+    # Order 1 at (R + R_m)/2: path (a) arrives from the target (Rx leg direct), path (b)
+    # from the image; each has |Γ| × the geometric mean of the two monostatic amplitudes
+    # (bistatic radar equation: √(g(0) g(θ_m)) and the corner's aspect in both directions).
+    r1 = 0.5 * (R + r_m)
+    expect1 = gamma * np.sqrt(a_direct * a_mirror)
+    for az in (0.0, az_img):
+        rr, a1 = peak(cfg, ghost, az, r1)
+        assert abs(rr - r1) < quarter, (rr, r1)
+        assert abs(best_angle(cfg, ghost, r1, az) - az) < 2.0
+        assert abs(db(a1, expect1)) < 1.0, (az, db(a1, expect1))
+        print(f"order 1 at az {az:+.1f}°: {rr:.4f} m ((R+R_m)/2 {r1:.4f}), angle "
+              f"{best_angle(cfg, ghost, r1, az):+.1f}°, {db(a1, expect1):+.2f} dB")
+    rr, _ = peak(cfg, total, 0.0, r1)
+    assert abs(rr - r1) < quarter
+
+
+def test_absorber_and_occluder_remove_the_ghosts(make_renderer: Renderer) -> None:
+    """An absorber plate (Γ = 0) or a block hiding the reflection point: no ghosts."""
+    r_m, az_img, _ = image_geometry()
+    metal = scene()
+    cfg = metal.rig.radar
+    _, direct, ghost = frame(make_renderer, metal)
+    _, a_metal = peak(cfg, direct + ghost, az_img, r_m)
+
+    absorber = scene("radar_absorber")
+    assert find_reflectors(absorber, take_snapshot(absorber, 0.0), cfg.wavelength_m) == []
+    _, direct_a, ghost_a = frame(make_renderer, absorber)
+    assert not np.any(ghost_a)
+    _, a_abs = peak(cfg, direct_a + ghost_a, az_img, r_m)
+    assert db(a_abs, a_metal) < -30.0, db(a_abs, a_metal)
+
+    blocked = scene(occluder=True)
+    _, direct_b, ghost_b = frame(make_renderer, blocked)
+    _, a_blk = peak(cfg, ghost_b, az_img, r_m)
+    assert db(a_blk, a_metal) < -30.0, db(a_blk, a_metal)
+    print(f"ghost cell: absorber {db(a_abs, a_metal):.1f} dB, occluded "
+          f"{db(a_blk, a_metal) if a_blk > 0 else -np.inf:.1f} dB vs metal")
+
+
+def test_moving_target_ghost_doppler_is_the_image_radial_velocity(make_renderer: Renderer
+                                                                   ) -> None:
+    """A corner receding at v along the plate: the order-2 ghost moves at v cos θ_m."""
+    v = 1.0
+    project = scene(velocity=v)
+    cfg = project.rig.radar
+    _, direct, ghost = frame(make_renderer, project)
+    r_m, az_img, theta_m = image_geometry()
+
+    def radial(y: np.ndarray, az: float, r: float) -> float:
+        ranges, spec = beam_range(cfg, y, az)
+        i = np.argmin(np.abs(ranges - r))
+        i = i - 8 + int(np.argmax(np.abs(spec[0, i - 8:i + 9])))
+        z = spec[:, i]
+        dphi = float(np.angle(np.sum(z[1:] * np.conj(z[:-1]))))
+        return dphi * SPEED_OF_LIGHT / (k_mid(cfg) * SPEED_OF_LIGHT * 2
+                                        * cfg.chirp_repetition_time_s)
+
+    v_direct, v_ghost = radial(direct, 0.0, R), radial(ghost, az_img, r_m)
+    print(f"radial velocity: direct {v_direct:.4f} m/s, ghost {v_ghost:.4f} m/s "
+          f"(image {v * np.cos(np.radians(theta_m)):.4f})")
+    assert v_direct == pytest.approx(v, abs=0.02)
+    assert v_ghost == pytest.approx(v * np.cos(np.radians(theta_m)), abs=0.02)
+
+
+def test_order_one_has_no_second_bounce(make_renderer: Renderer) -> None:
+    """multipath_order 1 synthesises paths (a) and (b) only; 0 nothing."""
+    project = scene(multipath_order=1)
+    cfg = project.rig.radar
+    renderer = make_renderer(project)
+    snap = take_snapshot(project, 0.0)
+    buf = renderer.render(snap, RenderRequest("radar", "radar", cfg.render_intrinsics()))
+    sc = radar_scatterers(project, snap, buf)
+    sets = ghost_scatterers(project, snap, sc, cfg, buffers=buf)
+    assert sorted(g.order for g in sets) == [1, 1]
+    assert ghost_scatterers(project, snap, sc, cfg, buffers=buf, order=0) == []
+
+
+def test_synthesis_antenna_override_matches_the_direct_sum() -> None:
+    """``tx_positions_m`` / ``rx_positions_m``: NUFFT path = direct sum, static and moving."""
+    cfg = radar_config(chirps_per_frame=4, samples_per_chirp=128, chirp_time_s=64e-6,
+                       sample_rate_hz=2e6, chirp_repetition_time_s=100e-6)
+    rng = np.random.default_rng(3)
+    m = 20
+    pos = np.column_stack([rng.uniform(-1, 1, m), rng.uniform(-0.5, 0.5, m),
+                           rng.uniform(1, 4, m)])
+    vel = np.zeros((m, 3))
+    vel[::2] = rng.uniform(-2, 2, (m // 2, 3))
+    sc = Scatterers(time_s=0.0, wavelength_m=cfg.wavelength_m, positions_m=pos,
+                    velocities_mps=vel, rcs_m2=rng.uniform(0.1, 1, m),
+                    phase_rad=rng.uniform(-np.pi, np.pi, m),
+                    object_index=np.zeros(m, np.int32), kind=np.zeros(m, np.int8))
+    tx = cfg.tx_positions_m() + np.array([1.3, 0.0, 0.2])
+    rx = cfg.rx_positions_m() + np.array([-0.4, 0.1, 0.0])
+    fast = synthesize_if(sc, cfg, tx_positions_m=tx, rx_positions_m=rx)
+    ref = synthesize_if_direct(sc, cfg, tx_positions_m=tx, rx_positions_m=rx)
+    # The moving-scatterer model's budget is MOTION_TOLERANCE_FLOOR (1e-4) per scatterer.
+    err = np.max(np.abs(fast - ref)) / np.max(np.abs(ref))
+    print(f"override: NUFFT vs direct sum, max error {err:.2e} of the peak")
+    assert err < 1e-4
+    plain = synthesize_if_direct(sc, cfg)
+    assert np.max(np.abs(plain - ref)) > 0.1 * np.max(np.abs(ref))   # the override acts
+    with pytest.raises(ValueError, match="tx_positions_m"):
+        synthesize_if(sc, cfg, tx_positions_m=np.zeros((2, 3)))
+
+
+def test_simulator_adds_the_ghosts_on_the_plain_and_the_background_path() -> None:
+    """The radar_multipath stage: both the plain path and the still-background
+    accelerator add the same ghosts to the raw cube (a small box moves, the rest is still)."""
+    from simcore.pipeline import Simulator
+
+    project = scene(render_width=120, render_height=120)
+    mover = SceneObject(id=9, name="mover", geometry=Box(size_m=(0.2, 0.2, 0.2)),
+                        pose=Pose(position_m=(4.5, -1.0, Z)), material="concrete",
+                        motion=Motion(velocity_mps=(0.0, 0.5, 0.0)))
+    project = project.model_copy(update={"objects": [*project.objects, mover]})
+    off = project.model_copy(deep=True)
+    off.rig.radar.multipath_order = 0
+    cubes, stages = {}, {}
+    for name, proj, reuse in (("plain", project, False), ("background", project, True),
+                              ("off", off, True)):
+        with Simulator(proj, reuse_static=reuse) as sim:
+            sim.frame(0)
+            f1 = sim.frame(1)
+            cubes[name], stages[name] = f1.outputs["radar"].raw.adc, set(f1.timings_ms)
+    assert "radar_multipath" in stages["plain"] and "radar_multipath" in stages["background"]
+    assert "radar_scatterers" in stages["plain"]
+    assert "radar_scatterers" not in stages["background"]      # the accelerator ran
+    assert "radar_multipath" not in stages["off"]
+    scale = np.max(np.abs(cubes["plain"]))
+    assert np.max(np.abs(cubes["background"] - cubes["plain"])) < 1e-6 * scale
+    assert np.max(np.abs(cubes["off"] - cubes["plain"])) > 1e-3 * scale
+
+
+def test_report_section_marks_the_ghost_where_the_map_shows_it(tmp_path) -> None:
+    """multipath_section on the bundled corridor: the figure is written, and the map's power
+    at each predicted order-1 ghost rises by more than 20 dB when multipath is on."""
+    from simcore.report_multipath import multipath_section
+
+    figures, numbers = multipath_section(tmp_path, quick=True)
+    assert (tmp_path / figures[0][0]).stat().st_size > 10_000
+    ghosts = [m for m in numbers["marks"] if m["order"] == 1]
+    assert len(ghosts) == 2
+    for m in ghosts:
+        assert m["power_on_db"] - m["power_off_db"] > 20.0, m
+    target = [m for m in numbers["marks"] if m["order"] == 0][0]
+    assert abs(target["power_on_db"] - target["power_off_db"]) < 1.0
