@@ -24,6 +24,7 @@ from scipy import ndimage
 from simcore.dsp import process_frame
 from simcore.pipeline import Frame, Simulator
 from simcore.render import RenderRequest, SceneRenderer
+from simcore.report_multipath import multipath_section
 from simcore.resources import example_path
 from simcore.scene.geometry import Box, CornerReflector, Cylinder, Plane, Sphere
 from simcore.scene.model import Project, SceneObject, SensorRig
@@ -715,6 +716,11 @@ def generate_report(out_dir: str | Path, *, quick: bool = False,
     result.figures.append(fig)
     surfaces["moving_rig"] = nums
     result.numbers["surfaces"] = surfaces
+    figures, nums = multipath_section(out, quick=quick)
+    for file, title, text in figures:
+        result.figures.append(Figure(file, title, text, section="Multipath"))
+    result.numbers["multipath"] = nums
+    say("multipath done")
     _write_readme(result, quick=quick)
     (out / "numbers.json").write_text(json.dumps(result.numbers, indent=2, default=float) + "\n")
     return result

@@ -144,7 +144,7 @@ def multipath_section(out_dir: str | Path, *, quick: bool = False
         ax.set_ylim(0, 6)
         ax.set_title(f"multipath_order = {k}")
         ax.legend(loc="upper right", fontsize=8)
-    name = "multipath_range_azimuth.png"
+    name = "fig10_multipath_range_azimuth.png"
     fig.savefig(out / name, dpi=110)
     plt.close(fig)
     text = ("Range–azimuth map (Bartlett) of the multipath_corridor example without and with "

@@ -11,7 +11,7 @@ def test_quick_report_figures_and_numbers(tmp_path):
     out = tmp_path / "validation"
     assert main(["report", "--out", str(out), "--quick", "--quiet"]) == 0
     figures = sorted(p.name for p in out.glob("fig*.png"))
-    assert len(figures) == 9
+    assert len(figures) == 10
     assert all((out / f).stat().st_size > 20_000 for f in figures)   # real plots, not blanks
     readme = (out / "README.md").read_text()
     assert all(f in readme for f in figures)
@@ -62,3 +62,6 @@ def test_quick_report_figures_and_numbers(tmp_path):
     rig = surf["moving_rig"]
     assert rig["frames"] == 20 and rig["step_m"] == 0.02
     assert rig["max_step_beyond_model_db"] <= 1.0
+
+    ghost = n["multipath"]
+    assert isinstance(ghost, dict) and ghost                   # the radar multipath section
