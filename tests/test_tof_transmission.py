@@ -169,3 +169,23 @@ def test_the_radar_band_is_unchanged(material: str) -> None:
                                   transmission_coefficients(project, stripped, wavelength))
     expected = (False, True) if material == "glass" else None
     assert RadarSensor().see_through(project) == expected
+
+
+def test_the_engine_gives_the_sensor_its_see_through_pass() -> None:
+    """Through the engine (plug-in, see-through render): the same frame as by hand."""
+    from simcore.pipeline import Simulator
+
+    project = project_with("glass")
+    by_hand, _ = run(project)
+    with Simulator(project) as sim:
+        frame = sim.frame(0)
+    assert "tof" in frame.see_through
+    out = frame.outputs["tof"]
+    assert isinstance(out, TofOutput)
+    norm, tan = ray_geometry(CFG)
+    away = (tan > math.tan(math.radians(12))) & out.valid & by_hand.valid
+    assert away.sum() > 1000
+    # The engine's camera is noisy: compare means (shot noise averages out over the pixels).
+    ratio = out.amplitude[away].mean() / by_hand.amplitude[away].mean()
+    assert abs(ratio - 1.0) < 0.01
+    assert np.median(np.abs(out.depth_m[away] - WALL_M * norm[away])) < 0.02
