@@ -21,6 +21,11 @@ The chain, per frame (equations and limits in ``docs/physics_tof.md``):
 7. With two modulation frequencies, the two wrapped depths are unwrapped jointly
    (:func:`unwrap_two_frequencies`).
 
+Partial transmission (optional, a ``see_through`` render): where the first surface of a
+sub-pixel transmits (a glass pane, :func:`slab_transmittance`), the surface the
+see-through render shows behind it adds its own return, times the two-way power
+transmission ``T²``, to the pane's return as a phasor before the phase is estimated.
+
 Dtype policy: sub-pixel phases are computed in float64 (cheap, and the phase of a 37 m
 range needs more than float32's 7 digits to stay well under a millimetre); every
 sensor-resolution image is float32, whose rounding (≤ 1e-7 relative) is far below the
@@ -29,6 +34,8 @@ sensor-resolution image is float32, whose rounding (≤ 1e-7 relative) is far be
 
 from __future__ import annotations
 
+import cmath
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from math import gcd
@@ -38,6 +45,7 @@ from numpy.typing import NDArray
 from scipy.ndimage import gaussian_filter
 
 from simcore.render.buffers import RenderBuffers, downsample_ground_truth
+from simcore.scene.materials import BandMaterial
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
 from simcore.sensors.tof.multipath import one_bounce, senders_from_render
 
@@ -240,6 +248,51 @@ def unwrap_two_frequencies(depth1_m: NDArray[np.floating], depth2_m: NDArray[np.
     return as_float(np.mod(best, r_max))
 
 
+def incoherent_slab(permittivity: float, loss_tangent: float, thickness_m: float | None,
+                    wavelength_m: float) -> tuple[float, float]:
+    """Power reflectance and transmittance of a slab at normal incidence, summed incoherently.
+
+    For light whose coherence length is far below the slab's thickness (an LED or VCSEL
+    illuminator and a window pane) the internal reflections add in power, not in
+    amplitude: with the interface reflectance ``R = |(1 − n)/(1 + n)|²`` of the complex
+    index ``n = √(ε′ (1 − j tan δ))`` and the single-pass power attenuation
+    ``a = exp(−4π κ d / λ)`` (``κ = −Im n``)::
+
+        T = (1 − R)² a / (1 − R² a²),   R_slab = R + R (1 − R)² a² / (1 − R² a²)
+
+    (lossless: ``T = (1 − R)/(1 + R)``, ``R_slab = 2R/(1 + R)``). A half-space
+    (``thickness_m`` None) transmits nothing.
+
+    Returns
+    -------
+    (float, float)
+        ``R_slab`` and the one-pass power transmittance ``T``.
+    """
+    n = cmath.sqrt(permittivity * (1.0 - 1j * loss_tangent))
+    refl = abs((1.0 - n) / (1.0 + n)) ** 2
+    if thickness_m is None:
+        return refl, 0.0
+    a = math.exp(-4.0 * math.pi * abs(n.imag) * thickness_m / wavelength_m)
+    den = 1.0 - refl * refl * a * a
+    return (refl + refl * (1.0 - refl) ** 2 * a * a / den,
+            (1.0 - refl) ** 2 * a / den)
+
+
+def slab_transmittance(band: BandMaterial, wavelength_m: float) -> float:
+    """One-pass power transmittance of a ToF-band material (0: opaque).
+
+    Not drawn (opacity 0) or a metal: 0; no permittivity: 1 with a ``thickness_m`` (an
+    invisible sheet, as :meth:`BandMaterial.coefficients`) else 0; otherwise
+    :func:`incoherent_slab`.
+    """
+    if band.opacity <= 0 or band.metallic >= 1.0:
+        return 0.0
+    if band.permittivity is None:
+        return 1.0 if band.thickness_m is not None else 0.0
+    return incoherent_slab(band.permittivity, band.loss_tangent, band.thickness_m,
+                           wavelength_m)[1]
+
+
 def _sample_signal(buffers: RenderBuffers, config: TofCameraConfig
                    ) -> tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32]]:
     """Per sub-pixel range, signal and ambient electrons of one render."""
@@ -311,6 +364,40 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     return planes
 
 
+def _transmitted_planes(buffers: RenderBuffers, see_through: RenderBuffers,
+                        transmittance: NDArray[np.floating], config: TofCameraConfig
+                        ) -> NDArray[np.float32]:
+    """The returns seen through transmissive surfaces: offset and phasor planes (e⁻).
+
+    A sub-pixel whose first surface transmits (one-pass power ``T`` of its object in
+    ``transmittance``) and whose see-through render shows a surface no nearer adds that
+    surface's signal and ambient electrons times ``T²`` (in and out).
+
+    Returns
+    -------
+    ndarray, shape (1 + 2·F, H, W), float32
+        Laid out like the direct planes of :func:`simulate_tof`.
+    """
+    k = config.supersampling
+    front = buffers.object_index
+    hit = (front >= 0) & np.isfinite(buffers.range_m)
+    table = np.append(np.asarray(transmittance, dtype=np.float32), FLOAT(0.0))
+    t = table[np.where(hit, front, -1)]
+    r2, signal, ambient = _sample_signal(see_through, config)
+    behind = ((t > 0) & (see_through.object_index >= 0) & np.isfinite(see_through.range_m)
+              & (see_through.range_m >= np.where(hit, buffers.range_m, np.inf)
+                 - FLOAT(1e-4)))
+    two_way = np.where(behind, t * t, FLOAT(0.0))
+    signal = signal * two_way
+    planes = [_block_mean(signal + ambient * two_way, k)]
+    m_signal = signal * FLOAT(config.demodulation_contrast)
+    for f_mod in config.modulation_frequencies_hz:
+        phase = r2 * FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT)
+        planes += [_block_mean(m_signal * np.cos(phase), k),
+                   _block_mean(m_signal * np.sin(phase), k)]
+    return as_float(np.stack(planes))
+
+
 def auto_exposure_s(reference: RenderBuffers, config: TofCameraConfig) -> float:
     """The exposure that puts the brightest 1 % of pixels at the target level (s).
 
@@ -338,7 +425,9 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                  rng: np.random.Generator, noise: bool = True,
                  sample_buffers: Sequence[RenderBuffers] | None = None,
                  albedo: NDArray[np.float32] | None = None,
-                 exposure_reference: RenderBuffers | None = None) -> TofOutput:
+                 exposure_reference: RenderBuffers | None = None,
+                 see_through: RenderBuffers | None = None,
+                 transmittance: NDArray[np.floating] | None = None) -> TofOutput:
     """Simulate one AMCW ToF frame from the ToF band's supersampled render.
 
     Parameters
@@ -364,6 +453,13 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
     exposure_reference : RenderBuffers, optional
         With ``config.auto_exposure``: the render auto-exposure looks at (the previous
         frame's, like a real camera's; default ``buffers``) — :func:`auto_exposure_s`.
+    see_through : RenderBuffers, optional
+        The same pass with the transmissive objects hidden (:meth:`TofSensor.see_through`):
+        what lies behind a pane adds its return × ``T²`` to the pane's own return, as
+        phasors before the phase is estimated. Ground truth stays the first surface.
+    transmittance : ndarray, shape (N,), optional
+        One-pass power transmittance of each object (index as ``object_index``;
+        :func:`slab_transmittance`); needed with ``see_through``.
 
     Returns
     -------
@@ -408,12 +504,21 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         planes += [_block_mean(m_signal * np.cos(phase), k),
                    _block_mean(m_signal * np.sin(phase), k)]
 
-    # Multipath interference: the one-bounce light, added as phasors before read-out.
+    # Multipath interference (the one-bounce light) and the returns seen through panes,
+    # added as phasors before read-out.
     indirect = None
     if config.multipath:
         if albedo is None:
             raise ValueError("multipath needs the diffuse albedo of the render (albedo=...)")
         indirect = _multipath_planes(buffers, config, albedo)
+    if see_through is not None:
+        if transmittance is None:
+            raise ValueError("see_through needs the objects' transmittance (transmittance=...)")
+        if see_through.shape != buffers.shape:
+            raise ValueError("the see-through render must have the render's shape")
+        through = _transmitted_planes(buffers, see_through, transmittance, config)
+        indirect = through if indirect is None else indirect + through
+    if indirect is not None:
         planes = [plane + extra for plane, extra in zip(planes, indirect, strict=True)]
 
     # 3. Cross-talk (linear, so it may act on offset and phasor planes alike).

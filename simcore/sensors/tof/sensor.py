@@ -10,7 +10,7 @@ from simcore.render.renderer import RenderRequest
 from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
 from simcore.sensors.base import H5Items, SensorContext, config_key
-from simcore.sensors.tof.camera import TofOutput, simulate_tof
+from simcore.sensors.tof.camera import TofOutput, simulate_tof, slab_transmittance
 
 
 class TofSensor:
@@ -26,8 +26,9 @@ class TofSensor:
         return RenderRequest(self.name, self.band, project.rig.tof.render_intrinsics())
 
     def see_through(self, project: Project) -> tuple[bool, ...] | None:
-        """No second pass: the band's objects are opaque or invisible (opacity 0)."""
-        return None
+        """The objects that transmit part of the near-IR light (glass panes); None if none."""
+        mask = tuple(bool(t > 0) for t in transmittance(project))
+        return mask if any(mask) else None
 
     def sample_offsets_s(self, project: Project) -> tuple[float, ...]:
         """Times of extra renders: motion artefacts, then the previous frame (auto-exposure).
@@ -55,15 +56,32 @@ class TofSensor:
                                reads=config_key(*ctx.project.materials,
                                                 *ctx.project.objects),
                                inputs=(ctx.buffers,))
+        through = ctx.see_through
+        trans = None if through is None else transmittance(ctx.project)
         return ctx.stage(
             "tof", lambda: simulate_tof(ctx.buffers, cfg, rng=ctx.rng, sample_buffers=samples,
-                                        albedo=albedo, exposure_reference=previous),
-            reads=(config_key(cfg), ctx.seed, ctx.index),
-            inputs=(ctx.buffers, *ctx.sample_buffers))
+                                        albedo=albedo, exposure_reference=previous,
+                                        see_through=through, transmittance=trans),
+            reads=(config_key(cfg), ctx.seed, ctx.index,
+                   None if trans is None else trans.tobytes()),
+            inputs=(ctx.buffers, *ctx.sample_buffers, through))
 
     def static_items(self, project: Project) -> H5Items:
         """No run-constant datasets."""
         return {}
+
+
+def transmittance(project: Project) -> NDArray[np.float64]:
+    """One-pass near-IR power transmittance of every object (0: opaque), shape (N,).
+
+    From each object's ToF-band material (:func:`simcore.sensors.tof.camera.slab_transmittance`
+    at the camera's wavelength).
+    """
+    table = material_table(project)
+    wavelength_m = project.rig.tof.wavelength_nm * 1e-9
+    return np.array([slab_transmittance(table[o.material].band("tof"), wavelength_m)
+                     if o.material in table else 0.0 for o in project.objects],
+                    dtype=np.float64)
 
 
 def diffuse_albedo(project: Project, buffers: RenderBuffers) -> NDArray[np.float32]:
