@@ -36,7 +36,9 @@ from app.scene_geometry import (
     radar_fov_v_deg,
 )
 from simcore.scene import Project
+from simcore.scene.materials import BandMaterial
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
+from simcore.sensors.tof.camera import slab_transmittance
 
 SelectionKey = int | str | None
 #: After a render of T ms the view waits RENDER_DUTY × T ms before the next one.
@@ -52,6 +54,22 @@ BAND_VIEWS = {
 }
 #: Spacing of the ground grid's lines (m).
 GRID_STEP_M = 1.0
+
+
+def band_transmission(band: BandMaterial, name: str) -> float:
+    """One-pass power transmission of a band material (0: opaque), as its sensor sees it.
+
+    Radar: ``|T|²`` of the slab at 63 GHz (:meth:`BandMaterial.coefficients`); ToF: the
+    incoherent slab at 850 nm (:func:`~simcore.sensors.tof.camera.slab_transmittance`);
+    visible light: 0 (only the opacity counts).
+    """
+    if band.opacity <= 0:
+        return 0.0
+    if name == "radar":
+        return float(abs(band.coefficients(63e9)[1]) ** 2)
+    if name == "tof":
+        return float(slab_transmittance(band, 850e-9))
+    return 0.0
 
 
 def band_display_opacity(band_opacity: float) -> float:
@@ -546,7 +564,10 @@ class SceneViewport(QWidget):
         if obj.geometry.kind == "point_target":
             return 1.0 if self._band == "radar" else band_display_opacity(0.0)
         mat = materials.get(obj.material)
-        return band_display_opacity(mat.band(self._band).opacity if mat is not None else 1.0)
+        if mat is None:
+            return 1.0
+        band = mat.band(self._band)
+        return band_display_opacity(band.opacity * (1.0 - band_transmission(band, self._band)))
 
     # --- ground grid ---------------------------------------------------------------------
     def _sync_grid(self, project: Project, snap: SceneSnapshot) -> None:

@@ -63,13 +63,14 @@ def test_radar_transparent_object_absent_from_radar_pass(make_renderer):
     invisible = DualBandMaterial(name="radar_invisible_card",
                                  bands={"tof": BandMaterial(reflectance=0.8),
                                         "radar": BandMaterial(opacity=0.0)})
-    project = Project(materials=[invisible], objects=[
+    ir_clear = DualBandMaterial(name="ir_invisible_sheet", bands={"tof": BandMaterial(opacity=0.0)})
+    project = Project(materials=[invisible, ir_clear], objects=[
         SceneObject(id=1, name="wall", geometry=Box(size_m=(0.2, 40, 30)),
                     pose=Pose(position_m=(4.1, 0, 0)), material="concrete"),
         SceneObject(id=2, name="box", geometry=Box(size_m=(0.3, 0.6, 0.6)),
                     pose=Pose(position_m=(2.0, 0, 0)), material="radar_invisible_card"),
         SceneObject(id=3, name="pane", geometry=Box(size_m=(0.01, 0.6, 0.6)),
-                    pose=Pose(position_m=(1.0, 1.0, 0)), material="glass"),
+                    pose=Pose(position_m=(1.0, 1.0, 0)), material="ir_invisible_sheet"),
     ])
     renderer = make_renderer(project)
     snap = take_snapshot(project, 0.0)

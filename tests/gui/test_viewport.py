@@ -134,7 +134,8 @@ def test_radar_view_shows_radar_transparent_objects_see_through(make_window, wai
     doc = window.document
     view = window.viewport
     project = doc.project
-    # Paper (the book, the paper box) is transparent at 60 GHz and opaque in the infrared.
+    # Paper (the book, the paper box) mostly transmits at 60 GHz (|T|² ≈ 0.85) and is
+    # opaque in the infrared.
     book = view._actors[project.object_by_name("book").id][1]
     plate = view._actors[project.object_by_name("metal_plate").id][1]
     assert view.band == "tof"
@@ -154,7 +155,8 @@ def test_radar_view_shows_radar_transparent_objects_see_through(make_window, wai
 
 
 def test_tof_view_shows_glass_and_point_targets_see_through(make_window, wait_frame):
-    """Glass is transparent in the infrared, opaque to the radar; a point target is radar only."""
+    """Glass transmits 92 % in the infrared, about 40 % at 60 GHz (drawn more solid there);
+    a point target is radar only."""
     window = make_window()
     wait_frame(window)
     doc = window.document
@@ -173,8 +175,9 @@ def test_tof_view_shows_glass_and_point_targets_see_through(make_window, wait_fr
     oid_target = doc.project.object_by_name("target").id
     assert view._actors[oid_glass][1].prop.opacity < 0.5
     assert view._actors[oid_target][1].prop.opacity < 0.5
+    tof_glass = view._actors[oid_glass][1].prop.opacity
     view.set_band("radar")
-    assert view._actors[oid_glass][1].prop.opacity == 1.0
+    assert tof_glass < view._actors[oid_glass][1].prop.opacity < 1.0
     assert view._actors[oid_target][1].prop.opacity == 1.0
     view.set_band("visible")
     assert view._actors[oid_glass][1].prop.opacity < 0.5
