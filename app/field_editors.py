@@ -215,7 +215,12 @@ LINK_BUDGET = [
     FieldSpec("rig.radar.if_lowpass_hz", "IF low-pass", "kHz",
               "anti-aliasing low-pass cutoff (0: none)", scale=1e-3, step=50.0, decimals=1),
     FieldSpec("rig.radar.speckle", "speckle", "",
-              "random surface-attached phase per render pixel (rough surfaces)", kind="bool"),
+              "random phase of each surface facet's diffuse part, fixed to the surface "
+              "(rough-surface speckle)", kind="bool"),
+    FieldSpec("rig.radar.multipath_order", "multipath order", "",
+              "radar ghosts via flat metal reflectors (image method): 0 none, 1 one "
+              "bounce on the wall (either leg), 2 both legs; order 1 costs about 1.5× the "
+              "synthesis, order 2 about 2.7×", kind="int"),
 ]
 
 #: CFAR cells and the detector options beside the main DSP choices.

@@ -82,11 +82,14 @@ def test_material_editor_save_into_project_and_assign(make_window, monkeypatch):
     ed = window.material_editor
     doc.select(doc.project.object_by_name("book").id)
     assert ed.current == "paper"
-    assert ed.radar_invisible.isChecked()  # paper is radar-transparent
+    # Paper is drawn for the radar (a thin slab that mostly transmits), not invisible.
+    assert not ed.radar_invisible.isChecked()
     monkeypatch.setattr(QInputDialog, "getText", lambda *a, **k: ("wet_paper", True))
     ed.save_button.click()
     assert ed.current == "wet_paper"
     assert [m.name for m in doc.project.materials] == ["wet_paper"]
+    ed.radar_invisible.click()
+    assert doc.project.materials[0].band("radar").opacity == 0.0
     ed.radar_invisible.click()
     ed.radar_editor.widgets["reflectance"].setValue(0.4)
     mat = doc.project.materials[0]

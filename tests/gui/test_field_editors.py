@@ -19,7 +19,7 @@ NEW_VALUES = {
     "rig.radar.if_gain_db": 40.0, "rig.radar.adc_bits": None,
     "rig.radar.adc_full_scale_v": 0.5, "rig.radar.leakage_dbc": None,
     "rig.radar.if_highpass_hz": 150e3, "rig.radar.if_lowpass_hz": 900e3,
-    "rig.radar.speckle": False,
+    "rig.radar.speckle": False, "rig.radar.multipath_order": 2,
     "dsp.cfar_guard_range": 3, "dsp.cfar_train_range": 12, "dsp.cfar_guard_doppler": 2,
     "dsp.cfar_train_doppler": 6, "dsp.cfar_os_rank": 0.6, "dsp.peak_grouping": "cluster",
     "dsp.max_detections": 64, "dsp.interpolate_peaks": False,
