@@ -32,7 +32,7 @@ class BackgroundFacets:
     Attributes
     ----------
     scatterers : Scatterers
-        Facet scatterers of the background (no analytic targets), ascending facet key.
+        Facet scatterers of the background (no analytic targets), with their facet keys.
     n_objects : int
         Number of project objects (the facet key is ``cell * n_objects + object``).
     """

@@ -33,8 +33,6 @@ from simcore.scene.snapshot import SceneSnapshot
 from simcore.sensors.radar.kinematics import motion_maps
 from simcore.sensors.radar.surfaces import facet_returns, transmission_coefficients
 
-#: Smallest cos(incidence) used in the pixel area (grazing guard, ≈ 88.9°).
-COS_MIN = 0.02
 #: A point scatterer is hidden when a rendered surface is nearer than this along its ray (m).
 OCCLUSION_TOLERANCE_M = 0.01
 
@@ -69,12 +67,12 @@ class Scatterers:
     kind : ndarray, shape (M,), int8
         ``KIND_FACET``, ``KIND_CORNER_REFLECTOR`` or ``KIND_POINT_TARGET``.
     facet_key : ndarray, shape (M,), int64, or None
-        Identity of each facet scatterer in its render: ``(row * width + col) * n_objects
-        + object_index`` on the facet grid, ascending over the facets; −1 for analytic
-        targets. ``None`` when the scatterers do not come from a render. Two renders of
-        the same static surface from the same pose give equal keys and equal values,
-        which lets the IF of a static background be re-used
-        (:meth:`simcore.sensors.radar.frontend.RadarFrontEnd.set_background`).
+        Render cell of each facet scatterer: ``(row * width + col) * n_objects +
+        object_index`` of its centroid's cell on the facet grid (several facets may share
+        a key); −1 for analytic targets. ``None`` when the scatterers do not come from a
+        render. Two renders of the same static surface from the same pose give equal keys
+        and equal values, which lets the IF of a still background be re-used
+        (:mod:`simcore.sensors.radar.background`).
     accelerations_mps2 : ndarray, shape (M, 3), float64, or None
         Accelerations relative to the radar at ``time_s``, optical frame (m/s²); None means
         zeros. With the velocities they define the motion model of the synthesis over a

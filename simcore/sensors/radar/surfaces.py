@@ -46,12 +46,15 @@ from simcore.render.buffers import RenderBuffers
 from simcore.render.meshes import TriangleMesh
 from simcore.scene.materials import BandMaterial, DualBandMaterial
 from simcore.scene.model import Project
+from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot
 
 #: Longest edge of a surface facet (m): far-field PO per facet from ≈ 4 L²/λ = 0.5 m.
 FACET_EDGE_M = 0.10
 #: Facet range tolerance of the visibility test, on top of the pixel's range spread (m).
 VISIBILITY_TOLERANCE_M = 0.01
+#: Smallest one-way transmission |T| that counts (a slab transmitting less is opaque).
+TRANSMISSIVE_MIN = 1e-9
 #: Near-singular guard of the triangle integral's divided differences (rad).
 _SMALL = 1e-3
 
@@ -225,8 +228,11 @@ def _far_field_integral(v: NDArray[np.float64], c: NDArray[np.float64],
     return area2 * triangle_integral(alpha, beta) * np.exp(1j * rel)
 
 
-def facet_integral(v: NDArray[np.float64], c: NDArray[np.float64], dist: NDArray[np.float64],
-                   k: float) -> NDArray[np.complex128]:
+def facet_integral(v: NDArray[np.float64] | Callable[[NDArray[np.intp]], NDArray[np.float64]],
+                   c: NDArray[np.float64], dist: NDArray[np.float64], k: float, *,
+                   e1: NDArray[np.float64], e2: NDArray[np.float64], d0: NDArray[np.float64],
+                   area2: NDArray[np.float64], edge: NDArray[np.float64]
+                   ) -> NDArray[np.complex128]:
     """The PO phase integral ``∫ e^{j 2k (|r| − |c|)} dA`` of each facet (m²).
 
     Gordon's far-field closed form per facet; a facet that is not in its own far field
@@ -236,32 +242,19 @@ def facet_integral(v: NDArray[np.float64], c: NDArray[np.float64], dist: NDArray
 
     Parameters
     ----------
-    v : ndarray, shape (M, 3, 3)
-        Facet corners in the radar frame (m).
+    v : ndarray, shape (M, 3, 3), or callable
+        Facet corners in the radar frame (m), or a function of facet indices giving
+        them: needed only for the facets that are split.
     c, dist : ndarray, shapes (M, 3) and (M,)
-        Centroids and their ranges (m).
+        Centroids and their ranges (m), in a frame where dot products with ``e1``, ``e2``
+        and ``d0`` are the radar frame's (the object's own frame works: only the
+        direction is rotated, not every corner).
     k : float
         Wavenumber 2π/λ (rad/m).
-    """
-    e1, e2 = v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]
-    edge = np.sqrt(np.max(np.stack([np.sum(e1 * e1, axis=1), np.sum(e2 * e2, axis=1),
-                                    np.sum((e2 - e1) ** 2, axis=1)]), axis=0))
-    area2 = np.linalg.norm(np.cross(e1, e2), axis=1)
-    return _facet_integral(v, c, dist, k, e1=e1, e2=e2, d0=v[:, 0] - c, area2=area2,
-                           edge=edge)
-
-
-def _facet_integral(v: NDArray[np.float64] | Callable[[NDArray[np.intp]], NDArray[np.float64]],
-                    c: NDArray[np.float64], dist: NDArray[np.float64], k: float, *,
-                    e1: NDArray[np.float64], e2: NDArray[np.float64], d0: NDArray[np.float64],
-                    area2: NDArray[np.float64], edge: NDArray[np.float64]
-                    ) -> NDArray[np.complex128]:
-    """:func:`facet_integral` from the facets' edges, in any frame.
-
-    ``e1, e2`` are the edge vectors v1 − v0, v2 − v0 and ``d0`` the corner v0 − centroid,
-    expressed in the same frame as ``c`` (so that dot products are the radar frame's);
-    ``v`` (or a function of facet indices giving them) holds the corners in the radar
-    frame, needed only for facets that are split.
+    e1, e2, d0 : ndarray, shape (M, 3)
+        Edge vectors v1 − v0, v2 − v0 and the corner v0 − centroid, in ``c``'s frame (m).
+    area2, edge : ndarray, shape (M,)
+        Twice each facet's area (m²) and its longest edge (m).
     """
     wv = (2.0 * k / dist)[:, None] * c
     alpha = np.einsum("ij,ij->i", wv, e1)
@@ -300,17 +293,27 @@ class _RadarMaterial:
     roughness: NDArray[np.float64]
     metallic: NDArray[np.float64]
     retro_gain: NDArray[np.float64]
+    transmission: NDArray[np.complex128]   # one-way T (0: opaque), objects + 1 'none'
+
+
+def _radar_bands(project: Project, table: Mapping[str, DualBandMaterial]
+                 ) -> list[BandMaterial]:
+    """Each object's radar band material (the defaults for an unknown material)."""
+    out = []
+    for o in project.objects:
+        m = table.get(o.material)
+        out.append(m.band("radar") if m is not None else BandMaterial())
+    return out
 
 
 def _radar_materials(project: Project, table: Mapping[str, DualBandMaterial],
-                     frequency_hz: float) -> _RadarMaterial:
-    bands: list[BandMaterial] = []
-    for o in project.objects:
-        m = table.get(o.material)
-        bands.append(m.band("radar") if m is not None else BandMaterial())
+                     wavelength_m: float) -> _RadarMaterial:
+    bands = _radar_bands(project, table)
+    frequency_hz = 299_792_458.0 / wavelength_m
     gam = np.array([-b.coefficients(frequency_hz)[0] if b.is_smooth_interface() else 0.0
                     for b in bands], dtype=np.complex128)
     return _RadarMaterial(
+        transmission=transmission_coefficients(project, table, wavelength_m),
         gamma=gam,
         height_rms=np.array([b.height_rms_m for b in bands], dtype=np.float64),
         smooth=np.array([b.is_smooth_interface() for b in bands], dtype=bool),
@@ -332,20 +335,17 @@ def transmission_coefficients(project: Project, table: Mapping[str, DualBandMate
     """
     freq = 299_792_458.0 / wavelength_m
     out = np.zeros(len(project.objects) + 1, dtype=np.complex128)
-    for i, o in enumerate(project.objects):
-        m = table.get(o.material)
-        band = m.band("radar") if m is not None else BandMaterial()
+    for i, band in enumerate(_radar_bands(project, table)):
         if band.opacity > 0:
             out[i] = band.coefficients(freq)[1]
+    out[np.abs(out) <= TRANSMISSIVE_MIN] = 0.0
     return out
 
 
 def transmissive_objects(project: Project, wavelength_m: float) -> tuple[bool, ...] | None:
     """Which objects partly transmit the radar wave; None when none does."""
-    from simcore.scene.project_io import material_table
-
     trans = transmission_coefficients(project, material_table(project), wavelength_m)
-    mask = tuple(bool(abs(t) > 1e-9) for t in trans[:-1])
+    mask = tuple(bool(t != 0) for t in trans[:-1])
     return mask if any(mask) else None
 
 
@@ -436,15 +436,14 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
         Without it, every object is opaque.
     """
     k = 2.0 * math.pi / wavelength_m
-    freq = 299_792_458.0 / wavelength_m
-    mat = _radar_materials(project, materials, freq)
+    mat = _radar_materials(project, materials, wavelength_m)
     radar = snapshot.sensors["radar"]
     world_to_radar = np.linalg.inv(radar.transform)
     intr = buffers.intrinsics
     h, w = intr.height, intr.width
     full_obj = buffers.object_index.ravel()
     full_rng = buffers.range_m.ravel()
-    trans = transmission_coefficients(project, materials, wavelength_m)
+    trans = mat.transmission
     through_obj = None if see_through is None else see_through.object_index.ravel()
     through_rng = None if see_through is None else see_through.range_m.ravel()
     pix_angle = 1.0 / min(intr.fx, intr.fy)
@@ -464,7 +463,7 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
             continue
         facets = surface_facets(mesh)
         # Opaque objects are looked for behind the transparent ones, if that pass exists.
-        behind = through_obj is not None and abs(trans[i]) <= 1e-9
+        behind = through_obj is not None and trans[i] == 0
         obj_img = through_obj if behind else full_obj
         rng_img = through_rng if behind else full_rng
         assert obj_img is not None and rng_img is not None
@@ -543,11 +542,11 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
 
     def coherent(sel: NDArray[np.intp]) -> NDArray[np.complex128]:
         if len(sel) == len(dist):                                  # every facet: no gathers
-            return _facet_integral(corners_of, c_obj, dist, k, e1=e1, e2=e2, d0=d0,
-                                   area2=area2, edge=longest)
-        return _facet_integral(lambda local: corners_of(sel[local]), c_obj[sel], dist[sel],
-                               k, e1=e1[sel], e2=e2[sel], d0=d0[sel], area2=area2[sel],
-                               edge=longest[sel])
+            return facet_integral(corners_of, c_obj, dist, k, e1=e1, e2=e2, d0=d0,
+                                  area2=area2, edge=longest)
+        return facet_integral(lambda local: corners_of(sel[local]), c_obj[sel], dist[sel],
+                              k, e1=e1[sel], e2=e2[sel], d0=d0[sel], area2=area2[sel],
+                              edge=longest[sel])
 
     amp = _amplitudes(mat, obj, cos_t, 0.5 * area2, phase, coherent,
                       wavelength_m=wavelength_m, speckle=speckle)
