@@ -208,7 +208,6 @@ class FrameEngine:
 
         def chain() -> tuple[RenderBuffers, SensorOutput]:
             background = None
-            changed = None
             if bg_raster is not None:
                 bg = self._shade(bg_raster, None, timings, "render_background")
                 changed = changed_pixels(raster, (bg_raster, bg))
@@ -220,9 +219,8 @@ class FrameEngine:
             if through is not None:
                 through_pair = None
                 if bg_through is not None and background is not None:
-                    bg_see_through = self._shade(bg_through, None, timings,
-                                                 "render_background", kind="background_"
-                                                 "see_through")
+                    bg_see_through = self._shade(bg_through, None, timings, "render_background",
+                                                 kind="background_see_through")
                     through_pair = (bg_through, bg_see_through)
                     more = changed_pixels(through, through_pair)
                     if more is None:
