@@ -259,6 +259,31 @@ def test_synthesis_antenna_override_matches_the_direct_sum() -> None:
         synthesize_if(sc, cfg, tx_positions_m=np.zeros((2, 3)))
 
 
+def test_order_two_sets_of_several_reflectors_sum_like_separate_syntheses() -> None:
+    """synthesize_ghosts joins the order-2 sets of all reflectors into one synthesis; with
+    one set accelerating and one not, the cube is the sum of their separate syntheses."""
+    from simcore.sensors.radar.multipath import GhostSet, synthesize_ghosts
+
+    cfg = radar_config(chirps_per_frame=4, samples_per_chirp=128, chirp_time_s=64e-6,
+                       sample_rate_hz=2e6, chirp_repetition_time_s=100e-6)
+    rng = np.random.default_rng(7)
+
+    def one(m: int, accelerating: bool) -> Scatterers:
+        return Scatterers(
+            time_s=0.0, wavelength_m=cfg.wavelength_m,
+            positions_m=np.column_stack([rng.uniform(-1, 1, m), np.zeros(m),
+                                         rng.uniform(1, 4, m)]),
+            velocities_mps=rng.uniform(-2, 2, (m, 3)), rcs_m2=rng.uniform(0.1, 1, m),
+            phase_rad=rng.uniform(-np.pi, np.pi, m), object_index=np.zeros(m, np.int32),
+            kind=np.zeros(m, np.int8),
+            accelerations_mps2=rng.uniform(-20, 20, (m, 3)) if accelerating else None)
+
+    a, b = one(5, True), one(7, False)
+    joined = synthesize_ghosts([GhostSet(a, 2, 0), GhostSet(b, 2, 1)], cfg)
+    apart = synthesize_if_direct(a, cfg) + synthesize_if_direct(b, cfg)
+    assert np.max(np.abs(joined - apart)) < 1e-4 * np.max(np.abs(apart))
+
+
 def test_simulator_adds_the_ghosts_on_the_plain_and_the_background_path() -> None:
     """The radar_multipath stage: both the plain path and the still-background
     accelerator add the same ghosts to the raw cube (a small box moves, the rest is still)."""
@@ -285,6 +310,71 @@ def test_simulator_adds_the_ghosts_on_the_plain_and_the_background_path() -> Non
     scale = np.max(np.abs(cubes["plain"]))
     assert np.max(np.abs(cubes["background"] - cubes["plain"])) < 1e-6 * scale
     assert np.max(np.abs(cubes["off"] - cubes["plain"])) > 1e-3 * scale
+
+
+def test_detections_of_ghosts_are_labelled_ghost_of_the_object_they_mirror() -> None:
+    """Labels: the detections at R (direct), (R+R_m)/2 (order 1) and R_m (order 2, at the
+    image's azimuth) carry the corner's id; only the last two are ghosts. Without
+    multipath nothing is detected at (R+R_m)/2."""
+    from simcore.pipeline import Simulator
+
+    r_m, az, _ = image_geometry()
+    expected = ((R, 0.0, False), (0.5 * (R + r_m), None, True), (r_m, az, True))
+    for order in (2, 0):
+        project = scene(render_width=120, render_height=120, multipath_order=order)
+        with Simulator(project) as sim:
+            out = sim.frame(0).outputs["radar"]
+        det, labels = out.dsp.detections, out.labels
+        cfg = project.rig.radar
+        for r_exp, az_exp, is_ghost in expected:
+            near = np.abs(det.range_m - r_exp) <= 0.5 * cfg.range_resolution_m
+            if az_exp is not None:
+                near &= np.abs(det.azimuth_deg - az_exp) <= 3.0
+            if order == 0 and is_ghost:
+                assert not near.any(), (r_exp, det.range_m[near])
+                continue
+            assert near.any(), (r_exp, det.range_m)
+            i = np.flatnonzero(near)[np.argmax(det.power_db[near])]
+            assert labels.object_id[i] == 1 and bool(labels.ghost[i]) is is_ghost, (
+                r_exp, labels.object_id[i], labels.ghost[i])
+            assert labels.power_fraction[i] > 0.5
+
+
+def test_bistatic_label_terms_reduce_to_the_monostatic_ones_and_follow_the_image() -> None:
+    """prepare_scatterers with antenna overrides: with the real antennas it gives the
+    monostatic range, radial velocity, power and beam response; with the Tx mirrored in the
+    plane y = H the range is half the unfolded path (|p − Tx'| + |p|)/2."""
+    from simcore.sensors.radar.labels import prepare_scatterers
+
+    cfg = radar_config()
+    rng = np.random.default_rng(5)
+    m = 12
+    pos = np.column_stack([rng.uniform(-1, 1, m), rng.uniform(-0.5, 0.5, m),
+                           rng.uniform(2, 6, m)])
+    sc = Scatterers(time_s=0.0, wavelength_m=cfg.wavelength_m, positions_m=pos,
+                    velocities_mps=rng.uniform(-2, 2, (m, 3)), rcs_m2=rng.uniform(0.1, 1, m),
+                    phase_rad=np.zeros(m), object_index=np.zeros(m, np.int32),
+                    kind=np.zeros(m, np.int8))
+    mono = prepare_scatterers(sc, cfg)
+    bi = prepare_scatterers(sc, cfg, tx_positions_m=cfg.tx_positions_m(),
+                            rx_positions_m=cfg.rx_positions_m())
+    # The bistatic ranges are from the antennas' centroids, the monostatic from the origin.
+    offset = 0.5 * sum(float(np.linalg.norm(p.mean(axis=0)))
+                       for p in (cfg.tx_positions_m(), cfg.rx_positions_m()))
+    np.testing.assert_allclose(bi.range_m, mono.range_m, atol=offset + 1e-9)
+    np.testing.assert_allclose(bi.velocity_mps, mono.velocity_mps, atol=0.02)
+    np.testing.assert_allclose(bi.power, mono.power, rtol=4 * offset / 2.0)
+    n_ch = mono.steering.shape[1]
+    match = np.abs(np.sum(np.conj(bi.steering) * mono.steering, axis=1)) / n_ch
+    assert np.all(match > 0.99), match
+    # Tx mirrored in a plane y = H: the unfolded path of any such image.
+    tx = cfg.tx_positions_m()
+    tx_img = tx.copy()
+    tx_img[:, 1] = 2 * H - tx_img[:, 1]
+    ghost = prepare_scatterers(sc, cfg, tx_positions_m=tx_img)
+    c_tx, c_rx = tx_img.mean(axis=0), cfg.rx_positions_m().mean(axis=0)
+    unfolded = 0.5 * (np.linalg.norm(pos - c_tx, axis=1) + np.linalg.norm(pos - c_rx, axis=1))
+    np.testing.assert_allclose(ghost.range_m, np.sort(unfolded), rtol=1e-12)
 
 
 def test_report_section_marks_the_ghost_where_the_map_shows_it(tmp_path) -> None:

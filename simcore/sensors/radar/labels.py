@@ -20,7 +20,11 @@ real IF, ``2`` for IQ, ``σ_n`` the receiver noise per real channel).
 
 A detection is labelled with the object whose scatterers sum to the most power, and
 ``power_fraction = P_object / (Σ_k P_k + P_n)``; when even that object's power is below the
-noise power the detection is noise (``object_id = −1``). The model ignores real-IF image
+noise power the detection is noise (``object_id = −1``). Multipath ghosts
+(``ghosts=``) enter as further candidates: each object's ghost power (its scatterers at the
+half bistatic path of the ghost's unfolded path, :func:`prepare_scatterers` with mirrored
+antennas) competes with every object's direct power, and a detection won by a ghost is
+labelled with that object's id and ``ghost`` True. The model ignores real-IF image
 frequencies, range–Doppler coupling and motion within the frame (each a fraction of a bin),
 and scatterers whose range offset from the cell puts them below ``RANGE_FLOOR`` of the
 range window's peak (or more than ``MAX_RANGE_OFFSET_BINS`` bins away): the scatterers are
@@ -66,7 +70,8 @@ class DetectionLabels:
     power_fraction : ndarray, shape (n,), float32
         That object's share of the cell's expected power (scatterers + noise), in [0, 1].
     ghost : ndarray, shape (n,), bool
-        Multipath ghost (always False: the simulator has no multipath yet).
+        The power is that of the object's multipath ghost (a path via a specular
+        reflector, :mod:`simcore.sensors.radar.multipath`), not of its direct return.
     """
 
     object_id: NDArray[np.int32]
@@ -156,7 +161,9 @@ class LabelScatterers:
         return int(self.range_m.size)
 
 
-def prepare_scatterers(scatterers: Scatterers, radar_config: RadarConfig) -> LabelScatterers:
+def prepare_scatterers(scatterers: Scatterers, radar_config: RadarConfig, *,
+                       tx_positions_m: NDArray[np.floating] | None = None,
+                       rx_positions_m: NDArray[np.floating] | None = None) -> LabelScatterers:
     """Per-scatterer terms of the cell power (radar equation, high-pass, array response).
 
     Parameters
@@ -165,6 +172,12 @@ def prepare_scatterers(scatterers: Scatterers, radar_config: RadarConfig) -> Lab
         Scatterers in the radar optical frame (m, m/s, m²).
     radar_config : RadarConfig
         Waveform, antennas and receiver.
+    tx_positions_m, rx_positions_m : ndarray, shape (n, 3), optional
+        Antenna positions that replace the configuration's, as in
+        :func:`~simcore.sensors.radar.synthesis.synthesize_if` (the mirrored antennas of a
+        multipath path). A scatterer's range is then half its bistatic path length from the
+        antennas' centroids, its radial velocity the rate of that half length, the spreading
+        ``1 / (R_t R_r)²`` and its array response the exact per-channel path phases.
 
     Returns
     -------
@@ -172,6 +185,8 @@ def prepare_scatterers(scatterers: Scatterers, radar_config: RadarConfig) -> Lab
         The scatterers sorted by range.
     """
     rc = radar_config
+    if tx_positions_m is not None or rx_positions_m is not None:
+        return _prepare_bistatic(scatterers, rc, tx_positions_m, rx_positions_m)
     pos = scatterers.positions_m
     r = np.maximum(np.sqrt(np.einsum("ij,ij->i", pos, pos)), 1e-9)
     order = np.argsort(r, kind="stable")
@@ -180,18 +195,56 @@ def prepare_scatterers(scatterers: Scatterers, radar_config: RadarConfig) -> Lab
     v_radial = np.einsum("ij,ij->i", scatterers.velocities_mps[order], u)
     power = amplitude_scale_fs(rc) ** 2 * scatterers.rcs_m2[order] * _mean_pair_gain(rc, pos)
     power /= r**4
+    power *= _receiver_response(rc, r)
+    phase = u @ (-2.0 * np.pi / rc.wavelength_m * virtual_array_positions_m(rc).T)
+    steering = np.exp(1j * phase.astype(np.float32)).astype(np.complex64, copy=False)
+    cycles = v_radial * 2.0 * len(rc.tx) * rc.chirp_repetition_time_s / rc.wavelength_m
+    return LabelScatterers(r, v_radial, power, steering,
+                           scatterers.object_index[order].astype(np.intp), cycles)
+
+
+def _receiver_response(rc: RadarConfig, r: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Power response of the IF filters at the beat frequency of (half path) range ``r``."""
+    out = np.ones_like(r)
     if rc.if_highpass_hz > 0:
         # |H|² of the order-n Butterworth IF high-pass at the beat frequency.
         x = (2.0 * rc.slope_hz_per_s * r / SPEED_OF_LIGHT / rc.if_highpass_hz) ** (
             2 * rc.if_highpass_order)
-        power *= x / (1.0 + x)
+        out *= x / (1.0 + x)
     if rc.if_lowpass_hz > 0:
         # |H|² of the anti-aliasing low-pass: 1 / (1 + (f_b / f_lp)^{2n}).
         x = (2.0 * rc.slope_hz_per_s * r / SPEED_OF_LIGHT / rc.if_lowpass_hz) ** (
             2 * rc.if_lowpass_order)
-        power /= 1.0 + x
-    phase = u @ (-2.0 * np.pi / rc.wavelength_m * virtual_array_positions_m(rc).T)
-    steering = np.exp(1j * phase.astype(np.float32)).astype(np.complex64, copy=False)
+        out /= 1.0 + x
+    return out
+
+
+def _prepare_bistatic(scatterers: Scatterers, rc: RadarConfig,
+                      tx_positions_m: NDArray[np.floating] | None,
+                      rx_positions_m: NDArray[np.floating] | None) -> LabelScatterers:
+    """:func:`prepare_scatterers` with antenna positions other than the configuration's."""
+    p_tx = rc.tx_positions_m() if tx_positions_m is None else np.asarray(tx_positions_m,
+                                                                          dtype=np.float64)
+    p_rx = rc.rx_positions_m() if rx_positions_m is None else np.asarray(rx_positions_m,
+                                                                          dtype=np.float64)
+    pos = scatterers.positions_m
+    legs = [pos - np.mean(p, axis=0) for p in (p_tx, p_rx)]
+    r_t, r_r = (np.maximum(np.linalg.norm(leg, axis=1), 1e-9) for leg in legs)
+    r = 0.5 * (r_t + r_r)
+    order = np.argsort(r, kind="stable")
+    pos, r, r_t, r_r = pos[order], r[order], r_t[order], r_r[order]
+    u_sum = legs[0][order] / r_t[:, None] + legs[1][order] / r_r[:, None]
+    v_radial = 0.5 * np.einsum("ij,ij->i", scatterers.velocities_mps[order], u_sum)
+    # The element patterns are those of the direct direction: a multipath set folds the
+    # pattern ratio of its mirrored leg into its RCS (simcore.sensors.radar.multipath).
+    power = amplitude_scale_fs(rc) ** 2 * scatterers.rcs_m2[order] * _mean_pair_gain(rc, pos)
+    power /= (r_t * r_r) ** 2
+    power *= _receiver_response(rc, r)
+    d_tx = np.linalg.norm(pos[:, None, :] - p_tx[None], axis=2)          # (M, n_tx)
+    d_rx = np.linalg.norm(pos[:, None, :] - p_rx[None], axis=2)          # (M, n_rx)
+    path = (d_tx[:, :, None] + d_rx[:, None, :]).reshape(len(pos), -1) - 2.0 * r[:, None]
+    # The IF phase is +2π f_c τ (synthesis), so the steering is exp(+j 2π/λ · Δpath).
+    steering = np.exp(2j * np.pi / rc.wavelength_m * path).astype(np.complex64)
     cycles = v_radial * 2.0 * len(rc.tx) * rc.chirp_repetition_time_s / rc.wavelength_m
     return LabelScatterers(r, v_radial, power, steering,
                            scatterers.object_index[order].astype(np.intp), cycles)
@@ -270,8 +323,8 @@ def _clutter_filter(cycles: NDArray[np.float64], n_chirps: int) -> NDArray[np.fl
 
 def label_detections(detections: Detections, scatterers: Scatterers | Sequence[
         tuple[LabelScatterers, float]], object_ids: NDArray[np.integer],
-                     radar_config: RadarConfig, dsp_config: DspConfig, axes: RadarAxes
-                     ) -> DetectionLabels:
+                     radar_config: RadarConfig, dsp_config: DspConfig, axes: RadarAxes,
+                     ghosts: Sequence[LabelScatterers] = ()) -> DetectionLabels:
     """Attribute each detection to the object contributing most power to its cell.
 
     Parameters
@@ -291,6 +344,11 @@ def label_detections(detections: Detections, scatterers: Scatterers | Sequence[
         The processing the detections come from (windows, FFT sizes, clutter filter).
     axes : RadarAxes
         Axes of the range–Doppler map (bin centres: m, m/s).
+    ghosts : sequence of LabelScatterers
+        The frame's multipath ghosts (:func:`prepare_scatterers` of each path set, with its
+        mirrored antennas). The power of an object's ghosts competes with the direct power
+        of every object; a detection whose largest share is a ghost's gets that object's
+        id and ``ghost`` True.
 
     Returns
     -------
@@ -308,20 +366,27 @@ def label_detections(detections: Detections, scatterers: Scatterers | Sequence[
     for prepared, sign in parts:
         per_object += sign * cell_power_by_object(prepared, detections, n_objects, rc, dc, axes)
     per_object = np.maximum(per_object, 0.0)
+    per_ghost = np.zeros_like(per_object)
+    for prepared in ghosts:
+        per_ghost += cell_power_by_object(prepared, detections, n_objects, rc, dc, axes)
 
     n_ch = len(rc.tx) * len(rc.rx)
     noise = (4.0 if not rc.complex_iq else 2.0) * noise_std_fs(rc) ** 2 / n_ch
     noise *= _noise_gain(dc.range_window, rc.samples_per_chirp, dc.range_window_sidelobe_db)
     noise *= _noise_gain(dc.doppler_window, rc.chirps_per_frame, dc.doppler_window_sidelobe_db)
-    total = per_object.sum(axis=1) + noise
-    ids = np.append(np.asarray(object_ids, dtype=np.int32), -1)
-    best = np.argmax(per_object[:, :n_objects], axis=1) if n_objects else np.full(n, n_objects)
-    best_power = per_object[np.arange(n), best]
+    total = per_object.sum(axis=1) + per_ghost.sum(axis=1) + noise
+    ids = np.asarray(object_ids, dtype=np.int32)
+    if n_objects == 0:
+        return DetectionLabels.unlabelled(n)
+    # Columns: each object's direct power, then each object's ghost power.
+    candidates = np.concatenate([per_object[:, :n_objects], per_ghost[:, :n_objects]], axis=1)
+    best = np.argmax(candidates, axis=1)
+    best_power = candidates[np.arange(n), best]
     is_object = best_power > noise
-    object_id = np.where(is_object, ids[best], -1).astype(np.int32)
+    object_id = np.where(is_object, ids[best % n_objects], -1).astype(np.int32)
     fraction = np.divide(best_power, total, out=np.zeros(n), where=is_object & (total > 0))
     fraction = fraction.astype(np.float32)
-    return DetectionLabels(object_id, fraction, np.zeros(n, dtype=bool))
+    return DetectionLabels(object_id, fraction, is_object & (best >= n_objects))
 
 
 def _range_reach_bins(range_table: NDArray[np.float64]) -> float:

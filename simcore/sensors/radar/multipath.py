@@ -45,7 +45,7 @@ moves parallel to the reflector or not at all).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -411,8 +411,7 @@ def multipath_if(project: Project, snapshot: SceneSnapshot, scatterers: Scattere
                  order: int | None = None, threads: int | None = None) -> ComplexCube:
     """Ideal IF of all the multipath ghosts of a frame (to add to the direct IF).
 
-    See :func:`ghost_scatterers`; the order-2 sets of every reflector are synthesised in
-    one call (real antennas), the order-1 sets one call each.
+    :func:`ghost_scatterers` then :func:`synthesize_ghosts`.
 
     Returns
     -------
@@ -421,25 +420,45 @@ def multipath_if(project: Project, snapshot: SceneSnapshot, scatterers: Scattere
     """
     sets = ghost_scatterers(project, snapshot, scatterers, config, buffers=buffers,
                             order=order)
+    return synthesize_ghosts(sets, config, threads=threads)
+
+
+def synthesize_ghosts(sets: Sequence[GhostSet], config: RadarConfig, *,
+                      threads: int | None = None) -> ComplexCube:
+    """Ideal IF of ghost sets (:func:`ghost_scatterers`).
+
+    Each order-1 set is synthesised with its own (mirrored) antennas, the order-2 sets of
+    every reflector in one call (real antennas).
+
+    Returns
+    -------
+    ndarray, shape (chirps, tx*rx, samples), complex128
+        Zeros when there are no ghosts.
+    """
     out = np.zeros((config.chirps_per_frame, len(config.tx) * len(config.rx),
                     config.samples_per_chirp), dtype=np.complex128)
-    second = [g.scatterers for g in sets if g.order == 2]
     for g in sets:
         if g.order == 1 and len(g.scatterers):
             out += synthesize_if(g.scatterers, config, threads=threads,
                                  tx_positions_m=g.tx_positions_m,
                                  rx_positions_m=g.rx_positions_m)
+    second = [g.scatterers for g in sets if g.order == 2 and len(g.scatterers)]
     if second:
         out += synthesize_if(_concat(second), config, threads=threads)
     return out
 
 
 def _concat(sets: list[Scatterers]) -> Scatterers:
-    """One :class:`Scatterers` of several (same time and wavelength)."""
+    """One :class:`Scatterers` of several (same time and wavelength).
+
+    A set without accelerations counts as unaccelerated when another has them.
+    """
     if len(sets) == 1:
         return sets[0]
-    acc = [s.accelerations for s in sets] if any(
-        s.accelerations_mps2 is not None for s in sets) else None
+    acc = None
+    if any(s.accelerations_mps2 is not None for s in sets):
+        acc = np.concatenate([np.zeros_like(s.positions_m) if s.accelerations_mps2 is None
+                              else s.accelerations_mps2 for s in sets])
     return Scatterers(
         time_s=sets[0].time_s, wavelength_m=sets[0].wavelength_m,
         positions_m=np.concatenate([s.positions_m for s in sets]),
@@ -448,8 +467,9 @@ def _concat(sets: list[Scatterers]) -> Scatterers:
         phase_rad=np.concatenate([s.phase_rad for s in sets]),
         object_index=np.concatenate([s.object_index for s in sets]),
         kind=np.concatenate([s.kind for s in sets]),
-        accelerations_mps2=None if acc is None else np.concatenate(acc))
+        accelerations_mps2=acc)
 
 
 __all__ = ["MIN_AREA_M2", "MIN_REFLECTION", "GhostSet", "ImagePaths", "Reflector",
-           "find_reflectors", "ghost_scatterers", "image_paths", "multipath_if"]
+           "find_reflectors", "ghost_scatterers", "image_paths", "multipath_if",
+           "synthesize_ghosts"]

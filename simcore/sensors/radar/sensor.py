@@ -29,7 +29,7 @@ from simcore.sensors.radar.labels import (
     label_detections,
     prepare_scatterers,
 )
-from simcore.sensors.radar.multipath import multipath_if
+from simcore.sensors.radar.multipath import ghost_scatterers, synthesize_ghosts
 from simcore.sensors.radar.scatterers import Scatterers
 from simcore.sensors.radar.surfaces import transmissive_objects
 from simcore.sensors.radar.synthesis import ComplexCube, prepare, synthesize_if
@@ -117,8 +117,9 @@ class RadarSensor:
                                 reads=config_key(cfg), inputs=(scatterers,)), 1.0)]
         else:
             ideal, n_scatterers, transformed, parts = found
+        ghosts: list[LabelScatterers] = []
         if cfg.multipath_order > 0:
-            ideal = _with_multipath(ctx, cfg, ideal, scatterers)
+            ideal, ghosts = _with_multipath(ctx, cfg, ideal, scatterers)
         raw = ctx.stage(
             "radar_receiver",
             lambda: radar_output(ideal, cfg, rng=ctx.rng, time_s=ctx.time_s,
@@ -131,9 +132,10 @@ class RadarSensor:
         ids = np.array([o.id for o in ctx.project.objects], dtype=np.int32)
         labels = ctx.stage(
             "radar_labels",
-            lambda: label_detections(dsp.detections, parts, ids, cfg, ctx.project.dsp, dsp.axes),
+            lambda: label_detections(dsp.detections, parts, ids, cfg, ctx.project.dsp, dsp.axes,
+                                     ghosts=ghosts),
             reads=(config_key(cfg, ctx.project.dsp), ids.tobytes()),
-            inputs=(dsp, *(p for p, _ in parts)))
+            inputs=(dsp, *(p for p, _ in parts), *ghosts))
         return RadarFrameOutput(raw=raw, dsp=dsp, labels=labels)
 
     def static_items(self, project: Project) -> H5Items:
@@ -142,19 +144,27 @@ class RadarSensor:
 
 
 def _with_multipath(ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
-                    scatterers: Scatterers | None) -> ComplexCube:
-    """``ideal`` plus the IF of the frame's multipath ghosts (stage ``radar_multipath``).
+                    scatterers: Scatterers | None
+                    ) -> tuple[ComplexCube, list[LabelScatterers]]:
+    """``ideal`` plus the IF of the frame's multipath ghosts, and the ghosts for the labels.
+
+    Stage ``radar_multipath``. The ghosts are prepared for the detection labels one set
+    per kind of path, with its bistatic ranges, so a detection of a ghost is labelled
+    ``ghost`` with the id of the object it is a ghost of.
 
     The ghosts come from all the frame's scatterers (computed here when the frame's IF
-    was built over the still background), so both paths add the same ghosts. The ghosts
-    are not among the detection labels' scatterers.
+    was built over the still background), so both paths add the same ghosts.
     """
-    def run() -> ComplexCube:
+    def run() -> tuple[ComplexCube, list[LabelScatterers]]:
         sc = scatterers
         if sc is None:
             sc = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
                                   see_through=ctx.see_through)
-        return ideal + multipath_if(ctx.project, ctx.snapshot, sc, cfg, buffers=ctx.buffers)
+        sets = ghost_scatterers(ctx.project, ctx.snapshot, sc, cfg, buffers=ctx.buffers)
+        labels = [prepare_scatterers(g.scatterers, cfg, tx_positions_m=g.tx_positions_m,
+                                     rx_positions_m=g.rx_positions_m)
+                  for g in sets if len(g.scatterers)]
+        return ideal + synthesize_ghosts(sets, cfg), labels
 
     to_world = ctx.snapshot.sensor("radar").transform
     return ctx.stage("radar_multipath", run,
