@@ -1,4 +1,4 @@
-"""Validation report, "Multipath" section: the radar's image-method ghosts in the corridor.
+"""Validation report, "Multipath" section: radar ghosts in the corridor, ToF MPI in the office.
 
 :func:`multipath_section` simulates one frame of ``multipath_corridor`` with the radar's
 multipath off and at its stored order, and draws both range–azimuth maps (as fans in the
@@ -7,6 +7,10 @@ geometry predicts them: order 1 at ``(R + R_m)/2`` towards the target (path Tx �
 target → Rx) and towards the image (the reverse path), order 2 at ``R_m`` towards the
 image. The numbers are the predicted positions and the map's power there with multipath
 off and on.
+
+:func:`tof_multipath_figure` renders frame 0 of ``office`` once and simulates the ideal
+(noise-free) ToF camera on it with multipath interference off and on: the depth error
+maps against the rendered range and the MPI's depth shift per object.
 """
 
 from __future__ import annotations
@@ -156,4 +160,99 @@ def multipath_section(out_dir: str | Path, *, quick: bool = False
     return [(name, "Radar multipath: ghost of the corner reflector", text)], numbers
 
 
-__all__ = ["multipath_section", "predicted_ghosts"]
+def tof_multipath_figure(out_dir: str | Path, example: str = "office"
+                         ) -> tuple[tuple[str, str, str], dict[str, Any]]:
+    """ToF depth error with multipath interference off and on (frame 0, ideal camera).
+
+    Returns
+    -------
+    ((file, title, text), dict)
+        The figure and its numbers: per object with at least 50 valid pixels, the median and
+        95th percentile of the MPI depth shift (on − off, mm), and the same over all valid
+        pixels; the time of the one-bounce sum.
+    """
+    import time
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from simcore.render import RenderRequest, SceneRenderer
+    from simcore.sensors.tof.camera import simulate_tof
+    from simcore.sensors.tof.sensor import diffuse_albedo
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    project = load_project(example_path(example))
+    cfg = project.rig.tof
+    renderer = SceneRenderer(project)
+    try:
+        buf = renderer.render(take_snapshot(project, 0.0),
+                              RenderRequest("tof", "tof", cfg.render_intrinsics()))
+    finally:
+        renderer.close()
+    albedo = diffuse_albedo(project, buf)
+    frames, seconds = {}, {}
+    for on in (False, True):
+        c = cfg.model_copy(update={"multipath": on})
+        t0 = time.perf_counter()
+        frames[on] = simulate_tof(buf, c, rng=np.random.default_rng(0), noise=False,
+                                  albedo=albedo)
+        seconds[on] = time.perf_counter() - t0
+    gt = frames[False].gt_range
+    valid = frames[False].valid & frames[True].valid & (gt > 0)
+    err = {on: np.where(valid, frames[on].depth_m - gt, np.nan) * 1e3 for on in frames}
+    shift = err[True] - err[False]
+    ids = frames[False].gt_object_id
+    per_object = {}
+    for o in project.objects:
+        sel = valid & (ids == o.id)
+        if np.count_nonzero(sel) >= 50:
+            per_object[o.name] = {"pixels": int(np.count_nonzero(sel)),
+                                  "median_mm": float(np.median(shift[sel])),
+                                  "p95_mm": float(np.percentile(shift[sel], 95))}
+    numbers = {"example": example, "multipath_patch_px": cfg.multipath_patch_px,
+               "median_shift_mm": float(np.nanmedian(shift)),
+               "p95_shift_mm": float(np.nanpercentile(shift, 95)),
+               "median_abs_error_off_mm": float(np.nanmedian(np.abs(err[False]))),
+               "median_abs_error_on_mm": float(np.nanmedian(np.abs(err[True]))),
+               "tof_ms_off": 1e3 * seconds[False], "tof_ms_on": 1e3 * seconds[True],
+               "per_object": per_object}
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.3), constrained_layout=True)
+    lim = 150.0
+    for ax, img, title in ((axes[0], err[False], "depth error, multipath off"),
+                           (axes[1], err[True], "depth error, multipath on")):
+        ax.set_facecolor("0.55")          # grey: no valid depth (no return, edge, dark)
+        im = ax.imshow(img, cmap="RdBu_r", vmin=-lim, vmax=lim)
+        fig.colorbar(im, ax=ax, label="measured − true range (mm)")
+        ax.set_title(title)
+        ax.set_xlabel("column (px)")
+        ax.set_ylabel("row (px)")
+    ax = axes[2]
+    names = sorted(per_object, key=lambda n: per_object[n]["median_mm"])
+    y = np.arange(len(names))
+    ax.barh(y, [per_object[n]["median_mm"] for n in names], color="tab:red", label="median")
+    ax.scatter([per_object[n]["p95_mm"] for n in names], y, color="k", marker="|", s=120,
+               label="95th percentile")
+    ax.set_yticks(y, names, fontsize=8)
+    ax.set_xlabel("MPI depth shift, on − off (mm)")
+    ax.set_title("per object")
+    ax.legend(loc="lower right", fontsize=8)
+    name = "fig11_tof_multipath_depth_error.png"
+    fig.savefig(out / name, dpi=100)
+    plt.close(fig)
+    text = (f"Ideal ToF camera (no noise) on frame 0 of the {example} example with multipath "
+            "interference off and on (one diffuse bounce, "
+            f"{cfg.multipath_patch_px}-px senders). Off, the error is zero except the mixed "
+            "pixels at depth edges (grey: no valid depth); on, every surface lit by its "
+            "neighbours reads long, most "
+            "where the direct light is weak and the neighbours bright: the floor seen at a "
+            "grazing angle, the concave wall–floor and wall–wall corners. Median shift "
+            f"{numbers['median_shift_mm']:.0f} mm, 95th percentile "
+            f"{numbers['p95_shift_mm']:.0f} mm. The model is checked against a brute-force "
+            "one-bounce integral on a concave corner in tests/test_tof_multipath.py.")
+    return (name, "ToF multipath interference: depth error in the office", text), numbers
+
+
+__all__ = ["multipath_section", "predicted_ghosts", "tof_multipath_figure"]

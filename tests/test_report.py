@@ -11,7 +11,7 @@ def test_quick_report_figures_and_numbers(tmp_path):
     out = tmp_path / "validation"
     assert main(["report", "--out", str(out), "--quick", "--quiet"]) == 0
     figures = sorted(p.name for p in out.glob("fig*.png"))
-    assert len(figures) == 10
+    assert len(figures) == 11
     assert all((out / f).stat().st_size > 20_000 for f in figures)   # real plots, not blanks
     readme = (out / "README.md").read_text()
     assert all(f in readme for f in figures)
@@ -63,5 +63,13 @@ def test_quick_report_figures_and_numbers(tmp_path):
     assert rig["frames"] == 20 and rig["step_m"] == 0.02
     assert rig["max_step_beyond_model_db"] <= 1.0
 
-    ghost = n["multipath"]
+    ghost = n["multipath"]["radar"]
     assert isinstance(ghost, dict) and ghost                   # the radar multipath section
+    # ToF MPI (#16): without it the ideal camera measures the rendered range (0 off the
+    # depth edges); one diffuse bounce only adds longer paths, so depth reads long.
+    mpi = n["multipath"]["tof"]
+    assert mpi["median_abs_error_off_mm"] < 1.0
+    assert mpi["median_shift_mm"] > 5.0
+    objs = mpi["per_object"]
+    assert all(o["median_mm"] >= -1.0 for o in objs.values()), objs
+    assert all(objs[w]["median_mm"] > 10.0 for w in ("floor", "back_wall", "left_wall")), objs
