@@ -92,6 +92,11 @@ def library_names() -> set[str]:
     return set(_library())
 
 
+def library_material(name: str) -> DualBandMaterial | None:
+    """The bundled library's material ``name`` (None: not a library material)."""
+    return _library().get(name)
+
+
 class EditError(ValueError):
     """An edit produced an invalid project; the message names the bad field."""
 

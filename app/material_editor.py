@@ -9,6 +9,7 @@ changes, and **Make unique** gives the selected object its own copy first.
 
 from __future__ import annotations
 
+import html
 from typing import Any
 
 import numpy as np
@@ -28,9 +29,10 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.document import RIG, EditError, ProjectDocument, library_names
+from app.document import RIG, EditError, ProjectDocument, library_material, library_names
 from app.widgets import BIG, set_quietly, spin, try_edit
-from simcore.scene.materials import BandMaterial
+from simcore.scene.materials import BandMaterial, DualBandMaterial, summarize_material
+from simcore.scene.radar_config import SPEED_OF_LIGHT
 
 BAND_FIELDS: list[tuple[str, str, float, float, float, str]] = [
     # field, label, min, max, step, tooltip
@@ -340,7 +342,7 @@ class MaterialEditor(QWidget):
         mat = table.get(self.current)
         if mat is None:
             return
-        self.description.setText(mat.description or "")
+        self.description.setText(self._description(mat))
         self.tof_editor.show_values(mat.band("tof"))
         self.radar_editor.show_values(mat.band("radar"))
         self.visible_editor.show_values(mat.band("visible"))
@@ -354,6 +356,22 @@ class MaterialEditor(QWidget):
         self.revert_button.setEnabled(self.current in project_names
                                       and self.current in self._library)
         self.assign_button.setEnabled(self.document.selected_index() is not None)
+
+    def _description(self, mat: DualBandMaterial) -> str:
+        """The library's prose, and what the current values do in each band.
+
+        Once the values differ from the library's, its prose is struck through: an edited
+        material never shows a stale description.
+        """
+        lib = library_material(mat.name)
+        f_radar = SPEED_OF_LIGHT / self.document.project.rig.radar.wavelength_m
+        now = html.escape(summarize_material(mat, f_radar))
+        if lib is None or not mat.description:
+            return now
+        if lib.bands == mat.bands:
+            return f"{html.escape(mat.description)}<br>{now}"
+        return (f"<s>{html.escape(mat.description)}</s> <i>(library text; the values were "
+                f"edited)</i><br><b>Now:</b> {now}")
 
     def _show_users(self) -> None:
         users = objects_using(self.document, self.current)

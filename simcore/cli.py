@@ -391,6 +391,33 @@ def cmd_examples(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_materials(args: argparse.Namespace) -> int:
+    """List the materials (library, or a project's table) with what each does per band."""
+    from simcore.scene.materials import load_material_library, summarize_material
+    from simcore.scene.project_io import material_table
+    from simcore.scene.radar_config import SPEED_OF_LIGHT
+
+    if args.project:
+        project = load_project(args.project)
+        table = material_table(project)
+        f_radar = SPEED_OF_LIGHT / project.rig.radar.wavelength_m
+        own = {m.name for m in project.materials}
+        users: dict[str, list[str]] = {}
+        for o in project.objects:
+            users.setdefault(o.material, []).append(o.name)
+    else:
+        table, f_radar, own, users = load_material_library(), 60e9, set(), {}
+    for name in sorted(table):
+        mat = table[name]
+        tag = " (project)" if name in own else ""
+        print(f"{name}{tag}: {summarize_material(mat, f_radar)}")
+        if mat.description:
+            print(f"    {mat.description}")
+        if name in users:
+            print(f"    used by {', '.join(users[name])}")
+    return 0
+
+
 def cmd_gui(args: argparse.Namespace) -> int:
     """Open the desktop GUI through the launcher the ``app`` package registered."""
     if args.gui_launcher is None:
@@ -500,6 +527,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--frames", type=_positive_int, default=30, help="frames to time")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=cmd_bench)
+
+    p = sub.add_parser("materials", help="list the materials and what each does per band",
+                       parents=common)
+    p.add_argument("project", nargs="?",
+                   help="project (its material table and users; default: the library)")
+    p.set_defaults(func=cmd_materials)
 
     p = sub.add_parser("examples", help="list the bundled example projects or copy them",
                        parents=[_common()])
@@ -645,6 +678,11 @@ def main(argv: Sequence[str] | None = None, *,
     except KeyboardInterrupt:
         print("tofradar: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # The reader of the output went away (``tofradar materials | head``): not an error.
+        # Point stdout at /dev/null so the interpreter's final flush does not complain.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except Exception as exc:  # noqa: BLE001 — the one top-level error path
         if debug:
             raise

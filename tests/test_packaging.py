@@ -157,3 +157,23 @@ def test_launcher_without_qt_says_to_install_the_gui_extra(monkeypatch, capsys):
                    "with: pip install 'tofradar[gui]'"] * 2
     # Every other command still works.
     assert launcher.main(["validate", str(example_path("wall"))]) == 0
+
+
+def test_materials_command_lists_the_table_with_users(capsys):
+    """`tofradar materials PROJECT`: every material of the project's table, one summary
+    line each, and the objects using it (from the project file, read independently)."""
+    import json
+
+    from simcore.resources import example_path
+
+    path = example_path("office")
+    assert main(["materials", str(path)]) == 0
+    out = capsys.readouterr().out
+    data = json.loads(path.read_text())
+    users = [o["name"] for o in data["objects"] if o["material"] == "aluminium"]
+    assert f"    used by {', '.join(users)}" in out
+    assert "aluminium: ToF: metal" in out and "radar: metal" in out
+    assert main(["materials"]) == 0                           # the library
+    assert "paper: ToF: diffuse 0.80" in capsys.readouterr().out
+    assert main(["materials", "no_such_project.json"]) == 2
+    assert "file not found" in capsys.readouterr().err

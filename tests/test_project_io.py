@@ -144,3 +144,20 @@ def test_version_1_files_still_load(tmp_path):
     for name in render:
         setattr(office.rig.radar, name, getattr(office_v1.rig.radar, name))
     assert office_v1 == office
+
+
+def test_material_summary_states_the_fresnel_reflection_and_slab_loss() -> None:
+    """summarize_band: a dielectric half-space of ε′ = 4 reflects |Γ| = (2 − 1)/(2 + 1) = 1/3
+    (−9.5 dB) at normal incidence; a lossless λ/2-thick slab (in the material) is matched
+    and transmits everything (0.0 dB two-way); a metal reflects 1; opacity 0 is invisible."""
+    from simcore.scene.materials import BandMaterial, summarize_band
+
+    assert "|Γ| 0.33 (-9.5 dB)" in summarize_band("radar", BandMaterial(permittivity=4.0))
+    f = 60e9
+    half_wave = 299_792_458.0 / f / 2 / 2.0                   # λ/(2n), n = 2
+    slab = BandMaterial(permittivity=4.0, thickness_m=half_wave)
+    text = summarize_band("radar", slab, f)
+    assert "transmits, 0.0 dB two-way loss" in text and "|Γ|" not in text, text
+    assert "|Γ| 1.00 (0.0 dB)" in summarize_band("radar", BandMaterial(metallic=1.0))
+    assert summarize_band("tof", BandMaterial(opacity=0.0)) == "invisible"
+    assert summarize_band("tof", BandMaterial(reflectance=0.8)).startswith("diffuse 0.80")

@@ -206,6 +206,42 @@ def slab_coefficients(permittivity: float, loss_tangent: float, thickness_m: flo
     return gamma, trans
 
 
+def summarize_band(band: str, m: BandMaterial, radar_frequency_hz: float = 60e9) -> str:
+    """One phrase on what ``m`` does in ``band``, computed from its values (not prose).
+
+    The radar band names the normal-incidence reflection |Γ| and the two-way transmission
+    of :meth:`BandMaterial.coefficients` at ``radar_frequency_hz``.
+    """
+    if m.opacity == 0.0:
+        return "invisible"
+    parts = []
+    if m.metallic >= 1.0:
+        parts.append("metal")
+    elif (1.0 - m.metallic) * m.reflectance >= 0.005:
+        parts.append(f"diffuse {(1.0 - m.metallic) * m.reflectance:.2f}")
+    if m.specular > 0:
+        parts.append(f"specular {m.specular:.2f} (roughness {m.roughness:.2f})")
+    if m.retroreflector or m.retro_gain > 0:
+        parts.append("retro-reflector" + (f" (gain {m.retro_gain:g})" if m.retro_gain else ""))
+    if band == "radar":
+        gamma, trans = m.coefficients(radar_frequency_hz)
+        if abs(gamma) >= 1e-3:                   # −60 dB: below that, no reflection
+            parts.append(f"|Γ| {abs(gamma):.2f} ({20 * math.log10(abs(gamma)):.1f} dB)")
+        if abs(trans) > 0:
+            loss = max(-40 * math.log10(abs(trans)), 0.0) + 0.0      # no "−0.0"
+            parts.append(f"transmits, {loss:.1f} dB two-way loss")
+    if m.opacity < 1.0:
+        parts.append(f"opacity {m.opacity:.2f}")
+    return ", ".join(parts) or "black (no return)"
+
+
+def summarize_material(material: DualBandMaterial, radar_frequency_hz: float = 60e9) -> str:
+    """What the material does in each band, from its current values (:func:`summarize_band`)."""
+    names = {"tof": "ToF", "radar": "radar", "visible": "visible"}
+    return "; ".join(f"{names[b]}: {summarize_band(b, material.band(b), radar_frequency_hz)}"
+                     for b in BANDS)
+
+
 def band_response(
     cos_theta: NDArray[np.floating],
     *,

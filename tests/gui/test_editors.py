@@ -100,6 +100,24 @@ def test_material_editor_save_into_project_and_assign(make_window, monkeypatch):
     assert window.inspector.material_combo.currentText() == "wet_paper"
 
 
+def test_material_description_follows_the_values(make_window):
+    """The library's prose shows while the values are the library's; after an edit it is
+    struck through and the line computed from the values says what the material does."""
+    window = make_window()
+    doc = window.document
+    ed = window.material_editor
+    doc.select(doc.project.object_by_name("book").id)
+    assert ed.current == "paper"
+    text = ed.description.text()
+    assert "mostly transparent to 60 GHz radar" in text and "<s>" not in text
+    assert "radar: invisible" not in text
+    ed.radar_invisible.click()                     # paper becomes invisible to the radar
+    text = ed.description.text()
+    assert "<s>" in text and "radar: invisible" in text, text
+    window.undo_action.trigger()
+    assert "<s>" not in ed.description.text()
+
+
 def test_import_mesh_duplicate_delete(make_window, wait_frame, tmp_path):
     window = make_window(None)
     doc = window.document
