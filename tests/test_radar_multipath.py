@@ -193,6 +193,53 @@ def test_absorber_and_occluder_remove_the_ghosts(make_renderer: Renderer) -> Non
           f"{db(a_blk, a_metal) if a_blk > 0 else -np.inf:.1f} dB vs metal")
 
 
+def test_a_block_on_the_leg_from_the_wall_to_the_target_removes_its_ghosts(
+        make_renderer: Renderer) -> None:
+    """Occlusion on the second leg: a concrete block on the segment from the reflection
+    point (R/2, H) on the plate to the corner (R, 0) — off the direct line and off the
+    radar → plate leg — leaves no ghost of the corner; moved 0.8 m towards the radar (off
+    every leg) it blocks nothing and the ghosts come back."""
+    def corner_ghosts(block_xy: tuple[float, float] | None) -> int:
+        project = scene(render_width=120, render_height=120)
+        if block_xy is not None:
+            block = SceneObject(id=5, name="block", geometry=Box(size_m=(0.2, 0.2, 0.6)),
+                                pose=Pose(position_m=(block_xy[0], block_xy[1], Z)),
+                                material="concrete")
+            project = project.model_copy(update={"objects": [*project.objects, block]})
+        cfg = project.rig.radar
+        renderer = make_renderer(project)
+        snap = take_snapshot(project, 0.0)
+        buf = renderer.render(snap, RenderRequest("radar", "radar", cfg.render_intrinsics()))
+        sc = radar_scatterers(project, snap, buf)
+        assert np.any(sc.object_index == 0)                      # the corner is seen
+        sets = ghost_scatterers(project, snap, sc, cfg, buffers=buf)
+        return sum(int(np.sum(g.scatterers.object_index == 0)) for g in sets)
+
+    on_leg = (0.75 * R, 0.5 * H)          # midpoint of (R/2, H) → (R, 0); world y = left
+    assert corner_ghosts(None) > 0
+    assert corner_ghosts(on_leg) == 0
+    assert corner_ghosts((0.75 * R - 0.8, 0.5 * H)) > 0
+
+
+def test_segment_tests_against_a_unit_box() -> None:
+    """The slab and Möller–Trumbore tests on known segments: through, beside, parallel
+    inside a face's slab, ending short of the box, inside it."""
+    from simcore.render.meshes import build_mesh
+    from simcore.sensors.radar.multipath import _segments_hit_box, _segments_hit_triangles
+
+    mesh = build_mesh(Box(size_m=(1.0, 1.0, 1.0)))
+    tri = mesh.points[mesh.triangles]
+    box = np.array([[-0.5] * 3, [0.5] * 3])
+    a = np.array([[-2, 0, 0], [-2, 0.7, 0], [-2, 0.2, 0.3], [-2, 0, 0], [0, 0, 0.1]], float)
+    b = np.array([[2, 0, 0], [2, 0.7, 0], [-0.6, 0.2, 0.3], [-0.51, 0, 0], [0.1, 0.1, 0.1]],
+                 float)
+    expect_box = [True, False, False, False, True]
+    np.testing.assert_array_equal(_segments_hit_box(a, b, box), expect_box)
+    # A segment inside the box crosses no face.
+    np.testing.assert_array_equal(_segments_hit_triangles(a, b, tri),
+                                  [True, False, False, False, False])
+
+
 def test_moving_target_ghost_doppler_is_the_image_radial_velocity(make_renderer: Renderer
                                                                    ) -> None:
     """A corner receding at v along the plate: the order-2 ghost moves at v cos θ_m."""

@@ -28,8 +28,8 @@ A path counts only when (1) the radar and the target are on the reflecting side 
 plane, (2) the mirrored leg (from the array origin towards the image) crosses the plane
 inside the reflector's rectangle (aperture test) and (3) the radar render shows the
 reflector at that crossing point (nothing in front of it; a crossing point outside the
-render is accepted, the element pattern weighs it). The leg from the crossing point to the
-target is not tested for occlusion.
+render is accepted, the element pattern weighs it) and (4) the leg from the crossing point
+to the target crosses no opaque object's triangles (:func:`second_leg_clear`).
 
 Element patterns: each leg uses the direction in which it leaves the real array, i.e.
 towards the real target for a direct leg and towards the image (the reflection point) for a
@@ -61,6 +61,7 @@ from simcore.scene.snapshot import SceneSnapshot
 from simcore.sensors.radar.equation import element_gain
 from simcore.sensors.radar.scatterers import (
     KIND_CORNER_REFLECTOR,
+    KIND_FACET,
     Scatterers,
     trihedral_effective_area,
 )
@@ -213,12 +214,15 @@ class ImagePaths:
         Their mirror images (m).
     gamma : ndarray, shape (K,), complex128
         Effective reflection coefficient of each path (Γ × coherent factor).
+    crossing_m : ndarray, shape (K, 3)
+        The reflection points: where the leg towards the image crosses the plane (m).
     """
 
     reflector: Reflector
     rows: NDArray[np.intp]
     images_m: NDArray[np.float64]
     gamma: NDArray[np.complex128]
+    crossing_m: NDArray[np.float64]
 
 
 def image_paths(reflector: Reflector, scatterers: Scatterers, buffers: RenderBuffers | None,
@@ -255,7 +259,7 @@ def image_paths(reflector: Reflector, scatterers: Scatterers, buffers: RenderBuf
     cos_i = s0 / np.maximum(np.linalg.norm(q, axis=1), 1e-300)
     g = 4.0 * np.pi * refl.height_rms_m * cos_i / wavelength_m
     gamma = refl.gamma * np.exp(-0.5 * g * g)
-    return ImagePaths(refl, rows, images, gamma.astype(np.complex128))
+    return ImagePaths(refl, rows, images, gamma.astype(np.complex128), q)
 
 
 def _reflector_seen(buffers: RenderBuffers, points: NDArray[np.float64], object_index: int
@@ -274,6 +278,134 @@ def _reflector_seen(buffers: RenderBuffers, points: NDArray[np.float64], object_
     seen[within] = buffers.object_index[row[within], col[within]] == object_index
     out[front] = seen
     return out
+
+
+#: The second leg (reflection point → target) ends this far before the target (m): a
+#: scatterer lies on its object's surface (a tessellated curve: up to a few mm inside it).
+LEG_END_MARGIN_M = 0.005
+
+_MESHES: dict[str, tuple[NDArray[np.float64], NDArray[np.float64]] | None] = {}
+
+
+def _local_triangles(geometry: object) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    """(triangle corners (T, 3, 3), AABB (2, 3)) of a geometry in its local frame, cached.
+
+    None for geometries without a surface (point targets) or a mesh file that cannot be
+    read from here (a relative path without the project's folder).
+    """
+    from simcore.render.meshes import build_mesh
+
+    key = f"{type(geometry).__name__}:{geometry.model_dump_json()}"  # type: ignore[attr-defined]
+    if key not in _MESHES:
+        try:
+            mesh = build_mesh(geometry)  # type: ignore[arg-type]
+        except (OSError, ValueError):
+            mesh = None
+        if mesh is None or not len(mesh.triangles):
+            _MESHES[key] = None
+        else:
+            tri = np.asarray(mesh.points, dtype=np.float64)[mesh.triangles]
+            _MESHES[key] = (tri, np.array([mesh.points.min(axis=0), mesh.points.max(axis=0)]))
+    return _MESHES[key]
+
+
+def _segments_hit_box(a: NDArray[np.float64], b: NDArray[np.float64],
+                      box: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Whether segments a → b (n, 3) meet the axis-aligned box (2, 3) (slab test)."""
+    d = b - a
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = 1.0 / d
+        t1, t2 = (box[0] - a) * inv, (box[1] - a) * inv
+    lo = np.where(np.isnan(t1), -np.inf, np.minimum(t1, t2))
+    hi = np.where(np.isnan(t2), np.inf, np.maximum(t1, t2))
+    # A segment parallel to a slab: inside it or not, whatever t.
+    par = d == 0
+    outside = par & ((a < box[0]) | (a > box[1]))
+    lo = np.where(par, -np.inf, lo)
+    hi = np.where(par, np.inf, hi)
+    t_in, t_out = np.max(lo, axis=1), np.min(hi, axis=1)
+    return ~np.any(outside, axis=1) & (t_in <= t_out) & (t_out >= 0.0) & (t_in <= 1.0)
+
+
+def _segments_hit_triangles(a: NDArray[np.float64], b: NDArray[np.float64],
+                            tri: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Whether segments a → b (n, 3) cross any of the triangles (T, 3, 3) (Möller–Trumbore)."""
+    hit = np.zeros(len(a), dtype=bool)
+    e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    step = max(1, 200_000 // max(len(tri), 1))
+    for lo in range(0, len(a), step):
+        o, d = a[lo:lo + step, None, :], (b - a)[lo:lo + step, None, :]      # (m, 1, 3)
+        p = np.cross(d, e2[None])                                             # (m, T, 3)
+        det = np.einsum("mtk,tk->mt", p, e1)
+        ok = np.abs(det) > 1e-12
+        inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+        s = o - tri[None, :, 0]
+        u = np.einsum("mtk,mtk->mt", s, p) * inv
+        q = np.cross(s, e1[None])
+        v = np.einsum("mtk,mtk->mt", np.broadcast_to(d, q.shape), q) * inv
+        t = np.einsum("mtk,tk->mt", q, e2) * inv
+        inside = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0) & (t < 1)
+        hit[lo:lo + step] = np.any(inside, axis=1)
+    return hit
+
+
+def second_leg_clear(project: Project, snapshot: SceneSnapshot, paths: ImagePaths,
+                     scatterers: Scatterers, wavelength_m: float, *,
+                     materials: Mapping[str, DualBandMaterial] | None = None
+                     ) -> NDArray[np.bool_]:
+    """Whether the leg from each path's reflection point to its target is unobstructed.
+
+    The first leg (radar → reflection point) is tested against the radar render
+    (:func:`image_paths`); this one against the scene's triangles: every object that the
+    radar band sees and that transmits nothing (a thin slab passes the wave; an object of
+    opacity 0 is not there for the radar), except the reflector itself, stops the leg. The
+    target's own object counts (a facet on the far side of its object from the reflection
+    point is shadowed), except for corner reflectors and point targets, which scatter from
+    their apex. The leg ends :data:`LEG_END_MARGIN_M` before the target.
+
+    Returns
+    -------
+    ndarray of bool, shape (K,)
+        One flag per row of ``paths``.
+    """
+    table = material_table(project) if materials is None else materials
+    radar = snapshot.sensors["radar"]
+    world_to_radar = np.linalg.inv(radar.transform)
+    freq = SPEED_OF_LIGHT / wavelength_m
+    a = paths.crossing_m
+    p = scatterers.positions_m[paths.rows]
+    d = p - a
+    length = np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-12)
+    b = p - d / length * np.minimum(LEG_END_MARGIN_M, 0.5 * length)
+    own = scatterers.object_index[paths.rows]
+    own_ok = scatterers.kind[paths.rows] != KIND_FACET
+    clear = np.ones(len(a), dtype=bool)
+    for i, o in enumerate(project.objects):
+        if i == paths.reflector.object_index:
+            continue
+        mat = table.get(o.material)
+        if mat is None:
+            continue
+        band = mat.band("radar")
+        if band.opacity <= 0 or abs(band.coefficients(freq)[1]) > 0:
+            continue
+        local = _local_triangles(o.geometry)
+        if local is None:
+            continue
+        tri, box = local
+        # Radar frame → the object's local frame (its transform may scale).
+        m = np.linalg.inv(world_to_radar @ snapshot.objects[i].transform)
+        sel = clear & ~((own == i) & own_ok)
+        if not np.any(sel):
+            continue
+        idx = np.flatnonzero(sel)
+        la = a[idx] @ m[:3, :3].T + m[:3, 3]
+        lb = b[idx] @ m[:3, :3].T + m[:3, 3]
+        near = _segments_hit_box(la, lb, box)
+        if np.any(near):
+            k = idx[near]
+            clear[k] = ~_segments_hit_triangles(la[near], lb[near], tri)
+    return clear
 
 
 def _corner_aspect(project: Project, snapshot: SceneSnapshot, scatterers: Scatterers,
@@ -367,8 +499,9 @@ def ghost_scatterers(project: Project, snapshot: SceneSnapshot, scatterers: Scat
     if order <= 0 or len(scatterers) == 0:
         return []
     lam = config.wavelength_m
+    table = material_table(project)
     if reflectors is None:
-        reflectors = find_reflectors(project, snapshot, lam)
+        reflectors = find_reflectors(project, snapshot, lam, materials=table)
     p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()
     pat_t = config.tx[0].pattern or config.element_pattern
     pat_r = config.rx[0].pattern or config.element_pattern
@@ -377,7 +510,11 @@ def ghost_scatterers(project: Project, snapshot: SceneSnapshot, scatterers: Scat
         paths = image_paths(refl, scatterers, buffers, lam)
         if paths is None:
             continue
-        rows, images, gamma, r = paths.rows, paths.images_m, paths.gamma, paths.reflector
+        clear = second_leg_clear(project, snapshot, paths, scatterers, lam, materials=table)
+        if not np.any(clear):
+            continue
+        rows, images, gamma, r = (paths.rows[clear], paths.images_m[clear],
+                                  paths.gamma[clear], paths.reflector)
         pos = scatterers.positions_m[rows]
         vel = scatterers.velocities_mps[rows]
         acc = (None if scatterers.accelerations_mps2 is None
@@ -472,4 +609,4 @@ def _concat(sets: list[Scatterers]) -> Scatterers:
 
 __all__ = ["MIN_AREA_M2", "MIN_REFLECTION", "GhostSet", "ImagePaths", "Reflector",
            "find_reflectors", "ghost_scatterers", "image_paths", "multipath_if",
-           "synthesize_ghosts"]
+           "second_leg_clear", "synthesize_ghosts"]
