@@ -203,6 +203,8 @@ class BandEditor(QGroupBox):
         form.addRow("", retro)
         self.widgets["retroreflector"] = retro
         self.scales: dict[str, float] = {}
+        #: Frequency of the Γ / T read-out: the radar's chirp centre (set by the owner).
+        self.frequency_hz = 63e9
         self.interface = QLabel("")
         if band == "radar":
             for field, label, scale, step, tip in INTERFACE_FIELDS:
@@ -216,7 +218,8 @@ class BandEditor(QGroupBox):
                 self.scales[field] = scale
             self.interface.setWordWrap(True)
             self.interface.setToolTip("Reflection and two-way transmission of this material "
-                                      "at 63 GHz, normal incidence")
+                                      "at the radar's chirp centre frequency, normal "
+                                      "incidence")
             form.addRow(self.interface)
 
     def show_values(self, band_material: Any) -> None:
@@ -227,7 +230,7 @@ class BandEditor(QGroupBox):
                 value = 0.0 if value is None else value * self.scales[field]
             set_quietly(w, value)
         if self.band == "radar":
-            self.interface.setText(interface_summary(band_material))
+            self.interface.setText(interface_summary(band_material, self.frequency_hz))
 
 
 class MaterialEditor(QWidget):
@@ -342,7 +345,9 @@ class MaterialEditor(QWidget):
         mat = table.get(self.current)
         if mat is None:
             return
-        self.description.setText(self._description(mat))
+        f_radar = SPEED_OF_LIGHT / self.document.project.rig.radar.wavelength_m
+        self.description.setText(self._description(mat, f_radar))
+        self.radar_editor.frequency_hz = f_radar
         self.tof_editor.show_values(mat.band("tof"))
         self.radar_editor.show_values(mat.band("radar"))
         self.visible_editor.show_values(mat.band("visible"))
@@ -357,14 +362,13 @@ class MaterialEditor(QWidget):
                                       and self.current in self._library)
         self.assign_button.setEnabled(self.document.selected_index() is not None)
 
-    def _description(self, mat: DualBandMaterial) -> str:
+    def _description(self, mat: DualBandMaterial, f_radar: float) -> str:
         """The library's prose, and what the current values do in each band.
 
         Once the values differ from the library's, its prose is struck through: an edited
         material never shows a stale description.
         """
         lib = library_material(mat.name)
-        f_radar = SPEED_OF_LIGHT / self.document.project.rig.radar.wavelength_m
         now = html.escape(summarize_material(mat, f_radar))
         if lib is None or not mat.description:
             return now

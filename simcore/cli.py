@@ -406,7 +406,11 @@ def cmd_materials(args: argparse.Namespace) -> int:
         for o in project.objects:
             users.setdefault(o.material, []).append(o.name)
     else:
-        table, f_radar, own, users = load_material_library(), 60e9, set(), {}
+        # The library alone: at the default radar's chirp centre frequency.
+        from simcore.scene.radar_config import RadarConfig
+
+        f_radar = SPEED_OF_LIGHT / RadarConfig().wavelength_m
+        table, own, users = load_material_library(), set(), {}
     for name in sorted(table):
         mat = table[name]
         tag = " (project)" if name in own else ""

@@ -524,8 +524,9 @@ def test_radar_interface_fields_edit_save_and_undo(material_editor, tmp_path):
     box.setValue(8.0)
     band = doc.material_table()["glass"].band("radar")
     assert band.thickness_m == pytest.approx(0.008)
-    # The read-out is the material's own two-way transmission at 63 GHz, recomputed.
-    _, t = band.coefficients(63e9)
+    # The read-out is the material's own two-way transmission at the radar's chirp centre
+    # frequency, recomputed.
+    _, t = band.coefficients(299_792_458.0 / doc.project.rig.radar.wavelength_m)
     assert f"{40 * np.log10(abs(t)):.1f} dB" in ed.radar_editor.interface.text()
     assert ed.radar_editor.interface.text() != before
     path = tmp_path / "glass.json"
