@@ -47,11 +47,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
 
 from simcore.render.buffers import RenderBuffers
+from simcore.scene.base import Model
 from simcore.scene.geometry import Box, CornerReflector, Plane, corner_reflector_axes
 from simcore.scene.materials import DualBandMaterial
 from simcore.scene.model import Project
@@ -284,29 +286,32 @@ def _reflector_seen(buffers: RenderBuffers, points: NDArray[np.float64], object_
 #: scatterer lies on its object's surface (a tessellated curve: up to a few mm inside it).
 LEG_END_MARGIN_M = 0.005
 
-_MESHES: dict[str, tuple[NDArray[np.float64], NDArray[np.float64]] | None] = {}
-
-
-def _local_triangles(geometry: object) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
-    """(triangle corners (T, 3, 3), AABB (2, 3)) of a geometry in its local frame, cached.
+def _local_triangles(geometry: Model) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    """(triangle corners (T, 3, 3), AABB (2, 3)) of a geometry in its local frame.
 
     None for geometries without a surface (point targets) or a mesh file that cannot be
     read from here (a relative path without the project's folder).
     """
+    return _triangles_of(type(geometry), geometry.model_dump_json())
+
+
+@lru_cache(maxsize=256)
+def _triangles_of(kind: type[Model], spec: str
+                  ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    """:func:`_local_triangles` by geometry class and JSON.
+
+    The cache is bounded: every size a drag in the GUI passes through is a new geometry.
+    """
     from simcore.render.meshes import build_mesh
 
-    key = f"{type(geometry).__name__}:{geometry.model_dump_json()}"  # type: ignore[attr-defined]
-    if key not in _MESHES:
-        try:
-            mesh = build_mesh(geometry)  # type: ignore[arg-type]
-        except (OSError, ValueError):
-            mesh = None
-        if mesh is None or not len(mesh.triangles):
-            _MESHES[key] = None
-        else:
-            tri = np.asarray(mesh.points, dtype=np.float64)[mesh.triangles]
-            _MESHES[key] = (tri, np.array([mesh.points.min(axis=0), mesh.points.max(axis=0)]))
-    return _MESHES[key]
+    try:
+        mesh = build_mesh(kind.model_validate_json(spec))  # type: ignore[arg-type]
+    except (OSError, ValueError):
+        return None
+    if mesh is None or not len(mesh.triangles):
+        return None
+    tri = np.asarray(mesh.points, dtype=np.float64)[mesh.triangles]
+    return tri, np.array([mesh.points.min(axis=0), mesh.points.max(axis=0)])
 
 
 def _segments_hit_box(a: NDArray[np.float64], b: NDArray[np.float64],
