@@ -35,9 +35,8 @@ from __future__ import annotations
 
 import math
 import weakref
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -48,6 +47,7 @@ from simcore.scene.materials import BandMaterial, DualBandMaterial
 from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot
+from simcore.sensors.radar.facet_kernel import object_facet_returns
 
 #: Longest edge of a surface facet (m): far-field PO per facet from ≈ 4 L²/λ = 0.5 m.
 FACET_EDGE_M = 0.10
@@ -55,8 +55,6 @@ FACET_EDGE_M = 0.10
 VISIBILITY_TOLERANCE_M = 0.01
 #: Smallest one-way transmission |T| that counts (a slab transmitting less is opaque).
 TRANSMISSIVE_MIN = 1e-9
-#: Near-singular guard of the triangle integral's divided differences (rad).
-_SMALL = 1e-3
 
 
 @dataclass(frozen=True)
@@ -196,89 +194,6 @@ def surface_facets(mesh: TriangleMesh) -> SurfaceFacets:
     key = id(mesh)
     _FACETS[key] = (weakref.ref(mesh, lambda _ref: _FACETS.pop(key, None)), facets)
     return facets
-
-
-def triangle_integral(alpha: NDArray[np.float64], beta: NDArray[np.float64]
-                      ) -> NDArray[np.complex128]:
-    """``∫∫ e^{j(α s + β t)} ds dt`` over the unit simplex (s, t ≥ 0, s + t ≤ 1).
-
-    Closed form (Gordon 1975): ``−(1/β) [(e^{jα} − e^{jβ})/(α − β) − (e^{jα} − 1)/α]``,
-    with the near-singular arguments (α, β or α − β within 10⁻³ of 0) nudged apart, which
-    changes the value by less than 10⁻³ of the facet's area. Equals 1/2 at α = β = 0.
-    """
-    a = np.asarray(alpha, dtype=np.float64).copy()
-    b = np.asarray(beta, dtype=np.float64).copy()
-    a = np.where(np.abs(a) < _SMALL, np.where(a < 0, -_SMALL, _SMALL), a)
-    b = np.where(np.abs(b) < _SMALL, np.where(b < 0, -_SMALL, _SMALL), b)
-    close = np.abs(a - b) < _SMALL
-    b = np.where(close, a + np.where(b >= a, 1.0, -1.0) * _SMALL * 1.5, b)
-    b = np.where(np.abs(b) < _SMALL, np.where(b < 0, -2 * _SMALL, 2 * _SMALL), b)
-    ea, eb = np.exp(1j * a), np.exp(1j * b)
-    return np.asarray(-((ea - eb) / (a - b) - (ea - 1.0) / a) / b, dtype=np.complex128)
-
-
-def _far_field_integral(v: NDArray[np.float64], c: NDArray[np.float64],
-                        dist: NDArray[np.float64], k: float) -> NDArray[np.complex128]:
-    """``∫ e^{j 2k (|r| − |c|)} dA`` over each triangle, linearised about its centroid."""
-    wv = (2.0 * k / dist)[:, None] * c
-    alpha = np.einsum("ij,ij->i", wv, v[:, 1] - v[:, 0])
-    beta = np.einsum("ij,ij->i", wv, v[:, 2] - v[:, 0])
-    rel = np.einsum("ij,ij->i", wv, v[:, 0] - c)
-    area2 = np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1)
-    return area2 * triangle_integral(alpha, beta) * np.exp(1j * rel)
-
-
-def facet_integral(v: NDArray[np.float64] | Callable[[NDArray[np.intp]], NDArray[np.float64]],
-                   c: NDArray[np.float64], dist: NDArray[np.float64], k: float, *,
-                   e1: NDArray[np.float64], e2: NDArray[np.float64], d0: NDArray[np.float64],
-                   area2: NDArray[np.float64], edge: NDArray[np.float64]
-                   ) -> NDArray[np.complex128]:
-    """The PO phase integral ``∫ e^{j 2k (|r| − |c|)} dA`` of each facet (m²).
-
-    Gordon's far-field closed form per facet; a facet that is not in its own far field
-    (longest edge L with L² > λR/4: quadratic phase error above π/8) and whose linear phase
-    does not already cancel its integral (less than three cycles across it) is split
-    into n² similar pieces that are, each with its own exact centroid phase.
-
-    Parameters
-    ----------
-    v : ndarray, shape (M, 3, 3), or callable
-        Facet corners in the radar frame (m), or a function of facet indices giving
-        them: needed only for the facets that are split.
-    c, dist : ndarray, shapes (M, 3) and (M,)
-        Centroids and their ranges (m), in a frame where dot products with ``e1``, ``e2``
-        and ``d0`` are the radar frame's (the object's own frame works: only the
-        direction is rotated, not every corner).
-    k : float
-        Wavenumber 2π/λ (rad/m).
-    e1, e2, d0 : ndarray, shape (M, 3)
-        Edge vectors v1 − v0, v2 − v0 and the corner v0 − centroid, in ``c``'s frame (m).
-    area2, edge : ndarray, shape (M,)
-        Twice each facet's area (m²) and its longest edge (m).
-    """
-    wv = (2.0 * k / dist)[:, None] * c
-    alpha = np.einsum("ij,ij->i", wv, e1)
-    beta = np.einsum("ij,ij->i", wv, e2)
-    out = area2 * triangle_integral(alpha, beta) * np.exp(1j * np.einsum("ij,ij->i", wv, d0))
-    limit = np.sqrt(np.pi * dist / (2.0 * k))                    # √(λR/4)
-    span = np.maximum(np.maximum(np.abs(alpha), np.abs(beta)), np.abs(alpha - beta))
-    n = np.ceil(edge / limit).astype(np.int64)
-    refine = (n > 1) & (span < 6.0 * np.pi)
-    if not refine.any():
-        return out
-    for count in np.unique(n[refine]):
-        sel = np.flatnonzero(refine & (n == count))
-        corners = v(sel) if callable(v) else v[sel]
-        bary = _template(int(min(count, 16)))
-        sub = np.einsum("pkj,tjd->tpkd", bary, corners)                # (m, p, 3, 3)
-        m, p = sub.shape[:2]
-        sub = sub.reshape(-1, 3, 3)
-        sc = sub.mean(axis=1)
-        sd = np.linalg.norm(sc, axis=1)
-        part = _far_field_integral(sub, sc, sd, k) * np.exp(
-            2j * k * (sd - np.repeat(dist[sel], p)))
-        out[sel] = part.reshape(m, p).sum(axis=1)
-    return out
 
 
 @dataclass(frozen=True)
@@ -456,141 +371,50 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
         shown |= np.bincount((through_obj if wanted is None else through_obj[wanted]) + 1,
                              minlength=n_obj + 1)[1:] > 0
 
-    parts: list[tuple[NDArray[Any], ...]] = []
-    corner_fns: list[Callable[[NDArray[np.intp]], NDArray[np.float64]]] = []
+    # Each shown object's facets in one compiled pass (facet_kernel.object_facet_returns).
+    wanted_arr = np.zeros(1, dtype=np.bool_) if wanted is None else wanted
+    full_obj32 = np.ascontiguousarray(full_obj, dtype=np.int32)
+    full_rng32 = np.ascontiguousarray(full_rng, dtype=np.float32)
+    through_obj32 = (None if through_obj is None
+                     else np.ascontiguousarray(through_obj, dtype=np.int32))
+    through_rng32 = (None if through_rng is None
+                     else np.ascontiguousarray(through_rng, dtype=np.float32))
+    no_phase = np.zeros(1)
+    positions, amplitudes, objects, pixel_list = [], [], [], []
     for i, (o, mesh) in enumerate(zip(project.objects, meshes, strict=True)):
         if mesh is None or not shown[i] or (exclude is not None and exclude[i]):
             continue
         facets = surface_facets(mesh)
         # Opaque objects are looked for behind the transparent ones, if that pass exists.
-        behind = through_obj is not None and trans[i] == 0
-        obj_img = through_obj if behind else full_obj
-        rng_img = through_rng if behind else full_rng
+        behind = through_obj32 is not None and trans[i] == 0
+        obj_img = through_obj32 if behind else full_obj32
+        rng_img = through_rng32 if behind else full_rng32
         assert obj_img is not None and rng_img is not None
         m = world_to_radar @ snapshot.objects[i].transform
-        rot, off = m[:3, :3], m[:3, 3]
-        # Source triangles facing the radar (a plane faces it on all of its points).
-        src_n = facets.source_normals @ rot.T
-        facing = np.einsum("ij,ij->i", src_n, facets.source_points @ rot.T + off) < 0
-        cand = np.flatnonzero(facing[facets.source])
-        if not len(cand):
-            continue
-        c = facets.centroids[cand] @ rot.T + off
-        z = c[:, 2]
-        ok = z > 1e-6
-        zz = np.where(ok, z, 1.0)
-        col = np.floor(intr.fx * c[:, 0] / zz + intr.cx)
-        row = np.floor(intr.fy * c[:, 1] / zz + intr.cy)
-        ok &= (col >= 0) & (col < w) & (row >= 0) & (row < h)
-        sel = np.flatnonzero(ok)
-        pix = (row[sel] * w + col[sel]).astype(np.int64)
-        first = obj_img[pix] == i
-        if wanted is not None:
-            first &= wanted[pix]
-        sel, pix = sel[first], pix[first]
-        c = c[sel]
-        cand = cand[sel]
-        dist = np.linalg.norm(c, axis=1)
-        u = c / dist[:, None]                                              # radar → facet
-        cos_t = -np.einsum("ij,ij->i", facets.normals[cand] @ rot.T, u)
-        area2 = facets.area2[cand]
-        # Seen: the pixel shows this object at the facet's range (within its spread).
-        cos_s = np.clip(cos_t, 0.05, 1.0)
-        tol = VISIBILITY_TOLERANCE_M + 1.5 * dist * pix_angle * np.sqrt(
-            1.0 - cos_s * cos_s) / cos_s + 0.5 * np.sqrt(area2)
-        seen = (cos_t > 0) & (np.abs(rng_img[pix] - dist) <= tol)
-        sel = np.flatnonzero(seen)
-        if not len(sel):
-            continue
-        pix, c, dist, cos_t, area2, cand = (pix[sel], c[sel], dist[sel], cos_t[sel],
-                                            area2[sel], cand[sel])
-        # Dot products with the facet's edges are frame independent: take the direction
-        # into the object's frame instead of the corners into the radar's.
-        c_obj = c @ rot                                                    # Rᵀ c
-        edges = facets.edges[cand]
-        geometry = (c_obj, edges[:, 0], edges[:, 1], edges[:, 2], area2, facets.longest[cand])
-        corners = _corners(facets.vertices, cand, rot, off)
-        if speckle:
-            phase = _phases(seed, o.id, len(facets))[cand]
-        else:
-            phase = np.zeros(len(cand))
-        if behind:
-            # Through the nearer transparent object on the facet's pixel, in and out.
-            front = full_obj[pix]
-            nearer = (front >= 0) & (front != i) & (full_rng[pix] < dist)
-            path = np.where(nearer, trans[front] ** 2, 1.0 + 0j)
-        else:
-            path = np.ones(len(cand), dtype=np.complex128)
-        parts.append((c, dist, cos_t, phase, path, np.full(len(cand), i, dtype=np.int32),
-                      pix, *geometry))
-        corner_fns.append(corners)
-    if not parts:
+        rot, off = np.ascontiguousarray(m[:3, :3]), np.ascontiguousarray(m[:3, 3])
+        n_f = len(facets)
+        pos = np.empty((n_f, 3))
+        amp = np.empty(n_f, dtype=np.complex128)
+        pix = np.empty(n_f, dtype=np.int64)
+        count = object_facet_returns(
+            facets.centroids, facets.normals, facets.area2, facets.source, facets.edges,
+            facets.longest, facets.vertices, facets.source_normals, facets.source_points,
+            _phases(seed, o.id, n_f) if speckle else no_phase,
+            rot, off, float(intr.fx), float(intr.fy), float(intr.cx), float(intr.cy),
+            int(w), int(h), obj_img, rng_img, wanted_arr, wanted is not None, i,
+            float(pix_angle), VISIBILITY_TOLERANCE_M,
+            bool(behind), full_obj32, full_rng32, trans,
+            k, float(wavelength_m), bool(mat.smooth[i]), complex(mat.gamma[i]),
+            float(mat.height_rms[i]), float(mat.reflectance[i]), float(mat.specular[i]),
+            float(mat.roughness[i]), float(mat.metallic[i]), float(mat.retro_gain[i]),
+            bool(speckle), pos, amp, pix)
+        if count:
+            positions.append(pos[:count])
+            amplitudes.append(amp[:count])
+            objects.append(np.full(count, i, dtype=np.int32))
+            pixel_list.append(pix[:count])
+    if not positions:
         return FacetReturns(np.zeros((0, 3)), np.zeros(0, np.complex128),
                             np.zeros(0, np.int32), np.zeros(0, np.int64))
-    c, dist, cos_t, phase, path, obj, pix, c_obj, e1, e2, d0, area2, longest = (
-        np.concatenate([p[j] for p in parts]) for j in range(13))
-    offsets = np.cumsum([0] + [len(p[0]) for p in parts])
-
-    def corners_of(sel: NDArray[np.intp]) -> NDArray[np.float64]:
-        """Radar-frame corners of the (concatenated) facets ``sel``."""
-        out = np.empty((len(sel), 3, 3))
-        part = np.searchsorted(offsets, sel, side="right") - 1
-        for j in np.unique(part):
-            mask = part == j
-            out[mask] = corner_fns[j](sel[mask] - offsets[j])
-        return out
-
-    def coherent(sel: NDArray[np.intp]) -> NDArray[np.complex128]:
-        if len(sel) == len(dist):                                  # every facet: no gathers
-            return facet_integral(corners_of, c_obj, dist, k, e1=e1, e2=e2, d0=d0,
-                                  area2=area2, edge=longest)
-        return facet_integral(lambda local: corners_of(sel[local]), c_obj[sel], dist[sel],
-                              k, e1=e1[sel], e2=e2[sel], d0=d0[sel], area2=area2[sel],
-                              edge=longest[sel])
-
-    amp = _amplitudes(mat, obj, cos_t, 0.5 * area2, phase, coherent,
-                      wavelength_m=wavelength_m, speckle=speckle)
-    return FacetReturns(c, amp * path, obj, pix)
-
-
-def _corners(vertices: NDArray[np.float64], cand: NDArray[np.intp], rot: NDArray[np.float64],
-             off: NDArray[np.float64]) -> Callable[[NDArray[np.intp]], NDArray[np.float64]]:
-    """Radar-frame corners of facets ``cand[local]``, computed when asked."""
-    def get(local: NDArray[np.intp]) -> NDArray[np.float64]:
-        return np.asarray(vertices[cand[local]] @ rot.T + off, dtype=np.float64)
-    return get
-
-
-def _amplitudes(mat: _RadarMaterial, obj: NDArray[np.int32], cos_t: NDArray[np.float64],
-                area: NDArray[np.float64], phase: NDArray[np.float64],
-                coherent: Callable[[NDArray[np.intp]], NDArray[np.complex128]], *,
-                wavelength_m: float, speckle: bool) -> NDArray[np.complex128]:
-    """Coherent PO plus diffuse amplitude (√m² with phase) of every seen facet.
-
-    ``coherent(sel)`` gives the PO phase integral (m²) of the facets ``sel``.
-    """
-    cos_i = np.clip(cos_t, 0.0, 1.0)
-    smooth = np.take(mat.smooth, obj)
-    amp = np.zeros(len(obj), dtype=np.complex128)
-    rho2 = np.ones(len(obj))
-    sel = np.flatnonzero(smooth)
-    if len(sel):
-        o = obj[sel]
-        g = 4.0 * math.pi * np.take(mat.height_rms, o) * cos_i[sel] / wavelength_m
-        rho2[sel] = np.exp(-g * g)
-        amp[sel] = (2.0 * math.sqrt(math.pi) / wavelength_m * np.take(mat.gamma, o)
-                    * np.sqrt(rho2[sel]) * cos_i[sel]) * coherent(sel)
-    # Diffuse part: the band response with the lobe's incoherent fraction.
-    cc = np.clip(cos_i, 1e-6, 1.0)
-    m2 = np.take(mat.roughness, obj) ** 2
-    tan2 = (1.0 - cc * cc) / (cc * cc)
-    lobe = np.take(mat.specular, obj) * np.exp(-tan2 / m2) / (m2 * cc**4)
-    incoherent = np.where(smooth, 1.0 - rho2, 1.0)
-    sigma0 = ((1.0 - np.take(mat.metallic, obj)) * np.take(mat.reflectance, obj) * cc
-              + lobe * incoherent + np.take(mat.retro_gain, obj))
-    diffuse = np.sqrt(sigma0 * area)
-    if speckle:
-        amp += diffuse * np.exp(1j * phase)
-    else:
-        amp += diffuse
-    return amp
+    return FacetReturns(np.concatenate(positions), np.concatenate(amplitudes),
+                        np.concatenate(objects), np.concatenate(pixel_list))
