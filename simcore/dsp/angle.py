@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from simcore.dsp.peaks import parabolic_peak_offset
 from simcore.dsp.windows import as_complex64
+from simcore.jit import kernel
 from simcore.scene.dsp_config import AngleMethod
 from simcore.scene.radar_config import Antenna, RadarConfig
 
@@ -149,33 +150,100 @@ def steering_vectors(
     return np.exp(-2j * np.pi * (u @ p.T) / wavelength_m)
 
 
-_GRID_STEERING: dict[tuple[bytes, float, bytes, bytes],
-                     tuple[NDArray[np.complex128], NDArray[np.complex128]]] = {}
+@dataclass(frozen=True)
+class _GridSteering:
+    """Steering vectors of a search grid, in the layouts the estimators use (read-only).
+
+    ``steer`` (n_el * n_az, M), elevation-major; ``steer_h`` = ``steer^H``, (M, n_el * n_az)
+    contiguous, for one BLAS product with the snapshots; ``steer_h_re``, ``steer_h_im`` its
+    real and imaginary parts (float64), for the compiled Bartlett search.
+    """
+
+    steer: NDArray[np.complex128]
+    steer_h: NDArray[np.complex128]
+    steer_h_re: NDArray[np.float64]
+    steer_h_im: NDArray[np.float64]
+
+
+_GRID_STEERING: dict[tuple[bytes, float, bytes, bytes], _GridSteering] = {}
 
 
 def _grid_steering(positions_m: NDArray[np.float64], wavelength_m: float,
                    az_grid: NDArray[np.float64], el_grid: NDArray[np.float64]
-                   ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-    """Steering vectors ``a`` of an (elevation × azimuth) search grid and ``a^H``.
+                   ) -> _GridSteering:
+    """Steering vectors of an (elevation × azimuth) search grid.
 
-    Shapes (n_el * n_az, M), elevation-major, and (M, n_el * n_az) contiguous (for one
-    BLAS product with the snapshots). Cached, read-only: the grid, the array and the
-    wavelength rarely change between frames.
+    Cached, read-only: the grid, the array and the wavelength rarely change between frames.
     """
     key = (np.ascontiguousarray(positions_m).tobytes(), float(wavelength_m),
            az_grid.tobytes(), el_grid.tobytes())
-    pair = _GRID_STEERING.get(key)
-    if pair is None:
+    grid = _GRID_STEERING.get(key)
+    if grid is None:
         steer = steering_vectors(positions_m, wavelength_m=wavelength_m,
                                  azimuth_rad=az_grid[None, :], elevation_rad=el_grid[:, None])
         steer = steer.reshape(-1, steer.shape[-1])
         steer_h = np.ascontiguousarray(np.conj(steer).T)
-        steer.setflags(write=False)
-        steer_h.setflags(write=False)
+        grid = _GridSteering(steer, steer_h, np.ascontiguousarray(steer_h.real),
+                             np.ascontiguousarray(steer_h.imag))
+        for a in (grid.steer, grid.steer_h, grid.steer_h_re, grid.steer_h_im):
+            a.setflags(write=False)
         if len(_GRID_STEERING) > 8:
             _GRID_STEERING.clear()
-        pair = _GRID_STEERING[key] = (steer, steer_h)
-    return pair
+        _GRID_STEERING[key] = grid
+    return grid
+
+
+@kernel
+def _bartlett_grid_peaks(x: NDArray[np.complex128], steer_h_re: NDArray[np.float64],
+                         steer_h_im: NDArray[np.float64], n_az: int,
+                         out_index: NDArray[np.int64], out_power: NDArray[np.float64]) -> None:
+    """Maximum of ``|a^H x|^2`` over a search grid, and the power at its four neighbours.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n, M), complex128
+        Snapshots.
+    steer_h_re, steer_h_im : ndarray, shape (M, n_el * n_az), float64
+        Real and imaginary parts of ``a^H`` on the grid, elevation-major.
+    n_az : int
+        Azimuths per elevation row.
+    out_index : ndarray, shape (n,), int64
+        Flat grid index of the first maximum (as :func:`numpy.argmax`; the first NaN if
+        any).
+    out_power : ndarray, shape (n, 5), float64
+        Power at the maximum, at azimuth −1 and +1, and at elevation −1 and +1 (indices
+        clipped to the grid).
+    """
+    n, m = x.shape
+    d = steer_h_re.shape[1]
+    n_el = d // n_az
+    re = np.empty(d)
+    im = np.empty(d)
+    for i in range(n):
+        re[:] = 0.0
+        im[:] = 0.0
+        for c in range(m):
+            xr = x[i, c].real
+            xi = x[i, c].imag
+            for q in range(d):
+                re[q] += xr * steer_h_re[c, q] - xi * steer_h_im[c, q]
+                im[q] += xr * steer_h_im[c, q] + xi * steer_h_re[c, q]
+        best = -1.0
+        arg = 0
+        for q in range(d):
+            p = re[q] * re[q] + im[q] * im[q]
+            if not p <= best:
+                arg = q
+                best = p
+                if p != p:
+                    break
+        out_index[i] = arg
+        i_el, i_az = divmod(arg, n_az)
+        cells = (arg, i_el * n_az + max(i_az - 1, 0), i_el * n_az + min(i_az + 1, n_az - 1),
+                 max(i_el - 1, 0) * n_az + i_az, min(i_el + 1, n_el - 1) * n_az + i_az)
+        for t in range(5):
+            q = cells[t]
+            out_power[i, t] = re[q] * re[q] + im[q] * im[q]
 
 
 def spatial_covariance(snapshots: ArrayLike) -> NDArray[np.complex128]:
@@ -619,11 +687,25 @@ def _refine_grid_peak(power_db: NDArray[np.float64], idx: NDArray[np.int64], axi
     rows = np.arange(power_db.shape[0])
     if n < 3:
         return axis_vals[idx]
-    inner = (idx > 0) & (idx < n - 1)
     i_l = np.clip(idx - 1, 0, n - 1)
     i_r = np.clip(idx + 1, 0, n - 1)
-    off = parabolic_peak_offset(power_db[rows, i_l], power_db[rows, idx], power_db[rows, i_r])
-    off = np.where(inner, off, 0.0)
+    return _refine_peak_3(power_db[rows, i_l], power_db[rows, idx], power_db[rows, i_r], idx,
+                          axis_vals)
+
+
+def _refine_peak_3(left_db: NDArray[np.float64], mid_db: NDArray[np.float64],
+                   right_db: NDArray[np.float64], idx: NDArray[np.int64],
+                   axis_vals: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Parabolic refinement of peaks ``idx`` on a uniform axis from three values (dB).
+
+    The values are those at the peak and at its (clipped) neighbours; no offset at the
+    ends of the axis.
+    """
+    n = axis_vals.size
+    if n < 3:
+        return axis_vals[idx]
+    inner = (idx > 0) & (idx < n - 1)
+    off = np.where(inner, parabolic_peak_offset(left_db, mid_db, right_db), 0.0)
     step = axis_vals[1] - axis_vals[0]
     return axis_vals[idx] + off * step
 
@@ -711,31 +793,39 @@ def estimate_angles(
         az_grid = np.zeros(1)
     if not layout.has_vertical_extent:
         el_grid = np.zeros(1)
-    # (n_el * n_az, channels), elevation-major
-    steer, steer_h = _grid_steering(np.asarray(layout.positions_m, dtype=np.float64),
-                                    wavelength_m, az_grid, el_grid)
+    grid = _grid_steering(np.asarray(layout.positions_m, dtype=np.float64), wavelength_m,
+                          az_grid, el_grid)
+
+    def db(p: NDArray[np.float64]) -> NDArray[np.float64]:
+        return 10.0 * np.log10(np.maximum(p, 1e-300))
+
     if method == "bartlett":
-        resp = x @ steer_h
-    elif method == "capon":
-        if covariances is None:
-            raise ValueError("Capon angle estimation needs the covariances")
-        r_inv = _loaded_inverse(np.asarray(covariances), diagonal_loading)  # (n, M, M)
-        ria = np.einsum("nij,dj->ndi", r_inv, steer)
-        denom = np.real(np.einsum("di,ndi->nd", np.conj(steer), ria))
-        w = ria / np.maximum(denom, 1e-300)[..., None]  # (n, dirs, M)
-        resp = np.einsum("ndi,ni->nd", np.conj(w), x)
-    else:
+        # Compiled search: the maximum and its four neighbours, no (n, grid) temporaries.
+        flat = np.empty(n, dtype=np.int64)
+        cut = np.empty((n, 5))
+        _bartlett_grid_peaks(np.ascontiguousarray(x), grid.steer_h_re, grid.steer_h_im,
+                             az_grid.size, flat, cut)
+        i_el, i_az = np.divmod(flat, az_grid.size)
+        cut_db = db(cut)
+        az = _refine_peak_3(cut_db[:, 1], cut_db[:, 0], cut_db[:, 2], i_az, az_grid)
+        el = _refine_peak_3(cut_db[:, 3], cut_db[:, 0], cut_db[:, 4], i_el, el_grid)
+        return az, el
+    if method != "capon":
         raise ValueError(f"unknown angle method {method!r}")
+    if covariances is None:
+        raise ValueError("Capon angle estimation needs the covariances")
+    steer = grid.steer  # (n_el * n_az, channels), elevation-major
+    r_inv = _loaded_inverse(np.asarray(covariances), diagonal_loading)  # (n, M, M)
+    ria = np.einsum("nij,dj->ndi", r_inv, steer)
+    denom = np.real(np.einsum("di,ndi->nd", np.conj(steer), ria))
+    w = ria / np.maximum(denom, 1e-300)[..., None]  # (n, dirs, M)
+    resp = np.einsum("ndi,ni->nd", np.conj(w), x)
     power = (resp.real * resp.real + resp.imag * resp.imag).reshape(
         n, el_grid.size, az_grid.size)
     # The maximum of the power is that of its dB; dB only on the two cuts refined.
     flat = np.argmax(power.reshape(n, -1), axis=1)
     i_el, i_az = np.unravel_index(flat, (el_grid.size, az_grid.size))
     rows = np.arange(n)
-
-    def db(p: NDArray[np.float64]) -> NDArray[np.float64]:
-        return 10.0 * np.log10(np.maximum(p, 1e-300))
-
     az = _refine_grid_peak(db(power[rows, i_el, :]), i_az.astype(np.int64), az_grid)
     el = _refine_grid_peak(db(power[rows, :, i_az]), i_el.astype(np.int64), el_grid)
     return az, el
