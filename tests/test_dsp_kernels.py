@@ -2,7 +2,8 @@
 
 Each reference is the straightforward formula (the previous implementation): OS-CFAR by
 :func:`numpy.partition` of every CUT's training cells, the Bartlett angle search by the full
-``|a^H x|^2`` grid and :func:`numpy.argmax`. Inputs include ties, negative values and
+``|a^H x|^2`` grid and :func:`numpy.argmax`, the Bartlett spectrum as ``a^H (R a)``, the
+bird's-eye image by :func:`scipy.ndimage.map_coordinates`. Inputs include ties, negative values and
 infinities where they change the code path.
 """
 
@@ -10,9 +11,19 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import scipy.ndimage as ndi
 from numpy.testing import assert_allclose, assert_array_equal
 
-from simcore.dsp import array_layout, cfar_2d, estimate_angles, steering_vectors
+from simcore.dsp import (
+    array_layout,
+    bartlett_spectrum,
+    bird_eye_axes,
+    bird_eye_image,
+    cfar_2d,
+    estimate_angles,
+    spatial_covariance,
+    steering_vectors,
+)
 from simcore.dsp.angle import direction_vectors
 from simcore.dsp.cfar import _pad, cfar_threshold_factor, os_rank
 
@@ -129,3 +140,49 @@ def test_bartlett_search_equals_the_full_grid_reference(array: str) -> None:
     assert_allclose(got_az, ref_az, rtol=0, atol=1e-9)
     assert_allclose(got_el, ref_el, rtol=0, atol=1e-9)
     assert got_az[0] == az[0] and got_el[0] == (el[0] if layout.has_vertical_extent else 0.0)
+
+
+def test_bartlett_spectrum_equals_a_h_r_a() -> None:
+    rng = np.random.default_rng(5)
+    positions = np.array([[2.5e-3, 0, 0], [0, 0, 0], [0, -2.5e-3, 0], [5e-3, 0, 0]])
+    x = rng.standard_normal((32, 4, 50)) + 1j * rng.standard_normal((32, 4, 50))
+    r = spatial_covariance(x)                                  # (50, 4, 4)
+    a = steering_vectors(positions, wavelength_m=5e-3,
+                         azimuth_rad=np.deg2rad(np.arange(-80.0, 81.0)))
+    reference = np.real(np.einsum("di,rij,dj->rd", np.conj(a), r, a)) / 16
+    assert_allclose(bartlett_spectrum(r, a), reference, rtol=1e-12, atol=0)
+    assert bartlett_spectrum(r[:0], a).shape == (0, a.shape[0])
+
+
+# --------------------------------------------------------------------------------------
+# Bird's-eye image
+# --------------------------------------------------------------------------------------
+
+
+def bird_eye_reference(m: np.ndarray, r_ax: np.ndarray, a_ax: np.ndarray, x_ax: np.ndarray,
+                       z_ax: np.ndarray) -> np.ndarray:
+    """Bilinear resampling by scipy's map_coordinates (the previous implementation)."""
+    xx, zz = np.meshgrid(x_ax, z_ax)
+    ir = (np.hypot(xx, zz) - r_ax[0]) / (r_ax[1] - r_ax[0])
+    ia = (np.arctan2(xx, zz) - a_ax[0]) / (a_ax[1] - a_ax[0])
+    inside = (ir >= 0) & (ir <= r_ax.size - 1) & (ia >= 0) & (ia <= a_ax.size - 1)
+    out = ndi.map_coordinates(m, [ia.ravel(), ir.ravel()], order=1, mode="nearest")
+    out = out.reshape(xx.shape)
+    out[~inside] = np.nan
+    return out.astype(np.float32)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_bird_eye_image_equals_map_coordinates(seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    r_ax = 0.3 + np.arange(200) * 0.025
+    a_ax = np.deg2rad(np.arange(-80.0, 80.5, 1.0))
+    x_ax, z_ax = bird_eye_axes(max_range_m=float(r_ax[-1]), max_azimuth_rad=1.4,
+                               resolution_m=0.05)
+    z_ax = np.append(z_ax, r_ax[-1])                     # a row on the far edge
+    m = (rng.standard_normal((a_ax.size, r_ax.size)) * 20).astype(np.float32)
+    got = bird_eye_image(m, range_axis_m=r_ax, azimuth_axis_rad=a_ax, x_axis_m=x_ax,
+                         z_axis_m=z_ax)
+    want = bird_eye_reference(m.astype(np.float64), r_ax, a_ax, x_ax, z_ax)
+    assert_array_equal(got, want)
+    assert np.isnan(got).any() and np.isfinite(got).any()

@@ -300,9 +300,9 @@ def bartlett_spectrum(covariance: ArrayLike, steering: ArrayLike) -> NDArray[np.
     a = np.asarray(steering)
     m = a.shape[-1]
     lead = r.shape[:-2]
-    # R a for all directions as one matrix product: (..., M, M) @ (M, D) → (..., M, D).
-    ra = (r.reshape(-1, m) @ a.T).reshape(*lead, m, a.shape[0])
-    out = np.real(np.conj(a.T) * ra).sum(axis=-2) if ra.size else np.zeros((*lead, a.shape[0]))
+    # a^H R a = sum_ij R_ij conj(a_i) a_j: one (..., M²) @ (M², D) product.
+    pairs = (np.conj(a)[:, :, None] * a[:, None, :]).reshape(a.shape[0], m * m)
+    out = np.real(r.reshape(-1, m * m) @ pairs.T).reshape(*lead, a.shape[0])
     return np.asarray(out / (m * m), dtype=np.float64)
 
 

@@ -8,8 +8,9 @@ target's level. ``*_db`` functions return float32 ``10 log10(power)``.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
-import scipy.ndimage as ndi
 from numpy.typing import ArrayLike, NDArray
 
 from simcore.dsp.angle import (
@@ -22,6 +23,7 @@ from simcore.dsp.angle import (
     steering_vectors,
 )
 from simcore.dsp.windows import as_float32, power_to_db
+from simcore.jit import kernel
 from simcore.scene.dsp_config import AngleMethod
 
 
@@ -221,21 +223,89 @@ def bird_eye_image(
     ...                z_axis_m=[4.0])
     array([[ 4.,  5., nan]], dtype=float32)
     """
-    m = np.asarray(range_azimuth, dtype=np.float64)
-    r_ax = np.asarray(range_axis_m, dtype=np.float64)
-    a_ax = np.asarray(azimuth_axis_rad, dtype=np.float64)
-    xx, zz = np.meshgrid(np.asarray(x_axis_m, float), np.asarray(z_axis_m, float))
+    m = np.ascontiguousarray(range_azimuth, dtype=np.float64)
+    plan = _bird_eye_plan(np.asarray(range_axis_m, dtype=np.float64),
+                          np.asarray(azimuth_axis_rad, dtype=np.float64),
+                          np.asarray(x_axis_m, dtype=np.float64),
+                          np.asarray(z_axis_m, dtype=np.float64))
+    out = np.empty(plan.start.shape[1], dtype=np.float32)
+    _bilinear(m, plan.start, plan.weight, out)
+    return out.reshape(plan.shape)
+
+
+@dataclass(frozen=True)
+class _BirdEyePlan:
+    """Where each bird's-eye pixel samples the range–azimuth map (read-only arrays).
+
+    ``start`` (2, pixels), int64: the map cell (azimuth, range) at or below the pixel's
+    fractional index, −1 for pixels outside the coverage; ``weight`` (2, pixels), float64:
+    the weight of the cell after it along each axis; ``shape`` (nz, nx).
+    """
+
+    start: NDArray[np.int64]
+    weight: NDArray[np.float64]
+    shape: tuple[int, int]
+
+
+_BIRD_EYE_PLANS: dict[tuple[bytes, ...], _BirdEyePlan] = {}
+
+
+def _bird_eye_plan(r_ax: NDArray[np.float64], a_ax: NDArray[np.float64],
+                   x_ax: NDArray[np.float64], z_ax: NDArray[np.float64]) -> _BirdEyePlan:
+    """The pixels' sampling positions: they depend only on the axes (cached)."""
+    key = tuple(v.tobytes() for v in (r_ax, a_ax, x_ax, z_ax))
+    plan = _BIRD_EYE_PLANS.get(key)
+    if plan is not None:
+        return plan
+    xx, zz = np.meshgrid(x_ax, z_ax)
     rr = np.hypot(xx, zz)
     aa = np.arctan2(xx, zz)
     dr = r_ax[1] - r_ax[0] if r_ax.size > 1 else 1.0
     da = a_ax[1] - a_ax[0] if a_ax.size > 1 else 1.0
-    ir = (rr - r_ax[0]) / dr
-    ia = (aa - a_ax[0]) / da
+    ir = ((rr - r_ax[0]) / dr).ravel()
+    ia = ((aa - a_ax[0]) / da).ravel()
     inside = (ir >= 0) & (ir <= r_ax.size - 1) & (ia >= 0) & (ia <= a_ax.size - 1)
-    out = ndi.map_coordinates(m, [ia.ravel(), ir.ravel()], order=1, mode="nearest")
-    out = out.reshape(rr.shape)
-    out[~inside] = np.nan
-    return as_float32(out)
+    coords = np.stack([ia, ir])
+    start = np.floor(coords)
+    weight = coords - start
+    start = np.where(inside, start, -1.0).astype(np.int64)
+    plan = _BirdEyePlan(start, weight, (z_ax.size, x_ax.size))
+    for a in (plan.start, plan.weight):
+        a.setflags(write=False)
+    if len(_BIRD_EYE_PLANS) > 8:
+        _BIRD_EYE_PLANS.clear()
+    _BIRD_EYE_PLANS[key] = plan
+    return plan
+
+
+@kernel
+def _bilinear(m: NDArray[np.float64], start: NDArray[np.int64], weight: NDArray[np.float64],
+              out: NDArray[np.float32]) -> None:
+    """Bilinear samples of ``m`` (as :func:`scipy.ndimage.map_coordinates`, ``order=1``).
+
+    The weights and the order of the sums are those of scipy's order-1 spline
+    (``w0 = 1 − f``, ``w1 = 1 − w0``; indices clamped at the far edge), so the samples are
+    the same numbers. Pixels with ``start`` −1 are NaN.
+    """
+    n0, n1 = m.shape
+    for p in range(out.size):
+        i0 = start[0, p]
+        j0 = start[1, p]
+        if i0 < 0:
+            out[p] = np.nan
+            continue
+        i1 = min(i0 + 1, n0 - 1)
+        j1 = min(j0 + 1, n1 - 1)
+        wa0 = 1.0 - weight[0, p]
+        wa1 = 1.0 - wa0
+        wr0 = 1.0 - weight[1, p]
+        wr1 = 1.0 - wr0
+        t = 0.0
+        t += m[i0, j0] * wa0 * wr0
+        t += m[i0, j1] * wa0 * wr1
+        t += m[i1, j0] * wa1 * wr0
+        t += m[i1, j1] * wa1 * wr1
+        out[p] = t
 
 
 __all__ = [
