@@ -4,9 +4,10 @@ Each band has one persistent offscreen VTK render window (EGL/OSMesa over Mesa w
 is no display or GPU). The GPU pass only rasterises a *triangle index* image: every
 triangle is drawn in a flat, unlit colour that encodes its global index (24 bits), with
 multisampling and anti-aliasing off so that indices never blend. Everything radiometric is
-then computed in float64 numpy from that index: the exact ray–triangle intersection
-(Möller–Trumbore) gives range and barycentric coordinates, which interpolate the vertex
-normals; the material model gives the band intensity, and the objects' rigid motion gives
+then computed from that index, per pixel, in one compiled pass
+(:mod:`simcore.render.shading_kernels`, GIL released): the exact ray–triangle-plane
+intersection gives the range, barycentric coordinates of the hit interpolate the vertex
+normals, the material model gives the band intensity, and the objects' rigid motion gives
 the exact velocity of every surface point.
 """
 
@@ -17,6 +18,7 @@ import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL backend)
@@ -33,9 +35,14 @@ from vtkmodules.vtkRenderingCore import (
 
 from simcore.render.buffers import RenderBuffers
 from simcore.render.meshes import TriangleMesh, build_mesh
+from simcore.render.shading_kernels import (
+    MATERIAL_COLUMNS,
+    shade_geometry,
+    shade_surface,
+)
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.geometry import Sphere
-from simcore.scene.materials import BANDS, band_response
+from simcore.scene.materials import BANDS
 from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot, SensorState
@@ -232,15 +239,6 @@ def _ray_grid(intr: PinholeIntrinsics
     return _RAY_CACHE[intr]
 
 
-def _pixel_rays(intr: PinholeIntrinsics, pixel: NDArray[np.intp]) -> NDArray[np.float64]:
-    """Rays ``(x/z, y/z, 1)`` of the given flat pixel indices, shape (n, 3), float64."""
-    rows, cols = np.divmod(pixel, intr.width)
-    d = np.ones((len(pixel), 3))
-    d[:, 0] = (cols + 0.5 - intr.cx) / intr.fx
-    d[:, 1] = (rows + 0.5 - intr.cy) / intr.fy
-    return d
-
-
 @dataclass(frozen=True)
 class RenderRequest:
     """One render pass a sensor needs: seen from ``sensor``, in ``band``, on a pixel grid.
@@ -268,7 +266,7 @@ class RenderRequest:
 
 @dataclass(frozen=True)
 class Raster:
-    """Output of the GPU pass of one band, input of the (thread-safe, numpy) shading.
+    """Output of the GPU pass of one band, input of the (thread-safe, CPU) shading.
 
     Attributes
     ----------
@@ -409,7 +407,7 @@ class SceneRenderer:
 
     def shade(self, raster: Raster, *, background: tuple[Raster, RenderBuffers] | None = None
               ) -> RenderBuffers:
-        """Float geometry and radiometry of a :meth:`rasterize` output (numpy only).
+        """Float geometry and radiometry of a :meth:`rasterize` output (CPU only).
 
         Thread-safe: it reads only the raster (which holds the geometry and material tables
         of its time), so it may run on another thread while the next pass rasterises.
@@ -449,7 +447,8 @@ def _shade(raster: Raster, background: tuple[Raster, RenderBuffers] | None = Non
         if idx.size == 0:
             return dataclasses.replace(bg, time_s=snapshot.time_s, sensor=sensor)
         px = _shade_pixels(raster, idx)
-        out = {name: getattr(bg, name).copy() for name in _PIXEL_FIELDS}
+        out: dict[str, Any] = {name: _writable_copy(getattr(bg, name))
+                               for name in _PIXEL_FIELDS}
         for name, values in px.items():
             out[name].reshape(-1, *values.shape[1:])[idx] = values
     else:
@@ -457,6 +456,19 @@ def _shade(raster: Raster, background: tuple[Raster, RenderBuffers] | None = Non
         out = {name: values.reshape(h, w, *values.shape[1:]) for name, values in px.items()}
     return RenderBuffers(band=band, time_s=snapshot.time_s, intrinsics=intr, sensor=sensor,
                          meshes=tuple(raster.geometry.meshes), **out)
+
+
+def _writable_copy(values: NDArray[np.generic]) -> NDArray[np.generic]:
+    """A writable copy of ``values``; of zeros broadcast from one value, fresh zeros.
+
+    A geometry-only pass's unshaded fields are read-only broadcast zeros: ``np.zeros``
+    gives the same values without touching (page-faulting) megabytes of new memory.
+    """
+    if values.size and not any(values.strides):
+        first = values.reshape(-1)[0]
+        if first == 0 and not np.signbit(first):
+            return np.zeros(values.shape, dtype=values.dtype)
+    return values.copy()
 
 
 #: Per-pixel fields of :class:`RenderBuffers`.
@@ -502,31 +514,72 @@ def changed_pixels(raster: Raster, background: tuple[Raster, RenderBuffers] | No
     return changed if changed.size <= raster.labels.size // 2 else None
 
 
-def _rotate(x: NDArray[np.float64], m: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``x @ m`` for x of shape (n, 3), element by element.
-
-    No BLAS: each row gets the same rounding whatever n is.
-    """
-    return x[:, 0:1] * m[0] + x[:, 1:2] * m[1] + x[:, 2:3] * m[2]
-
-
 def _shade_pixels(raster: Raster, idx: NDArray[np.intp] | None
                   ) -> dict[str, NDArray[np.generic]]:
-    """Per-pixel fields (flat, first axis = pixel) of all pixels or of ``idx``."""
+    """Per-pixel fields (flat, first axis = pixel) of all pixels or of ``idx``.
+
+    The per-triangle planes and per-object tables are built here in float64 numpy; the
+    per-pixel work is one compiled pass (:mod:`simcore.render.shading_kernels`).
+    """
     snapshot, intr, geo = raster.snapshot, raster.intrinsics, raster.geometry
     tables = raster.tables
     sensor = snapshot.sensor(raster.sensor)
     transforms = snapshot.object_transforms()
-    n_tri = len(geo.triangles)
     rot, origin = sensor.rotation, sensor.position
     u, v, ray_norm = _ray_grid(intr)                              # flat, (H * W,)
-    label = raster.labels.ravel()                                  # 0 = background
-    if idx is not None:
-        u, v, ray_norm, label = u[idx], v[idx], ray_norm[idx], label[idx]
-
-    # Per-triangle planes in the optical frame: n·X = delta, n facing the sensor; row 0
-    # is the background (normal 0, delta NaN), row k + 1 triangle k.
+    labels = np.ascontiguousarray(raster.labels, dtype=np.uint32).ravel()  # 0 = background
+    subset = idx is not None
+    pixels = (np.ascontiguousarray(idx, dtype=np.int64) if idx is not None
+              else np.zeros(0, dtype=np.int64))
     vertices, vnormals = geo.world_vertices(transforms)
+    plane_n, plane_d = _planes(geo, vertices, rot, origin)
+    if raster.geometry_only:
+        rng, obj, obj_id = shade_geometry(labels, pixels, subset, u, v, ray_norm, plane_n,
+                                          plane_d, geo.label_object, tables.ids)
+        n = obj.size
+        zero = np.zeros(1, dtype=np.float32)
+        return {
+            "range_m": rng,
+            "points_m": np.broadcast_to(zero, (n, 3)),
+            "normals": np.broadcast_to(zero, (n, 3)),
+            "cos_incidence": np.broadcast_to(zero, (n,)),
+            "object_index": obj,
+            "object_id": obj_id,
+            "intensity": np.broadcast_to(zero, (n,)),
+            "velocity_mps": np.broadcast_to(zero, (n, 3)),
+            "radial_velocity_mps": np.broadcast_to(zero, (n,)),
+        }
+    lin, ang = _relative_motion(snapshot, sensor, transforms)
+    n_obj = len(snapshot.objects)
+    # Spheres are refined analytically around their centres (optical frame).
+    centres = np.zeros((n_obj + 1, 3))
+    if n_obj:
+        centres[:n_obj] = (transforms[:, :3, 3] - origin) @ rot
+    material = np.stack([tables.params[k] for k in MATERIAL_COLUMNS], axis=1)
+    camera = np.array([intr.cx, intr.cy, intr.fx, intr.fy], dtype=np.float64)
+    fields = shade_surface(
+        labels, pixels, subset, intr.width, camera, u, v, ray_norm, plane_n, plane_d,
+        geo.label_object, geo.label_smooth, np.ascontiguousarray(geo.triangles, np.int64),
+        np.ascontiguousarray(vertices), np.ascontiguousarray(vnormals),
+        np.ascontiguousarray(rot, dtype=np.float64),
+        np.ascontiguousarray(origin, dtype=np.float64),
+        np.ascontiguousarray(tables.sphere_radius, dtype=np.float64), centres, lin, ang,
+        np.ascontiguousarray(material), tables.ids)
+    return dict(zip(_PIXEL_FIELDS, fields, strict=True))
+
+
+def _planes(geo: _Geometry, vertices: NDArray[np.float64], rot: NDArray[np.float64],
+            origin: NDArray[np.float64]) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+    """Per-label triangle planes in the optical frame, ``n · X = delta``, n facing the sensor.
+
+    Returns
+    -------
+    plane_n : ndarray, shape (triangles + 1, 3), float32
+        Row 0 is the background (normal 0), row k + 1 triangle k.
+    plane_d : ndarray, shape (triangles + 1,), float32
+        NaN for row 0.
+    """
+    n_tri = len(geo.triangles)
     corners = geo.triangles
     a = vertices[corners[:, 0]]
     face = np.cross(vertices[corners[:, 1]] - a, vertices[corners[:, 2]] - a)
@@ -538,56 +591,23 @@ def _shade_pixels(raster: Raster, idx: NDArray[np.intp] | None
     plane_n[1:] = n_opt * flip[:, None]
     plane_d = np.full(n_tri + 1, np.nan, dtype=np.float32)
     plane_d[1:] = delta * flip
-    normals = np.take(plane_n, label, axis=0)                    # (N, 3)
-    nx, ny, nz = normals[:, 0], normals[:, 1], normals[:, 2]
-    denom = nx * u
-    denom += ny * v
-    denom += nz
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.take(plane_d, label) / denom
-    t[~(t > 0)] = np.nan                                         # grazing / behind
-    valid = np.isfinite(t)
-    obj = np.take(geo.label_object, label)
-    obj[~valid] = -1
-    pixel = np.arange(label.size) if idx is None else idx        # flat image index
-    if raster.geometry_only:
-        zero = np.zeros(1, dtype=np.float32)
-        return {
-            "range_m": t * ray_norm,
-            "points_m": np.broadcast_to(zero, (label.size, 3)),
-            "normals": np.broadcast_to(zero, (label.size, 3)),
-            "cos_incidence": np.broadcast_to(zero, (label.size,)),
-            "object_index": obj,
-            "object_id": np.take(tables.ids, obj),
-            "intensity": np.broadcast_to(zero, (label.size,)),
-            "velocity_mps": np.broadcast_to(zero, (label.size, 3)),
-            "radial_velocity_mps": np.broadcast_to(zero, (label.size,)),
-        }
+    return plane_n, plane_d
 
-    # Smooth surfaces: interpolate vertex normals with barycentric weights.
-    smooth = np.take(geo.label_smooth, label)
-    smooth &= valid
-    if smooth.any():
-        _smooth_normals(geo, intr, np.flatnonzero(smooth), pixel, label, t, vertices,
-                        vnormals, rot, origin, normals)
-    if tables.sphere_radius.any():
-        _refine_spheres(tables.sphere_radius, intr, pixel, obj, valid, origin, rot,
-                        transforms, t, normals)
 
-    points = np.empty(normals.shape, dtype=np.float32)
-    np.multiply(t, u, out=points[:, 0])
-    np.multiply(t, v, out=points[:, 1])
-    points[:, 2] = t
-    rng = t * ray_norm
-    cos_inc = nx * u
-    cos_inc += ny * v
-    cos_inc += nz
-    cos_inc /= -ray_norm
-    np.clip(cos_inc, 0.0, 1.0, out=cos_inc)
-    cos_inc[~valid] = 0.0
+def _relative_motion(snapshot: SceneSnapshot, sensor: SensorState,
+                     transforms: NDArray[np.float64]
+                     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Rigid motion of every object relative to the sensor origin, optical frame.
 
-    # Exact rigid-body velocity of each surface point relative to the sensor origin:
-    # v(X) = v_obj + w x (X - c) - v_sensor = (v_obj - v_sensor - w x c) + w x X.
+    ``v(X) = v_obj + w x (X - c) - v_sensor = (v_obj - v_sensor - w x c) + w x X``.
+
+    Returns
+    -------
+    lin, ang : ndarray, shape (objects + 1, 3), float64
+        ``lin[k] + ang[k] x X`` is the velocity (m/s) of a point ``X`` of object ``k``
+        (optical frame); the last rows ("no object") are zero.
+    """
+    rot, origin = sensor.rotation, sensor.position
     n_obj = len(snapshot.objects)
     lin = np.zeros((n_obj + 1, 3))
     ang = np.zeros((n_obj + 1, 3))
@@ -597,89 +617,4 @@ def _shade_pixels(raster: Raster, idx: NDArray[np.intp] | None
         c_w = transforms[:, :3, 3] - origin
         lin[:n_obj] = (v_w - sensor.velocity_mps - np.cross(w_w, c_w)) @ rot
         ang[:n_obj] = w_w @ rot
-    velocity = np.zeros(normals.shape, dtype=np.float32)
-    radial = np.zeros(t.shape, dtype=np.float32)
-    moving = np.any((lin != 0) | (ang != 0), axis=1)             # last row (none): False
-    if moving.any():
-        sel = np.flatnonzero(np.take(moving, obj))                # valid pixels only
-        o = obj[sel]
-        vel = lin[o]
-        if np.any(ang[o]):
-            vel += np.cross(ang[o], points[sel].astype(np.float64))
-        velocity[sel] = vel
-        rays = _pixel_rays(intr, pixel[sel])
-        radial[sel] = np.einsum("ij,ij->i", vel, rays) / np.linalg.norm(rays, axis=1)
-
-    params = {k: np.take(arr, obj) for k, arr in tables.params.items()}
-    params["roughness"][~valid] = 1.0
-    intensity = np.asarray(band_response(cos_inc, **params), dtype=np.float32)
-    intensity[~valid] = 0.0
-    return {
-        "range_m": rng,
-        "points_m": points,
-        "normals": normals,
-        "cos_incidence": cos_inc,
-        "object_index": obj,
-        "object_id": np.take(tables.ids, obj),
-        "intensity": intensity,
-        "velocity_mps": velocity,
-        "radial_velocity_mps": radial,
-    }
-
-
-def _smooth_normals(geo: _Geometry, intr: PinholeIntrinsics, sel: NDArray[np.intp],
-                    pixel: NDArray[np.intp], label: NDArray[np.uint32], t: NDArray[np.float32],
-                    vertices: NDArray[np.float64], vnormals: NDArray[np.float64],
-                    rot: NDArray[np.float64], origin: NDArray[np.float64],
-                    normals: NDArray[np.float32]) -> None:
-    """Barycentric interpolation of vertex normals on smooth triangles (in place).
-
-    ``sel`` indexes the shaded pixels (``pixel[sel]`` are their image indices).
-    """
-    rays = _pixel_rays(intr, pixel[sel])
-    corners = geo.triangles[label[sel].astype(np.intp) - 1]
-    a, b, c = (vertices[corners[:, k]] for k in range(3))
-    x = origin + _rotate(t[sel].astype(np.float64)[:, None] * rays, rot.T)  # world hits
-    e1, e2, wv = b - a, c - a, x - a
-    d00 = np.einsum("ij,ij->i", e1, e1)
-    d01 = np.einsum("ij,ij->i", e1, e2)
-    d11 = np.einsum("ij,ij->i", e2, e2)
-    d20 = np.einsum("ij,ij->i", wv, e1)
-    d21 = np.einsum("ij,ij->i", wv, e2)
-    den = d00 * d11 - d01 * d01
-    bu = np.clip((d11 * d20 - d01 * d21) / den, 0.0, 1.0)
-    bv = np.clip((d00 * d21 - d01 * d20) / den, 0.0, 1.0)
-    excess = np.maximum(bu + bv - 1.0, 0.0) / 2
-    bu, bv = bu - excess, bv - excess
-    n = _rotate((1 - bu - bv)[:, None] * vnormals[corners[:, 0]] + bu[:, None]
-                * vnormals[corners[:, 1]] + bv[:, None] * vnormals[corners[:, 2]], rot)
-    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-    n *= np.where(np.einsum("ij,ij->i", n, rays) > 0, -1.0, 1.0)[:, None]
-    normals[sel] = n
-
-
-def _refine_spheres(sphere_radius: NDArray[np.float64], intr: PinholeIntrinsics,
-                    pixel: NDArray[np.intp], obj: NDArray[np.int32], valid: NDArray[np.bool_],
-                    origin: NDArray[np.float64], rot: NDArray[np.float64],
-                    transforms: NDArray[np.float64], t: NDArray[np.float32],
-                    normals: NDArray[np.float32]) -> None:
-    """Replace facet hits on spheres by the exact ray–sphere intersection (in place)."""
-    radius = np.take(sphere_radius, obj)
-    sel = np.flatnonzero(valid & (radius > 0))
-    if not sel.size:
-        return
-    r = radius[sel]
-    centres = (transforms[:, :3, 3] - origin) @ rot               # per object, optical
-    centre = centres[obj[sel]]
-    d = _pixel_rays(intr, pixel[sel])
-    a = np.einsum("ij,ij->i", d, d)
-    b = -np.einsum("ij,ij->i", d, centre)
-    c = np.einsum("ij,ij->i", centre, centre) - r**2
-    disc = b * b - a * c
-    ok = disc >= 0          # rays through the facets but past the true limb keep the facet
-    root = (-b - np.sqrt(np.where(ok, disc, 0.0))) / a
-    t_old = t[sel].astype(np.float64)
-    t_sel = np.where(ok, root, t_old)
-    n_sel = np.where(ok[:, None], (t_sel[:, None] * d - centre) / r[:, None], normals[sel])
-    t[sel] = t_sel
-    normals[sel] = n_sel
+    return lin, ang
