@@ -362,7 +362,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
         print(json.dumps(result))
         return 0
     print(f"{project_path.name}: {args.frames} frames, median {result['frame_ms_median']:.1f} "
-          f"ms/frame ({result['fps']:.2f} frames/s), CPU {result['cpu_ms_median']:.1f} ms/frame")
+          f"ms/frame ({result['fps']:.2f} frames/s), CPU {result['cpu_ms_median']:.1f} ms/frame, "
+          f"latency {result['latency_ms_median']:.1f} ms (frames overlap)")
     for k, v in result["stages_ms"].items():
         print(f"  {k:<18} {v:8.2f} ms")
     print(f"  IF synthesis vs direct sum: {result['if_error_db']:.1f} dB on "

@@ -20,6 +20,7 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -27,7 +28,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from simcore.engine import FrameEngine
+from simcore.engine import FrameEngine, FrameResult
 from simcore.render.buffers import RenderBuffers
 from simcore.scene.ground_truth import ObjectTruth, object_ground_truth
 from simcore.scene.model import Project
@@ -151,12 +152,25 @@ class Simulator:
 
     def frame(self, index: int) -> Frame:
         """Compute frame ``index`` of the timeline: snapshot, renders, every sensor."""
-        result = self.engine.frame(index)
+        return self._frame(self.engine.frame(index))
+
+    def frames(self, indices: Iterable[int]) -> Iterator[Frame]:
+        """Compute frames ``indices`` in order, overlapping consecutive frames.
+
+        The results equal :meth:`frame`'s, one by one; on two cores a run of frames is
+        faster, because frame k+1's renders and ToF camera run while frame k's radar
+        chain ends (:meth:`simcore.engine.FrameEngine.frames`). Edits
+        (:meth:`set_project`) between frames of one iteration are not allowed.
+        """
+        for result in self.engine.frames(indices):
+            yield self._frame(result)
+
+    def _frame(self, result: FrameResult) -> Frame:
         snap = result.snapshot
         meshes = self.engine.renderer.geometry.meshes
         truth = object_ground_truth(self.project, snap,
                                     [None if m is None else m.points for m in meshes])
-        return Frame(index=index, time_s=snap.time_s, rig_pose=snap.rig.transform,
+        return Frame(index=result.index, time_s=snap.time_s, rig_pose=snap.rig.transform,
                      object_poses=snap.object_transforms(), snapshot=snap,
                      outputs=result.outputs, buffers=result.buffers,
                      timings_ms=result.timings_ms, objects=truth,

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from simcore.pipeline import Simulator
+from simcore.pipeline import Frame, Simulator
 from simcore.preflight import RunError
 from simcore.scene.project_io import project_from_dict
 from simcore.sensors.base import H5Items
@@ -119,10 +119,13 @@ def check_finite(index: int, items: H5Items) -> None:
 
 def compute_frame(spec: RunSpec, index: int) -> FrameResult:
     """Compute frame ``index`` of a run (in whichever process calls it)."""
-    frame = _simulator(spec).frame(index)
+    return _result(_simulator(spec).frame(index))
+
+
+def _result(frame: Frame) -> FrameResult:
     items = frame.hdf5_items()
-    check_finite(index, items)
-    return FrameResult(index, items, frame.table_rows(), frame.timings_ms)
+    check_finite(frame.index, items)
+    return FrameResult(frame.index, items, frame.table_rows(), frame.timings_ms)
 
 
 def static_items(spec: RunSpec) -> H5Items:
@@ -238,8 +241,9 @@ def iter_frames(spec: RunSpec, indices: Sequence[int], *, workers: int = 1,
                               window=window, task_timeout_s=task_timeout_s,
                               connect_timeout_s=connect_timeout_s)
     elif workers <= 1:
-        for i in indices:
-            yield compute_frame(spec, i)
+        # In this process, consecutive frames overlapped (Simulator.frames).
+        for frame in _simulator(spec).frames(indices):
+            yield _result(frame)
     else:
         ctx = multiprocessing.get_context("spawn")
         with ProcessPoolExecutor(max_workers=workers, mp_context=ctx,

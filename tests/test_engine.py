@@ -103,6 +103,26 @@ def test_accelerated_frames_equal_the_plain_path(case: str) -> None:
         assert_same_frame(out, plain.frame(frames[1]))
 
 
+@pytest.mark.parametrize("example", ["office_walkthrough", "office"])
+def test_overlapped_frames_equal_one_at_a_time(example: str) -> None:
+    """Simulator.frames (frame k+1 started while frame k's radar ends) = frame() by frame()."""
+    path = example_path(example)
+    project = load_project(path)
+    indices = [0, 1, 2, 7, 3]
+    with Simulator(project, base_dir=path.parent) as one:
+        expected = [one.frame(i) for i in indices]
+    with Simulator(project, base_dir=path.parent) as sim:
+        got = list(sim.frames(indices))
+        assert [f.index for f in got] == indices
+        for a, b in zip(got, expected, strict=True):
+            assert_same_frame(a, b)
+        # Leaving an iteration early waits for the frame in flight; the simulator goes on.
+        for frame in sim.frames([4, 5, 6]):
+            assert frame.index == 4
+            break
+        assert_same_frame(sim.frame(3), expected[-1])
+
+
 def test_still_background_transforms_only_what_moves() -> None:
     path = example_path("office")
     project = load_project(path)

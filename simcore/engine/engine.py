@@ -20,7 +20,7 @@ from __future__ import annotations
 import ctypes
 import dataclasses
 import time
-from collections.abc import Callable, Hashable, Sequence
+from collections.abc import Callable, Hashable, Iterable, Iterator, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -82,6 +82,20 @@ def _state_key(snapshot: SceneSnapshot, sensor: str) -> bytes:
     for state in snapshot.objects:
         parts += [state.transform, state.velocity_mps, state.angular_velocity_rps]
     return b"".join(np.ascontiguousarray(p, dtype=np.float64).tobytes() for p in parts)
+
+
+@dataclass
+class _InFlight:
+    """A frame whose worker chains may still run (:meth:`FrameEngine._start`)."""
+
+    index: int
+    snapshot: SceneSnapshot
+    sensors: list[Sensor]
+    timings: dict[str, float]
+    start: float
+    futures: dict[str, Future[tuple[RenderBuffers, SensorOutput]]] = field(default_factory=dict)
+    results: dict[str, tuple[RenderBuffers, SensorOutput]] = field(default_factory=dict)
+    through: dict[str, RenderBuffers] = field(default_factory=dict)
 
 
 class StillBackground:
@@ -153,6 +167,33 @@ class FrameEngine:
     # ------------------------------------------------------------------ one frame
     def frame(self, index: int) -> FrameResult:
         """Compute frame ``index`` of the timeline."""
+        return self._finish(self._start(index))
+
+    def frames(self, indices: Iterable[int]) -> Iterator[FrameResult]:
+        """Compute frames ``indices`` in order, two at a time (the results of :meth:`frame`).
+
+        While the worker thread finishes frame k's worker chains (the radar), the calling
+        thread already renders frame k+1 and runs its own chains (the ToF camera): on two
+        cores neither thread waits for the other's chain of the same frame. Each chain
+        still runs its frames in order on its one thread, so every result equals
+        :meth:`frame`'s. Stopping the iteration early waits for the frame in flight.
+        """
+        pending: _InFlight | None = None
+        try:
+            for index in indices:
+                done, pending = pending, self._start(index)
+                if done is not None:
+                    yield self._finish(done)
+            if pending is not None:
+                done, pending = pending, None
+                yield self._finish(done)
+        finally:
+            if pending is not None:
+                for future in pending.futures.values():
+                    future.cancel() or future.exception()
+
+    def _start(self, index: int) -> _InFlight:
+        """Snapshot and renders of frame ``index``; worker chains submitted, the others run."""
         start = time.perf_counter()
         timings: dict[str, float] = {}
         project = self.project
@@ -161,27 +202,41 @@ class FrameEngine:
         timings["snapshot"] = (time.perf_counter() - t0) * 1e3
         # GPU passes on this thread; worker sensors' rasters first so their chain starts.
         order = sorted(self.sensors, key=lambda s: not (s.on_worker and self.threads))
-        futures: dict[str, Future[tuple[RenderBuffers, SensorOutput]]] = {}
-        through: dict[str, RenderBuffers] = {}
-        results: dict[str, tuple[RenderBuffers, SensorOutput]] = {}
+        flight = _InFlight(index=index, snapshot=snap, sensors=list(self.sensors),
+                           timings=timings, start=start)
         try:
             for sensor in order:
-                chain = self._sensor_chain(sensor, snap, index, timings, through)
+                chain = self._sensor_chain(sensor, snap, index, timings, flight.through)
                 if sensor.on_worker and self.threads:
-                    futures[sensor.name] = self._pool().submit(chain)
+                    flight.futures[sensor.name] = self._pool().submit(chain)
                 else:
-                    results[sensor.name] = chain()
-        finally:
-            for name, future in futures.items():
+                    flight.results[sensor.name] = chain()
+        except BaseException:
+            for future in flight.futures.values():
+                future.cancel() or future.exception()
+            raise
+        return flight
+
+    def _finish(self, flight: _InFlight) -> FrameResult:
+        """Wait for a frame's worker chains; its result."""
+        results = flight.results
+        error: BaseException | None = None
+        for name, future in flight.futures.items():
+            try:
                 results[name] = future.result()
-        timings["total"] = (time.perf_counter() - start) * 1e3
-        names = [s.name for s in self.sensors]
+            except BaseException as exc:  # the first error, after every chain has ended
+                error = error or exc
+        if error is not None:
+            raise error
+        flight.timings["total"] = (time.perf_counter() - flight.start) * 1e3
+        names = [s.name for s in flight.sensors]
+        snap = flight.snapshot
         return FrameResult(
-            index=index, snapshot=snap,
+            index=flight.index, snapshot=snap,
             outputs={n: results[n][1] for n in names},
             buffers={n: _stamped(results[n][0], snap, n) for n in names},
-            timings_ms=timings,
-            see_through={n: _stamped(b, snap, n) for n, b in through.items()})
+            timings_ms=flight.timings,
+            see_through={n: _stamped(b, snap, n) for n, b in flight.through.items()})
 
     def _sensor_chain(self, sensor: Sensor, snap: SceneSnapshot, index: int,
                       timings: dict[str, float], through_out: dict[str, RenderBuffers]
