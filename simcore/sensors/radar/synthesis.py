@@ -40,7 +40,7 @@ from __future__ import annotations
 import dataclasses
 import os
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any, Literal
@@ -65,6 +65,7 @@ from simcore.sensors.radar.equation import (
     pattern_gains,
 )
 from simcore.sensors.radar.kinematics import Trajectory
+from simcore.sensors.radar.path_kernel import path_lengths
 from simcore.sensors.radar.receiver import (
     leakage_if,
     quantize,
@@ -96,8 +97,6 @@ MAX_SERIES_ORDER = 4
 #: Scatterers × samples below which a fallback block is summed directly (a type-3
 #: transform costs ≈ 0.5–4 ms whatever its size; the direct sum ≈ 30 ns per term).
 DIRECT_MAX_TERMS = 32768
-#: Scatterers per chunk of the position and path-length arithmetic (cache-sized arrays).
-FIT_CHUNK = 16384
 #: Scatterers up to which the series vectors share the main transform call.
 MERGE_SERIES_POINTS = 32768
 #: Loosest tolerance of the curvature-series transforms (their terms are small).
@@ -695,43 +694,49 @@ def _frame_amplitudes(prep: PreparedScatterers, rows: slice, t: int, r: int,
     return out
 
 
-def _moving_task(motion: _Motion, rows: slice, t: int, sweep: _Sweep, wave: _Waveform,
-                 config: RadarConfig, antennas: _Antennas) -> list[NDArray[np.complex128]]:
-    """One block of moving scatterers, one Tx, every Rx: the IF over all chirps.
+def _moving_task(motion: _Motion, rows: slice, t: int, rxs: Sequence[int], sweep: _Sweep,
+                 wave: _Waveform, config: RadarConfig, antennas: _Antennas
+                 ) -> list[NDArray[np.complex128]]:
+    """One block of moving scatterers, one Tx, the Rx ``rxs``: the IF over all chirps.
 
-    The positions at the frame's fit nodes are computed once for all Rx, in cache-sized
-    chunks; the transforms then take the whole block at once (their fixed cost is paid
-    once per block).
+    The path lengths at the frame's fit nodes come from one compiled pass per Rx
+    (:func:`~simcore.sensors.radar.path_kernel.path_lengths`), or, for a trajectory, from
+    positions computed once for all Rx in cache-sized chunks; the transforms then take the
+    whole block at once (their fixed cost is paid once per block and pair).
 
     Returns
     -------
     list of ndarray, shape (chirps, samples)
-        One per Rx.
+        One per Rx of ``rxs``.
     """
-    n_c, n_rx = config.chirps_per_frame, len(config.rx)
+    n_c = config.chirps_per_frame
     idx = np.arange(rows.start, rows.stop)
     tg = _Targets.of(sweep, t, 0, n_c)
     times = np.concatenate([[0.0], tg.t_c + tg.half * motion.nodes])
     p_t, p_rx = antennas[0][t], antennas[1]
     d0_t = np.empty(len(idx))
-    d0_r = np.empty((n_rx, len(idx)))
-    path = np.empty((n_rx, len(times) - 1, len(idx)))
-    # A trajectory returns every scatterer at each call: call it once per block then.
-    chunk = FIT_CHUNK if motion.trajectory is None else max(len(idx), 1)
-    for lo in range(0, len(idx), chunk):
-        hi = min(lo + chunk, len(idx))
-        pos = motion.positions(idx[lo:hi], times)                      # (3, T, b)
+    d0_r = np.empty((len(rxs), len(idx)))
+    path = np.empty((len(rxs), len(times) - 1, len(idx)))
+    if motion.trajectory is None:
+        prep = motion.prep
+        for j, r in enumerate(rxs):
+            path_lengths(prep.pos, prep.vel, prep.acc, prep.accelerates, rows.start,
+                         rows.stop, times, np.ascontiguousarray(p_t),
+                         np.ascontiguousarray(p_rx[r]), path[j], d0_t, d0_r[j])
+    else:
+        # A trajectory returns every scatterer at each call: call it once per block.
+        pos = motion.positions(idx, times)                             # (3, T, b)
         d_t = _distance(pos, p_t)
-        d0_t[lo:hi] = d_t[0]
-        for r in range(n_rx):
+        d0_t[:] = d_t[0]
+        for j, r in enumerate(rxs):
             d_r = _distance(pos, p_rx[r])
-            d0_r[r, lo:hi] = d_r[0]
-            np.add(d_t[1:], d_r[1:], out=path[r, :, lo:hi])
+            d0_r[j] = d_r[0]
+            np.add(d_t[1:], d_r[1:], out=path[j])
     outs = []
-    for r in range(n_rx):
+    for j, r in enumerate(rxs):
         out = np.zeros((n_c, config.samples_per_chirp), dtype=np.complex128)
-        w0 = _frame_amplitudes(motion.prep, rows, t, r, config, wave, d0_t, d0_r[r])
-        _moving_block(motion, idx, w0, (t, p_t, p_rx[r]), 0, n_c, sweep, out, path=path[r])
+        w0 = _frame_amplitudes(motion.prep, rows, t, r, config, wave, d0_t, d0_r[j])
+        _moving_block(motion, idx, w0, (t, p_t, p_rx[r]), 0, n_c, sweep, out, path=path[j])
         outs.append(out)
     return outs
 
@@ -758,8 +763,8 @@ def _pool(threads: int) -> ThreadPoolExecutor:
         return _POOLS[threads]
 
 
-#: One task: (moving?, scatterer rows, Tx).
-_Task = tuple[bool, slice, int]
+#: One task: (moving?, scatterer rows, Tx, its Rx).
+_Task = tuple[bool, slice, int, tuple[int, ...]]
 
 
 def antenna_positions(config: RadarConfig, tx_positions_m: NDArray[np.floating] | None,
@@ -849,22 +854,25 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
     wave = _Waveform.of(config)
     sweep = _Sweep.of(config)
 
+    all_rx = tuple(range(n_rx))
     tasks: list[_Task] = []
     for lo in range(0, prep.n_static, BLOCK):
         rows = slice(lo, min(lo + BLOCK, prep.n_static))
-        tasks.extend((False, rows, t) for t in range(n_tx))
+        tasks.extend((False, rows, t, all_rx) for t in range(n_tx))
     n_threads = DEFAULT_THREADS if threads is None else max(1, int(threads))
     # Moving scatterers: as few tasks as keep the threads busy (each type-3 transform has a
-    # fixed cost of ≈ 2 ms at its 8192 targets, whatever its number of points).
+    # fixed cost of ≈ 2 ms at its 8192 targets, whatever its number of points): one per
+    # block of rows and Tx–Rx pair (a trajectory: per Tx, its positions serve every Rx).
     step = max(BLOCK, -(-(len(prep) - prep.n_static) // n_threads))
+    rx_groups = [all_rx] if trajectory is not None else [(r,) for r in all_rx]
     for lo in range(prep.n_static, len(prep), step):
         rows = slice(lo, min(lo + step, len(prep)))
-        tasks.extend((True, rows, t) for t in range(n_tx))
+        tasks.extend((True, rows, t, rxs) for t in range(n_tx) for rxs in rx_groups)
 
     def run(task: _Task) -> list[NDArray[np.complexfloating]]:
-        moves, rows, t = task
+        moves, rows, t, rxs = task
         if moves:
-            return list(_moving_task(motion, rows, t, sweep, wave, config, antennas))
+            return list(_moving_task(motion, rows, t, rxs, sweep, wave, config, antennas))
         return _static_task(prep, rows, t, wave, config, antennas)
 
     results: Iterator[list[NDArray[np.complexfloating]]]
@@ -872,8 +880,8 @@ def synthesize_if(scatterers: Scatterers, config: RadarConfig, *, threads: int |
         results = map(run, tasks)
     else:
         results = _pool(n_threads).map(run, tasks)
-    for (_, _, t), ys in zip(tasks, results, strict=True):
-        for r, y in enumerate(ys):
+    for (_, _, t, rxs), ys in zip(tasks, results, strict=True):
+        for r, y in zip(rxs, ys, strict=True):
             out[:, t * n_rx + r] += y   # (N,) broadcasts over the chirps
     return out
 
