@@ -160,3 +160,140 @@ def test_a_noiseless_receiver_labels_without_warnings() -> None:
                                   np.array([4]), rc, dc, axes)
     np.testing.assert_array_equal(labels.object_id, [4, -1])
     np.testing.assert_allclose(labels.power_fraction, [1.0, 0.0])
+
+
+# --------------------------------------------------------------------------------------
+# The compiled label terms against the previous numpy implementation
+# --------------------------------------------------------------------------------------
+
+
+def prepare_reference(scatterers: Scatterers, rc: RadarConfig) -> dict[str, np.ndarray]:
+    """prepare_scatterers as numpy (the previous implementation): argsort, vector formulas."""
+    from simcore.dsp.angle import virtual_array_positions_m
+    from simcore.scene.radar_config import SPEED_OF_LIGHT
+    from simcore.sensors.radar.equation import amplitude_scale_fs, element_gain
+
+    pos = scatterers.positions_m
+    r = np.maximum(np.sqrt(np.einsum("ij,ij->i", pos, pos)), 1e-9)
+    order = np.argsort(r, kind="stable")
+    pos, r = pos[order], r[order]
+    u = pos / r[:, None]
+    v_radial = np.einsum("ij,ij->i", scatterers.velocities_mps[order], u)
+    g_tx = np.mean([element_gain(a.pattern or rc.element_pattern, pos) for a in rc.tx], axis=0)
+    g_rx = np.mean([element_gain(a.pattern or rc.element_pattern, pos) for a in rc.rx], axis=0)
+    power = amplitude_scale_fs(rc) ** 2 * scatterers.rcs_m2[order] * g_tx * g_rx / r**4
+    if rc.if_highpass_hz > 0:
+        x = (2.0 * rc.slope_hz_per_s * r / SPEED_OF_LIGHT / rc.if_highpass_hz) ** (
+            2 * rc.if_highpass_order)
+        power *= x / (1.0 + x)
+    if rc.if_lowpass_hz > 0:
+        x = (2.0 * rc.slope_hz_per_s * r / SPEED_OF_LIGHT / rc.if_lowpass_hz) ** (
+            2 * rc.if_lowpass_order)
+        power /= 1.0 + x
+    phase = u @ (-2.0 * np.pi / rc.wavelength_m * virtual_array_positions_m(rc).T)
+    steering = np.exp(1j * phase.astype(np.float32)).astype(np.complex64)
+    cycles = v_radial * 2.0 * len(rc.tx) * rc.chirp_repetition_time_s / rc.wavelength_m
+    return {"range_m": r, "velocity_mps": v_radial, "power": power, "steering": steering,
+            "object_index": scatterers.object_index[order], "doppler_cycles": cycles}
+
+
+def cell_power_reference(prepared, detections, n_objects, rc, dc, axes) -> np.ndarray:
+    """cell_power_by_object as a numpy loop over detections (the previous implementation)."""
+    from simcore.dsp.angle import direction_vectors, virtual_array_positions_m
+    from simcore.scene.radar_config import SPEED_OF_LIGHT
+    from simcore.sensors.radar import labels as lab
+
+    out = np.zeros((len(detections), n_objects + 1))
+    range_table = lab._window_power_table(dc.range_window, rc.samples_per_chirp,
+                                          dc.range_window_sidelobe_db, axes.range_fft_size)
+    doppler_table = lab._window_power_table(dc.doppler_window, rc.chirps_per_frame,
+                                            dc.doppler_window_sidelobe_db,
+                                            axes.doppler_fft_size)
+    dr = SPEED_OF_LIGHT * rc.sample_rate_hz / (2.0 * rc.slope_hz_per_s * axes.range_fft_size)
+    dv = float(axes.velocity_mps[1] - axes.velocity_mps[0])
+    reach_m = lab._range_reach_bins(range_table) * dr
+    cell_range = axes.range_m[detections.range_index]
+    cell_velocity = axes.velocity_mps[detections.doppler_index]
+    a_det = np.exp(-2j * np.pi * (direction_vectors(
+        np.deg2rad(detections.azimuth_deg), np.deg2rad(detections.elevation_deg))
+        @ virtual_array_positions_m(rc).T) / rc.wavelength_m).astype(np.complex64)
+    column = np.where((prepared.object_index >= 0) & (prepared.object_index < n_objects),
+                      prepared.object_index, n_objects)
+    n_ch = a_det.shape[1]
+    for j in range(len(detections)):
+        near = slice(*np.searchsorted(prepared.range_m, [cell_range[j] - reach_m,
+                                                         cell_range[j] + reach_m]))
+        power = prepared.power[near] * lab._lookup(
+            range_table, (prepared.range_m[near] - cell_range[j]) / dr)
+        power *= lab._lookup(doppler_table,
+                             (prepared.velocity_mps[near] - cell_velocity[j]) / dv)
+        power *= np.abs(prepared.steering[near] @ a_det[j].conj()) ** 2 / n_ch**2
+        if dc.static_clutter_removal:
+            power *= lab._clutter_filter(prepared.doppler_cycles[near], rc.chirps_per_frame)
+        out[j] = np.bincount(column[near], weights=power, minlength=n_objects + 1)
+    return out
+
+
+def _random_scene(rc: RadarConfig, axes, m: int, n_objects: int, seed: int):
+    rng = np.random.default_rng(seed)
+    r = rng.uniform(0.3, 0.9 * axes.range_m[-1], m)
+    r[:20] = r[20]                                   # equal ranges keep their order
+    az, el = rng.uniform(-1.2, 1.2, m), rng.uniform(-0.8, 0.8, m)
+    pos = r[:, None] * np.stack([np.sin(az) * np.cos(el), -np.sin(el),
+                                 np.cos(az) * np.cos(el)], axis=1)
+    pos[-1] = 0.0                                    # at the radar
+    vel = rng.uniform(-0.6, 0.6, (m, 3)) * axes.velocity_mps[-1]
+    scat = Scatterers.from_arrays(pos, rng.uniform(0.01, 2.0, m), velocities_mps=vel)
+    obj = rng.integers(-1, n_objects + 1, m).astype(np.int32)   # −1 and out of range too
+    scat = Scatterers(**{**scat.__dict__, "object_index": obj})
+    n_det = 30
+    ri = rng.integers(1, axes.range_m.size - 1, n_det)
+    di = rng.integers(0, axes.velocity_mps.size, n_det)
+    z = np.zeros(n_det)
+    det = Detections(di.astype(np.int64), ri.astype(np.int64), axes.range_m[ri],
+                     axes.velocity_mps[di], rng.uniform(-60, 60, n_det),
+                     rng.uniform(-40, 40, n_det), z + 20, z.copy(), np.zeros((n_det, 3)))
+    return scat, det
+
+
+LABEL_CASES = {
+    "preset": (RadarConfig(), DspConfig()),
+    "clutter_filter_lowpass": (RadarConfig(if_lowpass_hz=8e5, if_lowpass_order=4),
+                               DspConfig(static_clutter_removal=True)),
+    "tdm_mimo_own_patterns": (
+        RadarConfig.model_validate({
+            **RadarConfig().model_dump(),
+            "tx": [{"name": "tx1", "position_mm": (0.0, 0.0)},
+                   {"name": "tx2", "position_mm": (7.5, 0.0),
+                    "pattern": {"kind": "cosine", "exponent_az": 1.0, "exponent_el": 3.0}}],
+            "if_highpass_order": 2}),
+        DspConfig(range_window="blackman", doppler_window="hann")),
+    "table_pattern": (
+        RadarConfig.model_validate({
+            **RadarConfig().model_dump(),
+            "element_pattern": {"kind": "table", "azimuth_deg": [-90.0, 0.0, 90.0],
+                                "elevation_deg": [-90.0, 0.0, 90.0],
+                                "gain_db": [[-20.0, -10.0, -20.0], [-6.0, 0.0, -3.0],
+                                            [-20.0, -12.0, -20.0]]}}),
+        DspConfig()),
+}
+
+
+@pytest.mark.parametrize("case", list(LABEL_CASES))
+def test_label_terms_equal_the_numpy_reference(case: str) -> None:
+    from simcore.sensors.radar.labels import cell_power_by_object, prepare_scatterers
+
+    rc, dc = LABEL_CASES[case]
+    axes = radar_axes(rc, dc)
+    scat, det = _random_scene(rc, axes, 3000, 4, seed=len(case))
+    got = prepare_scatterers(scat, rc)
+    want = prepare_reference(scat, rc)
+    for name, value in want.items():
+        np.testing.assert_allclose(getattr(got, name), value, rtol=1e-13, atol=0,
+                                   err_msg=name)
+    np.testing.assert_array_equal(got.range_m, want["range_m"])      # the same order
+    powers = cell_power_by_object(got, det, 4, rc, dc, axes)
+    assert np.count_nonzero(powers) > 10
+    # The beam term is float32 in the reference: its rounding, no more.
+    np.testing.assert_allclose(powers, cell_power_reference(got, det, 4, rc, dc, axes),
+                               rtol=2e-6, atol=1e-12 * powers.max())

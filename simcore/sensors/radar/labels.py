@@ -34,6 +34,7 @@ background), and each detection sums only those near its range.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
@@ -45,8 +46,9 @@ from simcore.dsp.angle import direction_vectors, virtual_array_positions_m
 from simcore.dsp.detections import Detections
 from simcore.dsp.processing import RadarAxes
 from simcore.dsp.windows import make_window
+from simcore.jit import kernel
 from simcore.scene.dsp_config import DspConfig
-from simcore.scene.radar_config import SPEED_OF_LIGHT, Antenna, RadarConfig
+from simcore.scene.radar_config import SPEED_OF_LIGHT, Antenna, CosinePattern, RadarConfig
 from simcore.sensors.radar.equation import amplitude_scale_fs, element_gain, noise_std_fs
 from simcore.sensors.radar.scatterers import Scatterers
 
@@ -105,6 +107,7 @@ def _lookup(table: NDArray[np.float64], offset_bins: NDArray[np.float64]) -> NDA
     return table[idx]
 
 
+@lru_cache(maxsize=16)
 def _noise_gain(name: str, length: int, sidelobe_db: float) -> float:
     """``Σw² / (Σw)²`` of a window: the noise power of an amplitude-normalised bin."""
     w = make_window(name, length, sidelobe_db=sidelobe_db).astype(np.float64)  # type: ignore[arg-type]
@@ -113,6 +116,14 @@ def _noise_gain(name: str, length: int, sidelobe_db: float) -> float:
 
 def _mean_pair_gain(config: RadarConfig, directions: NDArray[np.float64]) -> NDArray[np.float64]:
     """Element power gain ``g_t g_r`` averaged over the Tx–Rx pairs, shape (M,)."""
+    patterns = [a.pattern or config.element_pattern for a in (*config.tx, *config.rx)]
+    if all(isinstance(p, CosinePattern) for p in patterns):
+        exponents = np.array([(p.exponent_az, p.exponent_el) for p in patterns],  # type: ignore[union-attr]
+                             dtype=np.float64)
+        out = np.empty(len(directions))
+        _cosine_pair_gain(np.ascontiguousarray(directions, dtype=np.float64), exponents,
+                          len(config.tx), out)
+        return out
     cache: dict[str, NDArray[np.float64]] = {}
 
     def gain(antenna: Antenna) -> NDArray[np.float64]:
@@ -125,6 +136,36 @@ def _mean_pair_gain(config: RadarConfig, directions: NDArray[np.float64]) -> NDA
     g_tx = np.mean([gain(a) for a in config.tx], axis=0)
     g_rx = np.mean([gain(a) for a in config.rx], axis=0)
     return np.asarray(g_tx * g_rx, dtype=np.float64)
+
+
+@kernel
+def _cosine_pair_gain(d: NDArray[np.float64], exponents: NDArray[np.float64], n_tx: int,
+                      out: NDArray[np.float64]) -> None:
+    """:func:`_mean_pair_gain` for cosine patterns, one pass over the directions.
+
+    ``exponents`` (n_tx + n_rx, 2): (az, el) exponents of the Tx, then the Rx elements.
+    The gain of each element is :func:`~simcore.sensors.radar.equation.element_gain`'s
+    cosine formula; elements with the exponents of the one before share its value.
+    """
+    n_el = exponents.shape[0]
+    n_rx = n_el - n_tx
+    for i in range(out.size):
+        horiz = math.hypot(d[i, 0], d[i, 2])
+        norm = math.hypot(horiz, d[i, 1])
+        cos_az = max(d[i, 2] / horiz if horiz > 0 else 1.0, 0.0)
+        cos_el = max(horiz / norm if norm > 0 else 1.0, 0.0)
+        g_tx = 0.0
+        g_rx = 0.0
+        g = 0.0
+        for e in range(n_el):
+            if e == 0 or exponents[e, 0] != exponents[e - 1, 0] or (
+                    exponents[e, 1] != exponents[e - 1, 1]):
+                g = cos_az ** exponents[e, 0] * cos_el ** exponents[e, 1]
+            if e < n_tx:
+                g_tx += g
+            else:
+                g_rx += g
+        out[i] = (g_tx / n_tx) * (g_rx / n_rx)
 
 
 @dataclass(frozen=True)
@@ -187,20 +228,148 @@ def prepare_scatterers(scatterers: Scatterers, radar_config: RadarConfig, *,
     rc = radar_config
     if tx_positions_m is not None or rx_positions_m is not None:
         return _prepare_bistatic(scatterers, rc, tx_positions_m, rx_positions_m)
-    pos = scatterers.positions_m
-    r = np.maximum(np.sqrt(np.einsum("ij,ij->i", pos, pos)), 1e-9)
-    order = np.argsort(r, kind="stable")
-    pos, r = pos[order], r[order]
-    u = pos / r[:, None]
-    v_radial = np.einsum("ij,ij->i", scatterers.velocities_mps[order], u)
-    power = amplitude_scale_fs(rc) ** 2 * scatterers.rcs_m2[order] * _mean_pair_gain(rc, pos)
-    power /= r**4
-    power *= _receiver_response(rc, r)
-    phase = u @ (-2.0 * np.pi / rc.wavelength_m * virtual_array_positions_m(rc).T)
-    steering = np.exp(1j * phase.astype(np.float32)).astype(np.complex64, copy=False)
-    cycles = v_radial * 2.0 * len(rc.tx) * rc.chirp_repetition_time_s / rc.wavelength_m
-    return LabelScatterers(r, v_radial, power, steering,
-                           scatterers.object_index[order].astype(np.intp), cycles)
+    pos = np.ascontiguousarray(scatterers.positions_m, dtype=np.float64)
+    r = np.empty(len(pos))
+    _ranges(pos, r)
+    order = _range_order(r)
+    gain = _mean_pair_gain(rc, pos)
+    n_ch = len(rc.tx) * len(rc.rx)
+    out = LabelScatterers(np.empty(len(pos)), np.empty(len(pos)), np.empty(len(pos)),
+                          np.empty((len(pos), n_ch), dtype=np.complex64),
+                          np.empty(len(pos), dtype=np.intp), np.empty(len(pos)))
+    _monostatic_terms(
+        pos, np.ascontiguousarray(scatterers.velocities_mps, dtype=np.float64),
+        np.ascontiguousarray(scatterers.rcs_m2, dtype=np.float64),
+        np.ascontiguousarray(scatterers.object_index), gain, r, order,
+        np.ascontiguousarray(-2.0 * np.pi / rc.wavelength_m * virtual_array_positions_m(rc).T),
+        amplitude_scale_fs(rc) ** 2, _filter_terms(rc),
+        2.0 * len(rc.tx) * rc.chirp_repetition_time_s, rc.wavelength_m,
+        out.range_m, out.velocity_mps, out.power, out.steering, out.object_index,
+        out.doppler_cycles)
+    return out
+
+
+def _filter_terms(rc: RadarConfig) -> NDArray[np.float64]:
+    """The IF filters for :func:`_filter_power`: (2K/c, f_hp, 2 n_hp, f_lp, 2 n_lp)."""
+    return np.array([2.0 * rc.slope_hz_per_s, rc.if_highpass_hz, 2 * rc.if_highpass_order,
+                     rc.if_lowpass_hz, 2 * rc.if_lowpass_order], dtype=np.float64)
+
+
+@kernel
+def _filter_power(r: float, terms: NDArray[np.float64]) -> float:
+    """:func:`_receiver_response` of one range (``terms`` from :func:`_filter_terms`)."""
+    out = 1.0
+    if terms[1] > 0:
+        x = _integer_power(terms[0] * r / SPEED_OF_LIGHT / terms[1], int(terms[2]))
+        out *= x / (1.0 + x)
+    if terms[3] > 0:
+        x = _integer_power(terms[0] * r / SPEED_OF_LIGHT / terms[3], int(terms[4]))
+        out /= 1.0 + x
+    return out
+
+
+@kernel
+def _integer_power(x: float, n: int) -> float:
+    """``x ** n`` for ``n >= 1`` by squaring (``x * x`` for ``n = 2``, as numpy's square)."""
+    result = 1.0
+    first = True
+    while n > 0:
+        if n & 1:
+            result = x if first else result * x
+            first = False
+        n >>= 1
+        if n:
+            x = x * x
+    return result
+
+
+@kernel
+def _ranges(pos: NDArray[np.float64], out: NDArray[np.float64]) -> None:
+    """Distance of each position from the origin, at least 1 nm."""
+    for i in range(out.size):
+        x, y, z = pos[i, 0], pos[i, 1], pos[i, 2]
+        # The order of numpy's einsum("ij,ij->i") over three columns: the same bits.
+        out[i] = max(math.sqrt((x * x + z * z) + y * y), 1e-9)
+
+
+@kernel
+def _range_order(r: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Stable ascending order of ``r`` (as ``argsort(kind="stable")``) by a bucket sort.
+
+    Scatterers spread over the ranges, so buckets of two on average need only insertion
+    sorts; a crowded bucket (or non-finite ranges) falls back to a merge sort.
+    """
+    n = r.size
+    lo = np.inf
+    hi = -np.inf
+    for i in range(n):
+        lo = min(lo, r[i])
+        hi = max(hi, r[i])
+    if n < 2 or not (np.isfinite(lo) and np.isfinite(hi)) or hi == lo:
+        return np.argsort(r, kind="mergesort")
+    n_buckets = max(1, n // 2)
+    scale = n_buckets / (hi - lo)
+    bucket = np.empty(n, dtype=np.int64)
+    start = np.zeros(n_buckets + 1, dtype=np.int64)
+    for i in range(n):
+        b = min(int((r[i] - lo) * scale), n_buckets - 1)
+        bucket[i] = b
+        start[b + 1] += 1
+    for b in range(n_buckets):
+        start[b + 1] += start[b]
+    fill = start[:-1].copy()
+    order = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        b = bucket[i]
+        order[fill[b]] = i
+        fill[b] += 1
+    for b in range(n_buckets):
+        first, end = start[b], start[b + 1]
+        if end - first > 32:
+            seg = order[first:end].copy()
+            order[first:end] = seg[np.argsort(r[seg], kind="mergesort")]
+            continue
+        for j in range(first + 1, end):
+            item = order[j]
+            key = r[item]
+            t = j
+            while t > first and r[order[t - 1]] > key:
+                order[t] = order[t - 1]
+                t -= 1
+            order[t] = item
+    return order
+
+
+@kernel
+def _monostatic_terms(pos: NDArray[np.float64], vel: NDArray[np.float64],
+                      rcs: NDArray[np.float64], object_index: NDArray[np.integer],
+                      gain: NDArray[np.float64], r: NDArray[np.float64],
+                      order: NDArray[np.int64], phase_per_m: NDArray[np.float64],
+                      scale_sq: float, filters: NDArray[np.float64], cycle_time_s: float,
+                      wavelength_m: float, out_range: NDArray[np.float64],
+                      out_velocity: NDArray[np.float64], out_power: NDArray[np.float64],
+                      out_steering: NDArray[np.complex64], out_object: NDArray[np.intp],
+                      out_cycles: NDArray[np.float64]) -> None:
+    """Fill the fields of :class:`LabelScatterers` in range order, in one pass.
+
+    The formulas of the module docstring, in the order of operations of the numpy
+    reference in ``tests/test_labels.py`` (the same numbers to a few ulp).
+    """
+    for i in range(order.size):
+        k = order[i]
+        rk = r[k]
+        ux, uy, uz = pos[k, 0] / rk, pos[k, 1] / rk, pos[k, 2] / rk
+        v = (vel[k, 0] * ux + vel[k, 2] * uz) + vel[k, 1] * uy
+        out_range[i] = rk
+        out_velocity[i] = v
+        r_sq = rk * rk
+        out_power[i] = scale_sq * rcs[k] * gain[k] / (r_sq * r_sq) * _filter_power(rk, filters)
+        for c in range(out_steering.shape[1]):
+            ph = np.float32(ux * phase_per_m[0, c] + uy * phase_per_m[1, c]
+                            + uz * phase_per_m[2, c])
+            out_steering[i, c] = complex(math.cos(ph), math.sin(ph))
+        out_object[i] = object_index[k]
+        out_cycles[i] = v * cycle_time_s / wavelength_m
 
 
 def _receiver_response(rc: RadarConfig, r: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -295,21 +464,59 @@ def cell_power_by_object(prepared: LabelScatterers, detections: Detections, n_ob
     column = np.where((prepared.object_index >= 0) & (prepared.object_index < n_objects),
                       prepared.object_index, n_objects)
     keep = _clutter_filter(prepared.doppler_cycles, rc.chirps_per_frame) if (
-        dc.static_clutter_removal) else None
+        dc.static_clutter_removal) else np.zeros(0)
     bounds = np.searchsorted(prepared.range_m, np.stack([cell_range - reach_m,
                                                          cell_range + reach_m], axis=1))
-    for j, (lo, hi) in enumerate(bounds):
-        if hi <= lo:
-            continue
-        near = slice(int(lo), int(hi))
-        power = prepared.power[near] * _lookup(range_table,
-                                               (prepared.range_m[near] - cell_range[j]) / dr)
-        power *= _lookup(doppler_table, (prepared.velocity_mps[near] - cell_velocity[j]) / dv)
-        power *= np.abs(prepared.steering[near] @ a_det[j].conj()) ** 2 / n_ch**2
-        if keep is not None:
-            power *= keep[near]
-        out[j] = np.bincount(column[near], weights=power, minlength=n_objects + 1)
+    _cell_powers(prepared.range_m, prepared.velocity_mps, prepared.power,
+                 np.ascontiguousarray(prepared.steering), column.astype(np.int64), keep,
+                 bounds.astype(np.int64), cell_range, cell_velocity,
+                 np.ascontiguousarray(a_det.conj()), range_table, doppler_table, dr, dv,
+                 float(n_ch**2), out)
     return out
+
+
+@kernel
+def _wrap(i: int, n: int) -> int:
+    """``i % n`` (non-negative), without a division for ``-n <= i < n``."""
+    if i < 0:
+        i += n
+    if 0 <= i < n:
+        return i
+    return i % n
+
+
+@kernel
+def _cell_powers(range_m: NDArray[np.float64], velocity_mps: NDArray[np.float64],
+                 power: NDArray[np.float64], steering: NDArray[np.complex64],
+                 column: NDArray[np.int64], keep: NDArray[np.float64],
+                 bounds: NDArray[np.int64], cell_range: NDArray[np.float64],
+                 cell_velocity: NDArray[np.float64], a_det_conj: NDArray[np.complex64],
+                 range_table: NDArray[np.float64], doppler_table: NDArray[np.float64],
+                 dr: float, dv: float, n_ch_sq: float, out: NDArray[np.float64]) -> None:
+    """Add each near scatterer's power in each detection's cell to its object's column.
+
+    Detection ``j`` sums the scatterers ``bounds[j, 0] <= k < bounds[j, 1]``: power ×
+    range- and Doppler-window power (tabulated, :func:`_lookup`) × beam response
+    ``|a_k · conj(a_det)|² / N_ch²`` × ``keep[k]`` (the clutter filter; none when
+    ``keep`` is empty), in the order of ``k``, as the ``bincount`` of the numpy reference
+    in ``tests/test_labels.py``.
+    """
+    n_r = range_table.size
+    n_d = doppler_table.size
+    for j in range(bounds.shape[0]):
+        for k in range(bounds[j, 0], bounds[j, 1]):
+            i_r = _wrap(int(np.rint((range_m[k] - cell_range[j]) / dr * OVERSAMPLING)), n_r)
+            i_d = _wrap(int(np.rint((velocity_mps[k] - cell_velocity[j]) / dv * OVERSAMPLING)),
+                        n_d)
+            beam = np.complex64(0)
+            for c in range(steering.shape[1]):
+                beam += steering[k, c] * a_det_conj[j, c]
+            p = power[k] * range_table[i_r]
+            p *= doppler_table[i_d]
+            p *= (float(beam.real) ** 2 + float(beam.imag) ** 2) / n_ch_sq
+            if keep.size:
+                p *= keep[k]
+            out[j, column[k]] += p
 
 
 def _clutter_filter(cycles: NDArray[np.float64], n_chirps: int) -> NDArray[np.float64]:
