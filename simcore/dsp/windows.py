@@ -9,6 +9,8 @@ angle-search refinement are done in float64.
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.signal import get_window
@@ -86,18 +88,26 @@ def make_window(name: WindowName, length: int, *, sidelobe_db: float = 60.0) -> 
     >>> round(peak_sidelobe_db(make_window("chebyshev", 32, sidelobe_db=60.0)), 1)
     -60.0
     """
+    return _window(name, int(length), float(sidelobe_db)).copy()
+
+
+@lru_cache(maxsize=32)
+def _window(name: WindowName, length: int, sidelobe_db: float) -> NDArray[np.float32]:
+    """:func:`make_window`, cached (read-only): the chain asks for the same few every frame."""
     if length < 1:
         raise ValueError(f"window length must be >= 1, got {length}")
     if length == 1:
-        return np.ones(1, dtype=np.float32)
-    if name == "chebyshev":
+        w = np.ones(1)
+    elif name == "chebyshev":
         w = chebwin(length, at=sidelobe_db, sym=True)
     elif name == "none":
         w = np.ones(length)
     else:
         w = get_window(name, length, fftbins=True)
     w = np.asarray(w, dtype=np.float64)
-    return as_float32(w / np.max(w))
+    out = as_float32(w / np.max(w))
+    out.setflags(write=False)
+    return out
 
 
 def next_pow2(n: int) -> int:
