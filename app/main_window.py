@@ -622,8 +622,9 @@ class MainWindow(QMainWindow):
         start = time.perf_counter()
         if self.time.playing:
             # Compute the next frame while this one is drawn.
+            after = (self.time.next_index + 1) % max(self.time.n_frames, 1)
             self.sim.prefetch(self.document.project, self.time.next_index,
-                              base_dir=self.document.base_dir)
+                              base_dir=self.document.base_dir, then=after)
         self.last_view = view
         try:
             for panel in self.panels.values():

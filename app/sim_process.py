@@ -10,9 +10,10 @@ sends that back. Running the simulator in its own process keeps its threads from
 GIL and the cores from the GUI thread, and makes a running frame cancellable: the GUI
 terminates the process and starts a fresh one.
 
-Messages to the child: ``("frame", serial, project_json | None, base_dir, index)`` (the
-project as JSON text — the evented project model does not pickle —, ``None`` re-uses the
-last project sent) or ``None`` to quit. Messages back: ``("ready", pid)`` once
+Messages to the child: ``("frame", serial, project_json | None, base_dir, index, then)``
+(the project as JSON text — the evented project model does not pickle —, ``None`` re-uses
+the last project sent; ``then``: the frame playback asks for next, started ahead, or
+``None``) or ``None`` to quit. Messages back: ``("ready", pid)`` once
 at start, then ``("frame", serial, FrameView)`` or ``("error", serial, message)`` per
 request.
 """
@@ -28,7 +29,8 @@ from pathlib import Path
 from typing import Any
 
 
-def _compute(state: dict[str, Any], project: Any, base_dir: Path, index: int) -> Any:
+def _compute(state: dict[str, Any], project: Any, base_dir: Path, index: int,
+             then: int | None = None) -> Any:
     from app.frame_view import build_frame_view
     from simcore.pipeline import Simulator
 
@@ -45,7 +47,9 @@ def _compute(state: dict[str, Any], project: Any, base_dir: Path, index: int) ->
         sim.set_project(project)
     state["project"] = project
     index = min(index, sim.n_frames - 1)
-    frame = sim.frame(index)
+    if then is not None and not 0 <= then < sim.n_frames:
+        then = None
+    frame = sim.frame(index, then=then)
     view = build_frame_view(frame, project, render_count=int(sim.render_count))
     view.timings_ms["wall"] = (time.perf_counter() - start) * 1e3
     return view
@@ -69,13 +73,13 @@ def serve(conn: Connection, nice: int = 0) -> None:
                 return
             if msg is None:
                 return
-            _, serial, project_json, base_dir, index = msg
+            _, serial, project_json, base_dir, index, then = msg
             try:
                 if project_json is not None:
                     from simcore.scene import Project
 
                     project = Project.model_validate_json(project_json)
-                view = _compute(state, project, base_dir, index)
+                view = _compute(state, project, base_dir, index, then)
             except Exception as exc:  # noqa: BLE001 - reported to the GUI, process goes on
                 detail = "".join(traceback.format_exception_only(type(exc), exc)).strip()
                 conn.send(("error", serial, detail))

@@ -61,6 +61,7 @@ class FrameRequest:
     index: int
     requested_at: float
     prefetch: bool = False
+    then: int | None = None   # the frame likely asked for after this one (playback)
 
     def same_frame(self, project: Project, base_dir: Path, index: int) -> bool:
         """True when this request computes the frame ``index`` of this very project."""
@@ -218,15 +219,22 @@ class SimulationController(QObject):
         self._dispatch()
         return req.serial
 
-    def prefetch(self, project: Project, index: int, *, base_dir: Path) -> None:
-        """Compute frame ``index`` ahead, when nothing else waits, for a later :meth:`request`."""
+    def prefetch(self, project: Project, index: int, *, base_dir: Path,
+                 then: int | None = None) -> None:
+        """Compute frame ``index`` ahead, when nothing else waits, for a later :meth:`request`.
+
+        ``then``: the frame playback shows after ``index``; the simulation process starts
+        it while it finishes ``index`` (``Simulator.frame(index, then=...)``), so that the
+        next prefetch finds it half done.
+        """
         for req in (self._in_flight, self._waiting):
             if req is not None and req.same_frame(project, base_dir, index):
                 return
         if self._done is not None and self._done[0].same_frame(project, base_dir, index):
             return
         self._prefetch_waiting = FrameRequest(0, project, base_dir, int(index),
-                                              time.perf_counter(), prefetch=True)
+                                              time.perf_counter(), prefetch=True,
+                                              then=None if then is None else int(then))
         self._dispatch()
 
     def _dispatch(self) -> None:
@@ -244,7 +252,8 @@ class SimulationController(QObject):
         if req.project is not self._sent_project:
             project_json = req.project.model_dump_json()
         try:
-            self._conn.send(("frame", req.serial, project_json, req.base_dir, req.index))
+            self._conn.send(("frame", req.serial, project_json, req.base_dir, req.index,
+                             req.then))
         except OSError:
             self._on_process_died()
             return

@@ -150,9 +150,14 @@ class Simulator:
             items.update(sensor.static_items(self.project))
         return items
 
-    def frame(self, index: int) -> Frame:
-        """Compute frame ``index`` of the timeline: snapshot, renders, every sensor."""
-        return self._frame(self.engine.frame(index))
+    def frame(self, index: int, *, then: int | None = None) -> Frame:
+        """Compute frame ``index`` of the timeline: snapshot, renders, every sensor.
+
+        ``then``: the frame likely asked for next (playback), started before this one is
+        waited for and adopted by the next call that asks for it
+        (:meth:`simcore.engine.FrameEngine.frame`).
+        """
+        return self._frame(self.engine.frame(index, then=then))
 
     def frames(self, indices: Iterable[int]) -> Iterator[Frame]:
         """Compute frames ``indices`` in order, overlapping consecutive frames.

@@ -123,6 +123,27 @@ def test_overlapped_frames_equal_one_at_a_time(example: str) -> None:
         assert_same_frame(sim.frame(3), expected[-1])
 
 
+def test_a_frame_started_ahead_is_adopted_or_dropped() -> None:
+    """frame(i, then=j) starts j early; asking for j adopts it, an edit or another index not."""
+    path = example_path("office_walkthrough")
+    project = load_project(path)
+    edited = _move_rx(project)
+    with Simulator(project, base_dir=path.parent) as one:
+        expected = {i: one.frame(i) for i in (1, 2, 4)}
+        one.set_project(edited)
+        expected_edit = one.frame(3)
+    with Simulator(project, base_dir=path.parent) as sim:
+        assert_same_frame(sim.frame(1, then=2), expected[1])      # frames 1 and 2 rendered
+        per_frame, rem = divmod(sim.render_count, 2)
+        assert per_frame > 0 and rem == 0
+        assert_same_frame(sim.frame(2, then=3), expected[2])      # 2 adopted: no new render
+        assert sim.render_count == 3 * per_frame                   # only frame 3's passes
+        assert_same_frame(sim.frame(4), expected[4])               # 3 dropped
+        sim.frame(2, then=3)
+        sim.set_project(edited)                                    # 3 was for the old rig
+        assert_same_frame(sim.frame(3), expected_edit)
+
+
 def test_still_background_transforms_only_what_moves() -> None:
     path = example_path("office")
     project = load_project(path)

@@ -147,6 +147,7 @@ class FrameEngine:
         self._worker: ThreadPoolExecutor | None = None
         self._scene_json = ""
         self._scene_version = 0
+        self._ahead: _InFlight | None = None
         self.set_project(project)
 
     # ------------------------------------------------------------------ project
@@ -155,6 +156,9 @@ class FrameEngine:
         scene_json = "\n".join(
             [o.model_dump_json() for o in project.objects]
             + [m.model_dump_json() for m in project.materials])
+        if self._ahead is not None:  # started for the previous project
+            _drain(self._ahead)
+            self._ahead = None
         if scene_json != self._scene_json:
             self.renderer.set_project(project)
             self._scene_json = scene_json
@@ -165,9 +169,27 @@ class FrameEngine:
             self.background.follow(project)
 
     # ------------------------------------------------------------------ one frame
-    def frame(self, index: int) -> FrameResult:
-        """Compute frame ``index`` of the timeline."""
-        return self._finish(self._start(index))
+    def frame(self, index: int, *, then: int | None = None) -> FrameResult:
+        """Compute frame ``index`` of the timeline.
+
+        ``then``: the frame that will most likely be asked for next (playback). It is
+        started before this one is waited for, as in :meth:`frames`, and adopted by the
+        next call if that asks for it with the project unchanged; otherwise it is waited
+        for and dropped.
+        """
+        flight, self._ahead = self._ahead, None
+        if flight is not None and flight.index != index:
+            _drain(flight)
+            flight = None
+        if flight is None:
+            flight = self._start(index)
+        if then is not None:
+            try:
+                self._ahead = self._start(then)
+            except BaseException:
+                _drain(flight)
+                raise
+        return self._finish(flight)
 
     def frames(self, indices: Iterable[int]) -> Iterator[FrameResult]:
         """Compute frames ``indices`` in order, two at a time (the results of :meth:`frame`).
@@ -189,8 +211,7 @@ class FrameEngine:
                 yield self._finish(done)
         finally:
             if pending is not None:
-                for future in pending.futures.values():
-                    future.cancel() or future.exception()
+                _drain(pending)
 
     def _start(self, index: int) -> _InFlight:
         """Snapshot and renders of frame ``index``; worker chains submitted, the others run."""
@@ -212,8 +233,7 @@ class FrameEngine:
                 else:
                     flight.results[sensor.name] = chain()
         except BaseException:
-            for future in flight.futures.values():
-                future.cancel() or future.exception()
+            _drain(flight)
             raise
         return flight
 
@@ -346,10 +366,19 @@ class FrameEngine:
 
     def close(self) -> None:
         """Release the rendering resources and the worker thread."""
+        if self._ahead is not None:
+            _drain(self._ahead)
+            self._ahead = None
         if self._worker is not None:
             self._worker.shutdown(wait=True)
             self._worker = None
         self.renderer.close()
+
+
+def _drain(flight: _InFlight) -> None:
+    """Let a frame's worker chains end (or never start) and drop their results."""
+    for future in flight.futures.values():
+        future.cancel() or future.exception()
 
 
 def _see_through(sensor: Sensor, project: Project) -> tuple[bool, ...] | None:
