@@ -95,7 +95,7 @@ def _split_integral(corners: NDArray[np.float64], n: int, k: float, dist: float)
 
 
 @kernel
-def object_facet_returns(  # flags are positional: numba passes no keywords cheaply
+def object_facet_returns(
         # the object's facets, in its own frame
         centroids: NDArray[np.float64], normals: NDArray[np.float64],
         area2: NDArray[np.float64], source: NDArray[np.int64], edges: NDArray[np.float64],
@@ -107,15 +107,15 @@ def object_facet_returns(  # flags are positional: numba passes no keywords chea
         # the render the facets are looked for in
         fx: float, fy: float, cx: float, cy: float, width: int, height: int,
         obj_img: NDArray[np.int32], rng_img: NDArray[np.float32],
-        wanted: NDArray[np.bool_], use_wanted: bool, index: int, pix_angle: float,  # noqa: FBT001
+        wanted: NDArray[np.bool_], use_wanted: bool, index: int, pix_angle: float,
         visibility_tol: float,
         # a transparent object in front (behind=True: obj_img is the see-through pass)
-        behind: bool, full_obj: NDArray[np.int32], full_rng: NDArray[np.float32],  # noqa: FBT001
+        behind: bool, full_obj: NDArray[np.int32], full_rng: NDArray[np.float32],
         transmission: NDArray[np.complex128],
         # the object's radar material
-        k: float, wavelength: float, smooth: bool, gamma: complex, height_rms: float,  # noqa: FBT001
+        k: float, wavelength: float, smooth: bool, gamma: complex, height_rms: float,
         reflectance: float, specular: float, roughness: float, metallic: float,
-        retro_gain: float, speckle: bool,  # noqa: FBT001
+        retro_gain: float, speckle: bool,
         # outputs, one row per seen facet (at most len(centroids))
         out_pos: NDArray[np.float64], out_amp: NDArray[np.complex128],
         out_pix: NDArray[np.int64]) -> int:
