@@ -447,10 +447,15 @@ def _shade(raster: Raster, background: tuple[Raster, RenderBuffers] | None = Non
         if idx.size == 0:
             return dataclasses.replace(bg, time_s=snapshot.time_s, sensor=sensor)
         px = _shade_pixels(raster, idx)
-        out: dict[str, Any] = {name: _writable_copy(getattr(bg, name))
-                               for name in _PIXEL_FIELDS}
+        out: dict[str, Any] = {}
         for name, values in px.items():
-            out[name].reshape(-1, *values.shape[1:])[idx] = values
+            old = getattr(bg, name)
+            if _is_zeros(values) and _is_zeros(old):
+                # A geometry-only field: read-only zeros, as when shading every pixel.
+                out[name] = np.broadcast_to(values.reshape(-1)[:1], old.shape)
+            else:
+                out[name] = old.copy()
+                out[name].reshape(-1, *values.shape[1:])[idx] = values
     else:
         px = _shade_pixels(raster, None)
         out = {name: values.reshape(h, w, *values.shape[1:]) for name, values in px.items()}
@@ -458,17 +463,12 @@ def _shade(raster: Raster, background: tuple[Raster, RenderBuffers] | None = Non
                          meshes=tuple(raster.geometry.meshes), **out)
 
 
-def _writable_copy(values: NDArray[np.generic]) -> NDArray[np.generic]:
-    """A writable copy of ``values``; of zeros broadcast from one value, fresh zeros.
-
-    A geometry-only pass's unshaded fields are read-only broadcast zeros: ``np.zeros``
-    gives the same values without touching (page-faulting) megabytes of new memory.
-    """
-    if values.size and not any(values.strides):
-        first = values.reshape(-1)[0]
-        if first == 0 and not np.signbit(first):
-            return np.zeros(values.shape, dtype=values.dtype)
-    return values.copy()
+def _is_zeros(values: NDArray[np.generic]) -> bool:
+    """Whether ``values`` is one zero broadcast to its shape (a geometry-only field)."""
+    if not values.size or any(values.strides):
+        return False
+    first = values.reshape(-1)[0]
+    return bool(first == 0 and not np.signbit(first))
 
 
 #: Per-pixel fields of :class:`RenderBuffers`.
