@@ -300,10 +300,29 @@ def bartlett_spectrum(covariance: ArrayLike, steering: ArrayLike) -> NDArray[np.
     a = np.asarray(steering)
     m = a.shape[-1]
     lead = r.shape[:-2]
-    # a^H R a = sum_ij R_ij conj(a_i) a_j: one (..., M²) @ (M², D) product.
+    # a^H R a = Re sum_ij R_ij conj(a_i) a_j, a compiled (..., M²) × (M², D) product (no
+    # BLAS threads: the map is small, and other chains run beside this one).
     pairs = (np.conj(a)[:, :, None] * a[:, None, :]).reshape(a.shape[0], m * m)
-    out = np.real(r.reshape(-1, m * m) @ pairs.T).reshape(*lead, a.shape[0])
-    return np.asarray(out / (m * m), dtype=np.float64)
+    out = np.empty((int(np.prod(lead)), a.shape[0]))
+    _real_product(np.ascontiguousarray(r.reshape(-1, m * m), dtype=np.complex128),
+                  np.ascontiguousarray(pairs.T), out)
+    return out.reshape(*lead, a.shape[0]) / (m * m)
+
+
+@kernel
+def _real_product(x: NDArray[np.complex128], y: NDArray[np.complex128],
+                  out: NDArray[np.float64]) -> None:
+    """``out = Re(x @ y)`` for x (n, k) and y (k, d), complex128."""
+    n, k = x.shape
+    d = y.shape[1]
+    for i in range(n):
+        for j in range(d):
+            out[i, j] = 0.0
+        for q in range(k):
+            xr = x[i, q].real
+            xi = x[i, q].imag
+            for j in range(d):
+                out[i, j] += xr * y[q, j].real - xi * y[q, j].imag
 
 
 def capon_spectrum(
