@@ -64,11 +64,17 @@ def _maps() -> dict[str, np.ndarray]:
     }
 
 
+WINDOWS = {"preset": ((4, 8), (1, 2)), "no_guard": ((2, 3), (0, 0)),
+           "doppler_only": ((3, 0), (1, 0)), "range_only": ((0, 6), (0, 1))}
+
+
 @pytest.mark.parametrize("name", list(_maps()))
 @pytest.mark.parametrize("rank", [0.0, 0.5, 0.75, 1.0])
-def test_os_cfar_statistic_equals_the_partition_reference(name: str, rank: float) -> None:
+@pytest.mark.parametrize("window", list(WINDOWS))
+def test_os_cfar_statistic_equals_the_partition_reference(name: str, rank: float,
+                                                          window: str) -> None:
     power = _maps()[name]
-    train, guard = (4, 8), (1, 2)
+    train, guard = WINDOWS[window]
     res = cfar_2d(power, method="os", train=train, guard=guard, pfa=1e-6, rank=rank,
                   n_integrated=3)
     k = os_rank(res.n_training, rank)

@@ -327,14 +327,15 @@ _NEAR_STEPS = 16
 
 
 @kernel
-def _select_near(buf: NDArray[np.int32], k: int, guess: np.int32) -> np.int32:
+def _select_near(buf: NDArray[np.int32], k: int, guess: np.int32,
+                 scratch: NDArray[np.int32]) -> np.int32:
     """The ``k``-th smallest (0-based) of ``buf``, starting from a nearby value ``guess``.
 
     Neighbouring CUTs share most training cells, so the statistic of one is a few ranks
     from that of the next (median 2 on a range–Doppler map): count the cells below and at
     ``guess``, then step through the next distinct values above (or below) it, one
     vectorisable pass each, until the rank is reached. Falls back to :func:`_select_kth`
-    when the guess is far off.
+    on a copy in ``scratch`` (same size) when the guess is far off; ``buf`` is not changed.
     """
     big = np.int32(2147483647)
     small = np.int32(-2147483648)
@@ -359,7 +360,8 @@ def _select_near(buf: NDArray[np.int32], k: int, guess: np.int32) -> np.int32:
         step = -1
         level = down
     if need > _NEAR_STEPS:
-        return _select_kth(buf, k)
+        scratch[:] = buf
+        return _select_kth(scratch, k)
     while True:
         # Count ``level``, and find the next distinct value beyond it, in one pass.
         count = 0
@@ -377,27 +379,53 @@ def _select_near(buf: NDArray[np.int32], k: int, guess: np.int32) -> np.int32:
 
 
 @kernel
-def _os_select(keys: NDArray[np.int32], width: int, offsets: NDArray[np.int64], k: int,
+def _os_select(keys: NDArray[np.int32], half: tuple[int, int], guard: tuple[int, int], k: int,
                out: NDArray[np.int32]) -> None:
     """OS statistic of every CUT: the ``k``-th smallest (0-based) of its training cells.
 
-    ``keys`` is the padded map, raveled with row length ``width``; the CUT at ``out[i, j]``
-    sits at padded ``(i, j)`` + the window's half-size, and its training cells at flat
-    ``i * width + j + offsets``. Each CUT starts from its left (or upper) neighbour's
-    statistic (:func:`_select_near`).
+    ``keys`` is the padded map (:func:`_order_keys`); the CUT at ``out[i, j]`` sits at
+    padded ``(i + half[0], j + half[1])``. The window's columns live in a ring of slots
+    that slides along each row: a step writes the entering column and swaps the guard
+    cells in and out (guard cells hold the largest key, so they never reach rank ``k``,
+    which is below the number of training cells), instead of gathering every training
+    cell again. Each CUT starts from its left (or upper) neighbour's statistic
+    (:func:`_select_near`).
     """
-    buf = np.empty(offsets.size, dtype=np.int32)
+    h0, h1 = half
+    g0, g1 = guard
+    height, width = 2 * h0 + 1, 2 * h1 + 1
+    big = np.int32(2147483647)
+    buf = np.empty(height * width, dtype=np.int32)
+    scratch = np.empty(height * width, dtype=np.int32)
     for i in range(out.shape[0]):
         for j in range(out.shape[1]):
-            origin = i * width + j
-            for t in range(offsets.size):
-                buf[t] = keys[origin + offsets[t]]
-            if j > 0:
-                out[i, j] = _select_near(buf, k, out[i, j - 1])
-            elif i > 0:
-                out[i, j] = _select_near(buf, k, out[i - 1, 0])
+            if j == 0:
+                for c in range(width):
+                    for r in range(height):
+                        buf[c * height + r] = keys[i + r, c]
+                for c in range(h1 - g1, h1 + g1 + 1):
+                    for r in range(h0 - g0, h0 + g0 + 1):
+                        buf[c * height + r] = big
             else:
-                out[i, j] = _select_kth(buf, k)
+                leaving = j - 1 + h1 - g1           # column leaving the guard band
+                slot = (leaving % width) * height
+                for r in range(h0 - g0, h0 + g0 + 1):
+                    buf[slot + r] = keys[i + r, leaving]
+                entering = j + 2 * h1               # column entering the window
+                slot = (entering % width) * height
+                for r in range(height):
+                    buf[slot + r] = keys[i + r, entering]
+                guarded = j + h1 + g1               # column entering the guard band
+                slot = (guarded % width) * height
+                for r in range(h0 - g0, h0 + g0 + 1):
+                    buf[slot + r] = big
+            if j > 0:
+                out[i, j] = _select_near(buf, k, out[i, j - 1], scratch)
+            elif i > 0:
+                out[i, j] = _select_near(buf, k, out[i - 1, 0], scratch)
+            else:
+                scratch[:] = buf
+                out[i, j] = _select_kth(scratch, k)
 
 
 def _cfar_core(
@@ -447,15 +475,9 @@ def _cfar_core(
         k = os_rank(n_train, rank)
         alpha, mean = cfar_threshold_factor("os", n_training=n_train, pfa=pfa, k=k,
                                             n_integrated=n_integrated)
-        ring = np.ones((2 * h0 + 1, 2 * h1 + 1), dtype=bool)
-        ring[h0 - g0:h0 + g0 + 1, h1 - g1:h1 + g1 + 1] = False
-        ring_rows, ring_cols = np.nonzero(ring)
-        # Training cells of the CUT at padded (i, j): flat offsets from i * width + j.
-        width = padded.shape[1]
-        offsets = (ring_rows * width + ring_cols).astype(np.int64)
         keys = _order_keys(padded.astype(np.float32))
         stat_keys = np.empty((a, b), dtype=np.int32)
-        _os_select(keys.ravel(), width, offsets, k - 1, stat_keys)
+        _os_select(keys, (h0, h1), (g0, g1), k - 1, stat_keys)
         stat_bits = _order_keys(stat_keys)
         stat = stat_bits.view(np.float32).astype(np.float64)
     else:
