@@ -193,6 +193,11 @@ def _grid_steering(positions_m: NDArray[np.float64], wavelength_m: float,
     return grid
 
 
+#: Grid directions per block of the compiled Bartlett search (its steering: 48 kB for 3
+#: channels, kept in cache while every detection is scanned over it).
+_GRID_BLOCK = 1024
+
+
 @kernel
 def _bartlett_grid_peaks(x: NDArray[np.complex128], steer_h_re: NDArray[np.float64],
                          steer_h_im: NDArray[np.float64], n_az: int,
@@ -217,33 +222,68 @@ def _bartlett_grid_peaks(x: NDArray[np.complex128], steer_h_re: NDArray[np.float
     n, m = x.shape
     d = steer_h_re.shape[1]
     n_el = d // n_az
-    re = np.empty(d)
-    im = np.empty(d)
+    inf_bits = 0x7FF0000000000000        # +inf; larger int64 patterns are NaNs
+    best = np.full(n, -1, dtype=np.int64)
+    out_index[:] = 0
+    re = np.empty(_GRID_BLOCK)
+    im = np.empty(_GRID_BLOCK)
+    # A power is ≥ 0 (or NaN), and non-negative doubles order like their bits as int64:
+    # the maximum is an integer reduction, which vectorises (a float one does not).
+    bits = re.view(np.int64)
+    # Blocks of directions in the outer loop: the grid's steering is read once, not once
+    # per detection.
+    for q0 in range(0, d, _GRID_BLOCK):
+        q1 = min(q0 + _GRID_BLOCK, d)
+        size = q1 - q0
+        for i in range(n):
+            if best[i] > inf_bits:
+                continue                 # a NaN: the first one is the answer
+            re[:size] = 0.0
+            im[:size] = 0.0
+            for c in range(m):
+                xr = x[i, c].real
+                xi = x[i, c].imag
+                for q in range(q0, q1):
+                    re[q - q0] += xr * steer_h_re[c, q] - xi * steer_h_im[c, q]
+                    im[q - q0] += xr * steer_h_im[c, q] + xi * steer_h_re[c, q]
+            for q in range(size):
+                re[q] = re[q] * re[q] + im[q] * im[q]
+            top = bits[0]
+            for q in range(1, size):
+                top = max(top, bits[q])
+            if top > inf_bits:
+                for q in range(size):
+                    if re[q] != re[q]:
+                        out_index[i] = q0 + q
+                        best[i] = top
+                        break
+            elif top > best[i]:          # strictly: the first maximum wins
+                for q in range(size):
+                    if bits[q] == top:
+                        out_index[i] = q0 + q
+                        best[i] = top
+                        break
     for i in range(n):
-        re[:] = 0.0
-        im[:] = 0.0
-        for c in range(m):
-            xr = x[i, c].real
-            xi = x[i, c].imag
-            for q in range(d):
-                re[q] += xr * steer_h_re[c, q] - xi * steer_h_im[c, q]
-                im[q] += xr * steer_h_im[c, q] + xi * steer_h_re[c, q]
-        best = -1.0
-        arg = 0
-        for q in range(d):
-            p = re[q] * re[q] + im[q] * im[q]
-            if not p <= best:
-                arg = q
-                best = p
-                if p != p:
-                    break
-        out_index[i] = arg
-        i_el, i_az = divmod(arg, n_az)
-        cells = (arg, i_el * n_az + max(i_az - 1, 0), i_el * n_az + min(i_az + 1, n_az - 1),
-                 max(i_el - 1, 0) * n_az + i_az, min(i_el + 1, n_el - 1) * n_az + i_az)
+        i_el, i_az = divmod(out_index[i], n_az)
+        cells = (out_index[i], i_el * n_az + max(i_az - 1, 0),
+                 i_el * n_az + min(i_az + 1, n_az - 1), max(i_el - 1, 0) * n_az + i_az,
+                 min(i_el + 1, n_el - 1) * n_az + i_az)
         for t in range(5):
-            q = cells[t]
-            out_power[i, t] = re[q] * re[q] + im[q] * im[q]
+            out_power[i, t] = _grid_power(x, i, steer_h_re, steer_h_im, cells[t])
+
+
+@kernel
+def _grid_power(x: NDArray[np.complex128], i: int, steer_h_re: NDArray[np.float64],
+                steer_h_im: NDArray[np.float64], q: int) -> float:
+    """``|a_q^H x_i|^2`` with the operations of :func:`_bartlett_grid_peaks` (same bits)."""
+    re = 0.0
+    im = 0.0
+    for c in range(x.shape[1]):
+        xr = x[i, c].real
+        xi = x[i, c].imag
+        re += xr * steer_h_re[c, q] - xi * steer_h_im[c, q]
+        im += xr * steer_h_im[c, q] + xi * steer_h_re[c, q]
+    return re * re + im * im
 
 
 def spatial_covariance(snapshots: ArrayLike) -> NDArray[np.complex128]:
