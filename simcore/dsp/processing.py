@@ -211,6 +211,41 @@ class RadarProducts:
         return self.detections.records(frame)
 
 
+@dataclass(frozen=True)
+class _FrameConstants:
+    """What the chain derives from the configurations alone (read-only arrays)."""
+
+    axes: RadarAxes
+    layout: ArrayLayout
+    azimuth_rad: NDArray[np.float64]
+    n_eff: float                  # (Σw)² / Σw² of the Doppler window
+    doppler_sidelobe_db: float    # its peak sidelobe level
+
+
+_FRAME_CONSTANTS: dict[str, _FrameConstants] = {}
+
+
+def _frame_constants(rc: RadarConfig, dc: DspConfig) -> _FrameConstants:
+    """Axes, array layout and Doppler-window figures, cached per pair of configurations."""
+    key = rc.model_dump_json() + dc.model_dump_json()
+    const = _FRAME_CONSTANTS.get(key)
+    if const is None:
+        axes = radar_axes(rc, dc)
+        layout = array_layout(virtual_array_positions_m(rc))
+        w_d = make_window(dc.doppler_window, rc.chirps_per_frame,
+                          sidelobe_db=dc.doppler_window_sidelobe_db).astype(np.float64)
+        const = _FrameConstants(axes, layout, np.deg2rad(axes.azimuth_deg),
+                                float(np.sum(w_d) ** 2 / np.sum(w_d ** 2)),
+                                peak_sidelobe_db(w_d))
+        for arr in (*vars(axes).values(), *vars(layout).values(), const.azimuth_rad):
+            if isinstance(arr, np.ndarray):
+                arr.setflags(write=False)
+        if len(_FRAME_CONSTANTS) > 8:
+            _FRAME_CONSTANTS.clear()
+        _FRAME_CONSTANTS[key] = const
+    return const
+
+
 def _check_cube(cube: NDArray[np.generic], rc: RadarConfig) -> None:
     expected = (rc.chirps_per_frame, len(rc.tx) * len(rc.rx), rc.samples_per_chirp)
     if cube.shape != expected:
@@ -256,7 +291,8 @@ def process_frame(
     dc = DspConfig() if dsp_config is None else dsp_config
     x = np.asarray(cube)
     _check_cube(x, rc)
-    axes = radar_axes(rc, dc)
+    const = _frame_constants(rc, dc)
+    axes, layout, az_rad = const.axes, const.layout, const.azimuth_rad
     n_range = axes.range_m.size
     lam = rc.wavelength_m
 
@@ -276,16 +312,11 @@ def process_frame(
     n_ch = rd.shape[1]
 
     # Range–azimuth map (Doppler bins as snapshots, Parseval-scaled to per-chirp power).
-    layout = array_layout(virtual_array_positions_m(rc))
-    az_rad = np.deg2rad(axes.azimuth_deg)
     ra_method = "bartlett" if dc.angle_method == "monopulse" else dc.angle_method
-    w_d = make_window(dc.doppler_window, rc.chirps_per_frame,
-                      sidelobe_db=dc.doppler_window_sidelobe_db).astype(np.float64)
-    n_eff = float(np.sum(w_d) ** 2 / np.sum(w_d ** 2))
     ra_power = range_azimuth_power(rd, layout, wavelength_m=lam, azimuth_rad=az_rad,
                                    method=ra_method,
                                    diagonal_loading=dc.capon_diagonal_loading,
-                                   fft_size=dc.angle_fft_size) * np.float32(n_eff)
+                                   fft_size=dc.angle_fft_size) * np.float32(const.n_eff)
     ra_db = power_to_db(ra_power)
     bev = bird_eye_image(ra_db, range_axis_m=axes.range_m, azimuth_axis_rad=az_rad,
                          x_axis_m=axes.bev_x_m, z_axis_m=axes.bev_z_m)
@@ -303,7 +334,7 @@ def process_frame(
     peaks = group_peaks(rd_power, cfar.detections, method=dc.peak_grouping,
                         neighbourhood=dc.peak_neighbourhood, circular=(True, False))
     if dc.doppler_sidelobe_margin_db is not None:
-        peaks = suppress_sidelobes(rd_power, peaks, axis=0, sidelobe_db=peak_sidelobe_db(w_d),
+        peaks = suppress_sidelobes(rd_power, peaks, axis=0, sidelobe_db=const.doppler_sidelobe_db,
                                    margin_db=dc.doppler_sidelobe_margin_db,
                                    spread=dc.peak_neighbourhood[1] // 2)
     if dc.max_dynamic_range_db is not None:
@@ -347,20 +378,25 @@ def _detections(
         return Detections.empty(with_world=radar_to_world is not None)
 
     n_dop, n_rng = rd_power.shape
-    pdb = 10.0 * np.log10(np.maximum(rd_power.astype(np.float64), 1e-30))
     rng = axes.range_m[i_r].astype(np.float64)
     vel = axes.velocity_mps[i_d].astype(np.float64)
     if dc.interpolate_peaks:
+
+        def pdb(rows: NDArray[np.intp], cols: NDArray[np.intp]) -> NDArray[np.float64]:
+            """The map in dB at some cells (only those the refinement reads)."""
+            return 10.0 * np.log10(np.maximum(rd_power[rows, cols].astype(np.float64), 1e-30))
+
         dr = axes.range_m[1] - axes.range_m[0]
         inner = (i_r > 0) & (i_r < n_rng - 1)
         r_l, r_r = np.clip(i_r - 1, 0, n_rng - 1), np.clip(i_r + 1, 0, n_rng - 1)
+        mid = pdb(i_d, i_r)
         off_r = np.where(
-            inner, parabolic_peak_offset(pdb[i_d, r_l], pdb[i_d, i_r], pdb[i_d, r_r]), 0.0)
+            inner, parabolic_peak_offset(pdb(i_d, r_l), mid, pdb(i_d, r_r)), 0.0)
         rng = rng + off_r * dr
         if n_dop >= 3:
             dv = axes.velocity_mps[1] - axes.velocity_mps[0]
-            off_v = parabolic_peak_offset(pdb[(i_d - 1) % n_dop, i_r], pdb[i_d, i_r],
-                               pdb[(i_d + 1) % n_dop, i_r])
+            off_v = parabolic_peak_offset(pdb((i_d - 1) % n_dop, i_r), mid,
+                                          pdb((i_d + 1) % n_dop, i_r))
             vel = vel + off_v * dv
 
     snapshots = np.asarray(rd[i_d, :, i_r]).astype(np.complex128)  # (n, channels)

@@ -9,6 +9,7 @@ angle-search refinement are done in float64.
 
 from __future__ import annotations
 
+import math
 from functools import lru_cache
 
 import numpy as np
@@ -16,6 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.signal import get_window
 from scipy.signal.windows import chebwin
 
+from simcore.jit import kernel
 from simcore.scene.dsp_config import WindowName
 
 #: Smallest power used before taking logarithms (keeps exact zeros finite in dB).
@@ -52,8 +54,22 @@ def power_to_db(power: ArrayLike) -> NDArray[np.float32]:
     >>> np.round(power_to_db([1.0, 100.0, 0.5]), 2)
     array([ 0.  , 20.  , -3.01], dtype=float32)
     """
-    p = np.maximum(np.asarray(power, dtype=np.float64), POWER_FLOOR)
-    return as_float32(10.0 * np.log10(p))
+    p = np.asarray(power)
+    if p.dtype == np.float32:
+        # The maps: one compiled pass, no float64 temporaries (the same numbers).
+        out = np.empty(p.shape, dtype=np.float32)
+        _db_float32(np.ascontiguousarray(p).reshape(-1), out.reshape(-1))
+        return out
+    return as_float32(10.0 * np.log10(np.maximum(np.asarray(p, dtype=np.float64),
+                                                 POWER_FLOOR)))
+
+
+@kernel
+def _db_float32(power: NDArray[np.float32], out: NDArray[np.float32]) -> None:
+    """:func:`power_to_db` of a float32 array: float64 arithmetic, float32 result."""
+    for i in range(power.size):
+        p = np.float64(power[i])
+        out[i] = np.float32(10.0 * math.log10(POWER_FLOOR if p < POWER_FLOOR else p))
 
 
 def make_window(name: WindowName, length: int, *, sidelobe_db: float = 60.0) -> NDArray[
