@@ -467,20 +467,19 @@ def cell_power_by_object(prepared: LabelScatterers, detections: Detections, n_ob
                                         dc.doppler_window_sidelobe_db, axes.doppler_fft_size)
     dr = SPEED_OF_LIGHT * rc.sample_rate_hz / (2.0 * rc.slope_hz_per_s * axes.range_fft_size)
     dv = float(axes.velocity_mps[1] - axes.velocity_mps[0]) if axes.velocity_mps.size > 1 else 1.0
-    reach_m = _range_reach_bins(range_table) * dr
+    reach_m = _range_window_reach_bins(dc.range_window, rc.samples_per_chirp,
+                                       dc.range_window_sidelobe_db, axes.range_fft_size) * dr
     cell_range = axes.range_m[detections.range_index]
     cell_velocity = axes.velocity_mps[detections.doppler_index]
     a_det = np.exp(-2j * np.pi * (direction_vectors(
         np.deg2rad(detections.azimuth_deg), np.deg2rad(detections.elevation_deg))
         @ virtual_array_positions_m(rc).T) / rc.wavelength_m).astype(np.complex64)  # (n, ch)
-    column = np.where((prepared.object_index >= 0) & (prepared.object_index < n_objects),
-                      prepared.object_index, n_objects)
     keep = _clutter_filter(prepared.doppler_cycles, rc.chirps_per_frame) if (
         dc.static_clutter_removal) else np.zeros(0)
     bounds = np.searchsorted(prepared.range_m, np.stack([cell_range - reach_m,
                                                          cell_range + reach_m], axis=1))
     _cell_powers(prepared.range_m, prepared.velocity_mps, prepared.power,
-                 np.ascontiguousarray(prepared.steering), column.astype(np.int64), keep,
+                 np.ascontiguousarray(prepared.steering), prepared.object_index, keep,
                  bounds.astype(np.int64), cell_range, cell_velocity,
                  np.ascontiguousarray(a_det.conj()), range_table, doppler_table, dr, dv,
                  float(n_ch**2), out)
@@ -500,12 +499,15 @@ def _wrap(i: int, n: int) -> int:
 @kernel
 def _cell_powers(range_m: NDArray[np.float64], velocity_mps: NDArray[np.float64],
                  power: NDArray[np.float64], steering: NDArray[np.complex64],
-                 column: NDArray[np.int64], keep: NDArray[np.float64],
+                 object_index: NDArray[np.intp], keep: NDArray[np.float64],
                  bounds: NDArray[np.int64], cell_range: NDArray[np.float64],
                  cell_velocity: NDArray[np.float64], a_det_conj: NDArray[np.complex64],
                  range_table: NDArray[np.float64], doppler_table: NDArray[np.float64],
                  dr: float, dv: float, n_ch_sq: float, out: NDArray[np.float64]) -> None:
     """Add each near scatterer's power in each detection's cell to its object's column.
+
+    The column is the scatterer's ``object_index``; the last one (``out.shape[1] − 1``)
+    takes those of no object (−1, or beyond the project's objects).
 
     Detection ``j`` sums the scatterers ``bounds[j, 0] <= k < bounds[j, 1]``: power ×
     range- and Doppler-window power (tabulated, :func:`_lookup`) × beam response
@@ -515,6 +517,7 @@ def _cell_powers(range_m: NDArray[np.float64], velocity_mps: NDArray[np.float64]
     """
     n_r = range_table.size
     n_d = doppler_table.size
+    n_objects = out.shape[1] - 1
     for j in range(bounds.shape[0]):
         for k in range(bounds[j, 0], bounds[j, 1]):
             i_r = _wrap(int(np.rint((range_m[k] - cell_range[j]) / dr * OVERSAMPLING)), n_r)
@@ -528,7 +531,8 @@ def _cell_powers(range_m: NDArray[np.float64], velocity_mps: NDArray[np.float64]
             p *= (float(beam.real) ** 2 + float(beam.imag) ** 2) / n_ch_sq
             if keep.size:
                 p *= keep[k]
-            out[j, column[k]] += p
+            obj = object_index[k]
+            out[j, obj if 0 <= obj < n_objects else n_objects] += p
 
 
 def _clutter_filter(cycles: NDArray[np.float64], n_chirps: int) -> NDArray[np.float64]:
@@ -614,3 +618,10 @@ def _range_reach_bins(range_table: NDArray[np.float64]) -> float:
     above = np.flatnonzero(half >= RANGE_FLOOR)
     reach = (above.max() + 1) / OVERSAMPLING if above.size else 1.0
     return float(min(reach, MAX_RANGE_OFFSET_BINS))
+
+
+@lru_cache(maxsize=16)
+def _range_window_reach_bins(name: str, length: int, sidelobe_db: float, fft_size: int
+                             ) -> float:
+    """:func:`_range_reach_bins` of :func:`_window_power_table` ``(name, length, …)``."""
+    return _range_reach_bins(_window_power_table(name, length, sidelobe_db, fft_size))
