@@ -192,3 +192,34 @@ def test_bird_eye_image_equals_map_coordinates(seed: int) -> None:
     want = bird_eye_reference(m.astype(np.float64), r_ax, a_ax, x_ax, z_ax)
     assert_array_equal(got, want)
     assert np.isnan(got).any() and np.isfinite(got).any()
+
+
+# --------------------------------------------------------------------------------------
+# CFAR edge padding
+# --------------------------------------------------------------------------------------
+
+
+def pad_reference(x: np.ndarray, widths: tuple[int, int],
+                  circular: tuple[bool, bool]) -> np.ndarray:
+    """np.pad per axis: wrap where circular, else reflect (edge for a single line)."""
+    out = x
+    for axis in (0, 1):
+        if widths[axis] == 0:
+            continue
+        pad = [(0, 0), (0, 0)]
+        pad[axis] = (widths[axis], widths[axis])
+        if circular[axis]:
+            out = np.pad(out, pad, mode="wrap")
+        else:
+            out = np.pad(out, pad, mode="reflect" if out.shape[axis] > 1 else "edge")
+    return out
+
+
+@pytest.mark.parametrize("shape", [(1, 1), (1, 4), (2, 2), (5, 30), (32, 256)])
+@pytest.mark.parametrize("widths", [(0, 0), (1, 1), (2, 3), (5, 10)])
+@pytest.mark.parametrize("circular", [(True, False), (False, True), (True, True),
+                                      (False, False)])
+def test_cfar_padding_equals_np_pad(shape: tuple[int, int], widths: tuple[int, int],
+                                    circular: tuple[bool, bool]) -> None:
+    x = np.random.default_rng(2).standard_normal(shape)
+    assert_array_equal(_pad(x, widths, circular), pad_reference(x, widths, circular))

@@ -258,6 +258,18 @@ def _log_sum(log_f: NDArray[np.float64], weights: NDArray[np.float64]) -> float:
 def _pad(x: NDArray[np.float64], widths: tuple[int, int], circular: tuple[bool, bool]) -> NDArray[
     np.float64
 ]:
+    w0, w1 = widths
+    n0, n1 = x.shape
+    if w0 <= n0 and w1 <= n1 - 1:
+        # The usual case, by slicing (np.pad is the general path: 10x slower on a map).
+        rows = (np.concatenate([x[n0 - w0:], x, x[:w0]]) if circular[0]
+                else np.concatenate([x[1:w0 + 1][::-1], x, x[n0 - 1 - w0:n0 - 1][::-1]])
+                if w0 <= n0 - 1 else None)
+        if rows is not None:
+            return (np.concatenate([rows[:, n1 - w1:], rows, rows[:, :w1]], axis=1)
+                    if circular[1] else
+                    np.concatenate([rows[:, 1:w1 + 1][:, ::-1], rows,
+                                    rows[:, n1 - 1 - w1:n1 - 1][:, ::-1]], axis=1))
     out = x
     for axis in (0, 1):
         w = widths[axis]
