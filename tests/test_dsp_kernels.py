@@ -21,6 +21,7 @@ from simcore.dsp import (
     bird_eye_image,
     cfar_2d,
     estimate_angles,
+    range_azimuth_power,
     spatial_covariance,
     steering_vectors,
 )
@@ -158,6 +159,19 @@ def test_bartlett_spectrum_equals_a_h_r_a() -> None:
     reference = np.real(np.einsum("di,rij,dj->rd", np.conj(a), r, a)) / 16
     assert_allclose(bartlett_spectrum(r, a), reference, rtol=1e-12, atol=0)
     assert bartlett_spectrum(r[:0], a).shape == (0, a.shape[0])
+
+
+@pytest.mark.parametrize("dtype", [np.complex64, np.complex128])
+def test_bartlett_range_azimuth_map_equals_covariance_then_spectrum(dtype: type) -> None:
+    rng = np.random.default_rng(6)
+    positions = np.array([[2.5e-3, 0, 0], [0, 0, 0], [0, -2.5e-3, 0]])
+    rd = (rng.standard_normal((32, 3, 40)) + 1j * rng.standard_normal((32, 3, 40))).astype(dtype)
+    az = np.deg2rad(np.arange(-80.0, 81.0))
+    a = steering_vectors(positions, wavelength_m=5e-3, azimuth_rad=az)
+    reference = np.maximum(bartlett_spectrum(spatial_covariance(rd), a), 0.0).T
+    got = range_azimuth_power(rd, array_layout(positions), wavelength_m=5e-3, azimuth_rad=az)
+    assert got.dtype == np.float32 and got.shape == (az.size, 40)
+    assert_allclose(got, reference.astype(np.float32), rtol=1e-6, atol=1e-7)
 
 
 # --------------------------------------------------------------------------------------

@@ -127,8 +127,20 @@ def range_azimuth_power(
            [0., 0.],
            [0., 1.]], dtype=float32)
     """
-    x = np.asarray(rd_cube).astype(np.complex128, copy=False)
     az = np.asarray(azimuth_rad, dtype=np.float64)
+    if method in ("bartlett", "monopulse"):
+        # Covariance and spectrum of each range bin in one compiled pass.
+        cube = np.asarray(rd_cube)
+        if cube.ndim != 3:
+            raise ValueError(f"rd_cube must be (doppler, channels, range), got {cube.shape}")
+        pairs = _bartlett_pairs(np.asarray(layout.positions_m, dtype=np.float64),
+                                float(wavelength_m), az)
+        out = np.empty((cube.shape[2], az.size))
+        _bartlett_map(np.ascontiguousarray(cube, dtype=np.complex128)
+                      if cube.dtype != np.complex64 else np.ascontiguousarray(cube),
+                      pairs, out)
+        return as_float32(np.maximum(out, 0.0).T)
+    x = np.asarray(rd_cube).astype(np.complex128, copy=False)
     if method == "fft":
         snap = np.moveaxis(x, 1, -1)  # (doppler, range, channels)
         spec, _ = fft_beamform(snap, layout, fft_size=fft_size)  # (doppler, range, fft)
@@ -143,6 +155,61 @@ def range_azimuth_power(
     else:
         p = bartlett_spectrum(cov, a)
     return as_float32(np.maximum(p, 0.0).T)
+
+
+_BARTLETT_PAIRS: dict[tuple[bytes, float, bytes], NDArray[np.float64]] = {}
+
+
+def _bartlett_pairs(positions_m: NDArray[np.float64], wavelength_m: float,
+                    az: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``conj(a_i) a_j`` of every azimuth, cached (read-only).
+
+    Real and imaginary parts, shape (2, M², n_az), pair index ``i * M + j``.
+    """
+    key = (positions_m.tobytes(), wavelength_m, az.tobytes())
+    pairs = _BARTLETT_PAIRS.get(key)
+    if pairs is None:
+        a = steering_vectors(positions_m, wavelength_m=wavelength_m, azimuth_rad=az)
+        m = a.shape[-1]
+        c = (np.conj(a)[:, :, None] * a[:, None, :]).reshape(a.shape[0], m * m).T
+        pairs = np.ascontiguousarray(np.stack([c.real, c.imag]))
+        pairs.setflags(write=False)
+        if len(_BARTLETT_PAIRS) > 8:
+            _BARTLETT_PAIRS.clear()
+        _BARTLETT_PAIRS[key] = pairs
+    return pairs
+
+
+@kernel
+def _bartlett_map(x: NDArray[np.complexfloating], pairs: NDArray[np.float64],
+                  out: NDArray[np.float64]) -> None:
+    """Bartlett power of each range bin and azimuth, Doppler bins as snapshots.
+
+    ``x`` (doppler, M, range); ``pairs`` (2, M², n_az) from :func:`_bartlett_pairs`;
+    ``out`` (range, n_az) ``= Re Σ_ij R_ij conj(a_i) a_j / M²`` with the covariance
+    ``R = (1/N) Σ_n x_n x_n^H`` (complex128), as
+    :func:`~simcore.dsp.angle.spatial_covariance` and
+    :func:`~simcore.dsp.angle.bartlett_spectrum`.
+    """
+    n_snap, m, n_range = x.shape
+    r_re = np.empty(m * m)
+    r_im = np.empty(m * m)
+    for r in range(n_range):
+        for i in range(m):
+            for j in range(m):
+                acc = 0j
+                for n in range(n_snap):
+                    acc += complex(x[n, i, r]) * complex(x[n, j, r]).conjugate()
+                acc = acc / n_snap
+                r_re[i * m + j] = acc.real
+                r_im[i * m + j] = acc.imag
+        for d in range(out.shape[1]):
+            out[r, d] = 0.0
+        for q in range(m * m):
+            for d in range(out.shape[1]):
+                out[r, d] += r_re[q] * pairs[0, q, d] - r_im[q] * pairs[1, q, d]
+        for d in range(out.shape[1]):
+            out[r, d] /= m * m
 
 
 def bird_eye_axes(
