@@ -344,7 +344,7 @@ class SceneRenderer:
         self.geometry = _Geometry(meshes)
         for index_pass in self._passes.values():
             index_pass.set_geometry(self.geometry)
-        materials = material_table(project)
+        materials = material_table(project, copy=False)
         self._ids = np.array([o.id for o in project.objects], dtype=np.int32)
         # Spheres are refined analytically: exact range and normal, not the facet's.
         self._sphere_radius = np.array(

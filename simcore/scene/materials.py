@@ -143,11 +143,13 @@ class MaterialLibraryError(ValueError):
 _LIBRARY_CACHE: dict[tuple[str, int, int], dict[str, DualBandMaterial]] = {}
 
 
-def load_material_library(path: Path = MATERIALS_FILE) -> dict[str, DualBandMaterial]:
+def load_material_library(path: Path = MATERIALS_FILE, *, copy: bool = True
+                          ) -> dict[str, DualBandMaterial]:
     """Load a material library JSON file (``{"materials": [...]}``) keyed by name.
 
     The parsed file is cached until it changes on disk; each call returns fresh copies,
-    so callers may edit what they get.
+    so callers may edit what they get; ``copy=False`` returns the cached models themselves
+    (for readers only: a frame reads the table several times, a deep copy costs ≈ 2 ms).
     """
     try:
         stat = Path(path).stat()
@@ -159,6 +161,8 @@ def load_material_library(path: Path = MATERIALS_FILE) -> dict[str, DualBandMate
             _LIBRARY_CACHE[key] = {m.name: m for m in materials}
     except (OSError, json.JSONDecodeError, KeyError, TypeError, ValidationError) as exc:
         raise MaterialLibraryError(f"material library {path}: {exc}") from exc
+    if not copy:
+        return dict(_LIBRARY_CACHE[key])
     return {name: m.model_copy(deep=True) for name, m in _LIBRARY_CACHE[key].items()}
 
 

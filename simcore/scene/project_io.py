@@ -177,9 +177,12 @@ def migrate(data: dict[str, Any], source: str = "project", *,
     return data
 
 
-def material_table(project: Project) -> dict[str, DualBandMaterial]:
-    """Library materials overridden by the project's own materials, keyed by name."""
-    table = load_material_library()
+def material_table(project: Project, *, copy: bool = True) -> dict[str, DualBandMaterial]:
+    """Library materials overridden by the project's own materials, keyed by name.
+
+    ``copy=False``: the library's models are the cached ones, not copies (read only).
+    """
+    table = load_material_library(copy=copy)
     table.update({m.name: m for m in project.materials})
     return table
 

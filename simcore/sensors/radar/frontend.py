@@ -120,7 +120,7 @@ def radar_scatterers(project: Project, snapshot: SceneSnapshot, buffers: RenderB
     return scatterers_from_render(
         project, snapshot, buffers, wavelength_m=cfg.wavelength_m,
         facets=cfg.facet_intrinsics(), speckle=cfg.speckle,
-        seed=project.seed if seed is None else seed, materials=material_table(project),
+        seed=project.seed if seed is None else seed, materials=material_table(project, copy=False),
         pixels=pixels, see_through=see_through)
 
 

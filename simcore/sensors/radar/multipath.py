@@ -161,7 +161,7 @@ def find_reflectors(project: Project, snapshot: SceneSnapshot, wavelength_m: flo
     min_reflection, min_area_m2 : float
         Thresholds on the normal-incidence |Γ| and on the face area (m²).
     """
-    table = material_table(project) if materials is None else materials
+    table = material_table(project, copy=False) if materials is None else materials
     radar = snapshot.sensors["radar"]
     r_rad, p_rad = radar.rotation, radar.position
     freq = SPEED_OF_LIGHT / wavelength_m
@@ -373,7 +373,7 @@ def second_leg_clear(project: Project, snapshot: SceneSnapshot, paths: ImagePath
     ndarray of bool, shape (K,)
         One flag per row of ``paths``.
     """
-    table = material_table(project) if materials is None else materials
+    table = material_table(project, copy=False) if materials is None else materials
     radar = snapshot.sensors["radar"]
     world_to_radar = np.linalg.inv(radar.transform)
     freq = SPEED_OF_LIGHT / wavelength_m
@@ -504,7 +504,7 @@ def ghost_scatterers(project: Project, snapshot: SceneSnapshot, scatterers: Scat
     if order <= 0 or len(scatterers) == 0:
         return []
     lam = config.wavelength_m
-    table = material_table(project)
+    table = material_table(project, copy=False)
     if reflectors is None:
         reflectors = find_reflectors(project, snapshot, lam, materials=table)
     p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()

@@ -365,7 +365,7 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
                          for o in objects], dtype=bool)
 
     # ---------------------------------------------------------------- analytic targets
-    table = materials if materials is not None else material_table(project)
+    table = materials if materials is not None else material_table(project, copy=False)
     trans = transmission_coefficients(project, table, wavelength_m)
     extra_pos, extra_vel, extra_rcs, extra_obj, extra_kind = [], [], [], [], []
     extra_phase: list[float] = []

@@ -259,7 +259,7 @@ def transmission_coefficients(project: Project, table: Mapping[str, DualBandMate
 
 def transmissive_objects(project: Project, wavelength_m: float) -> tuple[bool, ...] | None:
     """Which objects partly transmit the radar wave; None when none does."""
-    trans = transmission_coefficients(project, material_table(project), wavelength_m)
+    trans = transmission_coefficients(project, material_table(project, copy=False), wavelength_m)
     mask = tuple(bool(t != 0) for t in trans[:-1])
     return mask if any(mask) else None
 

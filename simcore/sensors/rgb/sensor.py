@@ -42,7 +42,8 @@ class RgbSensor:
         cfg = self._config(ctx.project)
         return ctx.stage(
             "rgb", lambda: simulate_rgb(ctx.buffers, cfg,
-                                        object_colors(ctx.project, material_table(ctx.project))),
+                                        object_colors(ctx.project,
+                                                      material_table(ctx.project, copy=False))),
             reads=(config_key(cfg), config_key(*ctx.project.materials),
                    config_key(*ctx.project.objects)),
             inputs=(ctx.buffers,))

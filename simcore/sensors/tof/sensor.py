@@ -77,7 +77,7 @@ def transmittance(project: Project) -> NDArray[np.float64]:
     From each object's ToF-band material (:func:`simcore.sensors.tof.camera.slab_transmittance`
     at the camera's wavelength).
     """
-    table = material_table(project)
+    table = material_table(project, copy=False)
     wavelength_m = project.rig.tof.wavelength_nm * 1e-9
     return np.array([slab_transmittance(table[o.material].band("tof"), wavelength_m)
                      if o.material in table else 0.0 for o in project.objects],
@@ -92,7 +92,7 @@ def diffuse_albedo(project: Project, buffers: RenderBuffers) -> NDArray[np.float
     ndarray, shape (H, W), float32
         0 where no surface is seen.
     """
-    table = material_table(project)
+    table = material_table(project, copy=False)
     per_object = [table[o.material].band("tof") for o in project.objects]
     values = np.array([(1.0 - b.metallic) * b.reflectance for b in per_object] + [0.0],
                       dtype=np.float32)
