@@ -38,6 +38,7 @@ caller that synthesises one scatterer set several times (antenna edits) keeps th
 from __future__ import annotations
 
 import dataclasses
+import functools
 import os
 import threading
 from collections.abc import Callable, Iterator, Sequence
@@ -73,6 +74,7 @@ from simcore.sensors.radar.receiver import (
     receiver_noise,
 )
 from simcore.sensors.radar.scatterers import Scatterers
+from simcore.sensors.radar.synthesis_kernel import fit_delays, transform_weights
 
 ComplexCube = NDArray[np.complex128]
 #: Tx positions (n_tx, 3) and Rx positions (n_rx, 3) of a synthesis (m).
@@ -402,9 +404,16 @@ class _Sweep:
     eps: float                        # per-scatterer budget, model + series (rad)
     eps_model: float                  # at most this much of it for the model's remainder
     eps_nufft: float                  # tolerance of the main transforms
+    targets: dict[tuple[int, int, int], _Targets] = field(default_factory=dict, repr=False)
+    lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
 
     @classmethod
     def of(cls, config: RadarConfig) -> _Sweep:
+        """The sweep of a configuration (the last few kept: their targets are re-used)."""
+        return _sweep_of(config.model_dump_json())
+
+    @classmethod
+    def _make(cls, config: RadarConfig) -> _Sweep:
         t_n = config.sample_times_s()
         slope = config.slope_hz_per_s
         f_inst = config.start_frequency_hz + slope * t_n
@@ -414,6 +423,11 @@ class _Sweep:
                    f_max=float(f_inst[-1]), rel_df=float(np.abs(f_inst - f_r).max() / f_r),
                    slope=slope, eps=eps, eps_model=0.5 * eps,
                    eps_nufft=max(config.nufft_tolerance, 0.1 * eps))
+
+
+@functools.lru_cache(maxsize=8)
+def _sweep_of(config_json: str) -> _Sweep:
+    return _Sweep._make(RadarConfig.model_validate_json(config_json))
 
 
 @dataclass(frozen=True)
@@ -428,9 +442,24 @@ class _Targets:
     b2: NDArray[np.float64]           # 2π (t − t_c)(f_inst − f_r), (J,)
     q_mean: float                     # q̄ = mean of (t − t_c)² over the block (s²)
     b_max: float
+    b2_max: float
 
     @classmethod
     def of(cls, sweep: _Sweep, tx: int, m0: int, m1: int) -> _Targets:
+        """The targets, computed once per sweep, Tx and block (every pair and frame)."""
+        key = (tx, m0, m1)
+        with sweep.lock:
+            hit = sweep.targets.get(key)
+        if hit is None:
+            hit = cls._make(sweep, tx, m0, m1)
+            with sweep.lock:
+                if len(sweep.targets) > 64:
+                    sweep.targets.clear()
+                sweep.targets[key] = hit
+        return hit
+
+    @classmethod
+    def _make(cls, sweep: _Sweep, tx: int, m0: int, m1: int) -> _Targets:
         times = sweep.starts[m0:m1, tx][:, None] + sweep.t_n[None, :]
         t_c = 0.5 * float(times[0, 0] + times[-1, -1])
         u = times - t_c
@@ -438,10 +467,14 @@ class _Targets:
         q_mean = float(q.mean())
         f = np.broadcast_to(sweep.f_inst, u.shape)
         b = (_TWO_PI * f * (q - q_mean)).ravel()
-        return cls(t_c=t_c, half=0.5 * float(times[-1, -1] - times[0, 0]),
-                   s=(_TWO_PI * (f - sweep.f_r)).ravel(), t=(_TWO_PI * f * u).ravel(),
-                   b=b, b2=(_TWO_PI * u * (f - sweep.f_r)).ravel(), q_mean=q_mean,
-                   b_max=float(np.abs(b).max()))
+        b2 = (_TWO_PI * u * (f - sweep.f_r)).ravel()
+        out = cls(t_c=t_c, half=0.5 * float(times[-1, -1] - times[0, 0]),
+                  s=(_TWO_PI * (f - sweep.f_r)).ravel(), t=(_TWO_PI * f * u).ravel(),
+                  b=b, b2=b2, q_mean=q_mean, b_max=float(np.abs(b).max()),
+                  b2_max=float(np.abs(b2).max()))
+        for arr in (out.s, out.t, out.b, out.b2):
+            arr.setflags(write=False)
+        return out
 
 
 #: Fit nodes of a block, in units of its half-duration U from its centre: the parabola goes
@@ -528,28 +561,13 @@ def _fit(path: NDArray[np.float64], nodes: NDArray[np.float64], tg: _Targets, sw
     of at most :data:`MAX_SERIES_ORDER` terms brings the curvature within what is left of
     ``eps``.
     """
-    c, k, big_u = SPEED_OF_LIGHT, sweep.slope, tg.half
-    l0 = path[2]
-    l1 = (path[4] - path[0]) * (0.5 / big_u)
-    l2 = (path[4] - 2.0 * l0 + path[0]) * (1.0 / big_u**2)
-    res = np.zeros_like(l0)
-    for j in [1, 3, *range(5, len(path))]:
-        u = big_u * float(nodes[j])
-        np.maximum(res, np.abs(path[j] - (l0 + u * l1 + (0.5 * u * u) * l2)), out=res)
-    tau, beta, alpha2 = l0 * (1.0 / c), l1 * (1.0 / c), l2 * (0.5 / c)
-    alpha = alpha2 - (k / (2.0 * sweep.f_r)) * beta * beta
-    gamma = (k / sweep.f_r) * tau * beta
-    err = res * (_TWO_PI * sweep.f_max / c * 1.5)
-    err += (np.pi * k * big_u**2 * sweep.rel_df) * beta * beta
-    err += (_TWO_PI * k * big_u**2) * np.abs(tau * alpha2)
-    a = np.abs(alpha) * tg.b_max
-    # −2πKτβu is in the sources up to 2π γ u (f_inst − f_r): a first-order term when needed.
-    g = np.abs(gamma) * float(np.abs(tg.b2).max())
-    cross = g > 0.1 * sweep.eps_model
-    err += np.where(cross, 0.5 * g * g + a * g, g)
-    # The series gets what the model leaves of the budget (at least half of it).
-    order = _series_order(a, sweep.eps - np.minimum(err, sweep.eps_model))
-    ok = (err <= sweep.eps_model) & (order <= MAX_SERIES_ORDER)
+    n = path.shape[1]
+    tau, beta, alpha, gamma = (np.empty(n) for _ in range(4))
+    cross, ok = np.empty(n, dtype=bool), np.empty(n, dtype=bool)
+    order = np.empty(n, dtype=np.int8)
+    fit_delays(np.ascontiguousarray(path), nodes, tg.half, SPEED_OF_LIGHT, sweep.slope,
+               sweep.f_r, sweep.f_max, sweep.rel_df, sweep.eps, sweep.eps_model, tg.b_max,
+               tg.b2_max, MAX_SERIES_ORDER, tau, beta, alpha, gamma, cross, order, ok)
     return _Fit(tau=tau, beta=beta, alpha=alpha, gamma=gamma, cross=cross, order=order, ok=ok)
 
 
@@ -564,14 +582,11 @@ def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg:
     has a fixed cost of ≈ 5 ms), else in one more call over those that do, at the looser
     tolerance their small size allows.
     """
-    k = sweep.slope
-    tau, alpha = fit.tau[sel], fit.alpha[sel]
-    x = tau + alpha * tg.q_mean
-    y = fit.beta[sel] * (1.0 - (k / sweep.f_r) * tau)
-    arg = x * (_TWO_PI * sweep.f_r)
-    arg -= (np.pi * k) * tau * tau
-    arg32 = _wrap(arg).astype(np.float32)
-    w = w0[sel] * (np.cos(arg32) + 1j * np.sin(arg32))
+    x, y = np.empty(len(sel)), np.empty(len(sel))
+    w = np.empty(len(sel), dtype=np.complex128)
+    transform_weights(fit.tau, fit.alpha, fit.beta, w0, sel.astype(np.int64, copy=False),
+                      tg.q_mean, sweep.slope, sweep.f_r, x, y, w)
+    alpha = fit.alpha[sel]
     order, cross = fit.order[sel], fit.cross[sel]
     needs = (order > 0) | cross
     n_needs = int(np.count_nonzero(needs))
@@ -595,7 +610,7 @@ def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg:
     if n_cross:
         gamma = np.where(cross[part], fit.gamma[sel[part]], 0.0)
         coef[p_max] = w[part] * 1j * gamma
-        size = max(size, float(np.abs(gamma).max() * np.abs(tg.b2).max()))
+        size = max(size, float(np.abs(gamma).max()) * tg.b2_max)
     if merge:
         plan = _plan3(1 + len(coef), sweep.eps_nufft)
         plan.setpts(x, y, None, tg.s, tg.t)
