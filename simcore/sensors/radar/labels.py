@@ -455,35 +455,68 @@ def cell_power_by_object(prepared: LabelScatterers, detections: Detections, n_ob
         Power (FS², beam-formed cell) per detection and object; the last column holds the
         scatterers of no object.
     """
-    rc, dc = radar_config, dsp_config
-    n = len(detections)
-    out = np.zeros((n, n_objects + 1))
-    if n == 0 or len(prepared) == 0:
+    return _DetectionCells.of(detections, radar_config, dsp_config, axes).power_by_object(
+        prepared, n_objects)
+
+
+@dataclass(frozen=True)
+class _DetectionCells:
+    """What :func:`cell_power_by_object` needs of the detections, for any scatterer set."""
+
+    cell_range: NDArray[np.float64]
+    cell_velocity: NDArray[np.float64]
+    a_det_conj: NDArray[np.complex64]         # (n, ch): conjugated beam steering
+    range_table: NDArray[np.float64]
+    doppler_table: NDArray[np.float64]
+    dr: float
+    dv: float
+    reach_m: float
+    n_chirps: int
+    clutter_filter: bool
+
+    @classmethod
+    def of(cls, detections: Detections, rc: RadarConfig, dc: DspConfig, axes: RadarAxes
+           ) -> _DetectionCells:
+        """The cells, beams and window tables of ``detections``."""
+        range_table = _window_power_table(dc.range_window, rc.samples_per_chirp,
+                                          dc.range_window_sidelobe_db, axes.range_fft_size)
+        doppler_table = _window_power_table(dc.doppler_window, rc.chirps_per_frame,
+                                            dc.doppler_window_sidelobe_db,
+                                            axes.doppler_fft_size)
+        dr = SPEED_OF_LIGHT * rc.sample_rate_hz / (2.0 * rc.slope_hz_per_s
+                                                   * axes.range_fft_size)
+        dv = (float(axes.velocity_mps[1] - axes.velocity_mps[0])
+              if axes.velocity_mps.size > 1 else 1.0)
+        reach_m = _range_window_reach_bins(dc.range_window, rc.samples_per_chirp,
+                                           dc.range_window_sidelobe_db,
+                                           axes.range_fft_size) * dr
+        a_det = np.exp(-2j * np.pi * (direction_vectors(
+            np.deg2rad(detections.azimuth_deg), np.deg2rad(detections.elevation_deg))
+            @ virtual_array_positions_m(rc).T) / rc.wavelength_m).astype(np.complex64)
+        return cls(axes.range_m[detections.range_index],
+                   axes.velocity_mps[detections.doppler_index],
+                   np.ascontiguousarray(a_det.conj()), range_table, doppler_table, dr, dv,
+                   reach_m, rc.chirps_per_frame, dc.static_clutter_removal)
+
+    def power_by_object(self, prepared: LabelScatterers, n_objects: int
+                        ) -> NDArray[np.float64]:
+        """:func:`cell_power_by_object` of one scatterer set."""
+        n = self.cell_range.size
+        out = np.zeros((n, n_objects + 1))
+        if n == 0 or len(prepared) == 0:
+            return out
+        keep = (_clutter_filter(prepared.doppler_cycles, self.n_chirps)
+                if self.clutter_filter else np.zeros(0))
+        bounds = np.empty((n, 2), dtype=np.int64)
+        bounds[:, 0] = np.searchsorted(prepared.range_m, self.cell_range - self.reach_m)
+        bounds[:, 1] = np.searchsorted(prepared.range_m, self.cell_range + self.reach_m)
+        n_ch = self.a_det_conj.shape[1]
+        _cell_powers(prepared.range_m, prepared.velocity_mps, prepared.power,
+                     np.ascontiguousarray(prepared.steering), prepared.object_index, keep,
+                     bounds, self.cell_range, self.cell_velocity, self.a_det_conj,
+                     self.range_table, self.doppler_table, self.dr, self.dv,
+                     float(n_ch**2), out)
         return out
-    n_ch = len(rc.tx) * len(rc.rx)
-    range_table = _window_power_table(dc.range_window, rc.samples_per_chirp,
-                                      dc.range_window_sidelobe_db, axes.range_fft_size)
-    doppler_table = _window_power_table(dc.doppler_window, rc.chirps_per_frame,
-                                        dc.doppler_window_sidelobe_db, axes.doppler_fft_size)
-    dr = SPEED_OF_LIGHT * rc.sample_rate_hz / (2.0 * rc.slope_hz_per_s * axes.range_fft_size)
-    dv = float(axes.velocity_mps[1] - axes.velocity_mps[0]) if axes.velocity_mps.size > 1 else 1.0
-    reach_m = _range_window_reach_bins(dc.range_window, rc.samples_per_chirp,
-                                       dc.range_window_sidelobe_db, axes.range_fft_size) * dr
-    cell_range = axes.range_m[detections.range_index]
-    cell_velocity = axes.velocity_mps[detections.doppler_index]
-    a_det = np.exp(-2j * np.pi * (direction_vectors(
-        np.deg2rad(detections.azimuth_deg), np.deg2rad(detections.elevation_deg))
-        @ virtual_array_positions_m(rc).T) / rc.wavelength_m).astype(np.complex64)  # (n, ch)
-    keep = _clutter_filter(prepared.doppler_cycles, rc.chirps_per_frame) if (
-        dc.static_clutter_removal) else np.zeros(0)
-    bounds = np.searchsorted(prepared.range_m, np.stack([cell_range - reach_m,
-                                                         cell_range + reach_m], axis=1))
-    _cell_powers(prepared.range_m, prepared.velocity_mps, prepared.power,
-                 np.ascontiguousarray(prepared.steering), prepared.object_index, keep,
-                 bounds.astype(np.int64), cell_range, cell_velocity,
-                 np.ascontiguousarray(a_det.conj()), range_table, doppler_table, dr, dv,
-                 float(n_ch**2), out)
-    return out
 
 
 @kernel
@@ -585,13 +618,14 @@ def label_detections(detections: Detections, scatterers: Scatterers | Sequence[
     if n == 0:
         return DetectionLabels.unlabelled(n)
     n_objects = len(object_ids)
+    cells = _DetectionCells.of(detections, rc, dc, axes)
     per_object = np.zeros((n, n_objects + 1))
     for prepared, sign in parts:
-        per_object += sign * cell_power_by_object(prepared, detections, n_objects, rc, dc, axes)
+        per_object += sign * cells.power_by_object(prepared, n_objects)
     per_object = np.maximum(per_object, 0.0)
     per_ghost = np.zeros_like(per_object)
     for prepared in ghosts:
-        per_ghost += cell_power_by_object(prepared, detections, n_objects, rc, dc, axes)
+        per_ghost += cells.power_by_object(prepared, n_objects)
 
     n_ch = len(rc.tx) * len(rc.rx)
     noise = (4.0 if not rc.complex_iq else 2.0) * noise_std_fs(rc) ** 2 / n_ch
