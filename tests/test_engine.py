@@ -14,10 +14,12 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
+from simcore.engine import FrameEngine
 from simcore.pipeline import Frame, Simulator
 from simcore.resources import example_path
 from simcore.scene import Project, load_project
 from simcore.sensors import registered
+from simcore.sensors.base import DeferredOutput
 from simcore.sensors.radar import radar_scatterers
 from simcore.sensors.radar.sensor import RadarSensor
 from simcore.sensors.radar.synthesis import synthesize_if
@@ -121,6 +123,28 @@ def test_overlapped_frames_equal_one_at_a_time(example: str) -> None:
             assert frame.index == 4
             break
         assert_same_frame(sim.frame(3), expected[-1])
+
+
+def test_post_thread_gives_the_results_of_one_thread() -> None:
+    """The radar's receiver, DSP and labels on the post thread (ctx.defer) = all inline."""
+    path = example_path("office_walkthrough")
+    project = load_project(path)
+    inline = FrameEngine(project, base_dir=path.parent, threads=False)
+    try:
+        expected = [inline.frame(i) for i in (1, 2, 3)]
+    finally:
+        inline.close()
+    assert not any(isinstance(r.outputs["radar"], DeferredOutput) for r in expected)
+    with Simulator(project, base_dir=path.parent) as sim:
+        got = list(sim.frames([1, 2, 3]))
+    for a, b in zip(got, expected, strict=True):
+        assert type(a.outputs["radar"]) is type(b.outputs["radar"])
+        assert_array_equal(a.outputs["radar"].raw.adc, b.outputs["radar"].raw.adc)
+        assert_array_equal(a.outputs["radar"].dsp.detection_records(0),
+                           b.outputs["radar"].dsp.detection_records(0))
+        assert_array_equal(a.outputs["radar"].labels.object_id,
+                           b.outputs["radar"].labels.object_id)
+        assert_array_equal(a.outputs["tof"].depth_m, b.outputs["tof"].depth_m)
 
 
 def test_a_frame_started_ahead_is_adopted_or_dropped() -> None:

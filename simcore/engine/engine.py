@@ -34,7 +34,7 @@ from simcore.render.renderer import Raster, RenderRequest, SceneRenderer, change
 from simcore.scene.model import Project
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
 from simcore.sensors import Sensor, SensorContext, SensorOutput, active_sensors, frame_rng
-from simcore.sensors.base import Background
+from simcore.sensors.base import Background, DeferredOutput
 
 T = TypeVar("T")
 
@@ -145,6 +145,7 @@ class FrameEngine:
         self.background = StillBackground() if accelerate else None
         self.threads = threads
         self._worker: ThreadPoolExecutor | None = None
+        self._post: ThreadPoolExecutor | None = None
         self._scene_json = ""
         self._scene_version = 0
         self._ahead: _InFlight | None = None
@@ -246,6 +247,12 @@ class FrameEngine:
                 results[name] = future.result()
             except BaseException as exc:  # the first error, after every chain has ended
                 error = error or exc
+        for name, (buffers, output) in list(results.items()):
+            if isinstance(output, DeferredOutput):
+                try:
+                    results[name] = (buffers, output.result())
+                except BaseException as exc:
+                    error = error or exc
         if error is not None:
             raise error
         flight.timings["total"] = (time.perf_counter() - flight.start) * 1e3
@@ -319,7 +326,7 @@ class FrameEngine:
                 rng=frame_rng(self.seed, index, sensor.rng_stream), stage=stage,
                 background=(None if background is None
                             else Background(background[1], background[2], bg_see_through)),
-                see_through=see_through)
+                see_through=see_through, defer=self._defer if self.threads else None)
             return buffers, sensor.simulate(ctx)
 
         return chain
@@ -364,6 +371,13 @@ class FrameEngine:
                                               initializer=_single_threaded_blas)
         return self._worker
 
+    def _defer(self, rest: Callable[[], SensorOutput]) -> DeferredOutput:
+        """Run a sensor's last steps on the post thread (frames in order)."""
+        if self._post is None:
+            self._post = ThreadPoolExecutor(max_workers=1, thread_name_prefix="sensor-post",
+                                            initializer=_single_threaded_blas)
+        return DeferredOutput(self._post.submit(rest))
+
     def close(self) -> None:
         """Release the rendering resources and the worker thread."""
         if self._ahead is not None:
@@ -372,13 +386,21 @@ class FrameEngine:
         if self._worker is not None:
             self._worker.shutdown(wait=True)
             self._worker = None
+        if self._post is not None:
+            self._post.shutdown(wait=True)
+            self._post = None
         self.renderer.close()
 
 
 def _drain(flight: _InFlight) -> None:
     """Let a frame's worker chains end (or never start) and drop their results."""
+    outputs = [output for _, output in flight.results.values()]
     for future in flight.futures.values():
-        future.cancel() or future.exception()
+        if not future.cancel() and future.exception() is None:
+            outputs.append(future.result()[1])
+    for output in outputs:
+        if isinstance(output, DeferredOutput):
+            output.future.exception()
 
 
 def _see_through(sensor: Sensor, project: Project) -> tuple[bool, ...] | None:

@@ -16,6 +16,7 @@ follows the scatterers).
 from __future__ import annotations
 
 from collections.abc import Callable, Hashable, Sequence
+from concurrent.futures import Future
 from dataclasses import dataclass
 from typing import Any, Protocol, TypeVar, runtime_checkable
 
@@ -76,6 +77,25 @@ class Background:
     see_through: RenderBuffers | None = None
 
 
+class DeferredOutput:
+    """A sensor's output whose last steps still run on the engine's post thread.
+
+    Returned by :attr:`SensorContext.defer`; the engine waits for it before the frame is
+    complete (:meth:`result`), so callers of the engine never see one.
+    """
+
+    def __init__(self, future: Future[SensorOutput]):
+        self.future = future
+
+    def result(self) -> SensorOutput:
+        """The output (waits for the post thread; raises what the steps raised)."""
+        return self.future.result()
+
+    def hdf5_items(self) -> H5Items:
+        """The output's items (waits for it)."""
+        return self.result().hdf5_items()
+
+
 @dataclass(frozen=True)
 class SensorContext:
     """Everything a sensor gets for one frame.
@@ -105,6 +125,12 @@ class SensorContext:
     see_through : RenderBuffers or None
         The same pass with the objects of :meth:`Sensor.see_through` hidden (what lies
         behind the band's partially transparent objects); None when it hides nothing.
+    defer : callable or None
+        ``defer(rest)`` runs ``rest()`` — the frame's last steps, returning the output —
+        on the engine's post thread and returns a :class:`DeferredOutput` for
+        :meth:`Sensor.simulate` to return: the sensor's chain is then free for the next
+        frame (a pipeline stage). The post thread runs frames in order. None: no post
+        thread (return ``rest()``).
     """
 
     project: Project
@@ -117,6 +143,7 @@ class SensorContext:
     stage: StageRunner
     background: Background | None = None
     see_through: RenderBuffers | None = None
+    defer: Callable[[Callable[[], SensorOutput]], DeferredOutput] | None = None
 
     @property
     def time_s(self) -> float:

@@ -7,6 +7,7 @@ scatterers, a DSP edit re-uses the ADC cube, and a ToF edit re-uses the whole ra
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -16,7 +17,7 @@ from simcore.dsp import RadarProducts, process_frame, static_axes_items
 from simcore.render.renderer import RenderRequest
 from simcore.scene.model import Project
 from simcore.scene.radar_config import RadarConfig
-from simcore.sensors.base import H5Items, SensorContext, config_key
+from simcore.sensors.base import DeferredOutput, H5Items, SensorContext, config_key
 from simcore.sensors.radar.background import (
     BackgroundFacets,
     cell_pixels,
@@ -93,8 +94,12 @@ class RadarSensor:
         """The objects that transmit part of the radar wave (slabs: glass, paper, wood)."""
         return transmissive_objects(project, project.rig.radar.wavelength_m)
 
-    def simulate(self, ctx: SensorContext) -> RadarFrameOutput:
-        """Scatterers, IF synthesis, receiver and DSP of one frame."""
+    def simulate(self, ctx: SensorContext) -> RadarFrameOutput | DeferredOutput:
+        """Scatterers, IF synthesis, receiver and DSP of one frame.
+
+        Receiver, DSP and labels run on the engine's post thread when it has one
+        (``ctx.defer``).
+        """
         cfg = ctx.project.rig.radar
         found = _ideal_over_background(ctx, cfg)
         scatterers = None
@@ -112,14 +117,28 @@ class RadarSensor:
                               lambda: synthesize_if(scatterers, cfg, prepared=prepared),
                               reads=config_key(cfg), inputs=(scatterers, prepared))
             n_scatterers = transformed = len(scatterers)
-            parts = [(ctx.stage("radar_label_scatterers",
-                                lambda: prepare_scatterers(scatterers, cfg),
-                                reads=config_key(cfg), inputs=(scatterers,)), 1.0)]
+            parts = None
         else:
             ideal, n_scatterers, transformed, parts = found
         ghosts: list[LabelScatterers] = []
         if cfg.multipath_order > 0:
             ideal, ghosts = _with_multipath(ctx, cfg, ideal, scatterers)
+        rest = functools.partial(self._finish, ctx, cfg, ideal, n_scatterers, transformed,
+                                 scatterers, parts, ghosts)
+        # Receiver, DSP and labels on the engine's post thread: the chain goes on to the
+        # next frame's scatterers and synthesis meanwhile.
+        return ctx.defer(rest) if ctx.defer is not None else rest()
+
+    def _finish(self, ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
+                n_scatterers: int, transformed: int, scatterers: Scatterers | None,
+                parts: _LabelParts | None, ghosts: list[LabelScatterers]
+                ) -> RadarFrameOutput:
+        """The frame's last steps: label terms, receiver, DSP, detection labels."""
+        if parts is None:
+            assert scatterers is not None
+            sc = scatterers
+            parts = [(ctx.stage("radar_label_scatterers", lambda: prepare_scatterers(sc, cfg),
+                                reads=config_key(cfg), inputs=(sc,)), 1.0)]
         raw = ctx.stage(
             "radar_receiver",
             lambda: radar_output(ideal, cfg, rng=ctx.rng, time_s=ctx.time_s,
