@@ -125,6 +125,23 @@ def test_overlapped_frames_equal_one_at_a_time(example: str) -> None:
         assert_same_frame(sim.frame(3), expected[-1])
 
 
+def test_the_frame_after_a_scene_edit_skips_the_still_background() -> None:
+    """An edit's frame is computed plainly (no background to rebuild); the next uses it."""
+    path = example_path("office")
+    project = load_project(path)
+    edited = project.model_copy(deep=True)
+    x, y, z = edited.objects[0].pose.position_m
+    edited.objects[0].pose.position_m = (x + 0.05, y, z)
+    with Simulator(project, base_dir=path.parent) as sim:
+        assert "render_background" in sim.frame(2).timings_ms     # first project: built
+        sim.set_project(edited)
+        after_edit = sim.frame(3)
+        assert "render_background" not in after_edit.timings_ms
+        assert "render_background" in sim.frame(4).timings_ms     # built again
+    with Simulator(edited, base_dir=path.parent, reuse_static=False) as plain:
+        assert_same_frame(after_edit, plain.frame(3))
+
+
 def test_post_thread_gives_the_results_of_one_thread() -> None:
     """The radar's receiver, DSP and labels on the post thread (ctx.defer) = all inline."""
     path = example_path("office_walkthrough")

@@ -149,6 +149,7 @@ class FrameEngine:
         self._scene_json = ""
         self._scene_version = 0
         self._ahead: _InFlight | None = None
+        self._edited = False
         self.set_project(project)
 
     # ------------------------------------------------------------------ project
@@ -162,6 +163,10 @@ class FrameEngine:
             self._ahead = None
         if scene_json != self._scene_json:
             self.renderer.set_project(project)
+            # After an edit of the scene (not for the first project), the next frame runs
+            # without the still background: building it again costs about one more frame,
+            # which an edit — often one of a drag's many — should not wait for.
+            self._edited = bool(self._scene_json)
             self._scene_json = scene_json
             self._scene_version += 1
         self.project = project
@@ -226,9 +231,11 @@ class FrameEngine:
         order = sorted(self.sensors, key=lambda s: not (s.on_worker and self.threads))
         flight = _InFlight(index=index, snapshot=snap, sensors=list(self.sensors),
                            timings=timings, start=start)
+        plain, self._edited = self._edited, False
         try:
             for sensor in order:
-                chain = self._sensor_chain(sensor, snap, index, timings, flight.through)
+                chain = self._sensor_chain(sensor, snap, index, timings, flight.through,
+                                           plain=plain)
                 if sensor.on_worker and self.threads:
                     flight.futures[sensor.name] = self._pool().submit(chain)
                 else:
@@ -266,9 +273,13 @@ class FrameEngine:
             see_through={n: _stamped(b, snap, n) for n, b in flight.through.items()})
 
     def _sensor_chain(self, sensor: Sensor, snap: SceneSnapshot, index: int,
-                      timings: dict[str, float], through_out: dict[str, RenderBuffers]
+                      timings: dict[str, float], through_out: dict[str, RenderBuffers], *,
+                      plain: bool = False
                       ) -> Callable[[], tuple[RenderBuffers, SensorOutput]]:
-        """Rasterise the sensor's passes now; return the rest (shading, physics) to run."""
+        """Rasterise the sensor's passes now; return the rest (shading, physics) to run.
+
+        ``plain``: without the still background (the first frame after a scene edit).
+        """
         project = self.project
         request = sensor.render_request(project)
         label = f"render_{sensor.name}"
@@ -280,7 +291,7 @@ class FrameEngine:
         through = (None if hide is None else
                    self._raster(snap, request, timings, f"render_{sensor.name}_see_through",
                                 hide=hide, kind="see_through"))
-        bg_raster = self._background_raster(snap, request, timings)
+        bg_raster = None if plain else self._background_raster(snap, request, timings)
         bg_through = None
         if bg_raster is not None and hide is not None:
             assert self.background is not None and self.background.hide is not None
