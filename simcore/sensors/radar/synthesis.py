@@ -38,7 +38,6 @@ caller that synthesises one scatterer set several times (antenna edits) keeps th
 from __future__ import annotations
 
 import dataclasses
-import functools
 import os
 import threading
 from collections.abc import Callable, Iterator, Sequence
@@ -410,7 +409,16 @@ class _Sweep:
     @classmethod
     def of(cls, config: RadarConfig) -> _Sweep:
         """The sweep of a configuration (the last few kept: their targets are re-used)."""
-        return _sweep_of(config.model_dump_json())
+        key = config.model_dump_json()
+        with _SWEEPS_LOCK:
+            hit = _SWEEPS.get(key)
+        if hit is None:
+            hit = cls._make(config)
+            with _SWEEPS_LOCK:
+                if len(_SWEEPS) >= 8:
+                    _SWEEPS.pop(next(iter(_SWEEPS)))
+                _SWEEPS[key] = hit
+        return hit
 
     @classmethod
     def _make(cls, config: RadarConfig) -> _Sweep:
@@ -425,9 +433,9 @@ class _Sweep:
                    eps_nufft=max(config.nufft_tolerance, 0.1 * eps))
 
 
-@functools.lru_cache(maxsize=8)
-def _sweep_of(config_json: str) -> _Sweep:
-    return _Sweep._make(RadarConfig.model_validate_json(config_json))
+#: The last few sweeps, by the configuration's JSON (their targets are re-used).
+_SWEEPS: dict[str, _Sweep] = {}
+_SWEEPS_LOCK = threading.Lock()
 
 
 @dataclass(frozen=True)
