@@ -356,11 +356,14 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
     world_to_radar = np.linalg.inv(radar.transform)
     intr = buffers.intrinsics
     h, w = intr.height, intr.width
-    full_obj = buffers.object_index.ravel()
-    full_rng = buffers.range_m.ravel()
+    # Flat images in the kernel's dtypes (no copy when they already are).
+    full_obj = np.ascontiguousarray(buffers.object_index.ravel(), dtype=np.int32)
+    full_rng = np.ascontiguousarray(buffers.range_m.ravel(), dtype=np.float32)
     trans = mat.transmission
-    through_obj = None if see_through is None else see_through.object_index.ravel()
-    through_rng = None if see_through is None else see_through.range_m.ravel()
+    through_obj = (None if see_through is None else
+                   np.ascontiguousarray(see_through.object_index.ravel(), dtype=np.int32))
+    through_rng = (None if see_through is None else
+                   np.ascontiguousarray(see_through.range_m.ravel(), dtype=np.float32))
     pix_angle = 1.0 / min(intr.fx, intr.fy)
     n_obj = len(project.objects)
     wanted = None if pixels is None else pixels.ravel()
@@ -373,12 +376,6 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
 
     # Each shown object's facets in one compiled pass (facet_kernel.object_facet_returns).
     wanted_arr = np.zeros(1, dtype=np.bool_) if wanted is None else wanted
-    full_obj32 = np.ascontiguousarray(full_obj, dtype=np.int32)
-    full_rng32 = np.ascontiguousarray(full_rng, dtype=np.float32)
-    through_obj32 = (None if through_obj is None
-                     else np.ascontiguousarray(through_obj, dtype=np.int32))
-    through_rng32 = (None if through_rng is None
-                     else np.ascontiguousarray(through_rng, dtype=np.float32))
     no_phase = np.zeros(1)
     positions, amplitudes, objects, pixel_list = [], [], [], []
     for i, (o, mesh) in enumerate(zip(project.objects, meshes, strict=True)):
@@ -386,9 +383,9 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
             continue
         facets = surface_facets(mesh)
         # Opaque objects are looked for behind the transparent ones, if that pass exists.
-        behind = through_obj32 is not None and trans[i] == 0
-        obj_img = through_obj32 if behind else full_obj32
-        rng_img = through_rng32 if behind else full_rng32
+        behind = through_obj is not None and trans[i] == 0
+        obj_img = through_obj if behind else full_obj
+        rng_img = through_rng if behind else full_rng
         assert obj_img is not None and rng_img is not None
         m = world_to_radar @ snapshot.objects[i].transform
         rot, off = np.ascontiguousarray(m[:3, :3]), np.ascontiguousarray(m[:3, 3])
@@ -403,7 +400,7 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
             rot, off, float(intr.fx), float(intr.fy), float(intr.cx), float(intr.cy),
             int(w), int(h), obj_img, rng_img, wanted_arr, wanted is not None, i,
             float(pix_angle), VISIBILITY_TOLERANCE_M,
-            bool(behind), full_obj32, full_rng32, trans,
+            bool(behind), full_obj, full_rng, trans,
             k, float(wavelength_m), bool(mat.smooth[i]), complex(mat.gamma[i]),
             float(mat.height_rms[i]), float(mat.reflectance[i]), float(mat.specular[i]),
             float(mat.roughness[i]), float(mat.metallic[i]), float(mat.retro_gain[i]),
