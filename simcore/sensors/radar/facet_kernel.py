@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simcore.jit import kernel
+from simcore.render.shading_kernels import band_response_one
 
 #: Near-singular guard of the triangle integral's divided differences (rad).
 SMALL = 1e-3
@@ -139,7 +140,6 @@ def object_facet_returns(
     c = np.empty(3)
     w = np.empty(3)
     sqrt_pi2 = 2.0 * math.sqrt(math.pi) / wavelength
-    m2 = roughness * roughness
     count = 0
     for f in range(centroids.shape[0]):
         if not facing[source[f]]:
@@ -199,11 +199,9 @@ def object_facet_returns(
             rho2 = math.exp(-g * g)
             amp = (sqrt_pi2 * gamma * math.sqrt(rho2) * cos_i) * integral
         # Diffuse part: the band response with the lobe's incoherent fraction.
-        cc = min(max(cos_i, 1e-6), 1.0)
-        tan2 = (1.0 - cc * cc) / (cc * cc)
-        lobe = specular * math.exp(-tan2 / m2) / (m2 * cc**4)
         incoherent = 1.0 - rho2 if smooth else 1.0
-        sigma0 = (1.0 - metallic) * reflectance * cc + lobe * incoherent + retro_gain
+        sigma0 = band_response_one(cos_i, reflectance, specular * incoherent, roughness,
+                                   metallic, retro_gain)
         diffuse = math.sqrt(sigma0 * 0.5 * area2[f])
         if speckle:
             amp += diffuse * complex(math.cos(phases[f]), math.sin(phases[f]))
