@@ -93,6 +93,11 @@ DEFAULT_THREADS = max(1, min(2, os.cpu_count() or 1))
 #: moving-scatterer path aims at: below it the float32 weights' rounding (≈ 1e-7) and the
 #: transforms dominate anyway. The budget is ``max(nufft_tolerance, MOTION_TOLERANCE_FLOOR)``.
 MOTION_TOLERANCE_FLOOR = 1e-4
+#: Relative L2 rounding of a single-precision (complex64) type-3 transform per radian of its
+#: centred phase span ``P = max|s|·½ span(x) + max|t|·½ span(y)``: about 2 × 2⁻²⁴ measured
+#: (point targets 0.7–5.7 m, P ≈ 310 rad: −88 dB), with a margin. Moving scatterers use
+#: single precision where this times ``P`` is within half their budget (``docs/physics_radar.md``).
+SINGLE_ROUNDING_PER_RAD = 2.5 * 2.0**-24
 #: Longest curvature series (highest power) before a scatterer is split over shorter blocks.
 MAX_SERIES_ORDER = 4
 #: Scatterers × samples below which a fallback block is summed directly (a type-3
@@ -256,16 +261,17 @@ def _plan(wave: _Waveform) -> finufft.Plan:
     return plans[key]
 
 
-def _plan3(n_trans: int, eps: float) -> finufft.Plan:
-    """2-D type-3 plan of the calling thread (double precision) for ``n_trans`` vectors."""
-    plans: dict[tuple[int, float], finufft.Plan] = getattr(_PLANS, "plans3", None) or {}
+def _plan3(n_trans: int, eps: float, *, single: bool) -> finufft.Plan:
+    """2-D type-3 plan of the calling thread for ``n_trans`` vectors (complex64 if ``single``)."""
+    plans: dict[tuple[int, float, bool], finufft.Plan] = getattr(_PLANS, "plans3", None) or {}
     _PLANS.plans3 = plans
-    key = (n_trans, eps)
+    key = (n_trans, eps, single)
     if key not in plans:
         # Unsorted points: the fine grid (≈ 600 × 20 at the preset) stays in cache anyway.
         # upsampfac 2 (finufft picks 1.25 at some tolerances: wider kernels, 20 % slower).
         plans[key] = finufft.Plan(3, 2, n_trans=n_trans, eps=eps, isign=1, nthreads=1,
-                                  spread_sort=0, upsampfac=2.0, dtype="complex128")
+                                  spread_sort=0, upsampfac=2.0,
+                                  dtype="complex64" if single else "complex128")
     return plans[key]
 
 
@@ -451,6 +457,10 @@ class _Targets:
     q_mean: float                     # q̄ = mean of (t − t_c)² over the block (s²)
     b_max: float
     b2_max: float
+    s_max: float
+    t_max: float
+    s32: NDArray[np.float32]          # s and t in single precision, for complex64 transforms
+    t32: NDArray[np.float32]
 
     @classmethod
     def of(cls, sweep: _Sweep, tx: int, m0: int, m1: int) -> _Targets:
@@ -476,11 +486,13 @@ class _Targets:
         f = np.broadcast_to(sweep.f_inst, u.shape)
         b = (_TWO_PI * f * (q - q_mean)).ravel()
         b2 = (_TWO_PI * u * (f - sweep.f_r)).ravel()
-        out = cls(t_c=t_c, half=0.5 * float(times[-1, -1] - times[0, 0]),
-                  s=(_TWO_PI * (f - sweep.f_r)).ravel(), t=(_TWO_PI * f * u).ravel(),
+        s, t = (_TWO_PI * (f - sweep.f_r)).ravel(), (_TWO_PI * f * u).ravel()
+        out = cls(t_c=t_c, half=0.5 * float(times[-1, -1] - times[0, 0]), s=s, t=t,
                   b=b, b2=b2, q_mean=q_mean, b_max=float(np.abs(b).max()),
-                  b2_max=float(np.abs(b2).max()))
-        for arr in (out.s, out.t, out.b, out.b2):
+                  b2_max=float(np.abs(b2).max()), s_max=float(np.abs(s).max()),
+                  t_max=float(np.abs(t).max()), s32=s.astype(np.float32),
+                  t32=t.astype(np.float32))
+        for arr in (out.s, out.t, out.b, out.b2, out.s32, out.t32):
             arr.setflags(write=False)
         return out
 
@@ -594,14 +606,13 @@ def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg:
     w = np.empty(len(sel), dtype=np.complex128)
     transform_weights(fit.tau, fit.alpha, fit.beta, w0, sel.astype(np.int64, copy=False),
                       tg.q_mean, sweep.slope, sweep.f_r, x, y, w)
+    points = _Points.of(x, y, tg, sweep)
     alpha = fit.alpha[sel]
     order, cross = fit.order[sel], fit.cross[sel]
     needs = (order > 0) | cross
     n_needs = int(np.count_nonzero(needs))
     if not n_needs:
-        plan = _plan3(1, sweep.eps_nufft)
-        plan.setpts(x, y, None, tg.s, tg.t)
-        return np.asarray(plan.execute(w), dtype=np.complex128)
+        return points.transform(w, sweep.eps_nufft, tg)
     merge = len(sel) <= MERGE_SERIES_POINTS or n_needs > 0.7 * len(sel)
     part = np.arange(len(sel)) if merge else np.flatnonzero(needs)
     # Rows 0 … P−1: the curvature series, term q+1 at most a^(q+1)/(q+1)! of the main one;
@@ -620,26 +631,65 @@ def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg:
         coef[p_max] = w[part] * 1j * gamma
         size = max(size, float(np.abs(gamma).max()) * tg.b2_max)
     if merge:
-        plan = _plan3(1 + len(coef), sweep.eps_nufft)
-        plan.setpts(x, y, None, tg.s, tg.t)
-        f = plan.execute(np.concatenate([w[None], coef]))
+        f = points.transform(np.concatenate([w[None], coef]), sweep.eps_nufft, tg)
         blk, f = f[0], f[1:]
     else:
-        plan = _plan3(1, sweep.eps_nufft)
-        plan.setpts(x, y, None, tg.s, tg.t)
-        blk = plan.execute(w)
+        blk = points.transform(w, sweep.eps_nufft, tg)
         eps = min(max(sweep.eps_nufft, 0.5 * sweep.eps / max(size, 1e-300)),
                   SERIES_NUFFT_TOLERANCE)
         eps = 10.0 ** np.floor(np.log10(eps))           # few distinct plans per thread
-        plan = _plan3(len(coef), eps)
-        plan.setpts(x[part], y[part], None, tg.s, tg.t)
-        f = plan.execute(coef if len(coef) > 1 else coef[0]).reshape(len(coef), -1)
+        f = points.transform(coef if len(coef) > 1 else coef[0], eps, tg,
+                             part=part).reshape(len(coef), -1)
     corr = np.zeros_like(blk)
     for q in range(p_max - 1, -1, -1):                  # Horner in b
         corr = (corr + f[q]) * tg.b
     if n_cross:
         corr += f[p_max] * tg.b2
-    return np.asarray(blk + corr, dtype=np.complex128)
+    return blk + corr
+
+
+@dataclass(frozen=True)
+class _Points:
+    """The sources of a block's type-3 calls, in the precision its budget allows.
+
+    Single precision (complex64, ≈ 2× faster) where its rounding,
+    :data:`SINGLE_ROUNDING_PER_RAD` × the phase span of the centred points, is within half
+    the per-scatterer budget ``ε``; double precision otherwise. Single-precision points are
+    centred in double precision first, and the centre's phase ``e^{j(s x_c + t y_c)}`` is
+    put back on the outputs in double precision: the rounding scales with the points'
+    spread (the range bins they span), not with their distance.
+    """
+
+    x: NDArray[np.float64] | NDArray[np.float32]
+    y: NDArray[np.float64] | NDArray[np.float32]
+    single: bool
+    shift: NDArray[np.complex128] | None
+
+    @classmethod
+    def of(cls, x: NDArray[np.float64], y: NDArray[np.float64], tg: _Targets,
+           sweep: _Sweep) -> _Points:
+        x_lo, x_hi, y_lo, y_hi = float(x.min()), float(x.max()), float(y.min()), float(y.max())
+        span = 0.5 * (tg.s_max * (x_hi - x_lo) + tg.t_max * (y_hi - y_lo))
+        if SINGLE_ROUNDING_PER_RAD * span > 0.5 * sweep.eps:
+            return cls(x=x, y=y, single=False, shift=None)
+        x_c, y_c = 0.5 * (x_lo + x_hi), 0.5 * (y_lo + y_hi)
+        return cls(x=(x - x_c).astype(np.float32), y=(y - y_c).astype(np.float32),
+                   single=True, shift=np.exp(1j * (tg.s * x_c + tg.t * y_c)))
+
+    def transform(self, weights: NDArray[np.complex128], eps: float, tg: _Targets,
+                  part: NDArray[np.intp] | None = None) -> NDArray[np.complex128]:
+        """Type-3 transform of ``weights`` ((J,) or (n, J) out) from the points ``part``."""
+        plan = _plan3(1 if weights.ndim == 1 else len(weights), eps, single=self.single)
+        x, y = (self.x, self.y) if part is None else (self.x[part], self.y[part])
+        if self.single:
+            plan.setpts(x, y, None, tg.s32, tg.t32)
+            out = plan.execute(weights.astype(np.complex64)).astype(np.complex128)
+        else:
+            plan.setpts(x, y, None, tg.s, tg.t)
+            out = np.asarray(plan.execute(weights), dtype=np.complex128)
+        if self.shift is not None:
+            out *= self.shift
+        return out
 
 
 def _moving_block(motion: _Motion, idx: NDArray[np.intp], w0: NDArray[np.complex128],
