@@ -23,8 +23,9 @@ from typing import Any
 import numpy as np
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL backend)
 from numpy.typing import NDArray
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
+from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkPoints, vtkUnsignedCharArray
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkRenderingCore import (
     vtkActor,
@@ -132,7 +133,14 @@ class _Geometry:
 
 
 class _IndexPass:
-    """One persistent offscreen window that rasterises triangle indices for one band."""
+    """One persistent offscreen window that rasterises triangle indices for one band.
+
+    The whole scene is one actor: the triangles of every object in one polydata whose
+    points are moved to the world frame on the CPU when a pose changes. A VTK actor costs
+    ≈ 0.25 ms per render whatever its size (24 objects: 7 ms of a 640 × 640 pass; one
+    actor: ≈ 1.5 ms). Hidden objects' points are collapsed onto one point behind the
+    camera: their triangles have no area and lie outside the view, so they draw nothing.
+    """
 
     def __init__(self, geometry: _Geometry):
         self.window = vtkRenderWindow()
@@ -144,41 +152,71 @@ class _IndexPass:
         self.renderer.SetUseFXAA(False)
         self.renderer.SetAutomaticLightCreation(False)
         self.window.AddRenderer(self.renderer)
-        self.actors: list[vtkActor | None] = []
+        self.actor: vtkActor | None = None
         self.set_geometry(geometry)
         self._size: tuple[int, int] | None = None
         self._pixels = vtkUnsignedCharArray()
 
     def set_geometry(self, geometry: _Geometry) -> None:
-        """Replace the actors (one per object) by those of ``geometry``."""
+        """Replace the scene's triangles by those of ``geometry``."""
         self.renderer.RemoveAllViewProps()
-        self.actors = []
-        for index, mesh in enumerate(geometry.meshes):
-            if mesh is None:
-                self.actors.append(None)
-                continue
-            poly = mesh.to_polydata()
-            first = geometry.triangle_offsets[index]
-            ids = np.arange(first + 1, first + 1 + len(mesh.triangles), dtype=np.int64)
-            # Label k + 1 of triangle k in (R, G, B) = (low, middle, high byte): the RGBA
-            # read-back viewed as little-endian uint32 is the label plus alpha << 24.
-            rgb = np.stack([ids & 255, (ids >> 8) & 255, (ids >> 16) & 255], axis=1)
-            colours = numpy_to_vtk(rgb.astype(np.uint8), deep=1)
-            colours.SetName("triangle_index")
-            poly.GetCellData().SetScalars(colours)
-            mapper = vtkPolyDataMapper()
-            mapper.SetInputData(poly)
-            mapper.SetColorModeToDirectScalars()
-            mapper.SetScalarModeToUseCellData()
-            mapper.ScalarVisibilityOn()
-            actor = vtkActor()
-            actor.SetMapper(mapper)
-            prop = actor.GetProperty()
-            prop.LightingOff()
-            prop.SetInterpolationToFlat()
-            prop.BackfaceCullingOff()
-            self.renderer.AddActor(actor)
-            self.actors.append(actor)
+        self.actor = None
+        self._pose_key: bytes | None = None
+        meshes = [(i, m) for i, m in enumerate(geometry.meshes) if m is not None]
+        if not meshes:
+            return
+        self._model = np.concatenate([m.points for _, m in meshes]).astype(np.float64)
+        self._owner = np.concatenate([np.full(len(m.points), i) for i, m in meshes])
+        self._world = self._model.copy()
+        points = vtkPoints()
+        # Shallow: the polydata reads ``self._world``, which each pose change rewrites.
+        points.SetData(numpy_to_vtk(self._world, deep=0))
+        self._points = points
+        cells = vtkCellArray()
+        tris = np.ascontiguousarray(geometry.triangles.ravel(), dtype=np.int64)
+        offsets = np.arange(0, len(tris) + 1, 3, dtype=np.int64)
+        cells.SetData(numpy_to_vtkIdTypeArray(offsets, deep=1),
+                      numpy_to_vtkIdTypeArray(tris, deep=1))
+        poly = vtkPolyData()
+        poly.SetPoints(points)
+        poly.SetPolys(cells)
+        ids = np.arange(1, len(geometry.triangles) + 1, dtype=np.int64)
+        # Label k + 1 of triangle k in (R, G, B) = (low, middle, high byte): the RGBA
+        # read-back viewed as little-endian uint32 is the label plus alpha << 24.
+        rgb = np.stack([ids & 255, (ids >> 8) & 255, (ids >> 16) & 255], axis=1)
+        colours = numpy_to_vtk(rgb.astype(np.uint8), deep=1)
+        colours.SetName("triangle_index")
+        poly.GetCellData().SetScalars(colours)
+        mapper = vtkPolyDataMapper()
+        mapper.SetInputData(poly)
+        mapper.SetColorModeToDirectScalars()
+        mapper.SetScalarModeToUseCellData()
+        mapper.ScalarVisibilityOn()
+        actor = vtkActor()
+        actor.SetMapper(mapper)
+        prop = actor.GetProperty()
+        prop.LightingOff()
+        prop.SetInterpolationToFlat()
+        prop.BackfaceCullingOff()
+        self.renderer.AddActor(actor)
+        self.actor = actor
+        self._poly = poly
+
+    def _pose(self, transforms: NDArray[np.float64], visible: list[bool],
+              behind: NDArray[np.float64]) -> None:
+        """Move the points to the world frame of ``transforms`` (if that changed)."""
+        hidden = ~np.asarray(visible, dtype=bool)
+        key = b"".join([np.ascontiguousarray(transforms, dtype=np.float64).tobytes(),
+                        hidden.tobytes(), behind.tobytes() if hidden.any() else b""])
+        if key == self._pose_key:
+            return
+        t = np.asarray(transforms, dtype=np.float64)[self._owner]            # (P, 4, 4)
+        np.einsum("pij,pj->pi", t[:, :3, :3], self._model, out=self._world)
+        self._world += t[:, :3, 3]
+        self._world[hidden[self._owner]] = behind
+        self._points.Modified()
+        self._poly.Modified()
+        self._pose_key = key
 
     def render(self, intr: PinholeIntrinsics, sensor: SensorState,
                transforms: NDArray[np.float64], visible: list[bool]) -> NDArray[np.int64]:
@@ -191,14 +229,12 @@ class _IndexPass:
         if self._size != (intr.width, intr.height):
             self.window.SetSize(intr.width, intr.height)
             self._size = (intr.width, intr.height)
-        for actor, t, vis in zip(self.actors, transforms, visible, strict=True):
-            if actor is None:
-                continue
-            actor.SetVisibility(bool(vis))
-            actor.SetUserMatrix(_vtk_matrix(t))
+        pos = np.asarray(sensor.position, dtype=np.float64)
+        rot = np.asarray(sensor.rotation, dtype=np.float64)
+        if self.actor is not None:
+            self.actor.SetVisibility(any(visible))
+            self._pose(transforms, visible, pos - rot[:, 2])
         cam = self.renderer.GetActiveCamera()
-        pos = sensor.position
-        rot = sensor.rotation
         cam.SetPosition(*pos)
         cam.SetFocalPoint(*(pos + rot[:, 2]))
         cam.SetViewUp(*(-rot[:, 1]))
