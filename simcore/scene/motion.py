@@ -7,6 +7,7 @@ velocities are in degrees per second about world axes through the object's origi
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Literal
 
@@ -38,6 +39,10 @@ class Pose(Model):
         """Return the rotation as a scipy :class:`Rotation`."""
         return Rotation.from_euler("xyz", self.rotation_deg, degrees=True)
 
+    def rotation_matrix(self) -> NDArray[np.float64]:
+        """The rotation as a 3×3 matrix (read-only; the same values as :meth:`rotation`'s)."""
+        return _euler_matrix(tuple(float(a) for a in self.rotation_deg))
+
     def matrix(self) -> NDArray[np.float64]:
         """Return the 4×4 homogeneous transform (local → parent).
 
@@ -49,7 +54,29 @@ class Pose(Model):
                [ 0.,  0.,  1.,  3.],
                [ 0.,  0.,  0.,  1.]])
         """
-        return make_transform(self.rotation().as_matrix(), np.asarray(self.position_m))
+        return make_transform(self.rotation_matrix(), np.asarray(self.position_m))
+
+
+@functools.lru_cache(maxsize=4096)
+def _euler_matrix(rotation_deg: tuple[float, ...]) -> NDArray[np.float64]:
+    """Matrix of extrinsic x-y-z Euler angles (degrees), cached.
+
+    scipy's ``Rotation`` costs ≈ 0.1 ms per call, and a snapshot evaluates every object's
+    pose.
+    """
+    out = Rotation.from_euler("xyz", rotation_deg, degrees=True).as_matrix()
+    out.setflags(write=False)
+    return out
+
+
+def _rotvec_matrix(rotvec: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Rotation matrix of a rotation vector (rad), Rodrigues' formula."""
+    angle = float(np.sqrt(rotvec @ rotvec))
+    if angle == 0.0:
+        return np.eye(3)
+    k = rotvec / angle
+    cross = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + np.sin(angle) * cross + (1.0 - np.cos(angle)) * (cross @ cross)
 
 
 class Keyframe(Model):
@@ -194,13 +221,13 @@ def rigid_state(pose: Pose, motion: Motion, t: float) -> RigidState:
     >>> s.origin + 0.0, s.velocity_mps + 0.0
     (array([0. , 0.5, 0. ]), array([ 0. , -0.5,  0. ]))
     """
-    base_r = pose.rotation()
     base_p = np.asarray(pose.position_m, dtype=np.float64)
     if not motion.keyframes:
         v = np.asarray(motion.velocity_mps, dtype=np.float64)
         w = np.deg2rad(np.asarray(motion.angular_velocity_dps, dtype=np.float64))
-        rot = Rotation.from_rotvec(w * t) * base_r
-        return RigidState(make_transform(rot.as_matrix(), base_p + v * t), v, w)
+        rot = _rotvec_matrix(w * t) @ pose.rotation_matrix()
+        return RigidState(make_transform(rot, base_p + v * t), v, w)
+    base_r = pose.rotation()
 
     times = np.array([k.time_s for k in motion.keyframes])
     offsets = np.array([k.position_m for k in motion.keyframes], dtype=np.float64)
