@@ -15,22 +15,37 @@ pyvista's widgets (the transform gizmo) work as in an on-screen plotter. Renders
 by the interactor style (orbit, zoom) or by pyvista widgets are merged: at most one render
 per repaint of the canvas.
 
+While the view is updated continuously (playback, drags, orbiting: renders less than
+:data:`SETTLE_S` apart) it renders at :data:`INTERACTIVE_SCALE` of its resolution, with
+text, points and lines scaled to keep their on-screen size, and the picture is drawn
+stretched; :data:`SETTLE_S` after the last such render it renders once more at full
+resolution. On software OpenGL most of a render is per pixel (office.json at 632 × 586:
+22 ms; at half the width and height: 11 ms).
+
 Key events are not forwarded: the view's keys are the window's Qt shortcuts, and VTK's
 default keys (``q`` quits, ``w`` wireframe, ``3`` stereo…) do not belong in the app.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
 import pyvista as pv
-from PyQt6.QtCore import QPointF, QSize, Qt
+from PyQt6.QtCore import QPointF, QRectF, QSize, Qt, QTimer
 from PyQt6.QtGui import QImage, QMouseEvent, QPainter, QWheelEvent
 from PyQt6.QtWidgets import QSizePolicy, QWidget
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
+
+#: Fraction of the width and height the view renders at while it is updated continuously.
+INTERACTIVE_SCALE = 0.5
+#: Renders closer together than this (s) count as continuous; this long after the last one,
+#: the view renders again at full resolution.
+SETTLE_S = 0.3
 
 
 class OffscreenPlotter(pv.Plotter):
@@ -105,6 +120,12 @@ class OffscreenCanvas(QWidget):
         self._button: Qt.MouseButton | None = None
         self._wheel = 0
         self._closed = False
+        self._last_render = -1e9
+        #: The scale of the picture shown (1.0: full resolution).
+        self.scale = 1.0
+        self._settle = QTimer(self)
+        self._settle.setSingleShot(True)
+        self._settle.timeout.connect(self.request_render)
         self.plotter = OffscreenPlotter(self, size=self._device_size())
         iren = self.plotter.iren.interactor
         # The style's "render now" becomes a request: one render per repaint.
@@ -130,17 +151,23 @@ class OffscreenCanvas(QWidget):
     def _render_and_read(self) -> None:
         if self._on_render is not None:
             self._on_render()
-        self.plotter.render_now()
+        start = time.perf_counter()
+        scale = INTERACTIVE_SCALE if start - self._last_render < SETTLE_S else 1.0
         win = self.plotter.render_window
-        w, h = win.GetSize()
-        win.GetPixelData(0, 0, w - 1, h - 1, 0, self._pixels, 0)
+        with _scaled(self.plotter, scale):
+            self.plotter.render_now()
+            w, h = win.GetSize()
+            win.GetPixelData(0, 0, w - 1, h - 1, 0, self._pixels, 0)
         rgb = vtk_to_numpy(self._pixels).reshape(h, w, 3)
         # VTK's rows run bottom-up, Qt's top-down; the copy keeps the buffer alive.
         self._buffer = np.ascontiguousarray(rgb[::-1])
         image = QImage(self._buffer.data, w, h, 3 * w, QImage.Format.Format_RGB888)
-        image.setDevicePixelRatio(self.devicePixelRatioF())
         self._image = image
         self._dirty = False
+        self.scale = scale
+        self._last_render = time.perf_counter()
+        if scale < 1.0:
+            self._settle.start(int(SETTLE_S * 1e3))
 
     def paintEvent(self, _event: Any) -> None:  # noqa: N802, D102 - Qt API
         if self._closed:
@@ -148,8 +175,9 @@ class OffscreenCanvas(QWidget):
         if self._dirty or self._image is None:
             self._render_and_read()
         painter = QPainter(self)
+        painter.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform, self.scale < 1.0)
         if self._image is not None:
-            painter.drawImage(QPointF(0, 0), self._image)
+            painter.drawImage(QRectF(self.rect()), self._image)
         painter.end()
 
     def resizeEvent(self, event: Any) -> None:  # noqa: N802, D102 - Qt API
@@ -168,6 +196,7 @@ class OffscreenCanvas(QWidget):
             return
         self._closed = True
         self._image = None
+        self._settle.stop()
         self.plotter.close()
 
     # --- input ------------------------------------------------------------------------
@@ -224,3 +253,37 @@ class OffscreenCanvas(QWidget):
         while self._wheel <= -120:
             iren.MouseWheelBackwardEvent()
             self._wheel += 120
+
+
+@contextmanager
+def _scaled(plotter: pv.Plotter, scale: float) -> Iterator[None]:
+    """Render ``plotter``'s window at ``scale`` of its size, text, points and lines alike.
+
+    The window, its DPI (text) and every actor's point size and line width are scaled and
+    restored afterwards: picking and the interactor keep working in full-size pixels.
+    """
+    if scale == 1.0:
+        yield
+        return
+    win = plotter.render_window
+    size, dpi = win.GetSize(), win.GetDPI()
+    props = []
+    renderers = win.GetRenderers()
+    for r in range(renderers.GetNumberOfItems()):
+        actors = renderers.GetItemAsObject(r).GetActors()
+        for a in range(actors.GetNumberOfItems()):
+            prop = actors.GetItemAsObject(a).GetProperty()
+            props.append((prop, prop.GetPointSize(), prop.GetLineWidth()))
+    win.SetSize(max(int(size[0] * scale), 1), max(int(size[1] * scale), 1))
+    win.SetDPI(max(int(round(dpi * scale)), 1))
+    for prop, point, line in props:
+        prop.SetPointSize(max(point * scale, 1.0))
+        prop.SetLineWidth(max(line * scale, 1.0))
+    try:
+        yield
+    finally:
+        win.SetSize(*size)
+        win.SetDPI(dpi)
+        for prop, point, line in props:
+            prop.SetPointSize(point)
+            prop.SetLineWidth(line)
