@@ -51,7 +51,14 @@ from app.export import DatasetExportJob, export_panel_images
 from app.frame_view import FrameView
 from app.help import install_help_menu
 from app.material_editor import MaterialEditor
-from app.panels import LivePanel, RangeAzimuthPanel, RangeDopplerPanel, RangeProfilePanel, TofPanel
+from app.panels import (
+    LivePanel,
+    RangeAzimuthPanel,
+    RangeDopplerPanel,
+    RangeProfilePanel,
+    TofPanel,
+    cache_axes,
+)
 from app.rgb_panel import RgbPanel
 from app.scene_editor import ObjectInspector, ObjectListPanel, build_add_menu
 from app.sensor_editor import SensorEditor
@@ -203,6 +210,7 @@ class MainWindow(QMainWindow):
 
         self._build_docks()
         self._build_explore_docks()
+        cache_axes(self)
         self._build_actions()
         self._build_menus()
         self._build_toolbar()
