@@ -236,3 +236,68 @@ def test_gizmo_drag_leaves_the_turntable_orbit(make_window, wait_frame, qtbot):
     assert doc.project.object_by_name("person").pose.position_m != before
     style = view.plotter.iren.interactor.GetInteractorStyle()
     assert "Terrain" in style.GetClassName()
+
+
+def test_continuous_updates_render_at_half_resolution_then_full(make_window, wait_frame,
+                                                                qtbot):
+    """Renders < SETTLE_S apart are at INTERACTIVE_SCALE; SETTLE_S later a full one follows.
+
+    The window's size, DPI and line widths are restored after each reduced render, so a
+    click picks the object under the cursor in full-size pixels at any moment.
+    """
+    from PyQt6.QtCore import QPoint, Qt
+    from PyQt6.QtTest import QTest
+
+    from app.offscreen_view import INTERACTIVE_SCALE, SETTLE_S
+
+    window = make_window()
+    wait_frame(window)
+    view = window.viewport
+    canvas = view.canvas
+    win = view.plotter.render_window
+    full = (canvas.width(), canvas.height())
+    size, dpi = tuple(win.GetSize()), win.GetDPI()
+    qtbot.wait(int(SETTLE_S * 1e3) + 200)
+    for _ in range(2):                    # two renders in quick succession
+        canvas.request_render()
+        canvas.repaint()
+    assert canvas.scale == INTERACTIVE_SCALE
+    assert (canvas._image.width(), canvas._image.height()) == (
+        int(size[0] * INTERACTIVE_SCALE), int(size[1] * INTERACTIVE_SCALE))
+    assert tuple(win.GetSize()) == size and win.GetDPI() == dpi
+    # Picking right after a reduced render works in full-size pixels.
+    doc = window.document
+    oid = doc.project.object_by_name("person").id
+    x, y = view.display_position_of(oid)
+    QTest.mouseClick(canvas, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier,
+                     QPoint(x, canvas.height() - y - 1))
+    qtbot.waitUntil(lambda: doc.selection == oid, timeout=3000)
+    # When the updates stop, the view settles at full resolution.
+    qtbot.waitUntil(lambda: canvas.scale == 1.0, timeout=int(SETTLE_S * 1e3) + 3000)
+    assert (canvas._image.width(), canvas._image.height()) == size
+    assert (canvas.width(), canvas.height()) == full
+
+
+def test_cached_axes_redraw_when_their_range_changes(make_window, wait_frame, qtbot):
+    """Axes are cached pictures (blitted on repaints) but still follow a new range."""
+    import pyqtgraph as pg
+    from PyQt6.QtWidgets import QGraphicsItem
+
+    window = make_window()
+    wait_frame(window)
+    axes = [item for view in window.findChildren(pg.GraphicsView)
+            for item in view.scene().items() if isinstance(item, pg.AxisItem)]
+    assert axes and all(a.cacheMode() == QGraphicsItem.CacheMode.DeviceCoordinateCache
+                        for a in axes)
+    panel = window.profile_panel
+    axis = panel.plot.getAxis("bottom")
+    view = panel.plot_widget
+
+    def axis_pixels():
+        rect = axis.mapRectToScene(axis.boundingRect())
+        return view.grab(view.mapFromScene(rect).boundingRect()).toImage()
+
+    before = axis_pixels()
+    low, high = panel.plot.viewRange()[0]
+    panel.plot.setXRange(low + 0.37 * (high - low), high, padding=0)
+    qtbot.waitUntil(lambda: axis_pixels() != before, timeout=3000)
