@@ -451,3 +451,56 @@ def test_auto_exposure_keeps_a_near_grey_wall_valid():
         fixed.full_well_electrons / peak_at_config)
     assert auto_exposure_s(buf, auto) == pytest.approx(expected, rel=0.1)
     assert out_auto.exposure_time_s == auto_exposure_s(buf, auto)
+
+
+def _downsample_reference(ids: np.ndarray, rng: np.ndarray, factor: int
+                          ) -> tuple[np.ndarray, np.ndarray]:
+    """The numpy ``downsample_ground_truth`` the compiled kernel replaced, verbatim."""
+    h, w = ids.shape
+    hs, ws = h // factor, w // factor
+    ids = (ids[: hs * factor, : ws * factor].reshape(hs, factor, ws, factor)
+           .transpose(0, 2, 1, 3).reshape(hs, ws, -1))
+    rng = (rng[: hs * factor, : ws * factor].reshape(hs, factor, ws, factor)
+           .transpose(0, 2, 1, 3).reshape(hs, ws, -1))
+    gt_id = ids[..., 0].copy()
+    uniform = np.all(ids == gt_id[..., None], axis=-1)
+    with np.errstate(invalid="ignore"):
+        gt_range = np.nansum(rng, axis=-1) / np.float64(ids.shape[-1])
+    mixed = np.flatnonzero(~uniform)
+    if mixed.size:
+        m_ids = ids.reshape(-1, ids.shape[-1])[mixed]
+        m_rng = rng.reshape(-1, rng.shape[-1])[mixed]
+        counts = (m_ids[..., :, None] == m_ids[..., None, :]).sum(axis=-1)
+        key = counts * 1e6 - np.nan_to_num(m_rng, nan=1e5)
+        best = np.argmax(key, axis=-1)
+        m_id = np.take_along_axis(m_ids, best[..., None], axis=-1)[..., 0]
+        same = m_ids == m_id[..., None]
+        with np.errstate(invalid="ignore"):
+            m_range = np.nansum(np.where(same, m_rng, 0.0), axis=-1) / same.sum(axis=-1)
+        gt_id.reshape(-1)[mixed] = m_id
+        gt_range.reshape(-1)[mixed] = m_range
+    gt_range = np.where(gt_id >= 0, gt_range, np.nan).astype(np.float32)
+    return gt_range, gt_id.astype(np.int32)
+
+
+@pytest.mark.parametrize("factor", [1, 2, 3])
+def test_ground_truth_downsampling_matches_the_numpy_reference(factor: int) -> None:
+    """Votes (most frequent id, ties to the nearer surface, background NaN) and means."""
+    from types import SimpleNamespace
+
+    from simcore.render.buffers import downsample_ground_truth
+
+    gen = np.random.default_rng(factor)
+    h, w = 7 * factor + 1, 9 * factor + 2            # rows and columns left over
+    # Blocks of few ids (-1 = background) so that uniform, mixed and tied pixels occur.
+    ids = gen.integers(-1, 3, (h, w)).astype(np.int32)
+    ids[: 3 * factor] = ids[0, 0]
+    rng = gen.uniform(0.5, 5.0, (h, w)).astype(np.float32)
+    rng[ids < 0] = np.nan
+    rng[1, 1] = rng[1, 0] if factor > 1 else rng[1, 1]   # an exact range tie
+    buffers = SimpleNamespace(shape=(h, w), object_id=ids, range_m=rng)
+    gt_range, gt_id = downsample_ground_truth(buffers, factor)  # type: ignore[arg-type]
+    ref_range, ref_id = _downsample_reference(ids, rng, factor)
+    assert_array_equal(gt_id, ref_id)
+    assert_allclose(gt_range, ref_range, rtol=2e-7, equal_nan=True)
+    assert gt_range.dtype == np.float32 and gt_id.dtype == np.int32

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from simcore.jit import kernel
 from simcore.render.meshes import TriangleMesh
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.snapshot import SensorState
@@ -95,28 +96,59 @@ def downsample_ground_truth(
     """
     h, w = buffers.shape
     hs, ws = h // factor, w // factor
-    ids = (buffers.object_id[: hs * factor, : ws * factor].reshape(hs, factor, ws, factor)
-           .transpose(0, 2, 1, 3).reshape(hs, ws, -1))
-    rng = (buffers.range_m[: hs * factor, : ws * factor].reshape(hs, factor, ws, factor)
-           .transpose(0, 2, 1, 3).reshape(hs, ws, -1))
-    # Most pixels see one object (or none) in all their sub-pixels: those need no vote.
-    gt_id = ids[..., 0].copy()
-    uniform = np.all(ids == gt_id[..., None], axis=-1)
-    with np.errstate(invalid="ignore"):
-        gt_range = np.nansum(rng, axis=-1) / np.float64(ids.shape[-1])
-    mixed = np.flatnonzero(~uniform)
-    if mixed.size:
-        m_ids = ids.reshape(-1, ids.shape[-1])[mixed]
-        m_rng = rng.reshape(-1, rng.shape[-1])[mixed]
-        counts = (m_ids[..., :, None] == m_ids[..., None, :]).sum(axis=-1)
-        # Prefer the most frequent id; among equals the nearest surface (background = +inf).
-        key = counts * 1e6 - np.nan_to_num(m_rng, nan=1e5)
-        best = np.argmax(key, axis=-1)
-        m_id = np.take_along_axis(m_ids, best[..., None], axis=-1)[..., 0]
-        same = m_ids == m_id[..., None]
-        with np.errstate(invalid="ignore"):
-            m_range = np.nansum(np.where(same, m_rng, 0.0), axis=-1) / same.sum(axis=-1)
-        gt_id.reshape(-1)[mixed] = m_id
-        gt_range.reshape(-1)[mixed] = m_range
-    gt_range = np.where(gt_id >= 0, gt_range, np.nan).astype(np.float32)
-    return gt_range, gt_id.astype(np.int32)
+    gt_range = np.empty((hs, ws), dtype=np.float32)
+    gt_id = np.empty((hs, ws), dtype=np.int32)
+    _downsample(np.ascontiguousarray(buffers.object_id, dtype=np.int32),
+                np.ascontiguousarray(buffers.range_m, dtype=np.float32), factor, gt_range,
+                gt_id)
+    return gt_range, gt_id
+
+
+@kernel
+def _downsample(ids: NDArray[np.int32], rng: NDArray[np.float32], factor: int,
+                out_range: NDArray[np.float32], out_id: NDArray[np.int32]) -> None:
+    """:func:`downsample_ground_truth` per sensor pixel.
+
+    The vote of a mixed pixel: the sub-pixel whose id is the most frequent, ties to the
+    nearer surface (background, NaN range, as 1e5 m) and then to the first in row-major
+    order; its range is the mean of the finite ranges of that id's sub-pixels over their
+    count. Sums in float64.
+    """
+    n = factor * factor
+    sub_id = np.empty(n, dtype=np.int32)
+    sub_rng = np.empty(n, dtype=np.float32)
+    for r in range(out_id.shape[0]):
+        for c in range(out_id.shape[1]):
+            k = 0
+            for i in range(factor):
+                for j in range(factor):
+                    sub_id[k] = ids[r * factor + i, c * factor + j]
+                    sub_rng[k] = rng[r * factor + i, c * factor + j]
+                    k += 1
+            best = sub_id[0]
+            uniform = True
+            for k in range(1, n):
+                if sub_id[k] != best:
+                    uniform = False
+                    break
+            if not uniform:
+                best_key = -np.inf
+                for k in range(n):
+                    count = 0
+                    for m in range(n):
+                        if sub_id[m] == sub_id[k]:
+                            count += 1
+                    dist = 1e5 if np.isnan(sub_rng[k]) else float(sub_rng[k])
+                    key = count * 1e6 - dist
+                    if key > best_key:
+                        best_key = key
+                        best = sub_id[k]
+            total = 0.0
+            count = 0
+            for k in range(n):
+                if sub_id[k] == best:
+                    count += 1
+                    if not np.isnan(sub_rng[k]):
+                        total += sub_rng[k]
+            out_id[r, c] = best
+            out_range[r, c] = total / count if best >= 0 else np.nan
