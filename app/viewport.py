@@ -175,6 +175,8 @@ class SceneViewport(QWidget):
         self._object_poses: dict[int, NDArray[np.float64]] = {}
         self._rig_pose: NDArray[np.float64] | None = None
         self._actors: dict[int, tuple[str, Any]] = {}  # id -> (geometry key, actor)
+        #: id -> (actor, (colour, opacity, selected)) as last set on the actor's property.
+        self._styles: dict[int, tuple[Any, tuple[Any, ...]]] = {}
         self._rig_actors: dict[str, Any] = {}
         self._sensor_key = ""
         self._cloud: pv.PolyData | None = None
@@ -405,15 +407,20 @@ class SceneViewport(QWidget):
                 self._actors[obj.id] = (key, actor)
             actor = self._actors[obj.id][1]
             actor.user_matrix = state.transform
-            prop = actor.prop
-            prop.color = material_colour(obj.material)
-            prop.opacity = self._display_opacity(obj, materials)
             selected = obj.id == self.document.selection
-            prop.show_edges = selected
-            prop.edge_color = SELECTION_COLOUR
-            prop.line_width = 2 if selected else 1
-            if obj.geometry.kind == "point_target":
-                prop.color = RADAR_COLOUR
+            colour = RADAR_COLOUR if obj.geometry.kind == "point_target" else material_colour(
+                obj.material)
+            style = (colour, self._display_opacity(obj, materials), selected)
+            # pyvista's property setters parse and validate (≈ 15 µs each): set on change only.
+            drawn = self._styles.get(obj.id)
+            if drawn is None or drawn[0] is not actor or drawn[1] != style:
+                prop = actor.prop
+                prop.color = colour
+                prop.opacity = style[1]
+                prop.show_edges = selected
+                prop.edge_color = SELECTION_COLOUR
+                prop.line_width = 2 if selected else 1
+                self._styles[obj.id] = (actor, style)
             if obj.geometry.kind in ("box", "plane"):
                 size = (np.array(obj.geometry.size_m) if obj.geometry.kind == "box"
                         else np.array([*obj.geometry.size_m, 0.0]))
