@@ -693,11 +693,14 @@ class RangeProfilePanel(LivePanel):
                 continue
             oid, rng = shown[k]
             line.setVisible(True)
-            line.setValue(rng)
+            if line.value() != rng:                  # moves its label too: ≈ 0.4 ms
+                line.setValue(rng)
             line.object_id = oid
             selected = oid == self.selected_id
-            line.setPen(TRUTH_SELECTED_PEN if selected else pg.mkPen(
-                "#80deea", width=1, style=Qt.PenStyle.DashLine))
+            if getattr(line, "selected", None) is not selected:
+                line.setPen(TRUTH_SELECTED_PEN if selected else pg.mkPen(
+                    "#80deea", width=1, style=Qt.PenStyle.DashLine))
+                line.selected = selected
             text = self.object_label(oid) if self._labelled(oid, len(shown)) else ""
             if line.label.format != text:
                 line.label.setFormat(text)
