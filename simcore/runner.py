@@ -10,6 +10,7 @@ whichever process computes it and in whatever order.
 from __future__ import annotations
 
 import asyncio
+import functools
 import hashlib
 import json
 import multiprocessing
@@ -251,7 +252,7 @@ def iter_frames(spec: RunSpec, indices: Sequence[int], *, workers: int = 1,
             def submit() -> Iterator[tuple[int, Callable[[], FrameResult]]]:
                 for i in indices:
                     fut: Future[FrameResult] = pool.submit(compute_frame, spec, i)
-                    yield i, fut.result
+                    yield i, functools.partial(_pool_result, pool, fut)
             try:
                 yield from _in_order(submit(), window)
             except BrokenProcessPool:
@@ -262,6 +263,33 @@ def iter_frames(spec: RunSpec, indices: Sequence[int], *, workers: int = 1,
             except BaseException:
                 pool.shutdown(wait=False, cancel_futures=True)
                 raise
+
+
+def _pool_result(pool: ProcessPoolExecutor, fut: Future[FrameResult]) -> FrameResult:
+    """``fut.result()``, raising :class:`BrokenProcessPool` when a worker process died.
+
+    The pool notices a dead worker by itself, except when the worker died while sending a
+    result: the pool's reader thread then waits for the rest of that message for ever
+    (CPython 3.11). Every second without a result, the workers are checked; if one died,
+    the others are killed and the parent's end of the result pipe is closed, so that the
+    stuck read ends (EOF) and the pool breaks as usual.
+    """
+    while True:
+        try:
+            return fut.result(timeout=1.0)
+        except TimeoutError:
+            processes = list(getattr(pool, "_processes", {}).values())
+            if not any(p.exitcode not in (None, 0) for p in processes):
+                continue
+        for p in processes:
+            p.kill()
+        writer = getattr(getattr(pool, "_result_queue", None), "_writer", None)
+        if writer is not None:
+            writer.close()
+        try:
+            return fut.result(timeout=30.0)
+        except TimeoutError:
+            raise BrokenProcessPool("a worker process died") from None
 
 
 def _iter_dask(spec: RunSpec, indices: Sequence[int], *, workers: int, scheduler: str,

@@ -295,3 +295,36 @@ def test_a_killed_worker_process_is_one_message_and_a_valid_file(tmp_path):
     with h5py.File(out, "r") as f:
         n = int(f["meta"].attrs["n_frames"])
         assert n >= 1 and f["time"].shape == (n,)
+
+
+def test_a_worker_dying_mid_result_breaks_the_pool_instead_of_hanging():
+    """A worker killed while it sends a result leaves half a message in the result pipe.
+
+    CPython 3.11's pool then waits for the rest of it for ever (what a CI run of
+    ``test_a_killed_worker_process_is_one_message_and_a_valid_file`` once hit: no exit
+    120 s after the kill). The runner's wait notices the dead worker and breaks the pool.
+    """
+    import struct
+    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures.process import BrokenProcessPool
+
+    from simcore.runner import _pool_result
+
+    pool = ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("spawn"))
+    try:
+        assert list(pool.map(abs, [-1, -2])) == [1, 2]          # both workers up
+        fut = pool.submit(time.sleep, 5)
+        time.sleep(0.3)
+        # Half a message (a 1000-byte header, 10 bytes of it), then its sender dies.
+        writer = pool._result_queue._writer
+        os.write(writer.fileno(), struct.pack("!i", 1000) + b"0123456789")
+        time.sleep(0.3)
+        os.kill(next(iter(pool._processes)), signal.SIGKILL)
+        start = time.monotonic()
+        with pytest.raises(BrokenProcessPool):
+            _pool_result(pool, fut)
+        assert time.monotonic() - start < 35
+    finally:
+        for p in list(pool._processes.values()):
+            p.kill()
+        pool.shutdown(wait=True)
