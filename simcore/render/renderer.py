@@ -23,9 +23,8 @@ from typing import Any
 import numpy as np
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL backend)
 from numpy.typing import NDArray
-from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkPoints, vtkUnsignedCharArray
-from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
 from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkRenderingCore import (
     vtkActor,
@@ -85,13 +84,12 @@ class _Geometry:
     point_offsets: NDArray[np.int64] = field(init=False)
     triangles: NDArray[np.int64] = field(init=False)
     triangle_object: NDArray[np.int64] = field(init=False)
-    triangle_offsets: NDArray[np.int64] = field(init=False)
     smooth: NDArray[np.bool_] = field(init=False)
     label_object: NDArray[np.int32] = field(init=False)
     label_smooth: NDArray[np.bool_] = field(init=False)
 
     def __post_init__(self) -> None:
-        pts, tris, owner, tri_off = 0, [], [], [0]
+        pts, tris, owner = 0, [], []
         offsets = []
         for index, mesh in enumerate(self.meshes):
             offsets.append(pts)
@@ -99,11 +97,9 @@ class _Geometry:
                 tris.append(mesh.triangles + pts)
                 owner.append(np.full(len(mesh.triangles), index))
                 pts += len(mesh.points)
-            tri_off.append(tri_off[-1] + (0 if mesh is None else len(mesh.triangles)))
         self.point_offsets = np.array(offsets, dtype=np.int64)
         self.triangles = np.concatenate(tris) if tris else np.zeros((0, 3), np.int64)
         self.triangle_object = np.concatenate(owner) if owner else np.zeros(0, np.int64)
-        self.triangle_offsets = np.array(tri_off, dtype=np.int64)
         # A triangle is smooth when its vertex normals differ (curved surface).
         flags = []
         for mesh in self.meshes:
@@ -168,18 +164,11 @@ class _IndexPass:
         self._model = np.concatenate([m.points for _, m in meshes]).astype(np.float64)
         self._owner = np.concatenate([np.full(len(m.points), i) for i, m in meshes])
         self._world = self._model.copy()
-        points = vtkPoints()
+        poly = TriangleMesh(self._world, np.zeros_like(self._world),
+                            geometry.triangles).to_polydata()
         # Shallow: the polydata reads ``self._world``, which each pose change rewrites.
-        points.SetData(numpy_to_vtk(self._world, deep=0))
-        self._points = points
-        cells = vtkCellArray()
-        tris = np.ascontiguousarray(geometry.triangles.ravel(), dtype=np.int64)
-        offsets = np.arange(0, len(tris) + 1, 3, dtype=np.int64)
-        cells.SetData(numpy_to_vtkIdTypeArray(offsets, deep=1),
-                      numpy_to_vtkIdTypeArray(tris, deep=1))
-        poly = vtkPolyData()
-        poly.SetPoints(points)
-        poly.SetPolys(cells)
+        self._points = poly.GetPoints()
+        self._points.SetData(numpy_to_vtk(self._world, deep=0))
         ids = np.arange(1, len(geometry.triangles) + 1, dtype=np.int64)
         # Label k + 1 of triangle k in (R, G, B) = (low, middle, high byte): the RGBA
         # read-back viewed as little-endian uint32 is the label plus alpha << 24.
