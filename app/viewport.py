@@ -353,6 +353,7 @@ class SceneViewport(QWidget):
         for _, actor in self._actors.values():
             self.plotter.remove_actor(actor, render=False)
         self._actors.clear()
+        self._styles.clear()
         self._sensor_key = ""
         self._drawn_state = None
         self._camera_set = False
@@ -430,6 +431,7 @@ class SceneViewport(QWidget):
         for oid in list(self._actors):
             if oid not in seen:
                 self.plotter.remove_actor(self._actors.pop(oid)[1], render=False)
+                self._styles.pop(oid, None)
         self._sync_rig(project, snap)
         if not self._camera_set:
             self.reset_camera()
