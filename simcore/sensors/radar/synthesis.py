@@ -73,7 +73,7 @@ from simcore.sensors.radar.receiver import (
     receiver_noise,
 )
 from simcore.sensors.radar.scatterers import Scatterers
-from simcore.sensors.radar.synthesis_kernel import fit_delays, transform_weights
+from simcore.sensors.radar.synthesis_kernel import fit_delays, transform_points
 
 ComplexCube = NDArray[np.complex128]
 #: Tx positions (n_tx, 3) and Rx positions (n_rx, 3) of a synthesis (m).
@@ -602,11 +602,11 @@ def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg:
     has a fixed cost of ≈ 5 ms), else in one more call over those that do, at the looser
     tolerance their small size allows.
     """
-    x, y = np.empty(len(sel)), np.empty(len(sel))
-    w = np.empty(len(sel), dtype=np.complex128)
-    transform_weights(fit.tau, fit.alpha, fit.beta, w0, sel.astype(np.int64, copy=False),
-                      tg.q_mean, sweep.slope, sweep.f_r, x, y, w)
+    x, y, phase = np.empty(len(sel)), np.empty(len(sel)), np.empty(len(sel))
+    transform_points(fit.tau, fit.alpha, fit.beta, sel.astype(np.int64, copy=False),
+                     tg.q_mean, sweep.slope, sweep.f_r, x, y, phase)
     points = _Points.of(x, y, tg, sweep)
+    w = w0[sel] * _phasors(phase, single=points.single)
     alpha = fit.alpha[sel]
     order, cross = fit.order[sel], fit.cross[sel]
     needs = (order > 0) | cross
@@ -646,6 +646,20 @@ def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg:
     if n_cross:
         corr += f[p_max] * tg.b2
     return blk + corr
+
+
+def _phasors(phase: NDArray[np.float64], *, single: bool
+              ) -> NDArray[np.complex64] | NDArray[np.complex128]:
+    """``e^{j phase}`` for phases in [−π, π]; in float32 for single-precision transforms.
+
+    numpy's float32 sine and cosine are vectorised (≈ 10× faster than float64 here); their
+    error, a few 1e-8 at these arguments, is that of the complex64 weights themselves.
+    """
+    p = phase.astype(np.float32) if single else phase
+    out = np.empty(len(p), dtype=np.complex64 if single else np.complex128)
+    np.cos(p, out=out.real)
+    np.sin(p, out=out.imag)
+    return out
 
 
 @dataclass(frozen=True)

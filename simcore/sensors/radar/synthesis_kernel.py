@@ -1,8 +1,8 @@
 """Compiled per-scatterer passes of the moving-scatterer IF synthesis.
 
 :func:`fit_delays` fits the delay model of a block and chooses each scatterer's series
-length; :func:`transform_weights` gives the type-3 transform's points and weights. Both do,
-in one loop without temporaries, the arithmetic that
+length; :func:`transform_points` gives the type-3 transform's points and the phases of its
+weights. Both do, in one loop without temporaries, the arithmetic that
 :mod:`~simcore.sensors.radar.synthesis` documents (``_fit``, ``_transform``), in the same
 order, so the model and its error bound are unchanged.
 """
@@ -78,14 +78,14 @@ def fit_delays(path: NDArray[np.float64], nodes: NDArray[np.float64], big_u: flo
 
 
 @kernel
-def transform_weights(tau: NDArray[np.float64], alpha: NDArray[np.float64],
-                      beta: NDArray[np.float64], w0: NDArray[np.complex128],
-                      sel: NDArray[np.int64], q_mean: float, k: float, f_r: float,
-                      x: NDArray[np.float64], y: NDArray[np.float64],
-                      w: NDArray[np.complex128]) -> None:
-    """Points ``x = τ + α q̄``, ``y = β (1 − Kτ/f_r)`` and weights of scatterers ``sel``.
+def transform_points(tau: NDArray[np.float64], alpha: NDArray[np.float64],
+                     beta: NDArray[np.float64], sel: NDArray[np.int64], q_mean: float,
+                     k: float, f_r: float, x: NDArray[np.float64], y: NDArray[np.float64],
+                     phase: NDArray[np.float64]) -> None:
+    """Points ``x = τ + α q̄``, ``y = β (1 − Kτ/f_r)`` of scatterers ``sel`` and their phases.
 
-    ``w = w0 e^{j(2π f_r x − πKτ²)}``, the phase reduced modulo 2π before its cosine.
+    ``phase = 2π f_r x − πKτ²`` reduced modulo 2π (to [−π, π]): the weights are
+    ``w0 e^{j phase}``, their cosine and sine taken by the caller.
     """
     kf = k / f_r
     two_pi_fr = _TWO_PI * f_r
@@ -99,4 +99,4 @@ def transform_weights(tau: NDArray[np.float64], alpha: NDArray[np.float64],
         arg = xj * two_pi_fr
         arg -= pi_k * t * t
         arg -= _TWO_PI * round(arg / _TWO_PI)
-        w[j] = w0[i] * complex(math.cos(arg), math.sin(arg))
+        phase[j] = arg
