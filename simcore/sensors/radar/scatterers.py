@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from simcore.jit import kernel
 from simcore.render.buffers import RenderBuffers
 from simcore.render.meshes import TriangleMesh, build_mesh
 from simcore.scene.camera import PinholeIntrinsics
@@ -435,17 +436,25 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
     )
 
 
-def _affine(x: NDArray[np.float64], m: NDArray[np.float64], c: NDArray[np.float64]
-            ) -> NDArray[np.float64]:
-    """``x Mᵀ + c`` for x of shape (n, 3), column by column.
+@kernel
+def _rigid_rows(pos: NDArray[np.float64], group: NDArray[np.int32],
+                m_v: NDArray[np.float64], c_v: NDArray[np.float64],
+                m_a: NDArray[np.float64], c_a: NDArray[np.float64],
+                vel: NDArray[np.float64], acc: NDArray[np.float64]) -> None:
+    """Each row's ``vel = M_v x + c_v`` and ``acc = M_a x + c_a``, with its group's maps.
 
-    No BLAS call: OpenBLAS answers such thin products with threads that spin.
+    Maps have shape (groups, 3, 3) and (groups, 3); rows of group −1 keep ``vel`` and get
+    ``acc`` 0.
     """
-    out = x[:, 0:1] * m[:, 0]
-    out += x[:, 1:2] * m[:, 1]
-    out += x[:, 2:3] * m[:, 2]
-    out += c
-    return out
+    for i in range(pos.shape[0]):
+        g = group[i]
+        if g < 0:
+            acc[i, 0] = acc[i, 1] = acc[i, 2] = 0.0
+            continue
+        x0, x1, x2 = pos[i, 0], pos[i, 1], pos[i, 2]
+        for r in range(3):
+            vel[i, r] = m_v[g, r, 0] * x0 + m_v[g, r, 1] * x1 + m_v[g, r, 2] * x2 + c_v[g, r]
+            acc[i, r] = m_a[g, r, 0] * x0 + m_a[g, r, 1] * x1 + m_a[g, r, 2] * x2 + c_a[g, r]
 
 
 def _rotation_kinematics(snapshot: SceneSnapshot, pos: NDArray[np.float64],
@@ -464,36 +473,28 @@ def _rotation_kinematics(snapshot: SceneSnapshot, pos: NDArray[np.float64],
                if rig_turns or np.any(o.angular_velocity_rps)]
     if not turning or not len(pos):
         return None
-    # Objects with the same maps (every still object under a turning rig) form one group.
-    groups: dict[bytes, list[int]] = {}
-    maps: dict[bytes, tuple[NDArray[np.float64], ...]] = {}
-    for i in turning:
-        m = motion_maps(snapshot.objects[i], snapshot.rig, snapshot.sensors["radar"])
-        key = b"".join(a.tobytes() for a in m)
-        groups.setdefault(key, []).append(i)
-        maps[key] = m
+    radar = snapshot.sensors["radar"]
+    # One map per distinct motion: a body that does not rotate moves its points alike
+    # wherever its origin is (every still object under a turning rig shares one).
+    rows: dict[bytes, int] = {}
+    maps: list[NDArray[np.float64]] = []
     group_of = np.full(len(snapshot.objects) + 1, -1, dtype=np.int32)
-    for g, members in enumerate(groups.values()):
-        group_of[members] = g
-    gid = np.take(group_of, obj)
-    counts = np.bincount(gid + 1, minlength=len(groups) + 1)
-    keys = list(groups)
-    # The largest group over every row (no gathers), then the others and the rows of no
-    # group (accelerations 0, render velocities) on their own rows.
-    big = int(np.argmax(counts[1:]))
-    keep = np.flatnonzero(gid != big)
-    vel_keep = vel[keep]
-    m_v, c_v, m_a, c_a = maps[keys[big]]
-    vel[:] = _affine(pos, m_v, c_v)
-    acc = _affine(pos, m_a, c_a)
-    vel[keep] = vel_keep
-    acc[keep] = 0.0
-    for g, key in enumerate(keys):
-        if g == big or not counts[g + 1]:
-            continue
-        sel = np.flatnonzero(gid == g)
-        m_v, c_v, m_a, c_a = maps[key]
-        x = pos[sel]
-        vel[sel] = _affine(x, m_v, c_v)
-        acc[sel] = _affine(x, m_a, c_a)
+    for i in turning:
+        body = snapshot.objects[i]
+        spin = np.asarray(body.angular_velocity_rps, dtype=np.float64)
+        key = np.concatenate([spin, np.asarray(body.velocity_mps, dtype=np.float64),
+                              np.asarray(body.origin, dtype=np.float64) if spin.any()
+                              else np.zeros(3)]).tobytes()
+        if key not in rows:
+            rows[key] = len(maps)
+            maps.append(np.concatenate([a.ravel()
+                                        for a in motion_maps(body, snapshot.rig, radar)]))
+        group_of[i] = rows[key]
+    table = np.array(maps)                                                # (G, 24)
+    acc = np.empty_like(pos)
+    _rigid_rows(pos, np.take(group_of, obj),
+                np.ascontiguousarray(table[:, 0:9]).reshape(-1, 3, 3),
+                np.ascontiguousarray(table[:, 9:12]),
+                np.ascontiguousarray(table[:, 12:21]).reshape(-1, 3, 3),
+                np.ascontiguousarray(table[:, 21:24]), vel, acc)
     return acc

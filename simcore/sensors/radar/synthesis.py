@@ -648,15 +648,15 @@ def _transform(fit: _Fit, sel: NDArray[np.intp], w0: NDArray[np.complex128], tg:
     return blk + corr
 
 
-def _phasors(phase: NDArray[np.float64], *, single: bool
-              ) -> NDArray[np.complex64] | NDArray[np.complex128]:
+def _phasors(phase: NDArray[np.float64], *, single: bool) -> NDArray[np.complexfloating]:
     """``e^{j phase}`` for phases in [−π, π]; in float32 for single-precision transforms.
 
     numpy's float32 sine and cosine are vectorised (≈ 10× faster than float64 here); their
     error, a few 1e-8 at these arguments, is that of the complex64 weights themselves.
     """
     p = phase.astype(np.float32) if single else phase
-    out = np.empty(len(p), dtype=np.complex64 if single else np.complex128)
+    out: NDArray[np.complexfloating] = np.empty(len(p), dtype=np.complex64 if single
+                                                else np.complex128)
     np.cos(p, out=out.real)
     np.sin(p, out=out.imag)
     return out
