@@ -11,6 +11,38 @@ from simcore.jit import kernel
 
 
 @kernel
+def _node_paths(pos: NDArray[np.float64], vel: NDArray[np.float64], acc: NDArray[np.float64],
+                accelerates: bool, lo: int, t: float, p_t: NDArray[np.float64],
+                p_r: NDArray[np.float64], out_sum: NDArray[np.float64],
+                out_t: NDArray[np.float64], out_r: NDArray[np.float64], split: bool) -> None:
+    """Path lengths of rows ``lo … lo + len(out_sum) − 1`` at one time ``t`` (m).
+
+    ``split``: also the distances to the Tx and the Rx (``out_t``, ``out_r``). One time per
+    call: the loop over the rows has no branch that varies, so it vectorises.
+    """
+    h = 0.5 * (t * t)
+    tx0, tx1, tx2 = p_t[0], p_t[1], p_t[2]
+    rx0, rx1, rx2 = p_r[0], p_r[1], p_r[2]
+    for j in range(out_sum.shape[0]):
+        k = lo + j
+        x = pos[0, k] + vel[0, k] * t
+        y = pos[1, k] + vel[1, k] * t
+        z = pos[2, k] + vel[2, k] * t
+        if accelerates:
+            x += h * acc[0, k]
+            y += h * acc[1, k]
+            z += h * acc[2, k]
+        dx, dy, dz = x - tx0, y - tx1, z - tx2
+        d_t = math.sqrt(dx * dx + dy * dy + dz * dz)
+        dx, dy, dz = x - rx0, y - rx1, z - rx2
+        d_r = math.sqrt(dx * dx + dy * dy + dz * dz)
+        out_sum[j] = d_t + d_r
+        if split:
+            out_t[j] = d_t
+            out_r[j] = d_r
+
+
+@kernel
 def path_lengths(pos: NDArray[np.float64], vel: NDArray[np.float64],
                  acc: NDArray[np.float64], accelerates: bool, lo: int, hi: int,
                  times: NDArray[np.float64], p_t: NDArray[np.float64],
@@ -24,24 +56,9 @@ def path_lengths(pos: NDArray[np.float64], vel: NDArray[np.float64],
     to ``out_path``, shape (len(times) − 1, hi − lo). Same arithmetic as the numpy
     ``_distance`` of :mod:`~simcore.sensors.radar.synthesis` (squares summed x, y, z).
     """
-    for j in range(hi - lo):
-        k = lo + j
-        for n in range(times.shape[0]):
-            t = times[n]
-            x = pos[0, k] + vel[0, k] * t
-            y = pos[1, k] + vel[1, k] * t
-            z = pos[2, k] + vel[2, k] * t
-            if accelerates:
-                h = 0.5 * (t * t)
-                x += h * acc[0, k]
-                y += h * acc[1, k]
-                z += h * acc[2, k]
-            dx, dy, dz = x - p_t[0], y - p_t[1], z - p_t[2]
-            d_t = math.sqrt(dx * dx + dy * dy + dz * dz)
-            dx, dy, dz = x - p_r[0], y - p_r[1], z - p_r[2]
-            d_r = math.sqrt(dx * dx + dy * dy + dz * dz)
-            if n == 0:
-                out_d0_t[j] = d_t
-                out_d0_r[j] = d_r
-            else:
-                out_path[n - 1, j] = d_t + d_r
+    scratch = np.empty(hi - lo)
+    _node_paths(pos, vel, acc, accelerates, lo, times[0], p_t, p_r, scratch, out_d0_t,
+                out_d0_r, True)
+    for n in range(1, times.shape[0]):
+        _node_paths(pos, vel, acc, accelerates, lo, times[n], p_t, p_r, out_path[n - 1],
+                    scratch, scratch, False)
