@@ -102,7 +102,7 @@ def object_facet_returns(
         area2: NDArray[np.float64], source: NDArray[np.int64], edges: NDArray[np.float64],
         longest: NDArray[np.float64], vertices: NDArray[np.float64],
         source_normals: NDArray[np.float64], source_points: NDArray[np.float64],
-        phases: NDArray[np.float64],
+        speckle_phasors: NDArray[np.complex128],
         # object → radar frame
         rot: NDArray[np.float64], off: NDArray[np.float64],
         # the render the facets are looked for in
@@ -204,7 +204,7 @@ def object_facet_returns(
                                    metallic, retro_gain)
         diffuse = math.sqrt(sigma0 * 0.5 * area2[f])
         if speckle:
-            amp += diffuse * complex(math.cos(phases[f]), math.sin(phases[f]))
+            amp += diffuse * speckle_phasors[f]
         else:
             amp += diffuse
         if behind:

@@ -316,6 +316,25 @@ def _phases(seed: int, object_id: int, n: int) -> NDArray[np.float64]:
     return out
 
 
+_PHASORS: dict[tuple[int, int, int], NDArray[np.complex128]] = {}
+
+
+def _speckle_phasors(seed: int, object_id: int, n: int) -> NDArray[np.complex128]:
+    """``e^{jφ}`` of :func:`_phases`, kept: a facet's speckle phase never changes."""
+    key = (seed, object_id, n)
+    out = _PHASORS.get(key)
+    if out is None:
+        if len(_PHASORS) > 256:
+            _PHASORS.clear()
+        phase = _phases(seed, object_id, n)
+        out = np.empty(n, dtype=np.complex128)
+        np.cos(phase, out=out.real)
+        np.sin(phase, out=out.imag)
+        out.setflags(write=False)
+        _PHASORS[key] = out
+    return out
+
+
 def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuffers,
                   meshes: Sequence[TriangleMesh | None], *, wavelength_m: float,
                   materials: Mapping[str, DualBandMaterial], speckle: bool = True,
@@ -376,7 +395,7 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
 
     # Each shown object's facets in one compiled pass (facet_kernel.object_facet_returns).
     wanted_arr = np.zeros(1, dtype=np.bool_) if wanted is None else wanted
-    no_phase = np.zeros(1)
+    no_phase = np.ones(1, dtype=np.complex128)
     positions, amplitudes, objects, pixel_list = [], [], [], []
     for i, (o, mesh) in enumerate(zip(project.objects, meshes, strict=True)):
         if mesh is None or not shown[i] or (exclude is not None and exclude[i]):
@@ -396,7 +415,7 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
         count = object_facet_returns(
             facets.centroids, facets.normals, facets.area2, facets.source, facets.edges,
             facets.longest, facets.vertices, facets.source_normals, facets.source_points,
-            _phases(seed, o.id, n_f) if speckle else no_phase,
+            _speckle_phasors(seed, o.id, n_f) if speckle else no_phase,
             rot, off, float(intr.fx), float(intr.fy), float(intr.cx), float(intr.cy),
             int(w), int(h), obj_img, rng_img, wanted_arr, wanted is not None, i,
             float(pix_angle), VISIBILITY_TOLERANCE_M,
