@@ -28,7 +28,6 @@ default keys (``q`` quits, ``w`` wireframe, ``3`` stereo…) do not belong in th
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import Any
@@ -41,10 +40,9 @@ from PyQt6.QtWidgets import QSizePolicy, QWidget
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
 
-#: Fraction of the width and height the view renders at while it is updated continuously.
+#: Fraction of the width and height of the view's first render after a change.
 INTERACTIVE_SCALE = 0.5
-#: Renders closer together than this (s) count as continuous; this long after the last one,
-#: the view renders again at full resolution.
+#: This long (s) after the last reduced render, the view renders again at full resolution.
 SETTLE_S = 0.3
 
 
@@ -120,12 +118,12 @@ class OffscreenCanvas(QWidget):
         self._button: Qt.MouseButton | None = None
         self._wheel = 0
         self._closed = False
-        self._last_render = -1e9
         #: The scale of the picture shown (1.0: full resolution).
         self.scale = 1.0
         self._settle = QTimer(self)
         self._settle.setSingleShot(True)
-        self._settle.timeout.connect(self.request_render)
+        self._settle.timeout.connect(self._refine)
+        self._refining = False
         self.plotter = OffscreenPlotter(self, size=self._device_size())
         iren = self.plotter.iren.interactor
         # The style's "render now" becomes a request: one render per repaint.
@@ -144,6 +142,10 @@ class OffscreenCanvas(QWidget):
         self._dirty = True
         self.update()
 
+    def _refine(self) -> None:
+        self._refining = True
+        self.request_render()
+
     def _device_size(self) -> tuple[int, int]:
         ratio = self.devicePixelRatioF()
         return max(int(round(self.width() * ratio)), 1), max(int(round(self.height() * ratio)), 1)
@@ -151,8 +153,11 @@ class OffscreenCanvas(QWidget):
     def _render_and_read(self) -> None:
         if self._on_render is not None:
             self._on_render()
-        start = time.perf_counter()
-        scale = INTERACTIVE_SCALE if start - self._last_render < SETTLE_S else 1.0
+        # A change shows at once at reduced size (a quarter of the pixels: the panels and
+        # the 3D view are current sooner after an edit, and playback or a drag keeps its
+        # rate); SETTLE_S after the last such render, one full render refines it.
+        scale = 1.0 if self._refining or self._image is None else INTERACTIVE_SCALE
+        self._refining = False
         win = self.plotter.render_window
         with _scaled(self.plotter, scale):
             self.plotter.render_now()
@@ -165,7 +170,6 @@ class OffscreenCanvas(QWidget):
         self._image = image
         self._dirty = False
         self.scale = scale
-        self._last_render = time.perf_counter()
         if scale < 1.0:
             self._settle.start(int(SETTLE_S * 1e3))
 
