@@ -287,9 +287,9 @@ class AntennaBoardView(pg.PlotWidget):
 
     # --- labels -------------------------------------------------------------------------
     def _make_labels(self, wanted: list[tuple[str, int, str, tuple[float, float]]]) -> None:
+        """One label per spot; the existing text items are re-used (an edit moves them)."""
         plot = self.getPlotItem()
-        for item, _, _ in self.labels:
-            plot.removeItem(item)
+        spare = [item for item, _, _ in self.labels]
         self.labels = []
         spots: dict[tuple[float, float], list[tuple[str, str]]] = {}
         for role, _i, name, pos in wanted:
@@ -300,12 +300,20 @@ class AntennaBoardView(pg.PlotWidget):
             text = " · ".join(
                 f'<span style="color:{TX_COLOUR if r == "tx" else RX_COLOUR}">'
                 f"{html.escape(n)}</span>" for r, n in sorted(members))
-            item = pg.TextItem(html=f'<span style="font-size:8pt">{text}</span>',
-                               anchor=(0.5, 1.0))
-            item.setZValue(30)
-            item.setAcceptedMouseButtons(Qt.MouseButton.NoButton)
-            plot.addItem(item)
+            markup = f'<span style="font-size:8pt">{text}</span>'
+            if spare:
+                item = spare.pop(0)
+                if item.property("markup") != markup:
+                    item.setHtml(markup)
+            else:
+                item = pg.TextItem(html=markup, anchor=(0.5, 1.0))
+                item.setZValue(30)
+                item.setAcceptedMouseButtons(Qt.MouseButton.NoButton)
+                plot.addItem(item)
+            item.setProperty("markup", markup)
             self.labels.append((item, pos, 1))
+        for item in spare:
+            plot.removeItem(item)
         self._place_labels()
 
     def label_texts(self) -> list[str]:

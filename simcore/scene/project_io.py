@@ -190,7 +190,7 @@ def material_table(project: Project, *, copy: bool = True) -> dict[str, DualBand
 def check_references(project: Project, base_dir: Path) -> list[str]:
     """Problems with references a schema cannot check: materials and mesh files."""
     problems = []
-    materials = material_table(project)
+    materials = material_table(project, copy=False)   # names only: no deep copies
     for i, obj in enumerate(project.objects):
         if obj.material not in materials:
             problems.append(
