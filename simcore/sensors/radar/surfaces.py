@@ -37,6 +37,7 @@ import math
 import weakref
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
@@ -301,37 +302,22 @@ def _hash_phase(seed: int, object_id: int, n: int) -> NDArray[np.float64]:
     return (x >> np.uint64(11)).astype(np.float64) * (2.0 * np.pi / 2.0**53)
 
 
-_PHASES: dict[tuple[int, int, int], NDArray[np.float64]] = {}
-
-
+@lru_cache(maxsize=256)
 def _phases(seed: int, object_id: int, n: int) -> NDArray[np.float64]:
-    key = (seed, object_id, n)
-    out = _PHASES.get(key)
-    if out is None:
-        if len(_PHASES) > 256:
-            _PHASES.clear()
-        out = _hash_phase(seed, object_id, n)
-        out.setflags(write=False)
-        _PHASES[key] = out
+    """Speckle phases of an object's ``n`` facets (kept, read-only)."""
+    out = _hash_phase(seed, object_id, n)
+    out.setflags(write=False)
     return out
 
 
-_PHASORS: dict[tuple[int, int, int], NDArray[np.complex128]] = {}
-
-
+@lru_cache(maxsize=256)
 def _speckle_phasors(seed: int, object_id: int, n: int) -> NDArray[np.complex128]:
     """``e^{jφ}`` of :func:`_phases`, kept: a facet's speckle phase never changes."""
-    key = (seed, object_id, n)
-    out = _PHASORS.get(key)
-    if out is None:
-        if len(_PHASORS) > 256:
-            _PHASORS.clear()
-        phase = _phases(seed, object_id, n)
-        out = np.empty(n, dtype=np.complex128)
-        np.cos(phase, out=out.real)
-        np.sin(phase, out=out.imag)
-        out.setflags(write=False)
-        _PHASORS[key] = out
+    phase = _phases(seed, object_id, n)
+    out = np.empty(n, dtype=np.complex128)
+    np.cos(phase, out=out.real)
+    np.sin(phase, out=out.imag)
+    out.setflags(write=False)
     return out
 
 
