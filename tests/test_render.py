@@ -129,3 +129,38 @@ def test_render_window_is_reused(make_renderer):
     renderer.render(take_snapshot(project, 0.1), RenderRequest("tof", "tof", TOF))
     assert renderer._passes["tof"].window is window
     assert renderer.render_count == 2
+
+
+def test_see_through_pass_renders_only_where_a_hidden_object_shows(make_renderer):
+    """The see-through pass: the wall behind a hidden pane, everywhere, from a moving rig.
+
+    Rendered only in the pane's bounding box and shaded only where the labels differ from
+    the full pass (same instant); the result is the analytic wall at 4 m in every pixel.
+    """
+    project = Project(
+        objects=[
+            SceneObject(id=1, name="wall", geometry=Box(size_m=(0.2, 40, 30)),
+                        pose=Pose(position_m=(4.1, 0, 0)), material="concrete"),
+            SceneObject(id=2, name="pane", geometry=Box(size_m=(0.02, 0.6, 0.4)),
+                        pose=Pose(position_m=(2.0, 0.5, 0.1)), material="glass"),
+        ],
+        rig=SensorRig(motion=Motion(velocity_mps=(0.3, 0.1, 0.0))))
+    renderer = make_renderer(project)
+    snap = take_snapshot(project, 0.0)
+    request = RenderRequest("radar", "radar", RADAR, geometry_only=True)
+    full = renderer.rasterize(snap, request)
+    full_buffers = renderer.shade(full)
+    assert 2 in full_buffers.object_id, "the pane is in view"
+    count = renderer.render_count
+    through = renderer.rasterize_see_through(full, request, (False, True))
+    assert renderer.render_count == count + 1
+    buffers = renderer.shade(through, background=(full, full_buffers))
+    assert set(np.unique(buffers.object_id)) == {1}
+    np.testing.assert_allclose(buffers.range_m, 4.0 / unit_rays(RADAR)[..., 2], atol=1e-3)
+    # With the pane behind the rig nothing hidden shows: no render, the same labels.
+    project.objects[1].pose = Pose(position_m=(-2.0, 0.0, 0.0))
+    away = take_snapshot(project, 0.0)
+    full = renderer.rasterize(away, request)
+    count = renderer.render_count
+    through = renderer.rasterize_see_through(full, request, (False, True))
+    assert renderer.render_count == count and through.labels is full.labels

@@ -289,8 +289,11 @@ class FrameEngine:
                    for dt in sensor.sample_offsets_s(project)]
         hide = _see_through(sensor, project)
         through = (None if hide is None else
-                   self._raster(snap, request, timings, f"render_{sensor.name}_see_through",
-                                hide=hide, kind="see_through"))
+                   self.cache.run(f"raster:{request.sensor}:see_through",
+                                  lambda: self.renderer.rasterize_see_through(raster, request,
+                                                                              hide),
+                                  reads=(self._scene_version, request, hide), inputs=(raster,),
+                                  timings=timings, label=f"render_{sensor.name}_see_through"))
         bg_raster = None if plain else self._background_raster(snap, request, timings)
         bg_through = None
         if bg_raster is not None and hide is not None:
@@ -310,14 +313,17 @@ class FrameEngine:
             buffers = self._shade(raster, bg_pair, timings, label)
             see_through = bg_see_through = None
             if through is not None:
-                through_pair = None
+                # Without a background, the frame's own pass: the see-through pass differs
+                # from it only where it shows a hidden object (same instant, same labels).
+                through_pair = (raster, buffers)
                 if bg_through is not None and background is not None:
                     bg_see_through = self._shade(bg_through, None, timings, "render_background",
                                                  kind="background_see_through")
                     through_pair = (bg_through, bg_see_through)
                     more = changed_pixels(through, through_pair)
                     if more is None:
-                        background = through_pair = bg_see_through = None
+                        background = bg_see_through = None
+                        through_pair = (raster, buffers)
                     else:
                         background = (background[0], background[1],
                                       np.union1d(background[2], more))

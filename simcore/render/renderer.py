@@ -430,6 +430,39 @@ class SceneRenderer:
                       geometry=self.geometry, tables=tables,
                       geometry_only=request.geometry_only)
 
+    def rasterize_see_through(self, full: Raster, request: RenderRequest,
+                              hide: Sequence[bool]) -> Raster:
+        """:meth:`rasterize` with ``hide`` left out, given the pass ``full`` with everything.
+
+        Only the bounding box of the pixels where ``full`` shows a hidden object is
+        rendered (the same pixel centres, in a cropped window); everywhere else the front
+        surface is not a hidden object, so leaving those out changes nothing there and
+        ``full``'s labels are kept. When ``full`` shows no hidden object nothing is rendered.
+        """
+        visible = [v and not h for v, h in zip(self.visible_in(request.band), hide,
+                                               strict=True)]
+        hidden = np.zeros(len(visible) + 1, dtype=bool)   # last row: label 0, no object
+        hidden[:-1] = np.asarray(hide, dtype=bool)
+        mask = hidden[self.geometry.label_object][full.labels]   # per label, then pixel
+        labels = full.labels
+        rows = np.flatnonzero(mask.any(axis=1))
+        if rows.size:
+            cols = np.flatnonzero(mask.any(axis=0))
+            r0, r1, c0, c1 = int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
+            intr = request.intrinsics
+            crop = PinholeIntrinsics(c1 - c0, r1 - r0, intr.fx, intr.fy, intr.cx - c0,
+                                     intr.cy - r0)
+            key = f"{request.sensor}:crop"
+            if key not in self._passes:
+                self._passes[key] = _IndexPass(self.geometry)
+            snapshot = full.snapshot
+            part = self._passes[key].labels(crop, snapshot.sensor(request.sensor),
+                                            snapshot.object_transforms(), visible)
+            labels = labels.copy()
+            labels[r0:r1, c0:c1] = part
+            self.render_count += 1
+        return dataclasses.replace(full, labels=labels, visible=tuple(visible))
+
     def shade(self, raster: Raster, *, background: tuple[Raster, RenderBuffers] | None = None
               ) -> RenderBuffers:
         """Float geometry and radiometry of a :meth:`rasterize` output (CPU only).
@@ -519,6 +552,8 @@ def changed_pixels(raster: Raster, background: tuple[Raster, RenderBuffers] | No
             or ref.geometry is not raster.geometry or ref.tables is not raster.tables
             or ref.labels.shape != raster.labels.shape):
         return None
+    if ref.snapshot is raster.snapshot:     # one instant: every pose and velocity the same
+        return _differing(raster, ref)
     s_now, s_ref = raster.snapshot.sensor(raster.sensor), ref.snapshot.sensor(ref.sensor)
     if not (np.array_equal(s_now.transform, s_ref.transform)
             and not np.any(s_now.velocity_mps) and not np.any(s_ref.velocity_mps)
@@ -535,6 +570,11 @@ def changed_pixels(raster: Raster, background: tuple[Raster, RenderBuffers] | No
                 or np.any(b.velocity_mps) or np.any(a.angular_velocity_rps)
                 or np.any(b.angular_velocity_rps)):
             return None
+    return _differing(raster, ref)
+
+
+def _differing(raster: Raster, ref: Raster) -> NDArray[np.intp] | None:
+    """Pixels whose label differs, None when they are more than half."""
     changed = np.flatnonzero(raster.labels.ravel() != ref.labels.ravel())
     return changed if changed.size <= raster.labels.size // 2 else None
 
