@@ -15,12 +15,11 @@ pyvista's widgets (the transform gizmo) work as in an on-screen plotter. Renders
 by the interactor style (orbit, zoom) or by pyvista widgets are merged: at most one render
 per repaint of the canvas.
 
-While the view is updated continuously (playback, drags, orbiting: renders less than
-:data:`SETTLE_S` apart) it renders at :data:`INTERACTIVE_SCALE` of its resolution, with
-text, points and lines scaled to keep their on-screen size, and the picture is drawn
-stretched; :data:`SETTLE_S` after the last such render it renders once more at full
-resolution. On software OpenGL most of a render is per pixel (office.json at 632 × 586:
-22 ms; at half the width and height: 11 ms).
+A change (a new frame, an edit, a drag, orbiting) renders at :data:`INTERACTIVE_SCALE` of
+the view's resolution, with text, points and lines scaled to keep their on-screen size,
+and the picture is drawn stretched; :data:`SETTLE_S` after the last such render it renders
+once more at full resolution. On software OpenGL much of a render is per pixel
+(office.json at 632 × 586: 22 ms; at half the width and height: 11 ms).
 
 Key events are not forwarded: the view's keys are the window's Qt shortcuts, and VTK's
 default keys (``q`` quits, ``w`` wireframe, ``3`` stereo…) do not belong in the app.
