@@ -313,18 +313,18 @@ class FrameEngine:
             buffers = self._shade(raster, bg_pair, timings, label)
             see_through = bg_see_through = None
             if through is not None:
-                # Without a background, the frame's own pass: the see-through pass differs
-                # from it only where it shows a hidden object (same instant, same labels).
+                # The see-through pass is shaded over the background's where that applies,
+                # else over the frame's own pass: it differs from that only where it shows
+                # a hidden object (same instant, same labels).
                 through_pair = (raster, buffers)
                 if bg_through is not None and background is not None:
                     bg_see_through = self._shade(bg_through, None, timings, "render_background",
                                                  kind="background_see_through")
-                    through_pair = (bg_through, bg_see_through)
-                    more = changed_pixels(through, through_pair)
+                    more = changed_pixels(through, (bg_through, bg_see_through))
                     if more is None:
                         background = bg_see_through = None
-                        through_pair = (raster, buffers)
                     else:
+                        through_pair = (bg_through, bg_see_through)
                         background = (background[0], background[1],
                                       np.union1d(background[2], more))
                 see_through = self._shade(through, through_pair, timings,
