@@ -18,7 +18,7 @@ from pydantic import ValidationError
 from PyQt6.QtCore import QObject, QStandardPaths, pyqtSignal
 from PyQt6.QtGui import QUndoCommand, QUndoStack
 
-from app.validation import describe_validation_error
+from app.validation import FIELD_WORDS, describe_validation_error, plain_name
 from simcore.resources import EXAMPLES_DIR
 from simcore.scene import (
     DualBandMaterial,
@@ -98,7 +98,16 @@ def library_material(name: str) -> DualBandMaterial | None:
 
 
 class EditError(ValueError):
-    """An edit produced an invalid project; the message names the bad field."""
+    """An edit produced an invalid project; the message names the bad field.
+
+    ``errors`` holds the model's errors (pydantic's dicts: ``loc``, ``type``, ``ctx``,
+    ``input``, in SI), so that the field that was edited can say what is wrong in its own
+    label and unit (:func:`app.field_editors.commit_value`).
+    """
+
+    def __init__(self, message: str, *, errors: list[dict[str, Any]] | None = None):
+        super().__init__(message)
+        self.errors: list[dict[str, Any]] = list(errors or [])
 
 
 class ReplaceProjectCommand(QUndoCommand):
@@ -282,7 +291,8 @@ class ProjectDocument(QObject):
         try:
             project = Project.model_validate(data)
         except ValidationError as exc:
-            raise EditError("; ".join(describe_validation_error(exc))) from None
+            raise EditError("; ".join(describe_validation_error(exc)),
+                            errors=[dict(e) for e in exc.errors()]) from None
         problems = check_references(project, self.base_dir)
         if problems:
             raise EditError("; ".join(problems))
@@ -332,11 +342,13 @@ class ProjectDocument(QObject):
         The path syntax is :mod:`simcore.scene.fieldpath`'s, the one sweeps use.
         """
         parts = fieldpath.parse(path)
+        name = next((p for p in reversed(parts) if isinstance(p, str)), path)
 
         def mutate(data: dict[str, Any]) -> None:
             fieldpath.set_in(data, path, copy.deepcopy(value))
 
-        return self.edit(text or f"Set {parts[-1]}", mutate, merge_key=merge_key)
+        words = FIELD_WORDS.get(name) or plain_name(name)
+        return self.edit(text or f"Set {words}", mutate, merge_key=merge_key)
 
     def end_merge(self) -> None:
         """Close the current merge run (a drag ended): the next edit starts a new step."""

@@ -1,4 +1,14 @@
-"""Declarative editors for project fields: one row per field, bound by its field path.
+"""Declarative editors for project fields, and the one path every field edit takes.
+
+:func:`commit_value` is that path, used by every editor of the GUI (timeline and seed,
+sensors, link budget, DSP, the Inspector's objects, materials): a shown value is turned
+into SI exactly as typed (decimal scaling: 2 GHz is stored as 2e9, not 1999999999.9999998),
+checked against the field's own limits, then written through the document, which validates
+the whole project; a refusal is shown at the field — red frame, and a sentence in the
+field's label and unit ("Start frequency must be below 300 GHz (got 5000 GHz)") — and
+nothing is committed. Text that is no number is refused the same way
+(:func:`bind_number_box`). An accepted edit is one undo step in the user's words
+("Set bandwidth to 2 GHz").
 
 A :class:`FieldSpec` names a field of the project (``rig.radar.tx_power_dbm``), its label,
 the unit shown, the scale from SI to that unit and a tooltip; :class:`FieldForm` builds a
@@ -11,7 +21,9 @@ model's own constraints, so GUI and core never disagree.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from decimal import Decimal
 from typing import Any
 
 import annotated_types as at
@@ -19,8 +31,19 @@ from pydantic import BaseModel
 from PyQt6.QtCore import QSignalBlocker, pyqtSignal
 from PyQt6.QtWidgets import QCheckBox, QComboBox, QFormLayout, QWidget
 
-from app.document import ProjectDocument
-from app.widgets import BIG, INT_MAX, int_spin, set_quietly, spin, try_edit
+from app.document import EditError, ProjectDocument
+from app.validation import BOUND_WORDS, format_number, in_words
+from app.widgets import (
+    BIG,
+    INT_MAX,
+    IntBox,
+    NumberBox,
+    clear_field_error,
+    int_spin,
+    set_quietly,
+    show_field_error,
+    spin,
+)
 from simcore.scene import Project, fieldpath
 
 
@@ -36,9 +59,11 @@ class FieldSpec:
         Row label and the unit shown in the box (``""`` for none).
     tip : str
         What the field does (the tooltip adds the accepted range).
-    kind : {"float", "int", "bool", "choice"}
+    kind : {"float", "int", "bool", "choice", "vector"}
+        ``"vector"``: a tuple of floats, one box per component (``components``).
     scale : float
-        Shown value per SI value (``1e-3`` shows Hz as kHz).
+        Shown value per SI value (``1e-3`` shows Hz as kHz); conversions are decimal, so a
+        value typed round-trips exactly.
     decimals, step : number
         Float boxes' precision and arrow step (shown units).
     choices : tuple of str
@@ -46,6 +71,10 @@ class FieldSpec:
     off_text : str
         For an optional field (``None`` allowed): the box's lowest value stands for
         ``None`` and reads ``off_text``.
+    minimum, maximum : float, optional
+        Limits of the GUI beyond the model's (SI), refused like the model's.
+    components : tuple of str
+        Names of a vector's components (``("x", "y", "z")``).
     """
 
     path: str
@@ -58,11 +87,190 @@ class FieldSpec:
     step: float = 1.0
     choices: tuple[str, ...] = ()
     off_text: str = ""
+    minimum: float | None = None
+    maximum: float | None = None
+    components: tuple[str, ...] = ("x", "y", "z")
 
     @property
     def name(self) -> str:
         """The field's own name (last part of the path)."""
         return self.path.rsplit(".", 1)[-1]
+
+    @property
+    def title(self) -> str:
+        """The label as a sentence starts: "Start frequency"."""
+        return self.label[:1].upper() + self.label[1:]
+
+    def to_si(self, shown: Any) -> Any:
+        """The model value of a shown value: exact decimal scaling (2 GHz → 2e9)."""
+        if shown is None or self.kind in ("bool", "choice"):
+            return shown
+        if self.kind == "int":
+            return int(shown)
+        if self.kind == "vector":
+            return tuple(self.to_si(float(v)) for v in shown)
+        if self.scale == 1.0:
+            return float(shown)
+        return float(Decimal(repr(float(shown))) / Decimal(repr(float(self.scale))))
+
+    def to_shown(self, si: float) -> float:
+        """The shown value of a model value (SI), by decimal scaling."""
+        if self.scale == 1.0 or self.kind == "int":
+            return si
+        return float(Decimal(repr(float(si))) * Decimal(repr(float(self.scale))))
+
+    def number(self, si: float) -> str:
+        """A model value as the field shows it, without the unit: "2", "0.5"."""
+        return format_number(self.to_shown(si))
+
+    def text(self, si: Any) -> str:
+        """A model value in words with the unit: "2 GHz", "1.2 × 0.7 × 0.03 m", "on"."""
+        unit = f" {self.unit}" if self.unit else ""
+        if si is None:
+            return self.off_text or "off"
+        if isinstance(si, bool):
+            return "on" if si else "off"
+        if isinstance(si, str):
+            return si
+        if isinstance(si, Sequence):
+            return " × ".join(self.number(v) for v in si) + unit
+        return f"{self.number(si)}{unit}"
+
+    def undo_text(self, si: Any, subject: str = "") -> str:
+        """"Set bandwidth to 2 GHz", "Set size of desk1_top to 1 × 2 × 0.5 m"."""
+        of = f" of {subject}" if subject else ""
+        return f"Set {self.label}{of} to {self.text(si)}"
+
+    def _component(self, index: int | None) -> str:
+        if index is None or not 0 <= index < len(self.components):
+            return self.title
+        return f"{self.title} ({self.components[index]})"
+
+    def limit_problem(self, si: Any) -> str | None:
+        """The GUI's own limits (:attr:`minimum`, :attr:`maximum`) broken by ``si``, if any."""
+        values = si if isinstance(si, tuple) else (si,)
+        for i, v in enumerate(values):
+            if not isinstance(v, (int, float)) or isinstance(v, bool):
+                continue
+            index = i if isinstance(si, tuple) else None
+            for limit, kind in ((self.minimum, "greater_than_equal"),
+                                (self.maximum, "less_than_equal")):
+                bad = limit is not None and (v < limit if kind.startswith("g") else v > limit)
+                if bad:
+                    return self.bound_message(
+                        {"type": kind, "ctx": {BOUND_WORDS[kind][1]: limit}, "input": v},
+                        index)
+        return None
+
+    def bound_message(self, err: dict[str, Any], index: int | None = None) -> str | None:
+        """"Size (x) must be above 0 m (got 0 m)" for a bound error of this field."""
+        kind = err.get("type", "")
+        if kind not in BOUND_WORDS:
+            return None
+        word, key = BOUND_WORDS[kind]
+        unit = f" {self.unit}" if self.unit else ""
+        limit = (err.get("ctx") or {}).get(key)
+        got = err.get("input")
+        got_text = f" (got {self.number(got)}{unit})" if isinstance(got, (int, float)) else ""
+        return f"{self._component(index)} must be {word} {self.number(limit)}{unit}{got_text}"
+
+    def explain(self, exc: EditError) -> str:
+        """Why an edit of this field was refused, in its label and unit.
+
+        An error of this field itself reads "Tx power must be at most 60 dBm (got 75 dBm)";
+        a rule across fields keeps the model's sentence (in the GUI's words and units).
+        """
+        for err in exc.errors:
+            loc = tuple(err.get("loc", ()))
+            names = [p for p in loc if isinstance(p, str)]
+            if not names or names[-1] != self.name:
+                continue
+            index = loc[-1] if loc and isinstance(loc[-1], int) else None
+            message = self.bound_message(err, index)
+            if message is None:
+                got = err.get("input")
+                text = str(err.get("msg", "")).removeprefix("Value error, ")
+                shown = f" (got {self.text(got)})" if isinstance(got, (int, float)) else ""
+                message = f"{self._component(index)}: {in_words(text)}{shown}"
+            return message
+        return in_words(str(exc))
+
+    def refusal(self, text: str, box: QWidget, index: int | None = None) -> str:
+        """Why typed ``text`` is no value for ``box`` (not a number, or beyond the box)."""
+        from app.widgets import parse_number
+
+        value = parse_number(text)
+        whole = isinstance(box, IntBox)
+        if value is None or (whole and not value.is_integer()):
+            what = "a whole number" if whole else "a number"
+            return f"{self._component(index)}: “{text}” is not {what}"
+        assert isinstance(box, IntBox | NumberBox)
+        kind = "less_than_equal" if value > box.maximum() else "greater_than_equal"
+        limit = box.maximum() if value > box.maximum() else box.minimum()
+        unit = f" {self.unit}" if self.unit else ""
+        return (f"{self._component(index)} must be {BOUND_WORDS[kind][0]} "
+                f"{format_number(limit)}{unit} (got {text}{unit})")
+
+
+def commit_value(spec: FieldSpec, shown: Any, widget: QWidget,
+                 apply: Callable[[Any, str], object], *, text: str | None = None,
+                 subject: str = "") -> bool:
+    """The one path of a field edit: convert, check, write; or refuse at the field.
+
+    Parameters
+    ----------
+    spec : FieldSpec
+        The field: label, unit, scale and limits.
+    shown : object
+        The value as the field shows it (``None`` for "off").
+    widget : QWidget
+        The field: marked with the reason when refused, cleared when accepted.
+    apply : callable
+        ``apply(value, undo_text)`` writes the model (SI) value as one undo step and raises
+        :class:`EditError` to refuse it.
+    text, subject : str
+        Undo text (default :meth:`FieldSpec.undo_text` naming ``subject``).
+
+    Returns
+    -------
+    bool
+        True when the value was accepted; nothing is committed otherwise.
+    """
+    value = spec.to_si(shown)
+    problem = spec.limit_problem(value)
+    if problem is None:
+        try:
+            apply(value, text or spec.undo_text(value, subject))
+        except EditError as exc:
+            problem = spec.explain(exc)
+        else:
+            clear_field_error(widget)
+            return True
+    show_field_error(widget, problem)
+    return False
+
+
+def commit_path(document: ProjectDocument, spec: FieldSpec, shown: Any, widget: QWidget, *,
+                path: str | None = None, text: str | None = None, subject: str = "") -> bool:
+    """:func:`commit_value` of field ``path`` (default ``spec.path``) of the project."""
+    target = path or spec.path
+    return commit_value(spec, shown, widget,
+                        lambda v, t: document.set_value(target, v, text=t), text=text,
+                        subject=subject)
+
+
+def bind_number_box(box: QWidget, spec: FieldSpec, field: QWidget | None = None,
+                    index: int | None = None) -> None:
+    """Refuse text typed into ``box`` that is no value, at ``field`` (default the box).
+
+    ``index``: the box is component ``index`` of a vector field.
+    """
+    if not isinstance(box, IntBox | NumberBox):
+        return
+    box.refusing = True
+    target = field if field is not None else box
+    box.textRefused.connect(
+        lambda text: show_field_error(target, spec.refusal(text, box, index)))
 
 
 def model_bounds(model: type[BaseModel], name: str) -> tuple[float | None, float | None]:
@@ -78,6 +286,8 @@ def model_bounds(model: type[BaseModel], name: str) -> tuple[float | None, float
 
 
 def _owner(project: Project, path: str) -> BaseModel:
+    if "." not in path:
+        return project
     parent = path.rsplit(".", 1)[0]
     owner = fieldpath.get(project, parent)
     assert isinstance(owner, BaseModel)
@@ -91,7 +301,7 @@ def range_text(spec: FieldSpec, bounds: tuple[float | None, float | None]) -> st
         return ""
 
     def fmt(v: float | None) -> str:
-        return "…" if v is None else f"{v * spec.scale:g}".replace("-", "−")
+        return "…" if v is None else spec.number(v).replace("-", "−")
 
     unit = f" {spec.unit}" if spec.unit else ""
     return f"accepted: {fmt(lo)} to {fmt(hi)}{unit}"
@@ -126,7 +336,9 @@ class FieldForm(QWidget):
 
     def _make(self, spec: FieldSpec, project: Project) -> QWidget:
         owner = type(_owner(project, spec.path))
-        bounds = model_bounds(owner, spec.name)
+        lo, hi = model_bounds(owner, spec.name)
+        bounds = (spec.minimum if spec.minimum is not None else lo,
+                  spec.maximum if spec.maximum is not None else hi)
         tip = "; ".join(t for t in (spec.tip, range_text(spec, bounds)) if t)
         w: Any
         if spec.kind == "bool":
@@ -155,20 +367,19 @@ class FieldForm(QWidget):
                 w.setSpecialValueText(spec.off_text)
             w.valueChanged.connect(lambda v, s=spec, w=w: self._set(s, self._from_box(s, w, v), w))
         w.setObjectName(spec.name)
+        bind_number_box(w, spec)
         return w
 
     @staticmethod
     def _from_box(spec: FieldSpec, box: Any, value: float) -> Any:
+        """The shown value of a box (None: its lowest value, "off")."""
         if spec.off_text and value == box.minimum():
             return None
-        return int(value) if spec.kind == "int" else float(value) / spec.scale
+        return int(value) if spec.kind == "int" else float(value)
 
-    def _set(self, spec: FieldSpec, value: Any, widget: QWidget) -> None:
-        """Write one field; a refused value stays in ``widget`` with the reason."""
-        text = f"Set {spec.label}"
-        try_edit(self.editFailed.emit,
-                 lambda: self.document.set_value(spec.path, value, text=text),
-                 self.refresh, field=widget)
+    def _set(self, spec: FieldSpec, shown: Any, widget: QWidget) -> None:
+        """Write one field (shown value); a refused value stays in ``widget`` with why."""
+        commit_path(self.document, spec, shown, widget)
 
     def value(self, path: str) -> Any:
         """The project's value of ``path`` (SI)."""
@@ -187,7 +398,7 @@ class FieldForm(QWidget):
             elif v is None:
                 set_quietly(w, w.minimum())
             else:
-                set_quietly(w, v if spec.kind == "int" else v * spec.scale)
+                set_quietly(w, v if spec.kind == "int" else spec.to_shown(v))
 
 
 #: The radar's link budget and receiver.
@@ -266,5 +477,5 @@ PROCESSING = [
               kind="int"),
 ]
 
-__all__ = ["DETECTION", "LINK_BUDGET", "PROCESSING", "FieldForm", "FieldSpec", "model_bounds",
-           "range_text"]
+__all__ = ["DETECTION", "LINK_BUDGET", "PROCESSING", "FieldForm", "FieldSpec", "bind_number_box",
+           "commit_path", "commit_value", "model_bounds", "range_text"]

@@ -12,6 +12,7 @@ must be ≥ 1 (got 0)", "chirp repetition time (300.0 µs) is shorter than chirp
 from __future__ import annotations
 
 import re
+from decimal import Decimal
 from typing import Any
 
 from pydantic import ValidationError
@@ -48,14 +49,68 @@ FIELD_WORDS: dict[str, str] = {
     "duration_s": "duration",
 }
 
-_BOUNDS = {"greater_than_equal": ("≥", "ge"), "less_than_equal": ("≤", "le"),
-           "greater_than": (">", "gt"), "less_than": ("<", "lt")}
+#: Bound kinds of pydantic errors, as the words of a sentence ("must be at least 1").
+BOUND_WORDS = {"greater_than_equal": ("at least", "ge"), "less_than_equal": ("at most", "le"),
+               "greater_than": ("above", "gt"), "less_than": ("below", "lt")}
 _IDENT = re.compile(r"\b(?:rig\.(?:radar|tof)\.|dsp\.)?([a-z][a-z0-9]*(?:_[a-z0-9]+)+)\b")
+#: Units of the model's field-name suffixes (``start_frequency_hz`` is in Hz).
+SUFFIX_UNITS = {"hz": "Hz", "s": "s", "m": "m", "mm": "mm", "deg": "°", "dbm": "dBm",
+                "db": "dB", "dbi": "dBi", "dbc": "dBc", "mps": "m/s", "dps": "°/s", "m2": "m²",
+                "v": "V"}
+#: SI prefixes used for quantities in messages (Hz, s and m only).
+_PREFIXES = [(1e9, "G"), (1e6, "M"), (1e3, "k"), (1.0, ""), (1e-3, "m"), (1e-6, "µ"),
+             (1e-9, "n")]
+_PREFIXED_UNITS = ("Hz", "s", "m")
+_NUM = r"-?\d+(?:\.\d+)?(?:e[+-]?\d+)?"
+_INTERVAL = re.compile(rf"(?P<open>[\[(])(?P<a>{_NUM}), (?P<b>{_NUM})(?P<close>[\])]) "
+                       r"(?P<unit>Hz|s|m)(?![\w/²])")
+_QUANTITY = re.compile(rf"(?<![\w.])(?P<n>{_NUM})(?P<close>[\])]?) (?P<unit>Hz|s|m)(?![\w/²])")
+_EXPONENT = re.compile(r"(?<![\w.])-?\d+(?:\.\d+)?e[+-]?\d+\b")
+
+
+def format_number(value: float, *, digits: int = 6) -> str:
+    """``value`` as plain decimals, ``digits`` significant at most: never ``3e+11``."""
+    if isinstance(value, int) or (isinstance(value, float) and value.is_integer()
+                                  and abs(value) < 1e15):
+        return str(int(value))
+    rounded = Decimal(f"{value:.{digits}g}").normalize()
+    text = format(rounded, "f")
+    return "0" if text in ("-0", "0") else text
+
+
+def _prefix(value: float, unit: str) -> tuple[float, str]:
+    if unit not in _PREFIXED_UNITS or value == 0:
+        return 1.0, ""
+    for factor, prefix in _PREFIXES:
+        if abs(value) >= factor * (1 - 1e-12):
+            return factor, prefix
+    return _PREFIXES[-1]
+
+
+def quantity(value: float, unit: str, *, factor: tuple[float, str] | None = None) -> str:
+    """``"60 GHz"``: a value in SI ``unit`` with an SI prefix (Hz, s, m) and plain digits."""
+    scale, prefix = factor if factor is not None else _prefix(value, unit)
+    shown = float(Decimal(repr(float(value))) / Decimal(repr(scale)))
+    return f"{format_number(shown)} {prefix}{unit}".rstrip()
+
+
+def humanize_quantities(text: str) -> str:
+    """Quantities in a core message in the user's units: ``6e+10 Hz`` reads ``60 GHz``."""
+    def interval(m: re.Match[str]) -> str:
+        a, b, unit = float(m["a"]), float(m["b"]), m["unit"]
+        factor = _prefix(max(abs(a), abs(b)), unit)
+        return f"{m['open']}{quantity(a, unit, factor=factor)}, " \
+               f"{quantity(b, unit, factor=factor)}{m['close']}"
+
+    text = _INTERVAL.sub(interval, text)
+    text = _QUANTITY.sub(lambda m: quantity(float(m["n"]), m["unit"]) + m["close"], text)
+    return _EXPONENT.sub(lambda m: format_number(float(m.group(0))), text)
 
 
 def in_words(text: str) -> str:
-    """Replace model field names (``chirp_time_s``) in ``text`` by the GUI's words."""
-    return _IDENT.sub(lambda m: FIELD_WORDS.get(m.group(1), m.group(0)), text)
+    """Model field names (``chirp_time_s``) as the GUI's words, quantities in units."""
+    return humanize_quantities(
+        _IDENT.sub(lambda m: FIELD_WORDS.get(m.group(1), m.group(0)), text))
 
 
 def _field_name(loc: tuple[Any, ...]) -> str | None:
@@ -63,25 +118,59 @@ def _field_name(loc: tuple[Any, ...]) -> str | None:
     return names[-1] if names else None
 
 
-def _value(value: Any) -> str:
-    if isinstance(value, float):
-        return f"{value:.6g}"
-    if isinstance(value, (int, str)):
-        return str(value)
-    return ""
+def unit_of(name: str) -> str:
+    """The unit a model field name's suffix says (``bandwidth_hz`` → Hz; ``""`` if none)."""
+    suffix = name.rsplit("_", 1)[-1] if "_" in name else ""
+    return SUFFIX_UNITS.get(suffix, "")
+
+
+def plain_name(name: str) -> str:
+    """A model field name without its unit suffix, in words: ``size_m`` → ``size``."""
+    if unit_of(name):
+        name = name.rsplit("_", 1)[0]
+    return name.replace("_", " ")
+
+
+def _value(value: Any, unit: str = "") -> str:
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        return str(value) if isinstance(value, bool) else ""
+    if isinstance(value, str):
+        return value
+    return quantity(value, unit) if unit else format_number(value)
+
+
+def bound_sentence(label: str, err: dict[str, Any], show: Any, unit: str = "") -> str | None:
+    """"Bandwidth must be above 0 GHz (got -1 GHz)" for a bound error, else None.
+
+    ``show`` turns a model (SI) value into the text shown, without the unit.
+    """
+    kind = err.get("type", "")
+    if kind not in BOUND_WORDS:
+        return None
+    word, key = BOUND_WORDS[kind]
+    limit = (err.get("ctx") or {}).get(key)
+    unit = f" {unit}" if unit else ""
+    got = err.get("input")
+    got_text = f" (got {show(got)}{unit})" if isinstance(got, (int, float)) else ""
+    return f"{label} must be {word} {show(limit)}{unit}{got_text}"
 
 
 def describe_error(err: dict[str, Any]) -> str:
-    """One pydantic error as a sentence (no quoted dicts or lists)."""
+    """One pydantic error as a sentence (no quoted dicts or lists), units from the name."""
     name = _field_name(tuple(err.get("loc", ())))
-    words = FIELD_WORDS.get(name or "", name or "")
-    kind = err.get("type", "")
-    value = _value(err.get("input"))
+    unit = unit_of(name or "")
+    words = FIELD_WORDS.get(name or "") or plain_name(name or "")
+    # One prefix for the limit and the value, chosen by the larger: "above 0 GHz (got -1 GHz)".
+    numbers = [abs(float(v)) for v in (*(err.get("ctx") or {}).values(), err.get("input"))
+               if isinstance(v, (int, float)) and not isinstance(v, bool)]
+    factor = _prefix(max(numbers, default=0.0), unit)
+    sentence = bound_sentence(
+        words, err, lambda v: quantity(v, unit, factor=factor).rsplit(" ", 1)[0] if unit
+        else format_number(v), f"{factor[1]}{unit}")
+    if sentence is not None:
+        return sentence
+    value = _value(err.get("input"), unit)
     got = f" (got {value})" if value else ""
-    if kind in _BOUNDS:
-        sign, key = _BOUNDS[kind]
-        limit = (err.get("ctx") or {}).get(key)
-        return f"{words} must be {sign} {_value(limit) or limit}{got}".strip()
     message = str(err.get("msg", "")).removeprefix("Value error, ")
     if isinstance(err.get("input"), (dict, list)):
         # A rule across fields (a model validator): its message names the fields.
@@ -99,5 +188,6 @@ def describe_problem(line: str) -> str:
     return in_words(line)
 
 
-__all__ = ["FIELD_WORDS", "describe_error", "describe_problem", "describe_validation_error",
-           "in_words"]
+__all__ = ["BOUND_WORDS", "FIELD_WORDS", "bound_sentence", "describe_error", "describe_problem",
+           "describe_validation_error", "format_number", "humanize_quantities", "in_words",
+           "plain_name", "quantity", "unit_of"]

@@ -10,7 +10,8 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from PyQt6.QtCore import QSignalBlocker, pyqtSignal
+from PyQt6.QtCore import QSignalBlocker, Qt, pyqtSignal
+from PyQt6.QtGui import QFocusEvent, QKeyEvent, QValidator
 from PyQt6.QtWidgets import (
     QDoubleSpinBox,
     QFormLayout,
@@ -29,10 +30,145 @@ INT_MAX = 2**31 - 1
 _ERROR_STYLE = "border: 1px solid #ff6b6b; border-radius: 2px;"
 
 
+def parse_number(text: str) -> float | None:
+    """The finite number ``text`` spells (``−`` allowed for minus), or None."""
+    try:
+        value = float(text.strip().replace("\u2212", "-"))
+    except ValueError:
+        return None
+    return value if value == value and abs(value) != float("inf") else None
+
+
+class _TextRefusal:
+    """What :class:`NumberBox` and :class:`IntBox` share: typed text that is no value.
+
+    Qt's spin boxes swallow keys they cannot parse and put back the previous value when a
+    typed one is out of their range, without a word. Once something listens to
+    ``textRefused`` (:func:`app.field_editors.bind_number_box` does), a box accepts any
+    text while typing, and on Enter or when focus leaves with text that is not a value in
+    its range, it emits ``textRefused(text)`` and keeps the text, so the field can say why.
+    Nothing is committed. Unbound boxes behave as Qt's.
+    """
+
+    #: Set by the binding: typed text is checked here, not silently dropped.
+    refusing = False
+
+    def _body(self, text: str) -> str:
+        body = text.removeprefix(self.prefix()).removesuffix(self.suffix())  # type: ignore[attr-defined]
+        return body.strip()
+
+    def _is_special(self, text: str) -> bool:
+        special = self.specialValueText()  # type: ignore[attr-defined]
+        return bool(special) and text == special
+
+    def _parse(self, body: str) -> float | None:
+        return parse_number(body)
+
+    def _state(self, text: str) -> QValidator.State:
+        if self._is_special(text):
+            return QValidator.State.Acceptable
+        value = self._parse(self._body(text))
+        if value is None or not self.minimum() <= value <= self.maximum():  # type: ignore[attr-defined]
+            return QValidator.State.Intermediate
+        return QValidator.State.Acceptable
+
+    def _refuse_pending(self) -> bool:
+        """Emit ``textRefused`` for the text in the box when it is no value; True if so."""
+        if not self.refusing:
+            return False
+        text = self.lineEdit().text()  # type: ignore[attr-defined]
+        if self._state(text) == QValidator.State.Acceptable:
+            return False
+        self.textRefused.emit(self._body(text))  # type: ignore[attr-defined]
+        return True
+
+
+class NumberBox(_TextRefusal, QDoubleSpinBox):
+    """A double spin box that refuses, with a signal, text that is not a number.
+
+    Signals
+    -------
+    textRefused(str)
+        Enter or focus-out with text that is no number in the box's range (the text typed,
+        without prefix and suffix).
+    """
+
+    textRefused = pyqtSignal(str)
+
+    def validate(self, text: str | None, pos: int) -> tuple[QValidator.State, str, int]:  # noqa: D102
+        text = text or ""
+        if not self.refusing:
+            return super().validate(text, pos)
+        body = self._body(text)
+        decimals = body.split(".", 1)[1] if "." in body and "e" not in body.lower() else ""
+        if len(decimals) > self.decimals():
+            # More digits than the box shows: refused while typing, as Qt does.
+            return QValidator.State.Invalid, text, pos
+        return self._state(text), text, pos
+
+    def valueFromText(self, text: str | None) -> float:  # noqa: N802, D102 - Qt API
+        value = parse_number(self._body(text or "")) if self.refusing else None
+        return super().valueFromText(text) if value is None else value
+
+    def keyPressEvent(self, event: QKeyEvent | None) -> None:  # noqa: N802, D102 - Qt API
+        if event is not None and event.key() in (Qt.Key.Key_Return, Qt.Key.Key_Enter) \
+                and self._refuse_pending():
+            event.accept()
+            return
+        super().keyPressEvent(event)
+
+    def focusOutEvent(self, event: QFocusEvent | None) -> None:  # noqa: N802, D102 - Qt API
+        text = self.lineEdit().text()
+        refused = self._refuse_pending()
+        super().focusOutEvent(event)
+        if refused:  # Qt put the previous value back: show what was typed
+            self.lineEdit().setText(text)
+
+
+class IntBox(_TextRefusal, QSpinBox):
+    """An integer spin box that refuses, with a signal, text that is not a whole number.
+
+    Signals
+    -------
+    textRefused(str)
+        As :class:`NumberBox`'s.
+    """
+
+    textRefused = pyqtSignal(str)
+
+    def _parse(self, body: str) -> float | None:
+        value = parse_number(body)
+        return value if value is not None and value.is_integer() else None
+
+    def validate(self, text: str | None, pos: int) -> tuple[QValidator.State, str, int]:  # noqa: D102
+        text = text or ""
+        if not self.refusing:
+            return super().validate(text, pos)
+        return self._state(text), text, pos
+
+    def valueFromText(self, text: str | None) -> int:  # noqa: N802, D102 - Qt API
+        value = self._parse(self._body(text or "")) if self.refusing else None
+        return super().valueFromText(text) if value is None else int(value)
+
+    def keyPressEvent(self, event: QKeyEvent | None) -> None:  # noqa: N802, D102 - Qt API
+        if event is not None and event.key() in (Qt.Key.Key_Return, Qt.Key.Key_Enter) \
+                and self._refuse_pending():
+            event.accept()
+            return
+        super().keyPressEvent(event)
+
+    def focusOutEvent(self, event: QFocusEvent | None) -> None:  # noqa: N802, D102 - Qt API
+        text = self.lineEdit().text()
+        refused = self._refuse_pending()
+        super().focusOutEvent(event)
+        if refused:
+            self.lineEdit().setText(text)
+
+
 def spin(*, minimum: float = -BIG, maximum: float = BIG, decimals: int = 3, step: float = 0.1,
          suffix: str = "", tooltip: str = "") -> QDoubleSpinBox:
     """A double spin box that reports values only when committed (Enter, focus out, arrows)."""
-    box = QDoubleSpinBox()
+    box = NumberBox()
     box.setRange(minimum, maximum)
     box.setDecimals(decimals)
     box.setSingleStep(step)
@@ -49,7 +185,7 @@ def spin(*, minimum: float = -BIG, maximum: float = BIG, decimals: int = 3, step
 def int_spin(*, minimum: int = 0, maximum: int = 1_000_000, suffix: str = "",
              tooltip: str = "") -> QSpinBox:
     """An integer spin box that reports values only when committed."""
-    box = QSpinBox()
+    box = IntBox()
     box.setRange(minimum, maximum)
     box.setKeyboardTracking(False)
     if suffix:
