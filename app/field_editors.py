@@ -108,7 +108,10 @@ class FieldSpec:
         if self.kind == "int":
             return int(shown)
         if self.kind == "vector":
-            return tuple(self.to_si(float(v)) for v in shown)
+            return tuple(self._scalar_to_si(v) for v in shown)
+        return self._scalar_to_si(shown)
+
+    def _scalar_to_si(self, shown: float) -> float:
         if self.scale == 1.0:
             return float(shown)
         return float(Decimal(repr(float(shown))) / Decimal(repr(float(self.scale))))

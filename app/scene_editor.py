@@ -32,6 +32,7 @@ from PyQt6.QtWidgets import (
 )
 
 from app.document import RIG, EditError, ProjectDocument
+from app.field_editors import FieldSpec, bind_number_box, commit_path
 from app.mesh_import import MeshImportDialog
 from app.scene_edits import (
     KIND_LABELS,
@@ -201,6 +202,22 @@ GEOMETRY_FIELDS: dict[str, list[tuple[str, str, str, int, float]]] = {
 }
 
 
+def geometry_spec(field: str, label: str, unit: str, n: int) -> FieldSpec:
+    """The :class:`FieldSpec` of a geometry field of :data:`GEOMETRY_FIELDS`."""
+    return FieldSpec(f"geometry.{field}", label, unit, kind="vector" if n > 1 else "float",
+                     components=("x", "y", "z")[:n])
+
+
+#: Pose and motion fields of the Inspector (paths below the object or the rig).
+POSE_FIELDS = {
+    "position_m": FieldSpec("pose.position_m", "position", "m", kind="vector"),
+    "rotation_deg": FieldSpec("pose.rotation_deg", "rotation", "°", kind="vector"),
+    "velocity_mps": FieldSpec("motion.velocity_mps", "velocity", "m/s", kind="vector"),
+    "angular_velocity_dps": FieldSpec("motion.angular_velocity_dps", "angular velocity",
+                                      "°/s", kind="vector"),
+}
+
+
 def new_keyframes(keyframes: list[dict[str, Any]], timeline: Any, now: float | None
                   ) -> list[dict[str, Any]]:
     """Keyframes with one more, where "Add keyframe" puts it.
@@ -292,13 +309,11 @@ class ObjectInspector(QScrollArea):
         pform = QFormLayout(self.pose_box)
         self.position_edit = VectorEdit(suffix="m", decimals=3, step=0.05,
                                         tooltip="position of the origin (m, world frame)")
-        self.position_edit.edited.connect(
-            lambda v: self._set_pose("position_m", v, self.position_edit))
+        self._bind_vector(POSE_FIELDS["position_m"], self.position_edit, "Move")
         self.rotation_edit = VectorEdit(suffix="°", decimals=2, step=5.0, minimum=-360,
                                         maximum=360,
                                         tooltip="rotation about world x, then y, then z (°)")
-        self.rotation_edit.edited.connect(
-            lambda v: self._set_pose("rotation_deg", v, self.rotation_edit))
+        self._bind_vector(POSE_FIELDS["rotation_deg"], self.rotation_edit, "Rotate")
         pform.addRow("position", self.position_edit)
         pform.addRow("rotation", self.rotation_edit)
         outer.addWidget(self.pose_box)
@@ -308,13 +323,11 @@ class ObjectInspector(QScrollArea):
         mform = QFormLayout(self.motion_box)
         self.velocity_edit = VectorEdit(suffix="m/s", decimals=3, step=0.1,
                                         tooltip="constant linear velocity (m/s, world frame)")
-        self.velocity_edit.edited.connect(
-            lambda v: self._set_motion("velocity_mps", v, self.velocity_edit))
+        self._bind_vector(POSE_FIELDS["velocity_mps"], self.velocity_edit)
         self.angular_edit = VectorEdit(suffix="°/s", decimals=2, step=5.0,
                                        tooltip="constant angular velocity about world axes "
                                                "through the origin (°/s)")
-        self.angular_edit.edited.connect(
-            lambda v: self._set_motion("angular_velocity_dps", v, self.angular_edit))
+        self._bind_vector(POSE_FIELDS["angular_velocity_dps"], self.angular_edit)
         self.repeat_combo = QComboBox()
         self.repeat_combo.addItems(["hold", "loop", "back_and_forth"])
         self.repeat_combo.setToolTip("After the last keyframe: hold the pose, loop, or play "
@@ -386,10 +399,23 @@ class ObjectInspector(QScrollArea):
                  lambda: self.document.set_value(f"{base}.{sub}", value, text=text),
                  self.refresh, field=field)
 
-    def _set_pose(self, field: str, value: tuple[float, ...], widget: QWidget | None = None
-                  ) -> None:
-        self._set(f"pose.{field}", value, "Move" if field == "position_m" else "Rotate",
-                  widget)
+    def _commit(self, spec: FieldSpec, shown: Any, widget: QWidget, verb: str = "") -> None:
+        """Set field ``spec`` of the selection through the one validation path.
+
+        The undo text names the object: "Move desk1_top", "Set size of desk1_top to
+        1 × 0.6 × 0.03 m"; a refusal is shown at ``widget`` in the field's unit.
+        """
+        base = self._base_path()
+        if base is None:
+            return
+        text = f"{verb} {self._subject()}" if verb else None
+        commit_path(self.document, spec, shown, widget, path=f"{base}.{spec.path}",
+                    text=text, subject=self._subject())
+
+    def _bind_vector(self, spec: FieldSpec, widget: VectorEdit, verb: str = "") -> None:
+        for i, box in enumerate(widget.boxes):
+            bind_number_box(box, spec, widget, i)
+        widget.edited.connect(lambda v: self._commit(spec, v, widget, verb))
 
     def _set_motion(self, field: str, value: Any, widget: QWidget | None = None) -> None:
         self._set(f"motion.{field}", value, "Edit motion", widget)
@@ -445,18 +471,19 @@ class ObjectInspector(QScrollArea):
             self._geometry_widgets = {}
             for field, label, unit, n, minimum in GEOMETRY_FIELDS.get(kind, []):
                 tip = f"{label} ({unit})" if unit else label
+                spec = geometry_spec(field, label, unit, n)
+                w: Any
                 if n == 1:
                     # Wide range: the model refuses bad sizes, with the reason at the field.
                     del minimum
                     w = spin(minimum=-BIG, maximum=BIG, decimals=4, step=0.01, suffix=unit,
                              tooltip=tip)
-                    w.valueChanged.connect(lambda v, f=field, w=w: self._set(
-                        f"geometry.{f}", float(v), f"Set {f}", w))
+                    bind_number_box(w, spec)
+                    w.valueChanged.connect(lambda v, s=spec, w=w: self._commit(s, v, w))
                 else:
                     w = VectorEdit(labels=("x", "y", "z")[:n], suffix=unit, decimals=3,
                                    step=0.05, tooltip=tip)
-                    w.edited.connect(lambda v, f=field, w=w: self._set(
-                        f"geometry.{f}", tuple(v), f"Set {f}", w))
+                    self._bind_vector(spec, w)
                 self.geometry_form.addRow(label, w)
                 self._geometry_widgets[field] = w
             self._geometry_kind = kind
@@ -487,7 +514,14 @@ class ObjectInspector(QScrollArea):
                  self.refresh)
 
     def _on_material(self, _index: int) -> None:
-        self._set("material", self.material_combo.currentText(), "Set material")
+        name = self.material_combo.currentText()
+        base = self._base_path()
+        if base is None:
+            return
+        text = f"Set material of {self._subject()} to {name}"
+        try_edit(self.editFailed.emit,
+                 lambda: self.document.set_value(f"{base}.material", name, text=text),
+                 self.refresh, field=self.material_combo)
 
     def _keyframes(self) -> list[dict[str, Any]]:
         base = self._base_path()

@@ -29,7 +29,15 @@ from PyQt6.QtWidgets import (
 )
 
 from app.document import ProjectDocument
-from app.field_editors import DETECTION, LINK_BUDGET, PROCESSING, FieldForm
+from app.field_editors import (
+    DETECTION,
+    LINK_BUDGET,
+    PROCESSING,
+    FieldForm,
+    FieldSpec,
+    bind_number_box,
+    commit_path,
+)
 from app.widgets import BIG, INT_MAX, VectorEdit, int_spin, set_quietly, spin, try_edit
 from simcore.scene import Project
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig, aliasing_warnings
@@ -128,20 +136,45 @@ class PfaSpin(QDoubleSpinBox):
         return (QValidator.State.Acceptable if ok else QValidator.State.Intermediate), text, pos
 
 
-# field, label, scale (display units per SI unit), unit, decimals, minimum, tooltip
-RADAR_FIELDS: list[tuple[str, str, float, str, int, float, str]] = [
-    ("start_frequency_hz", "start frequency", 1e-9, "GHz", 3, 1.0,
-     "chirp start frequency f_c"),
-    ("bandwidth_hz", "bandwidth", 1e-9, "GHz", 3, 0.001, "swept bandwidth B of one chirp"),
-    ("chirp_time_s", "chirp time", 1e6, "µs", 2, 0.01, "ramp duration T_c"),
-    ("sample_rate_hz", "ADC sample rate", 1e-6, "MHz", 3, 0.001, "IF sampling rate f_s"),
-    ("chirp_repetition_time_s", "chirp repetition", 1e6, "µs", 2, 0.01,
-     "time between successive chirp starts T_r (per Tx slot)"),
+#: The waveform's fields (shown in GHz, µs, MHz; decimal conversion keeps typed values).
+RADAR_FIELDS: list[FieldSpec] = [
+    FieldSpec("rig.radar.start_frequency_hz", "start frequency", "GHz",
+              "chirp start frequency f_c", scale=1e-9, decimals=3),
+    FieldSpec("rig.radar.bandwidth_hz", "bandwidth", "GHz", "swept bandwidth B of one chirp",
+              scale=1e-9, decimals=3),
+    FieldSpec("rig.radar.chirp_time_s", "chirp time", "µs", "ramp duration T_c", scale=1e6),
+    FieldSpec("rig.radar.sample_rate_hz", "ADC sample rate", "MHz", "IF sampling rate f_s",
+              scale=1e-6, decimals=3),
+    FieldSpec("rig.radar.chirp_repetition_time_s", "chirp repetition", "µs",
+              "time between successive chirp starts T_r (per Tx slot)", scale=1e6),
 ]
-TOF_FIELDS: list[tuple[str, str, str, float, float, str]] = [
-    ("fov_h_deg", "horizontal FOV", "°", 1.0, 169.0, "full horizontal field of view"),
-    ("fov_v_deg", "vertical FOV", "°", 1.0, 169.0, "full vertical field of view"),
+TOF_FIELDS: list[FieldSpec] = [
+    FieldSpec("rig.tof.fov_h_deg", "horizontal FOV", "°", "full horizontal field of view"),
+    FieldSpec("rig.tof.fov_v_deg", "vertical FOV", "°", "full vertical field of view"),
 ]
+#: The other fields of the sensor tabs, by attribute name of their widget.
+SENSOR_FIELDS: dict[str, FieldSpec] = {
+    "tof_width": FieldSpec("rig.tof.width", "width", "px", kind="int"),
+    "tof_height": FieldSpec("rig.tof.height", "height", "px", kind="int"),
+    "tof_ss": FieldSpec("rig.tof.supersampling", "supersampling", "×", kind="int"),
+    "tof_pos": FieldSpec("rig.tof.pose_on_rig.position_m", "camera position on the rig", "m",
+                         kind="vector"),
+    "tof_rot": FieldSpec("rig.tof.pose_on_rig.rotation_deg", "camera rotation on the rig",
+                         "°", kind="vector"),
+    "samples": FieldSpec("rig.radar.samples_per_chirp", "samples / chirp", kind="int"),
+    "chirps": FieldSpec("rig.radar.chirps_per_frame", "chirps / frame", kind="int"),
+    "render_fov": FieldSpec("rig.radar.render_fov_h_deg", "render FOV", "°"),
+    "render_w": FieldSpec("rig.radar.render_width", "render width", "px", kind="int"),
+    "render_h": FieldSpec("rig.radar.render_height", "render height", "px", kind="int"),
+    "radar_pos": FieldSpec("rig.radar.pose_on_rig.position_m", "radar position on the rig",
+                           "m", kind="vector"),
+    "radar_rot": FieldSpec("rig.radar.pose_on_rig.rotation_deg", "radar rotation on the rig",
+                           "°", kind="vector"),
+    "min_range": FieldSpec("dsp.min_range_m", "min detection range", "m"),
+    "pfa": FieldSpec("dsp.cfar_pfa", "false-alarm rate"),
+    "tof_f": FieldSpec("rig.tof.modulation_frequencies_hz", "modulation frequency", "MHz",
+                       kind="vector", scale=1e-6, components=("f1", "f2")),
+}
 
 
 class SensorEditor(QScrollArea):
@@ -185,36 +218,36 @@ class SensorEditor(QScrollArea):
             self.tof_preset.currentText()))
         form.addRow("preset", self.tof_preset)
         # Widget ranges are wide on purpose: the model decides and says why at the field.
-        self.tof_width = int_spin(minimum=0, maximum=INT_MAX, suffix="px",
+        self.tof_width = int_spin(minimum=-INT_MAX, maximum=INT_MAX, suffix="px",
                                   tooltip="sensor columns")
-        self.tof_width.valueChanged.connect(
-            lambda v: self._set("rig.tof.width", int(v), self.tof_width))
-        self.tof_height = int_spin(minimum=0, maximum=INT_MAX, suffix="px", tooltip="sensor rows")
-        self.tof_height.valueChanged.connect(
-            lambda v: self._set("rig.tof.height", int(v), self.tof_height))
+        self._bind("tof_width", self.tof_width)
+        self.tof_height = int_spin(minimum=-INT_MAX, maximum=INT_MAX, suffix="px",
+                                   tooltip="sensor rows")
+        self._bind("tof_height", self.tof_height)
         form.addRow("width", self.tof_width)
         form.addRow("height", self.tof_height)
         self.tof_widgets: dict[str, Any] = {}
-        for field, label, unit, lo, hi, tip in TOF_FIELDS:
-            del lo, hi
-            w = spin(minimum=-BIG, maximum=BIG, decimals=2, step=1.0, suffix=unit, tooltip=tip)
-            w.valueChanged.connect(lambda v, f=field, w=w: self._set(f"rig.tof.{f}", float(v), w))
-            form.addRow(label, w)
-            self.tof_widgets[field] = w
-        self.tof_ss = int_spin(minimum=0, maximum=INT_MAX, suffix="×",
+        for spec in TOF_FIELDS:
+            w = spin(minimum=-BIG, maximum=BIG, decimals=2, step=1.0, suffix=spec.unit,
+                     tooltip=spec.tip)
+            self._bind(spec, w)
+            form.addRow(spec.label, w)
+            self.tof_widgets[spec.name] = w
+        self.tof_ss = int_spin(minimum=-INT_MAX, maximum=INT_MAX, suffix="×",
                                tooltip="sub-pixels per axis of the render (flying pixels)")
-        self.tof_ss.valueChanged.connect(
-            lambda v: self._set("rig.tof.supersampling", int(v), self.tof_ss))
+        self._bind("tof_ss", self.tof_ss)
         form.addRow("supersampling", self.tof_ss)
         self.tof_f1 = spin(minimum=-BIG, maximum=BIG, decimals=2, step=1.0, suffix="MHz",
                            tooltip="modulation frequency f1; unambiguous range c/(2 f1)")
         self.tof_f1.valueChanged.connect(lambda _v: self._set_frequencies(self.tof_f1))
+        bind_number_box(self.tof_f1, SENSOR_FIELDS["tof_f"], index=0)
         self.tof_f2_on = QCheckBox("2nd frequency")
         self.tof_f2_on.setToolTip("Two-frequency phase unwrapping")
         self.tof_f2_on.toggled.connect(lambda _on: self._set_frequencies(self.tof_f2_on))
         self.tof_f2 = spin(minimum=-BIG, maximum=BIG, decimals=2, step=1.0, suffix="MHz",
                            tooltip="second modulation frequency f2")
         self.tof_f2.valueChanged.connect(lambda _v: self._set_frequencies(self.tof_f2))
+        bind_number_box(self.tof_f2, SENSOR_FIELDS["tof_f"], index=1)
         form.addRow("modulation f1", self.tof_f1)
         row = QHBoxLayout()
         row.addWidget(self.tof_f2_on)
@@ -222,12 +255,10 @@ class SensorEditor(QScrollArea):
         form.addRow(row)
         self.tof_pos = VectorEdit(suffix="m", step=0.01,
                                   tooltip="camera position on the rig (m; x fwd, y left, z up)")
-        self.tof_pos.edited.connect(
-            lambda v: self._set("rig.tof.pose_on_rig.position_m", v, self.tof_pos))
+        self._bind("tof_pos", self.tof_pos)
         self.tof_rot = VectorEdit(suffix="°", decimals=1, step=5.0, minimum=-360, maximum=360,
                                   tooltip="camera rotation on the rig (°)")
-        self.tof_rot.edited.connect(
-            lambda v: self._set("rig.tof.pose_on_rig.rotation_deg", v, self.tof_rot))
+        self._bind("tof_rot", self.tof_rot)
         form.addRow("position on rig", self.tof_pos)
         form.addRow("rotation on rig", self.tof_rot)
         self.tof_derived = QLabel("")
@@ -246,39 +277,35 @@ class SensorEditor(QScrollArea):
             self.radar_preset.currentText()))
         form.addRow("preset", self.radar_preset)
         self.radar_widgets: dict[str, Any] = {}
-        for field, label, scale, unit, dec, lo, tip in RADAR_FIELDS:
-            del lo
-            w = spin(minimum=-BIG, maximum=BIG, decimals=dec, step=1.0, suffix=unit,
-                     tooltip=f"{tip} ({unit})")
-            w.valueChanged.connect(lambda v, f=field, s=scale, w=w: self._set(
-                f"rig.radar.{f}", float(v) / s, w))
-            form.addRow(label, w)
-            self.radar_widgets[field] = w
-        self.samples = int_spin(minimum=0, maximum=INT_MAX, tooltip="ADC samples per chirp N_s")
-        self.samples.valueChanged.connect(lambda v: self._set("rig.radar.samples_per_chirp",
-                                                              int(v), self.samples))
-        self.chirps = int_spin(minimum=0, maximum=INT_MAX,
+        for spec in RADAR_FIELDS:
+            w = spin(minimum=-BIG, maximum=BIG, decimals=spec.decimals, step=1.0,
+                     suffix=spec.unit, tooltip=f"{spec.tip} ({spec.unit})")
+            self._bind(spec, w)
+            form.addRow(spec.label, w)
+            self.radar_widgets[spec.name] = w
+        self.samples = int_spin(minimum=-INT_MAX, maximum=INT_MAX,
+                                tooltip="ADC samples per chirp N_s")
+        self._bind("samples", self.samples)
+        self.chirps = int_spin(minimum=-INT_MAX, maximum=INT_MAX,
                                tooltip="chirps per frame N_c (per Tx)")
-        self.chirps.valueChanged.connect(lambda v: self._set("rig.radar.chirps_per_frame",
-                                                             int(v), self.chirps))
+        self._bind("chirps", self.chirps)
         form.addRow("samples / chirp", self.samples)
         form.addRow("chirps / frame", self.chirps)
         self.iq = QCheckBox("complex IQ sampling")
         self.iq.setToolTip("complex (IQ) IF instead of real: doubles the unambiguous range")
-        self.iq.toggled.connect(lambda on: self._set("rig.radar.complex_iq", bool(on), self.iq))
+        self.iq.toggled.connect(lambda on: self._set(
+            "rig.radar.complex_iq", bool(on), self.iq,
+            text=f"Turn complex IQ sampling {'on' if on else 'off'}"))
         form.addRow(self.iq)
         self.render_fov = spin(minimum=-BIG, maximum=BIG, decimals=1, step=5, suffix="°",
                                tooltip="horizontal field of view of the radar render pass")
-        self.render_fov.valueChanged.connect(lambda v: self._set("rig.radar.render_fov_h_deg",
-                                                                 float(v), self.render_fov))
-        self.render_w = int_spin(minimum=0, maximum=INT_MAX, suffix="px",
+        self._bind("render_fov", self.render_fov)
+        self.render_w = int_spin(minimum=-INT_MAX, maximum=INT_MAX, suffix="px",
                                  tooltip="radar render pass width (angular sampling)")
-        self.render_w.valueChanged.connect(lambda v: self._set("rig.radar.render_width", int(v),
-                                                               self.render_w))
-        self.render_h = int_spin(minimum=0, maximum=INT_MAX, suffix="px",
+        self._bind("render_w", self.render_w)
+        self.render_h = int_spin(minimum=-INT_MAX, maximum=INT_MAX, suffix="px",
                                  tooltip="radar render pass height")
-        self.render_h.valueChanged.connect(lambda v: self._set("rig.radar.render_height",
-                                                               int(v), self.render_h))
+        self._bind("render_h", self.render_h)
         form.addRow("render FOV", self.render_fov)
         grid = QHBoxLayout()
         grid.addWidget(self.render_w)
@@ -286,12 +313,10 @@ class SensorEditor(QScrollArea):
         form.addRow("render grid", grid)
         self.radar_pos = VectorEdit(suffix="m", step=0.01,
                                     tooltip="radar position on the rig (m; x fwd, y left, z up)")
-        self.radar_pos.edited.connect(lambda v: self._set("rig.radar.pose_on_rig.position_m",
-                                                          v, self.radar_pos))
+        self._bind("radar_pos", self.radar_pos)
         self.radar_rot = VectorEdit(suffix="°", decimals=1, step=5.0, minimum=-360,
                                     maximum=360, tooltip="radar rotation on the rig (°)")
-        self.radar_rot.edited.connect(lambda v: self._set("rig.radar.pose_on_rig.rotation_deg",
-                                                          v, self.radar_rot))
+        self._bind("radar_rot", self.radar_rot)
         form.addRow("position on rig", self.radar_pos)
         form.addRow("rotation on rig", self.radar_rot)
         return box
@@ -337,32 +362,33 @@ class SensorEditor(QScrollArea):
             combo = QComboBox()
             combo.addItems(items)
             combo.setToolTip(tip)
-            combo.activated.connect(lambda _i, f=field, c=combo: self._set(
-                f"dsp.{f}", c.currentText(), c))
+            combo.activated.connect(lambda _i, f=field, c=combo, w=label: self._set(
+                f"dsp.{f}", c.currentText(), c, text=f"Set {w} to {c.currentText()}"))
             form.addRow(label, combo)
             self.dsp_combos[field] = combo
         self.cfar_dims = QComboBox()
         self.cfar_dims.addItems(["2-D (range–Doppler)", "1-D (range)"])
         self.cfar_dims.setToolTip("CFAR on the range–Doppler map or along range only")
         self.cfar_dims.activated.connect(
-            lambda i: self._set("dsp.cfar_dimensions", 2 if i == 0 else 1, self.cfar_dims))
+            lambda i: self._set("dsp.cfar_dimensions", 2 if i == 0 else 1, self.cfar_dims,
+                                text=f"Set CFAR to {self.cfar_dims.currentText()}"))
         form.addRow("CFAR dimensions", self.cfar_dims)
         self.pfa = PfaSpin()
         self.pfa.setToolTip("false-alarm probability per cell (0 < Pfa < 1), e.g. 1e-6; "
                             "the arrows step by half a decade")
-        self.pfa.valueChanged.connect(
-            lambda v: self._set("dsp.cfar_pfa", float(10.0 ** -min(max(v, -300.0), 300.0)),
-                                self.pfa))
+        self.pfa.valueChanged.connect(lambda v: commit_path(
+            self.document, SENSOR_FIELDS["pfa"], float(f"{10.0 ** -min(max(v, -300.0), 300.0):.6g}"),
+            self.pfa))
         form.addRow("false-alarm rate", self.pfa)
         self.clutter = QCheckBox("static clutter removal")
         self.clutter.setToolTip("subtract the mean over chirps: keeps only what moves")
-        self.clutter.toggled.connect(lambda on: self._set("dsp.static_clutter_removal",
-                                                          bool(on), self.clutter))
+        self.clutter.toggled.connect(lambda on: self._set(
+            "dsp.static_clutter_removal", bool(on), self.clutter,
+            text=f"Turn static clutter removal {'on' if on else 'off'}"))
         form.addRow(self.clutter)
         self.min_range = spin(minimum=-BIG, maximum=BIG, decimals=2, step=0.05, suffix="m",
                               tooltip="detections closer than this are discarded (leakage)")
-        self.min_range.valueChanged.connect(
-            lambda v: self._set("dsp.min_range_m", float(v), self.min_range))
+        self._bind("min_range", self.min_range)
         form.addRow("min detection range", self.min_range)
         return box
 
@@ -382,17 +408,31 @@ class SensorEditor(QScrollArea):
         return box
 
     # --- edits ------------------------------------------------------------------------
-    def _set(self, path: str, value: Any, field: QWidget | None = None) -> None:
-        """Set one field; a refused value stays in ``field``, marked with the reason."""
+    def _bind(self, spec: FieldSpec | str, widget: Any) -> None:
+        """Commit ``widget``'s edits to ``spec`` (a spec or a key of SENSOR_FIELDS)."""
+        spec = SENSOR_FIELDS[spec] if isinstance(spec, str) else spec
+        if isinstance(widget, VectorEdit):
+            for i, box in enumerate(widget.boxes):
+                bind_number_box(box, spec, widget, i)
+            widget.edited.connect(lambda v: commit_path(self.document, spec, v, widget))
+        else:
+            bind_number_box(widget, spec)
+            widget.valueChanged.connect(lambda v: commit_path(self.document, spec, v, widget))
+
+    def _set(self, path: str, value: Any, field: QWidget | None = None, *,
+             text: str) -> None:
+        """Set a choice or switch; a refused value stays in ``field``, marked with why."""
         try_edit(self.editFailed.emit,
-                 lambda: self.document.set_value(path, value, text=f"Set {path.split('.')[-1]}"),
+                 lambda: self.document.set_value(path, value, text=text),
                  self.refresh, field=field)
 
-    def _set_frequencies(self, field: QWidget | None = None) -> None:
-        freqs = [self.tof_f1.value() * 1e6]
+    def _set_frequencies(self, field: QWidget) -> None:
+        shown = [self.tof_f1.value()]
         if self.tof_f2_on.isChecked():
-            freqs.append(self.tof_f2.value() * 1e6)
-        self._set("rig.tof.modulation_frequencies_hz", freqs, field)
+            shown.append(self.tof_f2.value())
+        spec = SENSOR_FIELDS["tof_f"]
+        commit_path(self.document, spec, shown, field,
+                    text=f"Set modulation frequencies to {spec.text(spec.to_si(shown))}")
 
     def apply_tof_preset(self, name: str) -> None:
         """Replace the ToF settings by preset ``name``, keeping the mounting pose."""
@@ -429,13 +469,14 @@ class SensorEditor(QScrollArea):
             self.tof_preset.setCurrentText(tof.preset)
         set_quietly(self.tof_width, tof.width)
         set_quietly(self.tof_height, tof.height)
-        for field, w in self.tof_widgets.items():
-            set_quietly(w, getattr(tof, field))
+        for name, w in self.tof_widgets.items():
+            set_quietly(w, getattr(tof, name))
         set_quietly(self.tof_ss, tof.supersampling)
         freqs = tof.modulation_frequencies_hz
-        set_quietly(self.tof_f1, freqs[0] * 1e-6)
+        tof_f = SENSOR_FIELDS["tof_f"]
+        set_quietly(self.tof_f1, tof_f.to_shown(freqs[0]))
         set_quietly(self.tof_f2_on, len(freqs) > 1)
-        set_quietly(self.tof_f2, (freqs[1] if len(freqs) > 1 else freqs[0] * 0.8) * 1e-6)
+        set_quietly(self.tof_f2, tof_f.to_shown(freqs[1] if len(freqs) > 1 else freqs[0] * 0.8))
         self.tof_f2.setEnabled(len(freqs) > 1)
         self.tof_pos.set_value(tof.pose_on_rig.position_m)
         self.tof_rot.set_value(tof.pose_on_rig.rotation_deg)
@@ -444,9 +485,8 @@ class SensorEditor(QScrollArea):
             f"render {tof.width * tof.supersampling}×{tof.height * tof.supersampling} px")
         with QSignalBlocker(self.radar_preset):
             self.radar_preset.setCurrentText(radar.preset)
-        for field, label, scale, *_ in RADAR_FIELDS:
-            del label
-            set_quietly(self.radar_widgets[field], getattr(radar, field) * scale)
+        for spec in RADAR_FIELDS:
+            set_quietly(self.radar_widgets[spec.name], spec.to_shown(getattr(radar, spec.name)))
         set_quietly(self.samples, radar.samples_per_chirp)
         set_quietly(self.chirps, radar.chirps_per_frame)
         set_quietly(self.iq, radar.complex_iq)

@@ -66,7 +66,7 @@ def test_every_field_round_trips_through_save_load_and_undo(editor, tmp_path):
         got, want = fieldpath.get(doc.project, spec.path), NEW_VALUES[spec.path]
         assert (got is None) if want is None else got == pytest.approx(want), spec.path
     assert doc.undo_stack.count() == len(specs)             # one undo step per field
-    assert doc.undo_stack.text(0) == "Set Tx power"
+    assert doc.undo_stack.text(0) == "Set Tx power to 12 dBm"       # in the user's words
     out = tmp_path / "link.json"
     doc.save(out)
     loaded = load_project(out)

@@ -226,7 +226,7 @@ def test_object_size_refused_in_metres(office, qtbot):
     steps = doc.undo_stack.count()
     _type(qtbot, size.boxes[0], "1.2")
     assert doc.project.object_by_name("desk1_top").geometry.size_m[0] == 1.2
-    assert doc.undo_stack.text(steps) == "Set size of desk1_top to 1.2 × 0.7 × 0.03 m"
+    assert doc.undo_stack.text(steps) == "Set size of desk1_top to 1.2 × 1.4 × 0.04 m"
 
 
 def test_material_fields_refuse_in_words(office, qtbot):
