@@ -3,13 +3,20 @@
 Materials come from the bundled library and the project; editing a library material saves
 an override of the same name into the project (the library file is never written).
 
+The editor shows the material of the selected object, and follows it wherever it changes
+(the Inspector, undo/redo, a file opened again); a material picked in its own list is shown
+until the selection or the selected object's material changes.
+
 A material is shared by every object that names it: the editor says which objects an edit
-changes, and **Make unique** gives the selected object its own copy first.
+changes, and before the first edit of a material the selected object shares with others,
+it asks whether to change all of them or give the selected object its own copy
+(**Make unique**) first.
 """
 
 from __future__ import annotations
 
 import html
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -24,12 +31,14 @@ from PyQt6.QtWidgets import (
     QHBoxLayout,
     QInputDialog,
     QLabel,
+    QMessageBox,
     QPushButton,
     QVBoxLayout,
     QWidget,
 )
 
-from app.document import RIG, EditError, ProjectDocument, library_material, library_names
+from app.document import EditError, ProjectDocument, library_material, library_names
+from app.field_editors import FieldSpec, bind_number_box, commit_value
 from app.widgets import BIG, set_quietly, spin, try_edit
 from simcore.scene.materials import BandMaterial, DualBandMaterial, summarize_material
 from simcore.scene.radar_config import SPEED_OF_LIGHT
@@ -51,6 +60,11 @@ BAND_FIELDS: list[tuple[str, str, float, float, float, str]] = [
 
 #: Smooth-interface fields of the radar band: field, label, unit scale (shown = SI × scale),
 #: step, tooltip. 0 shown means "not set" for the optional ones (permittivity, thickness).
+#: Words and units of the interface fields in messages and undo texts.
+INTERFACE_WORDS = {"permittivity": ("permittivity", ""), "loss_tangent": ("loss tangent", ""),
+                   "thickness_m": ("thickness", "mm"), "height_rms_m": ("rms height", "mm")}
+#: Interface fields where 0 shown means "not set" (None).
+OPTIONAL_FIELDS = {"permittivity": "0 (no smooth interface)", "thickness_m": "0 (thick)"}
 INTERFACE_FIELDS: list[tuple[str, str, float, float, str]] = [
     ("permittivity", "permittivity ε′", 1.0, 0.1,
      "relative permittivity at 60 GHz; 0 = no smooth interface (diffuse lobe only). Sets "
@@ -67,6 +81,24 @@ INTERFACE_FIELDS: list[tuple[str, str, float, float, str]] = [
 
 BAND_TITLES = {"tof": "ToF (near-IR)", "radar": "Radar (mm-wave)",
                "visible": "Visible (RGB camera)"}
+#: The band in a sentence: "ToF reflectance", "radar thickness".
+BAND_WORDS = {"tof": "ToF", "radar": "radar", "visible": "visible"}
+
+
+def band_spec(band: str, field: str) -> FieldSpec:
+    """The :class:`FieldSpec` of a band parameter (label, unit, scale) for messages."""
+    interface = {f: (scale, step) for f, _l, scale, step, _t in INTERFACE_FIELDS}
+    if field in interface:
+        words, unit = INTERFACE_WORDS[field]
+        scale = interface[field][0]
+        decimals = 4
+    else:
+        words = next((label for f, label, *_ in BAND_FIELDS if f == field), field)
+        unit, scale, decimals = "", 1.0, 3
+    kind = "bool" if field == "retroreflector" else "float"
+    return FieldSpec(field, f"{BAND_WORDS[band]} {words}", unit, kind=kind, scale=scale,
+                     decimals=decimals, off_text=OPTIONAL_FIELDS.get(field, ""))
+
 
 #: Check boxes and toggle buttons whose state reads at a glance on the dark theme.
 STYLE_SHEET = """
@@ -128,8 +160,11 @@ def make_unique(document: ProjectDocument, object_index: int) -> str:
 
 
 def set_material_field(document: ProjectDocument, name: str, band: str, field: str,
-                       value: Any) -> None:
-    """Set one band parameter of material ``name`` (copied into the project if needed)."""
+                       value: Any, *, text: str | None = None) -> None:
+    """Set one band parameter of material ``name`` (copied into the project if needed).
+
+    ``text`` is the undo text (default: "Set <band> <field> of <name> to <value>").
+    """
     table = document.material_table()
     if name not in table:
         raise EditError(f"materials: unknown material {name!r}")
@@ -144,7 +179,8 @@ def set_material_field(document: ProjectDocument, name: str, band: str, field: s
             d["materials"].append(target)
         target.setdefault("bands", {}).setdefault(band, {})[field] = value
 
-    document.edit(f"Material {name}: {band} {field}", mutate)
+    spec = band_spec(band, field)
+    document.edit(text or spec.undo_text(value, name), mutate)
 
 
 def save_material_as(document: ProjectDocument, source: str, new_name: str) -> None:
@@ -161,11 +197,11 @@ def save_material_as(document: ProjectDocument, source: str, new_name: str) -> N
     document.edit(f"Save material {new_name}", mutate)
 
 
-def _from_shown(field: str, shown: float, scale: float) -> float | None:
-    """Model value of a shown interface field (0 = not set for the optional ones)."""
-    if field in ("permittivity", "thickness_m") and shown == 0.0:
+def _from_shown(field: str, shown: float) -> float | None:
+    """Shown value of an interface field, None where 0 means "not set"."""
+    if field in OPTIONAL_FIELDS and shown == 0.0:
         return None
-    return float(shown) / scale
+    return float(shown)
 
 
 def interface_summary(band_material: BandMaterial, frequency_hz: float = 63e9) -> str:
@@ -182,7 +218,7 @@ def interface_summary(band_material: BandMaterial, frequency_hz: float = 63e9) -
 class BandEditor(QGroupBox):
     """The parameters of one band."""
 
-    edited = pyqtSignal(str, str, object)  # band, field, value
+    edited = pyqtSignal(str, str, object)  # band, field, shown value (None: not set)
 
     def __init__(self, band: str, parent: QWidget | None = None):
         super().__init__(BAND_TITLES[band], parent)
@@ -194,6 +230,7 @@ class BandEditor(QGroupBox):
             box = spin(minimum=-BIG, maximum=BIG, decimals=3, step=step,
                        tooltip=f"{BAND_TITLES[band]}: {tip}")
             box.valueChanged.connect(lambda v, f=field: self.edited.emit(self.band, f, float(v)))
+            bind_number_box(box, band_spec(band, field))
             form.addRow(label, box)
             self.widgets[field] = box
         retro = QCheckBox("retroreflector")
@@ -211,8 +248,8 @@ class BandEditor(QGroupBox):
                 box = spin(minimum=-BIG, maximum=BIG, decimals=4, step=step,
                            tooltip=f"{BAND_TITLES[band]}: {tip}")
                 box.valueChanged.connect(
-                    lambda v, f=field, k=scale: self.edited.emit(self.band, f,
-                                                                 _from_shown(f, v, k)))
+                    lambda v, f=field: self.edited.emit(self.band, f, _from_shown(f, v)))
+                bind_number_box(box, band_spec(band, field))
                 form.addRow(label, box)
                 self.widgets[field] = box
                 self.scales[field] = scale
@@ -227,7 +264,7 @@ class BandEditor(QGroupBox):
         for field, w in self.widgets.items():
             value = getattr(band_material, field)
             if field in self.scales:
-                value = 0.0 if value is None else value * self.scales[field]
+                value = 0.0 if value is None else band_spec(self.band, field).to_shown(value)
             set_quietly(w, value)
         if self.band == "radar":
             self.interface.setText(interface_summary(band_material, self.frequency_hz))
@@ -248,7 +285,7 @@ class MaterialEditor(QWidget):
         self.combo = QComboBox()
         self.combo.setToolTip("Materials of the library and of the project (• = saved in the "
                               "project)")
-        self.combo.activated.connect(lambda _i: self.refresh())
+        self.combo.activated.connect(lambda _i: self.show_material(self.current))
         top.addWidget(QLabel("material"))
         top.addWidget(self.combo, 1)
         self.assign_button = QPushButton("Assign to selected")
@@ -261,6 +298,20 @@ class MaterialEditor(QWidget):
                                      "and the 3D view show")
         self.color_button.clicked.connect(self._pick_color)
         top.insertWidget(2, self.color_button)
+        #: Material picked here (list, Edit…, Save as) rather than the selected object's;
+        #: dropped when the selection or the selected object's material changes.
+        self._pinned: str | None = None
+        #: (selected object id, its material) when last shown: a change unpins.
+        self._followed: tuple[int | None, str | None] = (None, None)
+        #: Shared-material edits already agreed to: (material, object id, users).
+        self._agreed: set[tuple[str, int, tuple[str, ...]]] = set()
+        #: ``ask_shared_edit(material, users, object)`` → "all", "unique" or "cancel":
+        #: asked before the first edit of a material the selected object shares.
+        self.ask_shared_edit: Callable[[str, list[str], str], str] = self._ask_shared_edit
+        self.selection_note = QLabel("")
+        self.selection_note.setWordWrap(True)
+        self.selection_note.setToolTip("Whose material the editor shows")
+        layout.addWidget(self.selection_note)
         self.description = QLabel("")
         self.description.setWordWrap(True)
         self.description.setStyleSheet("color: #9aa4ae;")
@@ -317,25 +368,41 @@ class MaterialEditor(QWidget):
         """Name of the material being edited."""
         return str(self.combo.currentData() or "")
 
+    def _selected(self) -> tuple[int | None, str | None]:
+        """(id, material) of the selected object, or (None, None)."""
+        idx = self.document.selected_index()
+        if idx is None:
+            return None, None
+        obj = self.document.project.objects[idx]
+        return obj.id, obj.material
+
     def show_material(self, name: str) -> None:
-        """Edit material ``name``."""
-        idx = self.combo.findData(name)
-        if idx >= 0:
-            self.combo.setCurrentIndex(idx)
+        """Edit material ``name`` (until the selection or its material changes)."""
+        self._followed = self._selected()
+        self._pinned = None if name == self._followed[1] else name
+        with QSignalBlocker(self.combo):
+            idx = self.combo.findData(name)
+            if idx >= 0:
+                self.combo.setCurrentIndex(idx)
         self.refresh()
 
-    def _follow_selection(self, key: Any) -> None:
-        idx = self.document.selected_index()
-        if key != RIG and idx is not None:
-            self.show_material(self.document.project.objects[idx].material)
-        else:
-            self.refresh()
+    def _follow_selection(self, _key: Any) -> None:
+        self.refresh()
+
+    def _target(self) -> str:
+        """The material to show: the one picked here, else the selected object's."""
+        selected = self._selected()
+        if selected != self._followed:
+            # Another object, or its material changed (Inspector, undo, reload): follow it.
+            self._followed = selected
+            self._pinned = None
+        return self._pinned or selected[1] or self.current
 
     def refresh(self, *_: object) -> None:
         """Re-read the material list and the current material's values."""
         table = self.document.material_table()
         project_names = {m.name for m in self.document.project.materials}
-        current = self.current
+        current = self._target()
         with QSignalBlocker(self.combo):
             self.combo.clear()
             for name in sorted(table):
@@ -356,6 +423,7 @@ class MaterialEditor(QWidget):
         self.color_button.setStyleSheet(f"background: {colour.name()}; color: {text};")
         self.color_button.setText("colour " + ", ".join(f"{c:.2f}" for c in mat.color_rgb))
         self._show_users()
+        self._show_selection_note()
         set_quietly(self.radar_invisible, mat.band("radar").opacity == 0.0)
         set_quietly(self.tof_invisible, mat.band("tof").opacity == 0.0)
         self.revert_button.setEnabled(self.current in project_names
@@ -394,6 +462,70 @@ class MaterialEditor(QWidget):
         self.unique_button.setEnabled(
             selected is not None and selected.material == self.current and len(users) > 1)
 
+    def _show_selection_note(self) -> None:
+        idx = self.document.selected_index()
+        if idx is None:
+            self.selection_note.setText("No object selected: edits change every object "
+                                        "listed below.")
+            self.selection_note.setStyleSheet("color: #9aa4ae;")
+            return
+        obj = self.document.project.objects[idx]
+        if obj.material == self.current:
+            self.selection_note.setText(f"Material of the selected object <b>"
+                                        f"{html.escape(obj.name)}</b>.")
+            self.selection_note.setStyleSheet("")
+        else:
+            self.selection_note.setText(
+                f"Not the material of the selected <b>{html.escape(obj.name)}</b> "
+                f"({html.escape(obj.material)}): <b>Assign to selected</b> gives it this one.")
+            self.selection_note.setStyleSheet("color: #ffb74d;")
+
+    def _ask_shared_edit(self, name: str, users: list[str], obj: str) -> str:
+        """Ask whether an edit of shared material ``name`` changes all ``users``."""
+        box = QMessageBox(self)
+        box.setIcon(QMessageBox.Icon.Question)
+        box.setWindowTitle("Shared material")
+        box.setText(f"{name} is shared by {len(users)} objects: {', '.join(users)}.")
+        box.setInformativeText(f"This edit changes all of them. Change only {obj} by giving "
+                               "it its own copy of the material (Make unique)?")
+        change_all = box.addButton(f"Change all {len(users)}",
+                                   QMessageBox.ButtonRole.AcceptRole)
+        only = box.addButton(f"Only {obj} (make unique)", QMessageBox.ButtonRole.AcceptRole)
+        box.addButton(QMessageBox.StandardButton.Cancel)
+        box.setDefaultButton(only)
+        box.exec()
+        clicked = box.clickedButton()
+        return "all" if clicked is change_all else "unique" if clicked is only else "cancel"
+
+    def _agree_to_edit(self) -> str | None:
+        """The material an edit may change now, after asking if it is shared; None: cancel.
+
+        With an object selected whose material is shown and shared by other objects, the
+        first edit asks (:attr:`ask_shared_edit`) before anything changes: change all of
+        them, or make the selected object's copy unique and edit that.
+        """
+        name = self.current
+        idx = self.document.selected_index()
+        if idx is None:
+            return name
+        obj = self.document.project.objects[idx]
+        users = objects_using(self.document, name)
+        key = (name, obj.id, tuple(users))
+        if obj.material != name or len(users) < 2 or key in self._agreed:
+            return name
+        answer = self.ask_shared_edit(name, users, obj.name)
+        if answer == "all":
+            self._agreed.add(key)
+            return name
+        if answer == "unique":
+            new: list[str] = []
+            if try_edit(self.editFailed.emit,
+                        lambda: new.append(make_unique(self.document, idx))):
+                self.show_material(new[0])
+                return new[0]
+        self.refresh()  # cancelled: the widgets show the material's values again
+        return None
+
     def make_selected_unique(self) -> None:
         """Give the selected object its own copy of the current material and edit that."""
         idx = self.document.selected_index()
@@ -415,21 +547,36 @@ class MaterialEditor(QWidget):
 
     def set_color(self, rgb: tuple[float, float, float]) -> None:
         """Set the current material's visible colour (linear RGB, 0–1)."""
-        name = self.current
-        try_edit(self.editFailed.emit, lambda: set_material_color(self.document, name, rgb),
-                 self.refresh)
+        name = self._agree_to_edit()
+        if name is not None:
+            try_edit(self.editFailed.emit,
+                     lambda: set_material_color(self.document, name, rgb), self.refresh)
 
-    def _on_edited(self, band: str, field: str, value: Any) -> None:
+    def _on_edited(self, band: str, field: str, shown: Any, *,
+                   text: Callable[[str], str] | None = None,
+                   widget: QWidget | None = None) -> None:
+        """One edit of a band parameter (shown value) through the one validation path.
+
+        ``text(material)`` is the undo text (default "Set ToF reflectance of wood to 0.5").
+        """
         editor = {"tof": self.tof_editor, "radar": self.radar_editor,
                   "visible": self.visible_editor}[band]
-        widget = editor.widgets.get(field)
-        try_edit(self.editFailed.emit,
-                 lambda: set_material_field(self.document, self.current, band, field, value),
-                 self.refresh, field=widget)
+        widget = widget or editor.widgets.get(field)
+        name = self._agree_to_edit()
+        if name is None or widget is None:
+            return
+        commit_value(band_spec(band, field), shown, widget,
+                     lambda v, t: set_material_field(self.document, name, band, field, v,
+                                                     text=t),
+                     text=text(name) if text else None, subject=name)
 
     def set_opacity(self, band: str, invisible: bool) -> None:  # noqa: FBT001
         """Make the current material invisible (opacity 0) or opaque (1) in ``band``."""
-        self._on_edited(band, "opacity", 0.0 if invisible else 1.0)
+        button = self.tof_invisible if band == "tof" else self.radar_invisible
+        what = "invisible" if invisible else "visible"
+        words = "ToF" if band == "tof" else band
+        self._on_edited(band, "opacity", 0.0 if invisible else 1.0, widget=button,
+                        text=lambda name: f"Make {name} {what} to {words}")
 
     def assign_to_selection(self) -> None:
         """Give the selected object the current material."""

@@ -53,6 +53,8 @@ def make_window(qtbot, tmp_path: Path) -> Iterator:
         settings = QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat)
         window = MainWindow(project, settings=settings)
         window.ask_save_changes = lambda: QMessageBox.StandardButton.Discard
+        # Edits of a shared material change all its objects, without asking.
+        window.material_editor.ask_shared_edit = lambda *_: "all"
         window.resize(1720, 1020)
         window.show()
         qtbot.waitExposed(window)
