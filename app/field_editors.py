@@ -173,6 +173,8 @@ class FieldSpec:
         word, key = BOUND_WORDS[kind]
         unit = f" {self.unit}" if self.unit else ""
         limit = (err.get("ctx") or {}).get(key)
+        if not isinstance(limit, (int, float)):
+            return None
         got = err.get("input")
         got_text = f" (got {self.number(got)}{unit})" if isinstance(got, (int, float)) else ""
         return f"{self._component(index)} must be {word} {self.number(limit)}{unit}{got_text}"

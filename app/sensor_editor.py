@@ -376,9 +376,10 @@ class SensorEditor(QScrollArea):
         self.pfa = PfaSpin()
         self.pfa.setToolTip("false-alarm probability per cell (0 < Pfa < 1), e.g. 1e-6; "
                             "the arrows step by half a decade")
+        # Pfa to 6 significant digits: what the user typed, not 10 ** −6.52… rounded off.
         self.pfa.valueChanged.connect(lambda v: commit_path(
-            self.document, SENSOR_FIELDS["pfa"], float(f"{10.0 ** -min(max(v, -300.0), 300.0):.6g}"),
-            self.pfa))
+            self.document, SENSOR_FIELDS["pfa"],
+            float(f"{10.0 ** -min(max(v, -300.0), 300.0):.6g}"), self.pfa))
         form.addRow("false-alarm rate", self.pfa)
         self.clutter = QCheckBox("static clutter removal")
         self.clutter.setToolTip("subtract the mean over chirps: keeps only what moves")

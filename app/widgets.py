@@ -76,7 +76,8 @@ class _TextRefusal:
         """Emit ``textRefused`` for the text in the box when it is no value; True if so."""
         if not self.refusing:
             return False
-        text = self.lineEdit().text()  # type: ignore[attr-defined]
+        edit = self.lineEdit()  # type: ignore[attr-defined]
+        text = edit.text() if edit is not None else ""
         if self._state(text) == QValidator.State.Acceptable:
             return False
         self.textRefused.emit(self._body(text))  # type: ignore[attr-defined]
@@ -118,11 +119,12 @@ class NumberBox(_TextRefusal, QDoubleSpinBox):
         super().keyPressEvent(event)
 
     def focusOutEvent(self, event: QFocusEvent | None) -> None:  # noqa: N802, D102 - Qt API
-        text = self.lineEdit().text()
+        edit = self.lineEdit()
+        text = edit.text() if edit is not None else ""
         refused = self._refuse_pending()
         super().focusOutEvent(event)
-        if refused:  # Qt put the previous value back: show what was typed
-            self.lineEdit().setText(text)
+        if refused and edit is not None:  # Qt put the previous value back: show the text
+            edit.setText(text)
 
 
 class IntBox(_TextRefusal, QSpinBox):
@@ -158,11 +160,12 @@ class IntBox(_TextRefusal, QSpinBox):
         super().keyPressEvent(event)
 
     def focusOutEvent(self, event: QFocusEvent | None) -> None:  # noqa: N802, D102 - Qt API
-        text = self.lineEdit().text()
+        edit = self.lineEdit()
+        text = edit.text() if edit is not None else ""
         refused = self._refuse_pending()
         super().focusOutEvent(event)
-        if refused:
-            self.lineEdit().setText(text)
+        if refused and edit is not None:
+            edit.setText(text)
 
 
 def spin(*, minimum: float = -BIG, maximum: float = BIG, decimals: int = 3, step: float = 0.1,

@@ -252,3 +252,18 @@ def test_saved_values_are_those_typed(sensors, qtbot, tmp_path):
     doc.save(out)
     radar = load_project(out).rig.radar
     assert radar.start_frequency_hz == 58.3e9 and radar.chirp_repetition_time_s == 700.1e-6
+
+
+@pytest.mark.parametrize("typed", ["2", "58.3", "0.001", "77.123", "123.4", "299.999"])
+@pytest.mark.parametrize(("scale", "exponent"), [(1e-9, 9), (1e-6, 6), (1e-3, 3), (1e6, -6),
+                                                 (1e3, -3)])
+def test_unit_conversion_stores_the_decimal_typed(typed, scale, exponent):
+    """The SI value is the double nearest to the typed decimal × 10^k, and back again."""
+    from decimal import Decimal
+
+    from app.field_editors import FieldSpec
+
+    spec = FieldSpec("rig.radar.bandwidth_hz", "bandwidth", scale=scale)
+    si = spec.to_si(float(typed))
+    assert si == float(Decimal(typed).scaleb(exponent))
+    assert spec.to_shown(si) == float(typed)
