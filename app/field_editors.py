@@ -97,6 +97,13 @@ class FieldSpec:
         return self.path.rsplit(".", 1)[-1]
 
     @property
+    def unit_suffix(self) -> str:
+        """The unit as it follows a number: " GHz", "°" (no space), or ""."""
+        if not self.unit:
+            return ""
+        return self.unit if self.unit in ("°", "°/s", "×") else f" {self.unit}"
+
+    @property
     def title(self) -> str:
         """The label as a sentence starts: "Start frequency"."""
         return self.label[:1].upper() + self.label[1:]
@@ -128,7 +135,7 @@ class FieldSpec:
 
     def text(self, si: Any) -> str:
         """A model value in words with the unit: "2 GHz", "1.2 × 0.7 × 0.03 m", "on"."""
-        unit = f" {self.unit}" if self.unit else ""
+        unit = self.unit_suffix
         if si is None:
             return self.off_text or "off"
         if isinstance(si, bool):
@@ -171,7 +178,7 @@ class FieldSpec:
         if kind not in BOUND_WORDS:
             return None
         word, key = BOUND_WORDS[kind]
-        unit = f" {self.unit}" if self.unit else ""
+        unit = self.unit_suffix
         limit = (err.get("ctx") or {}).get(key)
         if not isinstance(limit, (int, float)):
             return None
@@ -212,7 +219,7 @@ class FieldSpec:
         assert isinstance(box, IntBox | NumberBox)
         kind = "less_than_equal" if value > box.maximum() else "greater_than_equal"
         limit = box.maximum() if value > box.maximum() else box.minimum()
-        unit = f" {self.unit}" if self.unit else ""
+        unit = self.unit_suffix
         return (f"{self._component(index)} must be {BOUND_WORDS[kind][0]} "
                 f"{format_number(limit)}{unit} (got {text}{unit})")
 

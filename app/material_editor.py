@@ -133,7 +133,7 @@ def set_material_color(document: ProjectDocument, name: str,
         mat["color_rgb"] = value
         d["materials"].append(mat)
 
-    document.edit(f"Material {name}: colour", mutate)
+    document.edit(f"Set colour of {name} to {', '.join(f'{c:g}' for c in value)}", mutate)
 
 
 def make_unique(document: ProjectDocument, object_index: int) -> str:

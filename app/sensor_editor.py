@@ -17,7 +17,6 @@ from PyQt6.QtGui import QValidator
 from PyQt6.QtWidgets import (
     QCheckBox,
     QComboBox,
-    QDoubleSpinBox,
     QFormLayout,
     QGroupBox,
     QHBoxLayout,
@@ -38,7 +37,17 @@ from app.field_editors import (
     bind_number_box,
     commit_path,
 )
-from app.widgets import BIG, INT_MAX, VectorEdit, int_spin, set_quietly, spin, try_edit
+from app.widgets import (
+    BIG,
+    INT_MAX,
+    NumberBox,
+    VectorEdit,
+    int_spin,
+    set_quietly,
+    show_field_error,
+    spin,
+    try_edit,
+)
 from simcore.scene import Project
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig, aliasing_warnings
 from simcore.scene.radar_presets import RADAR_PRESETS
@@ -105,8 +114,11 @@ def radar_warnings(project: Project, extent: tuple[np.ndarray, np.ndarray] | Non
     return aliasing_warnings(cfg, ranges_m=ranges, radial_velocities_mps=velocities)
 
 
-class PfaSpin(QDoubleSpinBox):
-    """A false-alarm rate shown as ``1e-06`` (the box's value is −log10 Pfa)."""
+class PfaSpin(NumberBox):
+    """A false-alarm rate shown as ``1e-06`` (the box's value is −log10 Pfa).
+
+    Text that is no rate between 0 and 1 is refused with ``textRefused``, like every box.
+    """
 
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
@@ -134,6 +146,18 @@ class PfaSpin(QDoubleSpinBox):
             return QValidator.State.Intermediate, text, pos
         ok = 0 < pfa < 1
         return (QValidator.State.Acceptable if ok else QValidator.State.Intermediate), text, pos
+
+    def _state(self, text: str) -> QValidator.State:
+        return self.validate(text, 0)[0]
+
+    @staticmethod
+    def refusal(text: str) -> str:
+        """Why ``text`` is no false-alarm rate."""
+        try:
+            value = float(text.strip())
+        except ValueError:
+            return f"False-alarm rate: “{text}” is not a number"
+        return f"False-alarm rate must be between 0 and 1, e.g. 1e-6 (got {value:g})"
 
 
 #: The waveform's fields (shown in GHz, µs, MHz; decimal conversion keeps typed values).
@@ -374,6 +398,9 @@ class SensorEditor(QScrollArea):
                                 text=f"Set CFAR to {self.cfar_dims.currentText()}"))
         form.addRow("CFAR dimensions", self.cfar_dims)
         self.pfa = PfaSpin()
+        self.pfa.refusing = True
+        self.pfa.textRefused.connect(
+            lambda text: show_field_error(self.pfa, PfaSpin.refusal(text)))
         self.pfa.setToolTip("false-alarm probability per cell (0 < Pfa < 1), e.g. 1e-6; "
                             "the arrows step by half a decade")
         # Pfa to 6 significant digits: what the user typed, not 10 ** −6.52… rounded off.

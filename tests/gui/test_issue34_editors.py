@@ -208,6 +208,17 @@ def test_radar_fields_speak_in_their_units_and_round_trip_exactly(sensors, qtbot
     tx = ed.link_form.widgets["rig.radar.tx_power_dbm"]
     _type(qtbot, tx, "75")
     assert field_error(tx) == "Tx power must be at most 60 dBm (got 75 dBm)"
+    pfa = ed.pfa
+    before = doc.project
+    _type(qtbot, pfa, "abc")
+    assert field_error(pfa) == "False-alarm rate: “abc” is not a number"
+    _type(qtbot, pfa, "2")
+    assert field_error(pfa) == "False-alarm rate must be between 0 and 1, e.g. 1e-6 (got 2)"
+    assert doc.project is before
+    rot = ed.radar_rot
+    _type(qtbot, rot.boxes[2], "400")                     # beyond the box: refused, not 360
+    assert field_error(rot) == "Radar rotation on the rig (z) must be at most 360° (got 400°)"
+    assert doc.project is before
     hp = ed.link_form.widgets["rig.radar.if_highpass_hz"]
     steps = doc.undo_stack.count()
     _type(qtbot, hp, "123.4")
