@@ -39,8 +39,8 @@ def _assert_panels_current(window, wait_frame) -> None:
 @pytest.mark.parametrize(("field", "value", "words"), [
     ("bandwidth_hz", 150.0, "bandwidth"),
     ("start_frequency_hz", 1.0, "start frequency"),
-    ("chirps", 0, "chirps / frame must be ≥ 1"),
-    ("chirps", 1_000_000_000, "chirps / frame must be ≤ 1024"),
+    ("chirps", 0, "Chirps / frame must be at least 1 (got 0)"),
+    ("chirps", 1_000_000_000, "Chirps / frame must be at most 1024"),
     ("chirp_time_s", 500.0, "chirp repetition time (300.0 µs) is shorter than chirp time"),
 ])
 def test_invalid_radar_value_is_refused_at_the_field(make_window, wait_frame, qtbot, field,
