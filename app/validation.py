@@ -4,9 +4,11 @@ The project model (pydantic, :mod:`simcore.scene`) and :func:`simcore.preflight.
 what is wrong with a project in terms of its fields (``rig.radar.chirps_per_frame: Input
 should be greater than or equal to 1``; cross-field rules name the model and quote its whole
 input). The GUI shows the reason next to the field the user edited, so this module turns
-those errors into short sentences with the GUI's own names for the fields — "chirps / frame
-must be ≥ 1 (got 0)", "chirp repetition time (300.0 µs) is shorter than chirp time
-(500.0 µs)" — and never quotes a whole configuration.
+those errors into short sentences with the GUI's own names for the fields and quantities
+in units with SI prefixes — "chirps / frame must be at least 1 (got 0)", "bandwidth = 150
+GHz is more than 0.5 × start frequency (60 GHz)" — never ``3e+11`` or a whole configuration.
+A field that knows its label and unit words its own errors
+(:meth:`app.field_editors.FieldSpec.explain`).
 """
 
 from __future__ import annotations
