@@ -64,9 +64,17 @@ def test_drags_merge_into_one_undo_step(doc: ProjectDocument) -> None:
 
 
 def test_an_invalid_edit_is_refused_and_leaves_no_undo_step(doc: ProjectDocument) -> None:
-    with pytest.raises(EditError, match=r"chirps.*≥ 1 \(got 0\)"):
+    with pytest.raises(EditError, match=r"chirps / frame must be at least 1 \(got 0\)") as info:
         doc.set_value("rig.radar.chirps_per_frame", 0)
     assert doc.undo_stack.count() == 0 and not doc.is_dirty
+    # The model's own error rides along, for the field to word in its unit.
+    (err,) = info.value.errors
+    assert err["loc"] == ("rig", "radar", "chirps_per_frame") and err["input"] == 0
+
+
+def test_default_undo_text_is_in_words(doc: ProjectDocument) -> None:
+    doc.set_value("rig.radar.bandwidth_hz", 2e9)
+    assert doc.undo_stack.text(0) == "Set bandwidth"
 
 
 def test_selection_follows_the_objects(doc: ProjectDocument) -> None:
