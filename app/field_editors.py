@@ -75,6 +75,8 @@ class FieldSpec:
         Limits of the GUI beyond the model's (SI), refused like the model's.
     components : tuple of str
         Names of a vector's components (``("x", "y", "z")``).
+    dimensions : bool
+        A vector of sizes: reads "1.2 × 1.4 × 0.04 m" (others read "(3, 0.5, 1) m").
     """
 
     path: str
@@ -90,6 +92,7 @@ class FieldSpec:
     minimum: float | None = None
     maximum: float | None = None
     components: tuple[str, ...] = ("x", "y", "z")
+    dimensions: bool = False
 
     @property
     def name(self) -> str:
@@ -143,7 +146,10 @@ class FieldSpec:
         if isinstance(si, str):
             return si
         if isinstance(si, Sequence):
-            return " × ".join(self.number(v) for v in si) + unit
+            parts = [self.number(v) for v in si]
+            if self.dimensions:
+                return " × ".join(parts) + unit
+            return f"({', '.join(parts)}){unit}"
         return f"{self.number(si)}{unit}"
 
     def undo_text(self, si: Any, subject: str = "") -> str:

@@ -205,7 +205,7 @@ GEOMETRY_FIELDS: dict[str, list[tuple[str, str, str, int, float]]] = {
 def geometry_spec(field: str, label: str, unit: str, n: int) -> FieldSpec:
     """The :class:`FieldSpec` of a geometry field of :data:`GEOMETRY_FIELDS`."""
     return FieldSpec(f"geometry.{field}", label, unit, kind="vector" if n > 1 else "float",
-                     components=("x", "y", "z")[:n])
+                     components=("x", "y", "z")[:n], dimensions=True)
 
 
 #: Pose and motion fields of the Inspector (paths below the object or the rig).

@@ -47,8 +47,8 @@ def test_undo_icons_are_not_browser_arrows_and_undo_texts_name_the_object(make_w
     window.inspector.position_edit.edited.emit((3.0, 0.5, 1.0))
     assert doc.undo_stack.undoText() == f"Move {name}"
     window.inspector.velocity_edit.edited.emit((0.5, 0.0, 0.0))
-    assert doc.undo_stack.undoText() == f"Edit motion of {name}"
-    assert window.undo_action.text() == f"&Undo Edit motion of {name}"
+    assert doc.undo_stack.undoText() == f"Set velocity of {name} to (0.5, 0, 0) m/s"
+    assert window.undo_action.text() == f"&Undo Set velocity of {name} to (0.5, 0, 0) m/s"
 
 
 def test_inspector_hides_values_of_nothing(make_window):
