@@ -115,6 +115,11 @@ def gate_slow_time(range_cube: ArrayLike, *, range_bins: ArrayLike) -> NDArray[n
     -------
     ndarray, shape (chirps, channels * bins), complex64
         Channel-major columns.
+
+    Examples
+    --------
+    >>> gate_slow_time(np.zeros((16, 3, 256)), range_bins=[40, 41]).shape
+    (16, 6)
     """
     x = as_complex64(range_cube)
     if x.ndim != 3:
@@ -248,6 +253,17 @@ def frame_spectrogram(
     -------
     Spectrogram
         ``power_db`` shape (frames, fft_size).
+
+    Examples
+    --------
+    Two frames of 8 chirps 1 ms apart at λ = 4 mm; the range bin's phase turns by
+    +π/2 per chirp, i.e. +0.5 m/s (half the unambiguous ±1 m/s):
+
+    >>> ramp = np.exp(0.5j * np.pi * np.arange(8)).reshape(8, 1, 1)
+    >>> sg = frame_spectrogram([ramp, ramp], [0.0, 0.1], range_bins=[0],
+    ...                        chirp_interval_s=1e-3, wavelength_m=4e-3)
+    >>> sg.power_db.shape, sg.peak_velocity_mps()
+    ((2, 16), array([0.5, 0.5]))
     """
     cubes = list(range_cubes)
     times = np.asarray(frame_times_s, dtype=np.float64).reshape(-1)
@@ -358,6 +374,16 @@ def stft_spectrogram(
     Spectrogram
         One column per uniformly spaced segment, stamped with its mean chirp time; no
         columns (shape (0, fft_size)) when no segment fits.
+
+    Examples
+    --------
+    Twelve contiguous chirps, 4-chirp segments overlapping by half: starts 0, 2, … 8:
+
+    >>> x = np.exp(0.5j * np.pi * np.arange(12))
+    >>> sg = stft_spectrogram(x, np.arange(12) * 1e-3, chirp_interval_s=1e-3,
+    ...                       wavelength_m=4e-3, segment_length=4, overlap=0.5)
+    >>> sg.time_s * 1e3, sg.peak_velocity_mps()
+    (array([1.5, 3.5, 5.5, 7.5, 9.5]), array([0.5, 0.5, 0.5, 0.5, 0.5]))
     """
     x = as_complex64(slow_time)
     if x.ndim == 1:

@@ -20,8 +20,10 @@ Chain (one sample per radar frame):
    monitoring with microwave Doppler radar", IEEE Sensors J. 12(3), 627–634, 2012, ahead
    of arctangent demodulation (B.-K. Park, O. Boric-Lubecke, V. M. Lubecke, "Arctangent
    demodulation with DC offset compensation in quadrature Doppler radar receiver
-   systems", IEEE Trans. MTT 55(5), 2007). The mean (``"mean"``) is the cheap
-   alternative: right only when the arc covers whole turns.
+   systems", IEEE Trans. MTT 55(5), 2007). The Kåsa centre then seeds a geometric
+   least-squares fit (:func:`geometric_circle_fit`), which removes the algebraic fit's
+   radius bias on the short, noisy arc of a heartbeat. The mean (``"mean"``) is the
+   cheap alternative: right only when the arc covers whole turns.
 4. **Displacement** (:func:`phase_displacement_m`): unwrapped phase about the centre,
    ``d = λ / (4π) · (φ − mean φ)`` (m, positive = moving away from the radar, as the
    project's velocity). Unwrapping needs the phase step per frame below π, i.e. a frame
@@ -42,6 +44,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.fft
+import scipy.optimize
 import scipy.signal
 from numpy.typing import ArrayLike, NDArray
 
@@ -101,6 +104,12 @@ def frame_slow_time(range_cubes: ArrayLike, *, channel: int = 0) -> NDArray[np.c
     Returns
     -------
     ndarray, shape (frames, range), complex64
+
+    Examples
+    --------
+    >>> cubes = np.ones((5, 2, 3, 64), np.complex64)   # (frames, chirps, channels, range)
+    >>> frame_slow_time(cubes, channel=1).shape
+    (5, 64)
     """
     x = np.asarray(range_cubes)
     if x.ndim != 4:
@@ -195,6 +204,46 @@ def kasa_circle_fit(iq: ArrayLike) -> tuple[complex, float]:
     return centre, s * radius
 
 
+def geometric_circle_fit(iq: ArrayLike) -> tuple[complex, float]:
+    """Geometric least-squares circle: minimises ``Σ (|z − c| − R)²``.
+
+    Starts from :func:`kasa_circle_fit` and refines with Levenberg–Marquardt
+    (:func:`scipy.optimize.least_squares`). The algebraic fit underestimates the radius
+    of a short, noisy arc (N. Chernov, C. Lesort, "Least squares fitting of circles",
+    J. Math. Imaging Vis. 23, 239–252, 2005); the heartbeat alone draws such an arc
+    (0.3 mm at 60 GHz is ±0.76 rad), so the refinement matters for its amplitude.
+
+    Parameters
+    ----------
+    iq : array_like, shape (n,)
+        Complex samples (n ≥ 3).
+
+    Returns
+    -------
+    centre : complex
+    radius : float
+
+    Examples
+    --------
+    >>> z = 1j + 3 * np.exp(1j * np.linspace(0.0, 1.0, 30))
+    >>> c, r = geometric_circle_fit(z)
+    >>> round(abs(c - 1j), 6), round(r, 6)
+    (0.0, 3.0)
+    """
+    z = np.asarray(iq, dtype=np.complex128).reshape(-1)
+    c0, r0 = kasa_circle_fit(z)
+    s = r0 if r0 > 0 else 1.0
+    u = (z - c0) / s   # unit scale: the fit in well-conditioned coordinates
+
+    def residual(p: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.asarray(np.abs(u - complex(p[0], p[1])) - p[2], dtype=np.float64)
+
+    sol = scipy.optimize.least_squares(residual, np.array([0.0, 0.0, 1.0]), method="lm")
+    if not sol.success or not np.all(np.isfinite(sol.x)):
+        return c0, r0
+    return complex(c0 + s * complex(sol.x[0], sol.x[1])), float(s * abs(sol.x[2]))
+
+
 def remove_static_offset(iq: ArrayLike, *, method: StaticOffsetMethod = "circle"
                          ) -> NDArray[np.complex128]:
     """Subtract the static phasor (clutter, DC offset) under the chest's arc.
@@ -204,13 +253,22 @@ def remove_static_offset(iq: ArrayLike, *, method: StaticOffsetMethod = "circle"
     iq : array_like, shape (n,)
         Complex slow-time samples of the chest's range bin.
     method : {"circle", "mean", "none"}, keyword-only
-        ``"circle"``: the centre of the Kåsa circle fit (:func:`kasa_circle_fit`);
+        ``"circle"``: the centre of the geometric circle fit started from the Kåsa fit
+        (:func:`geometric_circle_fit`);
         ``"mean"``: the mean (exact only over whole turns of the phasor);
         ``"none"``: nothing.
 
     Returns
     -------
     ndarray, shape (n,), complex128
+
+    Examples
+    --------
+    A quarter arc about the clutter phasor 2 + 1j comes back centred on 0:
+
+    >>> z = 2 + 1j + 0.5 * np.exp(1j * np.linspace(0, np.pi / 2, 20))
+    >>> np.round(np.abs(remove_static_offset(z))[:3], 6)
+    array([0.5, 0.5, 0.5])
     """
     z = np.asarray(iq, dtype=np.complex128).reshape(-1)
     if method == "none":
@@ -218,7 +276,7 @@ def remove_static_offset(iq: ArrayLike, *, method: StaticOffsetMethod = "circle"
     if method == "mean":
         return z - z.mean()
     if method == "circle":
-        centre, _ = kasa_circle_fit(z)
+        centre, _ = geometric_circle_fit(z)
         return z - centre
     raise ValueError(f"unknown static offset method {method!r}")
 
@@ -357,6 +415,17 @@ def estimate_vital_signs(
     Returns
     -------
     VitalSigns
+
+    Examples
+    --------
+    40 s at 20 Hz of a chest breathing 4 mm at 0.3 Hz (λ = 5 mm) behind static clutter:
+
+    >>> t = np.arange(800) / 20.0
+    >>> d = 4e-3 * np.sin(2 * np.pi * 0.3 * t)
+    >>> iq = 0.7 - 0.2j + 0.1 * np.exp(4j * np.pi * d / 5e-3)
+    >>> vs = estimate_vital_signs(iq, sample_rate_hz=20.0, wavelength_m=5e-3)
+    >>> round(vs.breathing_rate_hz, 3), round(vs.breathing_amplitude_m * 1e3, 2)
+    (0.3, 4.0)
     """
     d = phase_displacement_m(iq, wavelength_m=wavelength_m, static_offset=static_offset)
     fb, ab = spectral_peak(d, sample_rate_hz=sample_rate_hz, band_hz=breathing_band_hz,
@@ -439,6 +508,7 @@ __all__ = [
     "VitalSignsBuffer",
     "estimate_vital_signs",
     "frame_slow_time",
+    "geometric_circle_fit",
     "kasa_circle_fit",
     "phase_displacement_m",
     "remove_static_offset",
