@@ -68,6 +68,16 @@ DIMS: dict[str, tuple[str, ...]] = {
     "/radar/bird_eye_x_axis": ("bev_x",),
     "/radar/bird_eye_z_axis": ("bev_z",),
     "/radar/detections_count": (),
+    "/radar/spectrogram/power": ("spectrogram_time", "spectrogram_velocity"),
+    "/radar/spectrogram/time": ("spectrogram_time",),
+    "/radar/spectrogram/velocity_axis": ("spectrogram_velocity",),
+    "/radar/spectrogram/gate_center": ("frame",),
+    "/radar/vitals/time": ("frame",),
+    "/radar/vitals/displacement": ("frame",),
+    "/radar/vitals/breathing_rate": ("frame",),
+    "/radar/vitals/breathing_amplitude": ("frame",),
+    "/radar/vitals/heart_rate": ("frame",),
+    "/radar/vitals/heart_amplitude": ("frame",),
     "/meta/frame_sha256": (),
 }
 
@@ -78,6 +88,8 @@ COORDS = {
     "/radar/azimuth_axis": "azimuth",
     "/radar/bird_eye_x_axis": "bev_x",
     "/radar/bird_eye_z_axis": "bev_z",
+    "/radar/spectrogram/time": "spectrogram_time",
+    "/radar/spectrogram/velocity_axis": "spectrogram_velocity",
     "/objects/names": "object_name",
     "/objects/ids": "object_id",
 }
