@@ -44,6 +44,9 @@ from simcore.scene.dsp_config import WindowName
 
 #: Relative tolerance on the chirp spacing inside an STFT segment.
 SPACING_TOLERANCE = 1e-3
+#: Half width of a range gate that follows an object's true range (m): a walking
+#: person's limbs reach about this far from the torso along the line of sight.
+OBJECT_GATE_HALF_WIDTH_M = 0.6
 
 
 @dataclass(frozen=True)
@@ -496,6 +499,7 @@ class SpectrogramBuffer:
 
 
 __all__ = [
+    "OBJECT_GATE_HALF_WIDTH_M",
     "Spectrogram",
     "SpectrogramBuffer",
     "doppler_column_from_map",

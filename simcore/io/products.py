@@ -34,6 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simcore.dsp.microdoppler import (
+    OBJECT_GATE_HALF_WIDTH_M,
     Spectrogram,
     frame_spectrogram,
     gate_bins,
@@ -46,9 +47,6 @@ from simcore.dsp.vitals import VitalSigns, estimate_vital_signs, select_vital_bi
 from simcore.scene.dsp_config import DspConfig
 from simcore.scene.project_io import project_from_dict
 from simcore.scene.radar_config import RadarConfig
-
-#: Half width of the range gate around an object's true range (m).
-OBJECT_GATE_HALF_WIDTH_M = 0.6
 
 
 class ProductsError(ValueError):
@@ -229,7 +227,6 @@ def write_radar_products(path: str | os.PathLike[str], *,
 
 
 __all__ = [
-    "OBJECT_GATE_HALF_WIDTH_M",
     "ProductsError",
     "RadarProductsSummary",
     "write_radar_products",
