@@ -29,7 +29,7 @@ from PyQt6.QtWidgets import (
 )
 
 from app.document import ProjectDocument
-from app.field_editors import DETECTION, LINK_BUDGET, PROCESSING, FieldForm
+from app.field_editors import DETECTION, LINK_BUDGET, PROCESSING, PRODUCTS, FieldForm
 from app.widgets import BIG, INT_MAX, VectorEdit, int_spin, set_quietly, spin, try_edit
 from simcore.scene import Project
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig, aliasing_warnings
@@ -314,8 +314,10 @@ class SensorEditor(QScrollArea):
         row.addWidget(self._build_dsp(), 1)
         self.detection_form = FieldForm(self.document, DETECTION)
         self.processing_form = FieldForm(self.document, PROCESSING)
+        self.products_form = FieldForm(self.document, PRODUCTS)
         for title, form in (("Detection (CFAR cells)", self.detection_form),
-                            ("Range, Doppler and angle options", self.processing_form)):
+                            ("Range, Doppler and angle options", self.processing_form),
+                            ("Micro-Doppler and vital signs", self.products_form)):
             form.editFailed.connect(self.editFailed)
             box = QGroupBox(title)
             QVBoxLayout(box).addWidget(form)

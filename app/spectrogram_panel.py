@@ -171,10 +171,13 @@ class SpectrogramPanel(LivePanel):
         rect = QRectF(t0 - dt / 2, float(v[0]) - dv / 2, dt * self.buffer.capacity,
                       dv * v.size)
         self.image.setRect(rect)
-        key = (round(t0 / dt), float(v[0]), float(v[-1]))
+        # While the history fills, the view starts at the first column (no negative
+        # times) and the data grow to the right; once full it scrolls.
+        x_lo = max(t0, float(sg.time_s[0])) - dt / 2
+        key = (round((x_lo + dt / 2) / dt), float(v[0]), float(v[-1]))
         if key != self._range_key:
             self._range_key = key
-            self.plot.vb.setRange(xRange=(rect.left(), rect.right()),
+            self.plot.vb.setRange(xRange=(x_lo, x_lo + dt * self.buffer.capacity),
                                   yRange=(rect.top(), rect.bottom()), padding=0.0)
         truth = np.asarray(self._truth[-sg.power_db.shape[0]:], dtype=np.float64)
         shown = self.show_truth and np.isfinite(truth).any()

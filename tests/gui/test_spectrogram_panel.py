@@ -116,3 +116,66 @@ def test_main_window_has_the_micro_doppler_dock(make_window, wait_frame, qtbot) 
                     and window.spectrogram_panel.buffer.count > 0, timeout=30_000)
     dock.raise_()
     qtbot.waitUntil(lambda: window.spectrogram_panel.draw_count > 0, timeout=30_000)
+
+
+def test_products_options_in_the_sensor_editor_round_trip(qtbot, tmp_path) -> None:
+    from app.document import ProjectDocument
+    from app.field_editors import PRODUCTS
+    from app.sensor_editor import SensorEditor
+    from app.widgets import field_error
+    from simcore.scene import fieldpath, load_project
+
+    new = {"dsp.spectrogram_mode": "stft", "dsp.spectrogram_window": "blackman",
+           "dsp.spectrogram_segment_chirps": 64, "dsp.spectrogram_overlap": 0.75,
+           "dsp.spectrogram_clutter_removal": False, "dsp.spectrogram_history_s": 20.0,
+           "dsp.vitals_static_offset": "mean", "dsp.vitals_window_s": 20.0,
+           "dsp.vitals_channel": 1}
+    doc = ProjectDocument()
+    editor = SensorEditor(doc)
+    doc.setParent(editor)
+    qtbot.addWidget(editor)
+    form = editor.products_form
+    assert {s.path for s in PRODUCTS} == set(new)
+    for spec in PRODUCTS:
+        w = form.widgets[spec.path]
+        assert w.toolTip(), spec.path
+        value = new[spec.path]
+        if spec.kind == "bool":
+            w.setChecked(bool(value))
+        elif spec.kind == "choice":
+            w.setCurrentText(value)
+            w.activated.emit(w.currentIndex())
+        else:
+            w.setValue(value)
+        assert field_error(w) is None, spec.path
+    out = tmp_path / "p.json"
+    doc.save(out)
+    loaded = load_project(out)
+    for path, value in new.items():
+        assert fieldpath.get(loaded, path) == pytest.approx(value) if not isinstance(
+            value, str) else fieldpath.get(loaded, path) == value, path
+    overlap = form.widgets["dsp.spectrogram_overlap"]
+    overlap.setValue(1.0)                                   # the model wants < 1
+    assert field_error(overlap)
+    assert doc.project.dsp.spectrogram_overlap == 0.75
+    # Segment "off" is None: one frame's chirps.
+    seg = form.widgets["dsp.spectrogram_segment_chirps"]
+    seg.setValue(seg.minimum())
+    assert doc.project.dsp.spectrogram_segment_chirps is None
+
+
+def test_view_starts_at_the_first_column_while_the_history_fills(qtbot) -> None:
+    panel = SpectrogramPanel()
+    qtbot.addWidget(panel)
+    project = make_project()                                # 4 s history at 10 Hz
+    panel.set_project(project)
+    panel.show()
+    for k in range(3):
+        panel.show_frame(frame_view(project, k))
+    (x0, x1), _ = panel.plot.vb.viewRange()
+    assert abs(x0 + 0.05) < 1e-6 and abs(x1 - 3.95) < 1e-6
+    for k in range(3, 45):
+        panel.show_frame(frame_view(project, k))
+    qtbot.wait(20)
+    (x0, x1), _ = panel.plot.vb.viewRange()
+    assert abs(x1 - 4.45) < 1e-6 and abs(x0 - 0.45) < 1e-6   # scrolled: last 40 frames
