@@ -295,17 +295,18 @@ class MainWindow(QMainWindow):
         self._follow_rig_sensors()
 
     def _build_spectrogram_dock(self) -> None:
-        """Micro-Doppler spectrogram (issue 29): a tab beside the range–Doppler map.
+        """Micro-Doppler spectrogram (issue 29): a tab of the bottom dock group.
 
-        Fed by every frame (also while hidden, so its history is complete); it follows
+        The bottom is wide (time runs across) and already tabbed, so the right-hand
+        panels keep their geometry. Fed by every frame (also while hidden, so its history is complete); it follows
         the project and the selected object on its own.
         """
         self.spectrogram_panel = SpectrogramPanel()
         self.docks["spectrogram"] = self._dock(
-            "Micro-Doppler", self.spectrogram_panel, Qt.DockWidgetArea.RightDockWidgetArea,
+            "Micro-Doppler", self.spectrogram_panel, Qt.DockWidgetArea.BottomDockWidgetArea,
             "dock_spectrogram")
-        self.tabifyDockWidget(self.docks["rd"], self.docks["spectrogram"])
-        self.docks["rd"].raise_()
+        self.tabifyDockWidget(self.docks["timeline"], self.docks["spectrogram"])
+        self.docks["antennas"].raise_()
         self.sim.frameReady.connect(self.spectrogram_panel.show_frame)
         doc = self.document
         doc.projectChanged.connect(lambda *_: self.spectrogram_panel.set_project(doc.project))
