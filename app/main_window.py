@@ -298,8 +298,8 @@ class MainWindow(QMainWindow):
         """Micro-Doppler spectrogram (issue 29): a tab of the bottom dock group.
 
         The bottom is wide (time runs across) and already tabbed, so the right-hand
-        panels keep their geometry. Fed by every frame (also while hidden, so its history is complete); it follows
-        the project and the selected object on its own.
+        panels keep their geometry. Fed by every frame (also while hidden, so its
+        history is complete); it follows the project and the selected object on its own.
         """
         self.spectrogram_panel = SpectrogramPanel()
         self.docks["spectrogram"] = self._dock(
