@@ -18,6 +18,7 @@ def test_products_section_measures_the_synthesised_motion(tmp_path):
     assert [f[0] for f in figures] == ["fig12_microdoppler.png", "fig13_vital_signs.png"]
     assert all((tmp_path / f[0]).stat().st_size > 20_000 for f in figures)
     assert nums["torso_peak_within_one_bin_fraction"] >= 0.8
+    assert abs(nums["step_frequency_hz"] - nums["true_step_frequency_hz"]) < 0.1
     assert abs(nums["breathing_rate_error_hz"]) < 0.02
     assert abs(nums["breathing_amplitude_error"]) < 0.2
     assert abs(nums["heart_rate_error_hz"]) < 0.1
