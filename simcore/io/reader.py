@@ -68,6 +68,11 @@ DIMS: dict[str, tuple[str, ...]] = {
     "/radar/bird_eye_x_axis": ("bev_x",),
     "/radar/bird_eye_z_axis": ("bev_z",),
     "/radar/detections_count": (),
+    "/meta/frame_sha256": (),
+}
+
+#: Datasets added after a run by ``tofradar products`` (:mod:`simcore.io.products`).
+PRODUCT_DIMS: dict[str, tuple[str, ...]] = {
     "/radar/spectrogram/power": ("spectrogram_time", "spectrogram_velocity"),
     "/radar/spectrogram/time": ("spectrogram_time",),
     "/radar/spectrogram/velocity_axis": ("spectrogram_velocity",),
@@ -78,7 +83,6 @@ DIMS: dict[str, tuple[str, ...]] = {
     "/radar/vitals/breathing_amplitude": ("frame",),
     "/radar/vitals/heart_rate": ("frame",),
     "/radar/vitals/heart_amplitude": ("frame",),
-    "/meta/frame_sha256": (),
 }
 
 #: Axis datasets that become coordinates: path → coordinate name.
@@ -159,7 +163,7 @@ def open_dataset(path: str | os.PathLike[str]) -> Any:
                 continue
             per_frame = bool(ds.attrs.get("per_frame", False)) or (
                 name == "/time" and ds.shape == (n_frames,))
-            inner = DIMS.get(name) or tuple(
+            inner = DIMS.get(name) or PRODUCT_DIMS.get(name) or tuple(
                 f"{name.strip('/').replace('/', '_')}_dim{i}"
                 for i in range(ds.ndim - per_frame))
             dims = (("frame",) if per_frame else ()) + inner
