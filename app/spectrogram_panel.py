@@ -83,12 +83,13 @@ class SpectrogramPanel(LivePanel):
     def set_project(self, project: Project) -> None:  # noqa: D102
         super().set_project(project)
         rate = float(project.timeline.frame_rate_hz)
-        if project.dsp != self.dsp or rate != self.frame_rate_hz:
-            self.dsp, self.frame_rate_hz = project.dsp, rate
-            self.reset()
+        self.dsp = project.dsp       # the gate and history length are read every frame
+        if rate != self.frame_rate_hz:
+            self.frame_rate_hz = rate
+            self.reset()             # the columns' spacing changed
 
     def reset(self) -> None:
-        """Forget the history (a new project, DSP settings or a jump in time)."""
+        """Forget the history (a new frame rate, or a jump back in time)."""
         self.buffer = None
         self._truth = []
         self._last_index = None
