@@ -495,5 +495,33 @@ PROCESSING = [
               kind="int"),
 ]
 
-__all__ = ["DETECTION", "LINK_BUDGET", "PROCESSING", "FieldForm", "FieldSpec", "bind_number_box",
-           "commit_path", "commit_value", "model_bounds", "range_text"]
+#: Micro-Doppler spectrogram and vital-sign options (issue 29; docs/dsp.md).
+PRODUCTS = [
+    FieldSpec("dsp.spectrogram_mode", "spectrogram", "",
+              "frame: one Doppler spectrum per frame (any gap between frames); stft: a "
+              "short-time FFT over consecutive frames' chirps, never across a gap",
+              kind="choice", choices=("frame", "stft")),
+    FieldSpec("dsp.spectrogram_window", "spectrogram window", "", "slow-time window",
+              kind="choice", choices=("hann", "hamming", "blackman", "blackmanharris",
+                                      "chebyshev", "none")),
+    FieldSpec("dsp.spectrogram_segment_chirps", "STFT segment", "chirps",
+              "STFT window length (off: the chirps of one frame)", kind="int",
+              off_text="chirps per frame"),
+    FieldSpec("dsp.spectrogram_overlap", "STFT overlap", "",
+              "fraction of a segment shared with the next", step=0.05),
+    FieldSpec("dsp.spectrogram_clutter_removal", "spectrogram clutter removal", "",
+              "subtract each segment's mean: hides what does not move", kind="bool"),
+    FieldSpec("dsp.spectrogram_history_s", "spectrogram history", "s",
+              "seconds shown by the Micro-Doppler panel", step=1.0, decimals=1),
+    FieldSpec("dsp.vitals_static_offset", "vital signs: clutter", "",
+              "circle: phase about a fitted circle's centre (static clutter in the chest's "
+              "bin); mean: about the mean; none: raw phase", kind="choice",
+              choices=("circle", "mean", "none")),
+    FieldSpec("dsp.vitals_window_s", "vital signs: window", "s",
+              "seconds of data per breathing/heart-rate estimate", step=5.0, decimals=1),
+    FieldSpec("dsp.vitals_channel", "vital signs: channel", "",
+              "virtual channel whose phase is used", kind="int"),
+]
+
+__all__ = ["DETECTION", "LINK_BUDGET", "PROCESSING", "PRODUCTS", "FieldForm", "FieldSpec",
+           "bind_number_box", "commit_path", "commit_value", "model_bounds", "range_text"]

@@ -63,6 +63,7 @@ from app.rgb_panel import RgbPanel
 from app.scene_editor import ObjectInspector, ObjectListPanel, build_add_menu
 from app.sensor_editor import SensorEditor
 from app.simulation import SimulationController
+from app.spectrogram_panel import SpectrogramPanel
 from app.time_controls import TimeBar, TimeController
 from app.timeline_editor import TimelineEditor
 from app.validation import describe_problem
@@ -210,6 +211,7 @@ class MainWindow(QMainWindow):
 
         self._build_docks()
         self._build_explore_docks()
+        self._build_spectrogram_dock()
         cache_axes(self)
         self._build_actions()
         self._build_menus()
@@ -291,6 +293,26 @@ class MainWindow(QMainWindow):
             "Range-Doppler": self.rd_panel, "Range-azimuth": self.ra_panel}
         self._rgb_shown: bool | None = None
         self._follow_rig_sensors()
+
+    def _build_spectrogram_dock(self) -> None:
+        """Micro-Doppler spectrogram (issue 29): a tab of the bottom dock group.
+
+        The bottom is wide (time runs across) and already tabbed, so the right-hand
+        panels keep their geometry. Fed by every frame (also while hidden, so its
+        history is complete); it follows the project and the selected object on its own.
+        """
+        self.spectrogram_panel = SpectrogramPanel()
+        self.docks["spectrogram"] = self._dock(
+            "Micro-Doppler", self.spectrogram_panel, Qt.DockWidgetArea.BottomDockWidgetArea,
+            "dock_spectrogram")
+        self.tabifyDockWidget(self.docks["timeline"], self.docks["spectrogram"])
+        self.docks["antennas"].raise_()
+        self.sim.frameReady.connect(self.spectrogram_panel.show_frame)
+        doc = self.document
+        doc.projectChanged.connect(lambda *_: self.spectrogram_panel.set_project(doc.project))
+        doc.selectionChanged.connect(lambda key: self.spectrogram_panel.set_selected(
+            key if isinstance(key, int) and not isinstance(key, bool) else None))
+        self.spectrogram_panel.set_project(doc.project)
 
     def _build_explore_docks(self) -> None:
         """Timeline & seed editor's errors, keyframes at the current time (issue #17)."""

@@ -32,6 +32,7 @@ from app.field_editors import (
     DETECTION,
     LINK_BUDGET,
     PROCESSING,
+    PRODUCTS,
     FieldForm,
     FieldSpec,
     bind_number_box,
@@ -363,8 +364,10 @@ class SensorEditor(QScrollArea):
         row.addWidget(self._build_dsp(), 1)
         self.detection_form = FieldForm(self.document, DETECTION)
         self.processing_form = FieldForm(self.document, PROCESSING)
+        self.products_form = FieldForm(self.document, PRODUCTS)
         for title, form in (("Detection (CFAR cells)", self.detection_form),
-                            ("Range, Doppler and angle options", self.processing_form)):
+                            ("Range, Doppler and angle options", self.processing_form),
+                            ("Micro-Doppler and vital signs", self.products_form)):
             form.editFailed.connect(self.editFailed)
             box = QGroupBox(title)
             QVBoxLayout(box).addWidget(form)

@@ -522,6 +522,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_report)
 
     _add_robotics_commands(sub, common)
+    _add_products_command(sub, common)
 
     p = sub.add_parser("validate", help="check a project file as 'run' would", parents=common)
     p.add_argument("project", help="project JSON file")
@@ -656,6 +657,40 @@ def _add_robotics_commands(sub: argparse._SubParsersAction[_Parser],
                    help="start at once (default: wait until a client subscribes)")
     p.add_argument("--seed", type=_seed_int, help="random seed (default: project's)")
     p.set_defaults(func=cmd_serve)
+
+
+def cmd_products(args: argparse.Namespace) -> int:
+    """Write the micro-Doppler spectrogram and vital signs of a finished dataset into it."""
+    from simcore.io.products import ProductsError, write_radar_products
+
+    source = Path(args.dataset)
+    if not source.is_file():
+        raise CliError(f"{source}: no such dataset")
+    try:
+        summary = write_radar_products(source, object_name=args.object)
+    except ProductsError as exc:
+        raise CliError(str(exc)) from None
+    except (OSError, KeyError) as exc:  # not HDF5, or no /meta: not one of our datasets
+        raise CliError(f"{source}: not a tofradar HDF5 dataset ({exc})") from None
+    sg, vs = summary.spectrogram, summary.vitals
+    print(f"{source}: /radar/spectrogram ({sg.power_db.shape[0]} columns × "
+          f"{sg.power_db.shape[1]} Doppler bins) and /radar/vitals written")
+    if vs is not None:
+        print(f"chest bin at {summary.range_m:.3f} m: breathing {vs.breathing_rate_hz:.3f} Hz "
+              f"({vs.breathing_amplitude_m * 1e3:.2f} mm), heart {vs.heart_rate_hz:.3f} Hz "
+              f"({vs.heart_amplitude_m * 1e3:.3f} mm)")
+    return 0
+
+
+def _add_products_command(sub: argparse._SubParsersAction[_Parser],
+                          common: list[_Parser]) -> None:
+    """The ``products`` subcommand (docs/dsp.md, "Micro-Doppler and vital signs")."""
+    p = sub.add_parser("products", help="add the micro-Doppler spectrogram and vital signs "
+                                        "to a finished dataset", parents=common)
+    p.add_argument("dataset", help="HDF5 dataset written by 'tofradar run'")
+    p.add_argument("--object", default=None, metavar="NAME",
+                   help="follow this object's true range (range gate and chest search)")
+    p.set_defaults(func=cmd_products)
 
 
 def main(argv: Sequence[str] | None = None, *,

@@ -25,6 +25,7 @@ from simcore.dsp import process_frame
 from simcore.pipeline import Frame, Simulator
 from simcore.render import RenderRequest, SceneRenderer
 from simcore.report_multipath import multipath_section, tof_multipath_figure
+from simcore.report_products import products_section
 from simcore.resources import example_path
 from simcore.scene.geometry import Box, CornerReflector, Cylinder, Plane, Sphere
 from simcore.scene.model import Project, SceneObject, SensorRig
@@ -723,6 +724,11 @@ def generate_report(out_dir: str | Path, *, quick: bool = False,
     result.figures.append(Figure(*fig_tof, section="Multipath"))
     result.numbers["multipath"] = {"radar": nums, "tof": nums_tof}
     say("multipath done")
+    figures, nums = products_section(out, quick=quick)
+    for file, title, text in figures:
+        result.figures.append(Figure(file, title, text, section="Radar products"))
+    result.numbers["products"] = nums
+    say("radar products done")
     _write_readme(result, quick=quick)
     (out / "numbers.json").write_text(json.dumps(result.numbers, indent=2, default=float) + "\n")
     return result

@@ -11,7 +11,7 @@ def test_quick_report_figures_and_numbers(tmp_path):
     out = tmp_path / "validation"
     assert main(["report", "--out", str(out), "--quick", "--quiet"]) == 0
     figures = sorted(p.name for p in out.glob("fig*.png"))
-    assert len(figures) == 11
+    assert len(figures) == 13
     assert all((out / f).stat().st_size > 20_000 for f in figures)   # real plots, not blanks
     readme = (out / "README.md").read_text()
     assert all(f in readme for f in figures)

@@ -49,6 +49,14 @@ from simcore.dsp.maps import (
     range_doppler_power,
     range_profile_power,
 )
+from simcore.dsp.microdoppler import (
+    Spectrogram,
+    SpectrogramBuffer,
+    doppler_column_from_map,
+    frame_spectrogram,
+    gate_bins,
+    stft_spectrogram,
+)
 from simcore.dsp.peaks import parabolic_peak_offset
 from simcore.dsp.processing import (
     RadarAxes,
@@ -65,6 +73,13 @@ from simcore.dsp.spectrum import (
     remove_static_clutter,
     velocity_axis_mps,
 )
+from simcore.dsp.vitals import (
+    VitalSigns,
+    VitalSignsBuffer,
+    estimate_vital_signs,
+    frame_slow_time,
+    select_vital_bin,
+)
 from simcore.dsp.windows import make_window, power_to_db
 from simcore.scene.dsp_config import DspConfig
 
@@ -77,6 +92,10 @@ __all__ = [
     "DspConfig",
     "RadarAxes",
     "RadarProducts",
+    "Spectrogram",
+    "SpectrogramBuffer",
+    "VitalSigns",
+    "VitalSignsBuffer",
     "antenna_positions_m",
     "array_layout",
     "bartlett_spectrum",
@@ -90,10 +109,15 @@ __all__ = [
     "cfar_threshold_factor",
     "compensate_tdm_doppler",
     "direction_vectors",
+    "doppler_column_from_map",
     "doppler_fft",
     "estimate_angles",
+    "estimate_vital_signs",
     "fft_azimuth_power",
     "fft_beamform",
+    "frame_slow_time",
+    "frame_spectrogram",
+    "gate_bins",
     "group_peaks",
     "interpolate_fft_power",
     "make_window",
@@ -111,10 +135,12 @@ __all__ = [
     "range_fft",
     "range_profile_power",
     "remove_static_clutter",
+    "select_vital_bin",
     "spatial_covariance",
     "spherical_to_radar_xyz",
     "static_axes_items",
     "steering_vectors",
+    "stft_spectrogram",
     "transform_points",
     "velocity_axis_mps",
     "virtual_array_positions_m",

@@ -71,6 +71,20 @@ DIMS: dict[str, tuple[str, ...]] = {
     "/meta/frame_sha256": (),
 }
 
+#: Datasets added after a run by ``tofradar products`` (:mod:`simcore.io.products`).
+PRODUCT_DIMS: dict[str, tuple[str, ...]] = {
+    "/radar/spectrogram/power": ("spectrogram_time", "spectrogram_velocity"),
+    "/radar/spectrogram/time": ("spectrogram_time",),
+    "/radar/spectrogram/velocity_axis": ("spectrogram_velocity",),
+    "/radar/spectrogram/gate_center": ("frame",),
+    "/radar/vitals/time": ("frame",),
+    "/radar/vitals/displacement": ("frame",),
+    "/radar/vitals/breathing_rate": ("frame",),
+    "/radar/vitals/breathing_amplitude": ("frame",),
+    "/radar/vitals/heart_rate": ("frame",),
+    "/radar/vitals/heart_amplitude": ("frame",),
+}
+
 #: Axis datasets that become coordinates: path → coordinate name.
 COORDS = {
     "/radar/range_axis": "range",
@@ -78,6 +92,8 @@ COORDS = {
     "/radar/azimuth_axis": "azimuth",
     "/radar/bird_eye_x_axis": "bev_x",
     "/radar/bird_eye_z_axis": "bev_z",
+    "/radar/spectrogram/time": "spectrogram_time",
+    "/radar/spectrogram/velocity_axis": "spectrogram_velocity",
     "/objects/names": "object_name",
     "/objects/ids": "object_id",
 }
@@ -147,7 +163,7 @@ def open_dataset(path: str | os.PathLike[str]) -> Any:
                 continue
             per_frame = bool(ds.attrs.get("per_frame", False)) or (
                 name == "/time" and ds.shape == (n_frames,))
-            inner = DIMS.get(name) or tuple(
+            inner = DIMS.get(name) or PRODUCT_DIMS.get(name) or tuple(
                 f"{name.strip('/').replace('/', '_')}_dim{i}"
                 for i in range(ds.ndim - per_frame))
             dims = (("frame",) if per_frame else ()) + inner

@@ -21,6 +21,12 @@ WindowName = Literal["none", "hann", "hamming", "blackman", "blackmanharris", "c
 AngleMethod = Literal["monopulse", "fft", "bartlett", "capon"]
 CfarMethod = Literal["ca", "go", "so", "os"]
 PeakGrouping = Literal["none", "local_max", "cluster"]
+SpectrogramMode = Literal["frame", "stft"]
+StaticOffsetMethod = Literal["circle", "mean", "none"]
+"""Static clutter / DC offset removal before the vital-sign phase (simcore.dsp.vitals)."""
+
+RangeM = Annotated[float, Field(ge=0, le=1e5, allow_inf_nan=False)]
+BandHz = Annotated[float, Field(ge=0, le=1e3, allow_inf_nan=False)]
 
 #: Most grid angles of the azimuth or elevation search grid.
 MAX_ANGLE_BINS = 3601
@@ -70,6 +76,22 @@ class DspConfig(Model):
         sub-bin refinement of range and velocity), ``max_detections`` (strongest kept).
     Bird's-eye image
         ``bev_resolution_m`` pixel size of the Cartesian range–azimuth image.
+    Micro-Doppler spectrogram (:mod:`simcore.dsp.microdoppler`)
+        ``spectrogram_mode`` (``"frame"``: one Doppler spectrum per frame, any inter-frame
+        gap; ``"stft"``: a short-time FFT over the chirps of consecutive frames,
+        ``spectrogram_segment_chirps`` long (``None``: chirps per frame) with
+        ``spectrogram_overlap``, segments never straddling a gap),
+        ``spectrogram_window`` (+ ``spectrogram_window_sidelobe_db``),
+        ``spectrogram_fft_size`` (``None``: 2× the next power of two ≥ the segment),
+        ``spectrogram_clutter_removal`` (subtract each segment's mean: hides statics),
+        ``spectrogram_range_m`` (the range gate, (min, max) m; ``None``: every bin beyond
+        ``min_range_m``), ``spectrogram_history_s`` (columns kept by the live panel).
+    Vital signs (:mod:`simcore.dsp.vitals`)
+        ``vitals_breathing_band_hz`` and ``vitals_heart_band_hz`` (search bands),
+        ``vitals_range_m`` (where to look for the chest, (min, max) m; ``None``: beyond
+        ``min_range_m``), ``vitals_static_offset`` (``"circle"``: Kåsa circle-fit centre,
+        ``"mean"``, ``"none"``), ``vitals_window`` of the rate spectra, ``vitals_channel``
+        (virtual channel used), ``vitals_window_s`` (seconds of data per estimate).
     """
 
     # Range processing
@@ -120,6 +142,26 @@ class DspConfig(Model):
     # Bird's-eye image
     bev_resolution_m: float = Field(0.05, ge=1e-4, le=100, allow_inf_nan=False)
 
+    # Micro-Doppler spectrogram
+    spectrogram_mode: SpectrogramMode = "frame"
+    spectrogram_window: WindowName = "hann"
+    spectrogram_window_sidelobe_db: float = Field(60.0, gt=0, le=300)
+    spectrogram_segment_chirps: int | None = Field(None, ge=2, le=65536)
+    spectrogram_overlap: float = Field(0.5, ge=0, lt=1)
+    spectrogram_fft_size: int | None = Field(None, ge=2, le=65536)
+    spectrogram_clutter_removal: bool = True
+    spectrogram_range_m: tuple[RangeM, RangeM] | None = None
+    spectrogram_history_s: float = Field(10.0, gt=0, le=3600, allow_inf_nan=False)
+
+    # Vital signs
+    vitals_breathing_band_hz: tuple[BandHz, BandHz] = (0.1, 0.6)
+    vitals_heart_band_hz: tuple[BandHz, BandHz] = (0.8, 2.5)
+    vitals_range_m: tuple[RangeM, RangeM] | None = None
+    vitals_static_offset: StaticOffsetMethod = "circle"
+    vitals_window: WindowName = "hann"
+    vitals_channel: int = Field(0, ge=0, le=4095)
+    vitals_window_s: float = Field(30.0, gt=0, le=3600, allow_inf_nan=False)
+
     @model_validator(mode="after")
     def _check(self) -> DspConfig:
         if self.azimuth_max_deg <= self.azimuth_min_deg:
@@ -149,6 +191,11 @@ class DspConfig(Model):
             raise ValueError(
                 f"peak_neighbourhood must be odd sizes >= 1, got {self.peak_neighbourhood}"
             )
+        for name in ("spectrogram_range_m", "vitals_range_m", "vitals_breathing_band_hz",
+                     "vitals_heart_band_hz"):
+            pair = getattr(self, name)
+            if pair is not None and pair[1] <= pair[0]:
+                raise ValueError(f"{name} = {tuple(pair)}: the upper end must exceed the lower")
         if self.cfar_dimensions == 2 and self.cfar_train_doppler < 1:
             raise ValueError("2-D CFAR needs cfar_train_doppler >= 1 (or use cfar_dimensions=1)")
         return self

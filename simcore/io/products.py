@@ -1,0 +1,233 @@
+"""Post-processing of a finished dataset: micro-Doppler spectrogram and vital signs.
+
+:func:`write_radar_products` reads the raw ADC cubes (``/radar/adc``), their true chirp
+times (``/radar/chirp_start_time``) and the project stored in the file, runs
+:mod:`simcore.dsp.microdoppler` and :mod:`simcore.dsp.vitals` with the project's DSP
+options, and writes two groups into the same file (replacing earlier ones):
+
+``/radar/spectrogram``
+    ``power`` (columns, doppler) float32 dB, ``time`` (columns,) s, ``velocity_axis``
+    (doppler,) m/s (positive = moving away); attributes ``mode``, ``window``,
+    ``range_min_m``, ``range_max_m`` (the gate; per-frame gates around an object are
+    listed in ``gate_center`` (N,) m).
+``/radar/vitals``
+    ``displacement`` (N,) m (the chest bin's phase displacement over the whole run),
+    ``breathing_rate``, ``heart_rate`` (N,) Hz and ``breathing_amplitude``,
+    ``heart_amplitude`` (N,) m: estimates over the last ``vitals_window_s`` seconds at
+    each frame (NaN until that much data exists); attributes ``range_bin``, ``range_m``
+    and the whole-run estimates ``breathing_rate_hz``, ``breathing_amplitude_m``,
+    ``heart_rate_hz``, ``heart_amplitude_m``.
+
+The cubes are read one frame at a time; what is kept grows with frames × (range bins +
+gate bins × chirps × channels), not with the whole cube.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass
+from typing import Any
+
+import h5py
+import numpy as np
+from numpy.typing import NDArray
+
+from simcore.dsp.microdoppler import (
+    OBJECT_GATE_HALF_WIDTH_M,
+    Spectrogram,
+    frame_spectrogram,
+    gate_bins,
+    gate_slow_time,
+    stft_spectrogram,
+)
+from simcore.dsp.processing import radar_axes
+from simcore.dsp.spectrum import range_fft
+from simcore.dsp.vitals import VitalSigns, estimate_vital_signs, select_vital_bin
+from simcore.scene.dsp_config import DspConfig
+from simcore.scene.project_io import project_from_dict
+from simcore.scene.radar_config import RadarConfig
+
+
+class ProductsError(ValueError):
+    """The dataset cannot give these products (missing arrays, too few frames)."""
+
+
+@dataclass(frozen=True)
+class RadarProductsSummary:
+    """What :func:`write_radar_products` computed.
+
+    Attributes
+    ----------
+    spectrogram : Spectrogram
+        The micro-Doppler spectrogram.
+    vitals : VitalSigns or None
+        Whole-run vital-sign estimate (None with fewer than 8 frames).
+    range_m : float
+        Range of the chest bin used for the vital signs (m).
+    """
+
+    spectrogram: Spectrogram
+    vitals: VitalSigns | None
+    range_m: float
+
+
+def _require(f: h5py.File, path: str) -> h5py.Dataset:
+    if path not in f or not isinstance(f[path], h5py.Dataset):
+        raise ProductsError(f"{f.filename}: no {path} (run with the radar's ADC output)")
+    return f[path]
+
+
+def _object_range(f: h5py.File, name: str) -> NDArray[np.float64]:
+    if "/objects/names" not in f or "/objects/radar_range" not in f:
+        raise ProductsError(f"{f.filename}: no object {name!r}: the dataset has no "
+                            "/objects/names and /objects/radar_range")
+    names = [n.decode() if isinstance(n, bytes) else str(n) for n in f["/objects/names"][()]]
+    if name not in names:
+        raise ProductsError(f"{f.filename}: no object {name!r} (objects: {', '.join(names)})")
+    return np.asarray(f["/objects/radar_range"][:, names.index(name)], dtype=np.float64)
+
+
+def _gates(dc: DspConfig, r: NDArray[np.float64], centre: NDArray[np.float64] | None,
+           n: int) -> tuple[list[NDArray[np.intp]], float, float]:
+    if centre is not None:
+        gates = [gate_bins(r, min_m=c - OBJECT_GATE_HALF_WIDTH_M,
+                           max_m=c + OBJECT_GATE_HALF_WIDTH_M) for c in centre]
+        return gates, float(np.min(centre) - OBJECT_GATE_HALF_WIDTH_M), float(
+            np.max(centre) + OBJECT_GATE_HALF_WIDTH_M)
+    lo, hi = dc.spectrogram_range_m or (dc.min_range_m, float(r[-1]))
+    return [gate_bins(r, min_m=lo, max_m=hi)] * n, float(lo), float(hi)
+
+
+def _spectrogram(dc: DspConfig, rc: RadarConfig, cubes: list[NDArray[np.complex64]],
+                 chirp_t: NDArray[np.float64], gates: list[NDArray[np.intp]]) -> Spectrogram:
+    t_rep = len(rc.tx) * rc.chirp_repetition_time_s
+    kw: dict[str, Any] = {"chirp_interval_s": t_rep, "wavelength_m": rc.wavelength_m,
+                          "window": dc.spectrogram_window,
+                          "sidelobe_db": dc.spectrogram_window_sidelobe_db,
+                          "fft_size": dc.spectrogram_fft_size,
+                          "clutter_removal": dc.spectrogram_clutter_removal}
+    if dc.spectrogram_mode == "frame":
+        return frame_spectrogram(cubes, chirp_t.mean(axis=1), range_bins=gates, **kw)
+    union = np.unique(np.concatenate(gates))
+    slow = np.concatenate([gate_slow_time(c, range_bins=union) for c in cubes])
+    return stft_spectrogram(slow, chirp_t.reshape(-1), overlap=dc.spectrogram_overlap,
+                            segment_length=dc.spectrogram_segment_chirps
+                            or rc.chirps_per_frame, **kw)
+
+
+def _sliding_vitals(x: NDArray[np.complex64], rate_hz: float, rc: RadarConfig,
+                    dc: DspConfig) -> NDArray[np.float64]:
+    """Per-frame estimates over the last ``vitals_window_s`` (frames, 4); NaN before."""
+    n = x.size
+    win = max(8, int(round(dc.vitals_window_s * rate_hz)))
+    out = np.full((n, 4), np.nan)
+    for k in range(win - 1, n):
+        out[k] = estimate_vital_signs(
+            x[k - win + 1:k + 1], sample_rate_hz=rate_hz, wavelength_m=rc.wavelength_m,
+            breathing_band_hz=dc.vitals_breathing_band_hz,
+            heart_band_hz=dc.vitals_heart_band_hz, window=dc.vitals_window,
+            static_offset=dc.vitals_static_offset).as_row()
+    return out
+
+
+def _replace_group(f: h5py.File, path: str) -> h5py.Group:
+    if path in f:
+        del f[path]
+    return f.create_group(path)
+
+
+def _put(group: h5py.Group, name: str, data: NDArray[Any], unit: str) -> None:
+    ds = group.create_dataset(name, data=data)
+    ds.attrs["unit"] = unit
+
+
+def write_radar_products(path: str | os.PathLike[str], *,
+                         object_name: str | None = None) -> RadarProductsSummary:
+    """Compute the spectrogram and vital signs of a dataset and store them in it.
+
+    Parameters
+    ----------
+    path : path-like
+        A finished HDF5 dataset with ``/radar/adc`` (``docs/dataset.md``); opened for
+        writing.
+    object_name : str, keyword-only, optional
+        Follow this object: the spectrogram's range gate moves with its true range
+        (``/objects/radar_range`` ± :data:`OBJECT_GATE_HALF_WIDTH_M`) and the chest bin is
+        searched within that interval. Otherwise the gates come from the project's
+        ``dsp.spectrogram_range_m`` and ``dsp.vitals_range_m``.
+
+    Returns
+    -------
+    RadarProductsSummary
+
+    Raises
+    ------
+    ProductsError
+        Missing arrays, an unknown object, or fewer than 2 frames.
+    """
+    with h5py.File(path, "r+") as f:
+        adc = _require(f, "/radar/adc")
+        chirp_t = np.asarray(_require(f, "/radar/chirp_start_time")[:, :, 0], dtype=np.float64)
+        project = project_from_dict(json.loads(f["meta"].attrs["project_json"]))
+        rc, dc = project.rig.radar, project.dsp
+        n = int(adc.shape[0])
+        if n < 2:
+            raise ProductsError(f"{f.filename}: {n} frame(s); the products need at least 2")
+        r = radar_axes(rc, dc).range_m
+        centre = None if object_name is None else _object_range(f, object_name)
+        gates, lo, hi = _gates(dc, r, centre, n)
+        union = np.unique(np.concatenate(gates))
+        ch = min(dc.vitals_channel, int(adc.shape[2]) - 1)
+        gated, profiles = [], []
+        for k in range(n):  # one frame in memory at a time
+            cube = range_fft(adc[k], window=dc.range_window,
+                             sidelobe_db=dc.range_window_sidelobe_db, remove_dc=dc.remove_dc,
+                             n_bins=r.size)
+            gated.append(cube[:, :, union])
+            profiles.append(cube[:, ch, :].mean(axis=0))
+        local = [np.searchsorted(union, g) for g in gates]
+        sg = _spectrogram(dc, rc, gated, chirp_t, local)
+        g = _replace_group(f, "/radar/spectrogram")
+        _put(g, "power", sg.power_db, "dB")
+        _put(g, "time", sg.time_s, "s")
+        _put(g, "velocity_axis", sg.velocity_mps, "m/s")
+        g.attrs.update({"mode": dc.spectrogram_mode, "window": dc.spectrogram_window,
+                        "range_min_m": lo, "range_max_m": hi})
+        if centre is not None:
+            _put(g, "gate_center", centre, "m")
+
+        slow = np.stack(profiles)
+        v_lo, v_hi = ((float(np.mean(centre)) - 0.3, float(np.mean(centre)) + 0.3)
+                      if centre is not None else dc.vitals_range_m
+                      or (dc.min_range_m, float(r[-1])))
+        k = select_vital_bin(slow, range_axis_m=r, min_range_m=v_lo, max_range_m=v_hi)
+        times = chirp_t.mean(axis=1)
+        rate = float(1.0 / np.median(np.diff(times)))
+        whole = estimate_vital_signs(
+            slow[:, k], sample_rate_hz=rate, wavelength_m=rc.wavelength_m,
+            breathing_band_hz=dc.vitals_breathing_band_hz,
+            heart_band_hz=dc.vitals_heart_band_hz, window=dc.vitals_window,
+            static_offset=dc.vitals_static_offset, range_bin=k) if n >= 8 else None
+        g = _replace_group(f, "/radar/vitals")
+        _put(g, "time", times, "s")
+        if whole is not None:
+            _put(g, "displacement", whole.displacement_m, "m")
+            rows = _sliding_vitals(slow[:, k], rate, rc, dc)
+            for j, (name, unit) in enumerate((("breathing_rate", "Hz"),
+                                              ("breathing_amplitude", "m"),
+                                              ("heart_rate", "Hz"), ("heart_amplitude", "m"))):
+                _put(g, name, rows[:, j], unit)
+            g.attrs.update({"breathing_rate_hz": whole.breathing_rate_hz,
+                            "breathing_amplitude_m": whole.breathing_amplitude_m,
+                            "heart_rate_hz": whole.heart_rate_hz,
+                            "heart_amplitude_m": whole.heart_amplitude_m})
+        g.attrs.update({"range_bin": k, "range_m": float(r[k])})
+        return RadarProductsSummary(sg, whole, float(r[k]))
+
+
+__all__ = [
+    "ProductsError",
+    "RadarProductsSummary",
+    "write_radar_products",
+]
