@@ -191,6 +191,9 @@ def check_references(project: Project, base_dir: Path) -> list[str]:
     """Problems with references a schema cannot check: materials and mesh files."""
     problems = []
     materials = material_table(project, copy=False)   # names only: no deep copies
+    for asset, name in project.materials_map.items():
+        if name not in materials:
+            problems.append(f"materials_map[{asset!r}]: unknown material {name!r}")
     for i, obj in enumerate(project.objects):
         if obj.material not in materials:
             problems.append(
