@@ -493,10 +493,13 @@ def _check_nodes(path: Path, doc: dict[str, Any]) -> tuple[list[dict[str, Any]],
     n_meshes = len(_list(path, doc, "meshes"))
     parent: dict[int, int] = {}
     out: list[dict[str, Any]] = []
+    taken: set[str] = set()
     for i, node in enumerate(nodes):
         if not isinstance(node, dict):
             raise _fail(path, f"nodes[{i}] is not an object")
-        clean: dict[str, Any] = {"name": _safe_name(node.get("name"), f"node{i}")}
+        # Unique names here, in file order: trimesh keeps them, and objects sort by them.
+        clean: dict[str, Any] = {"name": unique_name(_safe_name(node.get("name"), f"node{i}"),
+                                                     taken)}
         clean.update(_node_matrix(path, node, i))
         children = node.get("children", [])
         if not isinstance(children, list):
@@ -660,7 +663,12 @@ def _read_gltf(path: Path, doc: dict[str, Any], bin_chunk: bytes | None) -> Asse
     out.materials = {m.name: m for m in materials}
     graph = scene.graph
     taken: set[str] = set()
-    for node in graph.nodes_geometry:
+    order = {n["name"]: i for i, n in enumerate(clean["nodes"])}
+
+    def file_order(node: str) -> tuple[int, str]:
+        return order.get(node, order.get(graph.transforms.parents.get(node, ""), -1)), node
+
+    for node in sorted(graph.nodes_geometry, key=file_order):
         matrix, geom_name = graph.get(node)
         geom = scene.geometry[geom_name]
         name = _object_name(graph, node, geom)
