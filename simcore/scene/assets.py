@@ -683,7 +683,8 @@ def _read_gltf(path: Path, doc: dict[str, Any], bin_chunk: bytes | None) -> Asse
         if obj is not None:
             out.objects.append(obj)
     if not out.objects:
-        raise _fail(path, "no mesh node with triangles")
+        raise _fail(path, "no mesh node with triangles" + (
+            f" ({out.skipped[0]})" if out.skipped else ""))
     return out
 
 
@@ -710,9 +711,9 @@ def _make_object(path: Path, name: str, material: str, matrix: NDArray[np.float6
                  *, convert: bool = True) -> AssetObject | None:
     """An object of a node: world matrix (glTF frame) split into a pose and baked scale."""
     try:
-        points, triangles = check_mesh_arrays(Path(name), points, triangles)
+        points, triangles = check_mesh_arrays(Path("mesh"), points, triangles)
     except MeshError as exc:
-        raise _fail(path, f"node {name!r}: {exc}") from None
+        raise _fail(path, f"node {name!r}: {str(exc).removeprefix('mesh: ')}") from None
     conv = np.eye(4)
     if convert:
         conv[:3, :3] = Y_UP_TO_Z_UP
