@@ -8,7 +8,6 @@ one ``tofradar import`` per file, in one interpreter to keep the start-up cost o
 
 from __future__ import annotations
 
-import base64
 import json
 import os
 import struct
