@@ -55,10 +55,12 @@ class Room:
         return len(self.doc["accessors"]) - 1
 
     def material(self, name: str, **pbr: float) -> int:
+        """Add a named PBR material; returns its index."""
         self.doc["materials"].append({"name": name, "pbrMetallicRoughness": pbr})
         return len(self.doc["materials"]) - 1
 
     def box_mesh(self, size: tuple[float, float, float], material: int) -> int:
+        """Add a box mesh of edge lengths ``size``; returns its index."""
         prim = {"attributes": {"POSITION": self._accessor(CUBE * np.float32(size), "VEC3",
                                                           5126)},
                 "indices": self._accessor(CUBE_TRIS.ravel(), "SCALAR", 5125),
@@ -67,15 +69,18 @@ class Room:
         return len(self.doc["meshes"]) - 1
 
     def node(self, name: str, **fields: object) -> int:
+        """Add a node; returns its index."""
         self.doc["nodes"].append({"name": name, **fields})
         return len(self.doc["nodes"]) - 1
 
     def box(self, name: str, size: tuple[float, float, float], at: tuple[float, float, float],
             material: int, **fields: object) -> int:
+        """Add a node holding a box at ``at``; returns its index."""
         return self.node(name, mesh=self.box_mesh(size, material), translation=list(at),
                          **fields)
 
     def glb(self) -> bytes:
+        """The GLB file: JSON chunk and one binary chunk."""
         children = {c for n in self.doc["nodes"] for c in n.get("children", [])}
         doc = {**self.doc, "scene": 0, "buffers": [{"byteLength": len(self.blob)}],
                "scenes": [{"nodes": [i for i in range(len(self.doc["nodes"]))
