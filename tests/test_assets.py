@@ -337,3 +337,19 @@ def test_an_imported_glass_panel_transmits_as_the_library_glass(tmp_path):
     ratio = np.median(out.amplitude[away]) / np.median(open_out.amplitude[away])
     print(f"amplitude ratio {ratio:.4f}, T² = {glass_t() ** 2:.4f}")
     assert ratio == pytest.approx(glass_t() ** 2, rel=0.02)
+
+
+def test_a_second_import_into_the_same_project_keeps_the_first_meshes(tmp_path, capsys):
+    for name, size in (("a", 1.0), ("b", 2.0)):
+        g = Gltf()
+        g.node("box", mesh=g.mesh([(*box((size, size, size)), g.material("Steel"))]))
+        g.write_glb(tmp_path / f"{name}.glb")
+    out = str(tmp_path / "p.json")
+    assert main(["import", str(tmp_path / "a.glb"), "--out", out]) == 0
+    assert main(["import", str(tmp_path / "b.glb"), "--out", out, "--into", out]) == 0
+    project = load_project(out)
+    assert [o.name for o in project.objects] == ["box", "box_2"]
+    assert len({o.geometry.path for o in project.objects}) == 2
+    for obj, size in zip(project.objects, (1.0, 2.0), strict=True):
+        mesh = build_mesh(obj.geometry, base_dir=tmp_path)
+        assert np.ptp(mesh.points, axis=0) == pytest.approx([size] * 3)

@@ -112,6 +112,8 @@ def hostile_files(folder: Path) -> list[Path]:
         "negative_offset.glb": mutated(lambda d: d["bufferViews"][0].update(byteOffset=-4)),
         "buffer_too_long.glb": mutated(lambda d: d["buffers"][0].update(byteLength=10**6)),
         "stride_3.glb": mutated(lambda d: d["bufferViews"][0].update(byteStride=3)),
+        "draco.glb": mutated(lambda d: d.update(
+            extensionsRequired=["KHR_draco_mesh_compression"])),
         "sparse.glb": mutated(lambda d: d["accessors"][0].update(sparse={"count": 1})),
         "int_positions.glb": mutated(lambda d: d["accessors"][0].update(componentType=5121)),
         "indices_not_3.glb": mutated(lambda d: d["accessors"][1].update(count=35)),
@@ -183,7 +185,7 @@ EXPECTED = {
     "absurd_count.glb": "count", "too_many_triangles.glb": "triangles in the scene",
     "data_uri_huge.gltf": "bytes; at most", "truncated.glb": "truncated",
     "index_out_of_range.glb": "out of range", "cycle.glb": "child",
-    "deep_chain.glb": "deeper", "missing_buffer.gltf": "No such file",
+    "deep_chain.glb": "deeper", "draco.glb": "extensions", "missing_buffer.gltf": "No such file",
 }
 
 

@@ -252,7 +252,9 @@ def build_project(scene: AssetScene, out_path: Path, *, base: Project | None = N
     folder = Path(out_path).resolve().parent
     mesh_dir = f"{Path(out_path).stem}.meshes"
     names = {o.name for o in base.objects}
-    files: set[str] = set()
+    # Mesh files BASE already uses in the same folder (an earlier import) are kept.
+    files = {Path(o.geometry.path).stem for o in base.objects if isinstance(o.geometry, Mesh)
+             and Path(o.geometry.path).parent.as_posix() == mesh_dir}
     objects = list(base.objects)
     next_id = max((o.id for o in objects), default=0) + 1
     added = []

@@ -7,12 +7,14 @@ import needs, and they come with every ``usemtl``), so nothing outside the file 
 
 from __future__ import annotations
 
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
 from simcore.scene.assets import (
+    MAX_ASSET_OBJECTS,
     NO_MATERIAL,
     AssetError,
     AssetMaterial,
@@ -76,7 +78,12 @@ def read_obj(path: Path, data: bytes, *, up: str = "y") -> AssetScene:
     points, groups = _parse(path, data.decode("utf-8", errors="replace"))
     out = AssetScene(source=path)
     taken: set[str] = set()
-    several = {g for g, _m in groups if sum(1 for h, m in groups if h == g and groups[h, m]) > 1}
+    filled = [key for key, polys in groups.items() if polys]
+    if len(filled) > MAX_ASSET_OBJECTS:
+        raise AssetError(f"{path.name}: {len(filled)} objects (group × material); at most "
+                         f"{MAX_ASSET_OBJECTS}")
+    per_group = Counter(g for g, _m in filled)
+    several = {g for g, n in per_group.items() if n > 1}
     for (group, material), polys in groups.items():
         if not polys:
             continue

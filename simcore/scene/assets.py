@@ -585,6 +585,12 @@ def _factor(value: Any) -> float | None:
 def _sanitise(path: Path, doc: dict[str, Any], bin_chunk: bytes | None
               ) -> tuple[dict[str, Any], bytes, list[AssetMaterial], list[str]]:
     """A minimal glTF of the checked triangle data, its binary blob, materials, notes."""
+    required = doc.get("extensionsRequired", [])
+    if required:
+        shown = ", ".join(str(e)[:40] for e in required[:3]) if isinstance(required, list) \
+            else str(required)[:40]
+        raise _fail(path, f"needs glTF extensions that are not supported: {shown} (export "
+                          "without compression or quantisation)")
     nodes, roots = _check_nodes(path, doc)
     materials, found = _check_materials(path, doc)
     chk = _Checked(path, doc, bin_chunk)
