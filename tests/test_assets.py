@@ -353,3 +353,25 @@ def test_a_second_import_into_the_same_project_keeps_the_first_meshes(tmp_path, 
     for obj, size in zip(project.objects, (1.0, 2.0), strict=True):
         mesh = build_mesh(obj.geometry, base_dir=tmp_path)
         assert np.ptp(mesh.points, axis=0) == pytest.approx([size] * 3)
+
+
+def test_obj_fast_and_line_parsers_agree(tmp_path):
+    """The same geometry written plainly (vectorised parser) and with relative indices
+    and indentation (the line-by-line parser) gives the same objects."""
+    plain = ("o crate\nusemtl Card\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\n"
+             "f 1/1/1 2/2/1 3/3/1 4/4/1\ngx 1\ng lid\nusemtl Steel\nv 0 0 1\nv 1 0 1\n"
+             "v 1 1 1\nf 5//1 6//1 7//1\n")
+    relative = ("o crate\nusemtl Card\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                "  f -4 -3 -2 -1\ng lid\nusemtl Steel\nv 0 0 1\nv 1 0 1\nv 1 1 1\n"
+                "f -3 -2 -1\n")
+    scenes = []
+    for name, text in (("plain", plain), ("relative", relative)):
+        (tmp_path / f"{name}.obj").write_text(text)
+        scenes.append(read_asset(tmp_path / f"{name}.obj", up="z"))
+    a, b = scenes
+    assert [(o.name, o.material) for o in a.objects] == [("crate", "Card"), ("lid", "Steel")]
+    assert [(o.name, o.material) for o in b.objects] == [("crate", "Card"), ("lid", "Steel")]
+    for oa, ob in zip(a.objects, b.objects, strict=True):
+        assert len(oa.triangles) == len(ob.triangles)
+        assert set_distance(oa.world_points(), ob.world_points()) < 1e-12
+    assert len(a.objects[0].triangles) == 2        # the quad as a fan of two triangles

@@ -7,6 +7,7 @@ import needs, and they come with every ``usemtl``), so nothing outside the file 
 
 from __future__ import annotations
 
+import re
 from collections import Counter
 from pathlib import Path
 
@@ -25,10 +26,85 @@ from simcore.scene.assets import (
 )
 from simcore.scene.mesh_files import MAX_MESH_TRIANGLES, MAX_MESH_VERTICES
 
+Groups = dict[tuple[str, str], list[NDArray[np.int64]]]
 
-def _parse(path: Path, text: str
-           ) -> tuple[NDArray[np.float64], dict[tuple[str, str], list[list[int]]]]:
-    """Vertices and the polygons of each (group, material)."""
+_STATEMENT = re.compile(rb"^(o|g|usemtl)(?=[ \t\r\n]|$)(?:[ \t]+([^\r\n]*))?", re.M)
+_VERTEX = re.compile(rb"^v[ \t]+(\S+)[ \t]+(\S+)[ \t]+(\S+)", re.M)
+_FACE = re.compile(rb"^f[ \t]+([^\r\n]*)", re.M)
+
+
+def _count_lines(data: bytes, key: bytes) -> int:
+    """Lines starting with ``key`` and a blank (an upper bound before anything is parsed)."""
+    n = sum(data.count(b"\n" + key + sep) for sep in (b" ", b"\t"))
+    return n + int(data.startswith((key + b" ", key + b"\t")))
+
+
+def _fan_arrays(counts: NDArray[np.int64], idx: NDArray[np.int64]) -> NDArray[np.int64]:
+    """Fan triangles of polygons of ``counts`` vertices whose indices follow in ``idx``."""
+    starts = np.cumsum(counts) - counts
+    n_tri = counts - 2
+    face = np.repeat(np.arange(len(counts)), n_tri)
+    k = np.arange(int(n_tri.sum())) - np.repeat(np.cumsum(n_tri) - n_tri, n_tri) + 1
+    first = starts[face]
+    return np.stack([idx[first], idx[first + k], idx[first + k + 1]], axis=1)
+
+
+def _parse_fast(path: Path, data: bytes) -> tuple[NDArray[np.float64], Groups] | None:
+    """Vectorised parsing of a plain OBJ; None where the exact line parser must decide.
+
+    Plain means: no indented lines, no negative (relative) indices, no line continuations,
+    every vertex with three numbers and every face with at least three positive indices;
+    anything else goes to :func:`_parse`, which names the offending line.
+    """
+    if b"\n " in data or b"\n\t" in data or data[:1] in (b" ", b"\t") or b"\\\n" in data:
+        return None
+    n_v, n_f = _count_lines(data, b"v"), _count_lines(data, b"f")
+    if n_v > MAX_MESH_VERTICES or n_f > MAX_MESH_TRIANGLES:
+        raise AssetError(f"{path.name}: {n_v} vertices, {n_f} faces; at most "
+                         f"{MAX_MESH_VERTICES} and {MAX_MESH_TRIANGLES}")
+    found = _VERTEX.findall(data)
+    try:
+        points = np.array(found, dtype=bytes).astype(np.float64).reshape(-1, 3)
+    except ValueError:
+        return None
+    if len(points) != n_v:
+        return None
+    groups: Groups = {}
+    key = (path.stem, NO_MATERIAL)
+    group, material, pos, n_tris = path.stem, NO_MATERIAL, 0, 0
+    for match in [*_STATEMENT.finditer(data), None]:
+        end = match.start() if match is not None else len(data)
+        lines = _FACE.findall(data, pos, end)
+        if lines:
+            counts = np.array([len(line.split()) for line in lines], dtype=np.int64)
+            text = b" ".join(lines)
+            if b"-" in text:          # relative indices count from the line's position
+                return None
+            tokens = re.sub(rb"/\S*", b"", text).split()
+            try:
+                idx = np.array(tokens, dtype=bytes).astype(np.int64) - 1
+            except ValueError:
+                return None
+            if (counts < 3).any() or len(idx) != counts.sum() or (idx < 0).any():
+                return None
+            n_tris += int((counts - 2).sum())
+            if n_tris > MAX_MESH_TRIANGLES:
+                raise AssetError(f"{path.name}: more than {MAX_MESH_TRIANGLES} triangles")
+            groups.setdefault(key, []).append(_fan_arrays(counts, idx))
+        if match is None:
+            break
+        value = _safe_name(match.group(2).decode("utf-8", "replace") if match.group(2) else "",
+                           NO_MATERIAL if match.group(1) == b"usemtl" else path.stem)
+        if match.group(1) == b"usemtl":
+            material = value
+        else:
+            group = value
+        key, pos = (group, material), match.end()
+    return points, groups
+
+
+def _parse(path: Path, text: str) -> tuple[NDArray[np.float64], Groups]:
+    """Vertices and the triangles of each (group, material), line by line."""
     verts: list[list[float]] = []
     groups: dict[tuple[str, str], list[list[int]]] = {}
     group, material, n_faces = path.stem, NO_MATERIAL, 0
@@ -70,12 +146,20 @@ def _parse(path: Path, text: str
             if isinstance(exc, AssetError):
                 raise
             raise AssetError(f"{path.name}: line {lineno}: {exc}") from None
-    return np.array(verts, dtype=np.float64).reshape(-1, 3), groups
+    out: Groups = {k: [np.array(_fan_polys(v), dtype=np.int64).reshape(-1, 3)]
+                   for k, v in groups.items() if v}
+    return np.array(verts, dtype=np.float64).reshape(-1, 3), out
+
+
+def _fan_polys(polys: list[list[int]]) -> list[tuple[int, int, int]]:
+    return [(p[0], p[k], p[k + 1]) for p in polys for k in range(1, len(p) - 1)]
 
 
 def read_obj(path: Path, data: bytes, *, up: str = "y") -> AssetScene:
     """Objects of an OBJ file, one per (group, material) with faces, in project axes."""
-    points, groups = _parse(path, data.decode("utf-8", errors="replace"))
+    fast = _parse_fast(path, data)
+    points, groups = fast if fast is not None else _parse(
+        path, data.decode("utf-8", errors="replace"))
     out = AssetScene(source=path)
     taken: set[str] = set()
     filled = [key for key, polys in groups.items() if polys]
@@ -84,11 +168,10 @@ def read_obj(path: Path, data: bytes, *, up: str = "y") -> AssetScene:
                          f"{MAX_ASSET_OBJECTS}")
     per_group = Counter(g for g, _m in filled)
     several = {g for g, n in per_group.items() if n > 1}
-    for (group, material), polys in groups.items():
-        if not polys:
+    for (group, material), parts in groups.items():
+        if not parts:
             continue
-        tris = np.array([(p[0], p[k], p[k + 1]) for p in polys for k in range(1, len(p) - 1)],
-                        dtype=np.int64).reshape(-1, 3)
+        tris = np.concatenate(parts)
         if tris.min() < 0 or tris.max() >= len(points):
             bad = int(tris.min()) if tris.min() < 0 else int(tris.max())
             raise AssetError(f"{path.name}: face index {bad + 1} out of range "
