@@ -61,6 +61,7 @@ from app.panels import (
 )
 from app.rgb_panel import RgbPanel
 from app.scene_editor import ObjectInspector, ObjectListPanel, build_add_menu
+from app.scene_import import build_import_scene_action
 from app.sensor_editor import SensorEditor
 from app.simulation import SimulationController
 from app.spectrogram_panel import SpectrogramPanel
@@ -407,6 +408,8 @@ class MainWindow(QMainWindow):
             act = self.examples_menu.addAction(path.stem)
             act.triggered.connect(lambda _=False, p=path: self.open_project(p))
         file_menu.addMenu(self.examples_menu)
+        file_menu.addAction(build_import_scene_action(self, self.document,
+                                                      self.show_status_error))
         file_menu.addSeparator()
         file_menu.addActions([self.save_action, self.save_as_action])
         file_menu.addSeparator()

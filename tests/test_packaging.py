@@ -78,7 +78,9 @@ def test_examples_command_lists_them(capsys):
 def test_examples_copy_then_refuse_to_overwrite(tmp_path, capsys):
     target = tmp_path / "ex"
     assert main(["examples", "--copy", str(target)]) == 0
-    assert sorted(p.name for p in target.iterdir()) == [f"{n}.json" for n in EXAMPLE_NAMES]
+    assert sorted(p.name for p in target.iterdir() if p.suffix == ".json") == [
+        f"{n}.json" for n in EXAMPLE_NAMES]
+    assert (target / "office_gltf.meshes" / "cabinet.ply").is_file()   # meshes come along
     assert (target / "wall.json").read_bytes() == example_path("wall").read_bytes()
     assert main(["validate", str(target / "wall.json")]) == 0
     (target / "wall.json").write_text("mine")
@@ -86,7 +88,9 @@ def test_examples_copy_then_refuse_to_overwrite(tmp_path, capsys):
     assert main(["examples", "--copy", str(target)]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1
-    first, more = EXAMPLE_NAMES[0], len(EXAMPLE_NAMES) - 1
+    first, more = EXAMPLE_NAMES[0], len(EXAMPLE_NAMES) - 1 + sum(
+        len(set(mesh_files(ROOT / "resources" / "examples" / f"{n}.json")))
+        for n in EXAMPLE_NAMES)
     assert f"ex/{first}.json exists already (and {more} more); not overwriting" in err, err
     assert (target / "wall.json").read_text() == "mine"
 

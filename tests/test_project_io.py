@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 
+from simcore.examples import mesh_files
 from simcore.resources import EXAMPLES_DIR
 from simcore.scene import (
     Box,
@@ -73,6 +75,9 @@ def test_examples_validate_and_round_trip_byte_identical(path, tmp_path):
     text = path.read_text(encoding="utf-8")
     assert project_to_json(project) == text, "example files are stored in canonical form"
     out = tmp_path / "copy.json"
+    for rel in mesh_files(path):      # an imported example's meshes come along
+        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(path.parent / rel, tmp_path / rel)
     save_project(project, out)
     save_project(load_project(out), tmp_path / "copy2.json")
     assert out.read_bytes() == (tmp_path / "copy2.json").read_bytes() == path.read_bytes()

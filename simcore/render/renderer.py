@@ -87,6 +87,9 @@ class _Geometry:
     smooth: NDArray[np.bool_] = field(init=False)
     label_object: NDArray[np.int32] = field(init=False)
     label_smooth: NDArray[np.bool_] = field(init=False)
+    #: The last :meth:`world_vertices` result and the transforms it was for.
+    _world: tuple[bytes, NDArray[np.float64], NDArray[np.float64]] | None = field(
+        default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         pts, tris, owner = 0, [], []
@@ -116,7 +119,15 @@ class _Geometry:
 
     def world_vertices(self, transforms: NDArray[np.float64]) -> tuple[NDArray[np.float64],
                                                                        NDArray[np.float64]]:
-        """Vertex positions and normals of every object in the world frame."""
+        """Vertex positions and normals of every object in the world frame (don't modify).
+
+        The result is kept for the next call with the same transforms: every pass of a
+        frame shades with them, and a still scene's never change.
+        """
+        key = np.ascontiguousarray(transforms, dtype=np.float64).tobytes()
+        last = self._world
+        if last is not None and last[0] == key:
+            return last[1], last[2]
         pts, nrm = [], []
         for mesh, t in zip(self.meshes, transforms, strict=True):
             if mesh is None:
@@ -125,7 +136,9 @@ class _Geometry:
             nrm.append(mesh.normals @ t[:3, :3].T)
         if not pts:
             return np.zeros((0, 3)), np.zeros((0, 3))
-        return np.concatenate(pts), np.concatenate(nrm)
+        out = np.concatenate(pts), np.concatenate(nrm)
+        self._world = (key, *out)   # one assignment: a concurrent reader sees old or new
+        return out
 
 
 class _IndexPass:
@@ -597,7 +610,7 @@ def _shade_pixels(raster: Raster, idx: NDArray[np.intp] | None
     pixels = (np.ascontiguousarray(idx, dtype=np.int64) if idx is not None
               else np.zeros(0, dtype=np.int64))
     vertices, vnormals = geo.world_vertices(transforms)
-    plane_n, plane_d = _planes(geo, vertices, rot, origin)
+    plane_n, plane_d = _planes(geo, vertices, rot, origin, labels)
     if raster.geometry_only:
         rng, obj, obj_id = shade_geometry(labels, pixels, subset, u, v, ray_norm, plane_n,
                                           plane_d, geo.label_object, tables.ids)
@@ -634,18 +647,28 @@ def _shade_pixels(raster: Raster, idx: NDArray[np.intp] | None
 
 
 def _planes(geo: _Geometry, vertices: NDArray[np.float64], rot: NDArray[np.float64],
-            origin: NDArray[np.float64]) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+            origin: NDArray[np.float64], labels: NDArray[np.uint32] | None = None
+            ) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
     """Per-label triangle planes in the optical frame, ``n · X = delta``, n facing the sensor.
+
+    With ``labels`` (the raster's pixel labels) only the triangles that appear in it get
+    their plane, the only rows the shading reads: a large imported asset has far more
+    triangles than a frame shows.
 
     Returns
     -------
     plane_n : ndarray, shape (triangles + 1, 3), float32
-        Row 0 is the background (normal 0), row k + 1 triangle k.
+        Row 0 is the background (normal 0), row k + 1 triangle k (0 where not shown).
     plane_d : ndarray, shape (triangles + 1,), float32
-        NaN for row 0.
+        NaN for row 0 (and for triangles not shown).
     """
     n_tri = len(geo.triangles)
-    corners = geo.triangles
+    rows = np.arange(n_tri)
+    if labels is not None:
+        seen = np.zeros(n_tri + 1, dtype=bool)
+        seen[labels.ravel()] = True
+        rows = np.flatnonzero(seen[1:])
+    corners = geo.triangles[rows]
     a = vertices[corners[:, 0]]
     face = np.cross(vertices[corners[:, 1]] - a, vertices[corners[:, 2]] - a)
     face /= np.maximum(np.linalg.norm(face, axis=1, keepdims=True), 1e-300)
@@ -653,9 +676,9 @@ def _planes(geo: _Geometry, vertices: NDArray[np.float64], rot: NDArray[np.float
     delta = np.einsum("ij,ij->i", face, a - origin)
     flip = np.where(delta > 0, -1.0, 1.0)
     plane_n = np.zeros((n_tri + 1, 3), dtype=np.float32)
-    plane_n[1:] = n_opt * flip[:, None]
+    plane_n[rows + 1] = n_opt * flip[:, None]
     plane_d = np.full(n_tri + 1, np.nan, dtype=np.float32)
-    plane_d[1:] = delta * flip
+    plane_d[rows + 1] = delta * flip
     return plane_n, plane_d
 
 

@@ -79,6 +79,9 @@ class Project(Model):
         default_factory=list, description="project materials; override the library by name"
     )
     objects: list[SceneObject] = Field(default_factory=list)
+    materials_map: dict[str, str] = Field(
+        default_factory=dict, max_length=4096,
+        description="imported asset material name → library material it was mapped to")
     rig: SensorRig = SensorRig()
     dsp: DspConfig = DspConfig()
 

@@ -191,6 +191,9 @@ def check_references(project: Project, base_dir: Path) -> list[str]:
     """Problems with references a schema cannot check: materials and mesh files."""
     problems = []
     materials = material_table(project, copy=False)   # names only: no deep copies
+    for asset, name in project.materials_map.items():
+        if name not in materials:
+            problems.append(f"materials_map[{asset!r}]: unknown material {name!r}")
     for i, obj in enumerate(project.objects):
         if obj.material not in materials:
             problems.append(
@@ -301,7 +304,11 @@ def _read_text(path: Path, source: str) -> str:
 
 def project_to_json(project: Project) -> str:
     """Serialise a project to its canonical JSON text (stable, so round trips are exact)."""
-    return json.dumps(project.model_dump(mode="json"), indent=2, ensure_ascii=False) + "\n"
+    data = project.model_dump(mode="json")
+    if not data.get("materials_map"):
+        # Written only once an asset import fills it: files without imports stay as they were.
+        data.pop("materials_map", None)
+    return json.dumps(data, indent=2, ensure_ascii=False) + "\n"
 
 
 #: Temporary files of interrupted saves older than this are removed by the next save (s).
