@@ -404,3 +404,96 @@ def recording_levels(adc_fs: NDArray[np.floating], config: RadarConfig, *,
         floor_beyond_aaf_mean_dbfs=_band_mean_db(profile, beyond),
         floor_in_band_dbfs=_band_mean_db(profile, band),
         per_sample_noise_dbfs=per_sample_noise_dbfs(x))
+
+
+# ----------------------------------------------------------------------- conversion
+@dataclass(frozen=True)
+class ConvertReport:
+    """What :func:`convert_recording` wrote: frames, the dataset and the project (or None)."""
+
+    n_frames: int
+    dataset: Path
+    project: Path | None
+
+
+def recording_project(recording: RadarRecording, *, name: str | None = None) -> Any:
+    """A project whose radar reproduces the recording: empty scene, its frame timing.
+
+    Returns
+    -------
+    simcore.scene.model.Project
+        ``rig.radar`` = :attr:`RadarRecording.config`; timeline at ``1 /
+        frame_repetition_time_s`` over the recording's frames; no objects.
+    """
+    from simcore.scene.model import Project, SensorRig, Timeline
+
+    t_f = recording.frame_repetition_time_s
+    return Project(
+        name=name or recording.folder.parent.name,
+        description=f"reproduces the radar configuration of the recording "
+                    f"{recording.folder.parent.name}/{recording.folder.name} "
+                    "(tofradar convert --project); the scene is empty",
+        timeline=Timeline(frame_rate_hz=1.0 / t_f, duration_s=recording.n_frames * t_f),
+        rig=SensorRig(radar=recording.config))
+
+
+def convert_recording(source: str | os.PathLike[str], out: str | os.PathLike[str], *,
+                      project_out: str | os.PathLike[str] | None = None,
+                      overwrite: bool = False) -> ConvertReport:
+    """Write a recording as a dataset of the simulator's layout (``docs/dataset.md``).
+
+    Per frame: ``/time`` (``k · frame_repetition_time_s``), ``/radar/adc`` (FS, float32,
+    (chirps, channels, samples)), ``/radar/chirp_start_time`` and the products of
+    :func:`simcore.dsp.process_frame` with the project's default DSP; ``/meta`` holds the
+    project (:func:`recording_project`), ``source = "recording"``, the recording's
+    ``config.json`` and ``meta.json`` files and the code conversion.
+
+    Parameters
+    ----------
+    source : path-like
+        Recording folder (:func:`read_recording`).
+    out : path-like
+        Output HDF5 file.
+    project_out : path-like, optional
+        Also save the project there (JSON).
+    overwrite : bool
+        Replace existing output files.
+    """
+    from simcore.dsp import process_frame, static_axes_items
+    from simcore.io.hdf5_writer import DatasetExistsError, DatasetWriter
+    from simcore.scene.project_io import project_to_json, save_project
+
+    rec = read_recording(source)
+    project = recording_project(rec)
+    if project_out is not None and Path(project_out).exists() and not overwrite:
+        raise DatasetExistsError(f"{project_out} already exists; use --overwrite to replace it")
+    cfg, dsp = project.rig.radar, project.dsp
+    meta = {"source": "recording", "recording_path": str(Path(source).resolve()),
+            "recording_config": json.dumps({"device_config": {"fmcw_single_shape":
+                                                              rec.settings}}),
+            "recording_meta": json.dumps({"device": rec.device_meta,
+                                          "capture": rec.capture_meta}),
+            "adc_conversion": f"(code - {2 ** (rec.adc_bits - 1)}) / "
+                              f"{2 ** (rec.adc_bits - 1)} ({rec.adc_bits}-bit offset binary)"}
+    times = rec.frame_times_s()
+    starts = cfg.chirp_start_times_s()
+    with DatasetWriter(out, project_json=project_to_json(project), seed=project.seed,
+                       overwrite=overwrite, extra_meta=meta) as writer:
+        writer.write_static(static_axes_items(cfg, dsp))
+        for k in range(rec.n_frames):
+            adc = rec.frame_adc(k)
+            products = process_frame(adc, cfg, dsp)
+            writer.append_rows("/radar/detections", products.detection_records(k))
+            writer.append({"/time": (np.asarray(times[k]), "s"),
+                           "/radar/adc": (adc, "FS"),
+                           "/radar/chirp_start_time": (times[k] + starts, "s"),
+                           **products.hdf5_items()})
+    if project_out is not None:
+        save_project(project, project_out)
+    return ConvertReport(rec.n_frames, Path(out), None if project_out is None
+                         else Path(project_out))
+
+
+__all__ = ["ConvertReport", "RadarRecording", "RecordingError", "RecordingLevels",
+           "codes_to_fs", "convert_recording", "fs_to_codes", "per_sample_noise_dbfs",
+           "range_profile_dbfs", "read_recording", "recording_levels", "recording_project"]
