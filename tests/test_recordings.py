@@ -1,0 +1,221 @@
+"""Real-recording input (issue #35): the Radar Fusion GUI / ifxdaq format, written here with
+known tones and noise, read back, converted; malformed recordings give one clear error."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose, assert_array_equal
+
+from simcore.cli import main
+from simcore.io import open_dataset
+from simcore.io.recordings import (
+    RecordingError,
+    codes_to_fs,
+    read_recording,
+    recording_levels,
+)
+from simcore.scene import load_project
+from simcore.scene.radar_config import SPEED_OF_LIGHT
+from simcore.scene.radar_presets import (
+    RF_CONVERSION_GAIN_DB,
+    TX_POWER_MAX_DBM,
+    baseband_gain_db,
+)
+
+SETTINGS: dict[str, Any] = {
+    "aaf_cutoff_Hz": 500000, "chirp_repetition_time_s": 0.0005911249900236726,
+    "end_frequency_Hz": 63500000000, "frame_repetition_time_s": 0.07726884633302689,
+    "hp_cutoff_Hz": 80000, "if_gain_dB": 23, "mimo_mode": "off", "num_chirps_per_frame": 4,
+    "num_samples_per_chirp": 64, "rx_antennas": [1, 2, 3], "sample_rate_Hz": 2000000,
+    "start_frequency_Hz": 58000000000, "tx_antennas": [1], "tx_power_level": 31,
+}
+
+
+def write_recording(root: Path, codes: np.ndarray, settings: dict[str, Any] | None = None,
+                    *, bits: int = 12) -> Path:
+    """A recording folder as the Radar Fusion GUI writes it."""
+    stream = root / "rec" / "RadarIfxAvian_00"
+    stream.mkdir(parents=True)
+    np.save(stream / "radar.npy", codes)
+    (stream / "config.json").write_text(json.dumps(
+        {"device_config": {"fmcw_single_shape": settings or SETTINGS}}, indent=4))
+    (stream / "meta.json").write_text(json.dumps({"adc_resolution": bits,
+                                                  "description": "test"}))
+    (root / "rec" / "meta.json").write_text(json.dumps({"date_captured": "2026-01-06"}))
+    return root / "rec"
+
+
+def bin_range_m(settings: dict[str, Any]) -> float:
+    slope = (settings["end_frequency_Hz"] - settings["start_frequency_Hz"]) / (
+        settings["num_samples_per_chirp"] / settings["sample_rate_Hz"])
+    return settings["sample_rate_Hz"] / settings["num_samples_per_chirp"] * SPEED_OF_LIGHT / (
+        2 * slope)
+
+
+def tone_codes(settings: dict[str, Any], *, frames: int, tones: list[tuple[int, float]],
+               noise_lsb: float, seed: int = 0) -> np.ndarray:
+    """Codes of tones (range bin, amplitude FS) on bin centres, plus Gaussian noise."""
+    rng = np.random.default_rng(seed)
+    n = settings["num_samples_per_chirp"]
+    shape = (frames, len(settings["rx_antennas"]), settings["num_chirps_per_frame"], n)
+    x = np.zeros(shape)
+    t = np.arange(n)
+    for k, amp in tones:
+        phase = rng.uniform(0, 2 * np.pi, shape[:-1])[..., None]
+        x += amp * np.cos(2 * np.pi * k * t / n + phase)
+    codes = np.rint(2048 + 2048 * x + noise_lsb * rng.standard_normal(shape))
+    return np.clip(codes, 0, 4095).astype(np.uint16)
+
+
+def test_codes_become_fractions_of_full_scale_exactly(tmp_path):
+    codes = tone_codes(SETTINGS, frames=3, tones=[(12, 0.1)], noise_lsb=2.0)
+    rec = read_recording(write_recording(tmp_path, codes))
+    assert rec.n_frames == 3 and rec.adc_bits == 12
+    expected = (codes.astype(np.float64) - 2048) / 2048
+    assert_array_equal(rec.frame_adc(1), expected[1].transpose(1, 0, 2).astype(np.float32))
+    assert_array_equal(rec.adc(), expected.transpose(0, 2, 1, 3).astype(np.float32))
+    assert_allclose(rec.frame_times_s(), np.arange(3) * SETTINGS["frame_repetition_time_s"])
+    assert codes_to_fs(np.array([0, 4095], dtype=np.uint16), 12).tolist() == [-1.0, 4095 / 2048 - 1]
+
+
+def test_tones_and_noise_read_back_at_their_ranges_and_levels(tmp_path):
+    """Hann on a bin-centred tone of amplitude A reads 20 log10 A; white noise of σ reads
+    σ per sample and σ² · 4 Σw² / (Σw)² per bin."""
+    noise_lsb = 8.0
+    tones = [(12, 0.02), (20, 0.003)]
+    codes = tone_codes(SETTINGS, frames=40, tones=tones, noise_lsb=noise_lsb, seed=1)
+    rec = read_recording(write_recording(tmp_path, codes))
+    levels = recording_levels(rec.adc(), rec.config, target_range_m=12 * bin_range_m(SETTINGS))
+    assert_allclose(levels.range_m[1], bin_range_m(SETTINGS), rtol=1e-12)
+    sigma = noise_lsb / 2048
+    for k, amp in tones:
+        tone_db = 10 * np.log10(amp**2 + 4 * sigma**2 * np.sum(np.hanning(64) ** 2)
+                                / np.sum(np.hanning(64)) ** 2)
+        assert abs(levels.profile_dbfs[k] - tone_db) < 0.3, (k, levels.profile_dbfs[k])
+    assert abs(levels.target_dbfs - 20 * np.log10(0.02)) < 0.2
+    # Per-sample noise (chirp-to-chirp differences, chirp means removed) on noise alone.
+    quiet = tone_codes(SETTINGS, frames=40, tones=[], noise_lsb=noise_lsb, seed=2)
+    rec_q = read_recording(write_recording(tmp_path / "q", quiet))
+    lv = recording_levels(rec_q.adc(), rec_q.config)
+    var = sigma**2 * (1 - 1 / 64) + (1 / 2048) ** 2 / 12
+    assert abs(lv.per_sample_noise_dbfs - 10 * np.log10(var)) < 0.15
+    floor = 10 * np.log10(4 * var * np.sum(np.hanning(64) ** 2) / np.sum(np.hanning(64)) ** 2)
+    assert abs(lv.floor_beyond_aaf_mean_dbfs - floor) < 0.5
+    assert abs(lv.floor_in_band_dbfs - floor) < 0.7
+
+
+def test_configuration_round_trips_into_the_project_and_dataset(tmp_path):
+    settings = dict(SETTINGS, rx_antennas=[1, 3], num_chirps_per_frame=2, tx_power_level=15,
+                    if_gain_dB=33, hp_cutoff_Hz=160000, aaf_cutoff_Hz=600000,
+                    num_samples_per_chirp=128, sample_rate_Hz=1000000)
+    codes = tone_codes(settings, frames=5, tones=[(30, 0.05)], noise_lsb=3.0)
+    src = write_recording(tmp_path, codes, settings)
+    out, proj = tmp_path / "real.h5", tmp_path / "real.json"
+    assert main(["convert", str(src), "--to", str(out), "--project", str(proj)]) == 0
+    radar = load_project(proj).rig.radar
+    assert radar.device_settings == settings
+    assert radar.start_frequency_hz == 58e9 and radar.bandwidth_hz == 5.5e9
+    assert radar.chirp_time_s == 128 / 1e6 and radar.sample_rate_hz == 1e6
+    assert radar.samples_per_chirp == 128 and radar.chirps_per_frame == 2
+    assert radar.chirp_repetition_time_s == settings["chirp_repetition_time_s"]
+    assert [a.name for a in radar.rx] == ["rx1", "rx3"] and len(radar.tx) == 1
+    assert radar.if_highpass_hz == 160e3 and radar.if_lowpass_hz == 600e3
+    assert radar.if_gain_db == RF_CONVERSION_GAIN_DB + 35       # 30 dB HP + 5 dB VGA
+    assert_allclose(radar.tx_power_dbm, TX_POWER_MAX_DBM + 20 * np.log10(16 / 32))
+    ds = open_dataset(out)
+    try:
+        assert json.loads(ds.attrs["recording_config"]) == {
+            "device_config": {"fmcw_single_shape": settings}}
+        assert ds.attrs["source"] == "recording"
+        assert_allclose(ds.time.values, np.arange(5) * settings["frame_repetition_time_s"])
+        adc = ds.radar_adc.values
+        assert adc.shape == (5, 2, 2, 128)
+        assert_array_equal(adc, ((codes.astype(np.float64) - 2048) / 2048
+                                 ).transpose(0, 2, 1, 3).astype(np.float32))
+        profile = ds.radar_range_profile_integrated.isel(frame=0).values
+        r_peak = float(ds.range.values[int(np.argmax(profile))])
+        assert abs(r_peak - 30 * bin_range_m(settings)) <= 0.5 * bin_range_m(settings)
+    finally:
+        ds.close()
+
+
+def test_baseband_gain_follows_the_sdk_rule():
+    assert [baseband_gain_db(g) for g in (18, 23, 29, 30, 33, 47, 60)] == [
+        18, 23, 28, 30, 35, 45, 60]
+
+
+def test_tdm_mode_with_one_tx_reads_like_mimo_off(tmp_path):
+    settings = dict(SETTINGS, mimo_mode="tdm")
+    rec = read_recording(write_recording(
+        tmp_path, tone_codes(settings, frames=2, tones=[], noise_lsb=1.0), settings))
+    assert rec.config.n_channels == 3
+
+
+def _mutate(tmp_path: Path, name: str) -> Path:
+    codes = tone_codes(SETTINGS, frames=2, tones=[(10, 0.01)], noise_lsb=1.0)
+    src = write_recording(tmp_path, codes)
+    stream = src / "RadarIfxAvian_00"
+    cfg_path = stream / "config.json"
+    doc = json.loads(cfg_path.read_text())
+    shape = doc["device_config"]["fmcw_single_shape"]
+    if name == "missing config":
+        cfg_path.unlink()
+    elif name == "malformed config":
+        cfg_path.write_text('{"device_config": {')
+    elif name == "unknown key":
+        shape["chirp_shape"] = "saw"
+    elif name == "missing key":
+        del shape["sample_rate_Hz"]
+    elif name == "wrong type":
+        shape["num_samples_per_chirp"] = "64"
+    elif name == "shape":
+        np.save(stream / "radar.npy", codes[:, :2])
+    elif name == "dtype":
+        np.save(stream / "radar.npy", codes.astype(np.float32))
+    elif name == "truncated":
+        data = (stream / "radar.npy").read_bytes()
+        (stream / "radar.npy").write_bytes(data[: len(data) // 2])
+    elif name == "out of range":
+        bad = codes.copy()
+        bad[0, 0, 0, 0] = 4096
+        np.save(stream / "radar.npy", bad)
+    elif name == "two tx without mimo":
+        shape["tx_antennas"] = [1, 2]
+    elif name == "down-chirp":
+        shape["start_frequency_Hz"], shape["end_frequency_Hz"] = 63.5e9, 58e9
+    elif name == "if gain":
+        shape["if_gain_dB"] = 70
+    elif name == "no stream":
+        for f in stream.iterdir():
+            f.unlink()
+        stream.rmdir()
+    if name not in ("missing config", "malformed config", "no stream"):
+        cfg_path.write_text(json.dumps(doc))
+    return src
+
+
+BAD = {"missing config": "config.json: missing", "malformed config": "not valid JSON",
+       "unknown key": "unknown fmcw_single_shape keys ['chirp_shape']",
+       "missing key": "lacks ['sample_rate_Hz']", "wrong type": "num_samples_per_chirp",
+       "shape": "shape (2, 2, 4, 64)", "dtype": "dtype float32",
+       "truncated": "truncated", "out of range": "code 4096 outside the 12-bit",
+       "two tx without mimo": "mimo_mode 'off'", "down-chirp": "down-chirps",
+       "if gain": "if_gain_dB = 70", "no stream": "not a Radar Fusion GUI recording"}
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_bad_recording_gives_one_clear_error(name, tmp_path, capsys):
+    src = _mutate(tmp_path, name)
+    with pytest.raises(RecordingError, match=None):
+        read_recording(src)
+    rc = main(["convert", str(src), "--to", str(tmp_path / "x.h5")])
+    err = capsys.readouterr().err.strip()
+    assert rc != 0
+    assert len(err.splitlines()) == 1 and err.startswith("tofradar: error:"), err
+    assert BAD[name] in err, err
+    assert not (tmp_path / "x.h5").exists()
