@@ -67,7 +67,7 @@ def empty_scene_frames(config: RadarConfig, *, frames: int, seed: int = 0
     from simcore.sensors.radar.scatterers import Scatterers
 
     rng = np.random.default_rng(seed)
-    empty = Scatterers.from_arrays(np.zeros((0, 3)), [])
+    empty = Scatterers.from_arrays(np.zeros((0, 3)), np.zeros(0))
     return np.stack([simulate_radar(empty, config, rng=rng).adc for _ in range(frames)]
                     ).astype(np.float32)
 

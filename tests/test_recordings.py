@@ -219,3 +219,51 @@ def test_bad_recording_gives_one_clear_error(name, tmp_path, capsys):
     assert len(err.splitlines()) == 1 and err.startswith("tofradar: error:"), err
     assert BAD[name] in err, err
     assert not (tmp_path / "x.h5").exists()
+
+
+# ------------------------------------------------------------- the front-end additions
+def test_leakage_paths_are_tones_at_their_lengths_with_the_coupling_formula():
+    """Direct path of length ℓ and an echo: tones of delay ℓ/c, amplitude √(2 R P_t 10^(L/10))
+    · 10^(G/20) / V_fs, through the IF filters."""
+    from simcore.scene.radar_config import LeakageEcho
+    from simcore.scene.radar_presets import bgt60tr13c
+    from simcore.sensors.radar.equation import if_filter_response
+    from simcore.sensors.radar.receiver import leakage_if
+
+    cfg = bgt60tr13c(leakage_dbc=-50.0, leakage_path_mm=40.0, if_gain_db=50.0,
+                     leakage_echoes=[LeakageEcho(path_mm=300.0, level_dbc=-90.0)])
+    t = cfg.sample_times_s()
+    k, f_c = cfg.slope_hz_per_s, cfg.start_frequency_hz
+    expected = np.zeros(len(t), dtype=complex)
+    for ell_mm, dbc in ((40.0, -50.0), (300.0, -90.0)):
+        p = 1e-3 * 10 ** ((cfg.tx_power_dbm + dbc) / 10)
+        amp = np.sqrt(2 * 50.0 * p) * 10 ** (50.0 / 20) / cfg.adc_full_scale_v
+        tau = ell_mm * 1e-3 / SPEED_OF_LIGHT
+        expected += amp * if_filter_response(k * tau, cfg) * np.exp(
+            1j * (2 * np.pi * f_c * tau + 2 * np.pi * k * tau * t - np.pi * k * tau**2))
+    out = leakage_if(cfg)
+    assert out.shape == (1, 3, len(t))
+    for ch in range(3):                       # one length for every pair
+        assert_allclose(out[0, ch], expected, rtol=1e-9, atol=1e-15)
+    off = cfg.model_copy(update={"leakage_dbc": None})
+    assert not np.any(leakage_if(off))        # no leakage switches the echoes off too
+
+
+def test_noise_after_the_filters_is_white_beyond_the_anti_aliasing_filter():
+    """Thermal noise through a 4th-order 300 kHz low-pass plus white σ_a: far above the
+    cutoff the PSD is σ_a² alone; below it, thermal + σ_a²."""
+    from simcore.scene.radar_presets import bgt60tr13c
+    from simcore.sensors.radar.equation import noise_std_fs
+    from simcore.sensors.radar.receiver import receiver_noise
+
+    cfg = bgt60tr13c(if_highpass_hz=0.0, if_lowpass_hz=300e3, if_lowpass_order=4,
+                     adc_noise_fs=2e-3, if_gain_db=60.0)
+    x = receiver_noise(cfg, (400, 3, 512), np.random.default_rng(4))
+    psd = np.mean(np.abs(np.fft.rfft(x, axis=-1)) ** 2, axis=(0, 1)) / 512   # σ² per bin
+    f = np.fft.rfftfreq(512, 1 / cfg.sample_rate_hz)
+    sigma_t = noise_std_fs(cfg)
+    assert_allclose(psd[(f > 900e3) & (f < 990e3)].mean(), 2e-3**2, rtol=0.05)
+    low = (f > 20e3) & (f < 100e3)
+    assert_allclose(psd[low].mean(), sigma_t**2 + 2e-3**2, rtol=0.05)
+    quiet = cfg.model_copy(update={"noise_variance_adc": 0.0})
+    assert not np.any(receiver_noise(quiet, (2, 3, 512), np.random.default_rng(4)))

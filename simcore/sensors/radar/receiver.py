@@ -68,8 +68,9 @@ def leakage_if(config: RadarConfig) -> ComplexCube:
 
 def receiver_noise(config: RadarConfig, shape: tuple[int, ...], rng: np.random.Generator
                    ) -> NDArray[np.float64] | NDArray[np.complex128]:
-    """Receiver noise, real or complex per ``complex_iq``: thermal through the IF filters,
-    plus the white noise added after them.
+    """Receiver noise: thermal through the IF filters, plus white noise added after them.
+
+    Real or complex per ``complex_iq``.
 
     Parameters
     ----------
