@@ -83,8 +83,6 @@ def torso_frames(config: RadarConfig, *, frames: int, seed: int = 0) -> NDArray[
     The ellipsoid (semi-axes :data:`TORSO_SEMI_AXES_M`) is a mesh rendered like any
     object; the receiver is the whole front end.
     """
-    import trimesh
-
     from simcore.render import RenderRequest, SceneRenderer
     from simcore.scene.geometry import Mesh
     from simcore.scene.model import Project, SceneObject, SensorRig
@@ -92,12 +90,10 @@ def torso_frames(config: RadarConfig, *, frames: int, seed: int = 0) -> NDArray[
     from simcore.scene.snapshot import take_snapshot
     from simcore.sensors.radar import radar_scatterers, simulate_radar
 
-    depth, width, height = TORSO_SEMI_AXES_M
-    mesh = trimesh.creation.icosphere(subdivisions=5)
-    mesh.apply_scale((depth, width, height))        # rig body axes: x forward, y left, z up
+    depth = TORSO_SEMI_AXES_M[0]
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "torso.obj"
-        mesh.export(path)
+        path.write_text(ellipsoid_obj(TORSO_SEMI_AXES_M))
         project = Project(objects=[SceneObject(
             id=1, name="torso", geometry=Mesh(path=str(path)), material="skin",
             pose=Pose(position_m=(TARGET_RANGE_M + depth, 0.0, 0.0)))],
@@ -113,6 +109,38 @@ def torso_frames(config: RadarConfig, *, frames: int, seed: int = 0) -> NDArray[
     rng = np.random.default_rng(seed)
     return np.stack([simulate_radar(scat, config, rng=rng).adc for _ in range(frames)]
                     ).astype(np.float32)
+
+
+def ellipsoid_obj(semi_axes_m: tuple[float, float, float], *, n_lat: int = 64,
+                  n_lon: int = 128) -> str:
+    """Wavefront OBJ text of an ellipsoid (latitude–longitude grid, outward faces).
+
+    Parameters
+    ----------
+    semi_axes_m : tuple of float
+        Semi-axes along the object's local x, y, z (m).
+    n_lat, n_lon : int
+        Grid rings and segments.
+    """
+    a, b, c = semi_axes_m
+    theta = np.linspace(0.0, np.pi, n_lat + 1)[1:-1]            # ring polar angles
+    phi = np.linspace(0.0, 2 * np.pi, n_lon, endpoint=False)
+    st, ct = np.sin(theta)[:, None], np.cos(theta)[:, None]
+    ring = np.stack([a * st * np.cos(phi), b * st * np.sin(phi),
+                     np.broadcast_to(c * ct, (len(theta), n_lon))], axis=-1).reshape(-1, 3)
+    verts = np.vstack([[0.0, 0.0, c], ring, [0.0, 0.0, -c]])
+    top, bottom = 1, len(verts)                                   # OBJ indices from 1
+    idx = 2 + np.arange(len(theta) * n_lon).reshape(len(theta), n_lon)
+    nxt = np.roll(idx, -1, axis=1)
+    faces = [(top, idx[0, j], nxt[0, j]) for j in range(n_lon)]
+    for i in range(len(theta) - 1):
+        for j in range(n_lon):
+            faces += [(idx[i, j], idx[i + 1, j], nxt[i, j]),
+                      (nxt[i, j], idx[i + 1, j], nxt[i + 1, j])]
+    faces += [(idx[-1, j], bottom, nxt[-1, j]) for j in range(n_lon)]
+    lines = [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in verts]
+    lines += [f"f {i} {j} {k}" for i, j, k in faces]
+    return "\n".join(lines) + "\n"
 
 
 def breathing_phase(recording: RadarRecording, *, band_m: tuple[float, float] = (0.25, 0.45),
