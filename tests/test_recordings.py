@@ -267,3 +267,46 @@ def test_noise_after_the_filters_is_white_beyond_the_anti_aliasing_filter():
     assert_allclose(psd[low].mean(), sigma_t**2 + 2e-3**2, rtol=0.05)
     quiet = cfg.model_copy(update={"noise_variance_adc": 0.0})
     assert not np.any(receiver_noise(quiet, (2, 3, 512), np.random.default_rng(4)))
+
+
+def test_convert_refuses_to_overwrite_and_misplaced_options(tmp_path, capsys):
+    src = write_recording(tmp_path, tone_codes(SETTINGS, frames=2, tones=[], noise_lsb=1.0))
+    out = tmp_path / "a.h5"
+    assert main(["convert", str(src), "--to", str(out)]) == 0
+    capsys.readouterr()
+    for argv, message in (
+            (["convert", str(src), "--to", str(out)], "already exists"),
+            (["convert", str(src), "--to", str(tmp_path / "a.mcap")], "HDF5 dataset (.h5)"),
+            (["convert", str(out), "--to", str(tmp_path / "b.mcap"), "--project",
+              str(tmp_path / "p.json")], "--project is for a recording folder")):
+        assert main(argv) != 0
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and err.startswith("tofradar: error:"), err
+        assert message in err, err
+    assert main(["convert", str(src), "--to", str(out), "--overwrite"]) == 0
+
+
+def test_the_report_section_says_when_the_recording_is_absent(tmp_path, monkeypatch):
+    from simcore.report_real import RECORDING_ENV, real_section, shared_recording
+
+    monkeypatch.setenv(RECORDING_ENV, str(tmp_path / "nowhere"))
+    assert shared_recording() is None
+    file, _title, text, numbers = real_section(tmp_path, quick=True)
+    assert file == "" and numbers == {"recording": None} and "is not present" in text
+    monkeypatch.setenv(RECORDING_ENV, str(write_recording(
+        tmp_path, tone_codes(SETTINGS, frames=4, tones=[(12, 0.01)], noise_lsb=2.0))))
+    assert shared_recording() == tmp_path / "rec"
+
+
+def test_ellipsoid_mesh_encloses_the_ellipsoid_volume():
+    from simcore.report_real import ellipsoid_obj
+
+    text = ellipsoid_obj((0.1, 0.2, 0.3), n_lat=96, n_lon=192)
+    v = np.array([[float(t) for t in ln.split()[1:]] for ln in text.splitlines()
+                  if ln.startswith("v ")])
+    f = np.array([[int(t) - 1 for t in ln.split()[1:]] for ln in text.splitlines()
+                  if ln.startswith("f ")])
+    a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    volume = np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6     # divergence theorem
+    assert_allclose(volume, 4 / 3 * np.pi * 0.1 * 0.2 * 0.3, rtol=2e-3)   # outward faces
+    assert_allclose(np.sum((v / [0.1, 0.2, 0.3]) ** 2, axis=1), 1.0, atol=1e-4)  # on it
