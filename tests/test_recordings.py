@@ -190,6 +190,10 @@ def _mutate(tmp_path: Path, name: str) -> Path:
         shape["start_frequency_Hz"], shape["end_frequency_Hz"] = 63.5e9, 58e9
     elif name == "if gain":
         shape["if_gain_dB"] = 70
+    elif name == "frame time":
+        shape["frame_repetition_time_s"] = 0
+    elif name == "sample rate":
+        shape["sample_rate_Hz"] = 1e12
     elif name == "no stream":
         for f in stream.iterdir():
             f.unlink()
@@ -205,7 +209,9 @@ BAD = {"missing config": "config.json: missing", "malformed config": "not valid 
        "shape": "shape (2, 2, 4, 64)", "dtype": "dtype float32",
        "truncated": "truncated", "out of range": "code 4096 outside the 12-bit",
        "two tx without mimo": "mimo_mode 'off'", "down-chirp": "down-chirps",
-       "if gain": "if_gain_dB = 70", "no stream": "not a Radar Fusion GUI recording"}
+       "if gain": "if_gain_dB = 70", "no stream": "not a Radar Fusion GUI recording",
+       "frame time": "frame_repetition_time_s = 0 must be positive",
+       "sample rate": "sample_rate_hz"}
 
 
 @pytest.mark.parametrize("name", sorted(BAD))

@@ -45,6 +45,8 @@ SINGLE_SHAPE_KEYS: dict[str, type | tuple[type, ...]] = {
     "tx_antennas": list,
     "tx_power_level": int,
 }
+_KIND_NAMES: dict[type | tuple[type, ...], str] = {
+    (int, float): "a number", int: "an integer", str: "a string", list: "a list"}
 #: MIMO modes of a single-shape configuration: one Tx, or Tx in turn (TDM).
 MIMO_MODES = ("off", "tdm")
 #: ADC resolution assumed when ``meta.json`` does not give one (the BGT60TR13C's).
@@ -176,8 +178,7 @@ def check_settings(settings: Any, source: Path) -> dict[str, Any]:
     for key, kind in SINGLE_SHAPE_KEYS.items():
         value = settings[key]
         if isinstance(value, bool) or not isinstance(value, kind):
-            raise RecordingError(f"{source}: {key} = {value!r} is not a "
-                                 f"{getattr(kind, '__name__', 'number')}")
+            raise RecordingError(f"{source}: {key} = {value!r} is not {_KIND_NAMES[kind]}")
         if isinstance(value, float) and not math.isfinite(value):
             raise RecordingError(f"{source}: {key} = {value!r} is not finite")
     for key in ("rx_antennas", "tx_antennas"):
@@ -195,6 +196,9 @@ def check_settings(settings: Any, source: Path) -> dict[str, Any]:
     for key in ("num_chirps_per_frame", "num_samples_per_chirp"):
         if settings[key] < 1:
             raise RecordingError(f"{source}: {key} = {settings[key]} must be at least 1")
+    for key in ("frame_repetition_time_s", "chirp_repetition_time_s", "sample_rate_Hz"):
+        if settings[key] <= 0:
+            raise RecordingError(f"{source}: {key} = {settings[key]} must be positive")
     return dict(settings)
 
 
@@ -243,6 +247,9 @@ def read_recording(path: str | os.PathLike[str]) -> RadarRecording:
         disagrees with the configuration, a truncated ``radar.npy``, codes outside the ADC
         range.
     """
+    from pydantic import ValidationError
+
+    from simcore.scene.project_io import format_validation_error
     from simcore.scene.radar_presets import bgt60tr13c_from_device
 
     folder = stream_folder(path)
@@ -266,6 +273,9 @@ def read_recording(path: str | os.PathLike[str]) -> RadarRecording:
     capture_meta = _read_json(capture) if capture.exists() else {}
     try:
         config = bgt60tr13c_from_device(settings, adc_bits=bits)
+    except ValidationError as exc:
+        raise RecordingError(f"{cfg_path}: the radar it describes is not valid: "
+                             f"{'; '.join(format_validation_error(exc))}") from None
     except ValueError as exc:
         raise RecordingError(f"{cfg_path}: {' '.join(str(exc).split())}") from None
     codes = _load_codes(folder / "radar.npy", settings, bits)
