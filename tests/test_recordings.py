@@ -190,6 +190,12 @@ def _mutate(tmp_path: Path, name: str) -> Path:
         shape["start_frequency_Hz"], shape["end_frequency_Hz"] = 63.5e9, 58e9
     elif name == "if gain":
         shape["if_gain_dB"] = 70
+    elif name == "rx 4":
+        shape["rx_antennas"] = [1, 4]
+        np.save(stream / "radar.npy", codes[:, :2])
+    elif name == "tdm two tx":
+        shape["mimo_mode"], shape["tx_antennas"] = "tdm", [1, 2]
+        np.save(stream / "radar.npy", np.concatenate([codes, codes], axis=1))
     elif name == "frame time":
         shape["frame_repetition_time_s"] = 0
     elif name == "sample rate":
@@ -211,7 +217,8 @@ BAD = {"missing config": "config.json: missing", "malformed config": "not valid 
        "two tx without mimo": "mimo_mode 'off'", "down-chirp": "down-chirps",
        "if gain": "if_gain_dB = 70", "no stream": "not a Radar Fusion GUI recording",
        "frame time": "frame_repetition_time_s = 0 must be positive",
-       "sample rate": "sample_rate_hz"}
+       "sample rate": "sample_rate_hz", "rx 4": "has Tx 1 and Rx 1–3",
+       "tdm two tx": "has Tx 1 and Rx 1–3"}
 
 
 @pytest.mark.parametrize("name", sorted(BAD))
