@@ -439,6 +439,14 @@ LINK_BUDGET = [
     FieldSpec("rig.radar.leakage_dbc", "Tx→Rx leakage", "dBc",
               "leakage power at the Rx port relative to the Tx power (off: none)", step=1.0,
               decimals=1, off_text="off (no leakage)"),
+    # --- issue #35 (calibration against a real BGT60TR13C) ---
+    FieldSpec("rig.radar.leakage_path_mm", "leakage path", "mm",
+              "electrical length of the direct Tx→Rx coupling (off: the board distance "
+              "between the elements)", step=1.0, decimals=1, off_text="board distance"),
+    FieldSpec("rig.radar.adc_noise_fs", "noise after the filters", "mFS",
+              "rms noise added after the IF filters (baseband amplifier, ADC), independent "
+              "of the IF gain", scale=1e3, step=0.05, decimals=3),
+    # --- end issue #35 ---
     FieldSpec("rig.radar.if_highpass_hz", "IF high-pass", "kHz",
               "IF high-pass cutoff (0: none)", scale=1e-3, step=10.0, decimals=1),
     FieldSpec("rig.radar.if_lowpass_hz", "IF low-pass", "kHz",

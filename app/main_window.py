@@ -59,6 +59,7 @@ from app.panels import (
     TofPanel,
     cache_axes,
 )
+from app.recording_compare import add_compare_recording_action
 from app.rgb_panel import RgbPanel
 from app.scene_editor import ObjectInspector, ObjectListPanel, build_add_menu
 from app.scene_import import build_import_scene_action
@@ -414,6 +415,7 @@ class MainWindow(QMainWindow):
         file_menu.addActions([self.save_action, self.save_as_action])
         file_menu.addSeparator()
         file_menu.addActions([self.export_dataset_action, self.export_images_action])
+        self.compare_recording_action = add_compare_recording_action(self, file_menu)
         file_menu.addSeparator()
         file_menu.addAction(self.quit_action)
         edit = bar.addMenu("&Edit")

@@ -614,6 +614,10 @@ def cmd_convert(args: argparse.Namespace) -> int:
     from simcore.io.mcap_writer import convert_hdf5_to_mcap
 
     source, target = Path(args.source), Path(args.to)
+    if source.is_dir():
+        return _convert_recording(source, target, args)
+    if args.project is not None:
+        raise CliError("--project is for a recording folder (RECORDING_DIR --to OUT.h5)")
     if not source.is_file():
         raise CliError(f"{source}: no such dataset")
     if target.suffix.lower() != ".mcap":
@@ -623,6 +627,25 @@ def cmd_convert(args: argparse.Namespace) -> int:
     except DatasetExistsError as exc:
         raise CliError(str(exc)) from None
     print(f"wrote {n} frames to {target}")
+    return 0
+
+
+def _convert_recording(source: Path, target: Path, args: argparse.Namespace) -> int:
+    """A Radar Fusion GUI / ifxdaq recording → a dataset (+ a project reproducing it)."""
+    from simcore.io.hdf5_writer import DatasetExistsError
+    from simcore.io.recordings import RecordingError, convert_recording
+
+    if target.suffix.lower() not in (".h5", ".hdf5"):
+        raise CliError(f"--to {target}: a recording converts to an HDF5 dataset (.h5)")
+    if args.project is not None and Path(args.project).suffix.lower() != ".json":
+        raise CliError(f"--project {args.project}: a project file ends in .json")
+    try:
+        report = convert_recording(source, target, project_out=args.project,
+                                   overwrite=args.overwrite)
+    except (RecordingError, DatasetExistsError) as exc:
+        raise CliError(str(exc)) from None
+    print(f"wrote {report.n_frames} frames to {target}"
+          + (f" and the project {report.project}" if report.project else ""))
     return 0
 
 
@@ -649,10 +672,15 @@ def cmd_serve(args: argparse.Namespace) -> int:
 def _add_robotics_commands(sub: argparse._SubParsersAction[_Parser],
                            common: list[_Parser]) -> None:
     """The ``convert`` and ``serve`` subcommands (docs/robotics.md)."""
-    p = sub.add_parser("convert", help="convert an HDF5 dataset into an MCAP recording",
+    p = sub.add_parser("convert", help="convert an HDF5 dataset into an MCAP recording, or "
+                       "a real radar recording (Radar Fusion GUI folder) into a dataset",
                        parents=common)
-    p.add_argument("source", help="HDF5 dataset")
-    p.add_argument("--to", required=True, help="output MCAP file (.mcap)")
+    p.add_argument("source", help="HDF5 dataset, or a recording folder (RadarIfxAvian_*)")
+    p.add_argument("--to", required=True,
+                   help="output MCAP file (.mcap) for a dataset, HDF5 file (.h5) for a "
+                        "recording")
+    p.add_argument("--project", help="recording only: also write a project (.json) whose "
+                                     "radar reproduces the recording's configuration")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
     p.set_defaults(func=cmd_convert)
 

@@ -729,9 +729,23 @@ def generate_report(out_dir: str | Path, *, quick: bool = False,
         result.figures.append(Figure(file, title, text, section="Radar products"))
     result.numbers["products"] = nums
     say("radar products done")
+    real_bgt60tr13c(result, out, quick=quick)
+    say("real BGT60TR13C done")
     _write_readme(result, quick=quick)
     (out / "numbers.json").write_text(json.dumps(result.numbers, indent=2, default=float) + "\n")
     return result
+
+
+def real_bgt60tr13c(result: ReportResult, out: Path, *, quick: bool) -> None:
+    """Section "simulation and a real BGT60TR13C" (:mod:`simcore.report_real`).
+
+    Uses the shared real recording when present; otherwise the section says it is absent.
+    """
+    from simcore.report_real import real_section
+
+    file, title, text, numbers = real_section(out, quick=quick)
+    result.figures.append(Figure(file, title, text))
+    result.numbers["real_bgt60tr13c"] = numbers
 
 
 def _write_readme(result: ReportResult, *, quick: bool) -> None:
@@ -759,7 +773,7 @@ def _write_readme(result: ReportResult, *, quick: bool) -> None:
             title = fig.title.removeprefix(fig.section + ": ")
             lines += [f"### {number}.{sub} {title[:1].upper()}{title[1:]}", ""]
         section = fig.section
-        lines += [f"![{fig.title}]({fig.file})", "", fig.text, ""]
+        lines += ([f"![{fig.title}]({fig.file})", ""] if fig.file else []) + [fig.text, ""]
     (result.out_dir / "README.md").write_text("\n".join(lines))
 
 

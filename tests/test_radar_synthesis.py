@@ -170,8 +170,10 @@ def test_receiver_noise_follows_the_noise_figure() -> None:
     out = front_end(cfg).synthesize(Scatterers.from_arrays(np.zeros((0, 3)), []),
                                     rng=np.random.default_rng(1))
     k_t0 = 1.380649e-23 * 290.0
+    # Thermal noise (k T0 F f_s/2 R G² / V_fs², no IF filter here) plus the white noise
+    # added after the IF filters (adc_noise_fs, issue #35).
     sigma2 = (k_t0 * 10 ** (cfg.noise_figure_db / 10) * cfg.sample_rate_hz / 2 * 50.0
-              * 10 ** (cfg.if_gain_db / 10) / cfg.adc_full_scale_v**2)
+              * 10 ** (cfg.if_gain_db / 10) / cfg.adc_full_scale_v**2) + cfg.adc_noise_fs**2
     print(f"noise variance / noise-figure formula = {np.var(out.adc) / sigma2:.4f}")
     assert_allclose(np.var(out.adc.astype(np.float64)), sigma2, rtol=0.03)
     explicit = cfg.model_copy(update={"noise_variance_adc": 1e-4})
@@ -230,7 +232,8 @@ def test_high_pass_shapes_the_noise_spectrum() -> None:
 def test_leakage_is_a_tone_at_the_board_path_delay() -> None:
     spacing = 20.0  # mm between Tx and Rx: τ = 67 ps, beat ≈ 1.6 kHz
     cfg = bgt60tr13c(noise_variance_adc=0.0, adc_bits=None, if_highpass_hz=0.0,
-                     leakage_dbc=-60.0, if_gain_db=40.0,
+                     leakage_dbc=-60.0, if_gain_db=40.0, leakage_path_mm=None,
+                     leakage_echoes=[],
                      tx=custom_array([(0.0, 0.0)], prefix="tx"),
                      rx=custom_array([(spacing, 0.0)]))
     out = front_end(cfg).synthesize(Scatterers.from_arrays(np.zeros((0, 3)), []),

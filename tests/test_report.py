@@ -5,13 +5,14 @@ from __future__ import annotations
 import json
 
 from simcore.cli import main
+from simcore.report_real import shared_recording
 
 
 def test_quick_report_figures_and_numbers(tmp_path):
     out = tmp_path / "validation"
     assert main(["report", "--out", str(out), "--quick", "--quiet"]) == 0
     figures = sorted(p.name for p in out.glob("fig*.png"))
-    assert len(figures) == 13
+    assert len(figures) == 13 + (shared_recording() is not None)
     assert all((out / f).stat().st_size > 20_000 for f in figures)   # real plots, not blanks
     readme = (out / "README.md").read_text()
     assert all(f in readme for f in figures)
@@ -48,6 +49,15 @@ def test_quick_report_figures_and_numbers(tmp_path):
     side = n["side_by_side"]
     assert side["time_s"] == side["radar_time_s"]
     assert side["tof_points"] > 10_000 and side["radar_detections"] > 0
+
+    real = n["real_bgt60tr13c"]
+    if shared_recording() is None:
+        assert real["recording"] is None and "is not present" in readme
+    else:   # issue #35: the calibrated front end within 3 dB of the real device
+        assert "Simulation and a real BGT60TR13C" in readme
+        for name, measured, _before, after in real["rows"]:
+            assert abs(after - measured) <= 3.0, name
+        assert 0.1 <= real["breathing_rate_hz"] <= 0.5
 
     # Surfaces (#15): the bars of the issue, measured by the report itself.
     surf = n["surfaces"]

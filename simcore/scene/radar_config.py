@@ -119,6 +119,23 @@ class Antenna(Model):
         return check_name(name)
 
 
+class LeakageEcho(Model):
+    """A further static Tx→Rx coupling path beside the direct leakage.
+
+    Reflections inside the module, on the board, the radome or the mount: a tone like the
+    direct leakage, with the delay of its electrical length ``path_mm`` (Tx → Rx, total) and
+    the power ``level_dbc`` at the Rx port relative to the Tx power
+    (``docs/physics_radar.md``, "Calibration against a real BGT60TR13C").
+    """
+
+    path_mm: float = Field(ge=0, le=100_000, allow_inf_nan=False)
+    level_dbc: float = Field(ge=-400, le=0, allow_inf_nan=False)
+
+
+#: Values of a vendor device configuration kept with a radar made from it.
+DeviceSettingValue = Union[int, float, str, list[int]]
+
+
 def default_l_rx(spacing_mm: float = 2.5) -> list[Antenna]:
     """Three Rx in an L (BGT60TR13C-like): a horizontal pair and a vertical pair, λ/2 apart."""
     return [
@@ -188,6 +205,22 @@ class RadarConfig(Model):
         -40.0, ge=-400, le=0, allow_inf_nan=False,
         description="Tx→Rx leakage power at the Rx port relative to the Tx power "
                     "(None = no leakage)")
+    leakage_path_mm: float | None = Field(
+        None, ge=0, le=100_000, allow_inf_nan=False,
+        description="electrical length of the direct Tx→Rx coupling path (mm); None = the "
+                    "distance between the two elements on the board")
+    leakage_echoes: list[LeakageEcho] = Field(
+        default_factory=list, max_length=64,
+        description="further static coupling paths (module, board, radome, mount "
+                    "reflections); off with the leakage (leakage_dbc = None)")
+    adc_noise_fs: float = Field(
+        0.0, ge=0, le=1, allow_inf_nan=False,
+        description="rms noise per real channel added after the IF filters (baseband "
+                    "amplifier output, ADC driver, ADC) in FS: white, independent of the IF "
+                    "gain; noise_variance_adc, when set, replaces it too")
+    device_settings: dict[str, DeviceSettingValue] | None = Field(
+        None, description="the vendor device configuration this radar reproduces (e.g. a "
+                          "recording's fmcw_single_shape), kept for reference")
     if_highpass_hz: float = Field(80e3, ge=0, le=MAX_SAMPLE_RATE_HZ, allow_inf_nan=False,
                                   description="IF high-pass cutoff (0 = none)")
     if_highpass_order: int = Field(1, ge=1, le=8)

@@ -18,6 +18,7 @@ NEW_VALUES = {
     "rig.radar.rx_gain_dbi": 3.0, "rig.radar.noise_figure_db": 8.5,
     "rig.radar.if_gain_db": 40.0, "rig.radar.adc_bits": None,
     "rig.radar.adc_full_scale_v": 0.5, "rig.radar.leakage_dbc": None,
+    "rig.radar.leakage_path_mm": 38.0, "rig.radar.adc_noise_fs": 4.5e-4,
     "rig.radar.if_highpass_hz": 150e3, "rig.radar.if_lowpass_hz": 900e3,
     "rig.radar.speckle": False, "rig.radar.multipath_order": 2,
     "dsp.cfar_guard_range": 3, "dsp.cfar_train_range": 12, "dsp.cfar_guard_doppler": 2,

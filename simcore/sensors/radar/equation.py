@@ -86,13 +86,29 @@ def noise_std_fs(config: RadarConfig) -> float:
     return float(volts / config.adc_full_scale_v)
 
 
+def adc_noise_std_fs(config: RadarConfig) -> float:
+    """Standard deviation of the noise added after the IF filters, per real channel (FS).
+
+    ``adc_noise_fs``, or 0 when ``noise_variance_adc`` replaces the noise model.
+    """
+    return 0.0 if config.noise_variance_adc is not None else float(config.adc_noise_fs)
+
+
+def coupling_amplitude_fs(config: RadarConfig, level_dbc: float) -> float:
+    """Peak amplitude at the ADC of a coupling path of power ``level_dbc`` re the Tx (FS).
+
+    ``√(2 R_ref P_t 10^(level_dbc/10)) · 10^(G_IF/20) / V_fs``, before the IF filters.
+    """
+    p = 1e-3 * 10.0 ** ((config.tx_power_dbm + level_dbc) / 10.0)
+    volts = np.sqrt(2.0 * R_REF_OHM * p) * 10.0 ** (config.if_gain_db / 20.0)
+    return float(volts / config.adc_full_scale_v)
+
+
 def leakage_amplitude_fs(config: RadarConfig) -> float:
     """Peak amplitude of the Tx→Rx leakage tone at the ADC, before the high-pass (FS)."""
     if config.leakage_dbc is None:
         return 0.0
-    p = 1e-3 * 10.0 ** ((config.tx_power_dbm + config.leakage_dbc) / 10.0)
-    volts = np.sqrt(2.0 * R_REF_OHM * p) * 10.0 ** (config.if_gain_db / 20.0)
-    return float(volts / config.adc_full_scale_v)
+    return coupling_amplitude_fs(config, config.leakage_dbc)
 
 
 def butterworth_poles(order: int) -> NDArray[np.complex128]:
@@ -216,7 +232,8 @@ def pattern_gains(config: RadarConfig, directions: NDArray[np.float64]
     return g_tx.reshape(len(config.tx), -1), g_rx.reshape(len(config.rx), -1)
 
 
-__all__ = ["BOLTZMANN", "R_REF_OHM", "T0_K", "amplitude_scale_fs", "butterworth_poles",
+__all__ = ["BOLTZMANN", "R_REF_OHM", "T0_K", "adc_noise_std_fs", "amplitude_scale_fs",
+           "butterworth_poles", "coupling_amplitude_fs",
            "element_gain",
            "highpass_response", "if_amplitude_fs", "if_filter_response", "leakage_amplitude_fs",
            "lowpass_response", "noise_std_fs", "pattern_gains"]

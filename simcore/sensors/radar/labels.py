@@ -49,7 +49,12 @@ from simcore.dsp.windows import make_window
 from simcore.jit import kernel
 from simcore.scene.dsp_config import DspConfig
 from simcore.scene.radar_config import SPEED_OF_LIGHT, Antenna, CosinePattern, RadarConfig
-from simcore.sensors.radar.equation import amplitude_scale_fs, element_gain, noise_std_fs
+from simcore.sensors.radar.equation import (
+    adc_noise_std_fs,
+    amplitude_scale_fs,
+    element_gain,
+    noise_std_fs,
+)
 from simcore.sensors.radar.scatterers import Scatterers
 
 #: Oversampling of the tabulated window responses (table points per FFT bin).
@@ -628,7 +633,8 @@ def label_detections(detections: Detections, scatterers: Scatterers | Sequence[
         per_ghost += cells.power_by_object(prepared, n_objects)
 
     n_ch = len(rc.tx) * len(rc.rx)
-    noise = (4.0 if not rc.complex_iq else 2.0) * noise_std_fs(rc) ** 2 / n_ch
+    sigma2 = noise_std_fs(rc) ** 2 + adc_noise_std_fs(rc) ** 2   # + noise after the filters
+    noise = (4.0 if not rc.complex_iq else 2.0) * sigma2 / n_ch
     noise *= _noise_gain(dc.range_window, rc.samples_per_chirp, dc.range_window_sidelobe_db)
     noise *= _noise_gain(dc.doppler_window, rc.chirps_per_frame, dc.doppler_window_sidelobe_db)
     total = per_object.sum(axis=1) + per_ghost.sum(axis=1) + noise
