@@ -45,9 +45,10 @@ from numpy.typing import NDArray
 from scipy.ndimage import gaussian_filter
 
 from simcore.render.buffers import RenderBuffers, downsample_ground_truth
+from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.materials import BandMaterial
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
-from simcore.sensors.tof.multipath import one_bounce, senders_from_render
+from simcore.sensors.tof.multipath import RECEIVER_STEP, one_bounce_image, senders_from_render
 
 #: Float dtype of every sensor-resolution ToF image.
 FLOAT = np.float32
@@ -324,9 +325,27 @@ def _correlation_from_samples(sample_buffers: Sequence[RenderBuffers], config: T
     return _crosstalk(as_float(np.stack(planes)), config.crosstalk_sigma_px)
 
 
+_SOLID_ANGLE: dict[tuple[float, ...], NDArray[np.float32]] = {}
+
+
+def _solid_angle(intrinsics: PinholeIntrinsics) -> NDArray[np.float32]:
+    """:meth:`PinholeIntrinsics.pixel_solid_angle` as float32, computed once per grid."""
+    key = (intrinsics.width, intrinsics.height, intrinsics.fx, intrinsics.fy,
+           intrinsics.cx, intrinsics.cy)
+    if key not in _SOLID_ANGLE:
+        if len(_SOLID_ANGLE) > 8:
+            _SOLID_ANGLE.clear()
+        _SOLID_ANGLE[key] = as_float(intrinsics.pixel_solid_angle())
+    return _SOLID_ANGLE[key]
+
+
 def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
-                      albedo: NDArray[np.float32]) -> NDArray[np.float32]:
+                      albedo: NDArray[np.float32], *, receiver_step: int = RECEIVER_STEP
+                     ) -> NDArray[np.float32]:
     """One-bounce indirect light per sensor pixel: offset and phasor planes (electrons).
+
+    ``receiver_step`` is the node spacing of :func:`one_bounce_image` (1: the exact sum at
+    every pixel, the reference).
 
     Returns
     -------
@@ -338,7 +357,7 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
     senders = senders_from_render(
         buffers.points_m, buffers.normals, np.where(hit, albedo, FLOAT(0.0)),
-        as_float(buffers.intrinsics.pixel_solid_angle()), hit,
+        _solid_angle(buffers.intrinsics), hit,
         stride=config.multipath_patch_px * k)
     # Receivers: each sensor pixel's mean surface point, normal and albedo.
     weight = hit.astype(np.float32)
@@ -351,16 +370,17 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     rho = _block_mean(np.where(hit, albedo, 0.0), k) / count
     seen = _block_mean(weight, k) > 0
     h, w = seen.shape
-    magnitude, phasors = one_bounce(as_float(pts[seen]), as_float(nrm[seen]), senders,
-                                    list(config.modulation_frequencies_hz))
-    scale = as_float(rho[seen] * FLOAT(config.signal_electrons_at_1m)
-                     * _block_mean(weight, k)[seen])
+    magnitude, phasors = one_bounce_image(as_float(pts), as_float(nrm), seen, senders,
+                                          list(config.modulation_frequencies_hz),
+                                          step=receiver_step)
+    scale = as_float(rho * FLOAT(config.signal_electrons_at_1m) * _block_mean(weight, k))
+    scale[~seen] = 0.0
     planes = np.zeros((1 + 2 * len(phasors), h, w), dtype=np.float32)
-    planes[0][seen] = magnitude * scale
+    planes[0] = magnitude * scale
     contrast = FLOAT(config.demodulation_contrast)
     for j, (re, im) in enumerate(phasors):
-        planes[1 + 2 * j][seen] = re * scale * contrast
-        planes[2 + 2 * j][seen] = im * scale * contrast
+        planes[1 + 2 * j] = re * scale * contrast
+        planes[2 + 2 * j] = im * scale * contrast
     return planes
 
 
