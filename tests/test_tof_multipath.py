@@ -166,7 +166,7 @@ def _corner_depths(step: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return depths[0], depths[1], off
 
 
-def _depth_with(buf, cfg, planes) -> np.ndarray:  # type: ignore[no-untyped-def]
+def _depth_with(buf, cfg, planes):  # type: ignore[no-untyped-def]
     """Depth of the ideal camera with the given indirect planes (phase of the phasor sum)."""
     import simcore.sensors.tof.camera as cam
 

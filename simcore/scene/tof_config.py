@@ -116,6 +116,11 @@ class TofCameraConfig(Model):
         description="the secondary surfaces are sampled every this many sensor pixels "
                     "(smaller: finer and slower)")
 
+    specular: bool = Field(
+        False, description="specular near-IR inter-reflections: light reaching a pixel via "
+                           "glossy or metal surfaces (mirror paths up to a triple bounce, "
+                           "GGX lobe), e.g. a metal corner reflector's retroreflection")
+
     @model_validator(mode="after")
     def _check_exposure_range(self) -> TofCameraConfig:
         low, high = self.exposure_range_s

@@ -49,6 +49,7 @@ from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.materials import BandMaterial
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
 from simcore.sensors.tof.multipath import RECEIVER_STEP, one_bounce_image, senders_from_render
+from simcore.sensors.tof.specular import specular_paths
 
 #: Float dtype of every sensor-resolution ToF image.
 FLOAT = np.float32
@@ -384,6 +385,52 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     return planes
 
 
+def specular_factor(buffers: RenderBuffers, mirrors: tuple[NDArray[np.float32],
+                                                         NDArray[np.bool_]],
+                    *, max_bounces: int = 3) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+    """Mirror-path signal factors and optical paths of a render (:mod:`.specular`).
+
+    Parameters
+    ----------
+    buffers : RenderBuffers
+        The ToF render.
+    mirrors : (ndarray, ndarray)
+        :func:`simcore.sensors.tof.specular.material_columns` and
+        :func:`~simcore.sensors.tof.specular.is_mirror` of the project's objects.
+
+    Returns
+    -------
+    factor, path : ndarray, shape (max_bounces − 1, H·k, W·k), float32
+        Signal per ``signal_electrons_at_1m`` (1/m²) and round-trip path (m).
+    """
+    columns, mirror = mirrors
+    intr = buffers.intrinsics
+    index = np.ascontiguousarray(np.where(np.isfinite(buffers.range_m),
+                                          buffers.object_index, -1).astype(np.int32))
+    if not mirror[index[index >= 0]].any():
+        shape = (max(max_bounces - 1, 1), *index.shape)
+        return np.zeros(shape, dtype=np.float32), np.zeros(shape, dtype=np.float32)
+    return specular_paths(
+        np.ascontiguousarray(buffers.points_m, dtype=np.float32),
+        np.ascontiguousarray(buffers.normals, dtype=np.float32), index,
+        np.ascontiguousarray(columns, dtype=np.float32), np.ascontiguousarray(mirror),
+        np.array([intr.fx, intr.fy, intr.cx, intr.cy], dtype=np.float64), max_bounces)
+
+
+def _specular_planes(factor: NDArray[np.float32], path: NDArray[np.float32],
+                     config: TofCameraConfig) -> NDArray[np.float32]:
+    """Offset and phasor planes (e⁻) of the mirror paths, laid out like the direct planes."""
+    k = config.supersampling
+    signal = factor * FLOAT(config.signal_electrons_at_1m)
+    planes = [_block_mean(signal.sum(axis=0), k)]
+    m_signal = signal * FLOAT(config.demodulation_contrast)
+    for f_mod in config.modulation_frequencies_hz:
+        phase = path * FLOAT(2.0 * np.pi * f_mod / SPEED_OF_LIGHT)
+        planes += [_block_mean((m_signal * np.cos(phase)).sum(axis=0), k),
+                   _block_mean((m_signal * np.sin(phase)).sum(axis=0), k)]
+    return as_float(np.stack(planes))
+
+
 def _transmitted_planes(buffers: RenderBuffers, see_through: RenderBuffers,
                         transmittance: NDArray[np.floating], config: TofCameraConfig
                         ) -> NDArray[np.float32]:
@@ -418,16 +465,21 @@ def _transmitted_planes(buffers: RenderBuffers, see_through: RenderBuffers,
     return as_float(np.stack(planes))
 
 
-def auto_exposure_s(reference: RenderBuffers, config: TofCameraConfig) -> float:
+def auto_exposure_s(reference: RenderBuffers, config: TofCameraConfig, *,
+                    extra_response: NDArray[np.float32] | None = None) -> float:
     """The exposure that puts the brightest 1 % of pixels at the target level (s).
 
     From a noise-free look at ``reference`` (the previous frame's render): the largest
     correlation sample of a pixel is at most ``(S + B)(1 + m)``; its 99th percentile over
     the pixels that see a surface, at the configured exposure, scales linearly with the
-    exposure time. The result is clipped to ``config.exposure_range_s``.
+    exposure time. The result is clipped to ``config.exposure_range_s``. ``extra_response``
+    (render shape, 1/m²) adds light that does not come straight back (the mirror paths of
+    :func:`specular_factor`) as ``signal_electrons_at_1m ×`` it.
     """
     k = config.supersampling
     _, signal, ambient = _sample_signal(reference, config)
+    if extra_response is not None:
+        signal = signal + extra_response * FLOAT(config.signal_electrons_at_1m)
     offset = _block_mean(signal + ambient, k)
     seen = _block_mean((reference.object_index >= 0).astype(np.float32), k) > 0
     low, high = config.exposure_range_s
@@ -447,7 +499,9 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                  albedo: NDArray[np.float32] | None = None,
                  exposure_reference: RenderBuffers | None = None,
                  see_through: RenderBuffers | None = None,
-                 transmittance: NDArray[np.floating] | None = None) -> TofOutput:
+                 transmittance: NDArray[np.floating] | None = None,
+                 mirrors: tuple[NDArray[np.float32], NDArray[np.bool_]] | None = None
+                 ) -> TofOutput:
     """Simulate one AMCW ToF frame from the ToF band's supersampled render.
 
     Parameters
@@ -480,6 +534,11 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
     transmittance : ndarray, shape (N,), optional
         One-pass power transmittance of each object (index as ``object_index``;
         :func:`slab_transmittance`); needed with ``see_through``.
+    mirrors : (ndarray, ndarray), optional
+        Per-object material columns and mirror flags
+        (:func:`simcore.sensors.tof.specular.material_columns`, ``is_mirror``); needed when
+        ``config.specular`` is on: light reaching pixels via glossy surfaces
+        (:mod:`simcore.sensors.tof.specular`), also counted by auto-exposure.
 
     Returns
     -------
@@ -504,9 +563,17 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         raise ValueError(f"sample_buffers needs the 4 correlation samples' renders, "
                          f"got {len(sample_buffers)}")
 
+    spec = None
+    if config.specular:
+        if mirrors is None:
+            raise ValueError("specular needs the objects' mirror table (mirrors=...)")
+        spec = specular_factor(buffers, mirrors)
     if config.auto_exposure:
+        # The previous frame's mirror paths are taken as this frame's (cheaper).
         exposure = auto_exposure_s(buffers if exposure_reference is None
-                                   else exposure_reference, config)
+                                   else exposure_reference, config,
+                                   extra_response=None if spec is None
+                                   else spec[0].sum(axis=0))
         config = config.model_copy(update={"exposure_time_s": exposure})
 
     # 1. Per sub-pixel signal/ambient electrons per sample and range.
@@ -531,6 +598,9 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         if albedo is None:
             raise ValueError("multipath needs the diffuse albedo of the render (albedo=...)")
         indirect = _multipath_planes(buffers, config, albedo)
+    if spec is not None:
+        mirrored = _specular_planes(spec[0], spec[1], config)
+        indirect = mirrored if indirect is None else indirect + mirrored
     if see_through is not None:
         if transmittance is None:
             raise ValueError("see_through needs the objects' transmittance (transmittance=...)")
