@@ -49,6 +49,7 @@ from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.materials import BandMaterial
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
 from simcore.sensors.tof.multipath import RECEIVER_STEP, one_bounce_image, senders_from_render
+from simcore.sensors.tof.optics import distort_buffers, stray_light, vignetting, wiggling_planes
 from simcore.sensors.tof.specular import specular_paths
 
 #: Float dtype of every sensor-resolution ToF image.
@@ -145,7 +146,8 @@ def _crosstalk(images: NDArray[np.float32], sigma_px: float) -> NDArray[np.float
 
 
 def _read_out(correlation_e: NDArray[np.float32], config: TofCameraConfig, *,
-              rng: np.random.Generator, noise: bool
+              rng: np.random.Generator, noise: bool,
+              suppressed: NDArray[np.float32] | None = None
               ) -> tuple[NDArray[np.float32], NDArray[np.bool_]]:
     """Noise, saturation and ADC of the correlation samples.
 
@@ -153,6 +155,9 @@ def _read_out(correlation_e: NDArray[np.float32], config: TofCameraConfig, *,
     ----------
     correlation_e : ndarray, shape (4, H, W), float32
         Noise-free correlation samples (e⁻).
+    suppressed : ndarray, shape (H, W), optional
+        Background suppression: ambient electrons removed from every sample after the
+        noise (:attr:`TofCameraConfig.background_suppression`).
 
     Returns
     -------
@@ -166,6 +171,10 @@ def _read_out(correlation_e: NDArray[np.float32], config: TofCameraConfig, *,
         # Shot noise (Poisson, Gaussian approximation: variance = mean e⁻) and read noise.
         std = np.sqrt(np.maximum(c, 0.0) + FLOAT(config.read_noise_electrons) ** 2)
         c = as_float(c + std * rng.standard_normal(c.shape, dtype=FLOAT))
+    if suppressed is not None:
+        # SBI: the pixel drains the mean ambient charge before it fills the well; the
+        # ambient light's shot noise (added above) stays.
+        c = as_float(c - suppressed)
     full_well = FLOAT(config.full_well_electrons)
     saturated = np.any(c >= full_well, axis=0)
     dn = np.minimum(c, full_well) * FLOAT(config.conversion_gain_dn_per_electron)
@@ -303,7 +312,7 @@ def _sample_signal(buffers: RenderBuffers, config: TofCameraConfig
     response = np.where(hit, buffers.intensity, FLOAT(0.0))
     signal = response * FLOAT(config.signal_electrons_at_1m)
     signal /= r * r
-    ambient = response * FLOAT(config.ambient_electrons)
+    ambient = response * FLOAT(config.ambient_electrons if config.ambient_light else 0.0)
     return r, signal, ambient
 
 
@@ -313,17 +322,22 @@ def _correlation_from_samples(sample_buffers: Sequence[RenderBuffers], config: T
 
     Each of the four samples integrates the scene as it is during its own exposure, so a
     moving edge lands at different pixels in C0..C3 (the motion artefact of real AMCW
-    cameras). Cross-talk is applied afterwards like for a still scene.
+    cameras). The optics and cross-talk are applied afterwards (:func:`_optics`) like for
+    a still scene. With wiggling each sample also sees the correlation's harmonics
+    ``a3 cos 3(φ + iπ/2) + a5 cos 5(φ + iπ/2)``.
     """
     k = config.supersampling
+    a3, a5 = (FLOAT(a) for a in config.wiggling_harmonics)
     planes = []
     for i, buf in enumerate(sample_buffers):
         r, signal, ambient = _sample_signal(buf, config)
         phase = r * FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT) + FLOAT(i * np.pi / 2)
+        wave = np.cos(phase)
+        if config.wiggling:
+            wave = wave + a3 * np.cos(3 * phase) + a5 * np.cos(5 * phase)
         planes.append(_block_mean(signal + ambient, k)
-                      + _block_mean(signal * FLOAT(config.demodulation_contrast)
-                                    * np.cos(phase), k))
-    return _crosstalk(as_float(np.stack(planes)), config.crosstalk_sigma_px)
+                      + _block_mean(signal * FLOAT(config.demodulation_contrast) * wave, k))
+    return as_float(np.stack(planes))
 
 
 _SOLID_ANGLE: dict[tuple[float, ...], NDArray[np.float32]] = {}
@@ -493,6 +507,97 @@ def auto_exposure_s(reference: RenderBuffers, config: TofCameraConfig, *,
     return float(min(max(wanted, low), high))
 
 
+def _direct_planes(buffers: RenderBuffers, config: TofCameraConfig) -> NDArray[np.float32]:
+    """Offset ``S + B`` and per frequency the phasor ``m S e^{iφ}`` (re, im) per sensor pixel.
+
+    ``C_i = offset + m S cos(φ + iπ/2)``: C0 = o + mSc, C1 = o − mSs, C2 = o − mSc,
+    C3 = o + mSs. With wiggling, the harmonics' phasor (:func:`.optics.wiggling_planes`) is
+    added to the fundamental's. In float32 like the buffers (relative rounding 6e-8; the
+    phase of a 10 m range is accurate to 1e-6 rad, 1 µm of depth at 20 MHz).
+
+    Returns
+    -------
+    ndarray, shape (1 + 2F, H, W), float32
+    """
+    k = config.supersampling
+    r, signal, ambient = _sample_signal(buffers, config)
+    m_signal = signal * FLOAT(config.demodulation_contrast)
+    planes = [_block_mean(signal + ambient, k)]
+    for f_mod in config.modulation_frequencies_hz:
+        phase = r * FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT)
+        re, im = m_signal * np.cos(phase), m_signal * np.sin(phase)
+        if config.wiggling:
+            w_re, w_im = wiggling_planes(m_signal, phase, config.wiggling_harmonics)
+            re, im = re + w_re, im + w_im
+        planes += [_block_mean(re, k), _block_mean(im, k)]
+    return as_float(np.stack(planes))
+
+
+def _optics(planes: NDArray[np.float32], config: TofCameraConfig) -> NDArray[np.float32]:
+    """Vignetting, lens stray light and cross-talk on the planes (…, H, W) (all linear)."""
+    if config.vignetting:
+        planes = planes * vignetting(config.intrinsics())
+    if config.stray_light:
+        planes = stray_light(planes, config.stray_light_fraction, config.stray_light_radius_px)
+    return _crosstalk(as_float(planes), config.crosstalk_sigma_px)
+
+
+def _ambient_plane(buffers: RenderBuffers, config: TofCameraConfig) -> NDArray[np.float32]:
+    """Ambient electrons per sample and sensor pixel, after the optics (for SBI)."""
+    _, _, ambient = _sample_signal(buffers, config)
+    return _optics(_block_mean(ambient, config.supersampling)[None], config)[0]
+
+
+_Images = tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.bool_],
+                NDArray[np.bool_], NDArray[np.float32]]
+
+
+def _read_and_demodulate(mixed: NDArray[np.float32], indirect: NDArray[np.float32] | None,
+                         sample_buffers: Sequence[RenderBuffers] | None,
+                         config: TofCameraConfig, *, rng: np.random.Generator, noise: bool,
+                         ambient: NDArray[np.float32] | None
+                         ) -> tuple[NDArray[np.float32], _Images]:
+    """Steps 4.–7.: correlation samples, read-out, demodulation, validity, unwrapping.
+
+    Returns
+    -------
+    depth : ndarray, shape (H, W), float32
+    (amplitude, intensity, valid, saturated, correlation)
+        Of the first modulation frequency (validity over all).
+    """
+    depths, amplitude, correlation, intensity = [], None, None, None
+    valid = np.ones((config.height, config.width), dtype=bool)
+    saturated = np.zeros_like(valid)
+    for j, f_mod in enumerate(config.modulation_frequencies_hz):
+        if sample_buffers is not None:
+            corr_e = _optics(_correlation_from_samples(sample_buffers, config, f_mod), config)
+            if indirect is not None:
+                o, re, im = _optics(indirect[[0, 1 + 2 * j, 2 + 2 * j]], config)
+                corr_e = corr_e + np.stack([o + re, o - im, o - re, o + im])
+        else:
+            o, re, im = mixed[0], mixed[1 + 2 * j], mixed[2 + 2 * j]
+            corr_e = np.stack([o + re, o - im, o - re, o + im])
+        # 4.–5. Noise, saturation, ADC.
+        corr_dn, sat = _read_out(corr_e, config, rng=rng, noise=noise, suppressed=ambient)
+        # 6. Phase, depth, amplitude, validity.
+        depth, amp = _demodulate(corr_dn, f_mod)
+        saturated |= sat
+        valid &= ~sat & (amp >= FLOAT(config.min_amplitude_dn))
+        depths.append(depth)
+        if j == 0:
+            amplitude, correlation = amp, corr_dn
+            intensity = as_float(corr_dn.mean(axis=0))
+    assert amplitude is not None and correlation is not None and intensity is not None
+    # 7. Two-frequency unwrapping.
+    if len(depths) == 2:
+        f1, f2 = config.modulation_frequencies_hz
+        depth_m = unwrap_two_frequencies(depths[0], depths[1], f1, f2)
+    else:
+        depth_m = depths[0]
+    depth_m = as_float(np.where(valid, depth_m, 0.0))
+    return depth_m, (amplitude, intensity, valid, saturated, correlation)
+
+
 def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                  rng: np.random.Generator, noise: bool = True,
                  sample_buffers: Sequence[RenderBuffers] | None = None,
@@ -563,6 +668,13 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         raise ValueError(f"sample_buffers needs the 4 correlation samples' renders, "
                          f"got {len(sample_buffers)}")
 
+    if config.distortion:
+        buffers = distort_buffers(buffers, config)
+        sample_buffers = (None if sample_buffers is None
+                          else [distort_buffers(b, config) for b in sample_buffers])
+        see_through = None if see_through is None else distort_buffers(see_through, config)
+        exposure_reference = (None if exposure_reference is None
+                              else distort_buffers(exposure_reference, config))
     spec = None
     if config.specular:
         if mirrors is None:
@@ -576,23 +688,12 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                                    else spec[0].sum(axis=0))
         config = config.model_copy(update={"exposure_time_s": exposure})
 
-    # 1. Per sub-pixel signal/ambient electrons per sample and range.
-    #    In float32 like the buffers (relative rounding 6e-8; the phase of a 10 m range is
-    #    accurate to 1e-6 rad, 1 µm of depth at 20 MHz), with SIMD cos/sin.
-    r, signal, ambient = _sample_signal(buffers, config)
+    # 1.–2. Per sub-pixel signal/ambient electrons, range and phase, summed per sensor pixel
+    #    as the offset S + B and the phasor m S e^{iφ} per frequency (_direct_planes).
+    planes = _direct_planes(buffers, config)
 
-    # 2. Sensor-pixel sums: offset S + B and the phasor m S e^{iφ} per frequency.
-    #    C_i = offset + m S cos(φ + iπ/2): C0 = o + mSc, C1 = o − mSs, C2 = o − mSc, C3 = o + mSs.
-    offset = _block_mean(signal + ambient, k)
-    m_signal = signal * FLOAT(config.demodulation_contrast)
-    planes = [offset]
-    for f_mod in config.modulation_frequencies_hz:
-        phase = r * FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT)
-        planes += [_block_mean(m_signal * np.cos(phase), k),
-                   _block_mean(m_signal * np.sin(phase), k)]
-
-    # Multipath interference (the one-bounce light) and the returns seen through panes,
-    # added as phasors before read-out.
+    # Multipath interference (the one-bounce light), mirror paths and the returns seen
+    # through panes, added as phasors before read-out.
     indirect = None
     if config.multipath:
         if albedo is None:
@@ -609,46 +710,16 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         through = _transmitted_planes(buffers, see_through, transmittance, config)
         indirect = through if indirect is None else indirect + through
     if indirect is not None:
-        planes = [plane + extra for plane, extra in zip(planes, indirect, strict=True)]
+        planes = planes + indirect
 
-    # 3. Cross-talk (linear, so it may act on offset and phasor planes alike).
-    mixed = _crosstalk(as_float(np.stack(planes)), config.crosstalk_sigma_px)
-
-    depths, amplitude, correlation, intensity = [], None, None, None
-    valid = np.ones((config.height, config.width), dtype=bool)
-    saturated = np.zeros_like(valid)
-    for j, f_mod in enumerate(config.modulation_frequencies_hz):
-        if sample_buffers is not None:
-            corr_e = _correlation_from_samples(sample_buffers, config, f_mod)
-            if indirect is not None:
-                extra = _crosstalk(indirect[[0, 1 + 2 * j, 2 + 2 * j]],
-                                   config.crosstalk_sigma_px)
-                o, re, im = extra
-                corr_e = corr_e + np.stack([o + re, o - im, o - re, o + im])
-        else:
-            o, re, im = mixed[0], mixed[1 + 2 * j], mixed[2 + 2 * j]
-            corr_e = np.stack([o + re, o - im, o - re, o + im])
-        # 4.–5. Noise, saturation, ADC.
-        corr_dn, sat = _read_out(corr_e, config, rng=rng, noise=noise)
-        # 6. Phase, depth, amplitude, validity.
-        depth, amp = _demodulate(corr_dn, f_mod)
-        saturated |= sat
-        valid &= ~sat & (amp >= FLOAT(config.min_amplitude_dn))
-        depths.append(depth)
-        if j == 0:
-            amplitude, correlation = amp, corr_dn
-            intensity = as_float(corr_dn.mean(axis=0))
-    assert amplitude is not None and correlation is not None and intensity is not None
-
-    # 7. Two-frequency unwrapping.
-    if len(depths) == 2:
-        f1, f2 = config.modulation_frequencies_hz
-        depth_m = unwrap_two_frequencies(depths[0], depths[1], f1, f2)
-    else:
-        depth_m = depths[0]
-    depth_m = as_float(np.where(valid, depth_m, 0.0))
-
+    # 3. Optics on the collected light (vignetting, lens stray light) and cross-talk — all
+    #    linear, so they act on offset and phasor planes alike.
+    mixed = _optics(planes, config)
+    ambient = _ambient_plane(buffers, config) if config.background_suppression else None
+    depth_m, out = _read_and_demodulate(mixed, indirect, sample_buffers, config, rng=rng,
+                                        noise=noise, ambient=ambient)
     gt_range, gt_id = downsample_ground_truth(buffers, k)
+    amplitude, intensity, valid, saturated, correlation = out
     return TofOutput(
         depth_m=depth_m,
         amplitude=amplitude,
