@@ -75,7 +75,7 @@ def test_trihedral_saturates_at_fixed_exposure_where_its_signal_exceeds_the_full
     buf = _render(project, cfg)
     out = simulate_tof(buf, cfg, rng=np.random.default_rng(0), noise=False,
                        mirrors=mirror_table(project))
-    factor, _ = specular_factor(buf, mirror_table(project))
+    factor, _ = specular_factor(buf, mirror_table(project), step=cfg.supersampling)
     # Computed irradiance → electrons of the brightest sample, per sensor pixel.
     k = cfg.supersampling
     direct = buf.intensity / np.maximum(buf.range_m, 1e-3) ** 2
@@ -84,7 +84,7 @@ def test_trihedral_saturates_at_fixed_exposure_where_its_signal_exceeds_the_full
     peak = s * cfg.signal_electrons_at_1m * (1 + cfg.demodulation_contrast)
     over = peak > cfg.full_well_electrons * 1.02
     under = peak < cfg.full_well_electrons * 0.98
-    assert over.sum() > 100, "a 1 ms exposure saturates the retroreflection"
+    assert over.sum() > 50, "a 1 ms exposure saturates the retroreflection"
     assert out.saturated[over].all()
     assert not out.saturated[under].any()
 

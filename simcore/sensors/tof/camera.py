@@ -401,7 +401,8 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
 
 def specular_factor(buffers: RenderBuffers, mirrors: tuple[NDArray[np.float32],
                                                          NDArray[np.bool_]],
-                    *, max_bounces: int = 3) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+                    *, max_bounces: int = 3, step: int = 1
+                    ) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
     """Mirror-path signal factors and optical paths of a render (:mod:`.specular`).
 
     Parameters
@@ -411,6 +412,9 @@ def specular_factor(buffers: RenderBuffers, mirrors: tuple[NDArray[np.float32],
     mirrors : (ndarray, ndarray)
         :func:`simcore.sensors.tof.specular.material_columns` and
         :func:`~simcore.sensors.tof.specular.is_mirror` of the project's objects.
+    max_bounces, step : int, keyword-only
+        Surfaces per path; one traced path per ``step × step`` block of render pixels
+        (:func:`simcore.sensors.tof.specular.specular_paths`).
 
     Returns
     -------
@@ -428,7 +432,7 @@ def specular_factor(buffers: RenderBuffers, mirrors: tuple[NDArray[np.float32],
         np.ascontiguousarray(buffers.points_m, dtype=np.float32),
         np.ascontiguousarray(buffers.normals, dtype=np.float32), index,
         np.ascontiguousarray(columns, dtype=np.float32), np.ascontiguousarray(mirror),
-        np.array([intr.fx, intr.fy, intr.cx, intr.cy], dtype=np.float64), max_bounces)
+        np.array([intr.fx, intr.fy, intr.cx, intr.cy], dtype=np.float64), max_bounces, step)
 
 
 def _specular_planes(factor: NDArray[np.float32], path: NDArray[np.float32],
@@ -679,7 +683,7 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
     if config.specular:
         if mirrors is None:
             raise ValueError("specular needs the objects' mirror table (mirrors=...)")
-        spec = specular_factor(buffers, mirrors)
+        spec = specular_factor(buffers, mirrors, step=config.supersampling)
     if config.auto_exposure:
         # The previous frame's mirror paths are taken as this frame's (cheaper).
         exposure = auto_exposure_s(buffers if exposure_reference is None

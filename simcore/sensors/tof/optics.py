@@ -32,7 +32,7 @@ import dataclasses
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.signal import fftconvolve
+from scipy import fft as sp_fft
 
 from simcore.render.buffers import RenderBuffers
 from simcore.scene.camera import PinholeIntrinsics
@@ -127,22 +127,19 @@ def distortion_map(intrinsics: PinholeIntrinsics,
 def distort_buffers(buffers: RenderBuffers, config: TofCameraConfig) -> RenderBuffers:
     """The render as seen through the distorting lens (every per-pixel buffer resampled)."""
     index = distortion_map(buffers.intrinsics, config.distortion_coefficients)
-    inside = index >= 0
-    flat = np.where(inside, index, 0)
+    n = index.size
+    # Index n picks an appended background sample (outside the rendered field).
+    flat = np.where(index >= 0, index, n).ravel()
+    background = {"object_index": -1, "object_id": -1, "range_m": np.nan}
     changes: dict[str, object] = {}
     for field in dataclasses.fields(buffers):
         value = getattr(buffers, field.name)
         if not isinstance(value, np.ndarray) or value.shape[:2] != index.shape:
             continue
-        picked = value.reshape(index.size, *value.shape[2:])[flat.ravel()].reshape(value.shape)
-        if field.name in ("object_index", "object_id"):
-            picked = np.where(inside, picked, -1).astype(value.dtype)
-        elif field.name == "range_m":
-            picked = np.where(inside, picked, np.float32(np.nan)).astype(value.dtype)
-        else:
-            mask = inside.reshape(inside.shape + (1,) * (value.ndim - 2))
-            picked = np.where(mask, picked, 0).astype(value.dtype)
-        changes[field.name] = picked
+        src = value.reshape(n, -1)
+        pad = np.full((1, src.shape[1]), background.get(field.name, 0), dtype=value.dtype)
+        picked = np.take(np.concatenate([src, pad]), flat, axis=0)
+        changes[field.name] = picked.reshape(value.shape)
     return dataclasses.replace(buffers, **changes)  # type: ignore[arg-type]
 
 
@@ -196,17 +193,28 @@ def psf_kernel(shape: tuple[int, int], fraction: float, radius_px: float) -> F32
     return kernel.astype(np.float32)
 
 
+_PSF_FFT: dict[tuple[object, ...], tuple[tuple[int, int], NDArray[np.complex64]]] = {}
+
+
 def stray_light(planes: F32, fraction: float, radius_px: float) -> F32:
-    """Convolve each plane (…, H, W) with :func:`psf_kernel` (FFT, same-size output)."""
+    """Convolve each plane (…, H, W) with :func:`psf_kernel` (FFT, same-size output).
+
+    The kernel's transform is computed once per shape and parameters.
+    """
     if fraction <= 0:
         return planes
     h, w = planes.shape[-2:]
-    kernel = psf_kernel((h, w), fraction, radius_px)
-    out = fftconvolve(planes, kernel.reshape((1,) * (planes.ndim - 2) + kernel.shape),
-                      mode="same", axes=(-2, -1))
-    return np.asarray(out, dtype=np.float32)
-
-
-__all__ = ["brown_conrady", "distort_buffers", "distortion_map", "lens_focal_px",
-           "psf_kernel", "stray_light", "undistort", "vignetting", "wiggling_error_m",
-           "wiggling_planes"]
+    key = (h, w, float(fraction), float(radius_px))
+    if key not in _PSF_FFT:
+        # Circular size ≥ 2H − 1 keeps the wanted output rows free of wrap-around.
+        size = (sp_fft.next_fast_len(2 * h - 1, real=True),
+                sp_fft.next_fast_len(2 * w - 1, real=True))
+        kernel = psf_kernel((h, w), fraction, radius_px)
+        if len(_PSF_FFT) > 8:
+            _PSF_FFT.clear()
+        _PSF_FFT[key] = (size, sp_fft.rfft2(kernel, s=size).astype(np.complex64))
+    size, kernel_ft = _PSF_FFT[key]
+    full = sp_fft.irfft2(sp_fft.rfft2(planes, s=size, axes=(-2, -1)) * kernel_ft, s=size,
+                         axes=(-2, -1))
+    # The kernel is centred on (h − 1, w − 1): the same-size output starts there.
+    return np.ascontiguousarray(full[..., h - 1:2 * h - 1, w - 1:2 * w - 1], dtype=np.float32)

@@ -145,10 +145,48 @@ def _response(nx: float, ny: float, nz: float, px: float, py: float, pz: float,
 
 
 @kernel
+def _trace(points: F32, normals: F32, index: NDArray[np.int32], columns: F32,
+           mirror: NDArray[np.bool_], intrinsics: NDArray[np.float64], y: int, x: int,
+           factor: F32, path: F32) -> None:
+    """Trace the mirror path of render pixel (y, x) into ``factor[:, y, x]``, ``path[:, y, x]``."""
+    fx, fy, cx, cy = intrinsics[0], intrinsics[1], intrinsics[2], intrinsics[3]
+    obj = index[y, x]
+    ox, oy, oz = points[y, x, 0], points[y, x, 1], points[y, x, 2]
+    length = math.sqrt(ox * ox + oy * oy + oz * oz)
+    dx, dy, dz = ox / length, oy / length, oz / length
+    nx, ny, nz = normals[y, x, 0], normals[y, x, 1], normals[y, x, 2]
+    throughput = columns[obj, 1]
+    row, col = y, x
+    for k in range(factor.shape[0]):
+        dn = dx * nx + dy * ny + dz * nz
+        dx, dy, dz = dx - 2 * dn * nx, dy - 2 * dn * ny, dz - 2 * dn * nz
+        row, col, t = _march(points, normals, index, ox, oy, oz, dx, dy, dz,
+                             fx, fy, cx, cy, row, col)
+        if row < 0:
+            return
+        ox, oy, oz = ox + t * dx, oy + t * dy, oz + t * dz
+        length += t
+        nxt = index[row, col]
+        nx, ny, nz = normals[row, col, 0], normals[row, col, 1], normals[row, col, 2]
+        is_m = mirror[nxt]
+        f = _response(nx, ny, nz, ox, oy, oz, -dx, -dy, -dz, columns[nxt, 0],
+                      columns[nxt, 1] if is_m else 0.0, columns[nxt, 2])
+        r2 = ox * ox + oy * oy + oz * oz
+        factor[k, y, x] = throughput * f / r2
+        path[k, y, x] = length + math.sqrt(r2)
+        if not is_m:
+            return
+        throughput *= columns[nxt, 1]
+
+
+@kernel
 def specular_paths(points: F32, normals: F32, index: NDArray[np.int32], columns: F32,
                    mirror: NDArray[np.bool_], intrinsics: NDArray[np.float64],
-                   max_bounces: int) -> tuple[F32, F32]:
+                   max_bounces: int, step: int) -> tuple[F32, F32]:
     """Signal factor and optical path of the mirror paths of every render pixel.
+
+    One render pixel of each ``step × step`` block (the first that sees a mirror) is
+    traced; the block's other pixels on the same object take its result.
 
     Parameters
     ----------
@@ -164,6 +202,8 @@ def specular_paths(points: F32, normals: F32, index: NDArray[np.int32], columns:
         ``fx, fy, cx, cy`` of the render grid (pixels).
     max_bounces : int
         Surfaces per path (2: one mirror; 3: a trihedral's triple bounce).
+    step : int
+        Block size (the ToF supersampling: one path per sensor pixel and object).
 
     Returns
     -------
@@ -177,36 +217,20 @@ def specular_paths(points: F32, normals: F32, index: NDArray[np.int32], columns:
     nb = max(max_bounces - 1, 1)
     factor = np.zeros((nb, h, w), dtype=np.float32)
     path = np.zeros((nb, h, w), dtype=np.float32)
-    fx, fy, cx, cy = intrinsics[0], intrinsics[1], intrinsics[2], intrinsics[3]
-    for y in range(h):
-        for x in range(w):
-            obj = index[y, x]
-            if obj < 0 or not mirror[obj]:
+    for by in range(0, h, step):
+        for bx in range(0, w, step):
+            ty, tx = -1, -1
+            for y in range(by, min(by + step, h)):
+                for x in range(bx, min(bx + step, w)):
+                    if ty < 0 and index[y, x] >= 0 and mirror[index[y, x]]:
+                        ty, tx = y, x
+            if ty < 0:
                 continue
-            ox, oy, oz = points[y, x, 0], points[y, x, 1], points[y, x, 2]
-            length = math.sqrt(ox * ox + oy * oy + oz * oz)
-            dx, dy, dz = ox / length, oy / length, oz / length
-            nx, ny, nz = normals[y, x, 0], normals[y, x, 1], normals[y, x, 2]
-            throughput = columns[obj, 1]
-            row, col = y, x
-            for k in range(nb):
-                dn = dx * nx + dy * ny + dz * nz
-                dx, dy, dz = dx - 2 * dn * nx, dy - 2 * dn * ny, dz - 2 * dn * nz
-                row, col, t = _march(points, normals, index, ox, oy, oz, dx, dy, dz,
-                                     fx, fy, cx, cy, row, col)
-                if row < 0:
-                    break
-                ox, oy, oz = ox + t * dx, oy + t * dy, oz + t * dz
-                length += t
-                nxt = index[row, col]
-                nx, ny, nz = normals[row, col, 0], normals[row, col, 1], normals[row, col, 2]
-                is_m = mirror[nxt]
-                f = _response(nx, ny, nz, ox, oy, oz, -dx, -dy, -dz, columns[nxt, 0],
-                              columns[nxt, 1] if is_m else 0.0, columns[nxt, 2])
-                r2 = ox * ox + oy * oy + oz * oz
-                factor[k, y, x] = throughput * f / r2
-                path[k, y, x] = length + math.sqrt(r2)
-                if not is_m:
-                    break
-                throughput *= columns[nxt, 1]
+            _trace(points, normals, index, columns, mirror, intrinsics, ty, tx, factor, path)
+            for y in range(by, min(by + step, h)):
+                for x in range(bx, min(bx + step, w)):
+                    if index[y, x] == index[ty, tx] and (y != ty or x != tx):
+                        for k in range(nb):
+                            factor[k, y, x] = factor[k, ty, tx]
+                            path[k, y, x] = path[k, ty, tx]
     return factor, path
