@@ -246,9 +246,12 @@ TOF_EFFECTS = ("multipath", "motion_artifacts", "specular", "wiggling", "distort
 def with_effects(project: Project, *, on: bool, person: bool = True) -> Project:
     """The project with every ToF effect switch and radar multipath (order 1) on or off.
 
+    Motion artefacts use reprojection (no extra ToF renders).
+
     ``person`` False also removes the objects named ``person`` (today's plain office).
     """
-    tof = project.rig.tof.model_copy(update=dict.fromkeys(TOF_EFFECTS, on))
+    tof = project.rig.tof.model_copy(update={**dict.fromkeys(TOF_EFFECTS, on),
+                                             "motion_sampling": "reprojection"})
     radar = project.rig.radar.model_copy(update={"multipath_order": 1 if on else 0})
     rig = project.rig.model_copy(update={"tof": tof, "radar": radar})
     objects = [o for o in project.objects if person or o.name != "person"]

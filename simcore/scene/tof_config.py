@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from math import gcd
-from typing import Annotated
+from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
@@ -95,6 +95,11 @@ class TofCameraConfig(Model):
     motion_artifacts: bool = Field(
         False, description="take each of the four correlation samples from a render at its "
                            "own exposure time (slower: four ToF renders per frame)")
+    motion_sampling: Literal["renders", "reprojection"] = Field(
+        "renders", description="motion artefacts from four renders at the samples' times, "
+                               "or from the frame's render reprojected with each pixel's "
+                               "known velocity (no extra renders; exact for translating "
+                               "planar surfaces, moving silhouettes stay at the frame time)")
     sample_interval_s: float = Field(
         1e-3, gt=0, le=1.0, allow_inf_nan=False,
         description="time between the starts of consecutive correlation samples (s)")

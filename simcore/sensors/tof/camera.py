@@ -35,6 +35,7 @@ sensor-resolution image is float32, whose rounding (≤ 1e-7 relative) is far be
 from __future__ import annotations
 
 import cmath
+import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -314,6 +315,37 @@ def _sample_signal(buffers: RenderBuffers, config: TofCameraConfig
     signal /= r * r
     ambient = response * FLOAT(config.ambient_electrons if config.ambient_light else 0.0)
     return r, signal, ambient
+
+
+def reprojected_samples(buffers: RenderBuffers, config: TofCameraConfig
+                        ) -> list[RenderBuffers]:
+    """The render at the four correlation samples' times, from its per-pixel motion.
+
+    Each pixel's surface is its tangent plane ``n·X = n·P`` moving with the point's
+    velocity ``v`` relative to the camera (``velocity_mps``); at time ``t`` the same ray
+    ``X = s d`` meets it at ``s(t) = R + (n·v) t / (n·d)``. Exact for translating planar
+    surfaces (and to first order in ``t`` for curved or rotating ones); a pixel keeps its
+    surface, so silhouettes that cross pixels during the ~3 ms are not moved (the four
+    renders of ``motion_sampling = "renders"`` do that).
+
+    Returns
+    -------
+    list of 4 RenderBuffers
+        Sample ``i`` at ``i · sample_interval_s``; only ``range_m`` and ``points_m`` change.
+    """
+    hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
+    safe_r = np.where(hit, buffers.range_m, FLOAT(1.0))
+    d = buffers.points_m / safe_r[..., None]
+    n_dot_d = np.einsum("ijk,ijk->ij", buffers.normals, d)
+    n_dot_v = np.einsum("ijk,ijk->ij", buffers.normals, buffers.velocity_mps)
+    rate = np.where(hit & (np.abs(n_dot_d) > 1e-6), n_dot_v / np.where(
+        np.abs(n_dot_d) > 1e-6, n_dot_d, FLOAT(1.0)), FLOAT(0.0))
+    out = [buffers]
+    for i in (1, 2, 3):
+        r = as_float(buffers.range_m + rate * FLOAT(i * config.sample_interval_s))
+        out.append(dataclasses.replace(buffers, range_m=r,
+                                       points_m=as_float(d * r[..., None])))
+    return out
 
 
 def _correlation_from_samples(sample_buffers: Sequence[RenderBuffers], config: TofCameraConfig,
@@ -668,6 +700,9 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
             f"{expected[1]}×{expected[0]} (sensor {config.width}×{config.height} × "
             f"supersampling {k})")
 
+    if (sample_buffers is None and config.motion_artifacts
+            and config.motion_sampling == "reprojection"):
+        sample_buffers = reprojected_samples(buffers, config)
     if sample_buffers is not None and len(sample_buffers) != 4:
         raise ValueError(f"sample_buffers needs the 4 correlation samples' renders, "
                          f"got {len(sample_buffers)}")

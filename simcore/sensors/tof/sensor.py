@@ -39,7 +39,7 @@ class TofSensor:
         """
         cfg = project.rig.tof
         offsets: tuple[float, ...] = ()
-        if cfg.motion_artifacts:
+        if cfg.motion_artifacts and cfg.motion_sampling == "renders":
             offsets += tuple(i * cfg.sample_interval_s for i in (1, 2, 3))
         if cfg.auto_exposure:
             offsets += (-1.0 / project.timeline.frame_rate_hz,)
