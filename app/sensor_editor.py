@@ -30,6 +30,7 @@ from PyQt6.QtWidgets import (
 
 from app.document import ProjectDocument
 from app.field_editors import DETECTION, LINK_BUDGET, PROCESSING, FieldForm
+from app.tof_effects import TofEffectsBox
 from app.widgets import BIG, INT_MAX, VectorEdit, int_spin, set_quietly, spin, try_edit
 from simcore.scene import Project
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig, aliasing_warnings
@@ -233,6 +234,8 @@ class SensorEditor(QScrollArea):
         self.tof_derived = QLabel("")
         self.tof_derived.setStyleSheet("color: #9aa4ae;")
         form.addRow(self.tof_derived)
+        self.tof_effects = TofEffectsBox(self._set)
+        form.addRow(self.tof_effects)
         return box
 
     def _build_radar(self) -> QWidget:
@@ -439,6 +442,7 @@ class SensorEditor(QScrollArea):
         self.tof_f2.setEnabled(len(freqs) > 1)
         self.tof_pos.set_value(tof.pose_on_rig.position_m)
         self.tof_rot.set_value(tof.pose_on_rig.rotation_deg)
+        self.tof_effects.refresh(tof)
         self.tof_derived.setText(
             f"unambiguous range {tof.combined_unambiguous_range_m:.2f} m\n"
             f"render {tof.width * tof.supersampling}×{tof.height * tof.supersampling} px")
