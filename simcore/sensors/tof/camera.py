@@ -588,7 +588,7 @@ _Images = tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.bool_],
                 NDArray[np.bool_], NDArray[np.float32]]
 
 
-def _read_and_demodulate(mixed: NDArray[np.float32], indirect: NDArray[np.float32] | None,
+def _read_and_demodulate(mixed: NDArray[np.float32] | None, indirect: NDArray[np.float32] | None,
                          sample_buffers: Sequence[RenderBuffers] | None,
                          config: TofCameraConfig, *, rng: np.random.Generator, noise: bool,
                          ambient: NDArray[np.float32] | None
@@ -606,11 +606,13 @@ def _read_and_demodulate(mixed: NDArray[np.float32], indirect: NDArray[np.float3
     saturated = np.zeros_like(valid)
     for j, f_mod in enumerate(config.modulation_frequencies_hz):
         if sample_buffers is not None:
-            corr_e = _optics(_correlation_from_samples(sample_buffers, config, f_mod), config)
+            corr_e = _correlation_from_samples(sample_buffers, config, f_mod)
             if indirect is not None:
-                o, re, im = _optics(indirect[[0, 1 + 2 * j, 2 + 2 * j]], config)
+                o, re, im = indirect[[0, 1 + 2 * j, 2 + 2 * j]]
                 corr_e = corr_e + np.stack([o + re, o - im, o - re, o + im])
+            corr_e = _optics(corr_e, config)      # linear: once on the four samples
         else:
+            assert mixed is not None
             o, re, im = mixed[0], mixed[1 + 2 * j], mixed[2 + 2 * j]
             corr_e = np.stack([o + re, o - im, o - re, o + im])
         # 4.–5. Noise, saturation, ADC.
@@ -700,9 +702,6 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
             f"{expected[1]}×{expected[0]} (sensor {config.width}×{config.height} × "
             f"supersampling {k})")
 
-    if (sample_buffers is None and config.motion_artifacts
-            and config.motion_sampling == "reprojection"):
-        sample_buffers = reprojected_samples(buffers, config)
     if sample_buffers is not None and len(sample_buffers) != 4:
         raise ValueError(f"sample_buffers needs the 4 correlation samples' renders, "
                          f"got {len(sample_buffers)}")
@@ -714,6 +713,9 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         see_through = None if see_through is None else distort_buffers(see_through, config)
         exposure_reference = (None if exposure_reference is None
                               else distort_buffers(exposure_reference, config))
+    if (sample_buffers is None and config.motion_artifacts
+            and config.motion_sampling == "reprojection"):
+        sample_buffers = reprojected_samples(buffers, config)   # after the lens: cheaper
     spec = None
     if config.specular:
         if mirrors is None:
@@ -727,9 +729,6 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                                    else spec[0].sum(axis=0))
         config = config.model_copy(update={"exposure_time_s": exposure})
 
-    # 1.–2. Per sub-pixel signal/ambient electrons, range and phase, summed per sensor pixel
-    #    as the offset S + B and the phasor m S e^{iφ} per frequency (_direct_planes).
-    planes = _direct_planes(buffers, config)
 
     # Multipath interference (the one-bounce light), mirror paths and the returns seen
     # through panes, added as phasors before read-out.
@@ -748,12 +747,16 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
             raise ValueError("the see-through render must have the render's shape")
         through = _transmitted_planes(buffers, see_through, transmittance, config)
         indirect = through if indirect is None else indirect + through
-    if indirect is not None:
-        planes = planes + indirect
-
-    # 3. Optics on the collected light (vignetting, lens stray light) and cross-talk — all
-    #    linear, so they act on offset and phasor planes alike.
-    mixed = _optics(planes, config)
+    mixed = None
+    if sample_buffers is None:
+        # 1.–2. Per sub-pixel signal/ambient electrons, range and phase, summed per sensor
+        #    pixel as the offset S + B and the phasor m S e^{iφ} per frequency.
+        planes = _direct_planes(buffers, config)
+        if indirect is not None:
+            planes = planes + indirect
+        # 3. Optics on the collected light (vignetting, lens stray light) and cross-talk —
+        #    all linear, so they act on offset and phasor planes alike.
+        mixed = _optics(planes, config)
     ambient = _ambient_plane(buffers, config) if config.background_suppression else None
     depth_m, out = _read_and_demodulate(mixed, indirect, sample_buffers, config, rng=rng,
                                         noise=noise, ambient=ambient)
