@@ -217,3 +217,35 @@ def test_compiled_pair_sums_equal_the_numpy_sum() -> None:
         want = (re + 1j * im) * np.exp(-1j * k[j] * r_p)
         np.testing.assert_allclose(got[:, 1 + 2 * j] + 1j * got[:, 2 + 2 * j], want,
                                    rtol=1e-4, atol=1e-4 * np.abs(want).max())
+
+
+def test_still_scene_reuses_the_one_bounce_sums_exactly() -> None:
+    """A byte-identical render reuses the sums; the exposure still scales the planes."""
+    import simcore.sensors.tof.camera as cam
+
+    project = corner_project()
+    cfg = project.rig.tof.model_copy(update={"multipath": True})
+    renderer = SceneRenderer(project)
+    try:
+        buf = renderer.render(take_snapshot(project, 0.0),
+                              RenderRequest("tof", "tof", cfg.render_intrinsics()))
+    finally:
+        renderer.close()
+    albedo = diffuse_albedo(project, buf)
+    cam._ONE_BOUNCE_CACHE.clear()
+    first = cam._multipath_planes(buf, cfg, albedo)
+    calls = []
+    original = cam.one_bounce_image
+    try:
+        cam.one_bounce_image = lambda *a, **k: calls.append(1) or original(*a, **k)
+        longer = cfg.model_copy(update={"exposure_time_s": 2 * cfg.exposure_time_s})
+        again = cam._multipath_planes(buf, longer, albedo)
+        assert calls == [], "the still scene's sums were reused"
+        np.testing.assert_allclose(again, 2 * first, rtol=1e-6)
+        moved = albedo * np.float32(0.5)                  # different inputs: recomputed
+        half = cam._multipath_planes(buf, cfg, moved)
+        assert calls == [1]
+    finally:
+        cam.one_bounce_image = original
+    cam._ONE_BOUNCE_CACHE.clear()
+    np.testing.assert_allclose(cam._multipath_planes(buf, cfg, moved), half, rtol=1e-6)

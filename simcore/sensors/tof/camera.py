@@ -36,8 +36,9 @@ from __future__ import annotations
 
 import cmath
 import dataclasses
+import hashlib
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from math import gcd
 
@@ -386,6 +387,36 @@ def _solid_angle(intrinsics: PinholeIntrinsics) -> NDArray[np.float32]:
     return _SOLID_ANGLE[key]
 
 
+#: The last one-bounce result, keyed by a digest of its inputs (still scenes reuse it).
+_ONE_BOUNCE_CACHE: dict[bytes, tuple[NDArray[np.float32], list[tuple[NDArray[np.float32],
+                                                                    NDArray[np.float32]]]]] = {}
+
+
+def _cached_one_bounce(arrays: tuple[NDArray[np.generic], ...], params: tuple[object, ...],
+                       compute: Callable[[], tuple[NDArray[np.float32],
+                                                   list[tuple[NDArray[np.float32],
+                                                              NDArray[np.float32]]]]]
+                       ) -> tuple[NDArray[np.float32],
+                                  list[tuple[NDArray[np.float32], NDArray[np.float32]]]]:
+    """``compute()``, or its previous result when the render's geometry is byte-identical.
+
+    The one-bounce sums depend only on the render's points, normals and albedo (not on the
+    exposure), so a still camera looking at a still scene reuses them frame after frame;
+    the BLAKE2 digest of the inputs costs a few milliseconds.
+    """
+    digest = hashlib.blake2b(repr(params).encode(), digest_size=20)
+    for a in arrays:
+        digest.update(np.ascontiguousarray(a).data)
+    key = digest.digest()
+    hit = _ONE_BOUNCE_CACHE.get(key)
+    if hit is not None:
+        return hit
+    result = compute()
+    _ONE_BOUNCE_CACHE.clear()
+    _ONE_BOUNCE_CACHE[key] = result
+    return result
+
+
 def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
                       albedo: NDArray[np.float32], *, receiver_step: int = RECEIVER_STEP
                      ) -> NDArray[np.float32]:
@@ -417,9 +448,11 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     rho = _block_mean(np.where(hit, albedo, 0.0), k) / count
     seen = _block_mean(weight, k) > 0
     h, w = seen.shape
-    magnitude, phasors = one_bounce_image(as_float(pts), as_float(nrm), seen, senders,
-                                          list(config.modulation_frequencies_hz),
-                                          step=receiver_step)
+    magnitude, phasors = _cached_one_bounce(
+        (buffers.points_m, buffers.normals, albedo, buffers.object_index),
+        (config.multipath_patch_px, k, tuple(config.modulation_frequencies_hz), receiver_step),
+        lambda: one_bounce_image(as_float(pts), as_float(nrm), seen, senders,
+                                 list(config.modulation_frequencies_hz), step=receiver_step))
     scale = as_float(rho * FLOAT(config.signal_electrons_at_1m) * _block_mean(weight, k))
     scale[~seen] = 0.0
     planes = np.zeros((1 + 2 * len(phasors), h, w), dtype=np.float32)
