@@ -38,6 +38,7 @@ from app.field_editors import (
     bind_number_box,
     commit_path,
 )
+from app.tof_effects import TofEffectsBox
 from app.widgets import (
     BIG,
     INT_MAX,
@@ -289,6 +290,8 @@ class SensorEditor(QScrollArea):
         self.tof_derived = QLabel("")
         self.tof_derived.setStyleSheet("color: #9aa4ae;")
         form.addRow(self.tof_derived)
+        self.tof_effects = TofEffectsBox(self._set)
+        form.addRow(self.tof_effects)
         return box
 
     def _build_radar(self) -> QWidget:
@@ -511,6 +514,7 @@ class SensorEditor(QScrollArea):
         self.tof_f2.setEnabled(len(freqs) > 1)
         self.tof_pos.set_value(tof.pose_on_rig.position_m)
         self.tof_rot.set_value(tof.pose_on_rig.rotation_deg)
+        self.tof_effects.refresh(tof)
         self.tof_derived.setText(
             f"unambiguous range {tof.combined_unambiguous_range_m:.2f} m\n"
             f"render {tof.width * tof.supersampling}×{tof.height * tof.supersampling} px")

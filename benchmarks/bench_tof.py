@@ -8,11 +8,12 @@ import time
 
 import numpy as np
 
-from simcore.render import SceneRenderer
+from simcore.render import RenderRequest, SceneRenderer
 from simcore.resources import example_path
 from simcore.scene import load_project
 from simcore.scene.snapshot import take_snapshot
 from simcore.sensors.tof.camera import simulate_tof
+from simcore.sensors.tof.sensor import diffuse_albedo, mirror_table
 
 
 def main() -> None:
@@ -29,16 +30,19 @@ def main() -> None:
                                      [cfg.modulation_frequencies_hz[0], 16e6]})
     renderer = SceneRenderer(project)
     grid = cfg.render_intrinsics()
-    buffers = renderer.render(take_snapshot(project, 0.0), "tof", grid)
+    buffers = renderer.render(take_snapshot(project, 0.0), RenderRequest("tof", "tof", grid))
     renderer.close()
+    albedo, mirrors = diffuse_albedo(project, buffers), mirror_table(project)
     print(f"{args.project}: ToF {cfg.width}x{cfg.height}, supersampling {cfg.supersampling} "
           f"(render {grid.width}x{grid.height}), f_mod {cfg.modulation_frequencies_hz} Hz")
     for noise in (True, False):
-        simulate_tof(buffers, cfg, rng=np.random.default_rng(0), noise=noise)  # warm-up
+        simulate_tof(buffers, cfg, rng=np.random.default_rng(0), noise=noise, albedo=albedo,
+                     mirrors=mirrors)  # warm-up
         times = []
         for i in range(args.frames):
             t0 = time.perf_counter()
-            out = simulate_tof(buffers, cfg, rng=np.random.default_rng(i), noise=noise)
+            out = simulate_tof(buffers, cfg, rng=np.random.default_rng(i), noise=noise,
+                               albedo=albedo, mirrors=mirrors)
             times.append((time.perf_counter() - t0) * 1e3)
         print(f"  tof stage (noise={noise!s:5s}): median {statistics.median(times):6.1f} ms, "
               f"min {min(times):6.1f} ms over {args.frames} frames; "

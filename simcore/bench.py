@@ -238,4 +238,70 @@ def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
     }
 
 
-__all__ = ["antenna_edit_latency", "if_synthesis_accuracy", "run_benchmark"]
+#: The ToF switches of :func:`effect_variants` (all on / all off).
+TOF_EFFECTS = ("multipath", "motion_artifacts", "specular", "wiggling", "distortion",
+               "vignetting", "stray_light", "ambient_light")
+
+
+def with_effects(project: Project, *, on: bool, person: bool = True) -> Project:
+    """The project with every ToF effect switch and radar multipath (order 1) on or off.
+
+    Motion artefacts use reprojection (no extra ToF renders).
+
+    ``person`` False also removes the objects named ``person`` (today's plain office).
+    """
+    tof = project.rig.tof.model_copy(update={**dict.fromkeys(TOF_EFFECTS, on),
+                                             "motion_sampling": "reprojection"})
+    radar = project.rig.radar.model_copy(update={"multipath_order": 1 if on else 0})
+    rig = project.rig.model_copy(update={"tof": tof, "radar": radar})
+    objects = [o for o in project.objects if person or o.name != "person"]
+    return project.model_copy(update={"rig": rig, "objects": objects})
+
+
+def _time_variant(project: Project, base_dir: Path, frames: int) -> dict[str, Any]:
+    """Median frame interval and stage times of ``frames`` overlapped frames (after frame 0)."""
+    with Simulator(project, base_dir=base_dir) as sim:
+        n_frames = max(sim.n_frames, 1)
+        sim.frame(0)
+        walls: list[float] = []
+        stages: dict[str, list[float]] = {}
+        t0 = time.perf_counter()
+        for frame in sim.frames([(i + 1) % n_frames for i in range(frames)]):
+            t1 = time.perf_counter()
+            walls.append((t1 - t0) * 1e3)
+            t0 = t1
+            for name, value in frame.timings_ms.items():
+                if name != "total":
+                    stages.setdefault(name, []).append(value)
+    frame_ms = _median(walls)
+    return {"fps": 1e3 / frame_ms if frame_ms > 0 else float("inf"),
+            "frame_ms_median": frame_ms,
+            "stages_ms": {name: _median(v) for name, v in stages.items()}}
+
+
+def effect_variants(project_path: str | Path, *, frames: int) -> dict[str, Any]:
+    """Frame rate and stage times with every effect on, and plain (all off, no person).
+
+    Both variants of the same project are timed in one run (one after the other), so
+    their ratio is meaningful on a loaded machine even where absolute times are not.
+
+    Returns
+    -------
+    dict
+        ``all_effects`` and ``plain``: each ``fps``, ``frame_ms_median``, ``stages_ms``;
+        ``load`` (load average before and after).
+    """
+    path = Path(project_path)
+    project = load_project(path)
+    before = _load()
+    result: dict[str, Any] = {
+        "all_effects": _time_variant(with_effects(project, on=True), path.parent, frames),
+        "plain": _time_variant(with_effects(project, on=False, person=False), path.parent,
+                               frames),
+    }
+    result["load"] = {"before": before, "after": _load()}
+    return result
+
+
+__all__ = ["antenna_edit_latency", "effect_variants", "if_synthesis_accuracy",
+           "run_benchmark", "with_effects"]

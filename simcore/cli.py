@@ -372,7 +372,23 @@ def cmd_bench(args: argparse.Namespace) -> int:
     print(f"  antenna edit -> radar maps: {result['antenna_edit_ms']:.1f} ms")
     print(f"  load average before/after: {result['machine']['load_before']} / "
           f"{result['machine']['load_after']}")
+    if args.effects:
+        _print_effect_variants(project_path, args.frames)
     return 0
+
+
+def _print_effect_variants(project_path: Path, frames: int) -> None:
+    """``bench --effects``: the project with every effect on, and plain (all off, no person)."""
+    from simcore.bench import effect_variants
+
+    variants = effect_variants(project_path, frames=frames)
+    for name in ("all_effects", "plain"):
+        v = variants[name]
+        stages = ", ".join(f"{k} {t:.1f}" for k, t in v["stages_ms"].items())
+        print(f"{name:<12} {v['frame_ms_median']:7.1f} ms/frame ({v['fps']:.2f} frames/s); "
+              f"stages (ms): {stages}")
+    print(f"  load average before/after: {variants['load']['before']} / "
+          f"{variants['load']['after']}")
 
 
 def cmd_examples(args: argparse.Namespace) -> int:
@@ -545,6 +561,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("project", nargs="?", help="project (default: bundled office.json)")
     p.add_argument("--frames", type=_positive_int, default=30, help="frames to time")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--effects", action="store_true",
+                   help="also time the project with every ToF/radar effect on, and plain "
+                        "(all off, no person), in the same run")
     p.set_defaults(func=cmd_bench)
 
     p = sub.add_parser("materials", help="list the materials and what each does per band",

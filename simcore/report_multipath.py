@@ -195,7 +195,10 @@ def tof_multipath_figure(out_dir: str | Path, example: str = "office"
     albedo = diffuse_albedo(project, buf)
     frames, seconds = {}, {}
     for on in (False, True):
-        c = cfg.model_copy(update={"multipath": on})
+        # Multipath alone: the other optics (wiggling, distortion, …) off, for a clean figure.
+        c = cfg.model_copy(update={"multipath": on, "specular": False, "wiggling": False,
+                                   "distortion": False, "vignetting": False,
+                                   "stray_light": False})
         t0 = time.perf_counter()
         frames[on] = simulate_tof(buf, c, rng=np.random.default_rng(0), noise=False,
                                   albedo=albedo)

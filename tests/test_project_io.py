@@ -148,6 +148,11 @@ def test_version_1_files_still_load(tmp_path):
     render = ("render_width", "render_height", "render_fov_h_deg")
     for name in render:
         setattr(office.rig.radar, name, getattr(office_v1.rig.radar, name))
+    # The office now ships with the ToF effects on; the v1 file keeps them off (defaults).
+    for name in ("multipath", "specular", "wiggling", "distortion", "vignetting",
+                 "stray_light"):
+        assert getattr(office_v1.rig.tof, name) is False
+        setattr(office.rig.tof, name, False)
     assert office_v1 == office
 
 

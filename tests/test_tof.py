@@ -97,8 +97,13 @@ def dilate(mask: np.ndarray, steps: int = 1) -> np.ndarray:
     return out
 
 
+#: The preset's optics switched off (these tests check other parts of the chain).
+OPTICS_OFF = {"multipath": False, "specular": False, "wiggling": False, "distortion": False,
+              "vignetting": False, "stray_light": False}
+
+
 def ideal(cfg: TofCameraConfig, **changes: object) -> TofCameraConfig:
-    return cfg.model_copy(update=changes)
+    return cfg.model_copy(update={**OPTICS_OFF, **changes})
 
 
 @pytest.fixture(scope="module")
@@ -283,7 +288,7 @@ RETRO_SIZE, RETRO_LEFT, RETRO_UP = (0.2, 0.2), 0.3117, 0.0523
 @pytest.fixture(scope="module")
 def retro_scene() -> tuple[Project, RenderBuffers]:
     # A fixed exposure: the saturation level is what is tested (auto-exposure would move it).
-    cfg = pmd_pico_flexx().model_copy(update={"auto_exposure": False})
+    cfg = pmd_pico_flexx().model_copy(update={**OPTICS_OFF, "auto_exposure": False})
     project = scene([
         facing_plane(1, "wall", RETRO_WALL, (20.0, 20.0), "concrete"),
         facing_plane(2, "tape", RETRO_DIST, RETRO_SIZE, "ir_retroreflector_tape",

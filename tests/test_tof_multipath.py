@@ -142,3 +142,110 @@ def test_multipath_needs_the_albedo() -> None:
         renderer.close()
     with pytest.raises(ValueError, match="albedo"):
         simulate_tof(buf, cfg, rng=np.random.default_rng(0))
+
+
+def _corner_depths(step: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Ideal depth with the fast multipath (``step``), the exact sum (step 1) and none."""
+    import simcore.sensors.tof.camera as cam
+
+    project = corner_project()
+    cfg = project.rig.tof.model_copy(update={"multipath": True})
+    renderer = SceneRenderer(project)
+    try:
+        buf = renderer.render(take_snapshot(project, 0.0),
+                              RenderRequest("tof", "tof", cfg.render_intrinsics()))
+    finally:
+        renderer.close()
+    albedo = diffuse_albedo(project, buf)
+    depths = []
+    for s in (step, 1):
+        planes = cam._multipath_planes(buf, cfg, albedo, receiver_step=s)
+        depths.append(_depth_with(buf, cfg, planes))
+    off = simulate_tof(buf, cfg.model_copy(update={"multipath": False}),
+                       rng=np.random.default_rng(0), noise=False).depth_m
+    return depths[0], depths[1], off
+
+
+def _depth_with(buf, cfg, planes):  # type: ignore[no-untyped-def]
+    """Depth of the ideal camera with the given indirect planes (phase of the phasor sum)."""
+    import simcore.sensors.tof.camera as cam
+
+    r, signal, _ = cam._sample_signal(buf, cfg)
+    k = cfg.supersampling
+    phase = r * np.float32(4 * np.pi * cfg.modulation_frequencies_hz[0] / SPEED_OF_LIGHT)
+    m = signal * np.float32(cfg.demodulation_contrast)
+    re = cam._block_mean(m * np.cos(phase), k) + planes[1]
+    im = cam._block_mean(m * np.sin(phase), k) + planes[2]
+    return (np.mod(np.arctan2(im, re), 2 * np.pi)
+            * SPEED_OF_LIGHT / (4 * np.pi * cfg.modulation_frequencies_hz[0]))
+
+
+def test_fast_multipath_matches_the_exact_sum_at_the_corner() -> None:
+    """The coarse-grid sum with surface-aware interpolation keeps the corner bias (10 %)."""
+    fast, exact, off = _corner_depths(4)
+    bias_fast, bias_exact = fast - off, exact - off
+    row = bias_exact.shape[0] // 2
+    cols = np.arange(8, bias_exact.shape[1] - 8)
+    cols = cols[np.abs(cols + 0.5 - bias_exact.shape[1] / 2) > 4]
+    ref = bias_exact[row, cols]
+    assert ref.max() > 0.02
+    assert np.max(np.abs(bias_fast[row, cols] - ref)) < 0.1 * ref.max()
+    inner = (slice(8, -8), slice(8, -8))
+    assert abs(bias_fast[inner].mean() - bias_exact[inner].mean()) < 0.1 * bias_exact[inner].mean()
+
+
+def test_compiled_pair_sums_equal_the_numpy_sum() -> None:
+    """The compiled kernel is the numpy one-bounce sum with the receiver's leg taken out."""
+    from simcore.sensors.tof.multipath import Senders, _reduced, one_bounce
+
+    rng = np.random.default_rng(3)
+    pts = rng.uniform(-1, 1, (50, 3)).astype(np.float32) + np.float32([0, 0, 3])
+    nrm = rng.normal(size=(50, 3)).astype(np.float32)
+    nrm /= np.linalg.norm(nrm, axis=1, keepdims=True)
+    q = rng.uniform(-1, 1, (70, 3)).astype(np.float32) + np.float32([0, 0, 3])
+    nq = rng.normal(size=(70, 3)).astype(np.float32)
+    nq /= np.linalg.norm(nq, axis=1, keepdims=True)
+    senders = Senders(points_m=q, normals=nq, weight=rng.uniform(0, 1e-3, 70).astype(np.float32),
+                      range_m=np.linalg.norm(q, axis=1).astype(np.float32))
+    freqs = [20e6, 16e6]
+    mag, ph = one_bounce(pts, nrm, senders, freqs)
+    k = [2 * np.pi * f / SPEED_OF_LIGHT for f in freqs]
+    got = _reduced(pts, nrm, senders, k)
+    np.testing.assert_allclose(got[:, 0], mag, rtol=1e-4)
+    r_p = np.linalg.norm(pts, axis=1)
+    for j, (re, im) in enumerate(ph):
+        want = (re + 1j * im) * np.exp(-1j * k[j] * r_p)
+        np.testing.assert_allclose(got[:, 1 + 2 * j] + 1j * got[:, 2 + 2 * j], want,
+                                   rtol=1e-4, atol=1e-4 * np.abs(want).max())
+
+
+def test_still_scene_reuses_the_one_bounce_sums_exactly() -> None:
+    """A byte-identical render reuses the sums; the exposure still scales the planes."""
+    import simcore.sensors.tof.camera as cam
+
+    project = corner_project()
+    cfg = project.rig.tof.model_copy(update={"multipath": True})
+    renderer = SceneRenderer(project)
+    try:
+        buf = renderer.render(take_snapshot(project, 0.0),
+                              RenderRequest("tof", "tof", cfg.render_intrinsics()))
+    finally:
+        renderer.close()
+    albedo = diffuse_albedo(project, buf)
+    cam._ONE_BOUNCE_CACHE.clear()
+    first = cam._multipath_planes(buf, cfg, albedo)
+    calls = []
+    original = cam.one_bounce_image
+    try:
+        cam.one_bounce_image = lambda *a, **k: calls.append(1) or original(*a, **k)
+        longer = cfg.model_copy(update={"exposure_time_s": 2 * cfg.exposure_time_s})
+        again = cam._multipath_planes(buf, longer, albedo)
+        assert calls == [], "the still scene's sums were reused"
+        np.testing.assert_allclose(again, 2 * first, rtol=1e-6)
+        moved = albedo * np.float32(0.5)                  # different inputs: recomputed
+        half = cam._multipath_planes(buf, cfg, moved)
+        assert calls == [1]
+    finally:
+        cam.one_bounce_image = original
+    cam._ONE_BOUNCE_CACHE.clear()
+    np.testing.assert_allclose(cam._multipath_planes(buf, cfg, moved), half, rtol=1e-6)

@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from math import gcd
-from typing import Annotated
+from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
@@ -95,6 +95,11 @@ class TofCameraConfig(Model):
     motion_artifacts: bool = Field(
         False, description="take each of the four correlation samples from a render at its "
                            "own exposure time (slower: four ToF renders per frame)")
+    motion_sampling: Literal["renders", "reprojection"] = Field(
+        "renders", description="motion artefacts from four renders at the samples' times, "
+                               "or from the frame's render reprojected with each pixel's "
+                               "known velocity (no extra renders; exact for translating "
+                               "planar surfaces, moving silhouettes stay at the frame time)")
     sample_interval_s: float = Field(
         1e-3, gt=0, le=1.0, allow_inf_nan=False,
         description="time between the starts of consecutive correlation samples (s)")
@@ -115,6 +120,43 @@ class TofCameraConfig(Model):
         8, ge=1, le=64,
         description="the secondary surfaces are sampled every this many sensor pixels "
                     "(smaller: finer and slower)")
+
+    specular: bool = Field(
+        False, description="specular near-IR inter-reflections: light reaching a pixel via "
+                           "glossy or metal surfaces (mirror paths up to a triple bounce, "
+                           "GGX lobe), e.g. a metal corner reflector's retroreflection")
+    # --- optics and electronics switches (off here, so older projects keep their output;
+    #     on in the pmd_pico_flexx preset, as in the real camera) -----------------------
+    ambient_light: bool = Field(
+        True, description="ambient light (ambient_irradiance_w_m2) adds its electrons, shot "
+                          "noise and saturation to every sample")
+    background_suppression: bool = Field(
+        False, description="suppression of background illumination (SBI): the pixel removes "
+                           "the ambient charge before saturation; its shot noise remains")
+    wiggling: bool = Field(
+        False, description="cyclic 'wiggling' depth error from the 3rd and 5th harmonics of "
+                           "the modulation/correlation waveforms")
+    wiggling_harmonics: tuple[Annotated[float, Field(ge=0, le=0.5)],
+                              Annotated[float, Field(ge=0, le=0.5)]] = Field(
+        (0.02, 0.005), description="relative amplitudes a3, a5 of the correlation "
+                                   "function's 3rd and 5th harmonics")
+    distortion: bool = Field(
+        False, description="Brown–Conrady lens distortion of the rays the pixels see")
+    distortion_coefficients: tuple[float, float, float, float, float] = Field(
+        (-0.37, 0.14, 0.0, 0.0, 0.0),
+        description="Brown–Conrady (k1, k2, p1, p2, k3) in OpenCV's convention")
+    vignetting: bool = Field(
+        False, description="natural vignetting: collected light falls off as cos⁴ of the "
+                           "off-axis angle")
+    stray_light: bool = Field(
+        False, description="light scattered inside the lens: a long-tail point-spread "
+                           "function on the complex correlation images")
+    stray_light_fraction: float = Field(
+        0.02, ge=0, le=1, allow_inf_nan=False,
+        description="fraction of each pixel's light scattered into the PSF's tail")
+    stray_light_radius_px: float = Field(
+        8.0, gt=0, le=1e4, allow_inf_nan=False,
+        description="core radius r0 of the tail (1 + r²/r0²)^-3/2 (sensor pixels)")
 
     @model_validator(mode="after")
     def _check_exposure_range(self) -> TofCameraConfig:
@@ -228,6 +270,12 @@ def pmd_pico_flexx() -> TofCameraConfig:
         modulation_frequencies_hz=[20e6],
         wavelength_nm=850.0,
         auto_exposure=True,
+        multipath=True,
+        specular=True,
+        wiggling=True,
+        distortion=True,
+        vignetting=True,
+        stray_light=True,
     )
 
 

@@ -35,8 +35,10 @@ sensor-resolution image is float32, whose rounding (≤ 1e-7 relative) is far be
 from __future__ import annotations
 
 import cmath
+import dataclasses
+import hashlib
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from math import gcd
 
@@ -45,9 +47,12 @@ from numpy.typing import NDArray
 from scipy.ndimage import gaussian_filter
 
 from simcore.render.buffers import RenderBuffers, downsample_ground_truth
+from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.materials import BandMaterial
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
-from simcore.sensors.tof.multipath import one_bounce, senders_from_render
+from simcore.sensors.tof.multipath import RECEIVER_STEP, one_bounce_image, senders_from_render
+from simcore.sensors.tof.optics import distort_buffers, stray_light, vignetting, wiggling_planes
+from simcore.sensors.tof.specular import specular_paths
 
 #: Float dtype of every sensor-resolution ToF image.
 FLOAT = np.float32
@@ -143,7 +148,8 @@ def _crosstalk(images: NDArray[np.float32], sigma_px: float) -> NDArray[np.float
 
 
 def _read_out(correlation_e: NDArray[np.float32], config: TofCameraConfig, *,
-              rng: np.random.Generator, noise: bool
+              rng: np.random.Generator, noise: bool,
+              suppressed: NDArray[np.float32] | None = None
               ) -> tuple[NDArray[np.float32], NDArray[np.bool_]]:
     """Noise, saturation and ADC of the correlation samples.
 
@@ -151,6 +157,9 @@ def _read_out(correlation_e: NDArray[np.float32], config: TofCameraConfig, *,
     ----------
     correlation_e : ndarray, shape (4, H, W), float32
         Noise-free correlation samples (e⁻).
+    suppressed : ndarray, shape (H, W), optional
+        Background suppression: ambient electrons removed from every sample after the
+        noise (:attr:`TofCameraConfig.background_suppression`).
 
     Returns
     -------
@@ -164,6 +173,10 @@ def _read_out(correlation_e: NDArray[np.float32], config: TofCameraConfig, *,
         # Shot noise (Poisson, Gaussian approximation: variance = mean e⁻) and read noise.
         std = np.sqrt(np.maximum(c, 0.0) + FLOAT(config.read_noise_electrons) ** 2)
         c = as_float(c + std * rng.standard_normal(c.shape, dtype=FLOAT))
+    if suppressed is not None:
+        # SBI: the pixel drains the mean ambient charge before it fills the well; the
+        # ambient light's shot noise (added above) stays.
+        c = as_float(c - suppressed)
     full_well = FLOAT(config.full_well_electrons)
     saturated = np.any(c >= full_well, axis=0)
     dn = np.minimum(c, full_well) * FLOAT(config.conversion_gain_dn_per_electron)
@@ -301,8 +314,39 @@ def _sample_signal(buffers: RenderBuffers, config: TofCameraConfig
     response = np.where(hit, buffers.intensity, FLOAT(0.0))
     signal = response * FLOAT(config.signal_electrons_at_1m)
     signal /= r * r
-    ambient = response * FLOAT(config.ambient_electrons)
+    ambient = response * FLOAT(config.ambient_electrons if config.ambient_light else 0.0)
     return r, signal, ambient
+
+
+def reprojected_samples(buffers: RenderBuffers, config: TofCameraConfig
+                        ) -> list[RenderBuffers]:
+    """The render at the four correlation samples' times, from its per-pixel motion.
+
+    Each pixel's surface is its tangent plane ``n·X = n·P`` moving with the point's
+    velocity ``v`` relative to the camera (``velocity_mps``); at time ``t`` the same ray
+    ``X = s d`` meets it at ``s(t) = R + (n·v) t / (n·d)``. Exact for translating planar
+    surfaces (and to first order in ``t`` for curved or rotating ones); a pixel keeps its
+    surface, so silhouettes that cross pixels during the ~3 ms are not moved (the four
+    renders of ``motion_sampling = "renders"`` do that).
+
+    Returns
+    -------
+    list of 4 RenderBuffers
+        Sample ``i`` at ``i · sample_interval_s``; only ``range_m`` and ``points_m`` change.
+    """
+    hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
+    safe_r = np.where(hit, buffers.range_m, FLOAT(1.0))
+    d = buffers.points_m / safe_r[..., None]
+    n_dot_d = np.einsum("ijk,ijk->ij", buffers.normals, d)
+    n_dot_v = np.einsum("ijk,ijk->ij", buffers.normals, buffers.velocity_mps)
+    rate = np.where(hit & (np.abs(n_dot_d) > 1e-6), n_dot_v / np.where(
+        np.abs(n_dot_d) > 1e-6, n_dot_d, FLOAT(1.0)), FLOAT(0.0))
+    out = [buffers]
+    for i in (1, 2, 3):
+        r = as_float(buffers.range_m + rate * FLOAT(i * config.sample_interval_s))
+        out.append(dataclasses.replace(buffers, range_m=r,
+                                       points_m=as_float(d * r[..., None])))
+    return out
 
 
 def _correlation_from_samples(sample_buffers: Sequence[RenderBuffers], config: TofCameraConfig,
@@ -311,22 +355,75 @@ def _correlation_from_samples(sample_buffers: Sequence[RenderBuffers], config: T
 
     Each of the four samples integrates the scene as it is during its own exposure, so a
     moving edge lands at different pixels in C0..C3 (the motion artefact of real AMCW
-    cameras). Cross-talk is applied afterwards like for a still scene.
+    cameras). The optics and cross-talk are applied afterwards (:func:`_optics`) like for
+    a still scene. With wiggling each sample also sees the correlation's harmonics
+    ``a3 cos 3(φ + iπ/2) + a5 cos 5(φ + iπ/2)``.
     """
     k = config.supersampling
+    a3, a5 = (FLOAT(a) for a in config.wiggling_harmonics)
     planes = []
     for i, buf in enumerate(sample_buffers):
         r, signal, ambient = _sample_signal(buf, config)
         phase = r * FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT) + FLOAT(i * np.pi / 2)
+        wave = np.cos(phase)
+        if config.wiggling:
+            wave = wave + a3 * np.cos(3 * phase) + a5 * np.cos(5 * phase)
         planes.append(_block_mean(signal + ambient, k)
-                      + _block_mean(signal * FLOAT(config.demodulation_contrast)
-                                    * np.cos(phase), k))
-    return _crosstalk(as_float(np.stack(planes)), config.crosstalk_sigma_px)
+                      + _block_mean(signal * FLOAT(config.demodulation_contrast) * wave, k))
+    return as_float(np.stack(planes))
+
+
+_SOLID_ANGLE: dict[tuple[float, ...], NDArray[np.float32]] = {}
+
+
+def _solid_angle(intrinsics: PinholeIntrinsics) -> NDArray[np.float32]:
+    """:meth:`PinholeIntrinsics.pixel_solid_angle` as float32, computed once per grid."""
+    key = (intrinsics.width, intrinsics.height, intrinsics.fx, intrinsics.fy,
+           intrinsics.cx, intrinsics.cy)
+    if key not in _SOLID_ANGLE:
+        if len(_SOLID_ANGLE) > 8:
+            _SOLID_ANGLE.clear()
+        _SOLID_ANGLE[key] = as_float(intrinsics.pixel_solid_angle())
+    return _SOLID_ANGLE[key]
+
+
+#: The last one-bounce result, keyed by a digest of its inputs (still scenes reuse it).
+_ONE_BOUNCE_CACHE: dict[bytes, tuple[NDArray[np.float32], list[tuple[NDArray[np.float32],
+                                                                    NDArray[np.float32]]]]] = {}
+
+
+def _cached_one_bounce(arrays: tuple[NDArray[np.generic], ...], params: tuple[object, ...],
+                       compute: Callable[[], tuple[NDArray[np.float32],
+                                                   list[tuple[NDArray[np.float32],
+                                                              NDArray[np.float32]]]]]
+                       ) -> tuple[NDArray[np.float32],
+                                  list[tuple[NDArray[np.float32], NDArray[np.float32]]]]:
+    """``compute()``, or its previous result when the render's geometry is byte-identical.
+
+    The one-bounce sums depend only on the render's points, normals and albedo (not on the
+    exposure), so a still camera looking at a still scene reuses them frame after frame;
+    the BLAKE2 digest of the inputs costs a few milliseconds.
+    """
+    digest = hashlib.blake2b(repr(params).encode(), digest_size=20)
+    for a in arrays:
+        digest.update(np.ascontiguousarray(a).data)
+    key = digest.digest()
+    hit = _ONE_BOUNCE_CACHE.get(key)
+    if hit is not None:
+        return hit
+    result = compute()
+    _ONE_BOUNCE_CACHE.clear()
+    _ONE_BOUNCE_CACHE[key] = result
+    return result
 
 
 def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
-                      albedo: NDArray[np.float32]) -> NDArray[np.float32]:
+                      albedo: NDArray[np.float32], *, receiver_step: int = RECEIVER_STEP
+                     ) -> NDArray[np.float32]:
     """One-bounce indirect light per sensor pixel: offset and phasor planes (electrons).
+
+    ``receiver_step`` is the node spacing of :func:`one_bounce_image` (1: the exact sum at
+    every pixel, the reference).
 
     Returns
     -------
@@ -338,7 +435,7 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
     senders = senders_from_render(
         buffers.points_m, buffers.normals, np.where(hit, albedo, FLOAT(0.0)),
-        as_float(buffers.intrinsics.pixel_solid_angle()), hit,
+        _solid_angle(buffers.intrinsics), hit,
         stride=config.multipath_patch_px * k)
     # Receivers: each sensor pixel's mean surface point, normal and albedo.
     weight = hit.astype(np.float32)
@@ -351,17 +448,70 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     rho = _block_mean(np.where(hit, albedo, 0.0), k) / count
     seen = _block_mean(weight, k) > 0
     h, w = seen.shape
-    magnitude, phasors = one_bounce(as_float(pts[seen]), as_float(nrm[seen]), senders,
-                                    list(config.modulation_frequencies_hz))
-    scale = as_float(rho[seen] * FLOAT(config.signal_electrons_at_1m)
-                     * _block_mean(weight, k)[seen])
+    magnitude, phasors = _cached_one_bounce(
+        (buffers.points_m, buffers.normals, albedo, buffers.object_index),
+        (config.multipath_patch_px, k, tuple(config.modulation_frequencies_hz), receiver_step),
+        lambda: one_bounce_image(as_float(pts), as_float(nrm), seen, senders,
+                                 list(config.modulation_frequencies_hz), step=receiver_step))
+    scale = as_float(rho * FLOAT(config.signal_electrons_at_1m) * _block_mean(weight, k))
+    scale[~seen] = 0.0
     planes = np.zeros((1 + 2 * len(phasors), h, w), dtype=np.float32)
-    planes[0][seen] = magnitude * scale
+    planes[0] = magnitude * scale
     contrast = FLOAT(config.demodulation_contrast)
     for j, (re, im) in enumerate(phasors):
-        planes[1 + 2 * j][seen] = re * scale * contrast
-        planes[2 + 2 * j][seen] = im * scale * contrast
+        planes[1 + 2 * j] = re * scale * contrast
+        planes[2 + 2 * j] = im * scale * contrast
     return planes
+
+
+def specular_factor(buffers: RenderBuffers, mirrors: tuple[NDArray[np.float32],
+                                                         NDArray[np.bool_]],
+                    *, max_bounces: int = 3, step: int = 1
+                    ) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+    """Mirror-path signal factors and optical paths of a render (:mod:`.specular`).
+
+    Parameters
+    ----------
+    buffers : RenderBuffers
+        The ToF render.
+    mirrors : (ndarray, ndarray)
+        :func:`simcore.sensors.tof.specular.material_columns` and
+        :func:`~simcore.sensors.tof.specular.is_mirror` of the project's objects.
+    max_bounces, step : int, keyword-only
+        Surfaces per path; one traced path per ``step × step`` block of render pixels
+        (:func:`simcore.sensors.tof.specular.specular_paths`).
+
+    Returns
+    -------
+    factor, path : ndarray, shape (max_bounces − 1, H·k, W·k), float32
+        Signal per ``signal_electrons_at_1m`` (1/m²) and round-trip path (m).
+    """
+    columns, mirror = mirrors
+    intr = buffers.intrinsics
+    index = np.ascontiguousarray(np.where(np.isfinite(buffers.range_m),
+                                          buffers.object_index, -1).astype(np.int32))
+    if not mirror[index[index >= 0]].any():
+        shape = (max(max_bounces - 1, 1), *index.shape)
+        return np.zeros(shape, dtype=np.float32), np.zeros(shape, dtype=np.float32)
+    return specular_paths(
+        np.ascontiguousarray(buffers.points_m, dtype=np.float32),
+        np.ascontiguousarray(buffers.normals, dtype=np.float32), index,
+        np.ascontiguousarray(columns, dtype=np.float32), np.ascontiguousarray(mirror),
+        np.array([intr.fx, intr.fy, intr.cx, intr.cy], dtype=np.float64), max_bounces, step)
+
+
+def _specular_planes(factor: NDArray[np.float32], path: NDArray[np.float32],
+                     config: TofCameraConfig) -> NDArray[np.float32]:
+    """Offset and phasor planes (e⁻) of the mirror paths, laid out like the direct planes."""
+    k = config.supersampling
+    signal = factor * FLOAT(config.signal_electrons_at_1m)
+    planes = [_block_mean(signal.sum(axis=0), k)]
+    m_signal = signal * FLOAT(config.demodulation_contrast)
+    for f_mod in config.modulation_frequencies_hz:
+        phase = path * FLOAT(2.0 * np.pi * f_mod / SPEED_OF_LIGHT)
+        planes += [_block_mean((m_signal * np.cos(phase)).sum(axis=0), k),
+                   _block_mean((m_signal * np.sin(phase)).sum(axis=0), k)]
+    return as_float(np.stack(planes))
 
 
 def _transmitted_planes(buffers: RenderBuffers, see_through: RenderBuffers,
@@ -398,16 +548,21 @@ def _transmitted_planes(buffers: RenderBuffers, see_through: RenderBuffers,
     return as_float(np.stack(planes))
 
 
-def auto_exposure_s(reference: RenderBuffers, config: TofCameraConfig) -> float:
+def auto_exposure_s(reference: RenderBuffers, config: TofCameraConfig, *,
+                    extra_response: NDArray[np.float32] | None = None) -> float:
     """The exposure that puts the brightest 1 % of pixels at the target level (s).
 
     From a noise-free look at ``reference`` (the previous frame's render): the largest
     correlation sample of a pixel is at most ``(S + B)(1 + m)``; its 99th percentile over
     the pixels that see a surface, at the configured exposure, scales linearly with the
-    exposure time. The result is clipped to ``config.exposure_range_s``.
+    exposure time. The result is clipped to ``config.exposure_range_s``. ``extra_response``
+    (render shape, 1/m²) adds light that does not come straight back (the mirror paths of
+    :func:`specular_factor`) as ``signal_electrons_at_1m ×`` it.
     """
     k = config.supersampling
     _, signal, ambient = _sample_signal(reference, config)
+    if extra_response is not None:
+        signal = signal + extra_response * FLOAT(config.signal_electrons_at_1m)
     offset = _block_mean(signal + ambient, k)
     seen = _block_mean((reference.object_index >= 0).astype(np.float32), k) > 0
     low, high = config.exposure_range_s
@@ -421,13 +576,108 @@ def auto_exposure_s(reference: RenderBuffers, config: TofCameraConfig) -> float:
     return float(min(max(wanted, low), high))
 
 
+def _direct_planes(buffers: RenderBuffers, config: TofCameraConfig) -> NDArray[np.float32]:
+    """Offset ``S + B`` and per frequency the phasor ``m S e^{iφ}`` (re, im) per sensor pixel.
+
+    ``C_i = offset + m S cos(φ + iπ/2)``: C0 = o + mSc, C1 = o − mSs, C2 = o − mSc,
+    C3 = o + mSs. With wiggling, the harmonics' phasor (:func:`.optics.wiggling_planes`) is
+    added to the fundamental's. In float32 like the buffers (relative rounding 6e-8; the
+    phase of a 10 m range is accurate to 1e-6 rad, 1 µm of depth at 20 MHz).
+
+    Returns
+    -------
+    ndarray, shape (1 + 2F, H, W), float32
+    """
+    k = config.supersampling
+    r, signal, ambient = _sample_signal(buffers, config)
+    m_signal = signal * FLOAT(config.demodulation_contrast)
+    planes = [_block_mean(signal + ambient, k)]
+    for f_mod in config.modulation_frequencies_hz:
+        phase = r * FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT)
+        re, im = m_signal * np.cos(phase), m_signal * np.sin(phase)
+        if config.wiggling:
+            w_re, w_im = wiggling_planes(m_signal, phase, config.wiggling_harmonics)
+            re, im = re + w_re, im + w_im
+        planes += [_block_mean(re, k), _block_mean(im, k)]
+    return as_float(np.stack(planes))
+
+
+def _optics(planes: NDArray[np.float32], config: TofCameraConfig) -> NDArray[np.float32]:
+    """Vignetting, lens stray light and cross-talk on the planes (…, H, W) (all linear)."""
+    if config.vignetting:
+        planes = planes * vignetting(config.intrinsics())
+    if config.stray_light:
+        planes = stray_light(planes, config.stray_light_fraction, config.stray_light_radius_px)
+    return _crosstalk(as_float(planes), config.crosstalk_sigma_px)
+
+
+def _ambient_plane(buffers: RenderBuffers, config: TofCameraConfig) -> NDArray[np.float32]:
+    """Ambient electrons per sample and sensor pixel, after the optics (for SBI)."""
+    _, _, ambient = _sample_signal(buffers, config)
+    return _optics(_block_mean(ambient, config.supersampling)[None], config)[0]
+
+
+_Images = tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.bool_],
+                NDArray[np.bool_], NDArray[np.float32]]
+
+
+def _read_and_demodulate(mixed: NDArray[np.float32] | None, indirect: NDArray[np.float32] | None,
+                         sample_buffers: Sequence[RenderBuffers] | None,
+                         config: TofCameraConfig, *, rng: np.random.Generator, noise: bool,
+                         ambient: NDArray[np.float32] | None
+                         ) -> tuple[NDArray[np.float32], _Images]:
+    """Steps 4.–7.: correlation samples, read-out, demodulation, validity, unwrapping.
+
+    Returns
+    -------
+    depth : ndarray, shape (H, W), float32
+    (amplitude, intensity, valid, saturated, correlation)
+        Of the first modulation frequency (validity over all).
+    """
+    depths, amplitude, correlation, intensity = [], None, None, None
+    valid = np.ones((config.height, config.width), dtype=bool)
+    saturated = np.zeros_like(valid)
+    for j, f_mod in enumerate(config.modulation_frequencies_hz):
+        if sample_buffers is not None:
+            corr_e = _correlation_from_samples(sample_buffers, config, f_mod)
+            if indirect is not None:
+                o, re, im = indirect[[0, 1 + 2 * j, 2 + 2 * j]]
+                corr_e = corr_e + np.stack([o + re, o - im, o - re, o + im])
+            corr_e = _optics(corr_e, config)      # linear: once on the four samples
+        else:
+            assert mixed is not None
+            o, re, im = mixed[0], mixed[1 + 2 * j], mixed[2 + 2 * j]
+            corr_e = np.stack([o + re, o - im, o - re, o + im])
+        # 4.–5. Noise, saturation, ADC.
+        corr_dn, sat = _read_out(corr_e, config, rng=rng, noise=noise, suppressed=ambient)
+        # 6. Phase, depth, amplitude, validity.
+        depth, amp = _demodulate(corr_dn, f_mod)
+        saturated |= sat
+        valid &= ~sat & (amp >= FLOAT(config.min_amplitude_dn))
+        depths.append(depth)
+        if j == 0:
+            amplitude, correlation = amp, corr_dn
+            intensity = as_float(corr_dn.mean(axis=0))
+    assert amplitude is not None and correlation is not None and intensity is not None
+    # 7. Two-frequency unwrapping.
+    if len(depths) == 2:
+        f1, f2 = config.modulation_frequencies_hz
+        depth_m = unwrap_two_frequencies(depths[0], depths[1], f1, f2)
+    else:
+        depth_m = depths[0]
+    depth_m = as_float(np.where(valid, depth_m, 0.0))
+    return depth_m, (amplitude, intensity, valid, saturated, correlation)
+
+
 def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                  rng: np.random.Generator, noise: bool = True,
                  sample_buffers: Sequence[RenderBuffers] | None = None,
                  albedo: NDArray[np.float32] | None = None,
                  exposure_reference: RenderBuffers | None = None,
                  see_through: RenderBuffers | None = None,
-                 transmittance: NDArray[np.floating] | None = None) -> TofOutput:
+                 transmittance: NDArray[np.floating] | None = None,
+                 mirrors: tuple[NDArray[np.float32], NDArray[np.bool_]] | None = None
+                 ) -> TofOutput:
     """Simulate one AMCW ToF frame from the ToF band's supersampled render.
 
     Parameters
@@ -460,6 +710,11 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
     transmittance : ndarray, shape (N,), optional
         One-pass power transmittance of each object (index as ``object_index``;
         :func:`slab_transmittance`); needed with ``see_through``.
+    mirrors : (ndarray, ndarray), optional
+        Per-object material columns and mirror flags
+        (:func:`simcore.sensors.tof.specular.material_columns`, ``is_mirror``); needed when
+        ``config.specular`` is on: light reaching pixels via glossy surfaces
+        (:mod:`simcore.sensors.tof.specular`), also counted by auto-exposure.
 
     Returns
     -------
@@ -484,33 +739,40 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         raise ValueError(f"sample_buffers needs the 4 correlation samples' renders, "
                          f"got {len(sample_buffers)}")
 
+    if config.distortion:
+        buffers = distort_buffers(buffers, config)
+        sample_buffers = (None if sample_buffers is None
+                          else [distort_buffers(b, config) for b in sample_buffers])
+        see_through = None if see_through is None else distort_buffers(see_through, config)
+        exposure_reference = (None if exposure_reference is None
+                              else distort_buffers(exposure_reference, config))
+    if (sample_buffers is None and config.motion_artifacts
+            and config.motion_sampling == "reprojection"):
+        sample_buffers = reprojected_samples(buffers, config)   # after the lens: cheaper
+    spec = None
+    if config.specular:
+        if mirrors is None:
+            raise ValueError("specular needs the objects' mirror table (mirrors=...)")
+        spec = specular_factor(buffers, mirrors, step=config.supersampling)
     if config.auto_exposure:
+        # The previous frame's mirror paths are taken as this frame's (cheaper).
         exposure = auto_exposure_s(buffers if exposure_reference is None
-                                   else exposure_reference, config)
+                                   else exposure_reference, config,
+                                   extra_response=None if spec is None
+                                   else spec[0].sum(axis=0))
         config = config.model_copy(update={"exposure_time_s": exposure})
 
-    # 1. Per sub-pixel signal/ambient electrons per sample and range.
-    #    In float32 like the buffers (relative rounding 6e-8; the phase of a 10 m range is
-    #    accurate to 1e-6 rad, 1 µm of depth at 20 MHz), with SIMD cos/sin.
-    r, signal, ambient = _sample_signal(buffers, config)
 
-    # 2. Sensor-pixel sums: offset S + B and the phasor m S e^{iφ} per frequency.
-    #    C_i = offset + m S cos(φ + iπ/2): C0 = o + mSc, C1 = o − mSs, C2 = o − mSc, C3 = o + mSs.
-    offset = _block_mean(signal + ambient, k)
-    m_signal = signal * FLOAT(config.demodulation_contrast)
-    planes = [offset]
-    for f_mod in config.modulation_frequencies_hz:
-        phase = r * FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT)
-        planes += [_block_mean(m_signal * np.cos(phase), k),
-                   _block_mean(m_signal * np.sin(phase), k)]
-
-    # Multipath interference (the one-bounce light) and the returns seen through panes,
-    # added as phasors before read-out.
+    # Multipath interference (the one-bounce light), mirror paths and the returns seen
+    # through panes, added as phasors before read-out.
     indirect = None
     if config.multipath:
         if albedo is None:
             raise ValueError("multipath needs the diffuse albedo of the render (albedo=...)")
         indirect = _multipath_planes(buffers, config, albedo)
+    if spec is not None:
+        mirrored = _specular_planes(spec[0], spec[1], config)
+        indirect = mirrored if indirect is None else indirect + mirrored
     if see_through is not None:
         if transmittance is None:
             raise ValueError("see_through needs the objects' transmittance (transmittance=...)")
@@ -518,47 +780,21 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
             raise ValueError("the see-through render must have the render's shape")
         through = _transmitted_planes(buffers, see_through, transmittance, config)
         indirect = through if indirect is None else indirect + through
-    if indirect is not None:
-        planes = [plane + extra for plane, extra in zip(planes, indirect, strict=True)]
-
-    # 3. Cross-talk (linear, so it may act on offset and phasor planes alike).
-    mixed = _crosstalk(as_float(np.stack(planes)), config.crosstalk_sigma_px)
-
-    depths, amplitude, correlation, intensity = [], None, None, None
-    valid = np.ones((config.height, config.width), dtype=bool)
-    saturated = np.zeros_like(valid)
-    for j, f_mod in enumerate(config.modulation_frequencies_hz):
-        if sample_buffers is not None:
-            corr_e = _correlation_from_samples(sample_buffers, config, f_mod)
-            if indirect is not None:
-                extra = _crosstalk(indirect[[0, 1 + 2 * j, 2 + 2 * j]],
-                                   config.crosstalk_sigma_px)
-                o, re, im = extra
-                corr_e = corr_e + np.stack([o + re, o - im, o - re, o + im])
-        else:
-            o, re, im = mixed[0], mixed[1 + 2 * j], mixed[2 + 2 * j]
-            corr_e = np.stack([o + re, o - im, o - re, o + im])
-        # 4.–5. Noise, saturation, ADC.
-        corr_dn, sat = _read_out(corr_e, config, rng=rng, noise=noise)
-        # 6. Phase, depth, amplitude, validity.
-        depth, amp = _demodulate(corr_dn, f_mod)
-        saturated |= sat
-        valid &= ~sat & (amp >= FLOAT(config.min_amplitude_dn))
-        depths.append(depth)
-        if j == 0:
-            amplitude, correlation = amp, corr_dn
-            intensity = as_float(corr_dn.mean(axis=0))
-    assert amplitude is not None and correlation is not None and intensity is not None
-
-    # 7. Two-frequency unwrapping.
-    if len(depths) == 2:
-        f1, f2 = config.modulation_frequencies_hz
-        depth_m = unwrap_two_frequencies(depths[0], depths[1], f1, f2)
-    else:
-        depth_m = depths[0]
-    depth_m = as_float(np.where(valid, depth_m, 0.0))
-
+    mixed = None
+    if sample_buffers is None:
+        # 1.–2. Per sub-pixel signal/ambient electrons, range and phase, summed per sensor
+        #    pixel as the offset S + B and the phasor m S e^{iφ} per frequency.
+        planes = _direct_planes(buffers, config)
+        if indirect is not None:
+            planes = planes + indirect
+        # 3. Optics on the collected light (vignetting, lens stray light) and cross-talk —
+        #    all linear, so they act on offset and phasor planes alike.
+        mixed = _optics(planes, config)
+    ambient = _ambient_plane(buffers, config) if config.background_suppression else None
+    depth_m, out = _read_and_demodulate(mixed, indirect, sample_buffers, config, rng=rng,
+                                        noise=noise, ambient=ambient)
     gt_range, gt_id = downsample_ground_truth(buffers, k)
+    amplitude, intensity, valid, saturated, correlation = out
     return TofOutput(
         depth_m=depth_m,
         amplitude=amplitude,

@@ -27,14 +27,17 @@ each other edge-on), so a single wall shows no MPI.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
+from simcore.jit import kernel
 from simcore.scene.tof_config import SPEED_OF_LIGHT
 
 F32 = NDArray[np.float32]
+_MIN_DIST_SQ = np.float32(1e-6)
 #: Receivers per block of the pair sums (bounds the temporaries to ≈ 10 MB per array).
 BLOCK = 4096
 
@@ -139,3 +142,236 @@ def one_bounce(points_m: F32, normals: F32, senders: Senders, frequencies_hz: li
             re[sl] = (term * np.cos(phase)).sum(axis=1)
             im[sl] = (term * np.sin(phase)).sum(axis=1)
     return magnitude, phasors
+
+
+#: Receiver grid step of :func:`one_bounce_image` (sensor pixels): the indirect light is
+#: computed exactly on every ``RECEIVER_STEP``-th pixel and interpolated in between.
+RECEIVER_STEP = 4
+#: Two receivers lie on the same smooth surface when their normals agree to this cosine …
+SAME_SURFACE_COS = 0.95
+#: … and each lies within this fraction of their distance (plus ``SAME_SURFACE_TOL_M``) of
+#: the other's tangent plane.
+SAME_SURFACE_SLOPE = 0.1
+SAME_SURFACE_TOL_M = 0.005
+
+
+def _node_axis(size: int, step: int) -> NDArray[np.int64]:
+    """Node positions along one axis: every ``step``-th pixel and the last one."""
+    nodes = np.arange(0, size, step)
+    return nodes if nodes[-1] == size - 1 else np.append(nodes, size - 1)
+
+
+def _cell_of(size: int, nodes: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.float32]]:
+    """For every pixel of an axis: the node interval it lies in and its fraction there."""
+    pos = np.arange(size)
+    if len(nodes) == 1:
+        return np.zeros(size, dtype=np.int64), np.zeros(size, dtype=np.float32)
+    cell = np.clip(np.searchsorted(nodes, pos, side="right") - 1, 0, len(nodes) - 2)
+    frac = (pos - nodes[cell]) / (nodes[cell + 1] - nodes[cell])
+    return cell.astype(np.int64), frac.astype(np.float32)
+
+
+@kernel
+def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
+                       node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
+                       node_values: F32, node_seen: NDArray[np.bool_],
+                       cell_y: NDArray[np.int64], frac_y: F32,
+                       cell_x: NDArray[np.int64], frac_x: F32
+                       ) -> tuple[F32, NDArray[np.bool_]]:
+    """Surface-aware bilinear interpolation of node values to every pixel.
+
+    Of the four nodes around a pixel, only those on the pixel's own smooth surface (normals
+    within ``SAME_SURFACE_COS``; each point near the other's tangent plane) are blended, with
+    their bilinear weights renormalised. A seen pixel without such a node is flagged.
+
+    Parameters
+    ----------
+    points, normals : ndarray, shape (H, W, 3)
+        Receiver points (m) and unit normals.
+    seen : ndarray of bool, shape (H, W)
+    node_rows, node_cols : ndarray of int, shapes (NY,), (NX,)
+        Pixel coordinates of the node grid.
+    node_values : ndarray, shape (NY, NX, V)
+    node_seen : ndarray of bool, shape (NY, NX)
+    cell_y, frac_y, cell_x, frac_x : ndarray, shapes (H,), (H,), (W,), (W,)
+        From :func:`_cell_of`.
+
+    Returns
+    -------
+    values : ndarray, shape (H, W, V)
+    missing : ndarray of bool, shape (H, W)
+        Seen pixels with no node on their surface (to be computed exactly).
+    """
+    h, w = seen.shape
+    nv = node_values.shape[2]
+    out = np.zeros((h, w, nv), dtype=np.float32)
+    missing = np.zeros((h, w), dtype=np.bool_)
+    acc = np.zeros(nv)
+    for y in range(h):
+        for x in range(w):
+            if not seen[y, x]:
+                continue
+            total = 0.0
+            acc[:] = 0.0
+            for dy in range(2):
+                iy = min(cell_y[y] + dy, len(node_rows) - 1)
+                wy = frac_y[y] if dy else 1.0 - frac_y[y]
+                for dx in range(2):
+                    ix = min(cell_x[x] + dx, len(node_cols) - 1)
+                    wx = frac_x[x] if dx else 1.0 - frac_x[x]
+                    if not node_seen[iy, ix]:
+                        continue
+                    ny, nx = node_rows[iy], node_cols[ix]
+                    cos = 0.0
+                    gap_p = 0.0
+                    gap_q = 0.0
+                    dist = 0.0
+                    for c in range(3):
+                        d = points[ny, nx, c] - points[y, x, c]
+                        cos += normals[y, x, c] * normals[ny, nx, c]
+                        gap_p += normals[y, x, c] * d
+                        gap_q += normals[ny, nx, c] * d
+                        dist += d * d
+                    tol = SAME_SURFACE_SLOPE * math.sqrt(dist) + SAME_SURFACE_TOL_M
+                    if cos < SAME_SURFACE_COS or abs(gap_p) > tol or abs(gap_q) > tol:
+                        continue
+                    weight = wy * wx + 1e-6
+                    total += weight
+                    for v in range(nv):
+                        acc[v] += weight * node_values[iy, ix, v]
+            if total > 0.0:
+                for v in range(nv):
+                    out[y, x, v] = acc[v] / total
+            else:
+                missing[y, x] = True
+    return out, missing
+
+
+def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], senders: Senders,
+                     frequencies_hz: list[float], *, step: int = RECEIVER_STEP
+                     ) -> tuple[F32, list[tuple[F32, F32]]]:
+    """:func:`one_bounce` for every pixel of an image, exact on a coarse grid of receivers.
+
+    The indirect light varies slowly over a smooth surface: it is summed exactly
+    (:func:`one_bounce`) on the receivers of every ``step``-th row and column (and the last
+    ones), and each pixel blends the nodes around it that lie on its own surface
+    (:func:`_interpolate_nodes`); pixels with no such node (depth and crease edges, small
+    objects) are summed exactly. The phasors are interpolated without their receiver's
+    own leg, ``exp(i 2π f R_P / c)``, which is put back per pixel, so only the slow
+    ``R_Q + |Q − P|`` part is interpolated. ``step = 1`` is :func:`one_bounce` itself.
+
+    Parameters
+    ----------
+    points_m, normals : ndarray, shape (H, W, 3)
+        Receiver points (optical frame, m) and unit normals; only ``seen`` pixels are used.
+    seen : ndarray of bool, shape (H, W)
+    senders : Senders
+    frequencies_hz : list of float
+    step : int, keyword-only
+        Node spacing (pixels).
+
+    Returns
+    -------
+    magnitude : ndarray, shape (H, W)
+        As :func:`one_bounce` (0 where not ``seen``).
+    phasors : list of (re, im), each ndarray of shape (H, W)
+    """
+    h, w = seen.shape
+    nf = len(frequencies_hz)
+    if step <= 1:
+        mag_s, ph_s = one_bounce(points_m[seen], normals[seen], senders, frequencies_hz)
+        magnitude = np.zeros((h, w), dtype=np.float32)
+        magnitude[seen] = mag_s
+        phasors = []
+        for re_s, im_s in ph_s:
+            re, im = np.zeros_like(magnitude), np.zeros_like(magnitude)
+            re[seen], im[seen] = re_s, im_s
+            phasors.append((re, im))
+        return magnitude, phasors
+    rows, cols = _node_axis(h, step), _node_axis(w, step)
+    grid = np.ix_(rows, cols)
+    node_seen = seen[grid]
+    node_pts, node_nrm = points_m[grid][node_seen], normals[grid][node_seen]
+    k = [2.0 * np.pi * f / SPEED_OF_LIGHT for f in frequencies_hz]
+    values = np.zeros((len(rows), len(cols), 1 + 2 * nf), dtype=np.float32)
+    values[node_seen] = _reduced(node_pts, node_nrm, senders, k)
+    cy, fy = _cell_of(h, rows)
+    cx, fx = _cell_of(w, cols)
+    out, missing = _interpolate_nodes(
+        np.ascontiguousarray(points_m, dtype=np.float32),
+        np.ascontiguousarray(normals, dtype=np.float32), np.ascontiguousarray(seen),
+        rows, cols, values, np.ascontiguousarray(node_seen), cy, fy, cx, fx)
+    if missing.any():
+        out[missing] = _reduced(points_m[missing], normals[missing], senders, k)
+    r_p = np.linalg.norm(points_m, axis=-1)
+    magnitude = np.where(seen, out[..., 0], np.float32(0.0)).astype(np.float32)
+    phasors = []
+    for j, kk in enumerate(k):
+        own = np.exp(1j * kk * r_p)
+        ph = (out[..., 1 + 2 * j] + 1j * out[..., 2 + 2 * j]) * own
+        phasors.append((np.where(seen, ph.real, 0.0).astype(np.float32),
+                        np.where(seen, ph.imag, 0.0).astype(np.float32)))
+    return magnitude, phasors
+
+
+@kernel
+def _pair_sums(points: F32, normals: F32, q: F32, nq: F32, weight: F32, range_q: F32,
+               k: F32) -> F32:
+    """Compiled one-bounce sums at receivers, phasors without the receiver's own leg.
+
+    Parameters
+    ----------
+    points, normals : ndarray, shape (M, 3)
+        Receivers (m) and unit normals.
+    q, nq : ndarray, shape (N, 3)
+        Senders and their normals.
+    weight, range_q : ndarray, shape (N,)
+        :attr:`Senders.weight` and :attr:`Senders.range_m`.
+    k : ndarray, shape (F,), float32
+        ``2π f / c`` per modulation frequency (rad/m).
+
+    Returns
+    -------
+    ndarray, shape (M, 1 + 2F), float32
+        Pair terms and phases in float32 like :func:`one_bounce`, sums in float64.
+        Per receiver ``Σ term`` and, per frequency, the real and imaginary parts of
+        ``Σ term · exp(i k (R_Q + |Q − P|))`` (:func:`one_bounce` times ``exp(−i k R_P)``).
+    """
+    m, n, nf = points.shape[0], q.shape[0], k.shape[0]
+    out = np.zeros((m, 1 + 2 * nf), dtype=np.float32)
+    for i in range(m):
+        px, py, pz = points[i, 0], points[i, 1], points[i, 2]
+        nx, ny, nz = normals[i, 0], normals[i, 1], normals[i, 2]
+        mag = 0.0
+        re = np.zeros(nf)
+        im = np.zeros(nf)
+        for j in range(n):
+            dx, dy, dz = q[j, 0] - px, q[j, 1] - py, q[j, 2] - pz
+            cos_p = nx * dx + ny * dy + nz * dz
+            cos_q = -(nq[j, 0] * dx + nq[j, 1] * dy + nq[j, 2] * dz)
+            if cos_p <= 0.0 or cos_q <= 0.0:
+                continue
+            dist_sq = max(dx * dx + dy * dy + dz * dz, _MIN_DIST_SQ)
+            term = cos_p * cos_q / (dist_sq * dist_sq) * weight[j]
+            mag += term
+            path = math.sqrt(dist_sq) + range_q[j]
+            for f in range(nf):
+                phase = k[f] * path
+                re[f] += term * math.cos(phase)
+                im[f] += term * math.sin(phase)
+        out[i, 0] = mag
+        for f in range(nf):
+            out[i, 1 + 2 * f] = re[f]
+            out[i, 2 + 2 * f] = im[f]
+    return out
+
+
+def _reduced(points_m: F32, normals: F32, senders: Senders, k: list[float]) -> F32:
+    """:func:`one_bounce` at receivers, phasors without the receiver's leg: shape (M, 1 + 2F)."""
+    return _pair_sums(np.ascontiguousarray(points_m, dtype=np.float32),
+                      np.ascontiguousarray(normals, dtype=np.float32),
+                      np.ascontiguousarray(senders.points_m, dtype=np.float32),
+                      np.ascontiguousarray(senders.normals, dtype=np.float32),
+                      np.ascontiguousarray(senders.weight, dtype=np.float32),
+                      np.ascontiguousarray(senders.range_m, dtype=np.float32),
+                      np.asarray(k, dtype=np.float32))

@@ -11,6 +11,7 @@ from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
 from simcore.sensors.base import H5Items, SensorContext, config_key
 from simcore.sensors.tof.camera import TofOutput, simulate_tof, slab_transmittance
+from simcore.sensors.tof.specular import is_mirror, material_columns
 
 
 class TofSensor:
@@ -38,7 +39,7 @@ class TofSensor:
         """
         cfg = project.rig.tof
         offsets: tuple[float, ...] = ()
-        if cfg.motion_artifacts:
+        if cfg.motion_artifacts and cfg.motion_sampling == "renders":
             offsets += tuple(i * cfg.sample_interval_s for i in (1, 2, 3))
         if cfg.auto_exposure:
             offsets += (-1.0 / project.timeline.frame_rate_hz,)
@@ -58,10 +59,12 @@ class TofSensor:
                                inputs=(ctx.buffers,))
         through = ctx.see_through
         trans = None if through is None else transmittance(ctx.project)
+        mirrors = mirror_table(ctx.project) if cfg.specular else None
         return ctx.stage(
             "tof", lambda: simulate_tof(ctx.buffers, cfg, rng=ctx.rng, sample_buffers=samples,
                                         albedo=albedo, exposure_reference=previous,
-                                        see_through=through, transmittance=trans),
+                                        see_through=through, transmittance=trans,
+                                        mirrors=mirrors),
             reads=(config_key(cfg), ctx.seed, ctx.index,
                    None if trans is None else trans.tobytes()),
             inputs=(ctx.buffers, *ctx.sample_buffers, through))
@@ -82,6 +85,13 @@ def transmittance(project: Project) -> NDArray[np.float64]:
     return np.array([slab_transmittance(table[o.material].band("tof"), wavelength_m)
                      if o.material in table else 0.0 for o in project.objects],
                     dtype=np.float64)
+
+
+def mirror_table(project: Project) -> tuple[NDArray[np.float32], NDArray[np.bool_]]:
+    """Per-object ToF-band mirror columns and flags (:mod:`simcore.sensors.tof.specular`)."""
+    table = material_table(project, copy=False)
+    columns = material_columns([table[o.material].band("tof") for o in project.objects])
+    return columns, is_mirror(columns)
 
 
 def diffuse_albedo(project: Project, buffers: RenderBuffers) -> NDArray[np.float32]:
