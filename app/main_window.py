@@ -217,6 +217,7 @@ class MainWindow(QMainWindow):
         self._build_status_bar()
         self._connect()
         self.resize(initial_window_size(self.screen()))  # 1720×1020, or what fits the screen
+        self.size_docks(initial_window_size(self.screen()))
         self._default_state = self.saveState()  # View → Reset layout
         self._restore_layout()
         self._update_title()
@@ -252,7 +253,9 @@ class MainWindow(QMainWindow):
         self.rgb_panel = RgbPanel()
         self.docks: dict[str, QDockWidget] = {}
         self.setCorner(Qt.Corner.BottomRightCorner, Qt.DockWidgetArea.RightDockWidgetArea)
-        self.setCorner(Qt.Corner.BottomLeftCorner, Qt.DockWidgetArea.LeftDockWidgetArea)
+        # The editors' tab group spans under the scene docks too (issue #34): at 1366×768
+        # the antenna board, the Sensors and Materials columns get room to be read.
+        self.setCorner(Qt.Corner.BottomLeftCorner, Qt.DockWidgetArea.BottomDockWidgetArea)
         self.docks["scene"] = self._dock("Scene", self.object_list, left, "dock_scene")
         self.docks["inspector"] = self._dock("Inspector", self.inspector, left, "dock_inspector")
         self.docks["tof"] = self._dock("ToF camera", self.tof_panel, right, "dock_tof")
@@ -291,6 +294,21 @@ class MainWindow(QMainWindow):
             "Range-Doppler": self.rd_panel, "Range-azimuth": self.ra_panel}
         self._rgb_shown: bool | None = None
         self._follow_rig_sensors()
+
+    def size_docks(self, size: QSize) -> None:
+        """Share a window of ``size`` between the docks so that each stays readable.
+
+        Issue #34: at 1366×768 the scene column and the live panels give up some width so
+        that the editors' tab group below (spanning under the scene column) shows the
+        antenna board ≥ 200 px wide beside its table, and every Sensors/Materials column.
+        """
+        w, h = size.width(), size.height()
+        left = int(min(390, max(260, 0.22 * w)))
+        right = int(min(690, max(480, 0.42 * w)))
+        self.resizeDocks([self.docks["scene"], self.docks["tof"]], [left, right],
+                         Qt.Orientation.Horizontal)
+        self.resizeDocks([self.docks["antennas"]], [int(min(300, max(250, 0.33 * h)))],
+                         Qt.Orientation.Vertical)
 
     def _build_explore_docks(self) -> None:
         """Timeline & seed editor's errors, keyframes at the current time (issue #17)."""

@@ -554,9 +554,11 @@ class RangeProfilePanel(LivePanel):
         self.plot.setLabel("bottom", "range", "m")
         self.plot.setLabel("left", "power", "dB")
         self.plot.showGrid(x=True, y=True, alpha=0.2)
-        self.legend = self.plot.addLegend(offset=(-4, 4), labelTextSize="7pt",
-                                          brush=pg.mkBrush(21, 24, 28, 150),
-                                          verSpacing=-6)
+        # The legend has its own column right of the data (issue #34: drawn over the view
+        # it hid the curve and the detections at the far end of the range).
+        self.legend = pg.LegendItem(offset=None, labelTextSize="7pt", verSpacing=-6)
+        self.plot.legend = self.legend  # named items join it (PlotItem.addItem)
+        self.plot.layout.addItem(self.legend, 2, 3)
         self.curves: list[pg.PlotDataItem] = []
         self.processed = self.plot.plot(pen=pg.mkPen("#ffffff", width=2.0),
                                         name="processed")

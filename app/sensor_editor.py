@@ -31,6 +31,7 @@ from PyQt6.QtWidgets import (
 from app.document import ProjectDocument
 from app.field_editors import DETECTION, LINK_BUDGET, PROCESSING, FieldForm
 from app.widgets import BIG, INT_MAX, VectorEdit, int_spin, set_quietly, spin, try_edit
+from app.wrap_row import WrapRow
 from simcore.scene import Project
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig, aliasing_warnings
 from simcore.scene.radar_presets import RADAR_PRESETS
@@ -159,11 +160,10 @@ class SensorEditor(QScrollArea):
         outer.setContentsMargins(2, 2, 2, 2)
         self.tabs = QTabWidget()
         outer.addWidget(self.tabs)
-        radar_page = QWidget()
-        row = QHBoxLayout(radar_page)
-        row.setContentsMargins(2, 2, 2, 2)
-        row.addWidget(self._build_radar(), 1)
-        row.addWidget(self._build_derived(), 1)
+        radar_page = WrapRow()  # the derived column wraps below when narrow (issue #34)
+        radar_page.box.setContentsMargins(2, 2, 2, 2)
+        radar_page.add(self._build_radar(), 1)
+        radar_page.add(self._build_derived(), 1)
         self.tabs.addTab(radar_page, "Radar")
         self.tabs.addTab(self._build_link_budget(), "Link budget")
         self.tabs.addTab(self._build_dsp_page(), "Radar processing")
