@@ -6,11 +6,12 @@ import time
 from pathlib import Path
 from typing import Any
 
-from PyQt6.QtCore import QEvent, QObject, QPointF, QSettings, QSize, Qt, QTimer
+from PyQt6.QtCore import QEvent, QObject, QPointF, QSettings, QSize, Qt, QTimer, QUrl
 from PyQt6.QtGui import (
     QAction,
     QCloseEvent,
     QColor,
+    QDesktopServices,
     QIcon,
     QKeyEvent,
     QKeySequence,
@@ -29,7 +30,6 @@ from PyQt6.QtWidgets import (
     QDockWidget,
     QFileDialog,
     QFrame,
-    QInputDialog,
     QLabel,
     QLineEdit,
     QMainWindow,
@@ -47,7 +47,7 @@ from PyQt6.QtWidgets import (
 
 from app.antenna_editor import AntennaEditor
 from app.document import EditError, ProjectDocument, ProjectError, remember_last_folder
-from app.export import DatasetExportJob, export_panel_images
+from app.export import DatasetExportJob, ExportDialog, completion_box, export_panel_images
 from app.frame_view import FrameView
 from app.help import install_help_menu
 from app.material_editor import MaterialEditor
@@ -203,6 +203,8 @@ class MainWindow(QMainWindow):
         self.frame_draw_ms: list[float] = []
         self.last_error_dialog: QMessageBox | None = None
         self.export_job: DatasetExportJob | None = None
+        self.export_dialog: ExportDialog | None = None
+        self.completion_dialog: QMessageBox | None = None
         self.progress_dialog: QProgressDialog | None = None
         self._closing = False
         self._cost_cache: tuple[Project, preflight.CostEstimate, list[str]] | None = None
@@ -345,7 +347,7 @@ class MainWindow(QMainWindow):
         self.save_as_action = a("Save &As…", lambda: self.save_as(),
                                 shortcut=QKeySequence("Ctrl+Shift+S"),
                                 tip="Save the project under a new name")
-        self.export_dataset_action = a("Export &dataset (HDF5)…",
+        self.export_dataset_action = a("Export &dataset (HDF5 / MCAP)…",
                                        lambda: self.export_dataset_dialog(),
                                        tip="Run the headless dataset job on this project")
         self.export_images_action = a("Export panel &images…",
@@ -927,22 +929,40 @@ class MainWindow(QMainWindow):
             act.triggered.connect(lambda _=False, p=f: self.open_project(p))
 
     # --- exports ----------------------------------------------------------------------
-    def export_dataset_dialog(self) -> None:
-        """Ask for an output file and a frame count, then run the dataset job."""
-        start = str(self.document.base_dir / f"{self.document.project.name}.h5")
-        path, _ = QFileDialog.getSaveFileName(self, "Export dataset", start,
-                                              "HDF5 datasets (*.h5)")
-        if not path:
-            return
-        n, ok = QInputDialog.getInt(self, "Export dataset", "Frames:",
-                                    self.document.project.timeline.n_frames, 1, 100000)
-        if ok:
-            self.export_dataset(Path(path), n_frames=n)
+    def export_dataset_dialog(self) -> ExportDialog:
+        """Ask for destination, format, frames or duration, seed and previews; then export.
 
-    def export_dataset(self, out: Path, *, n_frames: int) -> DatasetExportJob:
-        """Write ``n_frames`` frames into ``out`` with a cancellable progress dialog."""
+        The dialog is window-modal and returned (tests fill it in and accept it).
+        """
+        dialog = ExportDialog(self.document.project, self.document.base_dir, self)
+        dialog.setWindowModality(Qt.WindowModality.WindowModal)
+        dialog.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
+
+        def start() -> None:
+            c = dialog.choice()
+            self.export_dataset(c.out, n_frames=c.n_frames, seed=c.seed,
+                                preview_dir=c.preview_dir)
+
+        dialog.accepted.connect(start)
+        self.export_dialog = dialog
+        dialog.open()
+        return dialog
+
+    def open_url(self, url: QUrl) -> bool:
+        """Open a file or folder with the desktop's application (tests replace this)."""
+        return QDesktopServices.openUrl(url)
+
+    def export_dataset(self, out: Path, *, n_frames: int, seed: int | None = None,
+                       preview_dir: Path | None = None) -> DatasetExportJob:
+        """Write ``n_frames`` frames into ``out`` with a cancellable progress dialog.
+
+        ``seed`` defaults to the project's; ``preview_dir`` also writes PNG previews of
+        every frame there (as ``tofradar run --preview``). The export ends with a dialog
+        that opens the folder or the dataset (:func:`app.export.completion_box`).
+        """
         job = DatasetExportJob(self.document.project, self.document.base_dir, Path(out),
-                               n_frames=n_frames, parent=self)
+                               n_frames=n_frames, seed=seed, preview_dir=preview_dir,
+                               parent=self)
         dialog = QProgressDialog(f"Writing {out.name}…", "Cancel", 0, n_frames, self)
         dialog.setWindowTitle("Export dataset")
         dialog.setWindowModality(Qt.WindowModality.WindowModal)
@@ -963,6 +983,11 @@ class MainWindow(QMainWindow):
         def finished(message: str) -> None:
             dialog.close()
             self.statusBar().showMessage(message, 10000)
+            box = completion_box(self, message, Path(out), preview_dir, self.open_url)
+            box.setWindowModality(Qt.WindowModality.WindowModal)
+            box.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
+            self.completion_dialog = box
+            box.open()
 
         def failed(message: str) -> None:
             dialog.close()
