@@ -308,10 +308,9 @@ class SensorEditor(QScrollArea):
         return box
 
     def _build_dsp_page(self) -> QWidget:
-        page = QWidget()
-        row = QHBoxLayout(page)
-        row.setContentsMargins(2, 2, 2, 2)
-        row.addWidget(self._build_dsp(), 1)
+        page = WrapRow()  # three columns: they stack when the dock is narrow (issue #34)
+        page.box.setContentsMargins(2, 2, 2, 2)
+        page.add(self._build_dsp(), 1)
         self.detection_form = FieldForm(self.document, DETECTION)
         self.processing_form = FieldForm(self.document, PROCESSING)
         for title, form in (("Detection (CFAR cells)", self.detection_form),
@@ -319,7 +318,7 @@ class SensorEditor(QScrollArea):
             form.editFailed.connect(self.editFailed)
             box = QGroupBox(title)
             QVBoxLayout(box).addWidget(form)
-            row.addWidget(box, 1)
+            page.add(box, 1)
         return page
 
     def _build_dsp(self) -> QWidget:
