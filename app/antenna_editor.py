@@ -423,6 +423,7 @@ class AntennaEditor(QWidget):
         self.side_splitter.setChildrenCollapsible(False)
         self.side_splitter.setStretchFactor(0, 3)
         self.side_splitter.setStretchFactor(1, 2)
+        self.side_splitter.setSizes([3 * 10_000, 2 * 10_000])  # 3 : 2 from the start
         self.splitter.addWidget(self.board)
         self.splitter.addWidget(self.side_splitter)
         self.splitter.addWidget(self.analysis)

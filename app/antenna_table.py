@@ -171,7 +171,7 @@ class AntennaTable(QWidget):
         width = sum(max(header.sectionSizeHint(c), self.table.sizeHintForColumn(c))
                     for c in range(len(COLUMNS)))
         width += 2 * self.table.frameWidth() + self.table.verticalScrollBar().sizeHint().width()
-        self.table.setMinimumWidth(max(200, width + 24))
+        self.table.setMinimumWidth(max(200, width + 32))
 
     def element_rows(self) -> list[tuple[str, str, str, str]]:
         """The table's text, row by row (name, x, y, pattern)."""

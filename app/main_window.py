@@ -306,11 +306,14 @@ class MainWindow(QMainWindow):
         """
         w, h = size.width(), size.height()
         left = int(min(390, max(260, 0.22 * w)))
-        right = int(min(690, max(480, 0.42 * w)))
+        right = int(min(690, max(480, 0.45 * w)))
         self.resizeDocks([self.docks["scene"], self.docks["tof"]], [left, right],
                          Qt.Orientation.Horizontal)
-        self.resizeDocks([self.docks["antennas"]], [int(min(300, max(250, 0.33 * h)))],
-                         Qt.Orientation.Vertical)
+        bottom = int(min(300, max(250, 0.33 * h)))
+        self.resizeDocks([self.docks["antennas"]], [bottom], Qt.Orientation.Vertical)
+        # The scene list keeps half of what is left above the editors on a short screen.
+        self.resizeDocks([self.docks["scene"], self.docks["inspector"]],
+                         [300, 600] if h >= 900 else [1, 1], Qt.Orientation.Vertical)
 
     def _build_explore_docks(self) -> None:
         """Timeline & seed editor's errors, keyframes at the current time (issue #17)."""
