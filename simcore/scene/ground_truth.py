@@ -125,8 +125,7 @@ def object_ground_truth(project: Project, snapshot: SceneSnapshot,
     size = np.zeros((k, 3))
     ref = np.zeros((k, 3))
     ref_vel = np.zeros((k, 3))
-    nearest = np.full(k, np.nan)
-    radar = snapshot.sensors.get("radar")
+    surfaces: list[tuple[NDArray[np.float64], NDArray[np.integer] | None]] = []
     for i, (obj, state, pts) in enumerate(zip(project.objects, snapshot.objects, local_points,
                                               strict=True)):
         t = state.transform
@@ -142,10 +141,11 @@ def object_ground_truth(project: Project, snapshot: SceneSnapshot,
         analytic = isinstance(obj.geometry, (CornerReflector, PointTarget))
         ref[i] = state.origin if analytic else center[i]
         ref_vel[i] = state.point_velocity(ref[i])
-        if radar is not None:
-            tri = None if local_triangles is None else local_triangles[i]
-            nearest[i] = nearest_range(radar.position, world if pts is not None else ref[i:i + 1],
-                                       None if pts is None else tri)
+        tri = None if local_triangles is None or pts is None else local_triangles[i]
+        surfaces.append((world if pts is not None else ref[i:i + 1], tri))
+    radar = snapshot.sensors.get("radar")
+    nearest = (np.full(k, np.nan) if radar is None
+               else nearest_ranges(radar.position, surfaces))
     rng, v_r, az, el = _relative_to(snapshot, "radar", ref, ref_vel)
     return ObjectTruth(vel, ang, aabb, center, rot, size, ref, rng, v_r, az, el, nearest)
 
@@ -176,15 +176,55 @@ def nearest_range(origin: NDArray[np.floating], points: NDArray[np.floating],
     >>> nearest_range(np.zeros(3), square, np.array([[0, 1, 2], [0, 2, 3]]))
     1.0
     """
+    return float(nearest_ranges(origin, [(points, triangles)])[0])
+
+
+def nearest_ranges(origin: NDArray[np.floating],
+                   surfaces: Sequence[tuple[NDArray[np.floating], NDArray[np.integer] | None]]
+                   ) -> NDArray[np.float64]:
+    """:func:`nearest_range` of several surfaces at once, shape (K,) (m).
+
+    ``surfaces`` holds one (points, triangles or None) pair per object. All triangles are
+    handled in one vectorised pass; a triangle that cannot come nearer than its surface's
+    nearest vertex (its farthest vertex minus its longest edge is beyond it) is skipped.
+    """
     o = np.asarray(origin, dtype=np.float64).reshape(3)
-    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    if len(p) == 0:
-        return float("nan")
-    if triangles is None or len(triangles) == 0:
-        return float(np.sqrt(np.min(np.sum((p - o) ** 2, axis=1))))
-    t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
-    closest = _closest_on_triangles(o, p[t[:, 0]], p[t[:, 1]], p[t[:, 2]])
-    return float(np.sqrt(np.min(np.sum((closest - o) ** 2, axis=1))))
+    k = len(surfaces)
+    pts: list[NDArray[np.float64]] = []
+    tris: list[NDArray[np.int64]] = []
+    tri_owner: list[NDArray[np.int64]] = []
+    counts = np.zeros(k, dtype=np.int64)
+    offset = 0
+    for i, (points, triangles) in enumerate(surfaces):
+        p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        pts.append(p)
+        counts[i] = len(p)
+        if len(p) and triangles is not None and len(triangles):
+            t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+            tris.append(t + offset)
+            tri_owner.append(np.full(len(t), i, dtype=np.int64))
+        offset += len(p)
+    out = np.full(k, np.nan)
+    if offset == 0:
+        return out
+    all_p = np.concatenate(pts)
+    d = np.sqrt(np.sum((all_p - o) ** 2, axis=1))
+    has = counts > 0
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    # The nearest vertex: an upper bound, and the answer without triangles.
+    out[has] = np.minimum.reduceat(d, starts[has])
+    if not tris:
+        return out
+    t = np.concatenate(tris)
+    owner = np.concatenate(tri_owner)
+    corners = all_p[t]                                          # (T, 3 corners, 3)
+    longest = np.sqrt(np.max(np.sum((corners - np.roll(corners, 1, axis=1)) ** 2, axis=2),
+                             axis=1))
+    near = d[t].max(axis=1) - longest <= out[owner]
+    corners, owner = corners[near], owner[near]
+    closest = _closest_on_triangles(o, corners[:, 0], corners[:, 1], corners[:, 2])
+    np.fmin.at(out, owner, np.sqrt(np.sum((closest - o) ** 2, axis=1)))
+    return out
 
 
 def _closest_on_triangles(o: NDArray[np.float64], a: NDArray[np.float64],
