@@ -602,8 +602,13 @@ class RangeProfilePanel(LivePanel):
         self.plot.addItem(self.markers)
         self.legend.addItem(self.markers, "detections")
         self.truth_lines: list[pg.InfiniteLine] = []
-        #: One solid line per object at its nearest surface point (dashed: reference).
-        self.near_lines: list[pg.InfiniteLine] = []
+        #: Solid vertical lines at each object's nearest surface point (dashed: reference),
+        #: all in one item (one path to paint per frame), the selected one's in yellow.
+        self.near_lines = pg.PlotDataItem(pen=NEAR_PEN, connect="pairs")
+        self.near_selected = pg.PlotDataItem(pen=TRUTH_SELECTED_PEN, connect="pairs")
+        for item in (self.near_lines, self.near_selected):
+            item.setZValue(-0.5)
+            self.plot.addItem(item)
         self.truth_shown: list[tuple[int, float, float]] = []
         self.raw_box = QCheckBox("raw channels")
         self.raw_box.setToolTip("Also draw each channel's chirp-averaged raw range spectrum "
@@ -753,23 +758,23 @@ class RangeProfilePanel(LivePanel):
 
     def _draw_near(self, shown: list[tuple[int, float]]) -> None:
         """A solid line at each object's nearest surface point (what the radar sees first)."""
-        while len(self.near_lines) < len(shown):
-            line = pg.InfiniteLine(angle=90, movable=False, pen=NEAR_PEN)
-            self.plot.addItem(line)
-            self.near_lines.append(line)
-        for k, line in enumerate(self.near_lines):
-            if k >= len(shown):
-                line.setVisible(False)
-                continue
-            oid, rng = shown[k]
-            line.setVisible(True)
-            if line.value() != rng:
-                line.setValue(rng)
-            line.object_id = oid
-            selected = oid == self.selected_id
-            if getattr(line, "selected", None) is not selected:
-                line.setPen(TRUTH_SELECTED_PEN if selected else NEAR_PEN)
-                line.selected = selected
+        key = (tuple(shown), self.selected_id)
+        if getattr(self, "_near_key", None) == key:
+            return  # a still scene: nothing to redraw
+        self._near_key = key
+        for item, rows in ((self.near_lines, [r for o, r in shown if o != self.selected_id]),
+                           (self.near_selected, [r for o, r in shown if o == self.selected_id])):
+            x = np.repeat(np.asarray(rows, dtype=np.float64), 2)
+            # Far beyond any dB range: the view clips them to its height.
+            item.setData(x, np.tile([-1e4, 1e4], len(rows)))
+
+    def near_ranges(self) -> list[float]:
+        """Ranges of the nearest-surface lines drawn (m)."""
+        values = []
+        for item in (self.near_lines, self.near_selected):
+            x, _ = item.getData()
+            values += [] if x is None else [float(v) for v in x[::2]]
+        return sorted(values)
 
     def _rebuild_curves(self, names: list[str]) -> None:
         for curve in self.curves:

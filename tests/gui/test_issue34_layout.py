@@ -203,7 +203,7 @@ def test_a_box_truth_shows_its_front_face_as_well_as_its_centre(make_window, wai
     panel = window.profile_panel
     panel.draw_now()
     refs = [line.value() for line in panel.truth_lines if line.isVisible()]
-    near = [line.value() for line in panel.near_lines if line.isVisible()]
+    near = panel.near_ranges()
     assert refs == [pytest.approx(2.0)]
     assert near == [pytest.approx(1.75, abs=1e-5)]                # the face the radar sees
     rd = window.rd_panel
