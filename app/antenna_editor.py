@@ -1,7 +1,9 @@
 """Antenna-array editor: the radar board in millimetres with draggable Tx and Rx elements.
 
-Beside the board, :class:`~app.array_analysis.ArrayAnalysisView` shows the virtual array
-and its beam pattern, both following every step of a drag.
+Beside the board, :class:`~app.antenna_table.AntennaTable` lists every element with its
+name, x and y in millimetres and its pattern, for typing exact values (one undo step per
+cell), and :class:`~app.array_analysis.ArrayAnalysisView` shows the virtual array and its
+beam pattern; all three follow every step of a drag.
 
 * **Nothing is hidden.** Tx are drawn as large squares under the smaller Rx circles, so a Tx
   that shares its position with an Rx can still be grabbed by its exposed corners; a click
@@ -43,6 +45,7 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
+from app.antenna_table import AntennaTable
 from app.array_analysis import VIRTUAL_COLOUR, ArrayAnalysisView, virtual_positions_mm
 from app.document import EditError, ProjectDocument
 from app.widgets import int_spin, spin
@@ -62,6 +65,8 @@ RX_SIZE = 12
 SAME_SPOT_MM = 1e-3
 #: Labels of neighbours closer than this on screen alternate above/below (px).
 CROWDED_PX = 34
+#: The board's minimum width (px): the array stays readable on a 1366×768 screen.
+BOARD_MIN_WIDTH = 200
 
 
 def half_wavelength_mm(config: RadarConfig) -> float:
@@ -405,13 +410,26 @@ class AntennaEditor(QWidget):
         self.splitter = QSplitter(Qt.Orientation.Horizontal)
         self.board = AntennaBoardView()
         self.board.elementDragged.connect(self.move_element)
+        # Readable on a small screen: the board never narrower than BOARD_MIN_WIDTH (the
+        # dock scrolls instead), the numeric table beside it (issue #34).
+        self.board.setMinimumWidth(BOARD_MIN_WIDTH)
+        self.table = AntennaTable(document)
+        self.table.editFailed.connect(self.editFailed)
         self.analysis = ArrayAnalysisView(document)
+        # The table and the snap / preset controls share the column beside the board.
+        self.side_splitter = QSplitter(Qt.Orientation.Vertical)
+        self.side_splitter.addWidget(self.table)
+        self.side_splitter.addWidget(self._build_side())
+        self.side_splitter.setChildrenCollapsible(False)
+        self.side_splitter.setStretchFactor(0, 3)
+        self.side_splitter.setStretchFactor(1, 2)
+        self.side_splitter.setSizes([3 * 10_000, 2 * 10_000])  # 3 : 2 from the start
         self.splitter.addWidget(self.board)
+        self.splitter.addWidget(self.side_splitter)
         self.splitter.addWidget(self.analysis)
-        self.splitter.addWidget(self._build_side())
-        self.splitter.setStretchFactor(0, 3)
-        self.splitter.setStretchFactor(1, 4)
-        self.splitter.setStretchFactor(2, 2)
+        for k, stretch in enumerate((3, 1, 4)):
+            self.splitter.setStretchFactor(k, stretch)
+        self.splitter.setChildrenCollapsible(False)
         layout.addWidget(self.splitter)
         document.projectChanged.connect(self.refresh)
         document.projectReplaced.connect(self._refit)

@@ -152,6 +152,9 @@ class ObjectMarks:
     range_m, radial_velocity_mps, azimuth_deg, elevation_deg : ndarray, shape (K,)
         Range (m), radial velocity (m/s, + = away), azimuth and elevation (deg) of each
         object's reference point in the radar frame (:mod:`simcore.scene.ground_truth`).
+    nearest_range_m : ndarray, shape (K,), optional
+        Range of each object's nearest surface point from the radar (m; issue #34): where
+        the radar sees it begin. None when unknown.
     """
 
     object_id: NDArray[np.int32]
@@ -159,6 +162,7 @@ class ObjectMarks:
     radial_velocity_mps: F64
     azimuth_deg: F64
     elevation_deg: F64
+    nearest_range_m: F64 | None = None
 
 
 def object_marks(truth: Any, project: Project) -> ObjectMarks | None:
@@ -169,7 +173,14 @@ def object_marks(truth: Any, project: Project) -> ObjectMarks | None:
                        np.asarray(truth.radar_range_m, dtype=np.float64),
                        np.asarray(truth.radar_radial_velocity_mps, dtype=np.float64),
                        np.asarray(truth.radar_azimuth_deg, dtype=np.float64),
-                       np.asarray(truth.radar_elevation_deg, dtype=np.float64))
+                       np.asarray(truth.radar_elevation_deg, dtype=np.float64),
+                       _nearest(truth, len(project.objects)))
+
+
+def _nearest(truth: Any, k: int) -> F64 | None:
+    """The truth's nearest ranges (issue #34), or None from a core without them."""
+    near = getattr(truth, "radar_nearest_range_m", None)
+    return None if near is None or len(near) != k else np.asarray(near, dtype=np.float64)
 # --- end issue #17 -----------------------------------------------------------------------
 
 

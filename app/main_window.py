@@ -6,11 +6,12 @@ import time
 from pathlib import Path
 from typing import Any
 
-from PyQt6.QtCore import QEvent, QObject, QPointF, QSettings, QSize, Qt, QTimer
+from PyQt6.QtCore import QEvent, QObject, QPointF, QSettings, QSize, Qt, QTimer, QUrl
 from PyQt6.QtGui import (
     QAction,
     QCloseEvent,
     QColor,
+    QDesktopServices,
     QIcon,
     QKeyEvent,
     QKeySequence,
@@ -29,7 +30,6 @@ from PyQt6.QtWidgets import (
     QDockWidget,
     QFileDialog,
     QFrame,
-    QInputDialog,
     QLabel,
     QLineEdit,
     QMainWindow,
@@ -47,7 +47,7 @@ from PyQt6.QtWidgets import (
 
 from app.antenna_editor import AntennaEditor
 from app.document import EditError, ProjectDocument, ProjectError, remember_last_folder
-from app.export import DatasetExportJob, export_panel_images
+from app.export import DatasetExportJob, ExportDialog, completion_box, export_panel_images
 from app.frame_view import FrameView
 from app.help import install_help_menu
 from app.material_editor import MaterialEditor
@@ -206,6 +206,8 @@ class MainWindow(QMainWindow):
         self.frame_draw_ms: list[float] = []
         self.last_error_dialog: QMessageBox | None = None
         self.export_job: DatasetExportJob | None = None
+        self.export_dialog: ExportDialog | None = None
+        self.completion_dialog: QMessageBox | None = None
         self.progress_dialog: QProgressDialog | None = None
         self._closing = False
         self._cost_cache: tuple[Project, preflight.CostEstimate, list[str]] | None = None
@@ -221,6 +223,7 @@ class MainWindow(QMainWindow):
         self._build_status_bar()
         self._connect()
         self.resize(initial_window_size(self.screen()))  # 1720×1020, or what fits the screen
+        self.size_docks(initial_window_size(self.screen()))
         self._default_state = self.saveState()  # View → Reset layout
         self._restore_layout()
         self._update_title()
@@ -256,7 +259,9 @@ class MainWindow(QMainWindow):
         self.rgb_panel = RgbPanel()
         self.docks: dict[str, QDockWidget] = {}
         self.setCorner(Qt.Corner.BottomRightCorner, Qt.DockWidgetArea.RightDockWidgetArea)
-        self.setCorner(Qt.Corner.BottomLeftCorner, Qt.DockWidgetArea.LeftDockWidgetArea)
+        # The editors' tab group spans under the scene docks too (issue #34): at 1366×768
+        # the antenna board, the Sensors and Materials columns get room to be read.
+        self.setCorner(Qt.Corner.BottomLeftCorner, Qt.DockWidgetArea.BottomDockWidgetArea)
         self.docks["scene"] = self._dock("Scene", self.object_list, left, "dock_scene")
         self.docks["inspector"] = self._dock("Inspector", self.inspector, left, "dock_inspector")
         self.docks["tof"] = self._dock("ToF camera", self.tof_panel, right, "dock_tof")
@@ -316,6 +321,24 @@ class MainWindow(QMainWindow):
             key if isinstance(key, int) and not isinstance(key, bool) else None))
         self.spectrogram_panel.set_project(doc.project)
 
+    def size_docks(self, size: QSize) -> None:
+        """Share a window of ``size`` between the docks so that each stays readable.
+
+        Issue #34: at 1366×768 the scene column and the live panels give up some width so
+        that the editors' tab group below (spanning under the scene column) shows the
+        antenna board ≥ 200 px wide beside its table, and every Sensors/Materials column.
+        """
+        w, h = size.width(), size.height()
+        left = int(min(390, max(260, 0.22 * w)))
+        right = int(min(690, max(480, 0.45 * w)))
+        self.resizeDocks([self.docks["scene"], self.docks["tof"]], [left, right],
+                         Qt.Orientation.Horizontal)
+        bottom = int(min(300, max(250, 0.33 * h)))
+        self.resizeDocks([self.docks["antennas"]], [bottom], Qt.Orientation.Vertical)
+        # The scene list keeps half of what is left above the editors on a short screen.
+        self.resizeDocks([self.docks["scene"], self.docks["inspector"]],
+                         [300, 600] if h >= 900 else [1, 1], Qt.Orientation.Vertical)
+
     def _build_explore_docks(self) -> None:
         """Timeline & seed editor's errors, keyframes at the current time (issue #17)."""
         self.timeline_editor.editFailed.connect(self.show_status_error)
@@ -351,7 +374,7 @@ class MainWindow(QMainWindow):
         self.save_as_action = a("Save &As…", lambda: self.save_as(),
                                 shortcut=QKeySequence("Ctrl+Shift+S"),
                                 tip="Save the project under a new name")
-        self.export_dataset_action = a("Export &dataset (HDF5)…",
+        self.export_dataset_action = a("Export &dataset (HDF5 / MCAP)…",
                                        lambda: self.export_dataset_dialog(),
                                        tip="Run the headless dataset job on this project")
         self.export_images_action = a("Export panel &images…",
@@ -936,22 +959,40 @@ class MainWindow(QMainWindow):
             act.triggered.connect(lambda _=False, p=f: self.open_project(p))
 
     # --- exports ----------------------------------------------------------------------
-    def export_dataset_dialog(self) -> None:
-        """Ask for an output file and a frame count, then run the dataset job."""
-        start = str(self.document.base_dir / f"{self.document.project.name}.h5")
-        path, _ = QFileDialog.getSaveFileName(self, "Export dataset", start,
-                                              "HDF5 datasets (*.h5)")
-        if not path:
-            return
-        n, ok = QInputDialog.getInt(self, "Export dataset", "Frames:",
-                                    self.document.project.timeline.n_frames, 1, 100000)
-        if ok:
-            self.export_dataset(Path(path), n_frames=n)
+    def export_dataset_dialog(self) -> ExportDialog:
+        """Ask for destination, format, frames or duration, seed and previews; then export.
 
-    def export_dataset(self, out: Path, *, n_frames: int) -> DatasetExportJob:
-        """Write ``n_frames`` frames into ``out`` with a cancellable progress dialog."""
+        The dialog is window-modal and returned (tests fill it in and accept it).
+        """
+        dialog = ExportDialog(self.document.project, self.document.base_dir, self)
+        dialog.setWindowModality(Qt.WindowModality.WindowModal)
+        dialog.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
+
+        def start() -> None:
+            c = dialog.choice()
+            self.export_dataset(c.out, n_frames=c.n_frames, seed=c.seed,
+                                preview_dir=c.preview_dir)
+
+        dialog.accepted.connect(start)
+        self.export_dialog = dialog
+        dialog.open()
+        return dialog
+
+    def open_url(self, url: QUrl) -> bool:
+        """Open a file or folder with the desktop's application (tests replace this)."""
+        return QDesktopServices.openUrl(url)
+
+    def export_dataset(self, out: Path, *, n_frames: int, seed: int | None = None,
+                       preview_dir: Path | None = None) -> DatasetExportJob:
+        """Write ``n_frames`` frames into ``out`` with a cancellable progress dialog.
+
+        ``seed`` defaults to the project's; ``preview_dir`` also writes PNG previews of
+        every frame there (as ``tofradar run --preview``). The export ends with a dialog
+        that opens the folder or the dataset (:func:`app.export.completion_box`).
+        """
         job = DatasetExportJob(self.document.project, self.document.base_dir, Path(out),
-                               n_frames=n_frames, parent=self)
+                               n_frames=n_frames, seed=seed, preview_dir=preview_dir,
+                               parent=self)
         dialog = QProgressDialog(f"Writing {out.name}…", "Cancel", 0, n_frames, self)
         dialog.setWindowTitle("Export dataset")
         dialog.setWindowModality(Qt.WindowModality.WindowModal)
@@ -972,6 +1013,11 @@ class MainWindow(QMainWindow):
         def finished(message: str) -> None:
             dialog.close()
             self.statusBar().showMessage(message, 10000)
+            box = completion_box(self, message, Path(out), preview_dir, self.open_url)
+            box.setWindowModality(Qt.WindowModality.WindowModal)
+            box.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
+            self.completion_dialog = box
+            box.open()
 
         def failed(message: str) -> None:
             dialog.close()

@@ -40,6 +40,7 @@ from PyQt6.QtWidgets import (
 from app.document import EditError, ProjectDocument, library_material, library_names
 from app.field_editors import FieldSpec, bind_number_box, commit_value
 from app.widgets import BIG, set_quietly, spin, try_edit
+from app.wrap_row import WrapRow
 from simcore.scene.materials import BandMaterial, DualBandMaterial, summarize_material
 from simcore.scene.radar_config import SPEED_OF_LIGHT
 
@@ -327,14 +328,15 @@ class MaterialEditor(QWidget):
         self.unique_button.clicked.connect(self.make_selected_unique)
         users.addWidget(self.unique_button)
         layout.addLayout(users)
-        bands = QHBoxLayout()
+        bands = WrapRow()  # band columns stack when narrow: none is cut off (issue #34)
         self.tof_editor = BandEditor("tof")
         self.radar_editor = BandEditor("radar")
         self.visible_editor = BandEditor("visible")
         for ed in (self.tof_editor, self.radar_editor, self.visible_editor):
             ed.edited.connect(self._on_edited)
-            bands.addWidget(ed)
-        layout.addLayout(bands)
+            bands.add(ed)
+        layout.addWidget(bands)
+        self.bands = bands
         buttons = QHBoxLayout()
         self.radar_invisible = QPushButton("Invisible to radar")
         self.radar_invisible.setCheckable(True)

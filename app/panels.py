@@ -60,6 +60,10 @@ OUTLINE_RGBA = (255, 255, 255, 150)
 OUTLINE_SELECTED_RGBA = (255, 235, 59, 255)
 #: With more ground-truth marks than this in a panel, only the selected object is labelled.
 MAX_TRUTH_LABELS = 6
+#: A truth mark within this distance of the mouse (px) is named in the read-out line.
+HOVER_PX = 8
+#: Nearest-surface marks (issue #34): where the radar sees an object begin.
+NEAR_PEN = pg.mkPen("#80deea", width=1.2)
 #: Colour map and half-range (dB) of difference views (A/B comparison).
 DIFF_CMAP = "CET-D1"
 DIFF_SPAN_DB = 20.0
@@ -307,9 +311,30 @@ class LivePanel(QWidget):
         keep = ((marks.azimuth_deg >= az0) & (marks.azimuth_deg <= az1)
                 & (marks.elevation_deg >= el0) & (marks.elevation_deg <= el1)
                 & np.isfinite(marks.range_m))
+        near = None if marks.nearest_range_m is None else marks.nearest_range_m[keep]
         return ObjectMarks(marks.object_id[keep], marks.range_m[keep],
                            marks.radial_velocity_mps[keep], marks.azimuth_deg[keep],
-                           marks.elevation_deg[keep])
+                           marks.elevation_deg[keep], near)
+
+    def truth_name_at(self, pos: QPointF, xs: Any, ys: Any | None, ids: Any) -> str:
+        """Name of the truth mark within :data:`HOVER_PX` of scene point ``pos``, or "".
+
+        ``xs`` (and ``ys``, None for vertical lines) are the marks' view coordinates in the
+        panel's plot; a hover names every mark, also when too many are shown to label
+        them all (issue #34).
+        """
+        plot = getattr(self, "plot", None)
+        if plot is None or len(ids) == 0:
+            return ""
+        best, best_d = "", float(HOVER_PX)
+        for k, oid in enumerate(ids):
+            y = plot.vb.mapSceneToView(pos).y() if ys is None else float(ys[k])
+            p = plot.vb.mapViewToScene(QPointF(float(xs[k]), y))
+            d = abs(p.x() - pos.x()) if ys is None else float(np.hypot(p.x() - pos.x(),
+                                                                       p.y() - pos.y()))
+            if d <= best_d:
+                best, best_d = self.object_label(int(oid)), d
+        return best
 
     def _labelled(self, object_id: int, n_shown: int) -> bool:
         """Whether a truth mark gets its name (all when few, else only the selected one)."""
@@ -546,17 +571,22 @@ class RangeProfilePanel(LivePanel):
         self.show_raw = False
         self.plot_widget = pg.PlotWidget(title="range profile")
         self.plot_widget.setToolTip(
-            "Processed range profile: the range–Doppler map (clutter removal and windows "
-            "applied, channels integrated) averaged over Doppler, dB; dashed: 1-D CFAR "
+            "Processed range profile: the range–Doppler map (windows applied, static "
+            "clutter removal when it is on — the title says — channels integrated) "
+            "averaged over Doppler, dB; dashed: 1-D CFAR "
             "threshold on this curve; triangles: detections of the 2-D detector; vertical "
-            "lines: true range of each object; 'raw channels': chirp-averaged raw spectra")
+            "lines: each object's nearest surface point (solid: where the radar sees it "
+            "begin) and its reference point (dashed, named); hover a line for its object; "
+            "'raw channels': chirp-averaged raw spectra")
         self.plot = self.plot_widget.getPlotItem()
         self.plot.setLabel("bottom", "range", "m")
         self.plot.setLabel("left", "power", "dB")
         self.plot.showGrid(x=True, y=True, alpha=0.2)
-        self.legend = self.plot.addLegend(offset=(-4, 4), labelTextSize="7pt",
-                                          brush=pg.mkBrush(21, 24, 28, 150),
-                                          verSpacing=-6)
+        # The legend has its own column right of the data (issue #34: drawn over the view
+        # it hid the curve and the detections at the far end of the range).
+        self.legend = pg.LegendItem(offset=None, labelTextSize="7pt", verSpacing=-6)
+        self.plot.legend = self.legend  # named items join it (PlotItem.addItem)
+        self.plot.layout.addItem(self.legend, 2, 3)
         self.curves: list[pg.PlotDataItem] = []
         self.processed = self.plot.plot(pen=pg.mkPen("#ffffff", width=2.0),
                                         name="processed")
@@ -572,6 +602,14 @@ class RangeProfilePanel(LivePanel):
         self.plot.addItem(self.markers)
         self.legend.addItem(self.markers, "detections")
         self.truth_lines: list[pg.InfiniteLine] = []
+        #: Solid vertical lines at each object's nearest surface point (dashed: reference),
+        #: all in one item (one path to paint per frame), the selected one's in yellow.
+        self.near_lines = pg.PlotDataItem(pen=NEAR_PEN, connect="pairs")
+        self.near_selected = pg.PlotDataItem(pen=TRUTH_SELECTED_PEN, connect="pairs")
+        for item in (self.near_lines, self.near_selected):
+            item.setZValue(-0.5)
+            self.plot.addItem(item)
+        self.truth_shown: list[tuple[int, float, float]] = []
         self.raw_box = QCheckBox("raw channels")
         self.raw_box.setToolTip("Also draw each channel's chirp-averaged raw range spectrum "
                                 "(before clutter removal and Doppler processing)")
@@ -595,6 +633,11 @@ class RangeProfilePanel(LivePanel):
         """Show the raw per-channel spectra beside the processed profile."""
         self.show_raw = bool(on)
         self.redraw()
+
+    def processed_title(self) -> str:
+        """The profile's title; it says whether static clutter removal is on (issue #34)."""
+        state = "on" if self.dsp.static_clutter_removal else "off"
+        return f"range profile (processed, static clutter removal {state})"
 
     def processed_profile(self, view: FrameView) -> Any:
         """The frame's processed profile and its 1-D CFAR (:class:`ProfileCfar`)."""
@@ -632,8 +675,8 @@ class RangeProfilePanel(LivePanel):
                 self.reference_curve.setData(r, ref)
             else:
                 self.reference_curve.setData([], [])
-            _set_title(self.plot, "range profile (processed) + reference A" if ref is not None
-                       else "range profile (processed)")
+            _set_title(self.plot, self.processed_title()
+                       + (" + reference A" if ref is not None else ""))
             curves = [prof.profile_db, prof.threshold_db]
             if self.show_raw:
                 curves.append(radar.profile_db.ravel())
@@ -678,9 +721,17 @@ class RangeProfilePanel(LivePanel):
             curve.setData(radar.range_axis_m, radar.profile_db[i])
 
     def _draw_truth(self, marks: ObjectMarks | None, *, x_max: float) -> None:
+        near_all = (None if marks is None else marks.nearest_range_m)
         shown = [] if marks is None else [
             (int(i), float(rng)) for i, rng in zip(marks.object_id, marks.range_m, strict=True)
             if np.isfinite(rng) and 0 < rng <= x_max]
+        near = [] if marks is None or near_all is None else [
+            float(n) for i, rng, n in zip(marks.object_id, marks.range_m, near_all, strict=True)
+            if np.isfinite(rng) and 0 < rng <= x_max]
+        self.truth_shown = [(oid, rng, near[k] if near else rng)
+                            for k, (oid, rng) in enumerate(shown)]
+        self._draw_near([(oid, n) for oid, _r, n in self.truth_shown
+                         if near and np.isfinite(n)])
         while len(self.truth_lines) < len(shown):
             line = pg.InfiniteLine(angle=90, movable=False, pen=TRUTH_PEN,
                                    label="", labelOpts={"position": 0.92, "color": "#80deea",
@@ -704,6 +755,26 @@ class RangeProfilePanel(LivePanel):
             text = self.object_label(oid) if self._labelled(oid, len(shown)) else ""
             if line.label.format != text:
                 line.label.setFormat(text)
+
+    def _draw_near(self, shown: list[tuple[int, float]]) -> None:
+        """A solid line at each object's nearest surface point (what the radar sees first)."""
+        key = (tuple(shown), self.selected_id)
+        if getattr(self, "_near_key", None) == key:
+            return  # a still scene: nothing to redraw
+        self._near_key = key
+        for item, rows in ((self.near_lines, [r for o, r in shown if o != self.selected_id]),
+                           (self.near_selected, [r for o, r in shown if o == self.selected_id])):
+            x = np.repeat(np.asarray(rows, dtype=np.float64), 2)
+            # Far beyond any dB range: the view clips them to its height.
+            item.setData(x, np.tile([-1e4, 1e4], len(rows)))
+
+    def near_ranges(self) -> list[float]:
+        """Ranges of the nearest-surface lines drawn (m)."""
+        values = []
+        for item in (self.near_lines, self.near_selected):
+            x, _ = item.getData()
+            values += [] if x is None else [float(v) for v in x[::2]]
+        return sorted(values)
 
     def _rebuild_curves(self, names: list[str]) -> None:
         for curve in self.curves:
@@ -736,7 +807,17 @@ class RangeProfilePanel(LivePanel):
                      f"{self.threshold_db[i]:.1f})")
         values = "  ".join(f"{name} {radar.profile_db[k, i]:.1f}"
                            for k, name in enumerate(radar.channel_names))
-        self.readout.setText(f"{text}  raw {values} dB")
+        text = f"{text}  raw {values} dB"
+        shown = self.truth_shown if self.show_truth else []
+        for xs in ([n for _, _, n in shown], [r for _, r, _ in shown]):
+            name = self.truth_name_at(pos, xs, None, [oid for oid, _, _ in shown])
+            if name:
+                oid = next(o for o, _, _ in shown if self.object_label(o) == name)
+                _, rng, near = next(t for t in shown if t[0] == oid)
+                text = (f"→ {name}: nearest surface {near:.3f} m, reference point "
+                        f"{rng:.3f} m   |   {text}")
+                break
+        self.readout.setText(text)
 
 
 def _rect(x: NDArray[np.float64], y: NDArray[np.float64]) -> QRectF:
@@ -782,6 +863,11 @@ class MapPanel(LivePanel):
         self.truth.setZValue(9)
         self.truth.sigClicked.connect(self._on_truth_clicked)
         self.plot.addItem(self.truth)
+        # Where the radar sees each object begin: its nearest surface point (issue #34).
+        self.truth_near = pg.ScatterPlotItem(symbol="x", size=8, pen=NEAR_PEN, brush=None)
+        self.truth_near.setZValue(9)
+        self.truth_near.setAcceptedMouseButtons(Qt.MouseButton.NoButton)
+        self.plot.addItem(self.truth_near)
         self.truth_labels: list[pg.TextItem] = []
         self._diff_shown: bool | None = None
         self._levels: tuple[float, float] | None = None
@@ -826,13 +912,34 @@ class MapPanel(LivePanel):
         self.markers.setData(x, y, brush=detection_brushes(det, by_label=self.colour_by_label),
                              pen=detection_pens(det, self.selected_id))
 
-    def _show_truth(self, marks: ObjectMarks | None, x: Any, y: Any, inside: Any) -> None:
-        """Crosses at each object's true position (map coordinates ``x``, ``y``)."""
+    def truth_hover_text(self, pos: QPointF) -> str:
+        """``"→ name   "`` for the truth cross under the mouse, else ``""``."""
+        if not self.show_truth:
+            return ""
+        x, y = self.truth.getData()
+        ids = [p.data() for p in self.truth.points()] if x is not None and len(x) else []
+        name = self.truth_name_at(pos, x, y, ids) if ids else ""
+        return f"→ {name}   " if name else ""
+
+    def _show_truth(self, marks: ObjectMarks | None, x: Any, y: Any, inside: Any,
+                    near: tuple[Any, Any] | None = None) -> None:
+        """Crosses at each object's true position (map coordinates ``x``, ``y``).
+
+        ``near``: map coordinates of each object's nearest surface point, drawn as small
+        crosses (issue #34).
+        """
         if marks is None:
             self.truth.setData([], [])
+            self.truth_near.setData([], [])
             keep: list[int] = []
         else:
             keep = [k for k in range(len(marks.object_id)) if inside[k]]
+            if near is None:
+                self.truth_near.setData([], [])
+            else:
+                nx, ny = (np.asarray(c, dtype=np.float64)[keep] for c in near)
+                ok = np.isfinite(nx) & np.isfinite(ny)
+                self.truth_near.setData(nx[ok], ny[ok])
             pens = [TRUTH_SELECTED_PEN if int(marks.object_id[k]) == self.selected_id
                     else TRUTH_PEN for k in keep]
             self.truth.setData(np.asarray(x)[keep], np.asarray(y)[keep], pen=pens,
@@ -889,7 +996,8 @@ class RangeDopplerPanel(MapPanel):
                 radar.velocity_axis_mps) else 0.0
             inside = (np.isfinite(r) & (r > 0) & (r <= radar.range_axis_m[-1])
                       & (np.abs(v) <= vmax + 1e-9))
-            self._show_truth(marks, r, v, inside)
+            near = None if marks.nearest_range_m is None else (marks.nearest_range_m, v)
+            self._show_truth(marks, r, v, inside, near)
         else:
             self._show_truth(None, [], [], [])
         _set_text(self.info, f"t = {view.time_s:.2f} s   {plural(len(det), 'detection')}")
@@ -901,8 +1009,8 @@ class RangeDopplerPanel(MapPanel):
         p = self.plot.vb.mapSceneToView(pos)
         ri = int(np.argmin(np.abs(radar.range_axis_m - p.x())))
         vi = int(np.argmin(np.abs(radar.velocity_axis_mps - p.y())))
-        self.readout.setText(f"range {radar.range_axis_m[ri]:.3f} m  velocity "
-                             f"{radar.velocity_axis_mps[vi]:+.3f} m/s: "
+        self.readout.setText(f"{self.truth_hover_text(pos)}range {radar.range_axis_m[ri]:.3f} m"
+                             f"  velocity {radar.velocity_axis_mps[vi]:+.3f} m/s: "
                              f"{radar.range_doppler_db[vi, ri]:.1f} dB")
 
 
@@ -973,7 +1081,9 @@ class RangeAzimuthPanel(MapPanel):
             r, az = marks.range_m, np.deg2rad(marks.azimuth_deg)
             inside = np.isfinite(r) & (r > 0) & (r <= radar.range_axis_m[-1]) & (
                 np.abs(az) < np.pi / 2)
-            self._show_truth(marks, r * np.sin(az), r * np.cos(az), inside)
+            n = marks.nearest_range_m
+            self._show_truth(marks, r * np.sin(az), r * np.cos(az), inside,
+                             None if n is None else (n * np.sin(az), n * np.cos(az)))
         else:
             self._show_truth(None, [], [], [])
         _set_text(self.info, f"t = {view.time_s:.2f} s   {plural(len(det), 'detection')}")
@@ -987,7 +1097,8 @@ class RangeAzimuthPanel(MapPanel):
         az = float(np.rad2deg(np.arctan2(p.x(), p.y())))
         ri = int(np.argmin(np.abs(radar.range_axis_m - rng)))
         ai = int(np.argmin(np.abs(radar.azimuth_axis_deg - az)))
-        self.readout.setText(f"x {p.x():+.2f} m  forward {p.y():.2f} m  (range {rng:.2f} m, "
+        self.readout.setText(f"{self.truth_hover_text(pos)}x {p.x():+.2f} m  forward "
+                             f"{p.y():.2f} m  (range {rng:.2f} m, "
                              f"azimuth {az:+.1f}°): {radar.range_azimuth_db[ai, ri]:.1f} dB")
 
 

@@ -50,6 +50,7 @@ from app.widgets import (
     spin,
     try_edit,
 )
+from app.wrap_row import WrapRow
 from simcore.scene import Project
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig, aliasing_warnings
 from simcore.scene.radar_presets import RADAR_PRESETS
@@ -218,11 +219,10 @@ class SensorEditor(QScrollArea):
         outer.setContentsMargins(2, 2, 2, 2)
         self.tabs = QTabWidget()
         outer.addWidget(self.tabs)
-        radar_page = QWidget()
-        row = QHBoxLayout(radar_page)
-        row.setContentsMargins(2, 2, 2, 2)
-        row.addWidget(self._build_radar(), 1)
-        row.addWidget(self._build_derived(), 1)
+        radar_page = WrapRow()  # the derived column wraps below when narrow (issue #34)
+        radar_page.box.setContentsMargins(2, 2, 2, 2)
+        radar_page.add(self._build_radar(), 1)
+        radar_page.add(self._build_derived(), 1)
         self.tabs.addTab(radar_page, "Radar")
         self.tabs.addTab(self._build_link_budget(), "Link budget")
         self.tabs.addTab(self._build_dsp_page(), "Radar processing")
@@ -361,10 +361,9 @@ class SensorEditor(QScrollArea):
         return box
 
     def _build_dsp_page(self) -> QWidget:
-        page = QWidget()
-        row = QHBoxLayout(page)
-        row.setContentsMargins(2, 2, 2, 2)
-        row.addWidget(self._build_dsp(), 1)
+        page = WrapRow()  # three columns: they stack when the dock is narrow (issue #34)
+        page.box.setContentsMargins(2, 2, 2, 2)
+        page.add(self._build_dsp(), 1)
         self.detection_form = FieldForm(self.document, DETECTION)
         self.processing_form = FieldForm(self.document, PROCESSING)
         self.products_form = FieldForm(self.document, PRODUCTS)
@@ -374,7 +373,7 @@ class SensorEditor(QScrollArea):
             form.editFailed.connect(self.editFailed)
             box = QGroupBox(title)
             QVBoxLayout(box).addWidget(form)
-            row.addWidget(box, 1)
+            page.add(box, 1)
         return page
 
     def _build_dsp(self) -> QWidget:

@@ -174,7 +174,9 @@ class Simulator:
         snap = result.snapshot
         meshes = self.engine.renderer.geometry.meshes
         truth = object_ground_truth(self.project, snap,
-                                    [None if m is None else m.points for m in meshes])
+                                    [None if m is None else m.points for m in meshes],
+                                    local_triangles=[None if m is None else m.triangles
+                                                     for m in meshes])
         return Frame(index=result.index, time_s=snap.time_s, rig_pose=snap.rig.transform,
                      object_poses=snap.object_transforms(), snapshot=snap,
                      outputs=result.outputs, buffers=result.buffers,
