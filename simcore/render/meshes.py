@@ -25,6 +25,7 @@ from simcore.scene.geometry import (
     Box,
     CornerReflector,
     Cylinder,
+    Ellipsoid,
     Geometry,
     Mesh,
     Plane,
@@ -33,6 +34,7 @@ from simcore.scene.geometry import (
     corner_reflector_axes,
 )
 from simcore.scene.mesh_files import MeshError, read_mesh_arrays
+from simcore.scene.people.config import Person
 from simcore.scene.project_io import resolve_mesh_path
 
 SPHERE_THETA_RESOLUTION = 160
@@ -112,6 +114,46 @@ def _corner_reflector(geom: CornerReflector) -> TriangleMesh:
     return TriangleMesh(np.array(points), np.array(normals), np.array(tris, dtype=np.int64))
 
 
+#: Tessellation of an ellipsoid (body segment): small, since a body has 17 of them.
+ELLIPSOID_THETA_RESOLUTION = 28
+ELLIPSOID_PHI_RESOLUTION = 14
+
+
+def _ellipsoid(radii: NDArray[np.float64]) -> TriangleMesh:
+    """Unit sphere scaled to ``radii``, with the ellipsoid's exact normals."""
+    src = vtkSphereSource()
+    src.SetRadius(1.0)
+    src.SetThetaResolution(ELLIPSOID_THETA_RESOLUTION)
+    src.SetPhiResolution(ELLIPSOID_PHI_RESOLUTION)
+    src.Update()
+    unit = _from_polydata(src.GetOutput(), smooth=True)
+    points = unit.points * radii
+    n = points / radii**2
+    return TriangleMesh(points, n / np.linalg.norm(n, axis=1, keepdims=True), unit.triangles)
+
+
+def _person_rest_mesh(person: Person) -> TriangleMesh:
+    """A person's segments in the rest pose (standing), one mesh in the object's frame.
+
+    What the simulation renders is the segments (:mod:`simcore.scene.people.expand`);
+    this mesh serves views and bounding boxes of the unexpanded object.
+    """
+    from simcore.scene.people.skeleton import PARENTS, build_skeleton
+
+    skel = build_skeleton(person.height_m, person.build)
+    joints = np.zeros_like(skel.joints)
+    points, normals, tris = [], [], []
+    offset = 0
+    for i, parent in enumerate(PARENTS):
+        joints[i] = skel.joints[i] + (joints[parent] if parent >= 0 else 0.0)
+        part = _ellipsoid(skel.radii[i])
+        points.append(part.points + joints[i] + skel.centers[i])
+        normals.append(part.normals)
+        tris.append(part.triangles + offset)
+        offset += len(part.points)
+    return TriangleMesh(np.concatenate(points), np.concatenate(normals), np.concatenate(tris))
+
+
 def _read_mesh_file(path: Path) -> vtkPolyData:
     """Parse and check a mesh file in Python, then hand VTK only the checked arrays."""
     points, triangles = read_mesh_arrays(path)
@@ -160,6 +202,10 @@ def build_mesh(geometry: Geometry, *, base_dir: Path | None = None) -> TriangleM
         src.SetPoint2(-sx / 2, sy / 2, 0)
         src.Update()
         return _from_polydata(src.GetOutput(), smooth=False)
+    if isinstance(geometry, Ellipsoid):
+        return _ellipsoid(np.asarray(geometry.radii_m, dtype=np.float64))
+    if isinstance(geometry, Person):
+        return _person_rest_mesh(geometry)
     if isinstance(geometry, Mesh):
         path = resolve_mesh_path(base_dir or Path.cwd(), geometry.path)
         mesh = _from_polydata(_read_mesh_file(path), smooth=False)
