@@ -124,9 +124,9 @@ def build_skeleton(height_m: float, build: float = 1.0) -> Skeleton:
 
     seg("pelvis", (0, 0, z_hip), (0, 0, 0.02 * h), (0.060 * h * b, 0.095 * h * b, 0.055 * h))
     seg("abdomen", (0, 0, z_abd - z_hip), (0, 0, (z_chest - z_abd) / 2),
-        (0.060 * h * b, 0.085 * h * b, (z_chest - z_abd) / 2 + 0.01 * h))
+        (0.060 * h * b, 0.085 * h * b, (z_chest - z_abd) / 2 + 0.03 * h))
     seg("chest", (0, 0, z_chest - z_abd), (0, 0, (z_sh - z_chest) / 2 - 0.005 * h),
-        (0.062 * h * b, 0.095 * h * b, (z_sh - z_chest) / 2 + 0.01 * h))
+        (0.062 * h * b, 0.095 * h * b, (z_sh - z_chest) / 2 + 0.03 * h))
     seg("neck", (0, 0, z_sh - z_chest), (0, 0, (z_chin - z_sh) / 2),
         (0.030 * h * b, 0.030 * h * b, (z_chin - z_sh) / 2 + 0.01 * h))
     head = (1.0 - f["chin"]) * h
