@@ -141,7 +141,8 @@ class Detections:
         -------
         ndarray, shape (n,), dtype :data:`DETECTION_DTYPE`
             Radar-frame coordinates; the label fields hold "unlabelled" (``object_id`` −1,
-        ``power_fraction`` 0, ``ghost`` False, ``body_part`` −1) until the radar sensor fills them in.
+        ``power_fraction`` 0, ``ghost`` False, ``body_part`` −1) until the radar sensor
+        fills them in.
         """
         out = np.zeros(len(self), dtype=DETECTION_DTYPE)
         out["frame"] = frame
