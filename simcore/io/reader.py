@@ -69,6 +69,26 @@ DIMS: dict[str, tuple[str, ...]] = {
     "/radar/bird_eye_z_axis": ("bev_z",),
     "/radar/detections_count": (),
     "/meta/frame_sha256": (),
+    # People (simcore.scene.people): per-segment and vital-sign truth.
+    "/tof/gt_body_part": ("row", "col"),
+    "/people/names": ("person",),
+    "/people/object_ids": ("person",),
+    "/people/body_part_names": ("body_part",),
+    "/people/segments/names": ("segment",),
+    "/people/segments/person": ("segment",),
+    "/people/segments/body_part": ("segment",),
+    "/people/segments/pose": ("segment", "pose_row", "pose_col"),
+    "/people/segments/velocity": ("segment", "xyz"),
+    "/people/segments/angular_velocity": ("segment", "xyz"),
+    "/people/segments/radar_range": ("segment",),
+    "/people/segments/radar_radial_velocity": ("segment",),
+    "/people/segments/radar_azimuth": ("segment",),
+    "/people/segments/radar_elevation": ("segment",),
+    "/people/breathing_displacement": ("person",),
+    "/people/heartbeat_displacement": ("person",),
+    "/people/breathing_rate": ("person",),
+    "/people/heart_rate": ("person",),
+    "/people/gait_phase": ("person",),
 }
 
 #: Axis datasets that become coordinates: path → coordinate name.
@@ -80,6 +100,9 @@ COORDS = {
     "/radar/bird_eye_z_axis": "bev_z",
     "/objects/names": "object_name",
     "/objects/ids": "object_id",
+    "/people/names": "person_name",
+    "/people/segments/names": "segment_name",
+    "/people/body_part_names": "body_part_name",
 }
 
 _LABELS = {"xyz": ["x", "y", "z"], "corner": ["min", "max"], "color": ["r", "g", "b"]}
