@@ -92,3 +92,28 @@ def test_reader_names_people_dimensions(tmp_path) -> None:
         assert ds["people_breathing_rate"].dims == ("frame", "person")
     finally:
         ds.close()
+
+
+def test_mcap_carries_segment_frames(tmp_path) -> None:
+    import json
+
+    import h5py
+    from test_mcap import read_mcap
+
+    from simcore.cli import main
+    from simcore.io.ros2_messages import transform_matrix
+
+    d = walker_project(speed=1.0, heading_deg=180.0, distance_m=3.0, frames=2)
+    (tmp_path / "w.json").write_text(json.dumps(d))
+    for suffix in ("mcap", "h5"):
+        assert main(["run", str(tmp_path / "w.json"), "--out", str(tmp_path / f"w.{suffix}"),
+                     "--quiet"]) == 0
+    tf = read_mcap(tmp_path / "w.mcap")["/tf"]
+    with h5py.File(tmp_path / "w.h5") as f:
+        names = list(f["people/segments/names"].asstr()[:])
+        for k in range(2):
+            frames = {t.child_frame_id: transform_matrix(t.transform)
+                      for t in tf[k][1].transforms}
+            for i, name in enumerate(names):
+                np.testing.assert_allclose(frames[name], f["people/segments/pose"][k, i],
+                                           atol=1e-9)
