@@ -63,8 +63,17 @@ class BodyFrame:
     placement: NDArray[np.float64]  # (4, 4) body frame → world
 
 
+#: Half-length of path (m) over which a walker turns at a corner or an end of its path.
+TURN_HALF_LENGTH_M = 0.25
+
+
 class _Path:
-    """Where a walker is after walking a distance: a polyline walked at constant speed."""
+    """Where a walker is after walking a distance: a polyline walked at constant speed.
+
+    The path is unfolded into legs (forward, then backward for ``back_and_forth``) of
+    constant heading; the heading turns smoothly over ±``TURN_HALF_LENGTH_M`` around each
+    leg boundary (a reversal turns left), so the body's angular velocity stays finite.
+    """
 
     def __init__(self, pose: Pose, rigid: Motion, path: str):
         base = np.asarray(pose.position_m, dtype=np.float64)
@@ -77,32 +86,59 @@ class _Path:
             pts = base + np.array([k.position_m for k in rigid.keyframes], dtype=np.float64)
             pts[:, 2] = base[2]
             steps = np.linalg.norm(np.diff(pts, axis=0), axis=1)
-            keep = np.concatenate([[True], steps > 1e-9])
+            keep = np.concatenate([[True], steps > 1e-6])
             if keep.sum() >= 2:
-                self.points = pts[keep]
-                self.cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(
-                    np.diff(self.points, axis=0), axis=1))])
+                self._legs(pts[keep])
+
+    def _legs(self, pts: NDArray[np.float64]) -> None:
+        if self.repeat == "back_and_forth":
+            pts = np.concatenate([pts, pts[-2::-1]])
+        elif self.repeat == "loop" and np.linalg.norm(pts[-1] - pts[0]) > 1e-6:
+            pts = np.concatenate([pts, pts[:1]])  # the jump back is walked too
+        self.points = pts
+        d = np.diff(pts, axis=0)
+        self.yaws = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+        self.cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(d, axis=1))])
+
+    def distance(self, walked: float) -> float:
+        """Distance along the path for a walked distance (clamped at the end for ``hold``)."""
+        if self.points is not None and self.repeat == "hold":
+            return min(walked, float(self.cum[-1]))
+        return walked
 
     def at(self, distance: float) -> tuple[NDArray[np.float64], float]:
-        """(position on the floor (m), yaw (rad)) after walking ``distance`` (m)."""
+        """(position on the floor (m), yaw (rad)) at ``distance`` (m) along the path."""
         if self.points is None:
             d = np.array([np.cos(self.yaw0), np.sin(self.yaw0), 0.0])
             return self.base + distance * d, self.yaw0
         total = float(self.cum[-1])
-        sign = 1.0
-        if self.repeat == "loop":
-            s = distance % total
-        elif self.repeat == "back_and_forth":
-            s = distance % (2 * total)
-            if s > total:
-                s, sign = 2 * total - s, -1.0
-        else:
-            s = min(max(distance, 0.0), total)
-        i = int(np.clip(np.searchsorted(self.cum, s, side="right") - 1, 0, len(self.cum) - 2))
+        if distance < 0.0:  # before the walk: on the first leg's line, not yet turning
+            d0 = (self.points[1] - self.points[0]) / self.cum[1]
+            return self.points[0] + distance * d0, float(self.yaws[0])
+        s = distance % total if self.repeat != "hold" else min(distance, total)
+        n = len(self.yaws)
+        i = int(np.clip(np.searchsorted(self.cum, s, side="right") - 1, 0, n - 1))
         seg = self.points[i + 1] - self.points[i]
         frac = (s - self.cum[i]) / (self.cum[i + 1] - self.cum[i])
-        d = sign * seg
-        return self.points[i] + frac * seg, float(np.arctan2(d[1], d[0]))
+        position = self.points[i] + frac * seg  # before the start: extrapolated back
+        return position, self._yaw(s, i, first=distance < total)
+
+    def _yaw(self, s: float, i: int, *, first: bool) -> float:
+        cyclic = self.repeat != "hold"
+        n, w = len(self.yaws), TURN_HALF_LENGTH_M
+        yaw = float(self.yaws[i])
+        for j, edge in ((i, self.cum[i]), (i + 1, self.cum[i + 1])):
+            if abs(s - edge) >= w or ((not cyclic or first) and j == 0) or (
+                    not cyclic and j == n):
+                continue
+            before, after = self.yaws[(j - 1) % n], self.yaws[j % n]
+            turn = (after - before + np.pi) % (2 * np.pi) - np.pi
+            if abs(abs(turn) - np.pi) < 1e-9:
+                turn = np.pi  # a reversal: turn left
+            f = (s - edge + w) / (2 * w)
+            f = f * f * (3 - 2 * f)
+            return float(before + turn * f)
+        return yaw
 
 
 class PersonBody:
@@ -170,8 +206,9 @@ class PersonBody:
         return breathing_m(vs, t), heartbeat_m(vs, t)
 
     def walked(self, t: float) -> float:
-        """Distance walked by ``t`` (m)."""
-        return self.walk_speed * t
+        """Distance walked by ``t`` (m; stops at the end of a ``hold`` path)."""
+        d = self.walk_speed * t
+        return self.path.distance(d) if self.path is not None else d
 
     def gait_phase(self, t: float) -> float:
         """Gait cycles completed by ``t`` (left heel strike at integers; 0 if not walking)."""
