@@ -132,23 +132,31 @@ def _ellipsoid(radii: NDArray[np.float64]) -> TriangleMesh:
     return TriangleMesh(points, n / np.linalg.norm(n, axis=1, keepdims=True), unit.triangles)
 
 
-def _person_rest_mesh(person: Person) -> TriangleMesh:
-    """A person's segments in the rest pose (standing), one mesh in the object's frame.
+def _person_rest_mesh(person: Person, base_dir: Path | None = None) -> TriangleMesh:
+    """A person's segments at t = 0 (its posture and motion then), one mesh in its frame.
 
     What the simulation renders is the segments (:mod:`simcore.scene.people.expand`);
     this mesh serves views and bounding boxes of the unexpanded object.
     """
-    from simcore.scene.people.skeleton import PARENTS, build_skeleton
+    from simcore.scene.motion import Motion, Pose
+    from simcore.scene.people.body import PersonBody
+    from simcore.scene.people.bvh import BvhError
 
-    skel = build_skeleton(person.height_m, person.build)
-    joints = np.zeros_like(skel.joints)
+    still = person.model_copy(update={"motion": person.motion.model_copy(
+        update={"sway_mm": 0.0})})
+    try:
+        body = PersonBody(still, Pose(), Motion(), base_dir=base_dir)
+    except (BvhError, ValueError):  # a clip that cannot be read: the plain posture
+        body = PersonBody(still.model_copy(update={"motion": still.motion.model_copy(
+            update={"bvh": None})}), Pose(), Motion())
+    transforms = body.segment_transforms(0.0)
     points, normals, tris = [], [], []
     offset = 0
-    for i, parent in enumerate(PARENTS):
-        joints[i] = skel.joints[i] + (joints[parent] if parent >= 0 else 0.0)
-        part = _ellipsoid(skel.radii[i])
-        points.append(part.points + joints[i] + skel.centers[i])
-        normals.append(part.normals)
+    for i, transform in enumerate(transforms):
+        part = _ellipsoid(body.skeleton.radii[i])
+        rot = transform[:3, :3]
+        points.append(part.points @ rot.T + transform[:3, 3])
+        normals.append(part.normals @ rot.T)
         tris.append(part.triangles + offset)
         offset += len(part.points)
     return TriangleMesh(np.concatenate(points), np.concatenate(normals), np.concatenate(tris))
@@ -205,7 +213,7 @@ def build_mesh(geometry: Geometry, *, base_dir: Path | None = None) -> TriangleM
     if isinstance(geometry, Ellipsoid):
         return _ellipsoid(np.asarray(geometry.radii_m, dtype=np.float64))
     if isinstance(geometry, Person):
-        return _person_rest_mesh(geometry)
+        return _person_rest_mesh(geometry, base_dir)
     if isinstance(geometry, Mesh):
         path = resolve_mesh_path(base_dir or Path.cwd(), geometry.path)
         mesh = _from_polydata(_read_mesh_file(path), smooth=False)

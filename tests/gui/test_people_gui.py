@@ -38,3 +38,26 @@ def test_add_person_faces_the_sensors_and_draws(make_window, tmp_path):
     image.save(str(path))
     assert path.stat().st_size > 0
     assert np.isfinite(obj.geometry.height_m)
+
+
+def test_inspector_edits_the_motion_block(make_window):
+    from simcore.resources import example_path
+
+    window = make_window(example_path("vital_signs"))
+    doc = window.document
+    doc.select(1)
+    for _ in range(5):
+        QApplication.processEvents()
+    inspectors = [w for w in window.findChildren(object) if hasattr(w, "_person_rows")
+                  and getattr(w, "_person_rows", None) is not None]
+    assert inspectors, "the inspector shows the person's motion rows"
+    rows = inspectors[0]._person_rows
+    assert rows.widgets["posture"].currentText() == "sitting"
+    assert rows.widgets["breath_hz"].value() == pytest.approx(0.25)
+    rows.widgets["breath_hz"].setValue(0.3)  # committed like an edit
+    assert doc.project.objects[0].geometry.motion.vital_signs.breathing_rate_hz == \
+        pytest.approx(0.3)
+    rows.widgets["posture"].setCurrentText("standing")
+    assert doc.project.objects[0].geometry.motion.posture == "standing"
+    doc.undo_stack.undo()
+    assert doc.project.objects[0].geometry.motion.posture == "sitting"
