@@ -143,6 +143,9 @@ def test_version_1_files_still_load(tmp_path):
     render = ("render_width", "render_height", "render_fov_h_deg")
     for name in render:
         setattr(office.rig.radar, name, getattr(office_v1.rig.radar, name))
+    # And its walker, a sliding cylinder then, is an articulated person now (issue 29).
+    assert office.objects[-1].geometry.kind == "person"
+    office.objects[-1] = office_v1.objects[-1]
     assert office_v1 == office
 
 

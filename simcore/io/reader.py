@@ -69,7 +69,10 @@ DIMS: dict[str, tuple[str, ...]] = {
     "/radar/bird_eye_z_axis": ("bev_z",),
     "/radar/detections_count": (),
     "/meta/frame_sha256": (),
-    # People (simcore.scene.people): per-segment and vital-sign truth.
+}
+
+#: Dimension names of the datasets that only projects with people write (docs/people.md).
+PEOPLE_DIMS: dict[str, tuple[str, ...]] = {
     "/tof/gt_body_part": ("row", "col"),
     "/people/names": ("person",),
     "/people/object_ids": ("person",),
@@ -170,7 +173,7 @@ def open_dataset(path: str | os.PathLike[str]) -> Any:
                 continue
             per_frame = bool(ds.attrs.get("per_frame", False)) or (
                 name == "/time" and ds.shape == (n_frames,))
-            inner = DIMS.get(name) or tuple(
+            inner = DIMS.get(name) or PEOPLE_DIMS.get(name) or tuple(
                 f"{name.strip('/').replace('/', '_')}_dim{i}"
                 for i in range(ds.ndim - per_frame))
             dims = (("frame",) if per_frame else ()) + inner
