@@ -117,3 +117,15 @@ def test_mcap_carries_segment_frames(tmp_path) -> None:
             for i, name in enumerate(names):
                 np.testing.assert_allclose(frames[name], f["people/segments/pose"][k, i],
                                            atol=1e-9)
+
+
+def test_rgb_body_part_beside_object_id() -> None:
+    from simcore.scene.rgb_config import RgbCameraConfig
+
+    project = project_from_dict(walker_project(speed=1.0, heading_deg=180.0, distance_m=2.5))
+    project.rig.rgb = RgbCameraConfig(width=64, height=48)
+    with Simulator(project) as sim:
+        rgb = sim.frame(1).outputs["rgb"]
+    person = rgb.gt_object_id == 1
+    assert person.sum() > 50
+    assert np.all(rgb.gt_body_part[person] >= 0) and np.all(rgb.gt_body_part[~person] == -1)

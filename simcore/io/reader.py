@@ -74,6 +74,7 @@ DIMS: dict[str, tuple[str, ...]] = {
 #: Dimension names of the datasets that only projects with people write (docs/people.md).
 PEOPLE_DIMS: dict[str, tuple[str, ...]] = {
     "/tof/gt_body_part": ("row", "col"),
+    "/rgb/gt_body_part": ("rgb_row", "rgb_col"),
     "/people/names": ("person",),
     "/people/object_ids": ("person",),
     "/people/body_part_names": ("body_part",),
