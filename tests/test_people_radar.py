@@ -135,3 +135,19 @@ def test_person_behind_paper_box_seen_by_radar_not_tof(tmp_path: Path) -> None:
     near = np.abs(ra - chest[0] + 0.1) < 0.15
     # The person behind the box adds well over 10 dB at the chest's range.
     assert (profile[0][near].max() - profile_box[0][near].max()) > 10.0
+
+
+def test_micro_doppler_repeats_with_the_gait(tmp_path: Path) -> None:
+    """The limbs' Doppler spread over frames (a spectrogram's envelope) repeats every half
+    gait cycle (the legs alternate): Boulic's Dc / 2 = 1.346 / (2 √(v / leg))."""
+    speed, height = 1.2, 1.75
+    project = walker_project(speed=speed, heading_deg=180.0, distance_m=5.0, frames=64,
+                             frame_rate_hz=20.0, height_m=height)
+    with _run(tmp_path, "gait", project) as f:
+        _, spread, _ = _doppler(f)
+    half_cycle = 1.346 / np.sqrt(speed / ((0.245 + 0.246) * height)) / 2
+    x = spread - spread.mean()
+    lags = np.arange(4, 24)  # 0.2 … 1.15 s at 20 frames/s
+    acf = np.array([np.dot(x[:-k], x[k:]) / (len(x) - k) for k in lags])
+    best = lags[np.argmax(acf)] / 20.0
+    assert best == pytest.approx(half_cycle, abs=0.08)
