@@ -297,7 +297,7 @@ class PersonBody:
 
     def _vitals(self, t: float, joints: NDArray[np.float64], rot: NDArray[np.float64]) -> None:
         breathing, heart = self.chest_displacement(t)
-        for name, d in (("chest", breathing + heart), ("abdomen", 0.5 * breathing)):
+        for name, d in (("chest", breathing + heart), ("abdomen", breathing)):
             i = SEGMENT_INDEX[name]
             joints[i] = joints[i] + rot[i][:, 0] * d
 

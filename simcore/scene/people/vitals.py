@@ -1,8 +1,8 @@
 """Breathing, heartbeat and body sway as small rigid displacements.
 
 Breathing and heartbeat move the chest segment along its outward normal (the chest
-frame's +x) by ``d(t) = A_b sin(2π f_b t) + A_h sin(2π f_h t)`` (the abdomen with half
-the breathing term); the amplitudes are peak displacements from the mean. Sway is a
+frame's +x) by ``d(t) = A_b sin(2π f_b t) + A_h sin(2π f_h t)`` (the abdomen with the
+same breathing term); the amplitudes are peak displacements from the mean. Sway is a
 slow random drift of the whole body (sum of three sines below 0.1 Hz with phases drawn
 from the project seed and the object id), so it stays below the breathing band.
 """
