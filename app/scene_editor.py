@@ -34,6 +34,7 @@ from PyQt6.QtWidgets import (
 from app.document import RIG, EditError, ProjectDocument
 from app.field_editors import FieldSpec, bind_number_box, commit_path
 from app.mesh_import import MeshImportDialog
+from app.person_editor import PersonMotionRows
 from app.scene_edits import (
     KIND_LABELS,
     NEW_OBJECTS,
@@ -199,6 +200,8 @@ GEOMETRY_FIELDS: dict[str, list[tuple[str, str, str, int, float]]] = {
     "corner_reflector": [("edge_m", "edge length", "m", 1, 0.001)],
     "point_target": [("rcs_m2", "RCS", "m²", 1, 1e-6)],
     "mesh": [("scale", "scale", "", 1, 1e-6)],
+    "person": [("height_m", "height", "m", 1, 0.5), ("build", "build", "", 1, 0.6)],
+    "ellipsoid": [("radii_m", "semi-axes", "m", 3, 0.001)],
 }
 
 
@@ -486,6 +489,8 @@ class ObjectInspector(QScrollArea):
                     self._bind_vector(spec, w)
                 self.geometry_form.addRow(label, w)
                 self._geometry_widgets[field] = w
+            self._person_rows = (PersonMotionRows(self.geometry_form, self._set)
+                                 if kind == "person" else None)
             self._geometry_kind = kind
         for field, w in self._geometry_widgets.items():
             value = getattr(geometry, field)
@@ -502,6 +507,10 @@ class ObjectInspector(QScrollArea):
             note = f"file: {geometry.path}"
         elif kind == "point_target":
             note = "radar-only point scatterer (invisible to the ToF camera)"
+        elif kind == "person" and getattr(self, "_person_rows", None) is not None:
+            self._person_rows.show(geometry)  # type: ignore[union-attr]
+            note = ("17 ellipsoid segments; stands on its origin facing local +x "
+                    "(docs/people.md)")
         self.geometry_note.setText(note)
 
     # --- edits ------------------------------------------------------------------------

@@ -21,11 +21,13 @@ NEW_OBJECTS: dict[str, tuple[dict[str, Any], str]] = {
     "plane": ({"kind": "plane", "size_m": (1.0, 1.0)}, "white_paint"),
     "corner_reflector": ({"kind": "corner_reflector", "edge_m": 0.08}, "radar_retroreflector"),
     "point_target": ({"kind": "point_target", "rcs_m2": 1.0}, "aluminium"),
+    "person": ({"kind": "person", "height_m": 1.75}, "clothing"),
 }
 
 KIND_LABELS = {
     "box": "Box", "sphere": "Sphere", "cylinder": "Cylinder", "plane": "Plane",
     "corner_reflector": "Corner reflector", "point_target": "Point target", "mesh": "Mesh",
+    "person": "Person", "ellipsoid": "Ellipsoid",
 }
 
 
@@ -116,6 +118,9 @@ def add_object(document: ProjectDocument, kind: str, *, name: str | None = None,
     # Facing the sensors: a plane's normal and a corner reflector's opening point back
     # along the boresight (a rig at the origin looking along +x gives (0, -90, 0)).
     rotation = facing_rotation_deg(document, kind)
+    if kind == "person":  # stands on the floor, facing the sensors
+        pos = (float(pos[0]), float(pos[1]), 0.0)
+        rotation = (0.0, 0.0, float(round((rotation[2] + 360.0) % 360.0 - 180.0, 6)) + 0.0)
     obj = {
         "id": oid,
         "name": unique_name(document, name or kind),

@@ -750,7 +750,10 @@ class SceneViewport(QWidget):
         return None
 
     def display_position_of(self, key: SelectionKey) -> tuple[int, int] | None:
-        """Display coordinates (VTK, origin bottom-left) of an object's or the rig's origin."""
+        """Display coordinates (VTK, origin bottom-left) of an object's or the rig's origin.
+
+        A person's point is on its torso (its origin is on the floor between its feet).
+        """
         snap = self._snapshot
         if snap is None:
             return None
@@ -758,9 +761,14 @@ class SceneViewport(QWidget):
             world = snap.rig.origin
         else:
             try:
-                world = snap.objects[self.document.index_of(int(key))].origin  # type: ignore[arg-type]
+                index = self.document.index_of(int(key))  # type: ignore[arg-type]
+                world = snap.objects[index].origin
             except (KeyError, TypeError):
                 return None
+            geometry = self.document.project.objects[index].geometry
+            if geometry.kind == "person":  # its origin is on the floor: aim at the torso
+                world = snap.objects[index].transform[:3, :3] @ np.array(
+                    [0.0, 0.0, 0.6 * geometry.height_m]) + world
         ren = self.plotter.renderer
         ren.SetWorldPoint(*world, 1.0)
         ren.WorldToDisplay()

@@ -91,7 +91,8 @@ def if_synthesis_accuracy(simulator: Simulator, index: int, *, subset: int = 100
     """
     frame = simulator.frame(index)
     cfg = simulator.project.rig.radar
-    scatterers = radar_scatterers(simulator.project, frame.snapshot, frame.buffers["radar"],
+    scatterers = radar_scatterers(simulator.engine.project, frame.snapshot,
+                                  frame.buffers["radar"],
                                   seed=simulator.seed,
                                   see_through=frame.see_through.get("radar"))
     n = len(scatterers)
@@ -203,7 +204,7 @@ def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
         latency = antenna_edit_latency(sim, index, edits=antenna_edits) if antenna_edits \
             else float("nan")
         accuracy = if_synthesis_accuracy(sim, index, subset=subset)
-        scatterers = radar_scatterers(project, frame.snapshot, frame.buffers["radar"],
+        scatterers = radar_scatterers(sim.engine.project, frame.snapshot, frame.buffers["radar"],
                                       seed=sim.seed,
                                       see_through=frame.see_through.get("radar"))
         moving = int(np.count_nonzero(np.any(scatterers.velocities_mps != 0.0, axis=1)))
@@ -303,5 +304,40 @@ def effect_variants(project_path: str | Path, *, frames: int) -> dict[str, Any]:
     return result
 
 
+def _frame_rate(project: Project, base_dir: Path, frames: int) -> float:
+    """Frames per second of ``frames`` overlapped frames after an untimed frame 0."""
+    with Simulator(project, base_dir=base_dir) as sim:
+        n = max(sim.n_frames, 1)
+        sim.frame(0)
+        indices = [(i + 1) % n for i in range(frames)]
+        t0 = time.perf_counter()
+        for _ in sim.frames(indices):
+            pass
+        return frames / (time.perf_counter() - t0)
+
+
+def people_speed(project_path: str | Path, *, frames: int) -> dict[str, Any] | None:
+    """Frame rate of a project with its people and without them, measured in one run.
+
+    Returns
+    -------
+    dict or None
+        ``fps_with_people``, ``fps_without_people`` and their ratio ``ratio``, measured
+        one after the other (A/B, same frames); None if the project has no people.
+    """
+    from simcore.scene.people import Person
+
+    path = Path(project_path)
+    project = load_project(path)
+    if not any(isinstance(o.geometry, Person) for o in project.objects):
+        return None
+    without = project.model_copy(update={"objects": [
+        o for o in project.objects if not isinstance(o.geometry, Person)]})
+    fps_without = _frame_rate(without, path.parent, frames)
+    fps_with = _frame_rate(project, path.parent, frames)
+    return {"fps_with_people": fps_with, "fps_without_people": fps_without,
+            "ratio": fps_with / fps_without, "load": _load()}
+
+
 __all__ = ["antenna_edit_latency", "effect_variants", "if_synthesis_accuracy",
-           "run_benchmark", "with_effects"]
+           "people_speed", "run_benchmark", "with_effects"]

@@ -13,7 +13,7 @@ import warnings
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
-from typing import TYPE_CHECKING, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from simcore import __version__
 from simcore.preflight import MAX_FRAMES, MAX_SEED, RunError
@@ -358,6 +358,9 @@ def cmd_bench(args: argparse.Namespace) -> int:
     # Report a bad file before anything starts.
     _preflight(load_project(project_path), project_path, args)
     result = run_benchmark(project_path, frames=args.frames)
+    people = _people_speed(project_path, args.frames)
+    if people is not None:
+        result["people"] = people
     if args.json:
         print(json.dumps(result))
         return 0
@@ -372,6 +375,10 @@ def cmd_bench(args: argparse.Namespace) -> int:
     print(f"  antenna edit -> radar maps: {result['antenna_edit_ms']:.1f} ms")
     print(f"  load average before/after: {result['machine']['load_before']} / "
           f"{result['machine']['load_after']}")
+    if people is not None:
+        print(f"  with its people {people['fps_with_people']:.2f} frames/s, without them "
+              f"{people['fps_without_people']:.2f} frames/s (ratio {people['ratio']:.2f}, "
+              f"same run)")
     if args.effects:
         _print_effect_variants(project_path, args.frames)
     return 0
@@ -389,6 +396,13 @@ def _print_effect_variants(project_path: Path, frames: int) -> None:
               f"stages (ms): {stages}")
     print(f"  load average before/after: {variants['load']['before']} / "
           f"{variants['load']['after']}")
+
+
+def _people_speed(project_path: Path, frames: int) -> dict[str, Any] | None:
+    """The project's frame rate with and without its people (None without people)."""
+    from simcore.bench import people_speed
+
+    return people_speed(project_path, frames=frames)
 
 
 def cmd_examples(args: argparse.Namespace) -> int:

@@ -32,6 +32,9 @@ from simcore.engine import FrameEngine, FrameResult
 from simcore.render.buffers import RenderBuffers
 from simcore.scene.ground_truth import ObjectTruth, object_ground_truth
 from simcore.scene.model import Project
+from simcore.scene.people.expand import people_of
+from simcore.scene.people.skeleton import SEGMENTS
+from simcore.scene.people.truth import PeopleTruth, people_static_items, people_truth
 from simcore.scene.snapshot import SceneSnapshot
 from simcore.sensors.base import H5Items
 
@@ -65,7 +68,12 @@ class Frame:
         Wall time of each stage that ran (ms; the two chains overlap) and ``total``.
     objects : ObjectTruth or None
         Per-object ground truth (velocities, bounding boxes, range/velocity/angles from
-        the radar), written to ``/objects/...``.
+        the radar), written to ``/objects/...``; a person's is its torso's.
+    people : PeopleTruth or None
+        Per-segment and vital-sign truth of the people (``/people/...``); None without
+        people. With people, ``snapshot`` holds the segments (the engine's expanded
+        objects: :mod:`simcore.scene.people.expand`) and ``object_poses`` the project's
+        objects (a person's: its placement on the floor, facing its heading).
     """
 
     index: int
@@ -78,6 +86,7 @@ class Frame:
     timings_ms: dict[str, float] = field(default_factory=dict)
     objects: ObjectTruth | None = None
     see_through: dict[str, RenderBuffers] = field(default_factory=dict)
+    people: PeopleTruth | None = None
 
     def hdf5_items(self) -> H5Items:
         """Per-frame datasets of the HDF5 layout: path → (array without frame axis, unit)."""
@@ -88,6 +97,8 @@ class Frame:
         }
         if self.objects is not None:
             items.update(self.objects.hdf5_items())
+        if self.people is not None:
+            items.update(self.people.hdf5_items())
         for output in self.outputs.values():
             items.update(output.hdf5_items())
         return items
@@ -127,8 +138,8 @@ class Simulator:
 
     @property
     def project(self) -> Project:
-        """The project being simulated."""
-        return self.engine.project
+        """The project being simulated (as given: people not expanded)."""
+        return self.engine.source_project
 
     def set_project(self, project: Project) -> None:
         """Follow an edited project; keep what its edit does not change."""
@@ -148,6 +159,9 @@ class Simulator:
         }
         for sensor in self.engine.sensors:
             items.update(sensor.static_items(self.project))
+        people = people_of(self.engine.project)
+        if people is not None:
+            items.update(people_static_items(people))
         return items
 
     def frame(self, index: int, *, then: int | None = None) -> Frame:
@@ -173,15 +187,30 @@ class Simulator:
     def _frame(self, result: FrameResult) -> Frame:
         snap = result.snapshot
         meshes = self.engine.renderer.geometry.meshes
-        truth = object_ground_truth(self.project, snap,
+        expanded = self.engine.project
+        truth = object_ground_truth(expanded, snap,
                                     [None if m is None else m.points for m in meshes],
                                     local_triangles=[None if m is None else m.triangles
                                                      for m in meshes])
+        poses = snap.object_transforms()
+        people = people_of(expanded)
+        people_gt = None
+        if people is not None:
+            segments = truth
+            truth = truth.take(people.representative)
+            poses = poses[people.representative]
+            for slot in people.people:
+                boxes = segments.aabb_m[slot.first: slot.first + len(SEGMENTS)]
+                truth.aabb_m[slot.source_index] = boxes[:, 0].min(0), boxes[:, 1].max(0)
+                truth.radar_nearest_range_m[slot.source_index] = (
+                    segments.radar_nearest_range_m[slot.first: slot.first + len(SEGMENTS)].min())
+                poses[slot.source_index] = slot.body.body_frame(snap.time_s).placement
+            people_gt = people_truth(people, snap)
         return Frame(index=result.index, time_s=snap.time_s, rig_pose=snap.rig.transform,
-                     object_poses=snap.object_transforms(), snapshot=snap,
+                     object_poses=poses, snapshot=snap,
                      outputs=result.outputs, buffers=result.buffers,
                      timings_ms=result.timings_ms, objects=truth,
-                     see_through=result.see_through)
+                     see_through=result.see_through, people=people_gt)
 
     @property
     def render_count(self) -> int:

@@ -229,6 +229,8 @@ def _surface_facets(project: Project, mesh_triangles: int) -> float:
         elif isinstance(g, Cylinder):
             r, h = g.radius_m, g.height_m
             total += max((2 * math.pi * r * h + 2 * math.pi * r * r) / facet_area, 508)
+        elif g.kind == "person":  # 17 ellipsoid segments of 28 × 14 tessellation
+            total += 17 * 2 * 28 * 13
     return total
 
 

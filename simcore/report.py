@@ -30,6 +30,7 @@ from simcore.resources import example_path
 from simcore.scene.geometry import Box, CornerReflector, Cylinder, Plane, Sphere
 from simcore.scene.model import Project, SceneObject, SensorRig
 from simcore.scene.motion import Motion, Pose
+from simcore.scene.people.expand import expand_people
 from simcore.scene.project_io import load_project
 from simcore.scene.radar_config import COVERAGE_LEVEL_DB, SPEED_OF_LIGHT, CosinePattern, RadarConfig
 from simcore.scene.snapshot import take_snapshot
@@ -355,8 +356,9 @@ def office_range_azimuth(frame: Frame, project: Project, out: Path
     ax.legend(loc="upper right", fontsize=8)
     ax = axes[1]
     snap = frame.snapshot
-    for obj, state in zip(project.objects, snap.objects, strict=True):
-        poly = _footprint(obj, state.transform)
+    # The project's objects' poses (a person's placement; the snapshot holds its segments).
+    for obj, pose in zip(project.objects, frame.object_poses, strict=True):
+        poly = _footprint(obj, pose)
         if poly is not None and obj.name not in ("floor", "ceiling"):
             ax.fill(poly[:, 0], poly[:, 1], color="0.85", ec="0.4", lw=0.7)
     if det.xyz_world_m is not None and len(det.range_m):
@@ -538,7 +540,8 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
     office = load_project(example_path("office"))
     with Simulator(office) as sim:
         frame = sim.frame(0)
-        sc = radar_scatterers(office, frame.snapshot, frame.buffers["radar"], seed=sim.seed,
+        sc = radar_scatterers(expand_people(office), frame.snapshot, frame.buffers["radar"],
+                              seed=sim.seed,
                               see_through=frame.see_through.get("radar"))
         rng = np.random.default_rng(0)
         subset = sc.subset(np.sort(rng.choice(len(sc), size=min(len(sc), 800 if quick
@@ -815,6 +818,7 @@ class _SingleObjectRadar:
 
     def scatterers(self, project: Project, config: RadarConfig, *, seed: int = 0,
                    t: float = 0.0) -> Any:
+        project = expand_people(project)
         if self._renderer is None:
             self._renderer = SceneRenderer(project)
         else:
@@ -870,7 +874,8 @@ def _receiver_profile_db(project: Project, scatterers: Any, seed: int) -> NDArra
 
 
 def _office_scatterers(frame: Frame, project: Project) -> Any:
-    return radar_scatterers(project, frame.snapshot, frame.buffers["radar"], seed=0,
+    return radar_scatterers(expand_people(project), frame.snapshot, frame.buffers["radar"],
+                            seed=0,
                             see_through=frame.see_through.get("radar"))
 
 

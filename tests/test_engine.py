@@ -194,12 +194,16 @@ def test_still_background_transforms_only_what_moves() -> None:
     raw = frame.outputs["radar"].raw
     # Only the cells the walking person covers are transformed: the person's facets and the
     # background facets there (once to remove, once as the frame's), a small share.
-    names = [o.name for o in project.objects]
-    scat_all = radar_scatterers(project, frame.snapshot, frame.buffers["radar"],
+    # The engine's project: the person expanded into its segments ("person/<segment>").
+    engine_project = sim.engine.project
+    names = [o.name for o in engine_project.objects]
+    scat_all = radar_scatterers(engine_project, frame.snapshot, frame.buffers["radar"],
                                 seed=project.seed, see_through=frame.see_through["radar"])
-    person = int(np.count_nonzero(scat_all.object_index == names.index("person")))
+    segments = [i for i, n in enumerate(names) if n.startswith("person/")]
+    assert len(segments) == 17
+    person = int(np.count_nonzero(np.isin(scat_all.object_index, segments)))
     assert person <= raw.transformed_scatterers < 0.2 * raw.n_scatterers
-    scatterers = radar_scatterers(project, frame.snapshot, frame.buffers["radar"],
+    scatterers = radar_scatterers(engine_project, frame.snapshot, frame.buffers["radar"],
                                   seed=project.seed, see_through=frame.see_through["radar"])
     assert raw.n_scatterers == len(scatterers)
 
@@ -213,7 +217,8 @@ def test_over_background_if_equals_the_full_synthesis() -> None:
         sim.frame(0)
         frame = sim.frame(7)
         ideal = next(v for k, v in _cached(sim, "radar_synthesis"))
-    scatterers = radar_scatterers(project, frame.snapshot, frame.buffers["radar"],
+    # The engine's project: people expanded into the segments the snapshot holds.
+    scatterers = radar_scatterers(sim.engine.project, frame.snapshot, frame.buffers["radar"],
                                   seed=project.seed, see_through=frame.see_through["radar"])
     full = synthesize_if(scatterers, cfg)
     err = np.linalg.norm(ideal[0] - full) / np.linalg.norm(full)

@@ -153,6 +153,9 @@ def test_version_1_files_still_load(tmp_path):
                  "stray_light"):
         assert getattr(office_v1.rig.tof, name) is False
         setattr(office.rig.tof, name, False)
+    # And its walker, a sliding cylinder then, is an articulated person now (issue 29).
+    assert office.objects[-1].geometry.kind == "person"
+    office.objects[-1] = office_v1.objects[-1]
     assert office_v1 == office
 
 

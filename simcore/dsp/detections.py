@@ -16,7 +16,9 @@ from simcore.dsp.angle import direction_vectors
 
 #: Record layout of the ``/radar/detections`` table (radar optical frame, m, m/s, deg, dB),
 #: with the ground-truth label of each detection: the id of the object contributing most
-#: power to its cell (−1 = noise), that power fraction, and whether it is a multipath ghost.
+#: power to its cell (−1 = noise), that power fraction, whether it is a multipath ghost, and
+#: for a person the body part (segment index, :data:`simcore.scene.people.SEGMENTS`; −1
+#: for other objects and noise).
 DETECTION_DTYPE = np.dtype([
     ("frame", "<i8"),
     ("range", "<f4"),
@@ -30,13 +32,14 @@ DETECTION_DTYPE = np.dtype([
     ("object_id", "<i4"),
     ("power_fraction", "<f4"),
     ("ghost", "?"),
+    ("body_part", "<i4"),
 ])
 
 #: Units of the fields of :data:`DETECTION_DTYPE`, in field order.
 DETECTION_UNITS = {
     "frame": "1", "range": "m", "velocity": "m/s", "azimuth_deg": "deg",
     "elevation_deg": "deg", "x": "m", "y": "m", "z": "m", "snr_db": "dB",
-    "object_id": "1", "power_fraction": "1", "ghost": "",
+    "object_id": "1", "power_fraction": "1", "ghost": "", "body_part": "1",
 }
 
 
@@ -138,10 +141,12 @@ class Detections:
         -------
         ndarray, shape (n,), dtype :data:`DETECTION_DTYPE`
             Radar-frame coordinates; the label fields hold "unlabelled" (``object_id`` −1,
-        ``power_fraction`` 0, ``ghost`` False) until the radar sensor fills them in.
+        ``power_fraction`` 0, ``ghost`` False, ``body_part`` −1) until the radar sensor
+        fills them in.
         """
         out = np.zeros(len(self), dtype=DETECTION_DTYPE)
         out["frame"] = frame
+        out["body_part"] = -1
         out["range"] = self.range_m
         out["velocity"] = self.velocity_mps
         out["azimuth_deg"] = self.azimuth_deg

@@ -32,6 +32,7 @@ from simcore.engine.cache import StageCache
 from simcore.render.buffers import RenderBuffers
 from simcore.render.renderer import Raster, RenderRequest, SceneRenderer, changed_pixels
 from simcore.scene.model import Project
+from simcore.scene.people.expand import body_part_table, expand_people, people_of
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
 from simcore.sensors import Sensor, SensorContext, SensorOutput, active_sensors, frame_rng
 from simcore.sensors.base import Background, DeferredOutput
@@ -112,7 +113,10 @@ class StillBackground:
 
     def follow(self, project: Project) -> None:
         """Decide from the project's motions whether (and what) to hide."""
-        still = [o.motion.is_static for o in project.objects]
+        # A person's segments move (gait, gestures, breathing, sway) whatever the object's
+        # rigid motion says.
+        parts = body_part_table(project)
+        still = [o.motion.is_static and parts[i] < 0 for i, o in enumerate(project.objects)]
         applies = project.rig.motion.is_static and any(still) and not all(still)
         self.hide = tuple(not s for s in still) if applies else None
 
@@ -138,6 +142,9 @@ class FrameEngine:
     def __init__(self, project: Project, *, base_dir: Path | None = None,
                  seed: int | None = None, accelerate: bool = True, threads: bool = True):
         self.seed = project.seed if seed is None else seed
+        self.base_dir = base_dir
+        self.source_project = project
+        project = expand_people(project, base_dir=base_dir)
         self.renderer = SceneRenderer(project, base_dir=base_dir)
         # Six results per stage: a frame, its ToF sample renders (motion artefacts, the
         # previous frame for auto-exposure) and an edit's re-run stay cached together.
@@ -154,7 +161,14 @@ class FrameEngine:
 
     # ------------------------------------------------------------------ project
     def set_project(self, project: Project) -> None:
-        """Follow an edited project: renders stay valid while the scene is unchanged."""
+        """Follow an edited project: renders stay valid while the scene is unchanged.
+
+        People are expanded into their segments here (:func:`expand_people`): the engine's
+        ``project`` is the expanded one, ``source_project`` the one given.
+        """
+        if people_of(project) is None:
+            self.source_project = project
+            project = expand_people(project, base_dir=self.base_dir)
         scene_json = "\n".join(
             [o.model_dump_json() for o in project.objects]
             + [m.model_dump_json() for m in project.materials])

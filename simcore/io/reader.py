@@ -85,6 +85,30 @@ PRODUCT_DIMS: dict[str, tuple[str, ...]] = {
     "/radar/vitals/heart_amplitude": ("frame",),
 }
 
+#: Dimension names of the datasets that only projects with people write (docs/people.md).
+PEOPLE_DIMS: dict[str, tuple[str, ...]] = {
+    "/tof/gt_body_part": ("row", "col"),
+    "/rgb/gt_body_part": ("rgb_row", "rgb_col"),
+    "/people/names": ("person",),
+    "/people/object_ids": ("person",),
+    "/people/body_part_names": ("body_part",),
+    "/people/segments/names": ("segment",),
+    "/people/segments/person": ("segment",),
+    "/people/segments/body_part": ("segment",),
+    "/people/segments/pose": ("segment", "pose_row", "pose_col"),
+    "/people/segments/velocity": ("segment", "xyz"),
+    "/people/segments/angular_velocity": ("segment", "xyz"),
+    "/people/segments/radar_range": ("segment",),
+    "/people/segments/radar_radial_velocity": ("segment",),
+    "/people/segments/radar_azimuth": ("segment",),
+    "/people/segments/radar_elevation": ("segment",),
+    "/people/breathing_displacement": ("person",),
+    "/people/heartbeat_displacement": ("person",),
+    "/people/breathing_rate": ("person",),
+    "/people/heart_rate": ("person",),
+    "/people/gait_phase": ("person",),
+}
+
 #: Axis datasets that become coordinates: path → coordinate name.
 COORDS = {
     "/radar/range_axis": "range",
@@ -96,6 +120,9 @@ COORDS = {
     "/radar/spectrogram/velocity_axis": "spectrogram_velocity",
     "/objects/names": "object_name",
     "/objects/ids": "object_id",
+    "/people/names": "person_name",
+    "/people/segments/names": "segment_name",
+    "/people/body_part_names": "body_part_name",
 }
 
 _LABELS = {"xyz": ["x", "y", "z"], "corner": ["min", "max"], "color": ["r", "g", "b"]}
@@ -163,7 +190,7 @@ def open_dataset(path: str | os.PathLike[str]) -> Any:
                 continue
             per_frame = bool(ds.attrs.get("per_frame", False)) or (
                 name == "/time" and ds.shape == (n_frames,))
-            inner = DIMS.get(name) or PRODUCT_DIMS.get(name) or tuple(
+            inner = DIMS.get(name) or PRODUCT_DIMS.get(name) or PEOPLE_DIMS.get(name) or tuple(
                 f"{name.strip('/').replace('/', '_')}_dim{i}"
                 for i in range(ds.ndim - per_frame))
             dims = (("frame",) if per_frame else ()) + inner

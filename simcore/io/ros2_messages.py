@@ -277,6 +277,9 @@ class RigDescription:
         Waveform fields of the ``RadarCube`` message (empty without a radar).
     range_axis_m, velocity_axis_mps : ndarray or None
         Axes of the range–Doppler map.
+    segment_frames : tuple of str
+        TF frame name of each person segment (``"<person>/<segment>"``), the order of
+        ``/people/segments/pose``; empty without people.
     """
 
     sensors: dict[str, NDArray[np.float64]]
@@ -285,6 +288,7 @@ class RigDescription:
     radar: dict[str, Any]
     range_axis_m: NDArray[np.float64] | None
     velocity_axis_mps: NDArray[np.float64] | None
+    segment_frames: tuple[str, ...] = ()
 
     @classmethod
     def of(cls, project: Project, static_items: Items) -> RigDescription:
@@ -307,8 +311,10 @@ class RigDescription:
             return None if path not in static_items else np.asarray(static_items[path][0],
                                                                     dtype=np.float64)
 
+        segments = static_items.get("/people/segments/names")
         return cls(sensors, intrinsics, [o.name for o in project.objects], radar,
-                   axis("/radar/range_axis"), axis("/radar/velocity_axis"))
+                   axis("/radar/range_axis"), axis("/radar/velocity_axis"),
+                   tuple(str(n) for n in np.asarray(segments[0]).ravel()) if segments else ())
 
 
 def frame_messages(rig: RigDescription, items: Items,
@@ -341,6 +347,10 @@ def frame_messages(rig: RigDescription, items: Items,
     poses = np.asarray(items["/poses/objects"][0])
     tfs += [_transform(ns, WORLD_FRAME, name, poses[i])
             for i, name in enumerate(rig.object_frames)]
+    if rig.segment_frames and "/people/segments/pose" in items:  # people's body parts
+        segments = np.asarray(items["/people/segments/pose"][0])
+        tfs += [_transform(ns, WORLD_FRAME, name, segments[i])
+                for i, name in enumerate(rig.segment_frames)]
     add("/tf", {"transforms": tfs})
     if "/tof/depth" in items:
         depth = np.asarray(items["/tof/depth"][0], dtype="<f4")

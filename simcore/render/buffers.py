@@ -104,6 +104,33 @@ def downsample_ground_truth(
     return gt_range, gt_id
 
 
+def downsample_labels(buffers: RenderBuffers, per_object: NDArray[np.integer], factor: int
+                      ) -> NDArray[np.int32]:
+    """A per-object label (e.g. body-part id) at sensor resolution, voted as object ids are.
+
+    Parameters
+    ----------
+    buffers : RenderBuffers
+        The supersampled pass.
+    per_object : ndarray, shape (objects,), int
+        Label of each object (by ``object_index``); background is −1.
+    factor : int
+        Supersampling factor.
+
+    Returns
+    -------
+    ndarray, shape (H // factor, W // factor), int32
+    """
+    table = np.append(np.asarray(per_object, dtype=np.int32), np.int32(-1))
+    labels = np.ascontiguousarray(table[buffers.object_index], dtype=np.int32)
+    h, w = buffers.shape
+    out_range = np.empty((h // factor, w // factor), dtype=np.float32)
+    out = np.empty((h // factor, w // factor), dtype=np.int32)
+    _downsample(labels, np.ascontiguousarray(buffers.range_m, dtype=np.float32), factor,
+                out_range, out)
+    return out
+
+
 @kernel
 def _downsample(ids: NDArray[np.int32], rng: NDArray[np.float32], factor: int,
                 out_range: NDArray[np.float32], out_id: NDArray[np.int32]) -> None:

@@ -25,6 +25,7 @@ from simcore.scene.geometry import (
     Box,
     CornerReflector,
     Cylinder,
+    Ellipsoid,
     Geometry,
     Mesh,
     Plane,
@@ -33,6 +34,7 @@ from simcore.scene.geometry import (
     corner_reflector_axes,
 )
 from simcore.scene.mesh_files import MeshError, read_mesh_arrays
+from simcore.scene.people.config import Person
 from simcore.scene.project_io import resolve_mesh_path
 
 SPHERE_THETA_RESOLUTION = 160
@@ -112,6 +114,54 @@ def _corner_reflector(geom: CornerReflector) -> TriangleMesh:
     return TriangleMesh(np.array(points), np.array(normals), np.array(tris, dtype=np.int64))
 
 
+#: Tessellation of an ellipsoid (body segment): small, since a body has 17 of them.
+ELLIPSOID_THETA_RESOLUTION = 28
+ELLIPSOID_PHI_RESOLUTION = 14
+
+
+def _ellipsoid(radii: NDArray[np.float64]) -> TriangleMesh:
+    """Unit sphere scaled to ``radii``, with the ellipsoid's exact normals."""
+    src = vtkSphereSource()
+    src.SetRadius(1.0)
+    src.SetThetaResolution(ELLIPSOID_THETA_RESOLUTION)
+    src.SetPhiResolution(ELLIPSOID_PHI_RESOLUTION)
+    src.Update()
+    unit = _from_polydata(src.GetOutput(), smooth=True)
+    points = unit.points * radii
+    n = points / radii**2
+    return TriangleMesh(points, n / np.linalg.norm(n, axis=1, keepdims=True), unit.triangles)
+
+
+def _person_rest_mesh(person: Person, base_dir: Path | None = None) -> TriangleMesh:
+    """A person's segments at t = 0 (its posture and motion then), one mesh in its frame.
+
+    What the simulation renders is the segments (:mod:`simcore.scene.people.expand`);
+    this mesh serves views and bounding boxes of the unexpanded object.
+    """
+    from simcore.scene.motion import Motion, Pose
+    from simcore.scene.people.body import PersonBody
+    from simcore.scene.people.bvh import BvhError
+
+    still = person.model_copy(update={"motion": person.motion.model_copy(
+        update={"sway_mm": 0.0})})
+    try:
+        body = PersonBody(still, Pose(), Motion(), base_dir=base_dir)
+    except (BvhError, ValueError):  # a clip that cannot be read: the plain posture
+        body = PersonBody(still.model_copy(update={"motion": still.motion.model_copy(
+            update={"bvh": None})}), Pose(), Motion())
+    transforms = body.segment_transforms(0.0)
+    points, normals, tris = [], [], []
+    offset = 0
+    for i, transform in enumerate(transforms):
+        part = _ellipsoid(body.skeleton.radii[i])
+        rot = transform[:3, :3]
+        points.append(part.points @ rot.T + transform[:3, 3])
+        normals.append(part.normals @ rot.T)
+        tris.append(part.triangles + offset)
+        offset += len(part.points)
+    return TriangleMesh(np.concatenate(points), np.concatenate(normals), np.concatenate(tris))
+
+
 def _read_mesh_file(path: Path) -> vtkPolyData:
     """Parse and check a mesh file in Python, then hand VTK only the checked arrays."""
     points, triangles = read_mesh_arrays(path)
@@ -160,6 +210,10 @@ def build_mesh(geometry: Geometry, *, base_dir: Path | None = None) -> TriangleM
         src.SetPoint2(-sx / 2, sy / 2, 0)
         src.Update()
         return _from_polydata(src.GetOutput(), smooth=False)
+    if isinstance(geometry, Ellipsoid):
+        return _ellipsoid(np.asarray(geometry.radii_m, dtype=np.float64))
+    if isinstance(geometry, Person):
+        return _person_rest_mesh(geometry, base_dir)
     if isinstance(geometry, Mesh):
         path = resolve_mesh_path(base_dir or Path.cwd(), geometry.path)
         mesh = _from_polydata(_read_mesh_file(path), smooth=False)

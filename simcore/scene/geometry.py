@@ -5,7 +5,9 @@ All primitives are centred on the object's local origin. Local axes: a box spans
 plane with normal +z; a trihedral corner reflector has its apex at the origin, its three
 mutually perpendicular triangular plates with inner edge length ``edge_m``, and its
 symmetry axis (direction of maximum return) along local +z; a point target has no surface
-(radar only, radiating its given RCS from the origin).
+(radar only, radiating its given RCS from the origin); an ellipsoid has semi-axes
+``radii_m`` along the local axes; a person (:mod:`simcore.scene.people`) stands on the
+origin facing local +x and is simulated as rigid ellipsoid segments.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ from numpy.typing import NDArray
 from pydantic import Field, field_validator
 
 from simcore.scene.base import Model, Size, Size3, check_name
+from simcore.scene.people.config import Person
 
 
 class Box(Model):
@@ -39,6 +42,13 @@ class Cylinder(Model):
     kind: Literal["cylinder"] = "cylinder"
     radius_m: Size = 0.25
     height_m: Size = 1.0
+
+
+class Ellipsoid(Model):
+    """Ellipsoid centred on the origin with semi-axes along local x, y, z."""
+
+    kind: Literal["ellipsoid"] = "ellipsoid"
+    radii_m: Size3 = (0.1, 0.1, 0.1)
 
 
 class Plane(Model):
@@ -80,7 +90,7 @@ class Mesh(Model):
 
 
 Geometry = Annotated[
-    Union[Box, Sphere, Cylinder, Plane, CornerReflector, PointTarget, Mesh],
+    Union[Box, Sphere, Cylinder, Plane, CornerReflector, PointTarget, Mesh, Ellipsoid, Person],
     Field(discriminator="kind"),
 ]
 

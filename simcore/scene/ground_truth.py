@@ -73,6 +73,10 @@ class ObjectTruth:
     radar_nearest_range_m: NDArray[np.float64] = field(
         default_factory=lambda: np.zeros(0, dtype=np.float64))
 
+    def take(self, index: NDArray[np.integer]) -> ObjectTruth:
+        """The truth of objects ``index`` (e.g. a person's torso for the person)."""
+        return ObjectTruth(*(getattr(self, f)[index] for f in self.__dataclass_fields__))
+
     def hdf5_items(self) -> H5Items:
         """Per-frame datasets of the ``/objects`` group: path → (array, unit)."""
         return {

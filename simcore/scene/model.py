@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from pydantic import Field, model_validator
+from typing import Any
+
+from pydantic import Field, PrivateAttr, model_validator
 
 from simcore.scene.base import Model, Positive
 from simcore.scene.dsp_config import DspConfig
@@ -84,6 +86,9 @@ class Project(Model):
         description="imported asset material name → library material it was mapped to")
     rig: SensorRig = SensorRig()
     dsp: DspConfig = DspConfig()
+    #: Set on projects whose people were expanded into segments
+    #: (:func:`simcore.scene.people.expand.expand_people`).
+    _people: Any = PrivateAttr(default=None)
 
     @model_validator(mode="after")
     def _check_unique(self) -> Project:

@@ -20,6 +20,7 @@ from pydantic import ValidationError
 from simcore.scene.geometry import MESH_SUFFIXES, Mesh
 from simcore.scene.materials import DualBandMaterial, load_material_library
 from simcore.scene.model import FORMAT_VERSION, Project
+from simcore.scene.people.config import Person
 
 Migration = Callable[[dict[str, Any]], dict[str, Any]]
 
@@ -212,6 +213,25 @@ def check_references(project: Project, base_dir: Path) -> list[str]:
                 what = ("is not a regular file (device, FIFO, socket or directory)"
                         if _exists(path) else "mesh file not found")
                 problems.append(f"objects[{i}].geometry.path: {what}: {path}")
+        if isinstance(geom, Person):
+            problems += _person_problems(f"objects[{i}].geometry", geom, materials, base_dir)
+    return problems
+
+
+def _person_problems(where: str, person: Person, materials: dict[str, Any],
+                     base_dir: Path) -> list[str]:
+    """A person's material names and BVH clip (checked and read: one clear line)."""
+    from simcore.scene.people.bvh import BvhError, load_bvh, map_joints
+
+    problems = [f"{where}.{field}: unknown material {name!r}"
+                for field, name in (("skin", person.skin), ("clothing", person.clothing))
+                if name not in materials]
+    clip = person.motion.bvh
+    if clip is not None:
+        try:
+            map_joints(load_bvh(resolve_mesh_path(base_dir, clip.path)))
+        except BvhError as exc:
+            problems.append(f"{where}.motion.bvh.path: {exc}")
     return problems
 
 

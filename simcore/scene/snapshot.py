@@ -104,9 +104,13 @@ def _sensor_state(rig: RigidState, mount: NDArray[np.float64]) -> SensorState:
 def take_snapshot(project: Project, t: float) -> SceneSnapshot:
     """Evaluate every object's and sensor's pose and velocity at time ``t`` (s)."""
     rig = rigid_state(project.rig.pose, project.rig.motion, t)
+    objects = [rigid_state(o.pose, o.motion, t) for o in project.objects]
+    people = getattr(project, "_people", None)
+    if people is not None:  # segments of people (simcore.scene.people.expand)
+        people.apply(objects, float(t))
     return SceneSnapshot(
         time_s=float(t),
-        objects=[rigid_state(o.pose, o.motion, t) for o in project.objects],
+        objects=objects,
         rig=rig,
         sensors={name: _sensor_state(rig, cfg.pose_on_rig.matrix())  # type: ignore[attr-defined]
                  for name, cfg in project.rig.sensor_configs().items()},

@@ -79,11 +79,15 @@ class DetectionLabels:
     ghost : ndarray, shape (n,), bool
         The power is that of the object's multipath ghost (a path via a specular
         reflector, :mod:`simcore.sensors.radar.multipath`), not of its direct return.
+    object_index : ndarray, shape (n,), int32, or None
+        Index of that object in the (engine's) project objects, −1 for noise; a person's
+        segments are objects of their own there (its body part).
     """
 
     object_id: NDArray[np.int32]
     power_fraction: NDArray[np.float32]
     ghost: NDArray[np.bool_]
+    object_index: NDArray[np.int32] | None = None
 
     def __len__(self) -> int:
         return int(self.object_id.size)
@@ -649,7 +653,8 @@ def label_detections(detections: Detections, scatterers: Scatterers | Sequence[
     object_id = np.where(is_object, ids[best % n_objects], -1).astype(np.int32)
     fraction = np.divide(best_power, total, out=np.zeros(n), where=is_object & (total > 0))
     fraction = fraction.astype(np.float32)
-    return DetectionLabels(object_id, fraction, is_object & (best >= n_objects))
+    index = np.where(is_object, best % n_objects, -1).astype(np.int32)
+    return DetectionLabels(object_id, fraction, is_object & (best >= n_objects), index)
 
 
 def _range_reach_bins(range_table: NDArray[np.float64]) -> float:

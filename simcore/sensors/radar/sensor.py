@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 from simcore.dsp import RadarProducts, process_frame, static_axes_items
 from simcore.render.renderer import RenderRequest
 from simcore.scene.model import Project
+from simcore.scene.people.expand import body_part_table
 from simcore.scene.radar_config import RadarConfig
 from simcore.sensors.base import DeferredOutput, H5Items, SensorContext, config_key
 from simcore.sensors.radar.background import (
@@ -49,11 +50,15 @@ class RadarFrameOutput:
     labels : DetectionLabels or None
         Ground truth of each detection of ``dsp.detections`` (object id, power fraction,
         ghost flag); None = unlabelled.
+    body_parts : ndarray, shape (objects,), int32, or None
+        Body-part id of each (engine) object, −1 for non-segments; None without people.
+        A detection's ``body_part`` is that of its dominant object.
     """
 
     raw: RadarOutput
     dsp: RadarProducts
     labels: DetectionLabels | None = None
+    body_parts: NDArray[np.int32] | None = None
 
     def hdf5_items(self) -> H5Items:
         """Per-frame datasets of the raw data and the maps."""
@@ -66,6 +71,9 @@ class RadarFrameOutput:
             rows["object_id"] = self.labels.object_id
             rows["power_fraction"] = self.labels.power_fraction
             rows["ghost"] = self.labels.ghost
+            if self.body_parts is not None and self.labels.object_index is not None:
+                table = np.append(self.body_parts, np.int32(-1))
+                rows["body_part"] = table[self.labels.object_index]
         return {"/radar/detections": rows}
 
 
@@ -155,7 +163,9 @@ class RadarSensor:
                                      ghosts=ghosts),
             reads=(config_key(cfg, ctx.project.dsp), ids.tobytes()),
             inputs=(dsp, *(p for p, _ in parts), *ghosts))
-        return RadarFrameOutput(raw=raw, dsp=dsp, labels=labels)
+        parts_table = body_part_table(ctx.project)
+        return RadarFrameOutput(raw=raw, dsp=dsp, labels=labels,
+                                body_parts=parts_table if np.any(parts_table >= 0) else None)
 
     def static_items(self, project: Project) -> H5Items:
         """The axes of the radar maps."""

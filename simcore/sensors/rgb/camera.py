@@ -39,17 +39,24 @@ class RgbOutput:
         8-bit sRGB image, row 0 at the top.
     gt_object_id : ndarray, shape (H, W), int32
         Project id of the object seen in each pixel, −1 where none.
+    gt_body_part : ndarray, shape (H, W), int32, or None
+        Body part (segment index of :data:`simcore.scene.people.SEGMENTS`) where a person
+        is seen, −1 elsewhere; None in scenes without people.
     """
 
     image: NDArray[np.uint8]
     gt_object_id: NDArray[np.int32]
+    gt_body_part: NDArray[np.int32] | None = None
 
     def hdf5_items(self) -> dict[str, tuple[NDArray[np.generic], str]]:
         """Per-frame datasets: ``/rgb/image`` (H, W, 3) uint8, ``/rgb/gt_object_id``."""
-        return {
+        items: dict[str, tuple[NDArray[np.generic], str]] = {
             "/rgb/image": (self.image, "sRGB"),
             "/rgb/gt_object_id": (self.gt_object_id, "1"),
         }
+        if self.gt_body_part is not None:
+            items["/rgb/gt_body_part"] = (self.gt_body_part, "1")
+        return items
 
 
 def srgb_encode(linear: NDArray[np.floating]) -> NDArray[np.uint8]:

@@ -2,8 +2,13 @@
 
 from __future__ import annotations
 
+import dataclasses
+
+import numpy as np
+
 from simcore.render.renderer import RenderRequest
 from simcore.scene.model import Project
+from simcore.scene.people.expand import body_part_table
 from simcore.scene.project_io import material_table
 from simcore.scene.rgb_config import RgbCameraConfig
 from simcore.sensors.base import H5Items, SensorContext, config_key
@@ -40,13 +45,19 @@ class RgbSensor:
     def simulate(self, ctx: SensorContext) -> RgbOutput:
         """The colour image of the frame's render."""
         cfg = self._config(ctx.project)
-        return ctx.stage(
+        out: RgbOutput = ctx.stage(
             "rgb", lambda: simulate_rgb(ctx.buffers, cfg,
                                         object_colors(ctx.project,
                                                       material_table(ctx.project, copy=False))),
             reads=(config_key(cfg), config_key(*ctx.project.materials),
                    config_key(*ctx.project.objects)),
             inputs=(ctx.buffers,))
+        parts = body_part_table(ctx.project)
+        if np.any(parts >= 0):  # people: per-pixel body part beside the object id
+            table = np.append(parts, np.int32(-1))
+            out = dataclasses.replace(
+                out, gt_body_part=np.ascontiguousarray(table[ctx.buffers.object_index]))
+        return out
 
     def static_items(self, project: Project) -> H5Items:
         """No run-constant datasets."""

@@ -96,6 +96,9 @@ class TofOutput:
         Ground-truth range (m), NaN where no surface.
     gt_object_id : ndarray, shape (H, W), int32
         Ground-truth object id, −1 where no surface.
+    gt_body_part : ndarray, shape (H, W), int32, or None
+        Ground-truth body part (segment index of :data:`simcore.scene.people.SEGMENTS`)
+        where a person is seen, −1 elsewhere; None in scenes without people.
     exposure_time_s : float
         Exposure time of each correlation sample in this frame (s): the configured one, or
         auto-exposure's choice.
@@ -110,10 +113,11 @@ class TofOutput:
     gt_range: NDArray[np.float32]
     gt_object_id: NDArray[np.int32]
     exposure_time_s: float = 0.0
+    gt_body_part: NDArray[np.int32] | None = None
 
     def hdf5_items(self) -> dict[str, tuple[NDArray[np.generic], str]]:
         """Per-frame datasets of the HDF5 layout: path → (array without frame axis, unit)."""
-        return {
+        items: dict[str, tuple[NDArray[np.generic], str]] = {
             "/tof/depth": (self.depth_m, "m"),
             "/tof/amplitude": (self.amplitude, "DN"),
             "/tof/intensity": (self.intensity, "DN"),
@@ -123,6 +127,9 @@ class TofOutput:
             "/tof/gt_object_id": (self.gt_object_id, "1"),
             "/tof/exposure_time": (np.asarray(self.exposure_time_s, dtype=np.float64), "s"),
         }
+        if self.gt_body_part is not None:
+            items["/tof/gt_body_part"] = (self.gt_body_part, "1")
+        return items
 
 
 def _block_mean(image: NDArray[np.floating], factor: int) -> NDArray[np.floating]:

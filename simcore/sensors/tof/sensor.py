@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 from numpy.typing import NDArray
 
-from simcore.render.buffers import RenderBuffers
+from simcore.render.buffers import RenderBuffers, downsample_labels
 from simcore.render.renderer import RenderRequest
 from simcore.scene.model import Project
+from simcore.scene.people.expand import body_part_table
 from simcore.scene.project_io import material_table
 from simcore.sensors.base import H5Items, SensorContext, config_key
 from simcore.sensors.tof.camera import TofOutput, simulate_tof, slab_transmittance
@@ -60,7 +63,7 @@ class TofSensor:
         through = ctx.see_through
         trans = None if through is None else transmittance(ctx.project)
         mirrors = mirror_table(ctx.project) if cfg.specular else None
-        return ctx.stage(
+        out: TofOutput = ctx.stage(
             "tof", lambda: simulate_tof(ctx.buffers, cfg, rng=ctx.rng, sample_buffers=samples,
                                         albedo=albedo, exposure_reference=previous,
                                         see_through=through, transmittance=trans,
@@ -68,6 +71,12 @@ class TofSensor:
             reads=(config_key(cfg), ctx.seed, ctx.index,
                    None if trans is None else trans.tobytes()),
             inputs=(ctx.buffers, *ctx.sample_buffers, through))
+        parts = body_part_table(ctx.project)
+        if np.any(parts >= 0):  # people: per-pixel body part beside the object id
+            factor = ctx.buffers.shape[0] // out.gt_object_id.shape[0]
+            out = dataclasses.replace(
+                out, gt_body_part=downsample_labels(ctx.buffers, parts, factor))
+        return out
 
     def static_items(self, project: Project) -> H5Items:
         """No run-constant datasets."""
