@@ -364,28 +364,34 @@ def frame_count(n_frames: int | None, duration_s: float | None, frame_rate_hz: f
 class RunReport:
     """What a dataset run did."""
 
-    path: Path
+    path: Path | str
     first_frame: int
     frames_done: int
     frames_total: int
     interrupted: bool = False
 
 
-def run_dataset(project_json: str, base_dir: Path, out: Path, *, n_frames: int, seed: int,
+def run_dataset(project_json: str, base_dir: Path, out: Path | str, *, n_frames: int, seed: int,
                 overwrite: bool = False, resume: bool = False, workers: int = 1,
                 scheduler: str | None = None, extra_meta: dict[str, Any] | None = None,
                 on_frame: Callable[[int, int, FrameResult], bool] | None = None,
                 task_timeout_s: float = TASK_TIMEOUT_S,
-                connect_timeout_s: float = CONNECT_TIMEOUT_S) -> RunReport:
-    """Write ``n_frames`` frames of a project into ``out`` (HDF5, or MCAP for ``*.mcap``).
+                connect_timeout_s: float = CONNECT_TIMEOUT_S,
+                storage_options: dict[str, Any] | None = None) -> RunReport:
+    """Write ``n_frames`` frames of a project into ``out`` (HDF5, Zarr or MCAP).
+
+    ``out`` is an HDF5 file, a Zarr store (``*.zarr`` or a URL such as ``s3://bucket/run``,
+    with fsspec ``storage_options``) or an MCAP recording (``*.mcap``); see
+    :func:`simcore.io.writer.open_writer`. Frames are written in a background thread while
+    the next ones are computed.
+
 
     ``on_frame(done, total, result)`` is called after each frame is written; returning
     False stops the run cleanly (as does Ctrl+C), leaving a valid file that
     ``resume=True`` continues. A run that fails before its first frame leaves no file; a
     failing ``overwrite`` leaves the old file untouched (see :class:`DatasetWriter`).
     """
-    from simcore.io.hdf5_writer import DatasetWriter
-    from simcore.io.mcap_writer import McapWriter
+    from simcore.io.writer import open_writer
     from simcore.preflight import check
     from simcore.scene.project_io import ProjectError
 
@@ -397,30 +403,51 @@ def run_dataset(project_json: str, base_dir: Path, out: Path, *, n_frames: int, 
     if problems:
         raise ProjectError(f"project for {out}", problems)
     spec = RunSpec(project_json, str(base_dir), seed)
-    kind = McapWriter if Path(out).suffix.lower() == ".mcap" else DatasetWriter
-    writer = kind(out, project_json=project_json, seed=seed, overwrite=overwrite,
-                  resume=resume, extra_meta=extra_meta)
+    writer = open_writer(out, project_json=project_json, seed=seed, overwrite=overwrite,
+                         resume=resume, extra_meta=extra_meta, storage_options=storage_options)
+    todo = writer.missing(n_frames)
     report = RunReport(out, writer.n_frames, writer.n_frames, n_frames)
     with writer:
         try:
-            if writer.n_frames == 0:
+            if writer.n_frames == 0 and len(todo) == n_frames:
                 writer.write_static(static_items(spec))
-            for result in iter_frames(spec, range(writer.n_frames, n_frames),
-                                      workers=workers, scheduler=scheduler,
-                                      task_timeout_s=task_timeout_s,
-                                      connect_timeout_s=connect_timeout_s):
-                for path, rows in result.tables.items():
-                    writer.append_rows(path, rows)
-                writer.append(result.items)
-                report.frames_done = writer.n_frames
-                if on_frame is not None and not on_frame(writer.n_frames, n_frames, result):
-                    report.interrupted = writer.n_frames < n_frames
-                    break
+            _write_frames(writer, spec, todo, report, on_frame, workers=workers,
+                          scheduler=scheduler, task_timeout_s=task_timeout_s,
+                          connect_timeout_s=connect_timeout_s)
         except KeyboardInterrupt:
             report.interrupted = True
         finally:
             close_simulators()
+    report.frames_done = writer.n_frames
     return report
+
+
+def _write_frames(writer: Any, spec: RunSpec, todo: Sequence[int], report: RunReport,
+                  on_frame: Callable[[int, int, FrameResult], bool] | None, **how: Any
+                  ) -> None:
+    """Compute the frames ``todo`` and write them in a thread beside the engine.
+
+    ``on_frame`` runs in the writer thread after each frame; a stop (False, Ctrl+C) drops
+    the frames computed but not written, so the dataset ends where the callback stopped.
+    """
+    from simcore.io.writer import ThreadedWriter
+
+    n_frames = report.frames_total
+
+    def written(done: int, result: FrameResult) -> bool:
+        report.frames_done = done
+        return on_frame is None or on_frame(done, n_frames, result)
+
+    with ThreadedWriter(writer, on_written=written) as threaded:
+        completed = False
+        try:
+            for result in iter_frames(spec, todo, **how):
+                if not threaded.submit(result):
+                    break
+            completed = True
+        finally:
+            threaded.finish(drop=not completed or threaded.stopped)
+    report.interrupted = threaded.stopped and writer.n_frames < n_frames
 
 
 __all__ = ["FrameResult", "NonFiniteOutputError", "RunReport", "RunSpec", "SchedulerError",
