@@ -59,7 +59,8 @@ def is_zarr_target(out: str | os.PathLike[str]) -> bool:
 def open_writer(out: str | os.PathLike[str], *, project_json: str, seed: int,
                 overwrite: bool = False, resume: bool = False,
                 extra_meta: dict[str, Any] | None = None,
-                storage_options: dict[str, Any] | None = None) -> Any:
+                storage_options: dict[str, Any] | None = None,
+                shard_frames: int | None = None) -> Any:
     """The writer for ``out``: Zarr for ``*.zarr`` and URLs, MCAP for ``*.mcap``, else HDF5.
 
     Parameters
@@ -76,12 +77,16 @@ def open_writer(out: str | os.PathLike[str], *, project_json: str, seed: int,
         More metadata attributes.
     storage_options : dict, optional
         fsspec options of a remote Zarr store (``endpoint_url``, ``key``, …).
+    shard_frames : int, optional
+        Zarr: frames per shard (the unit one worker writes).
     """
     kw: dict[str, Any] = {"project_json": project_json, "seed": seed,
                           "overwrite": overwrite, "resume": resume, "extra_meta": extra_meta}
     if is_zarr_target(out):
         from simcore.io.zarr_writer import ZarrWriter
 
+        if shard_frames is not None:
+            kw["shard_frames"] = shard_frames
         return ZarrWriter(os.fspath(out), storage_options=storage_options, **kw)
     if os.fspath(out).lower().endswith(".mcap"):
         from simcore.io.mcap_writer import McapWriter
