@@ -1,4 +1,4 @@
-"""Dataset writers (HDF5, Zarr, MCAP), the xarray reader, the live stream and exports (PNG previews).
+"""Dataset writers (HDF5, Zarr, MCAP), the xarray reader, the live stream, PNG previews.
 
 :func:`open_dataset` is imported lazily (it needs xarray) so that ``import simcore.io``
 stays cheap.
