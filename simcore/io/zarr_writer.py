@@ -131,6 +131,7 @@ class ZarrWriter:
         self.max_detections = _max_detections(project_json)
         self._pending: dict[int, tuple[Any, Any]] = {}
         self._complete: set[int] = set()
+        self._arrays: ArrayCache | None = None
         self.n_total = 0
         existing = _exists(url, storage_options)
         if existing and resume:
@@ -229,7 +230,9 @@ class ZarrWriter:
                 create_arrays(self.group, batch[0][1], batch[0][2], n_total=self.n_total,
                               shard_frames=self.shard_frames,
                               max_detections=self.max_detections)
-            write_shard_arrays(self.group, batch, max_detections=self.max_detections)
+            if self._arrays is None:
+                self._arrays = ArrayCache(self.group)
+            write_shard_arrays(self._arrays, batch, max_detections=self.max_detections)
             self.mark_complete(frames)
 
     def mark_complete(self, frames: Sequence[int]) -> None:
@@ -320,13 +323,32 @@ def create_arrays(group: Any, items: dict[str, tuple[NDArray[Any], str]],
     make(CHECKSUM_PATH, (32,), np.dtype(np.uint8), "", ("frame", "sha256_byte"))
 
 
+class ArrayCache:
+    """Array handles of one open group, looked up once (each lookup reads ``zarr.json``)."""
+
+    def __init__(self, group: Any):
+        self.group = group
+        self._arrays: dict[str, Any] = {}
+
+    def __getitem__(self, path: str) -> Any:
+        key = path.strip("/")
+        array = self._arrays.get(key)
+        if array is None:
+            array = self._arrays[key] = self.group[key]
+        return array
+
+
 def write_shard_arrays(group: Any, batch: list[tuple[int, Any, Any]], *,
                        max_detections: int) -> None:
     """Write the frames of one shard (consecutive indices), then their checksums.
 
-    The checksums are the shard's completion record: written last, so a shard cut short
-    (a killed process) has none and is recomputed by ``--resume``.
+    ``group`` is the store's root group (or an :class:`ArrayCache` of it). The checksums
+    are the shard's completion record: written last, so a shard cut short (a killed
+    process) has none and is recomputed by ``--resume``.
     """
+    import zarr
+
+    arrays = group if isinstance(group, ArrayCache) else ArrayCache(group)
     start = batch[0][0]
     stop = batch[-1][0] + 1
     digests = np.zeros((len(batch), 32), dtype=np.uint8)
@@ -335,37 +357,38 @@ def write_shard_arrays(group: Any, batch: list[tuple[int, Any, Any]], *,
         for path, rows in tables.items():
             stored[j].append((f"{path}_by_frame", rows))
             stored[j].append((f"{path}_count", np.asarray(len(rows), dtype=np.int64)))
-    paths = list(batch[0][1])
-    for path in paths:
-        stack = np.stack([np.asarray(items[path][0]) for _, items, _ in batch])
-        array = group[path.strip("/")]
-        stack = stack.astype(array.dtype, copy=False)
-        array[start:stop] = stack
+    # Every chunk is written, also one equal to the fill value: no read-back, no deletes.
+    with zarr.config.set({"array.write_empty_chunks": True}):
+        for path in batch[0][1]:
+            array = arrays[path]
+            stack = np.stack([np.asarray(items[path][0]) for _, items, _ in batch])
+            stack = stack.astype(array.dtype, copy=False)
+            array[start:stop] = stack
+            for j in range(len(batch)):
+                stored[j].append((path, stack[j]))
+        for path in batch[0][2]:
+            _write_table(arrays, path, [tables[path] for _, _, tables in batch], start,
+                         max_detections=max_detections)
         for j in range(len(batch)):
-            stored[j].append((path, stack[j]))
-    for path in batch[0][2]:
-        _write_table(group, path, [tables[path] for _, _, tables in batch], start,
-                     max_detections=max_detections)
-    for j in range(len(batch)):
-        digests[j] = np.frombuffer(bytes.fromhex(frame_checksum(stored[j])), dtype=np.uint8)
-    group[CHECKSUM_PATH][start:stop] = digests
+            digests[j] = np.frombuffer(bytes.fromhex(frame_checksum(stored[j])),
+                                       dtype=np.uint8)
+        arrays[CHECKSUM_PATH][start:stop] = digests
 
 
-def _write_table(group: Any, path: str, frames: list[NDArray[Any]], start: int, *,
+def _write_table(arrays: ArrayCache, path: str, frames: list[NDArray[Any]], start: int, *,
                  max_detections: int) -> None:
     counts = np.array([len(rows) for rows in frames], dtype=np.int64)
     if counts.max(initial=0) > max_detections:
         raise ValueError(f"{path}: {int(counts.max())} rows in one frame, more than "
                          f"max_detections = {max_detections}")
-    base = f"{path.strip('/')}_by_frame"
     names = frames[0].dtype.names or ()
     for name in names:
-        out = group[f"{base}/{name}"]
+        out = arrays[f"{path}_by_frame/{name}"]
         block = np.zeros((len(frames), max_detections), dtype=out.dtype)
         for j, rows in enumerate(frames):
             block[j, : len(rows)] = rows[name]
         out[start:start + len(frames)] = block
-    group[f"{path.strip('/')}_count"][start:start + len(frames)] = counts
+    arrays[f"{path}_count"][start:start + len(frames)] = counts
 
 
 _GROUPS: dict[ShardTarget, Any] = {}
@@ -379,11 +402,12 @@ def write_shard(target: ShardTarget, batch: list[tuple[int, Any, Any]]) -> None:
     key = ShardTarget(target.url, None, target.shard_frames, 0, 0)
     group = _GROUPS.get(key)
     if group is None:
-        group = open_group(target.url, mode="r+", storage_options=target.storage_options)
+        group = ArrayCache(open_group(target.url, mode="r+",
+                                      storage_options=target.storage_options))
         _GROUPS.clear()
         _GROUPS[key] = group
     write_shard_arrays(group, batch, max_detections=target.max_detections)
 
 
 __all__ = ["DEFAULT_SHARD_FRAMES", "ShardTarget", "ZarrWriter", "create_arrays",
-           "open_group", "write_shard", "write_shard_arrays"]
+           "open_group", "write_shard", "write_shard_arrays", "ArrayCache"]
