@@ -2,7 +2,9 @@
 
 Each measurement runs in a fresh process (imports not timed), alternating engine and
 writers round by round, so that a loaded machine slows them alike; the ratios
-``run / engine`` of each round are what to compare.
+``run / engine`` of each round are what to compare. Also printed: CPU time per frame (all
+threads); on a machine whose cores are all busy, throughput follows the CPU a frame costs,
+so ``engine CPU / run CPU`` is the ratio that load does not scramble.
 
     python benchmarks/bench_run.py [--frames 40] [--rounds 3] [--targets h5,zarr]
 """
@@ -11,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import resource
 import statistics
 import subprocess
 import sys
@@ -47,16 +50,25 @@ def _run(n: int, out: str, workers: int) -> float:
     return time.perf_counter() - t0
 
 
+def _cpu_s() -> float:
+    """CPU seconds of this process so far, all threads (user + system)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
 def _child(argv: list[str]) -> None:
     kind, n = argv[0], int(argv[1])
+    cpu0 = _cpu_s()
     seconds = _engine(n) if kind == "engine" else _run(n, argv[2], int(argv[3]))
-    print(json.dumps({"seconds": seconds}))
+    print(json.dumps({"seconds": seconds, "cpu_s": _cpu_s() - cpu0}))
 
 
-def _measure(args: list[str]) -> float:
+def _measure(args: list[str]) -> tuple[float, float]:
+    """(wall seconds, CPU seconds) of one measurement in a fresh process."""
     proc = subprocess.run([sys.executable, __file__, "--child", *args], check=True,
                           capture_output=True, text=True)
-    return float(json.loads(proc.stdout.strip().splitlines()[-1])["seconds"])
+    result = json.loads(proc.stdout.strip().splitlines()[-1])
+    return float(result["seconds"]), float(result["cpu_s"])
 
 
 def main() -> None:
@@ -69,18 +81,25 @@ def main() -> None:
     args = ap.parse_args()
     n = args.frames
     ratios: dict[str, list[float]] = {}
+    cpu_ratios: dict[str, list[float]] = {}
     with tempfile.TemporaryDirectory() as tmp:
         for r in range(args.rounds):
-            engine_fps = n / _measure(["engine", str(n)])
-            line = [f"round {r}: engine {engine_fps:6.2f} frames/s"]
+            wall, cpu = _measure(["engine", str(n)])
+            engine_fps, engine_cpu = n / wall, cpu / n
+            line = [f"round {r}: engine {engine_fps:6.2f} frames/s "
+                    f"{engine_cpu * 1e3:5.0f} ms CPU/frame"]
             for target in args.targets.split(","):
                 out = str(Path(tmp) / f"run{r}.{target}")
-                fps = n / _measure(["run", str(n), out, str(args.workers)])
+                wall, cpu = _measure(["run", str(n), out, str(args.workers)])
+                fps = n / wall
                 ratios.setdefault(target, []).append(fps / engine_fps)
-                line.append(f"{target} {fps:6.2f} ({fps / engine_fps:.2f}x)")
+                cpu_ratios.setdefault(target, []).append(engine_cpu / (cpu / n))
+                line.append(f"{target} {fps:6.2f} ({fps / engine_fps:.2f}x) "
+                            f"{cpu / n * 1e3:5.0f} ms CPU ({engine_cpu * n / cpu:.2f}x)")
             print(" | ".join(line), flush=True)
     for target, values in ratios.items():
-        print(f"{target}: median ratio run/engine {statistics.median(values):.2f} "
+        print(f"{target}: median ratio run/engine {statistics.median(values):.2f} frames/s, "
+              f"{statistics.median(cpu_ratios[target]):.2f} by CPU time, "
               f"over {len(values)} rounds")
 
 
