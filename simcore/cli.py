@@ -321,6 +321,17 @@ def _check_scheduler(address: str) -> None:
         raise CliError(str(exc)) from None
 
 
+def cmd_generate(args: argparse.Namespace) -> int:
+    """Write N randomized projects from a scenario spec (``simcore.scenarios``)."""
+    from simcore.scenarios import generate
+
+    written = generate(args.spec, args.out, count=args.count, seed=args.seed,
+                       overwrite=args.overwrite)
+    print(f"wrote {len(written)} projects to {args.out} "
+          f"({written[0].name} .. {written[-1].name})")
+    return 0
+
+
 def cmd_sweep(args: argparse.Namespace) -> int:
     """One dataset per combination of the varied fields, with the parameters recorded."""
     from simcore.io.hdf5_writer import DatasetExistsError, DiskFullError, ResumeError
@@ -551,6 +562,16 @@ def build_parser() -> argparse.ArgumentParser:
                         "endpoint_url=http://127.0.0.1:9000 (repeatable)")
     _run_options(p)
     p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("generate", help="randomized projects from a scenario spec",
+                       parents=common)
+    p.add_argument("spec", help="scenario spec (JSON or YAML, docs/scenarios.md)")
+    p.add_argument("--count", type=_int_at_least(1, 100_000), required=True, metavar="N",
+                   help="number of projects")
+    p.add_argument("--out", required=True, metavar="DIR", help="folder for scene_NNNNN.json")
+    p.add_argument("--seed", type=_seed_int, default=0, help="random seed (default 0)")
+    p.add_argument("--overwrite", action="store_true", help="replace existing scene files")
+    p.set_defaults(func=cmd_generate)
 
     p = sub.add_parser("sweep", help="one dataset per combination of varied project fields",
                        parents=common)
