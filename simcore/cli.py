@@ -188,8 +188,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         raise CliError(str(exc)) from None
     out: Path | str = Path(args.out)
     remote = _is_remote(args.out)
-    if remote:
-        out = args.out                  # a URL stays a string (s3://bucket/run)
+    if "://" in args.out:
+        out = args.out                  # a URL stays a string (s3://bucket/run, file://…)
     elif Path(out).is_dir() and not _is_zarr_out(args.out):
         raise CliError(f"--out {out} is a directory; give a file name such as {out}/run.h5")
     if args.resume and args.overwrite:
@@ -198,7 +198,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         _check_scheduler(args.scheduler)
     cost = _preflight(project, project_path, args, n_frames=n_frames, seed=seed)
     if not remote:
-        _check_disk(Path(out), cost, n_frames, force=args.force)
+        _check_disk(Path(args.out.removeprefix("file://")), cost, n_frames, force=args.force)
     _check_time(cost, n_frames, args)
     preview_axes = _preview_axes(project) if args.preview else None
     bar = tqdm(total=n_frames, desc="frames", unit="frame", file=sys.stderr,

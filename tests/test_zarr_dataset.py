@@ -300,3 +300,13 @@ def test_memory_stays_flat_over_200_frames_into_zarr(tmp_path):
     assert report.frames_done == 200
     growth = rss[-1] - rss[31]       # after two shards (warm-up) to the end
     assert growth < 50, f"peak RSS grew {growth:.1f} MiB over 168 frames"
+
+
+def test_overwrite_never_deletes_a_folder_that_is_not_a_tofradar_store(tmp_path, capsys):
+    project = tiny_project(tmp_path)
+    folder = tmp_path / "photos.zarr"
+    folder.mkdir()
+    (folder / "holiday.jpg").write_bytes(b"precious")
+    assert run(project, f"file://{folder}", "--frames", "1", "--overwrite") == 2
+    assert "not a tofradar Zarr store" in capsys.readouterr().err
+    assert (folder / "holiday.jpg").read_bytes() == b"precious"

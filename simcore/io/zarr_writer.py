@@ -142,6 +142,8 @@ class ZarrWriter:
             raise DatasetExistsError(f"{url} already exists; use --overwrite to replace it or "
                                      "--resume to continue it")
         else:
+            if existing:
+                _check_replaceable(url, storage_options)
             self.shard_frames = max(1, int(shard_frames))
             self.group = open_group(url, mode="w", storage_options=storage_options)
             attrs = {"format_version": DATASET_FORMAT_VERSION, "project_json": project_json,
@@ -257,6 +259,18 @@ class ZarrWriter:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _check_replaceable(url: str, storage_options: dict[str, Any] | None) -> None:
+    """Refuse to delete anything but a tofradar Zarr store (``--overwrite`` of a folder)."""
+    try:
+        attrs = open_group(url, mode="r", storage_options=storage_options).attrs
+        ours = attrs.get("storage") == "zarr" and "project_json" in attrs
+    except Exception:  # noqa: BLE001 — not a Zarr group at all
+        ours = False
+    if not ours:
+        raise DatasetExistsError(f"{url} exists and is not a tofradar Zarr store; refusing to "
+                                 "replace it (choose another --out)")
 
 
 def _plain(value: Any) -> Any:
