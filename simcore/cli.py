@@ -323,10 +323,24 @@ def _check_scheduler(address: str) -> None:
 
 def cmd_generate(args: argparse.Namespace) -> int:
     """Write N randomized projects from a scenario spec (``simcore.scenarios``)."""
+    from tqdm import tqdm
+
     from simcore.scenarios import generate
 
-    written = generate(args.spec, args.out, count=args.count, seed=args.seed,
-                       overwrite=args.overwrite)
+    bars: list[tqdm[None]] = []       # made at the first project: a bad spec prints one line only
+
+    def progress(done: int, total: int) -> None:
+        if not bars:
+            bars.append(tqdm(total=total, desc="projects", unit="project", file=sys.stderr,
+                             disable=args.quiet))
+        bars[0].update(1)
+
+    try:
+        written = generate(args.spec, args.out, count=args.count, seed=args.seed,
+                           overwrite=args.overwrite, on_project=progress)
+    finally:
+        for bar in bars:
+            bar.close()
     print(f"wrote {len(written)} projects to {args.out} "
           f"({written[0].name} .. {written[-1].name})")
     return 0
@@ -571,6 +585,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, metavar="DIR", help="folder for scene_NNNNN.json")
     p.add_argument("--seed", type=_seed_int, default=0, help="random seed (default 0)")
     p.add_argument("--overwrite", action="store_true", help="replace existing scene files")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_generate)
 
     p = sub.add_parser("sweep", help="one dataset per combination of varied project fields",

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -220,8 +221,11 @@ def scene(spec: ScenarioSpec, base_doc: dict[str, Any], *, seed: int, index: int
 
 
 def generate(spec_path: str | Path, out: str | Path, *, count: int, seed: int = 0,
-             overwrite: bool = False) -> list[Path]:
+             overwrite: bool = False,
+             on_project: Callable[[int, int], None] | None = None) -> list[Path]:
     """Write ``count`` projects of the spec into ``out`` (``scene_00000.json``, …).
+
+    ``on_project(done, count)`` is called after each project (progress).
 
     Returns the files written. Raises :class:`ScenarioError` for a bad spec, a count out
     of 1..MAX_COUNT, a negative seed, or existing scene files without ``overwrite``.
@@ -244,6 +248,8 @@ def generate(spec_path: str | Path, out: str | Path, *, count: int, seed: int = 
         target.write_text(scene(spec, base_doc, seed=seed, index=i, base_dir=base.parent),
                           encoding="utf-8")
         written.append(target)
+        if on_project is not None:
+            on_project(i + 1, count)
     return written
 
 
