@@ -186,15 +186,19 @@ def cmd_run(args: argparse.Namespace) -> int:
                                _timeline_default(project, args))
     except ValueError as exc:
         raise CliError(str(exc)) from None
-    out = Path(args.out)
-    if out.is_dir():
+    out: Path | str = Path(args.out)
+    remote = _is_remote(args.out)
+    if "://" in args.out:
+        out = args.out                  # a URL stays a string (s3://bucket/run, file://…)
+    elif Path(out).is_dir() and not _is_zarr_out(args.out):
         raise CliError(f"--out {out} is a directory; give a file name such as {out}/run.h5")
     if args.resume and args.overwrite:
         raise CliError("--resume and --overwrite exclude each other")
     if args.scheduler is not None:
         _check_scheduler(args.scheduler)
     cost = _preflight(project, project_path, args, n_frames=n_frames, seed=seed)
-    _check_disk(out, cost, n_frames, force=args.force)
+    if not remote:
+        _check_disk(Path(args.out.removeprefix("file://")), cost, n_frames, force=args.force)
     _check_time(cost, n_frames, args)
     preview_axes = _preview_axes(project) if args.preview else None
     bar = tqdm(total=n_frames, desc="frames", unit="frame", file=sys.stderr,
@@ -203,7 +207,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     def progress(done: int, total: int, result: FrameResult) -> bool:
         bar.n = done
         bar.refresh()
-        if args.preview:
+        if args.preview and result.items:   # frames written by workers come without data
             _write_previews(Path(args.preview), result, preview_axes)
         return not stop.is_set()
 
@@ -214,11 +218,15 @@ def cmd_run(args: argparse.Namespace) -> int:
                                  resume=args.resume, workers=args.workers,
                                  scheduler=args.scheduler, on_frame=progress,
                                  task_timeout_s=args.task_timeout,
-                                 connect_timeout_s=args.connect_timeout)
+                                 connect_timeout_s=args.connect_timeout,
+                                 storage_options=_storage_options(args),
+                                 shard_frames=args.shard_frames)
     except (DatasetExistsError, ResumeError) as exc:
         raise CliError(str(exc)) from None
     except DiskFullError as exc:
         raise CliError(f"{exc.strerror}; free space and continue with --resume") from None
+    except _store_errors() as exc:
+        raise CliError(f"--out {args.out}: {type(exc).__name__}: {str(exc)[:300]}") from None
     finally:
         bar.close()
     if report.interrupted:
@@ -230,6 +238,47 @@ def cmd_run(args: argparse.Namespace) -> int:
     else:
         print(f"{out} already has {report.first_frame} frames; nothing to do")
     return 0
+
+
+def _is_zarr_out(out: str) -> bool:
+    from simcore.io.writer import is_zarr_target
+
+    return is_zarr_target(out)
+
+
+def _is_remote(out: str) -> bool:
+    """``--out`` is a URL of a store other than a local file (``s3://``, ``memory://``)."""
+    scheme, sep, _ = out.partition("://")
+    return bool(sep) and scheme.lower() != "file" and _is_zarr_out(out)
+
+
+def _storage_options(args: argparse.Namespace) -> dict[str, object] | None:
+    """Storage options from ``--storage-option KEY=VALUE`` (values parsed as JSON if they can)."""
+    options: dict[str, object] = {}
+    for text in getattr(args, "storage_option", None) or []:
+        key, sep, value = text.partition("=")
+        if not sep or not key:
+            raise CliError(f"--storage-option {text!r}: expected KEY=VALUE")
+        try:
+            options[key] = json.loads(value)
+        except ValueError:
+            options[key] = value
+    endpoint = os.environ.get("TOFRADAR_S3_ENDPOINT")
+    if endpoint and args.out.startswith("s3://") and "endpoint_url" not in options:
+        options["endpoint_url"] = endpoint
+    return options or None
+
+
+def _store_errors() -> tuple[type[BaseException], ...]:
+    """Errors of a store that cannot be reached or written (bad bucket, no credentials)."""
+    errors: list[type[BaseException]] = [OSError, PermissionError]
+    try:
+        from botocore.exceptions import BotoCoreError, ClientError
+
+        errors += [BotoCoreError, ClientError]
+    except ImportError:
+        pass
+    return tuple(errors)
 
 
 def _timeline_default(project: Project, args: argparse.Namespace) -> int:
@@ -270,6 +319,31 @@ def _check_scheduler(address: str) -> None:
         check_scheduler_address(address)
     except SchedulerError as exc:
         raise CliError(str(exc)) from None
+
+
+def cmd_generate(args: argparse.Namespace) -> int:
+    """Write N randomized projects from a scenario spec (``simcore.scenarios``)."""
+    from tqdm import tqdm
+
+    from simcore.scenarios import generate
+
+    bars: list[tqdm[None]] = []       # made at the first project: a bad spec prints one line only
+
+    def progress(done: int, total: int) -> None:
+        if not bars:
+            bars.append(tqdm(total=total, desc="projects", unit="project", file=sys.stderr,
+                             disable=args.quiet))
+        bars[0].update(1)
+
+    try:
+        written = generate(args.spec, args.out, count=args.count, seed=args.seed,
+                           overwrite=args.overwrite, on_project=progress)
+    finally:
+        for bar in bars:
+            bar.close()
+    print(f"wrote {len(written)} projects to {args.out} "
+          f"({written[0].name} .. {written[-1].name})")
+    return 0
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
@@ -520,7 +594,8 @@ def build_parser() -> argparse.ArgumentParser:
                        parents=common)
     p.add_argument("project", help="project JSON file")
     p.add_argument("--out", required=True,
-                   help="output file: HDF5 (.h5, default) or an MCAP recording (.mcap)")
+                   help="output file: HDF5 (.h5, default), an MCAP recording (.mcap), or a "
+                        "Zarr store (.zarr, or a URL such as s3://bucket/run)")
     p.add_argument("--frames", type=_frames_int, help="number of frames (default: timeline)")
     p.add_argument("--duration", type=_positive_float, metavar="S",
                    help="simulated seconds (frames = S × frame rate)")
@@ -536,8 +611,24 @@ def build_parser() -> argparse.ArgumentParser:
                         "processes, or a scheduler address such as tcp://host:8786")
     p.add_argument("--preview", metavar="DIR", help="also write PNG previews into DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--shard-frames", type=_int_at_least(1, 4096), default=16, metavar="K",
+                   help="Zarr: frames per shard, the unit a worker writes (default 16)")
+    p.add_argument("--storage-option", action="append", metavar="KEY=VALUE",
+                   help="Zarr on a URL: an fsspec storage option such as "
+                        "endpoint_url=http://127.0.0.1:9000 (repeatable)")
     _run_options(p)
     p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("generate", help="randomized projects from a scenario spec",
+                       parents=common)
+    p.add_argument("spec", help="scenario spec (JSON or YAML, docs/scenarios.md)")
+    p.add_argument("--count", type=_int_at_least(1, 100_000), required=True, metavar="N",
+                   help="number of projects")
+    p.add_argument("--out", required=True, metavar="DIR", help="folder for scene_NNNNN.json")
+    p.add_argument("--seed", type=_seed_int, default=0, help="random seed (default 0)")
+    p.add_argument("--overwrite", action="store_true", help="replace existing scene files")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_generate)
 
     p = sub.add_parser("sweep", help="one dataset per combination of varied project fields",
                        parents=common)

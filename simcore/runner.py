@@ -10,12 +10,13 @@ whichever process computes it and in whatever order.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import functools
 import hashlib
 import json
 import multiprocessing
 import signal
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Generator, Iterator, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
@@ -364,28 +365,35 @@ def frame_count(n_frames: int | None, duration_s: float | None, frame_rate_hz: f
 class RunReport:
     """What a dataset run did."""
 
-    path: Path
+    path: Path | str
     first_frame: int
     frames_done: int
     frames_total: int
     interrupted: bool = False
 
 
-def run_dataset(project_json: str, base_dir: Path, out: Path, *, n_frames: int, seed: int,
+def run_dataset(project_json: str, base_dir: Path, out: Path | str, *, n_frames: int, seed: int,
                 overwrite: bool = False, resume: bool = False, workers: int = 1,
                 scheduler: str | None = None, extra_meta: dict[str, Any] | None = None,
                 on_frame: Callable[[int, int, FrameResult], bool] | None = None,
                 task_timeout_s: float = TASK_TIMEOUT_S,
-                connect_timeout_s: float = CONNECT_TIMEOUT_S) -> RunReport:
-    """Write ``n_frames`` frames of a project into ``out`` (HDF5, or MCAP for ``*.mcap``).
+                connect_timeout_s: float = CONNECT_TIMEOUT_S,
+                storage_options: dict[str, Any] | None = None,
+                shard_frames: int | None = None) -> RunReport:
+    """Write ``n_frames`` frames of a project into ``out`` (HDF5, Zarr or MCAP).
+
+    ``out`` is an HDF5 file, a Zarr store (``*.zarr`` or a URL such as ``s3://bucket/run``,
+    with fsspec ``storage_options``) or an MCAP recording (``*.mcap``); see
+    :func:`simcore.io.writer.open_writer`. Frames are written in a background thread while
+    the next ones are computed.
+
 
     ``on_frame(done, total, result)`` is called after each frame is written; returning
     False stops the run cleanly (as does Ctrl+C), leaving a valid file that
     ``resume=True`` continues. A run that fails before its first frame leaves no file; a
     failing ``overwrite`` leaves the old file untouched (see :class:`DatasetWriter`).
     """
-    from simcore.io.hdf5_writer import DatasetWriter
-    from simcore.io.mcap_writer import McapWriter
+    from simcore.io.writer import open_writer
     from simcore.preflight import check
     from simcore.scene.project_io import ProjectError
 
@@ -397,32 +405,187 @@ def run_dataset(project_json: str, base_dir: Path, out: Path, *, n_frames: int, 
     if problems:
         raise ProjectError(f"project for {out}", problems)
     spec = RunSpec(project_json, str(base_dir), seed)
-    kind = McapWriter if Path(out).suffix.lower() == ".mcap" else DatasetWriter
-    writer = kind(out, project_json=project_json, seed=seed, overwrite=overwrite,
-                  resume=resume, extra_meta=extra_meta)
+    writer = open_writer(out, project_json=project_json, seed=seed, overwrite=overwrite,
+                         resume=resume, extra_meta=extra_meta, storage_options=storage_options,
+                         shard_frames=shard_frames)
+    todo = writer.missing(n_frames)
     report = RunReport(out, writer.n_frames, writer.n_frames, n_frames)
     with writer:
         try:
-            if writer.n_frames == 0:
+            if writer.n_frames == 0 and len(todo) == n_frames:
                 writer.write_static(static_items(spec))
-            for result in iter_frames(spec, range(writer.n_frames, n_frames),
-                                      workers=workers, scheduler=scheduler,
-                                      task_timeout_s=task_timeout_s,
-                                      connect_timeout_s=connect_timeout_s):
-                for path, rows in result.tables.items():
-                    writer.append_rows(path, rows)
-                writer.append(result.items)
-                report.frames_done = writer.n_frames
-                if on_frame is not None and not on_frame(writer.n_frames, n_frames, result):
-                    report.interrupted = writer.n_frames < n_frames
-                    break
+            how: dict[str, Any] = {"workers": workers, "scheduler": scheduler,
+                                   "task_timeout_s": task_timeout_s,
+                                   "connect_timeout_s": connect_timeout_s}
+            if hasattr(writer, "shards_of") and (workers > 1 or scheduler is not None):
+                _write_shards(writer, spec, todo, report, on_frame, **how)
+            else:
+                _write_frames(writer, spec, todo, report, on_frame, **how)
         except KeyboardInterrupt:
             report.interrupted = True
         finally:
             close_simulators()
+    report.frames_done = writer.n_frames
     return report
 
 
+def _write_frames(writer: Any, spec: RunSpec, todo: Sequence[int], report: RunReport,
+                  on_frame: Callable[[int, int, FrameResult], bool] | None, **how: Any
+                  ) -> None:
+    """Compute the frames ``todo`` and write them in a thread beside the engine.
+
+    ``on_frame`` runs in the writer thread after each frame; a stop (False, Ctrl+C) drops
+    the frames computed but not written, so the dataset ends where the callback stopped.
+    """
+    from simcore.io.writer import ThreadedWriter
+
+    n_frames = report.frames_total
+
+    def written(done: int, result: FrameResult) -> bool:
+        report.frames_done = done
+        return on_frame is None or on_frame(done, n_frames, result)
+
+    with ThreadedWriter(writer, on_written=written) as threaded:
+        completed = False
+        try:
+            for result in iter_frames(spec, todo, **how):
+                if not threaded.submit(result):
+                    break
+            completed = True
+        finally:
+            threaded.finish(drop=not completed or threaded.stopped)
+    report.interrupted = threaded.stopped and writer.n_frames < n_frames
+
+
+def compute_shard(spec: RunSpec, target: Any, frames: Sequence[int]) -> int:
+    """Compute the frames of one shard and write them into the store (in a worker).
+
+    Returns the number of frames written. Only this process writes this shard: the driver
+    never sends one shard to two workers at once, and a shard retried after a worker died
+    is rewritten whole.
+    """
+    from simcore.io.zarr_writer import write_shard
+
+    batch = [(r.index, r.items, r.tables)
+             for r in map(_result, _simulator(spec).frames(frames))]
+    write_shard(target, batch)
+    return len(batch)
+
+
+def _write_shards(writer: Any, spec: RunSpec, todo: Sequence[int], report: RunReport,
+                  on_frame: Callable[[int, int, FrameResult], bool] | None, *, workers: int,
+                  scheduler: str | None, task_timeout_s: float, connect_timeout_s: float
+                  ) -> None:
+    """Workers compute and write whole shards; this process only schedules and commits.
+
+    The shard that creates the arrays (the first one of a new store) is written here.
+    """
+    shards = writer.shards_of(todo)
+    if shards and not writer.has_arrays:
+        _write_frames(writer, spec, shards.pop(0), report, on_frame, workers=1,
+                      scheduler=None, task_timeout_s=task_timeout_s,
+                      connect_timeout_s=connect_timeout_s)
+        if report.interrupted:
+            return
+    target = writer.target()
+    done = report.frames_total - sum(len(frames) for frames in shards)
+    window = max(2, 2 * workers)
+    run = (_shards_on_dask(spec, target, shards, workers=workers, scheduler=scheduler,
+                           window=window, task_timeout_s=task_timeout_s,
+                           connect_timeout_s=connect_timeout_s) if scheduler is not None
+           else _shards_on_pool(spec, target, shards, workers=workers, window=window))
+    with contextlib.closing(run):
+        for frames in run:
+            writer.mark_complete(frames)
+            report.frames_done = writer.n_frames
+            for k in frames:
+                done += 1
+                if on_frame is not None and not on_frame(done, report.frames_total,
+                                                         FrameResult(k, {})):
+                    report.interrupted = True
+            if report.interrupted:
+                break
+
+
+def _shards_on_pool(spec: RunSpec, target: Any, shards: list[list[int]], *, workers: int,
+                    window: int) -> Generator[list[int], None, None]:
+    """Shards written by local worker processes, yielded as they complete."""
+    from concurrent.futures import FIRST_COMPLETED, wait
+
+    ctx = multiprocessing.get_context("spawn")
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_ignore_sigint)
+    pending: dict[Future[int], list[int]] = {}
+    todo = list(shards)
+    try:
+        while todo or pending:
+            while todo and len(pending) < window:
+                frames = todo.pop(0)
+                pending[pool.submit(compute_shard, spec, target, frames)] = frames
+            finished, _ = wait(list(pending), return_when=FIRST_COMPLETED)
+            for fut in finished:
+                frames = pending.pop(fut)
+                fut.result()
+                yield frames
+    except BrokenProcessPool:
+        raise RunError("a worker process died (killed, out of memory or a crash in native "
+                       "code); the store keeps every complete shard, continue with "
+                       "--resume") from None
+    finally:
+        # Shards being written finish (complete shards only); queued ones are dropped.
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _shards_on_dask(spec: RunSpec, target: Any, shards: list[list[int]], *, workers: int,
+                    scheduler: str, window: int, task_timeout_s: float,
+                    connect_timeout_s: float) -> Generator[list[int], None, None]:
+    """Shards written by Dask workers, yielded as they complete."""
+    check_scheduler_address(scheduler)
+    if scheduler != "local":
+        probe_scheduler(scheduler, timeout_s=connect_timeout_s)
+    from dask.distributed import Client, LocalCluster, as_completed
+
+    cluster = None
+    try:
+        if scheduler == "local":
+            cluster = LocalCluster(n_workers=max(1, workers), threads_per_worker=1,
+                                   processes=True, dashboard_address=None)
+            client = Client(cluster, timeout=connect_timeout_s)
+        else:
+            client = Client(scheduler, timeout=connect_timeout_s)
+    except (OSError, TimeoutError) as exc:
+        if cluster is not None:
+            cluster.close()
+        raise SchedulerError(f"cannot connect to the Dask scheduler at {scheduler} within "
+                             f"{connect_timeout_s:g} s: {exc}") from None
+    try:
+        spec_future = client.scatter(spec, broadcast=True)
+        todo = list(shards)
+        running = as_completed()
+        frames_of: dict[Any, list[int]] = {}
+
+        def submit() -> None:
+            frames = todo.pop(0)
+            fut = client.submit(compute_shard, spec_future, target, frames, pure=False)
+            frames_of[fut.key] = frames
+            running.add(fut)
+
+        for _ in range(min(window, len(todo))):
+            submit()
+        for fut in running:
+            try:
+                fut.result(timeout=task_timeout_s * target.shard_frames)
+            except (TimeoutError, asyncio.TimeoutError):
+                raise SchedulerError(f"shard of frames {frames_of[fut.key][0]}.. did not "
+                                     f"finish in time on {scheduler}") from None
+            yield frames_of.pop(fut.key)
+            if todo:
+                submit()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
 __all__ = ["FrameResult", "NonFiniteOutputError", "RunReport", "RunSpec", "SchedulerError",
-           "check_scheduler_address", "compute_frame", "frame_count", "iter_frames",
-           "probe_scheduler", "run_dataset", "static_items"]
+           "check_scheduler_address", "compute_frame", "compute_shard", "frame_count",
+           "iter_frames", "probe_scheduler", "run_dataset", "static_items"]

@@ -30,6 +30,7 @@ import os
 import shutil
 import subprocess
 import sys
+import zlib
 from pathlib import Path
 from types import TracebackType
 from typing import Any
@@ -85,6 +86,25 @@ def frame_checksum(arrays: list[tuple[str, NDArray[Any]]]) -> str:
         h.update(repr(a.shape).encode())
         h.update(a.tobytes())
     return h.hexdigest()
+
+
+def encode_chunk(arr: NDArray[Any], *, compressed: bool) -> bytes:
+    """One frame's chunk as HDF5's shuffle + deflate (level 1) filters would store it.
+
+    Done in Python so that the work runs without the GIL (NumPy's copy, zlib) and in the
+    writer thread, while the engine computes the next frames; the bytes decode with any
+    HDF5 reader (the dataset declares the same filters).
+    """
+    a = np.ascontiguousarray(arr)
+    if not compressed:
+        return a.tobytes()
+    size = a.dtype.itemsize
+    raw = a.view(np.uint8).reshape(-1, size).T.tobytes() if size > 1 else a.tobytes()
+    # Deflate with the run-length strategy: a standard deflate stream (any HDF5 reader
+    # decodes it) made about twice as fast as the default matching, for 3 % more bytes on
+    # shuffled floats (the gain is in their sign and exponent bytes).
+    packer = zlib.compressobj(COMPRESSION["compression_opts"], zlib.DEFLATED, 15, 8, zlib.Z_RLE)
+    return packer.compress(raw) + packer.flush()
 
 
 def _per_frame_datasets(file: h5py.File) -> dict[str, h5py.Dataset]:
@@ -224,6 +244,23 @@ class DatasetWriter:
             ds.attrs["per_frame"] = True
         return self.file[path]
 
+    def _frame_target(self, path: str, arr: NDArray[Any], unit: str
+                      ) -> tuple[h5py.Dataset, tuple[int, ...], np.dtype[Any], bool, bool]:
+        """The per-frame dataset of ``path`` and how to write it (looked up once per run).
+
+        Returns the dataset, its frame shape and dtype, whether a frame is one whole chunk
+        written directly, and whether that chunk is compressed.
+        """
+        cache: dict[str, Any] = self.__dict__.setdefault("_targets", {})
+        found = cache.get(path)
+        if found is None:
+            ds = self._per_frame(path, arr.shape, arr.dtype, unit)
+            shape = tuple(ds.shape[1:])
+            direct = ds.dtype.kind in "biufc" and ds.chunks == (1, *shape)
+            found = (ds, shape, ds.dtype, direct, ds.compression == "gzip")
+            cache[path] = found
+        return found
+
     def append_rows(self, path: str, rows: NDArray[Any], *, unit: str = "") -> None:
         """Records of the frame about to be appended (e.g. detections), kept per frame.
 
@@ -275,13 +312,18 @@ class DatasetWriter:
             stored = self._write_rows(n)
             for path, (array, unit) in items.items():
                 arr = np.asarray(array)
-                ds = self._per_frame(path, arr.shape, arr.dtype, unit)
-                if ds.shape[1:] != arr.shape:
-                    raise ValueError(f"{path}: frame shape {arr.shape} != dataset "
-                                     f"{ds.shape[1:]}")
+                ds, shape, dtype, direct, compressed = self._frame_target(path, arr, unit)
+                if shape != arr.shape:
+                    raise ValueError(f"{path}: frame shape {arr.shape} != dataset {shape}")
                 ds.resize(n + 1, axis=0)
-                ds[n] = arr
-                stored.append((path, np.asarray(arr, dtype=ds.dtype)))
+                arr = np.asarray(arr, dtype=dtype)
+                if direct:
+                    # Whole-frame chunk, encoded here (GIL released), written as is.
+                    data = encode_chunk(arr, compressed=compressed)
+                    ds.id.write_direct_chunk((n,) + (0,) * arr.ndim, data)
+                else:
+                    ds[n] = arr
+                stored.append((path, arr))
             check = self._per_frame(CHECKSUM_PATH, (), np.dtype("S64"), "")
             check.resize(n + 1, axis=0)
             check[n] = frame_checksum(stored).encode()
@@ -298,6 +340,20 @@ class DatasetWriter:
         if not self._placed and not self._replace_at_end:
             os.replace(self.tmp, self.path)     # first complete frame: now visible
             self._placed = True
+
+    def write_frame(self, index: int, items: dict[str, tuple[NDArray[Any], str]],
+                    tables: dict[str, NDArray[Any]]) -> None:
+        """Append frame ``index`` (the next one: HDF5 frames are written in order)."""
+        if index != self.n_frames:
+            raise ValueError(f"{self.path}: frame {index} written after {self.n_frames} "
+                             "frames; an HDF5 dataset is written in frame order")
+        for path, rows in tables.items():
+            self.append_rows(path, rows)
+        self.append(items)
+
+    def missing(self, n_total: int) -> list[int]:
+        """Frames still to write: those after the complete ones."""
+        return list(range(self.n_frames, n_total))
 
     def _check_space(self, n: int, items: dict[str, tuple[NDArray[Any], str]]) -> None:
         """Refuse a frame that may not fit on the disk, before anything of it is written.

@@ -105,6 +105,19 @@ class McapWriter:
         self._rows.clear()
         self.n_frames += 1
 
+    def write_frame(self, index: int, items: Items, tables: dict[str, NDArray[Any]]) -> None:
+        """Write frame ``index`` (the next one: a recording is written in time order)."""
+        if index != self.n_frames:
+            raise ValueError(f"{self.path}: frame {index} written after {self.n_frames} "
+                             "frames; an MCAP recording is written in frame order")
+        for path, rows in tables.items():
+            self.append_rows(path, rows)
+        self.append(items)
+
+    def missing(self, n_total: int) -> list[int]:
+        """Frames still to write."""
+        return list(range(self.n_frames, n_total))
+
     def close(self, *, keep: bool = True) -> None:
         """Finish the MCAP file (summary and index), close it and put it in place.
 

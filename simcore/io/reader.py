@@ -144,13 +144,17 @@ def _lazy(ds: h5py.Dataset) -> Any:
                          lock=True, asarray=True)
 
 
-def open_dataset(path: str | os.PathLike[str]) -> Any:
-    """Open a tofradar HDF5 dataset as a lazy ``xarray.Dataset``.
+def open_dataset(path: str | os.PathLike[str], *,
+                 storage_options: dict[str, Any] | None = None) -> Any:
+    """Open a tofradar dataset (HDF5 file or Zarr store) as a lazy ``xarray.Dataset``.
 
     Parameters
     ----------
-    path : path-like
-        The HDF5 file (``docs/dataset.md``).
+    path : path-like or str
+        The HDF5 file, or a Zarr store: ``PATH.zarr`` or a URL (``s3://``, ``memory://``, …)
+        (``docs/dataset.md``).
+    storage_options : dict, optional
+        fsspec options of a remote Zarr store.
 
     Returns
     -------
@@ -162,6 +166,10 @@ def open_dataset(path: str | os.PathLike[str]) -> Any:
         in the attributes ``units`` and ``unit``. The file stays open until ``ds.close()``.
         Attributes of ``/meta`` become the dataset's attributes.
     """
+    from simcore.io.writer import is_zarr_target
+
+    if is_zarr_target(path):
+        return open_zarr_dataset(os.fspath(path), storage_options=storage_options)
     import xarray as xr
 
     f = h5py.File(path, "r")
@@ -216,3 +224,66 @@ def open_dataset(path: str | os.PathLike[str]) -> Any:
         raise
     dataset.set_close(f.close)
     return dataset
+
+
+def _zarr_arrays(group: Any) -> list[tuple[str, Any]]:
+    return sorted(("/" + name, node) for name, node in group.members(max_depth=None)
+                  if hasattr(node, "shape"))
+
+
+def open_zarr_dataset(url: str, *, storage_options: dict[str, Any] | None = None) -> Any:
+    """Open a tofradar Zarr store like :func:`open_dataset` opens an HDF5 file.
+
+    The same variables, dimensions, coordinates and units; per-frame arrays are cut to the
+    ``n_frames`` complete frames. The detections' fields (one array each,
+    ``radar/detections_by_frame/<field>``) become ``radar_detections_by_frame_<field>``
+    along (``frame``, ``slot``) and, cut to each frame's count, ``detection_<field>``
+    along ``detection``.
+    """
+    import dask.array as da
+    import xarray as xr
+
+    from simcore.io.zarr_writer import open_group
+
+    group = open_group(url, mode="r", storage_options=storage_options)
+    n_frames = int(group.attrs["n_frames"])
+    variables: dict[str, Any] = {}
+    coords: dict[str, Any] = {}
+    tables: dict[str, dict[str, Any]] = {}
+    for name, array in _zarr_arrays(group):
+        unit = str(array.attrs.get("unit", ""))
+        dims = tuple(array.metadata.dimension_names or ())
+        per_frame = bool(array.attrs.get("per_frame", False))
+        attrs = {"units": unit, "unit": unit, "zarr_path": name}
+        table, sep, field = name.rpartition("_by_frame/")
+        if sep and per_frame:
+            tables.setdefault(table, {})[field] = array
+            continue
+        if name == "/time" or name in COORDS:  # small: read now, as coordinates
+            values = np.asarray(array[:n_frames] if per_frame else array[...])
+            if values.dtype.kind == "T":        # NumPy 2 strings → objects, as from HDF5
+                values = values.astype(object)
+            coords[COORDS.get(name, "time")] = xr.Variable(dims, values, attrs=attrs)
+            continue
+        data = da.from_zarr(array)
+        variables[name.strip("/").replace("/", "_")] = xr.Variable(
+            dims, data[:n_frames] if per_frame else data, attrs=attrs)
+    for table, fields in tables.items():
+        counts = np.asarray(group[f"{table.strip('/')}_count"][:n_frames])
+        keep = np.arange(next(iter(fields.values())).shape[1])[None, :] < counts[:, None]
+        base = table.strip("/").replace("/", "_")
+        for field, array in fields.items():
+            unit = DETECTION_UNITS.get(field, "")
+            attrs = {"units": unit, "zarr_path": f"{table}_by_frame/{field}"}
+            data = da.from_zarr(array)[:n_frames]
+            variables[f"{base}_by_frame_{field}"] = xr.Variable(("frame", "slot"), data,
+                                                                attrs=attrs)
+            flat = np.asarray(array[:n_frames])[keep]
+            variables[f"detection_{field}"] = xr.Variable(("detection",), flat, attrs=attrs)
+    coords["frame"] = xr.Variable(("frame",), np.arange(n_frames))
+    for dim, labels in _LABELS.items():
+        coords.setdefault(dim, xr.Variable((dim,), np.array(labels)))
+    meta = {k: v for k, v in group.attrs.items()}
+    dataset = xr.Dataset(variables, coords=coords, attrs=meta)
+    unused = [d for d in _LABELS if d not in dataset.dims]
+    return dataset.drop_vars(unused)

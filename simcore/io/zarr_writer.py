@@ -1,0 +1,427 @@
+"""Zarr v3 datasets: the HDF5 layout in shards of frames, on a disk or in an object store.
+
+``tofradar run PROJECT --out run.zarr`` (or ``s3://bucket/run``, ``gs://…``,
+``memory://…``, ``file://…``) writes the arrays, attributes and units of the HDF5 layout
+(``docs/dataset.md``) as a Zarr v3 hierarchy:
+
+- every per-frame array has shape ``(N, …)``, one chunk per frame inside shards of
+  ``shard_frames`` frames (Blosc/Zstd level 1 with byte shuffle), and the v3
+  ``dimension_names`` of :data:`simcore.io.reader.DIMS`, so ``xarray.open_zarr(url,
+  group="radar")`` names its dimensions;
+- scalars per frame (``/time``, ``/radar/detections_count``) are chunked one shard each;
+- the detections (a compound table in HDF5) are one array per field,
+  ``radar/detections_by_frame/<field>`` of shape ``(N, max_detections)``, valid up to
+  ``radar/detections_count[k]`` in frame ``k``;
+- ``meta/frame_sha256`` ``(N, 32)`` uint8 holds each frame's SHA-256 (the same digest as
+  the HDF5 file's hex string) and is the frame's completion record: it is written after
+  the frame's data, one chunk per shard, so a frame counts only when its whole shard is
+  stored; root attribute ``n_frames`` (the complete frames from the start) is committed
+  by the driver.
+
+Shards are the unit of writing: one process writes a whole shard (its frames' data, then
+its checksums) and no two processes ever write one shard, so workers write their own
+frames concurrently (:func:`write_shard`) while the driver only creates the arrays and
+commits metadata. ``resume`` recomputes the shards without a complete record.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+import simcore
+from simcore.io.hdf5_writer import (
+    DATASET_FORMAT_VERSION,
+    DatasetExistsError,
+    ResumeError,
+    frame_checksum,
+)
+
+#: Frames per shard by default (a shard of the office is about 32 MB before compression).
+DEFAULT_SHARD_FRAMES = 16
+#: Arrays of at most this many values per frame get one chunk per shard (no inner chunks).
+SMALL_VALUES = 64
+CHECKSUM_PATH = "meta/frame_sha256"
+DETECTIONS_PATH = "/radar/detections"
+#: Attributes of the root group set when the store is created (the rest are extra meta).
+CORE_ATTRS = ("format_version", "project_json", "created", "tofradar_version", "seed",
+              "n_frames", "shard_frames", "storage")
+
+
+def _codecs(dtype: np.dtype[Any]) -> dict[str, Any]:
+    from zarr.codecs import BloscCodec
+
+    shuffle: Literal["shuffle", "noshuffle"] = "shuffle" if dtype.itemsize > 1 else "noshuffle"
+    return {"compressors": BloscCodec(cname="zstd", clevel=1, shuffle=shuffle,
+                                      typesize=dtype.itemsize)}
+
+
+def _dims(path: str, ndim: int, *, per_frame: bool) -> tuple[str, ...]:
+    from simcore.io.reader import DIMS
+
+    inner = DIMS.get(path) or tuple(f"{path.strip('/').replace('/', '_')}_dim{i}"
+                                    for i in range(ndim))
+    if len(inner) != ndim:
+        inner = tuple(f"{path.strip('/').replace('/', '_')}_dim{i}" for i in range(ndim))
+    return ("frame", *inner) if per_frame else inner
+
+
+def open_group(url: str, *, mode: str, storage_options: dict[str, Any] | None = None) -> Any:
+    """Open the Zarr v3 group at ``url`` (path or fsspec URL)."""
+    import zarr
+
+    kw: dict[str, Any] = {"mode": mode, "zarr_format": 3}
+    if "://" in url and storage_options:
+        kw["storage_options"] = storage_options
+    return zarr.open_group(_store_url(url), **kw)
+
+
+def _store_url(url: str) -> str:
+    return url.removeprefix("file://") if url.startswith("file://") else url
+
+
+@dataclass(frozen=True)
+class ShardTarget:
+    """Where a worker writes its shards (picklable, small)."""
+
+    url: str
+    storage_options: dict[str, Any] | None
+    shard_frames: int
+    n_total: int
+    max_detections: int
+
+
+class ZarrWriter:
+    """Write a run into a Zarr v3 store, a shard of frames at a time.
+
+    Parameters
+    ----------
+    url : str
+        ``PATH.zarr`` or an fsspec URL (``file://``, ``s3://``, ``gs://``, ``memory://``).
+    project_json : str
+        The project document, stored as root attribute ``project_json``.
+    seed : int
+        Random seed of the run.
+    overwrite : bool
+        Replace an existing store (it is deleted when the run starts).
+    resume : bool
+        Continue an existing store of the same project and seed.
+    extra_meta : dict, optional
+        More root attributes.
+    storage_options : dict, optional
+        fsspec options of a remote store (``endpoint_url``, ``key``, ``secret``, …).
+    shard_frames : int
+        Frames per shard.
+    """
+
+    def __init__(self, url: str, *, project_json: str, seed: int, overwrite: bool = False,
+                 resume: bool = False, extra_meta: dict[str, Any] | None = None,
+                 storage_options: dict[str, Any] | None = None,
+                 shard_frames: int = DEFAULT_SHARD_FRAMES):
+        self.url = url
+        self.path = url
+        self.storage_options = storage_options
+        self.max_detections = _max_detections(project_json)
+        self._pending: dict[int, tuple[Any, Any]] = {}
+        self._complete: set[int] = set()
+        self._arrays: ArrayCache | None = None
+        self.n_total = 0
+        existing = _exists(url, storage_options)
+        if existing and resume:
+            self.group = open_group(url, mode="r+", storage_options=storage_options)
+            self._check_resume(project_json, seed)
+            self.shard_frames = int(self.group.attrs["shard_frames"])
+        elif existing and not overwrite:
+            raise DatasetExistsError(f"{url} already exists; use --overwrite to replace it or "
+                                     "--resume to continue it")
+        else:
+            if existing:
+                _check_replaceable(url, storage_options)
+            self.shard_frames = max(1, int(shard_frames))
+            self.group = open_group(url, mode="w", storage_options=storage_options)
+            attrs = {"format_version": DATASET_FORMAT_VERSION, "project_json": project_json,
+                     "created": _dt.datetime.now(_dt.timezone.utc).isoformat(),
+                     "tofradar_version": simcore.__version__, "seed": int(seed),
+                     "n_frames": 0, "shard_frames": self.shard_frames, "storage": "zarr"}
+            attrs.update({k: _plain(v) for k, v in (extra_meta or {}).items()})
+            self.group.attrs.update(attrs)
+        self.n_frames = int(self.group.attrs.get("n_frames", 0))
+
+    # ------------------------------------------------------------------ opening
+    def _check_resume(self, project_json: str, seed: int) -> None:
+        attrs = self.group.attrs
+        if "n_frames" not in attrs or attrs.get("storage") != "zarr":
+            raise ResumeError(f"cannot resume {self.url}: it is not a tofradar dataset")
+        if attrs.get("project_json") != project_json or int(attrs.get("seed", -1)) != seed:
+            raise ResumeError(f"cannot resume {self.url}: it was written from a different "
+                              "project or seed")
+        if int(attrs.get("format_version", 0)) != DATASET_FORMAT_VERSION:
+            raise ResumeError(f"cannot resume {self.url}: dataset format "
+                              f"{attrs.get('format_version')}")
+
+    def target(self) -> ShardTarget:
+        """What a worker needs to write shards of this store."""
+        return ShardTarget(self.url, self.storage_options, self.shard_frames, self.n_total,
+                           self.max_detections)
+
+    @property
+    def has_arrays(self) -> bool:
+        """Whether the per-frame arrays exist (created with the first shard)."""
+        return CHECKSUM_PATH in self.group
+
+    def shards_of(self, frames: Sequence[int]) -> list[list[int]]:
+        """``frames`` grouped by shard, in order."""
+        out: dict[int, list[int]] = {}
+        for k in frames:
+            out.setdefault(k // self.shard_frames, []).append(k)
+        return list(out.values())
+
+    def missing(self, n_total: int) -> list[int]:
+        """Frames of ``0..n_total-1`` in shards without a complete record (resizes arrays)."""
+        self.n_total = n_total
+        if not self.has_arrays:
+            return list(range(n_total))
+        for array in self._per_frame_arrays():
+            if array.shape[0] != n_total:
+                array.resize((n_total, *array.shape[1:]))
+        done = np.any(np.asarray(self.group[CHECKSUM_PATH][:]) != 0, axis=1)
+        todo: list[int] = []
+        for start in range(0, n_total, self.shard_frames):
+            stop = min(n_total, start + self.shard_frames)
+            if done[start:stop].all():
+                self._complete.update(range(start, stop))
+            else:
+                todo.extend(range(start, stop))
+        self._commit()
+        return todo
+
+    def _per_frame_arrays(self) -> list[Any]:
+        return [array for _, array in self.group.members(max_depth=None)
+                if hasattr(array, "shape") and array.attrs.get("per_frame", False)]
+
+    # ------------------------------------------------------------------ writing
+    def write_static(self, items: dict[str, tuple[NDArray[Any], str]]) -> None:
+        """Write run-constant arrays (axes, names) once, with their units."""
+        for path, (array, unit) in items.items():
+            arr = np.asarray(array)
+            dtype: Any = str if arr.dtype.kind == "U" else arr.dtype
+            out = self.group.create_array(
+                path.strip("/"), shape=arr.shape, dtype=dtype, overwrite=True,
+                dimension_names=_dims(path, arr.ndim, per_frame=False),
+                attributes={"unit": unit, "units": unit},
+                **({} if dtype is str else _codecs(arr.dtype)))
+            out[...] = arr
+
+    def write_frame(self, index: int, items: dict[str, tuple[NDArray[Any], str]],
+                    tables: dict[str, NDArray[Any]]) -> None:
+        """Keep frame ``index``; write its shard once all its frames are here."""
+        self._pending[index] = (items, tables)
+        shard = index // self.shard_frames
+        start = shard * self.shard_frames
+        frames = range(start, min(self.n_total or index + 1, start + self.shard_frames))
+        if all(k in self._pending for k in frames):
+            batch = [(k, *self._pending.pop(k)) for k in frames]
+            if not self.has_arrays:
+                create_arrays(self.group, batch[0][1], batch[0][2], n_total=self.n_total,
+                              shard_frames=self.shard_frames,
+                              max_detections=self.max_detections)
+            if self._arrays is None:
+                self._arrays = ArrayCache(self.group)
+            write_shard_arrays(self._arrays, batch, max_detections=self.max_detections)
+            self.mark_complete(frames)
+
+    def mark_complete(self, frames: Sequence[int]) -> None:
+        """Count ``frames`` as stored (their shard's record is written) and commit."""
+        self._complete.update(frames)
+        self._commit()
+
+    def _commit(self) -> None:
+        n = self.n_frames
+        while n in self._complete:
+            n += 1
+        if n != int(self.group.attrs.get("n_frames", -1)):
+            self.group.attrs["n_frames"] = n
+        self.n_frames = n
+
+    def close(self, *, keep: bool = True) -> None:
+        """Commit ``n_frames``; frames of an unfinished shard are dropped (recomputed later)."""
+        self._pending.clear()
+
+    def __enter__(self) -> ZarrWriter:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def _check_replaceable(url: str, storage_options: dict[str, Any] | None) -> None:
+    """Refuse to delete anything but a tofradar Zarr store (``--overwrite`` of a folder)."""
+    try:
+        attrs = open_group(url, mode="r", storage_options=storage_options).attrs
+        ours = attrs.get("storage") == "zarr" and "project_json" in attrs
+    except Exception:  # noqa: BLE001 — not a Zarr group at all
+        ours = False
+    if not ours:
+        raise DatasetExistsError(f"{url} exists and is not a tofradar Zarr store; refusing to "
+                                 "replace it (choose another --out)")
+
+
+def _plain(value: Any) -> Any:
+    """A JSON-able attribute value."""
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def _max_detections(project_json: str) -> int:
+    try:
+        return int(json.loads(project_json).get("dsp", {}).get("max_detections", 256))
+    except (ValueError, AttributeError):
+        return 256
+
+
+def _exists(url: str, storage_options: dict[str, Any] | None) -> bool:
+    if "://" not in url or url.startswith("file://"):
+        path = _store_url(url)
+        if os.path.exists(path) and not os.path.isdir(path):
+            raise DatasetExistsError(f"{url} exists and is not a folder; choose another --out")
+        return os.path.isdir(path) and bool(os.listdir(path))
+    try:
+        open_group(url, mode="r", storage_options=storage_options)
+    except (FileNotFoundError, KeyError, ValueError, OSError):
+        return False
+    except Exception as exc:  # noqa: BLE001 — zarr's own "no group here" errors
+        if type(exc).__name__ in ("GroupNotFoundError", "NodeNotFoundError"):
+            return False
+        raise
+    return True
+
+
+def create_arrays(group: Any, items: dict[str, tuple[NDArray[Any], str]],
+                  tables: dict[str, NDArray[Any]], *, n_total: int, shard_frames: int,
+                  max_detections: int) -> None:
+    """Create the per-frame arrays of a run from its first frame (the driver does this)."""
+    def make(path: str, shape: tuple[int, ...], dtype: np.dtype[Any], unit: str,
+             dims: tuple[str, ...]) -> None:
+        size = int(np.prod(shape)) if shape else 1
+        layout: dict[str, Any]
+        if size <= SMALL_VALUES:
+            layout = {"chunks": (shard_frames, *shape)}
+        else:
+            layout = {"chunks": (1, *shape), "shards": (shard_frames, *shape)}
+        group.create_array(path.strip("/"), shape=(n_total, *shape), dtype=dtype,
+                           fill_value=0, overwrite=True, dimension_names=dims,
+                           attributes={"unit": unit, "units": unit, "per_frame": True},
+                           **layout, **_codecs(dtype))
+
+    for path, (array, unit) in items.items():
+        arr = np.asarray(array)
+        make(path, arr.shape, arr.dtype, unit, _dims(path, arr.ndim, per_frame=True))
+    from simcore.dsp.detections import DETECTION_UNITS
+
+    for path, rows in tables.items():
+        fields: dict[str, Any] = dict(rows.dtype.fields or {})
+        for name, (dtype, *_) in fields.items():
+            make(f"{path}_by_frame/{name}", (max_detections,), dtype,
+                 DETECTION_UNITS.get(name, ""), ("frame", "slot"))
+        group[f"{path.strip('/')}_by_frame"].attrs.update(
+            {"table_rows": True, "fields": list(fields)})
+        make(f"{path}_count", (), np.dtype(np.int64), "1", ("frame",))
+    make(CHECKSUM_PATH, (32,), np.dtype(np.uint8), "", ("frame", "sha256_byte"))
+
+
+class ArrayCache:
+    """Array handles of one open group, looked up once (each lookup reads ``zarr.json``)."""
+
+    def __init__(self, group: Any):
+        self.group = group
+        self._arrays: dict[str, Any] = {}
+
+    def __getitem__(self, path: str) -> Any:
+        key = path.strip("/")
+        array = self._arrays.get(key)
+        if array is None:
+            array = self._arrays[key] = self.group[key]
+        return array
+
+
+def write_shard_arrays(group: Any, batch: list[tuple[int, Any, Any]], *,
+                       max_detections: int) -> None:
+    """Write the frames of one shard (consecutive indices), then their checksums.
+
+    ``group`` is the store's root group (or an :class:`ArrayCache` of it). The checksums
+    are the shard's completion record: written last, so a shard cut short (a killed
+    process) has none and is recomputed by ``--resume``.
+    """
+    import zarr
+
+    arrays = group if isinstance(group, ArrayCache) else ArrayCache(group)
+    start = batch[0][0]
+    stop = batch[-1][0] + 1
+    digests = np.zeros((len(batch), 32), dtype=np.uint8)
+    stored: list[list[tuple[str, NDArray[Any]]]] = [[] for _ in batch]
+    for j, (_, _, tables) in enumerate(batch):
+        for path, rows in tables.items():
+            stored[j].append((f"{path}_by_frame", rows))
+            stored[j].append((f"{path}_count", np.asarray(len(rows), dtype=np.int64)))
+    # Every chunk is written, also one equal to the fill value: no read-back, no deletes.
+    with zarr.config.set({"array.write_empty_chunks": True}):
+        for path in batch[0][1]:
+            array = arrays[path]
+            stack = np.stack([np.asarray(items[path][0]) for _, items, _ in batch])
+            stack = stack.astype(array.dtype, copy=False)
+            array[start:stop] = stack
+            for j in range(len(batch)):
+                stored[j].append((path, stack[j]))
+        for path in batch[0][2]:
+            _write_table(arrays, path, [tables[path] for _, _, tables in batch], start,
+                         max_detections=max_detections)
+        for j in range(len(batch)):
+            digests[j] = np.frombuffer(bytes.fromhex(frame_checksum(stored[j])),
+                                       dtype=np.uint8)
+        arrays[CHECKSUM_PATH][start:stop] = digests
+
+
+def _write_table(arrays: ArrayCache, path: str, frames: list[NDArray[Any]], start: int, *,
+                 max_detections: int) -> None:
+    counts = np.array([len(rows) for rows in frames], dtype=np.int64)
+    if counts.max(initial=0) > max_detections:
+        raise ValueError(f"{path}: {int(counts.max())} rows in one frame, more than "
+                         f"max_detections = {max_detections}")
+    names = frames[0].dtype.names or ()
+    for name in names:
+        out = arrays[f"{path}_by_frame/{name}"]
+        block = np.zeros((len(frames), max_detections), dtype=out.dtype)
+        for j, rows in enumerate(frames):
+            block[j, : len(rows)] = rows[name]
+        out[start:start + len(frames)] = block
+    arrays[f"{path}_count"][start:start + len(frames)] = counts
+
+
+_GROUPS: dict[ShardTarget, Any] = {}
+
+
+def write_shard(target: ShardTarget, batch: list[tuple[int, Any, Any]]) -> None:
+    """Write one shard's frames into the store of ``target`` (in a worker process).
+
+    The arrays exist (the driver created them); only this shard's objects are written.
+    """
+    key = ShardTarget(target.url, None, target.shard_frames, 0, 0)
+    group = _GROUPS.get(key)
+    if group is None:
+        group = ArrayCache(open_group(target.url, mode="r+",
+                                      storage_options=target.storage_options))
+        _GROUPS.clear()
+        _GROUPS[key] = group
+    write_shard_arrays(group, batch, max_detections=target.max_detections)
+
+
+__all__ = ["DEFAULT_SHARD_FRAMES", "ShardTarget", "ZarrWriter", "create_arrays",
+           "open_group", "write_shard", "write_shard_arrays", "ArrayCache"]

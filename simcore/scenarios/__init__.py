@@ -1,0 +1,257 @@
+"""Randomized scenarios: a spec of distributions over project fields → N valid projects.
+
+A scenario spec (JSON or YAML, ``docs/scenarios.md``) names a base project (a bundled
+example or a project file) and, for any field of the project document (the paths of
+``tofradar sweep --vary``), a distribution: ``{"uniform": [low, high]}``,
+``{"normal": {"mean": m, "std": s, "min": a, "max": b}}`` (clipped) or
+``{"choice": [v1, v2, ...]}``. Project ``i`` of a run with seed ``K`` draws its values from
+``numpy.random.default_rng([K, i])`` in the spec's field order, so the same spec and seed
+give byte-identical projects on any machine; each project records the spec's name, the
+seed and its index in its ``description`` and gets its own noise seed.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+
+from simcore.preflight import MAX_SEED, RunError
+from simcore.scene import fieldpath
+from simcore.scene.project_io import ProjectError, project_from_dict, project_to_json
+
+#: Most projects of one ``generate`` run, fields varied by one spec, values of a choice.
+MAX_COUNT = 100_000
+MAX_FIELDS = 256
+MAX_CHOICES = 1000
+#: Largest spec file (bytes) and nesting depth.
+MAX_SPEC_BYTES = 1 << 20
+MAX_DEPTH = 32
+SPEC_FORMAT = "tofradar-scenario/1"
+
+
+class ScenarioError(RunError):
+    """A scenario spec that cannot be used (one line, naming the field)."""
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Uniform(_Strict):
+    """``{"uniform": [low, high]}``: every value in [low, high] equally likely."""
+
+    uniform: tuple[float, float]
+
+    @field_validator("uniform")
+    @classmethod
+    def _ordered(cls, v: tuple[float, float]) -> tuple[float, float]:
+        if not all(math.isfinite(x) for x in v) or v[0] > v[1]:
+            raise ValueError("needs finite low <= high")
+        return v
+
+    def draw(self, rng: np.random.Generator) -> float:
+        """One value."""
+        return float(rng.uniform(self.uniform[0], self.uniform[1]))
+
+
+class NormalParams(_Strict):
+    """Mean, standard deviation (≥ 0) and optional clipping bounds."""
+
+    mean: float = Field(allow_inf_nan=False)
+    std: float = Field(ge=0.0, allow_inf_nan=False)
+    min: float | None = Field(None, allow_inf_nan=False)
+    max: float | None = Field(None, allow_inf_nan=False)
+
+
+class Normal(_Strict):
+    """``{"normal": {"mean": m, "std": s}}``, clipped to ``min``/``max`` when given."""
+
+    normal: NormalParams
+
+    def draw(self, rng: np.random.Generator) -> float:
+        """One value."""
+        p = self.normal
+        value = float(rng.normal(p.mean, p.std))
+        lo = -math.inf if p.min is None else p.min
+        hi = math.inf if p.max is None else p.max
+        return min(max(value, lo), hi)
+
+
+class Choice(_Strict):
+    """``{"choice": [v1, v2, ...]}``: one of the values, equally likely."""
+
+    choice: list[Any] = Field(min_length=1, max_length=MAX_CHOICES)
+
+    def draw(self, rng: np.random.Generator) -> Any:
+        """One value."""
+        return self.choice[int(rng.integers(len(self.choice)))]
+
+
+class ScenarioSpec(_Strict):
+    """A scenario: a base project and distributions over its fields."""
+
+    format: str = SPEC_FORMAT
+    name: str = Field(min_length=1, max_length=200)
+    base: str = Field(min_length=1, max_length=4096)
+    vary: dict[str, Uniform | Normal | Choice] = Field(default_factory=dict,
+                                                       max_length=MAX_FIELDS)
+
+    @field_validator("format")
+    @classmethod
+    def _format(cls, v: str) -> str:
+        if v != SPEC_FORMAT:
+            raise ValueError(f"unknown format {v!r}; expected {SPEC_FORMAT!r}")
+        return v
+
+
+def _depth(doc: Any, limit: int = MAX_DEPTH) -> int:
+    stack, deepest = [(doc, 1)], 0
+    while stack:
+        node, d = stack.pop()
+        deepest = max(deepest, d)
+        if d > limit:
+            break
+        if isinstance(node, dict):
+            stack.extend((v, d + 1) for v in node.values())
+        elif isinstance(node, list):
+            stack.extend((v, d + 1) for v in node)
+    return deepest
+
+
+def load_spec(path: str | Path) -> tuple[ScenarioSpec, Path]:
+    """Read and validate a spec (JSON, or YAML for ``.yaml``/``.yml``); its base project.
+
+    Raises :class:`ScenarioError` with one line naming what is wrong.
+    """
+    path = Path(path)
+    try:
+        if not path.is_file():
+            raise ScenarioError(f"{path}: no such spec file")
+        if path.stat().st_size > MAX_SPEC_BYTES:
+            raise ScenarioError(f"{path}: larger than {MAX_SPEC_BYTES} bytes")
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ScenarioError(f"{path}: cannot read it ({exc})") from None
+    try:
+        if path.suffix.lower() in (".yaml", ".yml"):
+            import yaml
+
+            doc = yaml.safe_load(text)
+        else:
+            doc = json.loads(text)
+    except (ValueError, RecursionError) as exc:
+        raise ScenarioError(f"{path}: not valid {path.suffix.lstrip('.') or 'JSON'}: "
+                            f"{str(exc)[:200]}") from None
+    except Exception as exc:  # noqa: BLE001 — yaml's errors
+        raise ScenarioError(f"{path}: not valid YAML: {str(exc)[:200]}") from None
+    if _depth(doc) > MAX_DEPTH:
+        raise ScenarioError(f"{path}: nested deeper than {MAX_DEPTH} levels")
+    if not isinstance(doc, dict):
+        raise ScenarioError(f"{path}: a spec is an object with 'name', 'base' and 'vary'")
+    vary = doc.get("vary", {})
+    for field, dist in (vary.items() if isinstance(vary, dict) else ()):
+        kinds = list(dist) if isinstance(dist, dict) else []
+        if len(kinds) != 1 or kinds[0] not in ("uniform", "normal", "choice"):
+            raise ScenarioError(f"{path}: vary.{field}: a distribution is one of "
+                                '{"uniform": [low, high]}, {"normal": {"mean": m, "std": s}}, '
+                                f'{{"choice": [...]}}; got {json.dumps(dist)[:80]}')
+    try:
+        spec = ScenarioSpec.model_validate(doc)
+    except ValidationError as exc:
+        raise ScenarioError(f"{path}: {_first_error(exc, vary)}") from None
+    return spec, _base_path(spec, path)
+
+
+def _first_error(exc: ValidationError, vary: Any) -> str:
+    """The error of the distribution kind the spec names (not of the union's other kinds)."""
+    names = {"uniform": "Uniform", "normal": "Normal", "choice": "Choice"}
+    errors = exc.errors()
+    for err in errors:
+        loc = err["loc"]
+        if len(loc) >= 3 and loc[0] == "vary" and isinstance(vary, dict):
+            kind = next(iter(vary.get(loc[1]) or {"": 0}))
+            if loc[2] != names.get(kind):
+                continue
+            loc = (loc[0], loc[1], *loc[3:])
+        return f"{'.'.join(str(p) for p in loc)}: {err['msg']}"
+    err = errors[0]
+    return f"{'.'.join(str(p) for p in err['loc'])}: {err['msg']}"
+
+
+def _base_path(spec: ScenarioSpec, spec_path: Path) -> Path:
+    from simcore.resources import example_path
+
+    candidate = (spec_path.parent / spec.base)
+    if candidate.is_file():
+        return candidate
+    bundled = example_path(spec.base)
+    if bundled.is_file():
+        return bundled
+    raise ScenarioError(f"{spec_path}: base {spec.base!r} is neither a project file next to "
+                        "the spec nor a bundled example")
+
+
+def scene(spec: ScenarioSpec, base_doc: dict[str, Any], *, seed: int, index: int,
+          base_dir: Path) -> str:
+    """Project ``index`` of the scenario as canonical JSON (validated)."""
+    rng = np.random.default_rng([seed, index])
+    doc = json.loads(json.dumps(base_doc))
+    values: dict[str, Any] = {}
+    for path, dist in spec.vary.items():
+        values[path] = dist.draw(rng)
+        try:
+            fieldpath.set_in(doc, path, values[path])
+        except fieldpath.FieldPathError as exc:
+            raise ScenarioError(f"vary {path!r}: {exc} in the base project") from None
+    doc["seed"] = int(rng.integers(0, min(MAX_SEED, 2**31 - 1)))
+    doc["description"] = json.dumps({"scenario": spec.name, "seed": seed, "index": index,
+                                     "spec": spec.model_dump(mode="json")}, sort_keys=True)
+    doc["name"] = f"{spec.name} #{index}"
+    try:
+        project = project_from_dict(doc, base_dir=base_dir, source=f"scene {index}")
+    except ProjectError as exc:
+        raise ScenarioError(f"scene {index} is not a valid project: {str(exc)[:300]}") from None
+    return project_to_json(project)
+
+
+def generate(spec_path: str | Path, out: str | Path, *, count: int, seed: int = 0,
+             overwrite: bool = False,
+             on_project: Callable[[int, int], None] | None = None) -> list[Path]:
+    """Write ``count`` projects of the spec into ``out`` (``scene_00000.json``, …).
+
+    ``on_project(done, count)`` is called after each project (progress).
+
+    Returns the files written. Raises :class:`ScenarioError` for a bad spec, a count out
+    of 1..MAX_COUNT, a negative seed, or existing scene files without ``overwrite``.
+    """
+    if not 1 <= count <= MAX_COUNT:
+        raise ScenarioError(f"--count {count}: allowed 1..{MAX_COUNT}")
+    if not 0 <= seed <= MAX_SEED:
+        raise ScenarioError(f"--seed {seed}: allowed 0..{MAX_SEED}")
+    spec, base = load_spec(spec_path)
+    base_doc = json.loads(base.read_text(encoding="utf-8"))
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise ScenarioError(f"--out {out} exists and is not a folder")
+    if out.is_dir() and any(out.glob("scene_*.json")) and not overwrite:
+        raise ScenarioError(f"--out {out} already holds scenes; use --overwrite")
+    out.mkdir(parents=True, exist_ok=True)
+    written = []
+    for i in range(count):
+        target = out / f"scene_{i:05d}.json"
+        target.write_text(scene(spec, base_doc, seed=seed, index=i, base_dir=base.parent),
+                          encoding="utf-8")
+        written.append(target)
+        if on_project is not None:
+            on_project(i + 1, count)
+    return written
+
+
+__all__ = ["Choice", "Normal", "ScenarioError", "ScenarioSpec", "Uniform", "generate",
+           "load_spec", "scene"]
