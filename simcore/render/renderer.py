@@ -24,7 +24,7 @@ import numpy as np
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL backend)
 from numpy.typing import NDArray
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
+from vtkmodules.vtkCommonCore import vtkFloatArray, vtkUnsignedCharArray
 from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkRenderingCore import (
     vtkActor,
@@ -154,6 +154,7 @@ class _Chunk:
     actor: vtkActor
     vtk_points: Any
     poly: Any
+    moving: bool
     key: bytes | None = None
 
 
@@ -212,13 +213,17 @@ class _IndexPass:
         cuts = [0, *(np.flatnonzero(moving[1:] != moving[:-1]) + 1).tolist(), len(moving)]
         if len(cuts) - 1 > _MAX_CHUNKS:
             cuts = [0, len(moving)]
+            moving = np.ones_like(moving)
+        self._still: tuple[bytes, NDArray[np.uint32], NDArray[np.float32]] | None = None
+        self._still_seen: bytes | None = None
         for o0, o1 in zip(cuts[:-1], cuts[1:], strict=True):
             t0, t1 = int(self._tri0[o0]), int(self._tri0[o1])
             if t1 > t0:
                 self._add_chunk(slice(o0, o1), slice(int(self._pt0[o0]), int(self._pt0[o1])),
-                                t0, t1)
+                                t0, t1, moving=bool(moving[o0]))
 
-    def _add_chunk(self, objects: slice, points: slice, t0: int, t1: int) -> None:
+    def _add_chunk(self, objects: slice, points: slice, t0: int, t1: int, *,
+                   moving: bool) -> None:
         world = self._world[points]
         poly = TriangleMesh(world, np.zeros_like(world),
                             self._geometry.triangles[t0:t1] - points.start).to_polydata()
@@ -244,7 +249,7 @@ class _IndexPass:
         prop.SetInterpolationToFlat()
         prop.BackfaceCullingOff()
         self.renderer.AddActor(actor)
-        self.chunks.append(_Chunk(objects, points, actor, vtk_points, poly))
+        self.chunks.append(_Chunk(objects, points, actor, vtk_points, poly, moving))
 
     def _pose(self, transforms: NDArray[np.float64], visible: list[bool],
               behind: NDArray[np.float64]) -> None:
@@ -295,12 +300,56 @@ class _IndexPass:
         cam.SetViewUp(*(-rot[:, 1]))
         cam.SetExplicitProjectionTransformMatrix(_vtk_matrix(projection_matrix(intr)))
         cam.SetUseExplicitProjectionTransformMatrix(True)
+        still = [c for c in self.chunks if not c.moving]
+        if not still or all(c.moving and not c.actor.GetVisibility() for c in self.chunks
+                            if c.moving) or not any(c.moving for c in self.chunks):
+            return self._draw(intr)[0]
+        key = b"".join([repr(intr).encode(), pos.tobytes(), rot.tobytes(),
+                        *(c.key or b"" for c in still)])
+        if key != self._still_seen:     # a still view seen twice: re-use its still part
+            self._still_seen = key
+            return self._draw(intr)[0]
+        return self._over_still(intr, key)
+
+    def _over_still(self, intr: PinholeIntrinsics, key: bytes) -> NDArray[np.uint32]:
+        """The moving objects drawn alone, over the still ones' labels and depth (cached).
+
+        A fragment passes the depth test when not farther than what is drawn (VTK's
+        ``GL_LEQUAL``): of the triangles at the nearest depth the last drawn, the highest
+        label, wins. The same rule on the two passes' labels and depths gives the labels
+        of one pass with everything.
+        """
+        shown = [c.actor.GetVisibility() for c in self.chunks]
+        if self._still is None or self._still[0] != key:
+            for c in self.chunks:
+                c.actor.SetVisibility(bool(c.actor.GetVisibility()) and not c.moving)
+            self._still = (key, *self._draw(intr, depth=True))
+            for c, v in zip(self.chunks, shown, strict=True):
+                c.actor.SetVisibility(v)
+        for c in self.chunks:
+            c.actor.SetVisibility(bool(c.actor.GetVisibility()) and c.moving)
+        labels, depth = self._draw(intr, depth=True)
+        for c, v in zip(self.chunks, shown, strict=True):
+            c.actor.SetVisibility(v)
+        _, still_labels, still_depth = self._still
+        take = (depth < still_depth) | ((depth == still_depth) & (labels > still_labels))
+        return np.where(take, labels, still_labels)
+
+    def _draw(self, intr: PinholeIntrinsics, *, depth: bool = False
+              ) -> tuple[NDArray[np.uint32], NDArray[np.float32]]:
+        """Render; the labels and (with ``depth``, else empty) the depth buffer, (H, W)."""
         self.window.Render()
         self.window.GetRGBACharPixelData(0, 0, intr.width - 1, intr.height - 1, 0,
                                          self._pixels, 0)
         rgba = vtk_to_numpy(self._pixels).reshape(intr.height, intr.width, 4)[::-1]
         # A new array (the read-back buffer is re-used by the next render).
-        return np.bitwise_and(rgba.view("<u4")[..., 0], np.uint32(0xFFFFFF))
+        labels = np.bitwise_and(rgba.view("<u4")[..., 0], np.uint32(0xFFFFFF))
+        z = np.zeros((0, 0), dtype=np.float32)
+        if depth:
+            buf = vtkFloatArray()
+            self.window.GetZbufferData(0, 0, intr.width - 1, intr.height - 1, buf)
+            z = vtk_to_numpy(buf).reshape(intr.height, intr.width)[::-1].copy()
+        return labels, z
 
     def close(self) -> None:
         self.renderer.RemoveAllViewProps()
