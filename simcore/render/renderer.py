@@ -90,6 +90,9 @@ class _Geometry:
     #: The last :meth:`world_vertices` result and the transforms it was for.
     _world: tuple[bytes, NDArray[np.float64], NDArray[np.float64]] | None = field(
         default=None, init=False, repr=False, compare=False)
+    #: Each object's world points and normals (:meth:`world_vertices`) and its pose.
+    _per_object: dict[int, tuple[bytes, NDArray[np.float64], NDArray[np.float64]]] = field(
+        default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         pts, tris, owner = 0, [], []
@@ -129,11 +132,19 @@ class _Geometry:
         if last is not None and last[0] == key:
             return last[1], last[2]
         pts, nrm = [], []
-        for mesh, t in zip(self.meshes, transforms, strict=True):
+        done = self._per_object
+        for index, (mesh, t) in enumerate(zip(self.meshes, transforms, strict=True)):
             if mesh is None:
                 continue
-            pts.append(mesh.points @ t[:3, :3].T + t[:3, 3])
-            nrm.append(mesh.normals @ t[:3, :3].T)
+            # Each object's own, kept while its pose stays: a still asset is not moved
+            # again every time a person in the scene moves.
+            t_key = np.ascontiguousarray(t, dtype=np.float64).tobytes()
+            mine = done.get(index)
+            if mine is None or mine[0] != t_key:
+                mine = (t_key, mesh.points @ t[:3, :3].T + t[:3, 3], mesh.normals @ t[:3, :3].T)
+                done[index] = mine      # one assignment, as below
+            pts.append(mine[1])
+            nrm.append(mine[2])
         if not pts:
             return np.zeros((0, 3)), np.zeros((0, 3))
         out = np.concatenate(pts), np.concatenate(nrm)
