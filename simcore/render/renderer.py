@@ -253,6 +253,9 @@ class _IndexPass:
         mapper.SetColorModeToDirectScalars()
         mapper.SetScalarModeToUseCellData()
         mapper.ScalarVisibilityOn()
+        # No shift and scale of the points by each actor's own bounds (VTK's automatic
+        # choice): every run's points rounded alike, so runs draw as one actor would.
+        mapper.SetVBOShiftScaleMethod(0)
         actor = vtkActor()
         actor.SetMapper(mapper)
         prop = actor.GetProperty()
