@@ -24,7 +24,7 @@ import numpy as np
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL backend)
 from numpy.typing import NDArray
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
+from vtkmodules.vtkCommonCore import vtkFloatArray, vtkUnsignedCharArray
 from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkRenderingCore import (
     vtkActor,
@@ -90,6 +90,9 @@ class _Geometry:
     #: The last :meth:`world_vertices` result and the transforms it was for.
     _world: tuple[bytes, NDArray[np.float64], NDArray[np.float64]] | None = field(
         default=None, init=False, repr=False, compare=False)
+    #: Each object's world points and normals (:meth:`world_vertices`) and its pose.
+    _per_object: dict[int, tuple[bytes, NDArray[np.float64], NDArray[np.float64]]] = field(
+        default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         pts, tris, owner = 0, [], []
@@ -129,11 +132,19 @@ class _Geometry:
         if last is not None and last[0] == key:
             return last[1], last[2]
         pts, nrm = [], []
-        for mesh, t in zip(self.meshes, transforms, strict=True):
+        done = self._per_object
+        for index, (mesh, t) in enumerate(zip(self.meshes, transforms, strict=True)):
             if mesh is None:
                 continue
-            pts.append(mesh.points @ t[:3, :3].T + t[:3, 3])
-            nrm.append(mesh.normals @ t[:3, :3].T)
+            # Each object's own, kept while its pose stays: a still asset is not moved
+            # again every time a person in the scene moves.
+            t_key = np.ascontiguousarray(t, dtype=np.float64).tobytes()
+            mine = done.get(index)
+            if mine is None or mine[0] != t_key:
+                mine = (t_key, mesh.points @ t[:3, :3].T + t[:3, 3], mesh.normals @ t[:3, :3].T)
+                done[index] = mine      # one assignment, as below
+            pts.append(mine[1])
+            nrm.append(mine[2])
         if not pts:
             return np.zeros((0, 3)), np.zeros((0, 3))
         out = np.concatenate(pts), np.concatenate(nrm)
@@ -141,14 +152,36 @@ class _Geometry:
         return out
 
 
+#: At most this many actors per pass (runs of still and moving objects); beyond, one.
+_MAX_CHUNKS = 8
+
+
+@dataclass
+class _Chunk:
+    """A run of consecutive objects drawn by one actor (:class:`_IndexPass`)."""
+
+    objects: slice
+    points: slice
+    actor: vtkActor
+    vtk_points: Any
+    poly: Any
+    moving: bool
+    key: bytes | None = None
+
+
 class _IndexPass:
     """One persistent offscreen window that rasterises triangle indices for one band.
 
-    The whole scene is one actor: the triangles of every object in one polydata whose
-    points are moved to the world frame on the CPU when a pose changes. A VTK actor costs
-    ≈ 0.25 ms per render whatever its size (24 objects: 7 ms of a 640 × 640 pass; one
-    actor: ≈ 1.5 ms). Hidden objects' points are collapsed onto one point behind the
-    camera: their triangles have no area and lie outside the view, so they draw nothing.
+    The triangles of every object are drawn in index order by a few actors, each holding
+    a run of consecutive objects whose points are moved to the world frame on the CPU
+    when one of its poses changes. A VTK actor costs ≈ 0.25 ms per render whatever its
+    size (24 objects: 7 ms of a 640 × 640 pass; one actor: ≈ 1.5 ms), but re-uploads all
+    its points when one moves: once an object has moved, the objects are split into runs
+    of still and moving ones (at most :data:`_MAX_CHUNKS`), so that a large still asset
+    is not moved and re-uploaded every frame because a person walks. The actors draw in
+    order, so the triangles are drawn in the same order as by one actor: the same labels.
+    Hidden objects' points are collapsed onto one point behind the camera: their
+    triangles have no area and lie outside the view, so they draw nothing.
     """
 
     def __init__(self, geometry: _Geometry):
@@ -161,28 +194,54 @@ class _IndexPass:
         self.renderer.SetUseFXAA(False)
         self.renderer.SetAutomaticLightCreation(False)
         self.window.AddRenderer(self.renderer)
-        self.actor: vtkActor | None = None
         self.set_geometry(geometry)
         self._size: tuple[int, int] | None = None
         self._pixels = vtkUnsignedCharArray()
 
     def set_geometry(self, geometry: _Geometry) -> None:
         """Replace the scene's triangles by those of ``geometry``."""
-        self.renderer.RemoveAllViewProps()
-        self.actor = None
-        self._pose_key: bytes | None = None
-        meshes = [(i, m) for i, m in enumerate(geometry.meshes) if m is not None]
-        if not meshes:
-            return
-        self._model = np.concatenate([m.points for _, m in meshes]).astype(np.float64)
-        self._owner = np.concatenate([np.full(len(m.points), i) for i, m in meshes])
+        self._geometry = geometry
+        n_obj = len(geometry.meshes)
+        self._moving = np.zeros(n_obj, dtype=bool)
+        self._last: bytes | None = None
+        meshes = [m for m in geometry.meshes if m is not None]
+        self._model = (np.concatenate([m.points for m in meshes]).astype(np.float64)
+                       if meshes else np.zeros((0, 3)))
+        self._owner = np.concatenate(
+            [np.full(len(m.points), i) for i, m in enumerate(geometry.meshes)
+             if m is not None] or [np.zeros(0, np.int64)])
         self._world = self._model.copy()
-        poly = TriangleMesh(self._world, np.zeros_like(self._world),
-                            geometry.triangles).to_polydata()
+        # Point and triangle offsets of each object, and one past the last.
+        self._pt0 = np.append(geometry.point_offsets, len(self._model))
+        self._tri0 = np.searchsorted(geometry.triangle_object, np.arange(n_obj + 1))
+        self._build()
+
+    def _build(self) -> None:
+        """One actor per run of consecutive objects that are all still or all moving."""
+        self.renderer.RemoveAllViewProps()
+        self.chunks: list[_Chunk] = []
+        moving = self._moving
+        cuts = [0, *(np.flatnonzero(moving[1:] != moving[:-1]) + 1).tolist(), len(moving)]
+        if len(cuts) - 1 > _MAX_CHUNKS:
+            cuts = [0, len(moving)]
+            moving = np.ones_like(moving)
+        self._still: tuple[bytes, NDArray[np.uint32], NDArray[np.float32]] | None = None
+        self._still_seen: bytes | None = None
+        for o0, o1 in zip(cuts[:-1], cuts[1:], strict=True):
+            t0, t1 = int(self._tri0[o0]), int(self._tri0[o1])
+            if t1 > t0:
+                self._add_chunk(slice(o0, o1), slice(int(self._pt0[o0]), int(self._pt0[o1])),
+                                t0, t1, moving=bool(moving[o0]))
+
+    def _add_chunk(self, objects: slice, points: slice, t0: int, t1: int, *,
+                   moving: bool) -> None:
+        world = self._world[points]
+        poly = TriangleMesh(world, np.zeros_like(world),
+                            self._geometry.triangles[t0:t1] - points.start).to_polydata()
         # Shallow: the polydata reads ``self._world``, which each pose change rewrites.
-        self._points = poly.GetPoints()
-        self._points.SetData(numpy_to_vtk(self._world, deep=0))
-        ids = np.arange(1, len(geometry.triangles) + 1, dtype=np.int64)
+        vtk_points = poly.GetPoints()
+        vtk_points.SetData(numpy_to_vtk(world, deep=0))
+        ids = np.arange(t0 + 1, t1 + 1, dtype=np.int64)
         # Label k + 1 of triangle k in (R, G, B) = (low, middle, high byte): the RGBA
         # read-back viewed as little-endian uint32 is the label plus alpha << 24.
         rgb = np.stack([ids & 255, (ids >> 8) & 255, (ids >> 16) & 255], axis=1)
@@ -194,6 +253,9 @@ class _IndexPass:
         mapper.SetColorModeToDirectScalars()
         mapper.SetScalarModeToUseCellData()
         mapper.ScalarVisibilityOn()
+        # No shift and scale of the points by each actor's own bounds (VTK's automatic
+        # choice): every run's points rounded alike, so runs draw as one actor would.
+        mapper.SetVBOShiftScaleMethod(0)
         actor = vtkActor()
         actor.SetMapper(mapper)
         prop = actor.GetProperty()
@@ -201,24 +263,36 @@ class _IndexPass:
         prop.SetInterpolationToFlat()
         prop.BackfaceCullingOff()
         self.renderer.AddActor(actor)
-        self.actor = actor
-        self._poly = poly
+        self.chunks.append(_Chunk(objects, points, actor, vtk_points, poly, moving))
 
     def _pose(self, transforms: NDArray[np.float64], visible: list[bool],
               behind: NDArray[np.float64]) -> None:
-        """Move the points to the world frame of ``transforms`` (if that changed)."""
+        """Move each actor's points to the world frame of ``transforms`` (if that changed)."""
+        transforms = np.ascontiguousarray(transforms, dtype=np.float64)
         hidden = ~np.asarray(visible, dtype=bool)
-        key = b"".join([np.ascontiguousarray(transforms, dtype=np.float64).tobytes(),
-                        hidden.tobytes(), behind.tobytes() if hidden.any() else b""])
-        if key == self._pose_key:
-            return
-        t = np.asarray(transforms, dtype=np.float64)[self._owner]            # (P, 4, 4)
-        np.einsum("pij,pj->pi", t[:, :3, :3], self._model, out=self._world)
-        self._world += t[:, :3, 3]
-        self._world[hidden[self._owner]] = behind
-        self._points.Modified()
-        self._poly.Modified()
-        self._pose_key = key
+        if self._last is not None and self._last != transforms.tobytes():
+            last = np.frombuffer(self._last).reshape(transforms.shape)
+            moved = np.any(last != transforms, axis=(1, 2)) & ~self._moving
+            if moved.any():
+                self._moving |= moved
+                self._build()
+        self._last = transforms.tobytes()
+        for chunk in self.chunks:
+            part = chunk.objects
+            chunk.actor.SetVisibility(not hidden[part].all())
+            key = b"".join([transforms[part].tobytes(), hidden[part].tobytes(),
+                            behind.tobytes() if hidden[part].any() else b""])
+            if key == chunk.key:
+                continue
+            pts = chunk.points
+            t = transforms[self._owner[pts]]                                 # (P, 4, 4)
+            world = self._world[pts]
+            np.einsum("pij,pj->pi", t[:, :3, :3], self._model[pts], out=world)
+            world += t[:, :3, 3]
+            world[hidden[self._owner[pts]]] = behind
+            chunk.vtk_points.Modified()
+            chunk.poly.Modified()
+            chunk.key = key
 
     def render(self, intr: PinholeIntrinsics, sensor: SensorState,
                transforms: NDArray[np.float64], visible: list[bool]) -> NDArray[np.int64]:
@@ -233,21 +307,63 @@ class _IndexPass:
             self._size = (intr.width, intr.height)
         pos = np.asarray(sensor.position, dtype=np.float64)
         rot = np.asarray(sensor.rotation, dtype=np.float64)
-        if self.actor is not None:
-            self.actor.SetVisibility(any(visible))
-            self._pose(transforms, visible, pos - rot[:, 2])
+        self._pose(transforms, visible, pos - rot[:, 2])
         cam = self.renderer.GetActiveCamera()
         cam.SetPosition(*pos)
         cam.SetFocalPoint(*(pos + rot[:, 2]))
         cam.SetViewUp(*(-rot[:, 1]))
         cam.SetExplicitProjectionTransformMatrix(_vtk_matrix(projection_matrix(intr)))
         cam.SetUseExplicitProjectionTransformMatrix(True)
+        still = [c for c in self.chunks if not c.moving]
+        if not still or all(c.moving and not c.actor.GetVisibility() for c in self.chunks
+                            if c.moving) or not any(c.moving for c in self.chunks):
+            return self._draw(intr)[0]
+        key = b"".join([repr(intr).encode(), pos.tobytes(), rot.tobytes(),
+                        *(c.key or b"" for c in still)])
+        if key != self._still_seen:     # a still view seen twice: re-use its still part
+            self._still_seen = key
+            return self._draw(intr)[0]
+        return self._over_still(intr, key)
+
+    def _over_still(self, intr: PinholeIntrinsics, key: bytes) -> NDArray[np.uint32]:
+        """The moving objects drawn alone, over the still ones' labels and depth (cached).
+
+        A fragment passes the depth test when not farther than what is drawn (VTK's
+        ``GL_LEQUAL``): of the triangles at the nearest depth the last drawn, the highest
+        label, wins. The same rule on the two passes' labels and depths gives the labels
+        of one pass with everything.
+        """
+        shown = [c.actor.GetVisibility() for c in self.chunks]
+        if self._still is None or self._still[0] != key:
+            for c in self.chunks:
+                c.actor.SetVisibility(bool(c.actor.GetVisibility()) and not c.moving)
+            self._still = (key, *self._draw(intr, depth=True))
+            for c, v in zip(self.chunks, shown, strict=True):
+                c.actor.SetVisibility(v)
+        for c in self.chunks:
+            c.actor.SetVisibility(bool(c.actor.GetVisibility()) and c.moving)
+        labels, depth = self._draw(intr, depth=True)
+        for c, v in zip(self.chunks, shown, strict=True):
+            c.actor.SetVisibility(v)
+        _, still_labels, still_depth = self._still
+        take = (depth < still_depth) | ((depth == still_depth) & (labels > still_labels))
+        return np.where(take, labels, still_labels)
+
+    def _draw(self, intr: PinholeIntrinsics, *, depth: bool = False
+              ) -> tuple[NDArray[np.uint32], NDArray[np.float32]]:
+        """Render; the labels and (with ``depth``, else empty) the depth buffer, (H, W)."""
         self.window.Render()
         self.window.GetRGBACharPixelData(0, 0, intr.width - 1, intr.height - 1, 0,
                                          self._pixels, 0)
         rgba = vtk_to_numpy(self._pixels).reshape(intr.height, intr.width, 4)[::-1]
         # A new array (the read-back buffer is re-used by the next render).
-        return np.bitwise_and(rgba.view("<u4")[..., 0], np.uint32(0xFFFFFF))
+        labels = np.bitwise_and(rgba.view("<u4")[..., 0], np.uint32(0xFFFFFF))
+        z = np.zeros((0, 0), dtype=np.float32)
+        if depth:
+            buf = vtkFloatArray()
+            self.window.GetZbufferData(0, 0, intr.width - 1, intr.height - 1, buf)
+            z = vtk_to_numpy(buf).reshape(intr.height, intr.width)[::-1].copy()
+        return labels, z
 
     def close(self) -> None:
         self.renderer.RemoveAllViewProps()
