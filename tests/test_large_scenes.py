@@ -60,3 +60,18 @@ def test_a_three_kilometre_box_is_refused_with_the_numbers(tmp_path, capsys):
     assert code == 2 and not out.exists(), err
     assert len(lines) == 1 and lines[0].startswith("tofradar: error: "), err
     assert "memory:" in err and "rig.radar scatterers" in err and "GiB" in err, err
+
+
+def test_a_mesh_scaled_to_kilometres_is_refused_with_its_area(tmp_path, capsys):
+    """One triangle of 1 m legs scaled by 3000: 4.5·10⁶ m² of facets (its one triangle
+    said nothing of that), refused by `validate` naming the area and geometry.scale."""
+    (tmp_path / "t.obj").write_text("v 0 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n")
+    doc = base_project_dict()
+    doc["objects"].append({"id": 50, "name": "mesh", "pose": {"position_m": [5.0, 0, 0]},
+                           "geometry": {"kind": "mesh", "path": "t.obj", "scale": 3000.0}})
+    path = write_project(doc, tmp_path / "km_mesh.json")
+    code = main(["validate", str(path)])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "memory:" in err and f"{0.5 * 3000.0**2:.3g} m²" in err, err
+    assert "geometry.scale" in err, err
