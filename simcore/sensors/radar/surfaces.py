@@ -142,9 +142,11 @@ def split_triangles(vertices: NDArray[np.float64], max_edge_m: float
     """Split triangles into pieces no longer than ``max_edge_m`` (slivers: than their base).
 
     A triangle whose shortest edge is within the limit (a sliver, e.g. a cylinder's side
-    strip) is cut into strips parallel to that edge; any other is subdivided regularly
-    into n² similar triangles. Either way the pieces cover the triangle exactly and their
-    number grows with its area (or length, for slivers), not faster.
+    strip) is cut into strips parallel to that edge; a long thin one (longest edge over
+    :data:`ELONGATED_RATIO` × its shortest) is cut into strips whose pieces, slivers, are
+    cut into strips in turn; any other is subdivided regularly into n² similar triangles.
+    Either way the pieces cover the triangle exactly and their number grows with its area
+    (or length, for slivers), not faster.
 
     Parameters
     ----------
