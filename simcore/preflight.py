@@ -148,7 +148,8 @@ def _mesh_triangle_bound(project: Project, base_dir: Path | None) -> int:
 
 
 def estimate_cost(project: Project, *, base_dir: Path | None = None,
-                  mesh_triangles: int | None = None) -> CostEstimate:
+                  mesh_triangles: int | None = None,
+                  mesh_area_m2: float = 0.0) -> CostEstimate:
     """Estimate the memory, disk and time one frame of ``project`` needs.
 
     Parameters
@@ -159,6 +160,8 @@ def estimate_cost(project: Project, *, base_dir: Path | None = None,
         The project's folder (for mesh file sizes).
     mesh_triangles : int, optional
         Triangles of the scene's meshes when known (else bounded from file sizes).
+    mesh_area_m2 : float
+        Surface of the scene's meshes, scaled, when known (m²): split into 10 cm facets.
 
     Returns
     -------
@@ -174,7 +177,7 @@ def estimate_cost(project: Project, *, base_dir: Path | None = None,
     n_point = sum(1 for o in project.objects if o.geometry.kind in ("point_target",
                                                                     "corner_reflector"))
     # Surface facets (at most 10 cm, fixed to the objects): about half face the radar.
-    scatterers = int(0.5 * _surface_facets(project, mesh_triangles)) + n_point
+    scatterers = int(0.5 * _surface_facets(project, mesh_triangles, mesh_area_m2)) + n_point
     n_ch = len(rc.tx) * len(rc.rx)
     transforms = rc.chirps_per_frame * n_ch
     s = _radar_sizes(project)
@@ -213,10 +216,10 @@ def estimate_cost(project: Project, *, base_dir: Path | None = None,
                         mesh_triangles=int(mesh_triangles), memory_parts=ordered)
 
 
-def _surface_facets(project: Project, mesh_triangles: int) -> float:
+def _surface_facets(project: Project, mesh_triangles: int, mesh_area_m2: float) -> float:
     """Surface facets of every object (10 cm facets; tessellations' own triangles)."""
     facet_area = 0.5 * 0.1 * 0.1 * 0.5           # a facet is about half a 10 cm square
-    total = float(mesh_triangles)
+    total = float(mesh_triangles) + mesh_area_m2 / facet_area
     for o in project.objects:
         g = o.geometry
         if isinstance(g, Box):
@@ -488,21 +491,45 @@ def check(project: Project, *, base_dir: Path | None = None,
     cost = estimate_cost(project, base_dir=base_dir)
     budget = default_memory_budget() if memory_budget_bytes is None else memory_budget_bytes
     if cost.memory_bytes > budget:
-        field, part = cost.memory_parts[0]
-        out.append(f"memory: a frame would need ≈ {_size(cost.memory_bytes)}, over the budget "
-                   f"of {_size(budget)}; most of it ({_size(part)}) for {field}")
+        out.append(_over_budget(cost, budget))
         return out   # parsing huge meshes would only take long
     if parse_meshes:
-        for i, path, geom in mesh_ok:
-            try:
-                points, _ = read_mesh_arrays(path)
-            except MeshError as exc:
-                out.append(f"objects[{i}].geometry.path: {exc}")
-                continue
-            extent = float(np.abs(points).max()) * geom.scale
-            if extent > MAX_COORDINATE_M:
-                out.append(f"objects[{i}].geometry.scale: mesh extent {extent:.3g} m; "
-                           f"allowed at most {MAX_COORDINATE_M:g} m")
+        out += _mesh_problems(project, mesh_ok, base_dir, budget)
+    return out
+
+
+def _over_budget(cost: CostEstimate, budget: int) -> str:
+    field, part = cost.memory_parts[0]
+    return (f"memory: a frame would need ≈ {_size(cost.memory_bytes)}, over the budget "
+            f"of {_size(budget)}; most of it ({_size(part)}) for {field}")
+
+
+def _mesh_problems(project: Project, mesh_ok: list[tuple[int, Path, Mesh]],
+                   base_dir: Path | None, budget: int) -> list[str]:
+    """Parse every mesh: its errors, its extent, and the memory of its facets (by area)."""
+    out: list[str] = []
+    area = 0.0
+    for i, path, geom in mesh_ok:
+        try:
+            points, triangles = read_mesh_arrays(path)
+        except MeshError as exc:
+            out.append(f"objects[{i}].geometry.path: {exc}")
+            continue
+        extent = float(np.abs(points).max()) * geom.scale
+        if extent > MAX_COORDINATE_M:
+            out.append(f"objects[{i}].geometry.scale: mesh extent {extent:.3g} m; "
+                       f"allowed at most {MAX_COORDINATE_M:g} m")
+            continue
+        tri = points[triangles]
+        area += 0.5 * float(np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2]
+                                                    - tri[:, 0]), axis=1).sum()) \
+            * geom.scale**2
+    # Mesh facets are 10 cm like the primitives' (a scaled-up mesh has many more).
+    cost = estimate_cost(project, base_dir=base_dir, mesh_area_m2=area)
+    if area and cost.memory_bytes > budget:
+        out.append(_over_budget(cost, budget).replace(
+            "surface facets of the objects", "surface facets of the objects, meshes by "
+            f"their {area:.3g} m² scaled by geometry.scale"))
     return out
 
 

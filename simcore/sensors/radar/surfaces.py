@@ -52,6 +52,8 @@ from simcore.sensors.radar.facet_kernel import object_facet_returns
 
 #: Longest edge of a surface facet (m): far-field PO per facet from ≈ 4 L²/λ = 0.5 m.
 FACET_EDGE_M = 0.10
+#: Longest over shortest edge above which a triangle is cut into strips before splitting.
+ELONGATED_RATIO = 4.0
 #: Facet range tolerance of the visibility test, on top of the pixel's range spread (m).
 VISIBILITY_TOLERANCE_M = 0.01
 #: Smallest one-way transmission |T| that counts (a slab transmitting less is opaque).
@@ -99,14 +101,24 @@ class SurfaceFacets:
 
 
 def _template(n: int) -> NDArray[np.float64]:
-    """Barycentric corners of the n² sub-triangles of the regular subdivision, (n², 3, 3)."""
-    out = []
+    """Barycentric corners of the n² sub-triangles of the regular subdivision, (n², 3, 3).
+
+    Built row by row with numpy (a Python list of n² corners would cost ~40× the array).
+    """
+    rows = []
     for i in range(n):
-        for j in range(n - i):
-            out.append([(i, j), (i + 1, j), (i, j + 1)])
-            if i + j < n - 1:
-                out.append([(i + 1, j), (i + 1, j + 1), (i, j + 1)])
-    ij = np.asarray(out, dtype=np.float64) / n                             # (n², 3, 2)
+        j = np.arange(n - i, dtype=np.float64)
+        up = np.stack([np.stack([np.full_like(j, i), j], axis=1),
+                       np.stack([np.full_like(j, i + 1), j], axis=1),
+                       np.stack([np.full_like(j, i), j + 1], axis=1)], axis=1)   # (n−i, 3, 2)
+        jd = j[:-1]
+        down = np.stack([np.stack([np.full_like(jd, i + 1), jd], axis=1),
+                         np.stack([np.full_like(jd, i + 1), jd + 1], axis=1),
+                         np.stack([np.full_like(jd, i), jd + 1], axis=1)], axis=1)
+        row = np.empty((2 * (n - i) - 1, 3, 2))
+        row[0::2], row[1::2] = up, down                # up, down, up, … as j grows
+        rows.append(row)
+    ij = np.concatenate(rows) / n                                          # (n², 3, 2)
     return np.concatenate([1.0 - ij.sum(axis=2, keepdims=True), ij], axis=2)
 
 
@@ -130,9 +142,11 @@ def split_triangles(vertices: NDArray[np.float64], max_edge_m: float
     """Split triangles into pieces no longer than ``max_edge_m`` (slivers: than their base).
 
     A triangle whose shortest edge is within the limit (a sliver, e.g. a cylinder's side
-    strip) is cut into strips parallel to that edge; any other is subdivided regularly
-    into n² similar triangles. Either way the pieces cover the triangle exactly and their
-    number grows with its area (or length, for slivers), not faster.
+    strip) is cut into strips parallel to that edge; a long thin one (longest edge over
+    :data:`ELONGATED_RATIO` × its shortest) is cut into strips whose pieces, slivers, are
+    cut into strips in turn; any other is subdivided regularly into n² similar triangles.
+    Either way the pieces cover the triangle exactly and their number grows with its area
+    (or length, for slivers), not faster.
 
     Parameters
     ----------
@@ -156,17 +170,29 @@ def split_triangles(vertices: NDArray[np.float64], max_edge_m: float
     order = (shortest[:, None] + np.arange(3)[None, :]) % 3
     tri = np.take_along_axis(tri, order[:, :, None], axis=1)
     n = np.maximum(np.ceil(edges.max(axis=1) / max_edge_m).astype(np.int64), 1)
+    # A long thin triangle (not a sliver) regularly subdivided would give n² pieces, far
+    # more than its area needs (a 4 m × 300 m one: 9·10⁶ instead of ~5·10⁵): it is cut
+    # into strips first, whose pieces are slivers, then each of those into strips.
+    elongated = ~sliver & (edges.max(axis=1) > ELONGATED_RATIO * edges.min(axis=1))
     out_v: list[NDArray[np.float64]] = []
     out_s: list[NDArray[np.int64]] = []
-    for is_sliver in (True, False):
-        for count in np.unique(n[sliver == is_sliver]):
-            sel = np.flatnonzero((sliver == is_sliver) & (n == count))
-            bary = _strips(int(count)) if is_sliver else _template(int(count))
+    for kind, mask in (("strips", sliver | elongated), ("regular", ~sliver & ~elongated)):
+        for count in np.unique(n[mask]):
+            sel = np.flatnonzero(mask & (n == count))
+            bary = _strips(int(count)) if kind == "strips" else _template(int(count))
             out_v.append(np.einsum("pkj,tjd->tpkd", bary, tri[sel]).reshape(-1, 3, 3))
             out_s.append(np.repeat(sel, len(bary)))
     if not out_v:
         return np.zeros((0, 3, 3)), np.zeros(0, np.int64)
-    return np.concatenate(out_v), np.concatenate(out_s)
+    verts, src = np.concatenate(out_v), np.concatenate(out_s)
+    again = elongated[src]
+    if again.any():
+        # The strips' pieces have an edge ≤ L/n ≤ max_edge_m (the tolerance absorbs its
+        # rounding), so they are slivers there and this recursion ends at once.
+        sub, sub_src = split_triangles(verts[again], max_edge_m * (1.0 + 1e-9))
+        verts = np.concatenate([verts[~again], sub])
+        src = np.concatenate([src[~again], src[again][sub_src]])
+    return verts, src
 
 
 #: Facets by mesh identity (meshes hold arrays: not hashable), dropped with their mesh.
