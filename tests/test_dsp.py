@@ -416,7 +416,7 @@ def test_products_shapes_axes_and_hdf5_items() -> None:
     empty = prod.detections.records(0)[:0]
     assert empty.dtype.names == ("frame", "range", "velocity", "azimuth_deg", "elevation_deg",
                                  "x", "y", "z", "snr_db", "object_id", "power_fraction",
-                                 "ghost")
+                                 "ghost", "body_part")
 
 
 def test_static_clutter_removal_keeps_only_movers() -> None:
