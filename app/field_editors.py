@@ -485,6 +485,10 @@ PROCESSING = [
               "sidelobe level of a Chebyshev Doppler window", step=5.0, decimals=0),
     FieldSpec("dsp.tdm_doppler_compensation", "TDM Doppler compensation", "",
               "correct the phase a moving target gains between Tx slots", kind="bool"),
+    FieldSpec("dsp.angle_peaks_within_db", "angle peaks within", "dB",
+              "targets in one range–Doppler cell: further azimuth peaks within this of the "
+              "largest are detections too (off: one per cell)", step=1.0, decimals=1,
+              off_text="off (one per cell)"),
     FieldSpec("dsp.azimuth_min_deg", "azimuth from", "°", "start of the azimuth scan",
               step=5.0, decimals=1),
     FieldSpec("dsp.azimuth_max_deg", "azimuth to", "°", "end of the azimuth scan", step=5.0,

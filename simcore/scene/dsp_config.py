@@ -51,6 +51,9 @@ class DspConfig(Model):
         range–azimuth map and the search grid of Bartlett/Capon; the elevation grid is
         searched only when the array has vertical extent. ``tdm_doppler_compensation``
         removes the Doppler phase that accrues between the Tx slots of a TDM-MIMO frame.
+        ``angle_peaks_within_db``: targets in one range–Doppler cell that the array
+        separates in azimuth are each a detection (further peaks of the Bartlett azimuth
+        spectrum within that many dB of the largest; ``None``: one per cell).
     CFAR
         ``cfar_method`` (``"ca"`` cell averaging, ``"go"``/``"so"`` greatest-/smallest-of,
         ``"os"`` ordered statistic), ``cfar_dimensions`` (2: on the range–Doppler map;
@@ -97,6 +100,11 @@ class DspConfig(Model):
     angle_fft_size: int = Field(64, ge=2, le=4096)
     capon_diagonal_loading: float = Field(1e-3, ge=0, le=1e6, allow_inf_nan=False)
     tdm_doppler_compensation: bool = True
+    angle_peaks_within_db: float | None = Field(
+        6.0, ge=0, le=12,
+        description="targets sharing a range–Doppler cell: every further peak of the "
+                    "cell's Bartlett azimuth spectrum within this many dB of its largest "
+                    "one is a detection of its own (None: one detection per cell)")
 
     # CFAR
     cfar_method: CfarMethod = "os"
