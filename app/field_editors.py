@@ -469,6 +469,12 @@ DETECTION = [
               "local_max: a hit must be the maximum of its neighbourhood; cluster: one per "
               "connected group; none: every hit", kind="choice",
               choices=("local_max", "cluster", "none")),
+    FieldSpec("dsp.interference_mitigation", "interference mitigation", "",
+              "radar interference bursts before the range FFT: zero or interpolate the "
+              "samples hit (off: none)", kind="choice", choices=("off", "zero", "interpolate")),
+    FieldSpec("dsp.interference_threshold", "burst threshold", "σ",
+              "a sample is hit when its first difference exceeds this many robust standard "
+              "deviations", step=0.5, decimals=1),
     FieldSpec("dsp.max_detections", "max detections", "", "strongest detections kept",
               kind="int"),
     FieldSpec("dsp.interpolate_peaks", "sub-bin interpolation", "",

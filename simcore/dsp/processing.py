@@ -21,6 +21,7 @@ from simcore.dsp.detections import (
     spherical_to_radar_xyz,
     transform_points,
 )
+from simcore.dsp.interference import mitigate_interference
 from simcore.dsp.maps import (
     bird_eye_axes,
     bird_eye_image,
@@ -297,6 +298,9 @@ def process_frame(
     n_range = axes.range_m.size
     lam = rc.wavelength_m
 
+    if dc.interference_mitigation != "off":
+        x = mitigate_interference(x, method=dc.interference_mitigation,
+                                  threshold=dc.interference_threshold)
     range_cube = range_fft(x, window=dc.range_window, sidelobe_db=dc.range_window_sidelobe_db,
                            fft_size=axes.range_fft_size, remove_dc=dc.remove_dc,
                            n_bins=n_range)

@@ -35,7 +35,9 @@ class DspConfig(Model):
         power of two ≥ samples per chirp; larger values zero-pad), ``max_range_m`` (range
         bins beyond it are dropped from every product; ``None`` keeps all),
         ``min_range_m`` (detections closer than this are discarded: Tx→Rx leakage and the
-        IF high-pass live there).
+        IF high-pass live there), ``interference_mitigation`` (``"zero"`` or
+        ``"interpolate"`` the samples of interference bursts before the range FFT, found
+        at ``interference_threshold`` robust sigmas; ``"off"``).
     Doppler
         ``doppler_window`` (Chebyshev by default, ``doppler_window_sidelobe_db`` sidelobe
         level), ``doppler_fft_size`` (``None``: twice the next power of two ≥ chirps per
@@ -82,6 +84,13 @@ class DspConfig(Model):
     range_fft_size: int | None = Field(None, ge=8, le=65536)
     max_range_m: float | None = Field(None, gt=0, le=1e5, allow_inf_nan=False)
     min_range_m: float = Field(0.2, ge=0, le=1e5, allow_inf_nan=False)
+
+    interference_mitigation: Literal["off", "zero", "interpolate"] = Field(
+        "off",
+        description="radar interference bursts, before the range FFT: samples whose first "
+                    "difference exceeds interference_threshold robust sigmas are zeroed or "
+                    "interpolated (simcore.dsp.interference)")
+    interference_threshold: float = Field(6.0, gt=0, le=1e3, allow_inf_nan=False)
 
     # Doppler processing
     doppler_window: WindowName = "chebyshev"
