@@ -931,6 +931,21 @@ def secondary_azimuth_peaks(
         Its azimuth, refined by parabolic interpolation (rad).
     relative_db : ndarray, shape (m,), float64
         Its spectrum level relative to the snapshot's largest peak (dB, ≤ 0).
+
+    Examples
+    --------
+    Two equal sources at ±20° on an 8-element λ/2 ULA: the largest peak is one of them,
+    the further peak the other.
+
+    >>> p = np.zeros((8, 3)); p[:, 0] = np.arange(8) * 2.5e-3
+    >>> grid = np.radians(np.arange(-80.0, 80.5, 0.5))
+    >>> x = sum(steering_vectors(p, wavelength_m=5e-3, azimuth_rad=np.radians(a))
+    ...         for a in (-20.0, 20.0))[None, :]
+    >>> idx, az, rel = secondary_azimuth_peaks(x, p, wavelength_m=5e-3,
+    ...                                        azimuth_grid_rad=grid, elevation_rad=0.0,
+    ...                                        within_db=6.0)
+    >>> idx.tolist(), bool(abs(abs(np.degrees(az[0])) - 20.0) < 1.0)
+    ([0], True)
     """
     x = np.asarray(snapshots).astype(np.complex128, copy=False)
     grid = np.asarray(azimuth_grid_rad, dtype=np.float64)
@@ -946,7 +961,10 @@ def secondary_azimuth_peaks(
     is_max = (mid > p_db[:, :-2]) & (mid >= p_db[:, 2:])
     top = np.max(p_db, axis=1, keepdims=True)
     rel = mid - top
-    is_max &= (rel >= -within_db) & (rel < 0.0)
+    is_max &= rel >= -within_db
+    best = np.argmax(p_db, axis=1) - 1  # the largest peak, as an index of ``mid``
+    inner = (best >= 0) & (best < mid.shape[1])
+    is_max[np.flatnonzero(inner), best[inner]] = False
     rows, cols = np.nonzero(is_max)
     cols = cols + 1
     az = _refine_grid_peak(p_db[rows], cols.astype(np.int64), grid)

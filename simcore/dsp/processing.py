@@ -433,6 +433,9 @@ def _detections(
             snapshots, layout.positions_m, wavelength_m=rc.wavelength_m,
             azimuth_grid_rad=np.deg2rad(axes.azimuth_deg), elevation_rad=el,
             within_db=dc.angle_peaks_within_db)
+        # A further peak must pass the CFAR threshold on its own share of the power.
+        strong = p[idx] * 10.0 ** (rel_db / 10.0) > cfar.threshold[i_d[idx], i_r[idx]]
+        idx, az2, rel_db = idx[strong], az2[strong], rel_db[strong]
         sel = np.concatenate([np.arange(i_d.size), idx])
         i_d, i_r, rng, vel, el, noise = (a[sel] for a in (i_d, i_r, rng, vel, el, noise))
         p = p[sel] * 10.0 ** (np.concatenate([np.zeros(az.size), rel_db]) / 10.0)
