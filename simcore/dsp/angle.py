@@ -953,9 +953,14 @@ def secondary_azimuth_peaks(
     empty = (np.zeros(0, np.int64), np.zeros(0), np.zeros(0))
     if x.shape[0] == 0 or grid.size < 3:
         return empty
-    steer = steering_vectors(positions_m, wavelength_m=wavelength_m,
-                             azimuth_rad=grid[None, :], elevation_rad=el[:, None])
-    resp = np.einsum("nai,ni->na", np.conj(steer), x)
+    # In chunks of snapshots: the steering block is (chunk, n_az, channels).
+    chunk = max(1, 2_000_000 // max(1, grid.size * x.shape[1]))
+    resp = np.empty((x.shape[0], grid.size), dtype=np.complex128)
+    for lo in range(0, x.shape[0], chunk):
+        steer = steering_vectors(positions_m, wavelength_m=wavelength_m,
+                                 azimuth_rad=grid[None, :],
+                                 elevation_rad=el[lo:lo + chunk, None])
+        resp[lo:lo + chunk] = np.einsum("nai,ni->na", np.conj(steer), x[lo:lo + chunk])
     p_db = 10.0 * np.log10(np.maximum(np.abs(resp) ** 2, 1e-300))  # (n, n_az)
     mid = p_db[:, 1:-1]
     is_max = (mid > p_db[:, :-2]) & (mid >= p_db[:, 2:])
