@@ -477,6 +477,12 @@ DETECTION = [
               "local_max: a hit must be the maximum of its neighbourhood; cluster: one per "
               "connected group; none: every hit", kind="choice",
               choices=("local_max", "cluster", "none")),
+    FieldSpec("dsp.interference_mitigation", "interference mitigation", "",
+              "radar interference bursts before the range FFT: zero or interpolate the "
+              "samples hit (off: none)", kind="choice", choices=("off", "zero", "interpolate")),
+    FieldSpec("dsp.interference_threshold", "burst threshold", "σ",
+              "a sample is hit when its first difference exceeds this many robust standard "
+              "deviations", step=0.5, decimals=1),
     FieldSpec("dsp.max_detections", "max detections", "", "strongest detections kept",
               kind="int"),
     FieldSpec("dsp.interpolate_peaks", "sub-bin interpolation", "",
@@ -493,6 +499,10 @@ PROCESSING = [
               "sidelobe level of a Chebyshev Doppler window", step=5.0, decimals=0),
     FieldSpec("dsp.tdm_doppler_compensation", "TDM Doppler compensation", "",
               "correct the phase a moving target gains between Tx slots", kind="bool"),
+    FieldSpec("dsp.angle_peaks_within_db", "angle peaks within", "dB",
+              "targets in one range–Doppler cell: further azimuth peaks within this of the "
+              "largest are detections too (off: one per cell)", step=1.0, decimals=1,
+              off_text="off (one per cell)"),
     FieldSpec("dsp.azimuth_min_deg", "azimuth from", "°", "start of the azimuth scan",
               step=5.0, decimals=1),
     FieldSpec("dsp.azimuth_max_deg", "azimuth to", "°", "end of the azimuth scan", step=5.0,

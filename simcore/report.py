@@ -108,6 +108,8 @@ def expected_corner_amplitude_fs(config: RadarConfig, *, edge_m: float, range_m:
         ratio = f_b / config.if_highpass_hz
         order = config.if_highpass_order
         volts *= ratio**order / np.sqrt(1 + ratio ** (2 * order))
+    if config.if_lowpass_hz > 0:  # Butterworth anti-aliasing low-pass magnitude
+        volts /= np.sqrt(1 + (f_b / config.if_lowpass_hz) ** (2 * config.if_lowpass_order))
     return float(volts / config.adc_full_scale_v)
 
 

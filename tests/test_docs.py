@@ -68,6 +68,7 @@ snapshot, radar_buffers, seed = _frame.snapshot, _frame.buffers["radar"], 1
 # Modules whose numpydoc Examples run as doctests.
 DOCTEST_MODULES = [
     "simcore.dsp.angle",
+    "simcore.dsp.interference",
     "simcore.dsp.cfar",
     "simcore.dsp.maps",
     "simcore.dsp.microdoppler",

@@ -23,7 +23,7 @@ def target(range_m: float, az_deg: float = 0.0) -> Scatterers:
 
 @pytest.mark.parametrize("range_m", [8.0, 11.0])
 def test_a_target_beyond_the_maximum_range_is_attenuated_by_the_filter(range_m):
-    cfg = bgt60tr13c(noise_variance_adc=0.0, if_highpass_hz=0.0)
+    cfg = bgt60tr13c(noise_variance_adc=0.0, if_highpass_hz=0.0, if_lowpass_hz=0.0)
     assert range_m > cfg.max_range_m
     cutoff, order = 0.8e6, 4
     filtered = cfg.model_copy(update={"if_lowpass_hz": cutoff, "if_lowpass_order": order})
@@ -57,3 +57,9 @@ def test_the_filter_must_lie_above_the_high_pass():
 
     with pytest.raises(ValidationError, match="if_lowpass_hz"):
         RadarConfig.model_validate(bgt60tr13c().model_dump() | {"if_lowpass_hz": 50e3})
+
+
+def test_the_preset_uses_the_vendor_filters():
+    """Infineon's Radar SDK defaults for the BGT60TR13C: HP 80 kHz, AAF 500 kHz."""
+    cfg = bgt60tr13c()
+    assert (cfg.if_highpass_hz, cfg.if_lowpass_hz) == (80e3, 500e3)

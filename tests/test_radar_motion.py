@@ -28,7 +28,7 @@ from simcore.sensors.radar.scatterers import Scatterers, scatterers_from_render
 from simcore.sensors.radar.synthesis import prepare, synthesize_if, synthesize_if_direct
 
 IDEAL = {"noise_variance_adc": 0.0, "leakage_dbc": None, "adc_bits": None,
-         "if_highpass_hz": 0.0}
+         "if_highpass_hz": 0.0, "if_lowpass_hz": 0.0}
 #: Optical frame (x right, y down, z forward) → rig body frame (x forward, y left, z up).
 BODY_FROM_OPTICAL = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
 

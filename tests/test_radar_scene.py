@@ -19,7 +19,7 @@ from simcore.sensors.radar import radar_scatterers, simulate_radar
 from simcore.sensors.radar.scatterers import KIND_CORNER_REFLECTOR, KIND_POINT_TARGET
 
 IDEAL = {"noise_variance_adc": 0.0, "leakage_dbc": None, "adc_bits": None,
-         "if_highpass_hz": 0.0}
+         "if_highpass_hz": 0.0, "if_lowpass_hz": 0.0}
 
 Renderer = Callable[..., SceneRenderer]
 

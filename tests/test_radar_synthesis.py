@@ -18,7 +18,7 @@ from simcore.sensors.radar.synthesis import (
 )
 
 IDEAL = {"noise_variance_adc": 0.0, "leakage_dbc": None, "adc_bits": None,
-         "if_highpass_hz": 0.0}
+         "if_highpass_hz": 0.0, "if_lowpass_hz": 0.0}
 
 
 def relative_error_db(fast: np.ndarray, ref: np.ndarray) -> float:
@@ -166,7 +166,7 @@ def test_static_scatterers_give_identical_chirps_moving_ones_do_not() -> None:
 
 
 def test_receiver_noise_follows_the_noise_figure() -> None:
-    cfg = bgt60tr13c(leakage_dbc=None, if_highpass_hz=0.0, adc_bits=None)
+    cfg = bgt60tr13c(leakage_dbc=None, if_highpass_hz=0.0, adc_bits=None, if_lowpass_hz=0.0)
     out = front_end(cfg).synthesize(Scatterers.from_arrays(np.zeros((0, 3)), []),
                                     rng=np.random.default_rng(1))
     k_t0 = 1.380649e-23 * 290.0
@@ -217,7 +217,8 @@ def test_highpass_attenuates_a_tone_by_its_response(order: int) -> None:
 
 def test_high_pass_shapes_the_noise_spectrum() -> None:
     cfg = bgt60tr13c(leakage_dbc=None, adc_bits=None, noise_variance_adc=1.0,
-                     chirps_per_frame=256, if_highpass_hz=100e3, if_highpass_order=2)
+                     chirps_per_frame=256, if_highpass_hz=100e3, if_highpass_order=2,
+                     if_lowpass_hz=0.0)
     out = front_end(cfg).synthesize(Scatterers.from_arrays(np.zeros((0, 3)), []),
                                     rng=np.random.default_rng(2))
     psd = np.mean(np.abs(np.fft.rfft(out.adc.astype(np.float64), axis=-1)) ** 2, axis=(0, 1))
@@ -235,7 +236,7 @@ def test_leakage_is_a_tone_at_the_board_path_delay() -> None:
                      leakage_dbc=-60.0, if_gain_db=40.0, leakage_path_mm=None,
                      leakage_echoes=[],
                      tx=custom_array([(0.0, 0.0)], prefix="tx"),
-                     rx=custom_array([(spacing, 0.0)]))
+                     rx=custom_array([(spacing, 0.0)]), if_lowpass_hz=0.0)
     out = front_end(cfg).synthesize(Scatterers.from_arrays(np.zeros((0, 3)), []),
                                     rng=np.random.default_rng(0))
     p = 1e-3 * 10 ** ((cfg.tx_power_dbm - 60.0) / 10)

@@ -11,6 +11,7 @@ from simcore.dsp.angle import (
     ArrayLayout,
     array_layout,
     estimate_angles,
+    secondary_azimuth_peaks,
     spatial_covariance,
     virtual_array_positions_m,
 )
@@ -20,6 +21,7 @@ from simcore.dsp.detections import (
     spherical_to_radar_xyz,
     transform_points,
 )
+from simcore.dsp.interference import mitigate_interference
 from simcore.dsp.maps import (
     bird_eye_axes,
     bird_eye_image,
@@ -296,6 +298,9 @@ def process_frame(
     n_range = axes.range_m.size
     lam = rc.wavelength_m
 
+    if dc.interference_mitigation != "off":
+        x = mitigate_interference(x, method=dc.interference_mitigation,
+                                  threshold=dc.interference_threshold)
     range_cube = range_fft(x, window=dc.range_window, sidelobe_db=dc.range_window_sidelobe_db,
                            fft_size=axes.range_fft_size, remove_dc=dc.remove_dc,
                            n_bins=n_range)
@@ -370,6 +375,12 @@ def _detections(
 ) -> Detections:
     i_d, i_r = np.nonzero(peaks)
     keep = axes.range_m[i_r] >= dc.min_range_m
+    if rc.complex_iq:
+        # IQ bins past the middle of the FFT hold negative beat frequencies: the last bins
+        # are the near-DC zone (leakage, the high-pass's skirt, the window's main lobe
+        # around DC) wrapped around, not far targets; min_range_m applies to them too.
+        span_m = axes.range_fft_size * float(axes.range_m[1] - axes.range_m[0])
+        keep &= span_m - axes.range_m[i_r] >= dc.min_range_m
     i_d, i_r = i_d[keep], i_r[keep]
     p = rd_power[i_d, i_r].astype(np.float64)
     order = np.argsort(-p, kind="stable")[: dc.max_detections]
@@ -416,6 +427,19 @@ def _detections(
         elevation_grid_rad=np.deg2rad(axes.elevation_deg), covariances=cov,
         diagonal_loading=dc.capon_diagonal_loading, fft_size=dc.angle_fft_size)
     noise = cfar.noise[i_d, i_r].astype(np.float64)
+    if dc.angle_peaks_within_db is not None and layout.has_horizontal_extent:
+        # Targets sharing a range–Doppler cell: one detection per azimuth peak.
+        idx, az2, rel_db = secondary_azimuth_peaks(
+            snapshots, layout.positions_m, wavelength_m=rc.wavelength_m,
+            azimuth_grid_rad=np.deg2rad(axes.azimuth_deg), elevation_rad=el,
+            within_db=dc.angle_peaks_within_db)
+        # A further peak must pass the CFAR threshold on its own share of the power.
+        strong = p[idx] * 10.0 ** (rel_db / 10.0) > cfar.threshold[i_d[idx], i_r[idx]]
+        idx, az2, rel_db = idx[strong], az2[strong], rel_db[strong]
+        sel = np.concatenate([np.arange(i_d.size), idx])
+        i_d, i_r, rng, vel, el, noise = (a[sel] for a in (i_d, i_r, rng, vel, el, noise))
+        p = p[sel] * 10.0 ** (np.concatenate([np.zeros(az.size), rel_db]) / 10.0)
+        az = np.concatenate([az, az2])
     snr_db = 10.0 * np.log10(np.maximum(p, 1e-30) / np.maximum(noise, 1e-30))
     xyz = spherical_to_radar_xyz(rng, az, el)
     world = None if radar_to_world is None else transform_points(xyz, radar_to_world)

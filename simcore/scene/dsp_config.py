@@ -41,7 +41,9 @@ class DspConfig(Model):
         power of two ≥ samples per chirp; larger values zero-pad), ``max_range_m`` (range
         bins beyond it are dropped from every product; ``None`` keeps all),
         ``min_range_m`` (detections closer than this are discarded: Tx→Rx leakage and the
-        IF high-pass live there).
+        IF high-pass live there), ``interference_mitigation`` (``"zero"`` or
+        ``"interpolate"`` the samples of interference bursts before the range FFT, found
+        at ``interference_threshold`` robust sigmas; ``"off"``).
     Doppler
         ``doppler_window`` (Chebyshev by default, ``doppler_window_sidelobe_db`` sidelobe
         level), ``doppler_fft_size`` (``None``: twice the next power of two ≥ chirps per
@@ -57,6 +59,9 @@ class DspConfig(Model):
         range–azimuth map and the search grid of Bartlett/Capon; the elevation grid is
         searched only when the array has vertical extent. ``tdm_doppler_compensation``
         removes the Doppler phase that accrues between the Tx slots of a TDM-MIMO frame.
+        ``angle_peaks_within_db``: targets in one range–Doppler cell that the array
+        separates in azimuth are each a detection (further peaks of the Bartlett azimuth
+        spectrum within that many dB of the largest; ``None``: one per cell).
     CFAR
         ``cfar_method`` (``"ca"`` cell averaging, ``"go"``/``"so"`` greatest-/smallest-of,
         ``"os"`` ordered statistic), ``cfar_dimensions`` (2: on the range–Doppler map;
@@ -102,6 +107,13 @@ class DspConfig(Model):
     max_range_m: float | None = Field(None, gt=0, le=1e5, allow_inf_nan=False)
     min_range_m: float = Field(0.2, ge=0, le=1e5, allow_inf_nan=False)
 
+    interference_mitigation: Literal["off", "zero", "interpolate"] = Field(
+        "off",
+        description="radar interference bursts, before the range FFT: samples whose first "
+                    "difference exceeds interference_threshold robust sigmas are zeroed or "
+                    "interpolated (simcore.dsp.interference)")
+    interference_threshold: float = Field(6.0, gt=0, le=1e3, allow_inf_nan=False)
+
     # Doppler processing
     doppler_window: WindowName = "chebyshev"
     doppler_window_sidelobe_db: float = Field(60.0, gt=0, le=300)
@@ -119,6 +131,11 @@ class DspConfig(Model):
     angle_fft_size: int = Field(64, ge=2, le=4096)
     capon_diagonal_loading: float = Field(1e-3, ge=0, le=1e6, allow_inf_nan=False)
     tdm_doppler_compensation: bool = True
+    angle_peaks_within_db: float | None = Field(
+        6.0, ge=0, le=12,
+        description="targets sharing a range–Doppler cell: every further peak of the "
+                    "cell's Bartlett azimuth spectrum within this many dB of its largest "
+                    "one is a detection of its own (None: one detection per cell)")
 
     # CFAR
     cfar_method: CfarMethod = "os"

@@ -167,7 +167,10 @@ def bgt60tr13c(**overrides: Any) -> RadarConfig:
 
     60–66 GHz chirp in 256 µs, 512 real IF samples at 2 MHz (unambiguous range 6.4 m,
     range bin 2.5 cm), 16 chirps every 300 µs, 1 Tx and 3 Rx in an L with 2.5 mm (λ/2 at
-    60 GHz) spacing, 12-bit ADC, 80 kHz first-order IF high-pass; levels of the device at
+    60 GHz) spacing, 12-bit ADC, the IF filters as Infineon's Radar SDK configures the
+    chip by default: 80 kHz first-order high-pass and 500 kHz anti-aliasing low-pass
+    (fourth-order Butterworth here; beat frequencies above it, i.e. ranges beyond
+    ``500 kHz · c / (2 K) = 3.2 m``, are attenuated); levels of the device at
     :data:`DEFAULT_DEVICE_SETTINGS` (:func:`bgt60tr13c_levels`). ``overrides`` replace
     fields.
     """
@@ -187,6 +190,8 @@ def bgt60tr13c(**overrides: Any) -> RadarConfig:
         "complex_iq": False,
         "tx": [Antenna(name="tx1", position_mm=(0.0, 0.0))],
         "rx": l_shape(2, 2, 0.5 * SPEED_OF_LIGHT / 60e9 * 1e3),
+        "if_highpass_hz": 80e3,
+        "if_lowpass_hz": 500e3,
     }
     values.update(overrides)
     return RadarConfig(**values)

@@ -27,7 +27,8 @@ NEW_VALUES = {
     "dsp.remove_dc": False, "dsp.range_window_sidelobe_db": 70.0,
     "dsp.doppler_window_sidelobe_db": 50.0, "dsp.tdm_doppler_compensation": False,
     "dsp.azimuth_min_deg": -60.0, "dsp.azimuth_max_deg": 60.0, "dsp.azimuth_step_deg": 0.5,
-    "dsp.angle_fft_size": 128,
+    "dsp.angle_fft_size": 128, "dsp.angle_peaks_within_db": 3.0,
+    "dsp.interference_mitigation": "interpolate", "dsp.interference_threshold": 8.0,
 }
 
 
