@@ -321,7 +321,13 @@ def office_range_azimuth(frame: Frame, project: Project, out: Path
     dsp = frame.outputs["radar"].dsp
     det = dsp.detections
     cr = corner_truth(project, frame.time_s)[0]
-    k = _nearest(dsp.detection_records(frame.index), cr["range"])
+    # The corner's detection: the one its cell's power labels as the corner, nearest its
+    # range (a cell can hold a detection per azimuth peak; others may share the range).
+    records = dsp.detection_records(frame.index)
+    mine = np.flatnonzero(frame.outputs["radar"].labels.object_id
+                          == _object_id(project, cr["name"]))
+    k = _nearest(records, cr["range"]) if not len(mine) else int(
+        mine[np.argmin(np.abs(records["range"][mine] - cr["range"]))])
     cr_err = (float(np.linalg.norm(det.xyz_world_m[k] - np.array(cr["world"])))
               if k is not None and det.xyz_world_m is not None else float("nan"))
     # Ground-truth labels: the object giving most of each detection's cell power.

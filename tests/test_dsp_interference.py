@@ -39,25 +39,37 @@ def floor_db(profile_db: np.ndarray, rc: object, products: object) -> float:
     return float(np.median(profile_db[np.abs(r - R_TARGET) > 0.3]))
 
 
-@pytest.mark.parametrize("method", ["zero", "interpolate"])
-def test_mitigation_lowers_the_floor_and_recovers_the_weak_target(method: str) -> None:
+def _products(method: str) -> tuple[list[float], list[object]]:
     rc, clean, hit = cubes()
     base = DspConfig(cfar_pfa=1e-4)
     fixed = base.model_copy(update={"interference_mitigation": method})
-    p_clean, p_hit, p_fixed = (process_frame(c, rc, d) for c, d in (
-        (clean, base), (hit, base), (hit, fixed)))
-    floors = [floor_db(p.range_profile_integrated_db, rc, p) for p in (p_clean, p_hit, p_fixed)]
+    products = [process_frame(c, rc, d) for c, d in ((clean, base), (hit, base), (hit, fixed))]
+    floors = [floor_db(p.range_profile_integrated_db, rc, p) for p in products]
     print(f"{method}: noise floor clean {floors[0]:.1f} dB, with bursts {floors[1]:.1f} dB, "
           f"mitigated {floors[2]:.1f} dB; flagged "
           f"{burst_mask(hit).mean() * 100:.1f} % of samples")
+    return floors, products
 
-    def found(p: object) -> bool:
-        det = p.detections  # type: ignore[attr-defined]
-        return bool(np.any(np.abs(det.range_m - R_TARGET) < 0.05))
 
+def _found(p: object) -> bool:
+    det = p.detections  # type: ignore[attr-defined]
+    return bool(np.any(np.abs(det.range_m - R_TARGET) < 0.05))
+
+
+@pytest.mark.parametrize("method", ["zero", "interpolate"])
+def test_mitigation_lowers_the_burst_floor_by_10_db(method: str) -> None:
+    floors, products = _products(method)
     assert floors[1] - floors[2] >= 10.0
     assert floors[2] - floors[0] < 3.0
-    assert found(p_clean) and not found(p_hit) and found(p_fixed)
+    assert _found(products[0]) and _found(products[2])
+
+
+@pytest.mark.xfail(strict=True, reason="with the calibrated BGT60TR13C front end (#35) this "
+                   "scenario's bursts no longer hide the weak target; #30 must redesign it")
+@pytest.mark.parametrize("method", ["zero", "interpolate"])
+def test_mitigation_recovers_a_weak_target_the_bursts_hid(method: str) -> None:
+    _, (clean, hit, fixed) = _products(method)
+    assert _found(clean) and not _found(hit) and _found(fixed)
 
 
 def test_mitigation_leaves_a_clean_cube_alone() -> None:
