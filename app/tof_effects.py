@@ -44,7 +44,7 @@ TOF_EFFECTS: tuple[tuple[str, str, str], ...] = (
 class TofEffectsBox(QGroupBox):
     """Checkboxes for the ToF effect switches."""
 
-    def __init__(self, setter: Callable[[str, Any, QWidget | None], None],
+    def __init__(self, setter: Callable[..., None],
                  parent: QWidget | None = None):
         super().__init__("Effects", parent)
         grid = QGridLayout(self)
@@ -54,7 +54,9 @@ class TofEffectsBox(QGroupBox):
             box = QCheckBox(label)
             box.setToolTip(tip)
             box.toggled.connect(
-                lambda on, f=field, b=box: setter(f"rig.tof.{f}", bool(on), b))
+                lambda on, f=field, b=box, name=label: setter(
+                    f"rig.tof.{f}", bool(on), b,
+                    text=f"{'Turn on' if on else 'Turn off'} ToF {name.lower()}"))
             grid.addWidget(box, i // 2, i % 2)
             self.boxes[field] = box
 
