@@ -4,13 +4,16 @@ The shared recording (``../shared/real/bgt60tr13c_breathing`` beside the reposit
 ``$TOFRADAR_REAL_RECORDING``) measured as its README says (:mod:`simcore.io.recordings`),
 beside the project made from it simulated with an empty scene, before and after the
 calibration of ``docs/physics_radar.md``; a skin ellipsoid the size of a torso at the
-recording's target range; the breathing phase of the real recording over time.
+recording's target range, and a breathing person; the breathing of the real recording
+through `tofradar products` (the vital-sign estimator).
 """
 
 from __future__ import annotations
 
+import json
 import os
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -18,7 +21,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simcore.io.recordings import (
-    RadarRecording,
     RecordingLevels,
     read_recording,
     recording_levels,
@@ -31,6 +33,10 @@ RECORDING_ENV = "TOFRADAR_REAL_RECORDING"
 #: depth (along the boresight), width, height.
 TARGET_RANGE_M = 0.33
 TORSO_SEMI_AXES_M = (0.10, 0.18, 0.30)
+#: The simulated person's breathing and heartbeat (``vital_signs`` of a person; the rate
+#: is the recording's, measured by the report).
+PERSON_BREATHING: dict[str, float] = {"breathing_rate_hz": 0.25, "breathing_amplitude_mm": 5.0,
+                                      "heart_rate_hz": 1.2, "heart_amplitude_mm": 0.3}
 #: The front end before the calibration (the RadarConfig defaults of tofradar 0.2).
 BEFORE_LEVELS: dict[str, Any] = {
     "tx_power_dbm": 5.0, "tx_gain_dbi": 6.0, "rx_gain_dbi": 6.0, "if_gain_db": 66.0,
@@ -143,46 +149,97 @@ def ellipsoid_obj(semi_axes_m: tuple[float, float, float], *, n_lat: int = 64,
     return "\n".join(lines) + "\n"
 
 
-def breathing_phase(recording: RadarRecording, *, band_m: tuple[float, float] = (0.25, 0.45),
-                    rate_band_hz: tuple[float, float] = (0.1, 0.7)
-                    ) -> tuple[NDArray[np.float64], NDArray[np.float64], float, float]:
-    """Slow-time phase of the strongest moving range bin, and its rate.
+def person_frames(config: RadarConfig, *, frames: int, frame_time_s: float, seed: int = 0
+                  ) -> NDArray[np.float32]:
+    """Frames of a standing, breathing person, the chest's front at :data:`TARGET_RANGE_M`.
 
-    Per frame: the range FFT (:func:`simcore.dsp.spectrum.range_fft`, Hann, mean removed)
-    averaged over chirps and channels of the bin in ``band_m`` whose complex value varies
-    most over the frames; its phase unwrapped, mean removed; the rate is the largest
-    spectral peak of the phase in ``rate_band_hz``.
+    The person (geometry kind ``"person"``, 1.75 m, average build, clothed trunk, breathing
+    :data:`PERSON_BREATHING`) faces the radar; it is placed so that the front of its chest
+    segment lies on the boresight at :data:`TARGET_RANGE_M` (the chest centre at the
+    radar's height). The whole pipeline (:class:`simcore.pipeline.Simulator`) renders it
+    every ``frame_time_s`` (the recording's frame repetition time).
 
     Returns
     -------
-    time_s : ndarray, shape (frames,)
-    phase_rad : ndarray, shape (frames,)
-    rate_hz : float
-        Breathing rate (Hz).
-    range_m : float
-        Range of the bin (m).
+    ndarray, shape (frames, chirps, channels, samples), float32
+        ADC samples (FS).
     """
-    from simcore.dsp.spectrum import range_fft
+    from simcore.pipeline import Simulator
+    from simcore.scene.model import Project, SceneObject, SensorRig, Timeline
+    from simcore.scene.motion import Motion, Pose
+    from simcore.scene.people import SEGMENTS, Person
+    from simcore.scene.people.body import PersonBody
 
-    x = recording.adc()                                   # (frames, chirps, channels, n)
-    n = x.shape[-1]
-    spec = range_fft(x.reshape(-1, *x.shape[2:]), window="hann", fft_size=n, remove_dc=True,
-                     n_bins=n // 2)
-    spec = spec.reshape(x.shape[0], x.shape[1], *spec.shape[1:]).mean(axis=1)  # (f, ch, bins)
-    cfg = recording.config
-    bin_m = cfg.sample_rate_hz / n * 299_792_458.0 / (2 * cfg.slope_hz_per_s)
-    r = np.arange(spec.shape[-1]) * bin_m
-    inside = np.flatnonzero((r >= band_m[0]) & (r <= band_m[1]))
-    motion = np.abs(spec - spec.mean(axis=0)).mean(axis=(0, 1))
-    k = int(inside[np.argmax(motion[inside])])
-    phase = np.unwrap(np.angle(spec[:, 0, k]))
-    phase = phase - phase.mean()
-    t = recording.frame_times_s()
-    f = np.fft.rfftfreq(len(phase), recording.frame_repetition_time_s)
-    p = np.abs(np.fft.rfft(phase * np.hanning(len(phase)))) ** 2
-    sel = (f >= rate_band_hz[0]) & (f <= rate_band_hz[1])
-    rate = float(f[sel][np.argmax(p[sel])])
-    return t, phase, rate, float(r[k])
+    person = Person.model_validate({"kind": "person", "motion": {
+        "posture": "standing", "sway_mm": 1.0, "vital_signs": PERSON_BREATHING}})
+    facing = Pose(position_m=(0.0, 0.0, 0.0), rotation_deg=(0.0, 0.0, 180.0))  # faces −x
+    body = PersonBody(person, facing, Motion())
+    chest = body.segment_transforms(0.0)[SEGMENTS.index("chest")]
+    radii = body.skeleton.radii[SEGMENTS.index("chest")]
+    half_depth = float(np.sqrt(np.sum((chest[0, :3] * radii) ** 2)))   # extent along x
+    centre = chest[:3, 3]
+    position = (TARGET_RANGE_M + half_depth - centre[0], -centre[1], -centre[2])
+    obj = SceneObject(id=1, name="person", geometry=person, material="clothing",
+                      pose=Pose(position_m=position, rotation_deg=(0.0, 0.0, 180.0)))
+    project = Project(objects=[obj], rig=SensorRig(radar=config), seed=seed,
+                      timeline=Timeline(frame_rate_hz=1.0 / frame_time_s,
+                                        duration_s=frames * frame_time_s))
+    with Simulator(project) as sim:
+        return np.stack([sim.frame(i).outputs["radar"].raw.adc for i in range(frames)]
+                        ).astype(np.float32)
+
+
+@dataclass(frozen=True)
+class RecordingVitals:
+    """The vital signs of a converted recording (``/radar/vitals`` of the dataset).
+
+    Attributes
+    ----------
+    time_s, displacement_m : ndarray, shape (frames,)
+        Frame times and the chest bin's displacement (m, mean removed, + away from the
+        radar), from :func:`simcore.io.products.write_radar_products`.
+    breathing_rate_hz, breathing_amplitude_m, heart_rate_hz, heart_amplitude_m : float
+        Whole-run estimates (:func:`simcore.dsp.vitals.estimate_vital_signs`).
+    range_m : float
+        Range of the chest bin (m).
+    wavelength_m : float
+        Carrier wavelength (phase = 4π displacement / wavelength).
+    """
+
+    time_s: NDArray[np.float64]
+    displacement_m: NDArray[np.float64]
+    breathing_rate_hz: float
+    breathing_amplitude_m: float
+    heart_rate_hz: float
+    heart_amplitude_m: float
+    range_m: float
+    wavelength_m: float
+
+
+def dataset_vitals(path: Path) -> RecordingVitals:
+    """Run ``tofradar products`` on a dataset and read its vital signs back.
+
+    The same post-processing as a simulated run's (:func:`write_radar_products` with the
+    project stored in the file): chest bin = the bin beyond ``dsp.min_range_m`` whose
+    slow-time signal varies most; Kåsa/geometric circle-fit centre; unwrapped phase →
+    displacement; the largest spectral peak in the breathing band.
+    """
+    import h5py
+
+    from simcore.io.products import write_radar_products
+
+    summary = write_radar_products(path)
+    if summary.vitals is None:
+        raise ValueError(f"{path}: too few frames for the vital signs")
+    vs = summary.vitals
+    with h5py.File(path, "r") as f:
+        t = np.asarray(f["radar/vitals/time"][:], dtype=np.float64)
+        d = np.asarray(f["radar/vitals/displacement"][:], dtype=np.float64)
+        radar = json.loads(f["meta"].attrs["project_json"])["rig"]["radar"]
+    wavelength = RadarConfig.model_validate(radar).wavelength_m
+    return RecordingVitals(t - t[0], d, float(vs.breathing_rate_hz),
+                           float(vs.breathing_amplitude_m), float(vs.heart_rate_hz),
+                           float(vs.heart_amplitude_m), float(summary.range_m), wavelength)
 
 
 def _level_rows(real: RecordingLevels, before: RecordingLevels, after: RecordingLevels
@@ -197,8 +254,15 @@ def _level_rows(real: RecordingLevels, before: RecordingLevels, after: Recording
 def real_section(out: Path, *, quick: bool) -> tuple[str, str, str, dict[str, Any]]:
     """Figure and text of the section: (file, title, text, numbers).
 
-    Without the recording the text says so and no figure is drawn (file "").
+    The recording goes through ``tofradar convert`` (:func:`convert_recording`) and
+    ``tofradar products`` (:func:`dataset_vitals`) like a simulated run; its levels are
+    measured on the converted dataset's ``/radar/adc``. Without the recording the text
+    says so and no figure is drawn (file "").
     """
+    import h5py
+
+    from simcore.io.recordings import convert_recording
+
     source = shared_recording()
     title = "Simulation and a real BGT60TR13C"
     if source is None:
@@ -209,52 +273,89 @@ def real_section(out: Path, *, quick: bool) -> tuple[str, str, str, dict[str, An
             "recording": None}
     rec = read_recording(source)
     cfg = rec.config
+    with tempfile.TemporaryDirectory() as tmp:
+        dataset = Path(tmp) / "recording.h5"
+        convert_recording(source, dataset)
+        with h5py.File(dataset, "r") as f:
+            adc = np.asarray(f["radar/adc"][:])
+        vitals = dataset_vitals(dataset)
     n = 16 if quick else 64
-    real = recording_levels(rec.adc(), cfg)
+    real = recording_levels(adc, cfg)
     after = recording_levels(empty_scene_frames(cfg, frames=n, seed=1), cfg)
     before = recording_levels(empty_scene_frames(before_config(cfg), frames=n, seed=1), cfg)
+    seeds = range(4 if quick else 8)       # the facets' speckle differs from seed to seed
     try:
-        torso = recording_levels(torso_frames(cfg, frames=max(4, n // 8), seed=1), cfg)
-        torso_db: float | None = torso.target_dbfs
-    except Exception:   # noqa: BLE001 — no OpenGL context: the section goes on without it
-        torso, torso_db = None, None
-    t, phase, rate, r_breath = breathing_phase(rec)
+        torso_runs = [torso_frames(cfg, frames=4, seed=s) for s in seeds]
+        person_runs = [person_frames(cfg, frames=8, frame_time_s=rec.frame_repetition_time_s,
+                                     seed=s) for s in seeds]
+    except Exception:   # noqa: BLE001 — no OpenGL context: the section goes on without them
+        torso_runs, person_runs = [], []
+    torso, torso_nums = _seed_levels(torso_runs, cfg)
+    person, person_nums = _seed_levels(person_runs, cfg)
     numbers: dict[str, Any] = {
         "recording": source.name, "rows": _level_rows(real, before, after),
-        "target_real_dbfs": real.target_dbfs, "torso_dbfs": torso_db,
-        "breathing_rate_hz": rate, "breathing_range_m": r_breath}
+        "target_real_dbfs": real.target_dbfs, "seeds": len(seeds),
+        "torso": torso_nums, "person": person_nums,
+        "torso_dbfs": torso_nums and torso_nums["mean_dbfs"],
+        "person_dbfs": person_nums and person_nums["mean_dbfs"],
+        "breathing_rate_hz": vitals.breathing_rate_hz,
+        "breathing_amplitude_mm": 1e3 * vitals.breathing_amplitude_m,
+        "breathing_range_m": vitals.range_m}
     file = "fig_real_bgt60tr13c.png"
-    _figure(out / file, real, before, after, torso, (t, phase, rate, r_breath))
+    _figure(out / file, real, before, after, torso, person, vitals)
     return file, title, _text(numbers), numbers
+
+
+def _seed_levels(runs: list[NDArray[np.float32]], config: RadarConfig
+                 ) -> tuple[RecordingLevels | None, dict[str, float] | None]:
+    """Levels of runs with different seeds: all frames together (power mean).
+
+    Also the target level of each run: their spread is the facets' speckle.
+    """
+    if not runs:
+        return None, None
+    each = [recording_levels(x, config).target_dbfs for x in runs]
+    whole = recording_levels(np.concatenate(runs), config)
+    return whole, {"mean_dbfs": whole.target_dbfs, "min_dbfs": min(each),
+                   "max_dbfs": max(each)}
 
 
 def _figure(path: Path, real: RecordingLevels, before: RecordingLevels,
             after: RecordingLevels, torso: RecordingLevels | None,
-            breath: tuple[NDArray[np.float64], NDArray[np.float64], float, float]) -> None:
+            person: RecordingLevels | None, vitals: RecordingVitals) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 4.8), constrained_layout=True)
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 5.6), constrained_layout=True)
     r = real.range_m
     ax.plot(r, real.profile_dbfs, "k-", lw=2, label="real BGT60TR13C (breathing person)")
     ax.plot(r, after.profile_dbfs, "C0-", label="simulated, empty scene (calibrated)")
     ax.plot(r, before.profile_dbfs, "C3--", label="simulated, empty scene (before)")
     if torso is not None:
         ax.plot(r, torso.profile_dbfs, "C2:", lw=2,
-                label="simulated, skin torso ellipsoid at 0.33 m")
+                label=f"simulated, skin torso ellipsoid at {TARGET_RANGE_M} m")
+    if person is not None:
+        ax.plot(r, person.profile_dbfs, "C1-.", lw=1.5,
+                label=f"simulated, standing breathing person, chest at {TARGET_RANGE_M} m")
     ax.set_xlabel("range (m)")
     ax.set_ylabel("power (dBFS, Hann, full-scale sine = 0 dB)")
     ax.set_title("Range profile: real vs simulated (same configuration and DSP)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    t, phase, rate, r_b = breath
-    bx.plot(t, phase, "k-")
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2)
+    phase = 4 * np.pi * vitals.displacement_m / vitals.wavelength_m
+    bx.plot(vitals.time_s, phase, "k-")
     bx.set_xlabel("time (s)")
-    bx.set_ylabel("phase (rad)")
-    bx.set_title(f"Real recording: slow-time phase at {r_b:.2f} m, rate {rate:.2f} Hz "
-                 f"({60 * rate:.1f} / min)")
+    bx.set_ylabel("phase about the circle-fit centre (rad)")
+    mm = bx.secondary_yaxis("right", functions=(
+        lambda p: p * vitals.wavelength_m / (4 * np.pi) * 1e3,
+        lambda d: d * 1e-3 * 4 * np.pi / vitals.wavelength_m))
+    mm.set_ylabel("displacement (mm, + away)")
+    bx.set_title(f"Real recording through the vital-sign estimator: chest bin "
+                 f"{vitals.range_m:.2f} m,\nbreathing {vitals.breathing_rate_hz:.3f} Hz "
+                 f"({60 * vitals.breathing_rate_hz:.1f} / min), "
+                 f"{1e3 * vitals.breathing_amplitude_m:.1f} mm", fontsize=10)
     bx.grid(alpha=0.3)
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -269,15 +370,34 @@ def _text(nums: dict[str, Any]) -> str:
         "(docs/physics_radar.md). Levels in dBFS:", "",
         "| figure | real | simulated before | simulated after |", "|---|---|---|---|"]
     lines += [f"| {k} | {a:.1f} | {b:.1f} | {c:.1f} |" for k, a, b, c in nums["rows"]]
-    torso = nums["torso_dbfs"]
+    torso, person = nums["torso"], nums["person"]
+    real = nums["target_real_dbfs"]
+
+    def level(x: dict[str, float] | None) -> str:
+        if x is None:
+            return "— (no OpenGL here)"
+        return (f"{x['mean_dbfs']:.1f} dBFS ({x['mean_dbfs'] - real:+.1f} dB; "
+                f"{x['min_dbfs']:.1f} … {x['max_dbfs']:.1f} dBFS over the seeds)")
+
     lines += ["", (
-        f"At 0.33 m the recording reads {nums['target_real_dbfs']:.1f} dBFS (the person); a "
-        "skin ellipsoid the size of a torso (semi-axes 10 × 18 × 30 cm) there reads "
-        + (f"{torso:.1f} dBFS" if torso is not None else "— (no OpenGL here)")
-        + ". The person's pose, clothing, angle and distance are not documented, and at "
-        "0.33 m the body fills the beam (near field), so this is a plausibility check, not a "
-        "calibration target. "
-        f"The breathing phase (right) oscillates at {nums['breathing_rate_hz']:.2f} Hz "
-        f"({60 * nums['breathing_rate_hz']:.0f} breaths per minute) at "
-        f"{nums['breathing_range_m']:.2f} m.")]
+        f"At {TARGET_RANGE_M} m the recording reads {real:.1f} dBFS (the person). Simulated "
+        f"there with the same radar, the power mean of {nums['seeds']} seeds (the facets' "
+        "random speckle phases change a rough body's return by several dB): a skin "
+        "ellipsoid the size of a torso (semi-axes 10 × 18 × 30 cm, facing the radar) "
+        f"{level(torso)}; a standing, breathing person (1.75 m, clothed trunk, the front "
+        f"of the chest segment at {TARGET_RANGE_M} m, chest at the radar's height) "
+        f"{level(person)}, lower than the ellipsoid mainly because its chest segment "
+        "(semi-axes 11 × 17 × 14 cm) is shorter and more curved, so its specular return "
+        "is weaker (the material, skin under thin fabric, is slightly rougher). Both face "
+        "the radar squarely, the brightest case. The recording does not document the "
+        "person's pose, angle, height relative to the radar, distance or clothing; a chest turned "
+        "or tilted away by a few degrees loses its specular return, the person may be "
+        "partly outside the beam, and at this range the body is in the near field of the "
+        "antennas; so this is a plausibility check, not a calibration target (the "
+        "calibration uses the leakage and noise, which do not depend on the scene). "
+        "The breathing (right): `tofradar products` on the converted dataset (the "
+        "vital-sign estimator a simulated run gets) finds the chest bin at "
+        f"{nums['breathing_range_m']:.2f} m, breathing at "
+        f"{nums['breathing_rate_hz']:.3f} Hz ({60 * nums['breathing_rate_hz']:.1f} per "
+        f"minute), amplitude {nums['breathing_amplitude_mm']:.1f} mm.")]
     return "\n".join(lines)

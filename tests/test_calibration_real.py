@@ -64,3 +64,26 @@ def test_the_receiver_alone_gives_the_same_levels(real):
     sim = recording_levels(empty_scene_frames(rec.config, frames=64, seed=3), rec.config)
     assert np.max(np.abs(np.subtract(sim.leakage_dbfs, lv.leakage_dbfs))) <= 3.0
     assert abs(sim.per_sample_noise_dbfs - lv.per_sample_noise_dbfs) <= 3.0
+
+
+def test_the_report_section_on_the_real_recording(real, tmp_path):
+    """The section's numbers: the calibrated rows within 3 dB, the README's target, the
+    breathing through the vital-sign estimator at the README's ≈ 0.24 Hz near 0.33 m, and
+    the torso and the person simulated there (their levels beside the real one)."""
+    from simcore.report_real import real_section
+
+    file, title, text, nums = real_section(tmp_path, quick=True)
+    assert (tmp_path / file).stat().st_size > 20_000 and title.endswith("BGT60TR13C")
+    for name, measured, _before, after in nums["rows"]:
+        assert abs(after - measured) <= 3.0, name
+    assert abs(nums["target_real_dbfs"] - README["target"]) <= 0.5
+    assert abs(nums["breathing_rate_hz"] - 0.24) <= 0.02
+    assert abs(nums["breathing_range_m"] - 0.33) <= 0.03
+    assert 0.5 <= nums["breathing_amplitude_mm"] <= 10.0      # a chest, not noise nor steps
+    for body in ("torso", "person"):
+        lv = nums[body]
+        if lv is None:           # no OpenGL on this machine
+            continue
+        assert lv["min_dbfs"] <= lv["mean_dbfs"] <= lv["max_dbfs"] < 0.0   # no clipping
+        assert lv["min_dbfs"] > nums["rows"][-1][1] + 20        # well above the noise
+        assert f"{lv['mean_dbfs']:.1f} dBFS" in text

@@ -83,28 +83,49 @@ def test_codes_become_fractions_of_full_scale_exactly(tmp_path):
     assert codes_to_fs(np.array([0, 4095], dtype=np.uint16), 12).tolist() == [-1.0, 4095 / 2048 - 1]
 
 
-def test_tones_and_noise_read_back_at_their_ranges_and_levels(tmp_path):
+#: Recordings other than the shared one's configuration: other sample, chirp and antenna
+#: counts, sample rates, bandwidths, gains, filters and the TDM mode with its one Tx.
+OTHER_SETTINGS: dict[str, dict[str, Any]] = {
+    "shared": SETTINGS,
+    "128 samples, 1 Rx, 16 chirps": dict(
+        SETTINGS, num_samples_per_chirp=128, sample_rate_Hz=1000000, rx_antennas=[2],
+        num_chirps_per_frame=16, if_gain_dB=40, hp_cutoff_Hz=160000, aaf_cutoff_Hz=600000,
+        start_frequency_Hz=60000000000, end_frequency_Hz=62000000000, tx_power_level=20),
+    "32 samples, 2 Rx, TDM": dict(
+        SETTINGS, num_samples_per_chirp=32, sample_rate_Hz=1500000, rx_antennas=[1, 3],
+        num_chirps_per_frame=2, mimo_mode="tdm", if_gain_dB=18, tx_power_level=0),
+}
+
+
+@pytest.mark.parametrize("name", sorted(OTHER_SETTINGS))
+def test_tones_and_noise_read_back_at_their_ranges_and_levels(tmp_path, name):
     """Hann on a bin-centred tone of amplitude A reads 20 log10 A; white noise of σ reads
     σ per sample and σ² · 4 Σw² / (Σw)² per bin."""
+    settings = OTHER_SETTINGS[name]
+    n = settings["num_samples_per_chirp"]
     noise_lsb = 8.0
-    tones = [(12, 0.02), (20, 0.003)]
-    codes = tone_codes(SETTINGS, frames=40, tones=tones, noise_lsb=noise_lsb, seed=1)
-    rec = read_recording(write_recording(tmp_path, codes))
-    levels = recording_levels(rec.adc(), rec.config, target_range_m=12 * bin_range_m(SETTINGS))
-    assert_allclose(levels.range_m[1], bin_range_m(SETTINGS), rtol=1e-12)
+    tones = [(12, 0.02), (n // 2 - 10, 0.003)]
+    codes = tone_codes(settings, frames=40, tones=tones, noise_lsb=noise_lsb, seed=1)
+    rec = read_recording(write_recording(tmp_path, codes, settings))
+    bin_m = bin_range_m(settings)
+    levels = recording_levels(rec.adc(), rec.config, target_range_m=12 * bin_m,
+                              beyond_aaf_m=(0.0, 64 * bin_m), in_band_m=(0.0, 64 * bin_m))
+    assert_allclose(levels.range_m[1], bin_m, rtol=1e-12)
+    w = np.hanning(n)
     sigma = noise_lsb / 2048
     for k, amp in tones:
-        tone_db = 10 * np.log10(amp**2 + 4 * sigma**2 * np.sum(np.hanning(64) ** 2)
-                                / np.sum(np.hanning(64)) ** 2)
+        tone_db = 10 * np.log10(amp**2 + 4 * sigma**2 * np.sum(w**2) / np.sum(w) ** 2)
         assert abs(levels.profile_dbfs[k] - tone_db) < 0.3, (k, levels.profile_dbfs[k])
     assert abs(levels.target_dbfs - 20 * np.log10(0.02)) < 0.2
     # Per-sample noise (chirp-to-chirp differences, chirp means removed) on noise alone.
-    quiet = tone_codes(SETTINGS, frames=40, tones=[], noise_lsb=noise_lsb, seed=2)
-    rec_q = read_recording(write_recording(tmp_path / "q", quiet))
-    lv = recording_levels(rec_q.adc(), rec_q.config)
-    var = sigma**2 * (1 - 1 / 64) + (1 / 2048) ** 2 / 12
+    quiet = tone_codes(settings, frames=40, tones=[], noise_lsb=noise_lsb, seed=2)
+    rec_q = read_recording(write_recording(tmp_path / "q", quiet, settings))
+    r_max = n // 2 * bin_m            # the two floors away from bin 0 and the Nyquist bin
+    lv = recording_levels(rec_q.adc(), rec_q.config, beyond_aaf_m=(0.6 * r_max, 0.9 * r_max),
+                          in_band_m=(0.2 * r_max, 0.5 * r_max))
+    var = sigma**2 * (1 - 1 / n) + (1 / 2048) ** 2 / 12
     assert abs(lv.per_sample_noise_dbfs - 10 * np.log10(var)) < 0.15
-    floor = 10 * np.log10(4 * var * np.sum(np.hanning(64) ** 2) / np.sum(np.hanning(64)) ** 2)
+    floor = 10 * np.log10(4 * var * np.sum(w**2) / np.sum(w) ** 2)
     assert abs(lv.floor_beyond_aaf_mean_dbfs - floor) < 0.5
     assert abs(lv.floor_in_band_dbfs - floor) < 0.7
 
@@ -323,3 +344,47 @@ def test_ellipsoid_mesh_encloses_the_ellipsoid_volume():
     volume = np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6     # divergence theorem
     assert_allclose(volume, 4 / 3 * np.pi * 0.1 * 0.2 * 0.3, rtol=2e-3)   # outward faces
     assert_allclose(np.sum((v / [0.1, 0.2, 0.3]) ** 2, axis=1), 1.0, atol=1e-4)  # on it
+
+
+@pytest.mark.parametrize("name", ["shared", "128 samples, 1 Rx, 16 chirps"])
+def test_a_breathing_tone_gives_its_rate_and_amplitude_through_convert_and_products(
+        tmp_path, name, capsys):
+    """A chest at bin 12 moving d(t) = A sin(2π f t) behind a static phasor of the same bin
+    and a leakage tone: ``tofradar convert`` then ``tofradar products`` (the vital-sign
+    estimator a simulated run gets) find that bin, f and A."""
+    settings = OTHER_SETTINGS[name]
+    n, frames = settings["num_samples_per_chirp"], 240
+    rate_hz, amp_m = 0.3, 3e-3
+    lam = SPEED_OF_LIGHT / (0.5 * (settings["start_frequency_Hz"] + settings["end_frequency_Hz"]))
+    t = np.arange(frames) * settings["frame_repetition_time_s"]
+    theta = 4 * np.pi * amp_m * np.sin(2 * np.pi * rate_hz * t) / lam          # (frames,)
+    shape = (frames, len(settings["rx_antennas"]), settings["num_chirps_per_frame"], n)
+    s = np.arange(n)
+    x = (0.05 * np.cos(2 * np.pi * 12 * s / n + theta[:, None, None, None])   # the chest
+         + 0.03 * np.cos(2 * np.pi * 12 * s / n + 1.0)                          # static, same bin
+         + 0.2 * np.cos(2 * np.pi * s / n))                                     # leakage
+    rng = np.random.default_rng(5)
+    codes = np.clip(np.rint(2048 + 2048 * x + 2.0 * rng.standard_normal(shape)), 0, 4095
+                    ).astype(np.uint16)
+    src = write_recording(tmp_path, codes, settings)
+    out = tmp_path / "breathing.h5"
+    assert main(["convert", str(src), "--to", str(out)]) == 0
+    assert main(["products", str(out)]) == 0
+    said = capsys.readouterr().out
+    ds = open_dataset(out)                     # opened like a simulated run's products
+    try:
+        d = ds.radar_vitals_displacement.values
+    finally:
+        ds.close()
+    import h5py
+
+    with h5py.File(out, "r") as f:
+        g = dict(f["radar/vitals"].attrs)
+    assert int(g["range_bin"]) == 12
+    assert_allclose(g["range_m"], 12 * bin_range_m(settings), rtol=1e-9)
+    assert abs(g["breathing_rate_hz"] - rate_hz) < 0.002
+    assert_allclose(g["breathing_amplitude_m"], amp_m, rtol=0.02)
+    # The displacement is d(t), mean removed (a phase that grows = moving away).
+    expected = amp_m * np.sin(2 * np.pi * rate_hz * t)
+    assert np.max(np.abs(d - (expected - expected.mean()))) < 0.02 * amp_m
+    assert "breathing 0.30" in said

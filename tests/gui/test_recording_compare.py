@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import h5py
 import numpy as np
 import pytest
 
@@ -48,3 +49,37 @@ def test_a_recording_becomes_reference_a_with_the_projects_dsp(make_window, wait
     window.grab().save(str(path))
     assert path.stat().st_size > 10_000
     assert recording_frame_view(src, window.document.project).radar is not None
+
+
+def test_converted_and_simulated_datasets_are_references_alike(make_window, wait_frame,
+                                                               tmp_path):
+    """The converted dataset (.h5) gives the same reference as the recording folder, and a
+    simulated run of the project made from it (a point target added: ``tofradar run``
+    wants an object) is opened the same way."""
+    import json
+
+    from simcore.cli import main
+
+    src = _recording(tmp_path)
+    project, converted, simulated = (tmp_path / "p.json", tmp_path / "rec.h5",
+                                     tmp_path / "sim.h5")
+    assert main(["convert", str(src), "--to", str(converted), "--project", str(project)]) == 0
+    doc = json.loads(project.read_text())
+    doc["objects"] = [{"id": 1, "name": "target", "geometry": {"kind": "point_target",
+                                                                "rcs_m2": 0.01},
+                       "pose": {"position_m": [0.4, 0.0, 0.0]}}]
+    project.write_text(json.dumps(doc))
+    assert main(["run", str(project), "--out", str(simulated), "--frames", "2"]) == 0
+    window = make_window(project)
+    wait_frame(window)
+    from_folder = recording_frame_view(src, window.document.project, frame=1)
+    view = set_recording_reference(window, converted, frame=1)
+    np.testing.assert_array_equal(view.radar.profile_db, from_folder.radar.profile_db)
+    assert view.time_s == from_folder.time_s > 0
+    assert window.panels["Range profile"].reference is view
+    sim_view = set_recording_reference(window, simulated, frame=1)
+    with h5py.File(simulated, "r") as f:
+        adc = np.asarray(f["radar/adc"][1])
+    expected = process_frame(adc, window.document.project.rig.radar, window.document.project.dsp)
+    np.testing.assert_allclose(sim_view.radar.profile_db, expected.range_profile_db)
+    assert window.panels["Range profile"].reference is sim_view
