@@ -164,7 +164,7 @@ def object_ground_truth(project: Project, snapshot: SceneSnapshot,
     rot = np.tile(np.eye(3), (k, 1, 1))
     size = np.zeros((k, 3))
     ref = np.zeros((k, 3))
-    ref_vel = np.zeros((k, 3))
+    origin = np.zeros((k, 3))
     radar = snapshot.sensors.get("radar")
     radar_key = None if radar is None else np.asarray(radar.position, np.float64).tobytes()
     nearest = np.full(k, np.nan)
@@ -194,11 +194,11 @@ def object_ground_truth(project: Project, snapshot: SceneSnapshot,
         else:
             aabb[i], center[i], size[i] = kept.aabb, kept.center, kept.size
         rot[i] = t[:3, :3]
+        origin[i] = t[:3, 3]
         vel[i] = state.velocity_mps
         ang[i] = state.angular_velocity_rps
         analytic = isinstance(obj.geometry, (CornerReflector, PointTarget))
         ref[i] = state.origin if analytic else center[i]
-        ref_vel[i] = state.point_velocity(ref[i])
         if kept is not None:
             kept_now[i] = kept
         if radar is None:
@@ -222,6 +222,8 @@ def object_ground_truth(project: Project, snapshot: SceneSnapshot,
                 kept.radar, kept.nearest = radar_key, float(nearest[i])
     if cache is not None:
         cache._objects = kept_now
+    # Each reference point's velocity as a point of its body (RigidState.point_velocity).
+    ref_vel = vel + np.cross(ang, ref - origin)
     rng, v_r, az, el = _relative_to(snapshot, "radar", ref, ref_vel)
     return ObjectTruth(vel, ang, aabb, center, rot, size, ref, rng, v_r, az, el, nearest)
 
