@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 
 from simcore.engine import FrameEngine, FrameResult
 from simcore.render.buffers import RenderBuffers
-from simcore.scene.ground_truth import ObjectTruth, object_ground_truth
+from simcore.scene.ground_truth import ObjectTruth, TruthCache, object_ground_truth
 from simcore.scene.model import Project
 from simcore.scene.people.expand import people_of
 from simcore.scene.people.skeleton import SEGMENTS
@@ -135,6 +135,8 @@ class Simulator:
         self.engine = FrameEngine(project, base_dir=base_dir, seed=seed,
                                   accelerate=reuse_static)
         self.seed = self.engine.seed
+        # Ground truth of still objects kept between frames (not on the plain path).
+        self._truth_cache = TruthCache() if reuse_static else None
 
     @property
     def project(self) -> Project:
@@ -144,6 +146,8 @@ class Simulator:
     def set_project(self, project: Project) -> None:
         """Follow an edited project; keep what its edit does not change."""
         self.engine.set_project(project)
+        if self._truth_cache is not None:
+            self._truth_cache.clear()
 
     @property
     def n_frames(self) -> int:
@@ -191,7 +195,8 @@ class Simulator:
         truth = object_ground_truth(expanded, snap,
                                     [None if m is None else m.points for m in meshes],
                                     local_triangles=[None if m is None else m.triangles
-                                                     for m in meshes])
+                                                     for m in meshes],
+                                    cache=self._truth_cache)
         poses = snap.object_transforms()
         people = people_of(expanded)
         people_gt = None

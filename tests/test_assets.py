@@ -375,3 +375,78 @@ def test_obj_fast_and_line_parsers_agree(tmp_path):
         assert len(oa.triangles) == len(ob.triangles)
         assert set_distance(oa.world_points(), ob.world_points()) < 1e-12
     assert len(a.objects[0].triangles) == 2        # the quad as a fan of two triangles
+
+
+# --------------------------------------------------------------------------- rig, example
+def test_a_new_project_looks_at_the_scene_from_a_sensible_place(tmp_path):
+    """Without --into: a small scene seen from outside, centred in the ToF image; a room
+    seen from inside, 1.5 m above its floor, the rig's forward axis at the room's centre."""
+    g = Gltf()
+    g.node("crate", mesh=g.mesh([(*box((0.4, 0.3, 0.5)), g.material("Cardboard"))]),
+           translation=[5.0, 2.0, -3.0])
+    scene = read_asset(g.write_glb(tmp_path / "crate.glb"))
+    project = build_project(scene, tmp_path / "crate.json").project
+    lo, hi = scene.bounds()
+    eye = np.array(project.rig.pose.position_m)
+    assert not ((lo <= eye) & (eye <= hi)).all()          # outside the crate
+    tof = project.rig.tof.model_copy(update={"width": 32, "height": 24, "supersampling": 1})
+    project = project.model_copy(update={"rig": project.rig.model_copy(update={"tof": tof})})
+    with Simulator(project, base_dir=tmp_path) as sim:
+        ids = sim.frame(0).outputs["tof"].gt_object_id
+    assert (ids[11:13, 15:17] == project.objects[0].id).all()
+
+    g = Gltf()
+    paint = g.material("Painted walls")
+    g.node("floor", mesh=g.mesh([(*box((6.0, 0.1, 5.0)), paint)]), translation=[1, -0.05, 0])
+    g.node("ceiling", mesh=g.mesh([(*box((6.0, 0.1, 5.0)), paint)]), translation=[1, 3.05, 0])
+    room = read_asset(g.write_glb(tmp_path / "room.glb"))
+    pose = build_project(room, tmp_path / "room.json").project.rig.pose
+    lo, hi = room.bounds()
+    eye = np.array(pose.position_m)
+    assert ((lo < eye) & (eye < hi)).all()                 # inside the room
+    assert eye[2] == pytest.approx(lo[2] + 1.5)            # 1.5 m above the floor
+    assert eye[0] == pytest.approx(lo[0] + 0.15 * (hi[0] - lo[0]))
+    forward = pose.rotation_matrix()[:, 0]                  # the rig's body x axis
+    to_centre = (lo + hi) / 2 - eye
+    assert forward @ to_centre == pytest.approx(np.linalg.norm(to_centre))
+
+
+def _tool():
+    """tools/make_gltf_room.py as a module (it is a script, not a package)."""
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[1] / "tools" / "make_gltf_room.py"
+    spec = importlib.util.spec_from_file_location("make_gltf_room", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_bundled_room_is_the_tools_and_imports_as_the_example(tmp_path):
+    """resources/examples/office_gltf_room.glb is what tools/make_gltf_room.py writes, its
+    named materials map as the issue lists them, and importing it again gives the objects
+    and meshes of office_gltf.json."""
+    from simcore.resources import example_path
+
+    example = example_path("office_gltf")
+    glb = example.parent / "office_gltf_room.glb"
+    assert glb.read_bytes() == _tool().room().glb()
+    stored = load_project(example)
+    assert stored.materials_map == {"Painted walls": "white_paint",
+                                    "Metal cabinet": "aluminium", "Glass panel": "glass",
+                                    "Wooden desk": "wood", "Cardboard box": "paper"}
+    scene = read_asset(glb)
+    again = build_project(scene, tmp_path / "again.json",
+                          base=stored.model_copy(update={"objects": [],
+                                                         "materials_map": {}})).project
+    assert [o.name for o in again.objects] == [o.name for o in stored.objects]
+    assert again.materials_map == stored.materials_map
+    for new, old in zip(again.objects, stored.objects, strict=True):
+        assert new.material == old.material
+        worlds = []
+        for obj, folder in ((new, tmp_path), (old, example.parent)):
+            mesh = build_mesh(obj.geometry, base_dir=folder)
+            m = obj.pose.matrix()
+            worlds.append(mesh.points @ m[:3, :3].T + m[:3, 3])
+        assert set_distance(*worlds) < 1e-6, new.name

@@ -39,6 +39,8 @@ def assert_same_frame(a: Frame, b: Frame) -> None:
     for name in a.buffers:
         assert a.buffers[name].time_s == a.time_s
         assert_array_equal(a.buffers[name].range_m, b.buffers[name].range_m)
+    for name in a.objects.__dataclass_fields__:       # ground truth (kept for still objects)
+        assert_array_equal(getattr(a.objects, name), getattr(b.objects, name), err_msg=name)
 
 
 def _move_rx(project: Project) -> Project:

@@ -87,3 +87,41 @@ def test_a_box_geometry_mesh_has_the_box_faces():
     mesh = build_mesh(Box(size_m=(0.5, 0.5, 0.5)))
     assert mesh is not None and np.allclose(np.abs(mesh.points), 0.25)
     assert build_mesh(Sphere(radius_m=0.3)) is not None
+
+
+def test_truth_cache_gives_the_uncached_truth_as_objects_and_the_radar_move():
+    """Frames of a still box, a moving box and a point target, the rig still then moving:
+    the truth computed with the cache of still objects equals the truth computed afresh
+    (bit for bit), and the still box's nearest range follows the moving radar."""
+    from simcore.scene.ground_truth import TruthCache
+
+    objects = [_obj("still", {"kind": "box", "size_m": (0.5, 0.5, 0.5)}, (2.0, 0.0, 0.0)),
+               {**_obj("mover", {"kind": "box", "size_m": (0.2, 0.2, 0.2)}, (3.0, 1.0, 0.0)),
+                "id": 2, "motion": {"velocity_mps": (0.0, -0.5, 0.0)}},
+               {**_obj("point", {"kind": "point_target", "rcs_m2": 1.0}, (4.0, -1.0, 0.5)),
+                "id": 3}]
+    data = {**Project().model_dump(), "objects": objects}
+    data["rig"]["motion"] = {"keyframes": [
+        {"time_s": 0.0}, {"time_s": 1.0}, {"time_s": 2.0, "position_m": (0.3, 0.4, 0.1)}]}
+    project = Project.model_validate(data)
+    meshes = [None if o.geometry.kind == "point_target" else build_mesh(o.geometry)
+              for o in project.objects]
+    points = [None if m is None else m.points for m in meshes]
+    triangles = [None if m is None else m.triangles for m in meshes]
+    cache = TruthCache()
+    kept = []
+    for t in (0.0, 0.5, 1.0, 1.5, 2.0, 2.0, 0.5):
+        snap = take_snapshot(project, t)
+        cached = object_ground_truth(project, snap, points, local_triangles=triangles,
+                                     cache=cache)
+        kept.append(cache._objects.get(0))
+        fresh = object_ground_truth(project, snap, points, local_triangles=triangles)
+        for name in fresh.__dataclass_fields__:
+            assert np.array_equal(getattr(cached, name), getattr(fresh, name),
+                                  equal_nan=True), (t, name)
+        radar = snap.sensors["radar"].position
+        closest = np.clip(radar, [1.75, -0.25, -0.25], [2.25, 0.25, 0.25])
+        assert cached.radar_nearest_range_m[0] == pytest.approx(
+            np.linalg.norm(closest - radar), abs=1e-6)
+    # The still box was kept while it stayed (not re-made every frame).
+    assert kept[0] is kept[1] is kept[2] is kept[6]

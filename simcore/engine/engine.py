@@ -79,9 +79,11 @@ def _single_threaded_blas() -> None:
 def _state_key(snapshot: SceneSnapshot, sensor: str) -> bytes:
     """Poses and velocities a render depends on (not the time)."""
     parts = [snapshot.sensor(sensor).transform, snapshot.sensor(sensor).velocity_mps,
-             snapshot.sensor(sensor).angular_velocity_rps]
-    for state in snapshot.objects:
-        parts += [state.transform, state.velocity_mps, state.angular_velocity_rps]
+             snapshot.sensor(sensor).angular_velocity_rps, snapshot.object_transforms()]
+    if snapshot.objects:     # stacked: no bytes object per object (assets have many)
+        parts += [np.array([s.velocity_mps for s in snapshot.objects], dtype=np.float64),
+                  np.array([s.angular_velocity_rps for s in snapshot.objects],
+                           dtype=np.float64)]
     return b"".join(np.ascontiguousarray(p, dtype=np.float64).tobytes() for p in parts)
 
 

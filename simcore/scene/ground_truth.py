@@ -94,10 +94,42 @@ class ObjectTruth:
         }
 
 
+@dataclass
+class _Kept:
+    """One object's results (:class:`TruthCache`) and the inputs they hold for."""
+
+    points: NDArray[np.floating]
+    triangles: NDArray[np.integer] | None
+    transform: bytes
+    aabb: NDArray[np.float64]
+    center: NDArray[np.float64]
+    size: NDArray[np.float64]
+    radar: bytes | None = None
+    nearest: float = float("nan")
+
+
+@dataclass
+class TruthCache:
+    """Per-object results of :func:`object_ground_truth` kept from one frame to the next.
+
+    An object whose surface (the same arrays) and pose (the same transform, bit for bit)
+    are those of the previous frame keeps its boxes, and with the radar where it was, its
+    nearest range: a still asset of many triangles is then neither transformed nor
+    searched again every frame. Everything kept is keyed by the inputs it was computed
+    from, so the results equal those computed without the cache.
+    """
+
+    _objects: dict[int, _Kept] = field(default_factory=dict)
+
+    def clear(self) -> None:
+        """Forget every object."""
+        self._objects.clear()
+
+
 def object_ground_truth(project: Project, snapshot: SceneSnapshot,
                         local_points: Sequence[NDArray[np.floating] | None], *,
-                        local_triangles: Sequence[NDArray[np.integer] | None] | None = None
-                        ) -> ObjectTruth:
+                        local_triangles: Sequence[NDArray[np.integer] | None] | None = None,
+                        cache: TruthCache | None = None) -> ObjectTruth:
     """Ground truth of every object of a frame.
 
     Parameters
@@ -113,6 +145,10 @@ def object_ground_truth(project: Project, snapshot: SceneSnapshot,
         Vertex indices of each object's triangles into its ``local_points``; with them the
         nearest range is that of the nearest point of the surface, without them that of
         the nearest vertex.
+    cache : TruthCache, optional
+        Results of the previous frames: objects that did not move (nor the radar, for
+        their nearest range) are not computed again. The arrays of ``local_points`` and
+        ``local_triangles`` must not be modified in place between calls.
 
     Returns
     -------
@@ -128,28 +164,66 @@ def object_ground_truth(project: Project, snapshot: SceneSnapshot,
     rot = np.tile(np.eye(3), (k, 1, 1))
     size = np.zeros((k, 3))
     ref = np.zeros((k, 3))
-    ref_vel = np.zeros((k, 3))
+    origin = np.zeros((k, 3))
+    radar = snapshot.sensors.get("radar")
+    radar_key = None if radar is None else np.asarray(radar.position, np.float64).tobytes()
+    nearest = np.full(k, np.nan)
+    kept_before = {} if cache is None else cache._objects
+    kept_now: dict[int, _Kept] = {}
+    todo: list[int] = []
     surfaces: list[tuple[NDArray[np.float64], NDArray[np.integer] | None]] = []
     for i, (obj, state, pts) in enumerate(zip(project.objects, snapshot.objects, local_points,
                                               strict=True)):
         t = state.transform
-        p = np.zeros((1, 3)) if pts is None or len(pts) == 0 else np.asarray(pts, np.float64)
-        lo, hi = p.min(axis=0), p.max(axis=0)
-        world = p @ t[:3, :3].T + t[:3, 3]
-        aabb[i] = world.min(axis=0), world.max(axis=0)
-        center[i] = t[:3, :3] @ (0.5 * (lo + hi)) + t[:3, 3]
+        tri = None if local_triangles is None or pts is None else local_triangles[i]
+        t_key = np.ascontiguousarray(t, dtype=np.float64).tobytes()
+        kept = kept_before.get(i)
+        if kept is not None and not (pts is not None and kept.points is pts
+                                     and kept.triangles is tri and kept.transform == t_key):
+            kept = None
+        world = None
+        if kept is None:
+            p = np.zeros((1, 3)) if pts is None or len(pts) == 0 else np.asarray(pts, np.float64)
+            lo, hi = p.min(axis=0), p.max(axis=0)
+            world = p @ t[:3, :3].T + t[:3, 3]
+            aabb[i] = world.min(axis=0), world.max(axis=0)
+            center[i] = t[:3, :3] @ (0.5 * (lo + hi)) + t[:3, 3]
+            size[i] = hi - lo
+            if pts is not None and cache is not None:
+                kept = _Kept(pts, tri, t_key, aabb[i].copy(), center[i].copy(), size[i].copy())
+        else:
+            aabb[i], center[i], size[i] = kept.aabb, kept.center, kept.size
         rot[i] = t[:3, :3]
-        size[i] = hi - lo
+        origin[i] = t[:3, 3]
         vel[i] = state.velocity_mps
         ang[i] = state.angular_velocity_rps
         analytic = isinstance(obj.geometry, (CornerReflector, PointTarget))
         ref[i] = state.origin if analytic else center[i]
-        ref_vel[i] = state.point_velocity(ref[i])
-        tri = None if local_triangles is None or pts is None else local_triangles[i]
-        surfaces.append((world if pts is not None else ref[i:i + 1], tri))
-    radar = snapshot.sensors.get("radar")
-    nearest = (np.full(k, np.nan) if radar is None
-               else nearest_ranges(radar.position, surfaces))
+        if kept is not None:
+            kept_now[i] = kept
+        if radar is None:
+            continue
+        if kept is not None and kept.radar == radar_key:
+            nearest[i] = kept.nearest
+            continue
+        if pts is None:
+            surfaces.append((ref[i:i + 1], None))
+        else:
+            if world is None:
+                p = np.zeros((1, 3)) if len(pts) == 0 else np.asarray(pts, np.float64)
+                world = p @ t[:3, :3].T + t[:3, 3]
+            surfaces.append((world, tri))
+        todo.append(i)
+    if radar is not None and todo:
+        nearest[todo] = nearest_ranges(radar.position, surfaces)
+        for i in todo:
+            kept = kept_now.get(i)
+            if kept is not None:
+                kept.radar, kept.nearest = radar_key, float(nearest[i])
+    if cache is not None:
+        cache._objects = kept_now
+    # Each reference point's velocity as a point of its body (RigidState.point_velocity).
+    ref_vel = vel + np.cross(ang, ref - origin)
     rng, v_r, az, el = _relative_to(snapshot, "radar", ref, ref_vel)
     return ObjectTruth(vel, ang, aabb, center, rot, size, ref, rng, v_r, az, el, nearest)
 

@@ -225,6 +225,8 @@ def rigid_state(pose: Pose, motion: Motion, t: float) -> RigidState:
     if not motion.keyframes:
         v = np.asarray(motion.velocity_mps, dtype=np.float64)
         w = np.deg2rad(np.asarray(motion.angular_velocity_dps, dtype=np.float64))
+        if not (v.any() or w.any()):     # a still body (most of an imported asset's nodes)
+            return RigidState(make_transform(pose.rotation_matrix(), base_p), v, w)
         rot = _rotvec_matrix(w * t) @ pose.rotation_matrix()
         return RigidState(make_transform(rot, base_p + v * t), v, w)
     path = _keyframe_path(tuple((float(k.time_s), tuple(map(float, k.position_m)),

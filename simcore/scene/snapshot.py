@@ -84,10 +84,18 @@ class SceneSnapshot:
                            f"{', '.join(self.sensors)})") from None
 
     def object_transforms(self) -> NDArray[np.float64]:
-        """World transforms of all objects, shape (objects, 4, 4)."""
-        if not self.objects:
-            return np.zeros((0, 4, 4))
-        return np.stack([s.transform for s in self.objects])
+        """World transforms of all objects, shape (objects, 4, 4) (a new array each call).
+
+        Stacked once per snapshot (a frame asks for them a few dozen times: with an asset
+        of many nodes, stacking them each time cost milliseconds); the states must not be
+        changed after the snapshot is taken.
+        """
+        stacked = self.__dict__.get("_transforms")
+        if stacked is None:
+            stacked = (np.stack([s.transform for s in self.objects]) if self.objects
+                       else np.zeros((0, 4, 4)))
+            self.__dict__["_transforms"] = stacked       # frozen dataclass: a private cache
+        return stacked.copy()
 
 
 def _sensor_state(rig: RigidState, mount: NDArray[np.float64]) -> SensorState:

@@ -238,33 +238,43 @@ class _RadarMaterial:
     transmission: NDArray[np.complex128]   # one-way T (0: opaque), objects + 1 'none'
 
 
-def _radar_bands(project: Project, table: Mapping[str, DualBandMaterial]
-                 ) -> list[BandMaterial]:
-    """Each object's radar band material (the defaults for an unknown material)."""
-    out = []
-    for o in project.objects:
-        m = table.get(o.material)
-        out.append(m.band("radar") if m is not None else BandMaterial())
-    return out
+def _distinct_radar_bands(project: Project, table: Mapping[str, DualBandMaterial]
+                          ) -> tuple[list[BandMaterial], NDArray[np.intp]]:
+    """The radar bands of the objects' distinct materials, and each object's index.
+
+    Per-material work is then done once per material, not once per object (an imported
+    asset has many objects and few materials).
+    """
+    first: dict[str, int] = {}
+    bands: list[BandMaterial] = []
+    index = np.zeros(len(project.objects), dtype=np.intp)
+    for i, o in enumerate(project.objects):
+        k = first.get(o.material)
+        if k is None:
+            k = first[o.material] = len(bands)
+            m = table.get(o.material)
+            bands.append(m.band("radar") if m is not None else BandMaterial())
+        index[i] = k
+    return bands, index
 
 
 def _radar_materials(project: Project, table: Mapping[str, DualBandMaterial],
                      wavelength_m: float) -> _RadarMaterial:
-    bands = _radar_bands(project, table)
+    bands, index = _distinct_radar_bands(project, table)
     frequency_hz = 299_792_458.0 / wavelength_m
     gam = np.array([-b.coefficients(frequency_hz)[0] if b.is_smooth_interface() else 0.0
                     for b in bands], dtype=np.complex128)
     return _RadarMaterial(
         transmission=transmission_coefficients(project, table, wavelength_m),
-        gamma=gam,
-        height_rms=np.array([b.height_rms_m for b in bands], dtype=np.float64),
-        smooth=np.array([b.is_smooth_interface() for b in bands], dtype=bool),
-        reflectance=np.array([b.reflectance for b in bands], dtype=np.float64),
-        specular=np.array([b.specular for b in bands], dtype=np.float64),
-        roughness=np.array([b.roughness for b in bands], dtype=np.float64),
-        metallic=np.array([b.metallic for b in bands], dtype=np.float64),
+        gamma=gam[index],
+        height_rms=np.array([b.height_rms_m for b in bands], dtype=np.float64)[index],
+        smooth=np.array([b.is_smooth_interface() for b in bands], dtype=bool)[index],
+        reflectance=np.array([b.reflectance for b in bands], dtype=np.float64)[index],
+        specular=np.array([b.specular for b in bands], dtype=np.float64)[index],
+        roughness=np.array([b.roughness for b in bands], dtype=np.float64)[index],
+        metallic=np.array([b.metallic for b in bands], dtype=np.float64)[index],
         retro_gain=np.array([b.retro_gain if b.retroreflector else 0.0 for b in bands],
-                            dtype=np.float64),
+                            dtype=np.float64)[index],
     )
 
 
@@ -276,10 +286,13 @@ def transmission_coefficients(project: Project, table: Mapping[str, DualBandMate
     transmissive: the pass does not see them at all.
     """
     freq = 299_792_458.0 / wavelength_m
-    out = np.zeros(len(project.objects) + 1, dtype=np.complex128)
-    for i, band in enumerate(_radar_bands(project, table)):
+    bands, index = _distinct_radar_bands(project, table)
+    per_band = np.zeros(len(bands), dtype=np.complex128)
+    for k, band in enumerate(bands):
         if band.opacity > 0:
-            out[i] = band.coefficients(freq)[1]
+            per_band[k] = band.coefficients(freq)[1]
+    out = np.zeros(len(project.objects) + 1, dtype=np.complex128)
+    out[:-1] = per_band[index]
     out[np.abs(out) <= TRANSMISSIVE_MIN] = 0.0
     return out
 
