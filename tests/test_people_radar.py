@@ -62,8 +62,12 @@ WALKERS = [  # speed m/s, heading deg (0 = away), distance m, lateral offset m
 def test_walker_torso_doppler_and_limb_micro_doppler(tmp_path: Path, speed: float,
                                                      heading: float, distance: float,
                                                      offset: float) -> None:
+    # 30 frames (about 2.5 gait cycles): the torso is not always the strongest return in
+    # its range bins (a thigh passing through them, or the planted foot, can out-reflect
+    # the trunk's ellipsoids for a frame), so the ≥ 80 % needs more than a dozen frames
+    # to mean something.
     kw = dict(speed=speed, heading_deg=heading, distance_m=distance, offset_m=offset,
-              frames=12)
+              frames=30)
     with _run(tmp_path, "person", walker_project(**kw)) as f:
         torso, spread, bin_width = _doppler(f)
         truth = f["objects/radar_radial_velocity"][:, 0]
