@@ -182,3 +182,18 @@ def test_sitting_thighs_horizontal() -> None:
     assert hip[2] == pytest.approx(knee[2])
     assert knee[0] - hip[0] == pytest.approx(0.245 * 1.8)
     assert _joint_world(body, 0, "foot_l")[2] == pytest.approx(0.039 * 1.8)
+
+
+def test_cli_refuses_a_running_speed_in_one_line(tmp_path, capsys) -> None:
+    import json
+
+    from people_scenes import walker_project
+
+    from simcore.cli import main
+
+    path = tmp_path / "fast.json"
+    path.write_text(json.dumps(walker_project(speed=3.5, heading_deg=0.0, distance_m=3.0)))
+    assert main(["validate", str(path)]) != 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("tofradar: error:")
+    assert "speed_mps 3.5 m/s is outside the walking model's range" in err[0]
