@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import zlib
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pyvista as pv
@@ -115,3 +116,28 @@ def base_pose_for_world(pose: Pose, motion: Motion, t: float, world: NDArray[np.
     euler = Rotation.from_matrix(r0).as_euler("xyz", degrees=True)
     return Pose(position_m=tuple(float(round(v, 6)) for v in p0),
                 rotation_deg=tuple(float(round(v, 4)) + 0.0 for v in euler))
+
+
+class PersonPoser:
+    """A person's display mesh (:func:`display_mesh`) posed as the simulation poses it.
+
+    Same body, seed and path as :mod:`simcore.scene.people.expand`.
+    The display mesh is the segments' ellipsoids one after the other; each keeps its
+    points in its segment's frame here, and :meth:`points` puts them where the segments
+    are at ``t`` in the world (walk, gesture, vital signs, sway, BVH clip).
+    """
+
+    def __init__(self, obj: Any, *, seed: int, base_dir: Path):
+        from simcore.render.meshes import _ellipsoid
+        from simcore.scene.people.body import PersonBody
+
+        self.body = PersonBody(obj.geometry, obj.pose, obj.motion, object_id=obj.id,
+                               seed=seed, base_dir=base_dir)
+        parts = [_ellipsoid(r).points for r in self.body.skeleton.radii]
+        self.local = np.concatenate(parts)
+        self.owner = np.repeat(np.arange(len(parts)), [len(p) for p in parts])
+
+    def points(self, t: float) -> NDArray[np.float64]:
+        """World position of every display-mesh point at ``t`` (s), shape (P, 3)."""
+        tr = self.body.segment_transforms(t)[self.owner]
+        return np.einsum("pij,pj->pi", tr[:, :3, :3], self.local) + tr[:, :3, 3]

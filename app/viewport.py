@@ -28,6 +28,7 @@ from app.scene_geometry import (
     RADAR_COLOUR,
     SELECTION_COLOUR,
     TOF_COLOUR,
+    PersonPoser,
     base_pose_for_world,
     display_mesh,
     frustum,
@@ -175,6 +176,8 @@ class SceneViewport(QWidget):
         self._object_poses: dict[int, NDArray[np.float64]] = {}
         self._rig_pose: NDArray[np.float64] | None = None
         self._actors: dict[int, tuple[str, Any]] = {}  # id -> (geometry key, actor)
+        #: person id -> (object key, poser or None when its body cannot be evaluated).
+        self._posers: dict[int, tuple[str, PersonPoser | None]] = {}
         #: id -> (actor, (colour, opacity, selected)) as last set on the actor's property.
         self._styles: dict[int, tuple[Any, tuple[Any, ...]]] = {}
         self._rig_actors: dict[str, Any] = {}
@@ -354,6 +357,7 @@ class SceneViewport(QWidget):
             self.plotter.remove_actor(actor, render=False)
         self._actors.clear()
         self._styles.clear()
+        self._posers.clear()
         self._sensor_key = ""
         self._drawn_state = None
         self._camera_set = False
@@ -408,6 +412,8 @@ class SceneViewport(QWidget):
                 self._actors[obj.id] = (key, actor)
             actor = self._actors[obj.id][1]
             actor.user_matrix = state.transform
+            if obj.geometry.kind == "person":
+                self._pose_person(obj, actor, project.seed, self._time_s)
             selected = obj.id == self.document.selection
             colour = RADAR_COLOUR if obj.geometry.kind == "point_target" else material_colour(
                 obj.material)
@@ -432,6 +438,7 @@ class SceneViewport(QWidget):
             if oid not in seen:
                 self.plotter.remove_actor(self._actors.pop(oid)[1], render=False)
                 self._styles.pop(oid, None)
+                self._posers.pop(oid, None)
         self._sync_rig(project, snap)
         if not self._camera_set:
             self.reset_camera()
@@ -442,6 +449,7 @@ class SceneViewport(QWidget):
                   for o, s in zip(project.objects, snap.objects, strict=True)),
             snap.rig.transform.tobytes(), snap.sensors["tof"].transform.tobytes(),
             snap.sensors["radar"].transform.tobytes(), self._sensor_key, self.document.selection,
+            self._time_s if self._posers else None,  # people move their limbs in time
             tuple((m.name, m.band(self._band).opacity) for m in project.materials), self._band)
         self._sync_grid(project, snap)
         self._update_cutaway(render=False)
@@ -485,12 +493,41 @@ class SceneViewport(QWidget):
             self._time_s = float(view.time_s)
             self._snap_stale = True
             for i in moved:
-                self._actors[ids[i]][1].user_matrix = poses[i]
+                if ids[i] not in self._posers:  # a person's points are posed in the world
+                    self._actors[ids[i]][1].user_matrix = poses[i]
                 self._object_poses[ids[i]] = poses[i]
-            if moved:
+            posed = [self._pose_person(obj, self._actors[obj.id][1], project.seed,
+                                       self._time_s)
+                     for obj in project.objects if obj.id in self._posers]
+            if moved or any(posed):
                 self._drawn_state = None  # the next edit re-checks everything
                 self.request_render()
         self.set_detections(view)
+
+    def _pose_person(self, obj: Any, actor: Any, seed: int, t: float) -> bool:
+        """Put a person's display mesh where its segments are at ``t`` (s).
+
+        The mesh's points become world points (the actor's matrix the identity); False
+        (drawn at rest on its pose) if its body cannot be evaluated.
+        """
+        key = f"{obj.id}|{seed}|{obj.model_dump_json()}"
+        entry = self._posers.get(obj.id)
+        if entry is None or entry[0] != key:
+            try:
+                poser: PersonPoser | None = PersonPoser(obj, seed=seed,
+                                                        base_dir=self.document.base_dir)
+            except (ValueError, OSError):
+                poser = None
+            entry = self._posers[obj.id] = (key, poser)
+        poser = entry[1]
+        mesh = actor.mapper.dataset
+        if poser is None or mesh.n_points != len(poser.local):
+            return False
+        if mesh.point_data.active_normals is not None:  # the rest normals would be stale
+            mesh.GetPointData().SetNormals(None)
+        mesh.points = poser.points(t)
+        actor.user_matrix = np.eye(4)
+        return True
 
     def _sync_rig(self, project: Project, snap: SceneSnapshot) -> None:
         rig = project.rig

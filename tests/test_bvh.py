@@ -166,6 +166,7 @@ def test_hostile_bvh_one_clear_error(name: str, tmp_path: Path, capsys) -> None:
     err = capsys.readouterr().err
     assert rc != 0
     assert err.startswith("tofradar: error:") and "Traceback" not in err
+    assert len(err.strip().splitlines()) == 1  # one line
     assert "bvh" in err.lower()
 
 

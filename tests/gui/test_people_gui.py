@@ -61,3 +61,34 @@ def test_inspector_edits_the_motion_block(make_window):
     assert doc.project.objects[0].geometry.motion.posture == "standing"
     doc.undo_stack.undo()
     assert doc.project.objects[0].geometry.motion.posture == "sitting"
+
+
+def test_view_draws_the_segments_where_the_simulation_puts_them(make_window):
+    """The 3D view animates the body: at any time each segment's ellipsoid is centred
+    where the simulation's own snapshot of the expanded scene puts that segment."""
+    from simcore.resources import example_path
+    from simcore.scene.people.expand import expand_people, people_of
+    from simcore.scene.people.skeleton import SEGMENTS
+    from simcore.scene.snapshot import take_snapshot
+
+    window = make_window(example_path("gesture"))
+    doc, view = window.document, window.viewport
+    person = next(o for o in doc.project.objects if o.geometry.kind == "person")
+    expanded = expand_people(doc.project, base_dir=doc.base_dir)
+    first = people_of(expanded).people[0].first
+    centres = []
+    for t in (0.7, 1.3):
+        view.set_time(t)
+        for _ in range(3):
+            QApplication.processEvents()
+        actor = view._actors[person.id][1]
+        assert np.allclose(np.asarray(actor.user_matrix), np.eye(4))
+        pts = np.asarray(actor.mapper.dataset.points).reshape(len(SEGMENTS), -1, 3)
+        drawn = pts.mean(axis=1)  # an ellipsoid's points are symmetric about its centre
+        snap = take_snapshot(expanded, t)
+        truth = np.array([snap.objects[first + i].transform[:3, 3]
+                          for i in range(len(SEGMENTS))])
+        np.testing.assert_allclose(drawn, truth, atol=1e-6)
+        centres.append(drawn)
+    # The gesturing hand moved between the two times (the view is not a rest pose).
+    assert np.linalg.norm(centres[1] - centres[0], axis=1).max() > 0.05

@@ -230,9 +230,10 @@ class PersonBody:
         arm_base = {"l": (0.0, 0.0, 0.0, 5.0, 0.0), "r": (0.0, 0.0, 0.0, 5.0, 0.0)}
         if self.rv > 0:
             phase = self.gait_phase(t) % 1.0
-            surge, bounce, turn = gait.pelvis_ripple(phase, self.rv, skel.leg_length_m)
+            surge, lateral, bounce, turn = gait.pelvis_ripple(phase, self.rv,
+                                                              skel.leg_length_m)
             ankle_h = skel.height_m * 0.039
-            root = np.array([surge, 0.0, gait.hip_height(self.walk_speed, self.rv,
+            root = np.array([surge, lateral, gait.hip_height(self.walk_speed, self.rv,
                                                         skel.leg_length_m, ankle_h) + bounce])
             rot[0] = rot_z(turn)
             rot[1] = rot_z(-0.5 * turn)

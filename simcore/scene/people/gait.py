@@ -11,14 +11,15 @@ shank length, m) and durations in seconds:
   double support ``Dds = 0.252 Dc − 0.143``,
 - valid for ``RV ≤ 2.3``.
 
-The pelvis carries the body at the mean speed with the model's vertical bounce and
-forward surge (two per cycle), rotation about the vertical and arm swing growing with
-``RV``. The legs are placed by their feet rather than by Boulic's tabulated joint-angle
-curves (which the paper gives as figures, not tables): each foot is planted during
-support, so it does not slide, and in swing it travels one cycle length on a raised-cosine
-profile (peak speed ``π / (2 (1 − Ds/Dc))`` times ``v``, about 4.3 v at 1.15 m/s), lifted
-on a half sine; hip and knee angles follow from the two-link leg reaching the ankle (knee
-forward), so they change with speed as the cycle length and timing do.
+The pelvis carries the body at the mean speed with the model's forward surge and
+vertical bounce (two per cycle) and lateral sway (one per cycle) (:func:`pelvis_ripple`),
+rotation about the vertical and arm swing growing with ``RV``. The legs are placed by
+their feet rather than by Boulic's joint-angle curves (which the paper gives as
+figures, not tables): each foot is planted during support, so it does not slide, and in
+swing it travels one cycle length on a raised-cosine profile (peak speed
+``π / (2 (1 − Ds/Dc))`` times ``v``, about 4.3 v at 1.15 m/s), lifted on a half sine;
+hip and knee angles follow from the two-link leg reaching the ankle (knee forward), so
+they change with speed as the cycle length and timing do.
 """
 
 from __future__ import annotations
@@ -76,29 +77,64 @@ def foot_offset(phase: float, speed_mps: float, relative_speed: float, leg_m: fl
     return world - body, lift
 
 
-def pelvis_ripple(phase: float, relative_speed: float, leg_m: float
-                  ) -> tuple[float, float, float]:
-    """Pelvis (forward surge m, vertical bounce m, rotation about vertical rad) at ``phase``.
+def translation_amplitudes(relative_speed: float) -> tuple[float, float, float]:
+    """Boulic's normalised pelvis translation amplitudes (forward, lateral, vertical).
 
-    Two surges and bounces per cycle, highest at mid-support of either foot; amplitudes
-    grow with ``RV`` (``0.008 RV H_t`` surge, ``0.015 RV H_t`` bounce, after Boulic's
-    normalised translations) and the pelvis turns ``±(2° + 2° RV)`` with the swinging leg.
+    Multiples of the leg length ``H_t``; as tabulated from Boulic et al. (1990) by
+    P. van Dorp and F. C. A. Groen, "Human walking estimation with radar", IEE Proc.
+    Radar Sonar Navig. 150(5), 356–365 (2003), Table 1:
+
+    - forward ``A_f = 0.084 RV (1 − RV)`` for ``RV < 0.5``, ``0.021`` above,
+    - lateral ``A_l = 0.128 RV (1 − RV)`` for ``RV < 0.5``, ``0.032`` above,
+    - vertical ``A_v = 0.015 RV``.
+
+    (The source writes the two constants above ``RV = 0.5`` with a minus sign, which
+    makes them jump at 0.5 against the quadratics; here they take the quadratics' sign,
+    continuous at 0.5, which is also the sign that slows the body at mid-support and sways
+    it over the supporting foot, as an inverted pendulum does.)
+
+    Examples
+    --------
+    >>> [round(a, 4) for a in translation_amplitudes(1.3)]
+    [0.021, 0.032, 0.0195]
     """
-    beta = support_fraction(relative_speed)
-    mid = beta / 2.0
-    surge = 0.008 * relative_speed * leg_m * np.sin(4 * np.pi * (phase - mid))
-    bounce = 0.015 * relative_speed * leg_m * np.cos(4 * np.pi * (phase - mid))
+    rv = float(relative_speed)
+    low = rv * (1.0 - rv) if rv < 0.5 else 0.25
+    return 0.084 * low, 0.128 * low, 0.015 * rv
+
+
+def pelvis_ripple(phase: float, relative_speed: float, leg_m: float
+                  ) -> tuple[float, float, float, float]:
+    """Pelvis (forward m, lateral m, vertical m, rotation about vertical rad) at ``phase``.
+
+    Boulic's translations about the mean motion, ``phase`` = ``t`` in cycles from the left
+    heel strike and ``Ds`` the support's share of the cycle
+    (:func:`translation_amplitudes` for the amplitudes):
+
+    - forward surge ``A_f H_t sin 2π(2t + 2φ)`` with ``φ = 0.625 − Ds`` (two per cycle;
+      slowest near each mid-support),
+    - lateral sway ``A_l H_t sin 2π(t − 0.1)`` towards the left (+y) while the left foot
+      supports (one per cycle),
+    - vertical ``A_v H_t (sin 2π(2t − 0.35) − 1)``: highest, at the mean hip height of
+      :func:`hip_height`, near each mid-support (two per cycle);
+
+    the pelvis turns ``±(2° + 2° RV)`` with the swinging leg.
+    """
+    a_f, a_l, a_v = (a * leg_m for a in translation_amplitudes(relative_speed))
+    phi = 0.625 - support_fraction(relative_speed)
+    surge = a_f * np.sin(2 * np.pi * (2 * phase + 2 * phi))
+    lateral = a_l * np.sin(2 * np.pi * (phase - 0.1))
+    bounce = a_v * (np.sin(2 * np.pi * (2 * phase - 0.35)) - 1.0)
     turn = -np.radians(2.0 + 2.0 * relative_speed) * np.cos(2 * np.pi * phase)
-    return float(surge), float(bounce), float(turn)
+    return float(surge), float(lateral), float(bounce), float(turn)
 
 
 def hip_height(speed_mps: float, relative_speed: float, leg_m: float, ankle_m: float) -> float:
-    """Mean hip height (m) that lets the leg reach the foot at heel strike with a soft knee."""
+    """Hip height (m) at the top of the bounce (the leg reaches the foot with a soft knee)."""
     dc = cycle_duration_s(relative_speed)
     reach = speed_mps * support_fraction(relative_speed) * dc / 2.0
-    bounce = 0.015 * relative_speed * leg_m
     return ankle_m + float(np.sqrt(max((0.97 * leg_m) ** 2 - reach**2, 0.25 * leg_m**2))) \
-        + bounce
+        + 0.015 * relative_speed * leg_m
 
 
 def arm_swing_rad(phase: float, relative_speed: float) -> float:
@@ -125,4 +161,4 @@ def two_link(hip: NDArray[np.float64], ankle: NDArray[np.float64], thigh: float,
 
 
 __all__ = ["arm_swing_rad", "cycle_duration_s", "foot_offset", "hip_height", "pelvis_ripple",
-           "raised_cosine", "support_fraction", "two_link"]
+           "raised_cosine", "support_fraction", "translation_amplitudes", "two_link"]
