@@ -28,6 +28,9 @@ each other edge-on), so a single wall shows no MPI.
 from __future__ import annotations
 
 import math
+import threading
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -56,12 +59,17 @@ class Senders:
         ``ρ_Q Ω_Q / π``: diffuse albedo × lit solid angle (sr) / π.
     range_m : ndarray, shape (N,)
         Distance from the camera (m).
+    slot_index : ndarray of int, shape (N,), optional
+        Each sender's position on the sender grid (flat index), and ``n_slots`` that grid's
+        size: lets :class:`OneBounceCache` tell which grid positions changed between frames.
     """
 
     points_m: F32
     normals: F32
     weight: F32
     range_m: F32
+    slot_index: NDArray[np.int64] | None = None
+    n_slots: int = 0
 
 
 def senders_from_render(points_m: F32, normals: F32, albedo: F32, solid_angle_sr: F32,
@@ -87,7 +95,8 @@ def senders_from_render(points_m: F32, normals: F32, albedo: F32, solid_angle_sr
     weight = (albedo[sl][keep] * solid_angle_sr[sl][keep] * (stride * stride / np.pi))
     return Senders(points_m=pts, normals=normals[sl][keep].astype(np.float32),
                    weight=weight.astype(np.float32),
-                   range_m=np.linalg.norm(pts, axis=1).astype(np.float32))
+                   range_m=np.linalg.norm(pts, axis=1).astype(np.float32),
+                   slot_index=np.flatnonzero(keep), n_slots=keep.size)
 
 
 def one_bounce(points_m: F32, normals: F32, senders: Senders, frequencies_hz: list[float]
@@ -248,7 +257,8 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
 
 
 def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], senders: Senders,
-                     frequencies_hz: list[float], *, step: int = RECEIVER_STEP
+                     frequencies_hz: list[float], *, step: int = RECEIVER_STEP,
+                     cache: OneBounceCache | None = None
                      ) -> tuple[F32, list[tuple[F32, F32]]]:
     """:func:`one_bounce` for every pixel of an image, exact on a coarse grid of receivers.
 
@@ -269,6 +279,9 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
     frequencies_hz : list of float
     step : int, keyword-only
         Node spacing (pixels).
+    cache : OneBounceCache, keyword-only, optional
+        Reuse of the previous call's exact sums where only part of the render changed
+        (:class:`OneBounceCache`); the result is the same sum.
 
     Returns
     -------
@@ -291,18 +304,20 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
     rows, cols = _node_axis(h, step), _node_axis(w, step)
     grid = np.ix_(rows, cols)
     node_seen = seen[grid]
-    node_pts, node_nrm = points_m[grid][node_seen], normals[grid][node_seen]
     k = [2.0 * np.pi * f / SPEED_OF_LIGHT for f in frequencies_hz]
-    values = np.zeros((len(rows), len(cols), 1 + 2 * nf), dtype=np.float32)
-    values[node_seen] = _reduced(node_pts, node_nrm, senders, k)
-    cy, fy = _cell_of(h, rows)
-    cx, fx = _cell_of(w, cols)
-    out, missing = _interpolate_nodes(
-        np.ascontiguousarray(points_m, dtype=np.float32),
-        np.ascontiguousarray(normals, dtype=np.float32), np.ascontiguousarray(seen),
-        rows, cols, values, np.ascontiguousarray(node_seen), cy, fy, cx, fx)
-    if missing.any():
-        out[missing] = _reduced(points_m[missing], normals[missing], senders, k)
+    flat = np.arange(h * w).reshape(h, w)
+    with (cache or OneBounceCache()).frame(senders, (h, w), k) as exact:
+        values = np.zeros((len(rows), len(cols), 1 + 2 * nf), dtype=np.float32)
+        values[node_seen] = exact(flat[grid][node_seen], points_m[grid][node_seen],
+                                  normals[grid][node_seen])
+        cy, fy = _cell_of(h, rows)
+        cx, fx = _cell_of(w, cols)
+        out, missing = _interpolate_nodes(
+            np.ascontiguousarray(points_m, dtype=np.float32),
+            np.ascontiguousarray(normals, dtype=np.float32), np.ascontiguousarray(seen),
+            rows, cols, values, np.ascontiguousarray(node_seen), cy, fy, cx, fx)
+        if missing.any():
+            out[missing] = exact(flat[missing], points_m[missing], normals[missing])
     r_p = np.linalg.norm(points_m, axis=-1)
     magnitude = np.where(seen, out[..., 0], np.float32(0.0)).astype(np.float32)
     phasors = []
@@ -312,6 +327,121 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
         phasors.append((np.where(seen, ph.real, 0.0).astype(np.float32),
                         np.where(seen, ph.imag, 0.0).astype(np.float32)))
     return magnitude, phasors
+
+
+@dataclass
+class _Sums:
+    """:class:`OneBounceCache`'s record of one call: its senders and exact receiver sums."""
+
+    key: tuple[object, ...]
+    slot_points: F32            # (S, 3), zeros where a grid position sends nothing
+    slot_normals: F32           # (S, 3)
+    slot_weight: F32            # (S,), 0 where a grid position sends nothing
+    points: F32                 # (H·W, 3) receivers summed exactly
+    normals: F32                # (H·W, 3)
+    values: NDArray[np.float64]  # (H·W, 1 + 2F) their reduced sums (:func:`_reduced`)
+    known: NDArray[np.bool_]    # (H·W,) receivers summed in that call
+
+
+def _slots(senders: Senders) -> tuple[F32, F32, F32]:
+    """The senders scattered onto their grid: points, normals, weights (0: no sender)."""
+    assert senders.slot_index is not None
+    n = senders.n_slots
+    pts, nrm = np.zeros((n, 3), dtype=np.float32), np.zeros((n, 3), dtype=np.float32)
+    wgt = np.zeros(n, dtype=np.float32)
+    pts[senders.slot_index] = senders.points_m
+    nrm[senders.slot_index] = senders.normals
+    wgt[senders.slot_index] = senders.weight
+    return pts, nrm, wgt
+
+
+def _subset(points: F32, normals: F32, weight: F32) -> Senders:
+    """The senders among grid positions (weight > 0), as :class:`Senders`."""
+    keep = weight > 0
+    pts = np.ascontiguousarray(points[keep])
+    return Senders(points_m=pts, normals=np.ascontiguousarray(normals[keep]),
+                   weight=np.ascontiguousarray(weight[keep]),
+                   range_m=np.linalg.norm(pts, axis=1).astype(np.float32))
+
+
+class OneBounceCache:
+    """The exact receiver sums of the last frame, updated only where the render changed.
+
+    A still camera watching a scene in which one object moves (a person walking through
+    the office) changes only a few sender positions and receivers from frame to frame. The
+    sum over senders is linear, so a receiver whose point and normal are unchanged gets
+    its previous sum plus the terms of the changed senders' new state minus those of their
+    old state; only new or moved receivers are summed over all senders. Senders and
+    receivers are compared bit for bit, so the result is the full sum up to the order of
+    the float additions (relative 1e-6). When more than half the senders changed (the rig
+    moved), every receiver is summed afresh. Thread-safe: one frame at a time.
+    """
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._last: _Sums | None = None
+
+    def clear(self) -> None:
+        """Forget the last frame (the next one is summed in full)."""
+        with self._lock:
+            self._last = None
+
+    @contextmanager
+    def frame(self, senders: Senders, shape: tuple[int, int], k: list[float]
+              ) -> Iterator[Callable[[NDArray[np.int64], F32, F32], F32]]:
+        """Sums of one frame: yields ``exact(flat_index, points, normals) -> (M, 1 + 2F)``.
+
+        ``flat_index`` is each receiver's pixel (``y·W + x`` on ``shape``); every receiver
+        of this frame must be asked for inside the ``with`` block (the others are dropped).
+        """
+        h, w = shape
+        nv = 1 + 2 * len(k)
+        if senders.slot_index is None:           # no grid: nothing to compare with
+            yield lambda _idx, pts, nrm: _reduced(pts, nrm, senders, k)
+            return
+        with self._lock:
+            key = (h, w, senders.n_slots, tuple(k))
+            slot_pts, slot_nrm, slot_wgt = _slots(senders)
+            now = _Sums(key, slot_pts, slot_nrm, slot_wgt,
+                        np.zeros((h * w, 3), dtype=np.float32),
+                        np.zeros((h * w, 3), dtype=np.float32),
+                        np.zeros((h * w, nv)), np.zeros(h * w, dtype=bool))
+            last = self._last if self._last is not None and self._last.key == key else None
+            gained = lost = None
+            if last is not None:
+                changed = ~((slot_pts == last.slot_points).all(axis=1)
+                            & (slot_nrm == last.slot_normals).all(axis=1)
+                            & (slot_wgt == last.slot_weight))
+                gained = _subset(slot_pts[changed], slot_nrm[changed], slot_wgt[changed])
+                lost = _subset(last.slot_points[changed], last.slot_normals[changed],
+                               last.slot_weight[changed])
+                if len(gained.weight) + len(lost.weight) > len(senders.weight) // 2:
+                    last = None
+
+            def exact(index: NDArray[np.int64], pts: F32, nrm: F32) -> F32:
+                pts = np.ascontiguousarray(pts, dtype=np.float32)
+                nrm = np.ascontiguousarray(nrm, dtype=np.float32)
+                out = np.zeros((len(index), nv))
+                same = np.zeros(len(index), dtype=bool)
+                if last is not None and gained is not None and lost is not None:
+                    same = (last.known[index] & (last.points[index] == pts).all(axis=1)
+                            & (last.normals[index] == nrm).all(axis=1))
+                    if same.any():
+                        out[same] = last.values[index[same]]
+                        if len(gained.weight):
+                            out[same] += _reduced(pts[same], nrm[same], gained, k)
+                        if len(lost.weight):
+                            out[same] -= _reduced(pts[same], nrm[same], lost, k)
+                fresh = ~same
+                if fresh.any():
+                    out[fresh] = _reduced(pts[fresh], nrm[fresh], senders, k)
+                now.points[index], now.normals[index] = pts, nrm
+                now.values[index], now.known[index] = out, True
+                return out.astype(np.float32)
+
+            self._last = None                      # an exception leaves no half record
+            yield exact
+            self._last = now
 
 
 @kernel
