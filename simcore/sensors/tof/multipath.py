@@ -60,8 +60,12 @@ class Senders:
     range_m : ndarray, shape (N,)
         Distance from the camera (m).
     slot_index : ndarray of int, shape (N,), optional
-        Each sender's position on the sender grid (flat index), and ``n_slots`` that grid's
-        size: lets :class:`OneBounceCache` tell which grid positions changed between frames.
+        Each sender's position on the sender grid of shape ``grid_shape`` (flat index).
+    tile_start : ndarray of int, shape (T + 1,), optional
+        The senders are ordered by tile (``TILE × TILE`` blocks of the sender grid); tile
+        ``t`` holds senders ``tile_start[t]:tile_start[t + 1]``. The one-bounce sums are
+        added per tile, so that :class:`OneBounceCache` can redo only the changed tiles and
+        still give the very same numbers. ``None``: one tile.
     """
 
     points_m: F32
@@ -69,7 +73,14 @@ class Senders:
     weight: F32
     range_m: F32
     slot_index: NDArray[np.int64] | None = None
-    n_slots: int = 0
+    grid_shape: tuple[int, int] = (0, 0)
+    tile_start: NDArray[np.int64] | None = None
+
+    def tiles(self) -> NDArray[np.int64]:
+        """``tile_start``, or one tile of all senders."""
+        if self.tile_start is None:
+            return np.array([0, len(self.weight)], dtype=np.int64)
+        return self.tile_start
 
 
 def senders_from_render(points_m: F32, normals: F32, albedo: F32, solid_angle_sr: F32,
@@ -91,12 +102,30 @@ def senders_from_render(points_m: F32, normals: F32, albedo: F32, solid_angle_sr
     """
     sl = (slice(stride // 2, None, stride), slice(stride // 2, None, stride))
     keep = valid[sl] & (albedo[sl] > 0)
-    pts = points_m[sl][keep].astype(np.float32)
-    weight = (albedo[sl][keep] * solid_angle_sr[sl][keep] * (stride * stride / np.pi))
-    return Senders(points_m=pts, normals=normals[sl][keep].astype(np.float32),
+    slot = np.flatnonzero(keep)
+    tile = _tile_of(slot, keep.shape)
+    order = np.argsort(tile, kind="stable")
+    slot, tile = slot[order], tile[order]
+    pts = points_m[sl].reshape(-1, 3)[slot].astype(np.float32)
+    weight = (albedo[sl].ravel()[slot] * solid_angle_sr[sl].ravel()[slot]
+              * (stride * stride / np.pi))
+    n_tiles = _tile_of(np.array([keep.size - 1]), keep.shape)[0] + 1
+    return Senders(points_m=pts, normals=normals[sl].reshape(-1, 3)[slot].astype(np.float32),
                    weight=weight.astype(np.float32),
                    range_m=np.linalg.norm(pts, axis=1).astype(np.float32),
-                   slot_index=np.flatnonzero(keep), n_slots=keep.size)
+                   slot_index=slot, grid_shape=keep.shape,
+                   tile_start=np.searchsorted(tile, np.arange(n_tiles + 1)).astype(np.int64))
+
+
+#: Side of the square tiles of the sender grid whose sums are kept apart (senders).
+TILE = 4
+
+
+def _tile_of(slot: NDArray[np.int64], grid_shape: tuple[int, int]) -> NDArray[np.int64]:
+    """Tile of each flat sender-grid position (row-major ``TILE × TILE`` blocks)."""
+    cols = grid_shape[1]
+    tiles_x = -(-cols // TILE)
+    return ((slot // cols) // TILE * tiles_x + (slot % cols) // TILE).astype(np.int64)
 
 
 def one_bounce(points_m: F32, normals: F32, senders: Senders, frequencies_hz: list[float]
@@ -331,22 +360,22 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
 
 @dataclass
 class _Sums:
-    """:class:`OneBounceCache`'s record of one call: its senders and exact receiver sums."""
+    """:class:`OneBounceCache`'s record of one frame: its senders and receivers' tile sums."""
 
     key: tuple[object, ...]
-    slot_points: F32            # (S, 3), zeros where a grid position sends nothing
-    slot_normals: F32           # (S, 3)
-    slot_weight: F32            # (S,), 0 where a grid position sends nothing
-    points: F32                 # (H·W, 3) receivers summed exactly
-    normals: F32                # (H·W, 3)
-    values: NDArray[np.float64]  # (H·W, 1 + 2F) their reduced sums (:func:`_reduced`)
-    known: NDArray[np.bool_]    # (H·W,) receivers summed in that call
+    slot_points: F32                 # (S, 3) on the sender grid, zeros where none
+    slot_normals: F32                # (S, 3)
+    slot_weight: F32                 # (S,), 0 where a grid position sends nothing
+    index: NDArray[np.int64]         # (R,) receivers' pixels (flat), sorted
+    points: F32                      # (R, 3)
+    normals: F32                     # (R, 3)
+    tiles: NDArray[np.float64]       # (R, T, 1 + 2F) their sums per sender tile
 
 
 def _slots(senders: Senders) -> tuple[F32, F32, F32]:
     """The senders scattered onto their grid: points, normals, weights (0: no sender)."""
     assert senders.slot_index is not None
-    n = senders.n_slots
+    n = senders.grid_shape[0] * senders.grid_shape[1]
     pts, nrm = np.zeros((n, 3), dtype=np.float32), np.zeros((n, 3), dtype=np.float32)
     wgt = np.zeros(n, dtype=np.float32)
     pts[senders.slot_index] = senders.points_m
@@ -355,26 +384,17 @@ def _slots(senders: Senders) -> tuple[F32, F32, F32]:
     return pts, nrm, wgt
 
 
-def _subset(points: F32, normals: F32, weight: F32) -> Senders:
-    """The senders among grid positions (weight > 0), as :class:`Senders`."""
-    keep = weight > 0
-    pts = np.ascontiguousarray(points[keep])
-    return Senders(points_m=pts, normals=np.ascontiguousarray(normals[keep]),
-                   weight=np.ascontiguousarray(weight[keep]),
-                   range_m=np.linalg.norm(pts, axis=1).astype(np.float32))
-
-
 class OneBounceCache:
-    """The exact receiver sums of the last frame, updated only where the render changed.
+    """The last frame's one-bounce sums per receiver and sender tile, reused where unchanged.
 
     A still camera watching a scene in which one object moves (a person walking through
-    the office) changes only a few sender positions and receivers from frame to frame. The
-    sum over senders is linear, so a receiver whose point and normal are unchanged gets
-    its previous sum plus the terms of the changed senders' new state minus those of their
-    old state; only new or moved receivers are summed over all senders. Senders and
-    receivers are compared bit for bit, so the result is the full sum up to the order of
-    the float additions (relative 1e-6). When more than half the senders changed (the rig
-    moved), every receiver is summed afresh. Thread-safe: one frame at a time.
+    the office) changes only a few senders and receivers from frame to frame. The sums
+    are kept per receiver and per tile of the sender grid (:data:`TILE`): a receiver whose
+    point and normal are bit-identical to the last frame's takes the last frame's tile sums
+    and redoes only the tiles in which a sender changed; new or moved receivers are summed
+    over every tile. The tile sums are then added in tile order, exactly as without the
+    cache, so the result does not depend on which frames came before (bit-identical).
+    Thread-safe: one frame at a time.
     """
 
     def __init__(self) -> None:
@@ -394,60 +414,70 @@ class OneBounceCache:
         ``flat_index`` is each receiver's pixel (``y·W + x`` on ``shape``); every receiver
         of this frame must be asked for inside the ``with`` block (the others are dropped).
         """
-        h, w = shape
-        nv = 1 + 2 * len(k)
         if senders.slot_index is None:           # no grid: nothing to compare with
             yield lambda _idx, pts, nrm: _reduced(pts, nrm, senders, k)
             return
+        kk = np.asarray(k, dtype=np.float32)
+        bounds = senders.tiles()
+        every = np.arange(len(bounds) - 1, dtype=np.int64)
         with self._lock:
-            key = (h, w, senders.n_slots, tuple(k))
+            key = (shape, senders.grid_shape, tuple(k))
             slot_pts, slot_nrm, slot_wgt = _slots(senders)
-            now = _Sums(key, slot_pts, slot_nrm, slot_wgt,
-                        np.zeros((h * w, 3), dtype=np.float32),
-                        np.zeros((h * w, 3), dtype=np.float32),
-                        np.zeros((h * w, nv)), np.zeros(h * w, dtype=bool))
             last = self._last if self._last is not None and self._last.key == key else None
-            gained = lost = None
+            redo = every
             if last is not None:
                 changed = ~((slot_pts == last.slot_points).all(axis=1)
                             & (slot_nrm == last.slot_normals).all(axis=1)
                             & (slot_wgt == last.slot_weight))
-                gained = _subset(slot_pts[changed], slot_nrm[changed], slot_wgt[changed])
-                lost = _subset(last.slot_points[changed], last.slot_normals[changed],
-                               last.slot_weight[changed])
-                if len(gained.weight) + len(lost.weight) > len(senders.weight) // 2:
+                redo = np.unique(_tile_of(np.flatnonzero(changed), senders.grid_shape))
+                if len(redo) > len(every) // 2:
                     last = None
+            parts: list[tuple[NDArray[np.int64], F32, F32, NDArray[np.float64]]] = []
 
             def exact(index: NDArray[np.int64], pts: F32, nrm: F32) -> F32:
                 pts = np.ascontiguousarray(pts, dtype=np.float32)
                 nrm = np.ascontiguousarray(nrm, dtype=np.float32)
-                out = np.zeros((len(index), nv))
+                tiles = np.zeros((len(index), len(every), len(kk) * 2 + 1))
                 same = np.zeros(len(index), dtype=bool)
-                if last is not None and gained is not None and lost is not None:
-                    same = (last.known[index] & (last.points[index] == pts).all(axis=1)
-                            & (last.normals[index] == nrm).all(axis=1))
+                if last is not None and len(last.index):
+                    pos = np.minimum(np.searchsorted(last.index, index), len(last.index) - 1)
+                    same = ((last.index[pos] == index) & (last.points[pos] == pts).all(axis=1)
+                            & (last.normals[pos] == nrm).all(axis=1))
                     if same.any():
-                        out[same] = last.values[index[same]]
-                        if len(gained.weight):
-                            out[same] += _reduced(pts[same], nrm[same], gained, k)
-                        if len(lost.weight):
-                            out[same] -= _reduced(pts[same], nrm[same], lost, k)
+                        kept = last.tiles[pos[same]]
+                        if len(redo):
+                            kept[:, redo] = _tile_sums(pts[same], nrm[same], senders, kk, redo)
+                        tiles[same] = kept
                 fresh = ~same
                 if fresh.any():
-                    out[fresh] = _reduced(pts[fresh], nrm[fresh], senders, k)
-                now.points[index], now.normals[index] = pts, nrm
-                now.values[index], now.known[index] = out, True
-                return out.astype(np.float32)
+                    tiles[fresh] = _tile_sums(pts[fresh], nrm[fresh], senders, kk, every)
+                parts.append((np.asarray(index, dtype=np.int64), pts, nrm, tiles))
+                return _total(tiles)
 
             self._last = None                      # an exception leaves no half record
             yield exact
-            self._last = now
+            if parts:
+                index = np.concatenate([q[0] for q in parts])
+                order = np.argsort(index, kind="stable")
+                self._last = _Sums(key, slot_pts, slot_nrm, slot_wgt, index[order],
+                                   np.concatenate([q[1] for q in parts])[order],
+                                   np.concatenate([q[2] for q in parts])[order],
+                                   np.concatenate([q[3] for q in parts])[order])
+
+
+def _total(tiles: NDArray[np.float64]) -> F32:
+    """Receiver sums (M, V) from their tile sums (M, T, V): added in tile order."""
+    total = np.zeros((tiles.shape[0], tiles.shape[2]))
+    for t in range(tiles.shape[1]):
+        total += tiles[:, t]
+    return total.astype(np.float32)
 
 
 @kernel
 def _pair_sums(points: F32, normals: F32, q: F32, nq: F32, weight: F32, range_q: F32,
-               k: F32) -> F32:
-    """Compiled one-bounce sums at receivers, phasors without the receiver's own leg.
+               k: F32, bounds: NDArray[np.int64], tiles: NDArray[np.int64]
+               ) -> NDArray[np.float64]:
+    """Compiled one-bounce sums per sender tile, phasors without the receiver's own leg.
 
     Parameters
     ----------
@@ -459,49 +489,64 @@ def _pair_sums(points: F32, normals: F32, q: F32, nq: F32, weight: F32, range_q:
         :attr:`Senders.weight` and :attr:`Senders.range_m`.
     k : ndarray, shape (F,), float32
         ``2π f / c`` per modulation frequency (rad/m).
+    bounds : ndarray of int, shape (T + 1,)
+        :meth:`Senders.tiles`.
+    tiles : ndarray of int, shape (U,)
+        The tiles to sum.
 
     Returns
     -------
-    ndarray, shape (M, 1 + 2F), float32
+    ndarray, shape (M, U, 1 + 2F), float64
         Pair terms and phases in float32 like :func:`one_bounce`, sums in float64.
-        Per receiver ``Σ term`` and, per frequency, the real and imaginary parts of
-        ``Σ term · exp(i k (R_Q + |Q − P|))`` (:func:`one_bounce` times ``exp(−i k R_P)``).
+        Per receiver and tile ``Σ term`` and, per frequency, the real and imaginary parts
+        of ``Σ term · exp(i k (R_Q + |Q − P|))`` (:func:`one_bounce` times
+        ``exp(−i k R_P)``).
     """
-    m, n, nf = points.shape[0], q.shape[0], k.shape[0]
-    out = np.zeros((m, 1 + 2 * nf), dtype=np.float32)
+    m, nf, nt = points.shape[0], k.shape[0], tiles.shape[0]
+    out = np.zeros((m, nt, 1 + 2 * nf))
     for i in range(m):
         px, py, pz = points[i, 0], points[i, 1], points[i, 2]
         nx, ny, nz = normals[i, 0], normals[i, 1], normals[i, 2]
-        mag = 0.0
-        re = np.zeros(nf)
-        im = np.zeros(nf)
-        for j in range(n):
-            dx, dy, dz = q[j, 0] - px, q[j, 1] - py, q[j, 2] - pz
-            cos_p = nx * dx + ny * dy + nz * dz
-            cos_q = -(nq[j, 0] * dx + nq[j, 1] * dy + nq[j, 2] * dz)
-            if cos_p <= 0.0 or cos_q <= 0.0:
-                continue
-            dist_sq = max(dx * dx + dy * dy + dz * dz, _MIN_DIST_SQ)
-            term = cos_p * cos_q / (dist_sq * dist_sq) * weight[j]
-            mag += term
-            path = math.sqrt(dist_sq) + range_q[j]
-            for f in range(nf):
-                phase = k[f] * path
-                re[f] += term * math.cos(phase)
-                im[f] += term * math.sin(phase)
-        out[i, 0] = mag
-        for f in range(nf):
-            out[i, 1 + 2 * f] = re[f]
-            out[i, 2 + 2 * f] = im[f]
+        acc = np.zeros(1 + 2 * nf)
+        for u in range(nt):
+            t = tiles[u]
+            acc[:] = 0.0
+            for j in range(bounds[t], bounds[t + 1]):
+                dx, dy, dz = q[j, 0] - px, q[j, 1] - py, q[j, 2] - pz
+                cos_p = nx * dx + ny * dy + nz * dz
+                cos_q = -(nq[j, 0] * dx + nq[j, 1] * dy + nq[j, 2] * dz)
+                if cos_p <= 0.0 or cos_q <= 0.0:
+                    continue
+                dist_sq = max(dx * dx + dy * dy + dz * dz, _MIN_DIST_SQ)
+                term = cos_p * cos_q / (dist_sq * dist_sq) * weight[j]
+                acc[0] += term
+                path = math.sqrt(dist_sq) + range_q[j]
+                for f in range(nf):
+                    phase = k[f] * path
+                    acc[1 + 2 * f] += term * math.cos(phase)
+                    acc[2 + 2 * f] += term * math.sin(phase)
+            for v in range(1 + 2 * nf):
+                out[i, u, v] = acc[v]
     return out
 
 
-def _reduced(points_m: F32, normals: F32, senders: Senders, k: list[float]) -> F32:
-    """:func:`one_bounce` at receivers, phasors without the receiver's leg: shape (M, 1 + 2F)."""
+def _tile_sums(points_m: F32, normals: F32, senders: Senders, k: NDArray[np.float32],
+               tiles: NDArray[np.int64]) -> NDArray[np.float64]:
+    """:func:`_pair_sums` of the given sender tiles: shape (M, len(tiles), 1 + 2F)."""
     return _pair_sums(np.ascontiguousarray(points_m, dtype=np.float32),
                       np.ascontiguousarray(normals, dtype=np.float32),
                       np.ascontiguousarray(senders.points_m, dtype=np.float32),
                       np.ascontiguousarray(senders.normals, dtype=np.float32),
                       np.ascontiguousarray(senders.weight, dtype=np.float32),
                       np.ascontiguousarray(senders.range_m, dtype=np.float32),
-                      np.asarray(k, dtype=np.float32))
+                      k, senders.tiles(), np.ascontiguousarray(tiles, dtype=np.int64))
+
+
+def _reduced(points_m: F32, normals: F32, senders: Senders, k: list[float]) -> F32:
+    """:func:`one_bounce` at receivers, phasors without the receiver's leg: shape (M, 1 + 2F).
+
+    Summed per sender tile and the tiles added in order, like :class:`OneBounceCache`.
+    """
+    every = np.arange(len(senders.tiles()) - 1, dtype=np.int64)
+    return _total(_tile_sums(points_m, normals, senders, np.asarray(k, dtype=np.float32),
+                             every))
