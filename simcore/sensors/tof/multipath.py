@@ -465,12 +465,18 @@ class OneBounceCache:
                                    np.concatenate([q[3] for q in parts])[order])
 
 
+@kernel
 def _total(tiles: NDArray[np.float64]) -> F32:
-    """Receiver sums (M, V) from their tile sums (M, T, V): added in tile order."""
-    total = np.zeros((tiles.shape[0], tiles.shape[2]))
-    for t in range(tiles.shape[1]):
-        total += tiles[:, t]
-    return total.astype(np.float32)
+    """Receiver sums (M, V) from their tile sums (M, T, V): added in tile order (float64)."""
+    m, nt, nv = tiles.shape
+    out = np.zeros((m, nv), dtype=np.float32)
+    for i in range(m):
+        for v in range(nv):
+            acc = 0.0
+            for t in range(nt):
+                acc += tiles[i, t, v]
+            out[i, v] = acc
+    return out
 
 
 @kernel
