@@ -191,6 +191,11 @@ SAME_SURFACE_COS = 0.95
 #: the other's tangent plane.
 SAME_SURFACE_SLOPE = 0.1
 SAME_SURFACE_TOL_M = 0.005
+#: A pixel with a pixel of another surface facing it within this many pixels (a concave
+#: crease) is summed exactly: next to such a crease the nearest senders' ``1/|Q − P|⁴``
+#: makes the indirect light too steep for interpolation between nodes (on the office the
+#: interpolated bias was 40 % off the exact sum within 2 px of a crease, 2 % beyond).
+CREASE_GUARD_PX = 2
 
 
 def _node_axis(size: int, step: int) -> NDArray[np.int64]:
@@ -210,6 +215,34 @@ def _cell_of(size: int, nodes: NDArray[np.int64]) -> tuple[NDArray[np.int64], ND
 
 
 @kernel
+def _relation(points: F32, normals: F32, y: int, x: int, yy: int, xx: int) -> int:
+    """How pixel (yy, xx)'s surface point relates to pixel (y, x)'s.
+
+    0: the same smooth surface (normals within ``SAME_SURFACE_COS``, each point within
+    ``SAME_SURFACE_SLOPE · distance + SAME_SURFACE_TOL_M`` of the other's tangent plane);
+    2: another surface facing it across a concave crease (each point in front of the
+    other's tangent plane by more than that tolerance); 1: another surface otherwise
+    (convex edge, depth edge).
+    """
+    cos = 0.0
+    gap_p = 0.0
+    gap_q = 0.0
+    dist = 0.0
+    for c in range(3):
+        d = points[yy, xx, c] - points[y, x, c]
+        cos += normals[y, x, c] * normals[yy, xx, c]
+        gap_p += normals[y, x, c] * d
+        gap_q += normals[yy, xx, c] * d
+        dist += d * d
+    tol = SAME_SURFACE_SLOPE * math.sqrt(dist) + SAME_SURFACE_TOL_M
+    if not (cos < SAME_SURFACE_COS or abs(gap_p) > tol or abs(gap_q) > tol):
+        return 0
+    if gap_p > tol and -gap_q > tol:
+        return 2
+    return 1
+
+
+@kernel
 def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
                        node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
                        node_values: F32, node_seen: NDArray[np.bool_],
@@ -220,7 +253,9 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
 
     Of the four nodes around a pixel, only those on the pixel's own smooth surface (normals
     within ``SAME_SURFACE_COS``; each point near the other's tangent plane) are blended, with
-    their bilinear weights renormalised. A seen pixel without such a node is flagged.
+    their bilinear weights renormalised. A seen pixel without such a node, or with a pixel
+    of another surface facing it across a concave crease within ``CREASE_GUARD_PX`` (and
+    not itself a node), is flagged.
 
     Parameters
     ----------
@@ -238,16 +273,32 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
     -------
     values : ndarray, shape (H, W, V)
     missing : ndarray of bool, shape (H, W)
-        Seen pixels with no node on their surface (to be computed exactly).
+        Seen pixels with no node on their surface or next to a concave crease (to be
+        computed exactly).
     """
     h, w = seen.shape
     nv = node_values.shape[2]
     out = np.zeros((h, w, nv), dtype=np.float32)
     missing = np.zeros((h, w), dtype=np.bool_)
     acc = np.zeros(nv)
+    g = CREASE_GUARD_PX
     for y in range(h):
         for x in range(w):
             if not seen[y, x]:
+                continue
+            # A node keeps its own exact value; other pixels near a crease are flagged.
+            node = ((frac_y[y] == 0.0 or frac_y[y] == 1.0)
+                    and (frac_x[x] == 0.0 or frac_x[x] == 1.0))
+            crease = False
+            for yy in range(max(y - g, 0), min(y + g + 1, h) if not node else 0):
+                for xx in range(max(x - g, 0), min(x + g + 1, w)):
+                    if seen[yy, xx] and _relation(points, normals, y, x, yy, xx) == 2:
+                        crease = True
+                        break
+                if crease:
+                    break
+            if crease:
+                missing[y, x] = True
                 continue
             total = 0.0
             acc[:] = 0.0
@@ -259,19 +310,7 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
                     wx = frac_x[x] if dx else 1.0 - frac_x[x]
                     if not node_seen[iy, ix]:
                         continue
-                    ny, nx = node_rows[iy], node_cols[ix]
-                    cos = 0.0
-                    gap_p = 0.0
-                    gap_q = 0.0
-                    dist = 0.0
-                    for c in range(3):
-                        d = points[ny, nx, c] - points[y, x, c]
-                        cos += normals[y, x, c] * normals[ny, nx, c]
-                        gap_p += normals[y, x, c] * d
-                        gap_q += normals[ny, nx, c] * d
-                        dist += d * d
-                    tol = SAME_SURFACE_SLOPE * math.sqrt(dist) + SAME_SURFACE_TOL_M
-                    if cos < SAME_SURFACE_COS or abs(gap_p) > tol or abs(gap_q) > tol:
+                    if _relation(points, normals, y, x, node_rows[iy], node_cols[ix]):
                         continue
                     weight = wy * wx + 1e-6
                     total += weight
