@@ -243,6 +243,26 @@ def _relation(points: F32, normals: F32, y: int, x: int, yy: int, xx: int) -> in
 
 
 @kernel
+def _facing(points: F32, normals: F32, y: int, x: int, yy: int, xx: int) -> bool:
+    """Whether ``_relation(...) == 2``: a concave crease between the two pixels.
+
+    The common case, a point on or behind the other's tangent plane, is rejected before
+    any square root.
+    """
+    d0 = points[yy, xx, 0] - points[y, x, 0]
+    d1 = points[yy, xx, 1] - points[y, x, 1]
+    d2 = points[yy, xx, 2] - points[y, x, 2]
+    gap_p = normals[y, x, 0] * d0 + normals[y, x, 1] * d1 + normals[y, x, 2] * d2
+    if gap_p <= SAME_SURFACE_TOL_M:
+        return False
+    gap_q = normals[yy, xx, 0] * d0 + normals[yy, xx, 1] * d1 + normals[yy, xx, 2] * d2
+    if -gap_q <= SAME_SURFACE_TOL_M:
+        return False
+    tol = SAME_SURFACE_SLOPE * math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) + SAME_SURFACE_TOL_M
+    return gap_p > tol and -gap_q > tol
+
+
+@kernel
 def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
                        node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
                        node_values: F32, node_seen: NDArray[np.bool_],
@@ -292,7 +312,7 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
             crease = False
             for yy in range(max(y - g, 0), min(y + g + 1, h) if not node else 0):
                 for xx in range(max(x - g, 0), min(x + g + 1, w)):
-                    if seen[yy, xx] and _relation(points, normals, y, x, yy, xx) == 2:
+                    if seen[yy, xx] and _facing(points, normals, y, x, yy, xx):
                         crease = True
                         break
                 if crease:
