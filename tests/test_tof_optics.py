@@ -208,3 +208,37 @@ def test_background_suppression_removes_ambient_charge_but_keeps_its_noise(
     var_dn = (4.0 * with_amb / g + cfg.read_noise_electrons**2) * g**2 + 1 / 12
     z = (noisy - ideal.correlation) / np.sqrt(var_dn)
     assert abs(z.std() - 1.0) < 0.03
+
+
+def test_switches_reach_cli_and_dataset_vignetting_sweep(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """``tofradar sweep --vary rig.tof.vignetting=0,1``: each dataset records its switch in
+    the stored project, and the amplitude ratio of the two is cos⁴ θ (shot noise averaged
+    over a ring of pixels)."""
+    import json
+
+    import h5py
+
+    from simcore.cli import main
+    from simcore.scene import save_project
+
+    cfg = base(width=64, height=48)
+    project = Project(objects=[wall(3.0)], rig=SensorRig(tof=cfg))
+    project.rig.radar.render_width, project.rig.radar.render_height = 240, 82
+    path = tmp_path / "wall.json"
+    save_project(project, path)
+    out = tmp_path / "sweep"
+    assert main(["sweep", str(path), "--vary", "rig.tof.vignetting=0,1", "--out", str(out),
+                 "--frames", "1", "--seed", "1"]) == 0
+    index = json.loads((out / "sweep.json").read_text())
+    amplitude = {}
+    for variant in index["variants"]:
+        with h5py.File(out / variant["file"]) as f:
+            stored = json.loads(f["meta"].attrs["project_json"])
+            on = stored["rig"]["tof"]["vignetting"]
+            assert on is bool(variant["parameters"]["rig.tof.vignetting"])
+            amplitude[on] = f["tof/amplitude"][0].astype(np.float64)
+    cos4 = cos_off_axis(cfg) ** 4
+    ring = (cos4 > 0.7) & (cos4 < 0.75)
+    assert ring.sum() > 100
+    ratio = amplitude[True][ring].mean() / amplitude[False][ring].mean()
+    assert ratio == pytest.approx(cos4[ring].mean(), rel=0.01)

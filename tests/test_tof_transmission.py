@@ -189,3 +189,33 @@ def test_the_engine_gives_the_sensor_its_see_through_pass() -> None:
     ratio = out.amplitude[away].mean() / by_hand.amplitude[away].mean()
     assert abs(ratio - 1.0) < 0.01
     assert np.median(np.abs(out.depth_m[away] - WALL_M * norm[away])) < 0.02
+
+
+def test_float_glass_glint_is_narrow_as_its_beckmann_lobe_predicts() -> None:
+    """The pane's own return is the lobe ``F exp(−tan²θ/m²) / (m² cos⁴θ)`` of the library's
+    roughness m, which for smooth float glass confines the glint to within 1° of the pane's
+    normal (its 1/e² half-width is ``atan(m √2)``)."""
+    band = load_material_library()["glass"].band("tof")
+    m = band.roughness
+    half_width_deg = math.degrees(math.atan(m * math.sqrt(2)))
+    assert half_width_deg < 1.0
+    project = project_with("glass")
+    sensor = TofSensor()
+    renderer = SceneRenderer(project)
+    try:
+        buffers = renderer.render(take_snapshot(project, 0.0), sensor.render_request(project))
+    finally:
+        renderer.close()
+    pane = buffers.object_index == 1            # index of the pane (second object)
+    assert pane.all()
+    pts = buffers.points_m
+    cos = np.abs(pts[..., 2]) / np.linalg.norm(pts, axis=-1)   # the pane faces the camera
+    tan2 = (1 - cos**2) / cos**2
+    lobe = band.specular * np.exp(-tan2 / m**2) / (m**2 * cos**4)
+    # The exponent tan²θ/m² magnifies the float32 cosine's rounding (1e-7 / m² ≈ 1e-3).
+    np.testing.assert_allclose(buffers.intensity, lobe, rtol=1e-2, atol=1e-6 * lobe.max())
+    glint = buffers.intensity > buffers.intensity.max() * math.exp(-2)
+    tilt = np.degrees(np.arccos(cos[glint]))
+    print(f"glint: {glint.sum()} render px, up to {tilt.max():.2f}° "
+          f"(1/e² half-width {half_width_deg:.2f}°)")
+    assert 0 < glint.sum() and tilt.max() <= half_width_deg

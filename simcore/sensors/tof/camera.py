@@ -50,7 +50,12 @@ from simcore.render.buffers import RenderBuffers, downsample_ground_truth
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.materials import BandMaterial
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
-from simcore.sensors.tof.multipath import RECEIVER_STEP, one_bounce_image, senders_from_render
+from simcore.sensors.tof.multipath import (
+    RECEIVER_STEP,
+    OneBounceCache,
+    one_bounce_image,
+    senders_from_render,
+)
 from simcore.sensors.tof.optics import distort_buffers, stray_light, vignetting, wiggling_planes
 from simcore.sensors.tof.specular import specular_paths
 
@@ -394,6 +399,9 @@ def _solid_angle(intrinsics: PinholeIntrinsics) -> NDArray[np.float32]:
     return _SOLID_ANGLE[key]
 
 
+#: The last frame's exact one-bounce sums per receiver: a frame in which only part of the
+#: render changed (a person walking past a still camera) sums only what changed.
+_ONE_BOUNCE_REUSE = OneBounceCache()
 #: The last one-bounce result, keyed by a digest of its inputs (still scenes reuse it).
 _ONE_BOUNCE_CACHE: dict[bytes, tuple[NDArray[np.float32], list[tuple[NDArray[np.float32],
                                                                     NDArray[np.float32]]]]] = {}
@@ -407,9 +415,9 @@ def _cached_one_bounce(arrays: tuple[NDArray[np.generic], ...], params: tuple[ob
                                   list[tuple[NDArray[np.float32], NDArray[np.float32]]]]:
     """``compute()``, or its previous result when the render's geometry is byte-identical.
 
-    The one-bounce sums depend only on the render's points, normals and albedo (not on the
-    exposure), so a still camera looking at a still scene reuses them frame after frame;
-    the BLAKE2 digest of the inputs costs a few milliseconds.
+    The one-bounce sums depend only on the receivers' points and normals and on the senders
+    (not on the exposure), so a still camera looking at a still scene reuses them frame
+    after frame; the BLAKE2 digest of the inputs costs about a millisecond.
     """
     digest = hashlib.blake2b(repr(params).encode(), digest_size=20)
     for a in arrays:
@@ -455,11 +463,15 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     rho = _block_mean(np.where(hit, albedo, 0.0), k) / count
     seen = _block_mean(weight, k) > 0
     h, w = seen.shape
+    pts, nrm = as_float(pts), as_float(nrm)
+    # Keyed by what the sums read (sensor-resolution receivers and the senders): a quarter
+    # of the render's bytes to digest.
     magnitude, phasors = _cached_one_bounce(
-        (buffers.points_m, buffers.normals, albedo, buffers.object_index),
-        (config.multipath_patch_px, k, tuple(config.modulation_frequencies_hz), receiver_step),
-        lambda: one_bounce_image(as_float(pts), as_float(nrm), seen, senders,
-                                 list(config.modulation_frequencies_hz), step=receiver_step))
+        (pts, nrm, seen, senders.points_m, senders.normals, senders.weight),
+        (h, w, tuple(config.modulation_frequencies_hz), receiver_step),
+        lambda: one_bounce_image(pts, nrm, seen, senders,
+                                 list(config.modulation_frequencies_hz), step=receiver_step,
+                                 cache=_ONE_BOUNCE_REUSE))
     scale = as_float(rho * FLOAT(config.signal_electrons_at_1m) * _block_mean(weight, k))
     scale[~seen] = 0.0
     planes = np.zeros((1 + 2 * len(phasors), h, w), dtype=np.float32)

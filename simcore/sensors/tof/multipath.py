@@ -28,6 +28,9 @@ each other edge-on), so a single wall shows no MPI.
 from __future__ import annotations
 
 import math
+import threading
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -56,12 +59,28 @@ class Senders:
         ``ρ_Q Ω_Q / π``: diffuse albedo × lit solid angle (sr) / π.
     range_m : ndarray, shape (N,)
         Distance from the camera (m).
+    slot_index : ndarray of int, shape (N,), optional
+        Each sender's position on the sender grid of shape ``grid_shape`` (flat index).
+    tile_start : ndarray of int, shape (T + 1,), optional
+        The senders are ordered by tile (``TILE × TILE`` blocks of the sender grid); tile
+        ``t`` holds senders ``tile_start[t]:tile_start[t + 1]``. The one-bounce sums are
+        added per tile, so that :class:`OneBounceCache` can redo only the changed tiles and
+        still give the very same numbers. ``None``: one tile.
     """
 
     points_m: F32
     normals: F32
     weight: F32
     range_m: F32
+    slot_index: NDArray[np.int64] | None = None
+    grid_shape: tuple[int, int] = (0, 0)
+    tile_start: NDArray[np.int64] | None = None
+
+    def tiles(self) -> NDArray[np.int64]:
+        """``tile_start``, or one tile of all senders."""
+        if self.tile_start is None:
+            return np.array([0, len(self.weight)], dtype=np.int64)
+        return self.tile_start
 
 
 def senders_from_render(points_m: F32, normals: F32, albedo: F32, solid_angle_sr: F32,
@@ -83,11 +102,30 @@ def senders_from_render(points_m: F32, normals: F32, albedo: F32, solid_angle_sr
     """
     sl = (slice(stride // 2, None, stride), slice(stride // 2, None, stride))
     keep = valid[sl] & (albedo[sl] > 0)
-    pts = points_m[sl][keep].astype(np.float32)
-    weight = (albedo[sl][keep] * solid_angle_sr[sl][keep] * (stride * stride / np.pi))
-    return Senders(points_m=pts, normals=normals[sl][keep].astype(np.float32),
+    slot = np.flatnonzero(keep)
+    tile = _tile_of(slot, keep.shape)
+    order = np.argsort(tile, kind="stable")
+    slot, tile = slot[order], tile[order]
+    pts = points_m[sl].reshape(-1, 3)[slot].astype(np.float32)
+    weight = (albedo[sl].ravel()[slot] * solid_angle_sr[sl].ravel()[slot]
+              * (stride * stride / np.pi))
+    n_tiles = _tile_of(np.array([keep.size - 1]), keep.shape)[0] + 1
+    return Senders(points_m=pts, normals=normals[sl].reshape(-1, 3)[slot].astype(np.float32),
                    weight=weight.astype(np.float32),
-                   range_m=np.linalg.norm(pts, axis=1).astype(np.float32))
+                   range_m=np.linalg.norm(pts, axis=1).astype(np.float32),
+                   slot_index=slot, grid_shape=keep.shape,
+                   tile_start=np.searchsorted(tile, np.arange(n_tiles + 1)).astype(np.int64))
+
+
+#: Side of the square tiles of the sender grid whose sums are kept apart (senders).
+TILE = 4
+
+
+def _tile_of(slot: NDArray[np.int64], grid_shape: tuple[int, int]) -> NDArray[np.int64]:
+    """Tile of each flat sender-grid position (row-major ``TILE × TILE`` blocks)."""
+    cols = grid_shape[1]
+    tiles_x = -(-cols // TILE)
+    return ((slot // cols) // TILE * tiles_x + (slot % cols) // TILE).astype(np.int64)
 
 
 def one_bounce(points_m: F32, normals: F32, senders: Senders, frequencies_hz: list[float]
@@ -153,6 +191,11 @@ SAME_SURFACE_COS = 0.95
 #: the other's tangent plane.
 SAME_SURFACE_SLOPE = 0.1
 SAME_SURFACE_TOL_M = 0.005
+#: A pixel with a pixel of another surface facing it within this many pixels (a concave
+#: crease) is summed exactly: next to such a crease the nearest senders' ``1/|Q − P|⁴``
+#: makes the indirect light too steep for interpolation between nodes (on the office the
+#: interpolated bias was 40 % off the exact sum within 2 px of a crease, 2 % beyond).
+CREASE_GUARD_PX = 2
 
 
 def _node_axis(size: int, step: int) -> NDArray[np.int64]:
@@ -172,6 +215,54 @@ def _cell_of(size: int, nodes: NDArray[np.int64]) -> tuple[NDArray[np.int64], ND
 
 
 @kernel
+def _relation(points: F32, normals: F32, y: int, x: int, yy: int, xx: int) -> int:
+    """How pixel (yy, xx)'s surface point relates to pixel (y, x)'s.
+
+    0: the same smooth surface (normals within ``SAME_SURFACE_COS``, each point within
+    ``SAME_SURFACE_SLOPE · distance + SAME_SURFACE_TOL_M`` of the other's tangent plane);
+    2: another surface facing it across a concave crease (each point in front of the
+    other's tangent plane by more than that tolerance); 1: another surface otherwise
+    (convex edge, depth edge).
+    """
+    cos = 0.0
+    gap_p = 0.0
+    gap_q = 0.0
+    dist = 0.0
+    for c in range(3):
+        d = points[yy, xx, c] - points[y, x, c]
+        cos += normals[y, x, c] * normals[yy, xx, c]
+        gap_p += normals[y, x, c] * d
+        gap_q += normals[yy, xx, c] * d
+        dist += d * d
+    tol = SAME_SURFACE_SLOPE * math.sqrt(dist) + SAME_SURFACE_TOL_M
+    if not (cos < SAME_SURFACE_COS or abs(gap_p) > tol or abs(gap_q) > tol):
+        return 0
+    if gap_p > tol and -gap_q > tol:
+        return 2
+    return 1
+
+
+@kernel
+def _facing(points: F32, normals: F32, y: int, x: int, yy: int, xx: int) -> bool:
+    """Whether ``_relation(...) == 2``: a concave crease between the two pixels.
+
+    The common case, a point on or behind the other's tangent plane, is rejected before
+    any square root.
+    """
+    d0 = points[yy, xx, 0] - points[y, x, 0]
+    d1 = points[yy, xx, 1] - points[y, x, 1]
+    d2 = points[yy, xx, 2] - points[y, x, 2]
+    gap_p = normals[y, x, 0] * d0 + normals[y, x, 1] * d1 + normals[y, x, 2] * d2
+    if gap_p <= SAME_SURFACE_TOL_M:
+        return False
+    gap_q = normals[yy, xx, 0] * d0 + normals[yy, xx, 1] * d1 + normals[yy, xx, 2] * d2
+    if -gap_q <= SAME_SURFACE_TOL_M:
+        return False
+    tol = SAME_SURFACE_SLOPE * math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) + SAME_SURFACE_TOL_M
+    return gap_p > tol and -gap_q > tol
+
+
+@kernel
 def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
                        node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
                        node_values: F32, node_seen: NDArray[np.bool_],
@@ -182,7 +273,9 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
 
     Of the four nodes around a pixel, only those on the pixel's own smooth surface (normals
     within ``SAME_SURFACE_COS``; each point near the other's tangent plane) are blended, with
-    their bilinear weights renormalised. A seen pixel without such a node is flagged.
+    their bilinear weights renormalised. A seen pixel without such a node, or with a pixel
+    of another surface facing it across a concave crease within ``CREASE_GUARD_PX`` (and
+    not itself a node), is flagged.
 
     Parameters
     ----------
@@ -200,16 +293,32 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
     -------
     values : ndarray, shape (H, W, V)
     missing : ndarray of bool, shape (H, W)
-        Seen pixels with no node on their surface (to be computed exactly).
+        Seen pixels with no node on their surface or next to a concave crease (to be
+        computed exactly).
     """
     h, w = seen.shape
     nv = node_values.shape[2]
     out = np.zeros((h, w, nv), dtype=np.float32)
     missing = np.zeros((h, w), dtype=np.bool_)
     acc = np.zeros(nv)
+    g = CREASE_GUARD_PX
     for y in range(h):
         for x in range(w):
             if not seen[y, x]:
+                continue
+            # A node keeps its own exact value; other pixels near a crease are flagged.
+            node = ((frac_y[y] == 0.0 or frac_y[y] == 1.0)
+                    and (frac_x[x] == 0.0 or frac_x[x] == 1.0))
+            crease = False
+            for yy in range(max(y - g, 0), min(y + g + 1, h) if not node else 0):
+                for xx in range(max(x - g, 0), min(x + g + 1, w)):
+                    if seen[yy, xx] and _facing(points, normals, y, x, yy, xx):
+                        crease = True
+                        break
+                if crease:
+                    break
+            if crease:
+                missing[y, x] = True
                 continue
             total = 0.0
             acc[:] = 0.0
@@ -221,19 +330,7 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
                     wx = frac_x[x] if dx else 1.0 - frac_x[x]
                     if not node_seen[iy, ix]:
                         continue
-                    ny, nx = node_rows[iy], node_cols[ix]
-                    cos = 0.0
-                    gap_p = 0.0
-                    gap_q = 0.0
-                    dist = 0.0
-                    for c in range(3):
-                        d = points[ny, nx, c] - points[y, x, c]
-                        cos += normals[y, x, c] * normals[ny, nx, c]
-                        gap_p += normals[y, x, c] * d
-                        gap_q += normals[ny, nx, c] * d
-                        dist += d * d
-                    tol = SAME_SURFACE_SLOPE * math.sqrt(dist) + SAME_SURFACE_TOL_M
-                    if cos < SAME_SURFACE_COS or abs(gap_p) > tol or abs(gap_q) > tol:
+                    if _relation(points, normals, y, x, node_rows[iy], node_cols[ix]):
                         continue
                     weight = wy * wx + 1e-6
                     total += weight
@@ -248,7 +345,8 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
 
 
 def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], senders: Senders,
-                     frequencies_hz: list[float], *, step: int = RECEIVER_STEP
+                     frequencies_hz: list[float], *, step: int = RECEIVER_STEP,
+                     cache: OneBounceCache | None = None
                      ) -> tuple[F32, list[tuple[F32, F32]]]:
     """:func:`one_bounce` for every pixel of an image, exact on a coarse grid of receivers.
 
@@ -269,6 +367,9 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
     frequencies_hz : list of float
     step : int, keyword-only
         Node spacing (pixels).
+    cache : OneBounceCache, keyword-only, optional
+        Reuse of the previous call's exact sums where only part of the render changed
+        (:class:`OneBounceCache`); the result is the same sum.
 
     Returns
     -------
@@ -291,18 +392,20 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
     rows, cols = _node_axis(h, step), _node_axis(w, step)
     grid = np.ix_(rows, cols)
     node_seen = seen[grid]
-    node_pts, node_nrm = points_m[grid][node_seen], normals[grid][node_seen]
     k = [2.0 * np.pi * f / SPEED_OF_LIGHT for f in frequencies_hz]
-    values = np.zeros((len(rows), len(cols), 1 + 2 * nf), dtype=np.float32)
-    values[node_seen] = _reduced(node_pts, node_nrm, senders, k)
-    cy, fy = _cell_of(h, rows)
-    cx, fx = _cell_of(w, cols)
-    out, missing = _interpolate_nodes(
-        np.ascontiguousarray(points_m, dtype=np.float32),
-        np.ascontiguousarray(normals, dtype=np.float32), np.ascontiguousarray(seen),
-        rows, cols, values, np.ascontiguousarray(node_seen), cy, fy, cx, fx)
-    if missing.any():
-        out[missing] = _reduced(points_m[missing], normals[missing], senders, k)
+    flat = np.arange(h * w).reshape(h, w)
+    with (cache or OneBounceCache()).frame(senders, (h, w), k) as exact:
+        values = np.zeros((len(rows), len(cols), 1 + 2 * nf), dtype=np.float32)
+        values[node_seen] = exact(flat[grid][node_seen], points_m[grid][node_seen],
+                                  normals[grid][node_seen])
+        cy, fy = _cell_of(h, rows)
+        cx, fx = _cell_of(w, cols)
+        out, missing = _interpolate_nodes(
+            np.ascontiguousarray(points_m, dtype=np.float32),
+            np.ascontiguousarray(normals, dtype=np.float32), np.ascontiguousarray(seen),
+            rows, cols, values, np.ascontiguousarray(node_seen), cy, fy, cx, fx)
+        if missing.any():
+            out[missing] = exact(flat[missing], points_m[missing], normals[missing])
     r_p = np.linalg.norm(points_m, axis=-1)
     magnitude = np.where(seen, out[..., 0], np.float32(0.0)).astype(np.float32)
     phasors = []
@@ -314,10 +417,132 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
     return magnitude, phasors
 
 
+@dataclass
+class _Sums:
+    """:class:`OneBounceCache`'s record of one frame: its senders and receivers' tile sums."""
+
+    key: tuple[object, ...]
+    slot_points: F32                 # (S, 3) on the sender grid, zeros where none
+    slot_normals: F32                # (S, 3)
+    slot_weight: F32                 # (S,), 0 where a grid position sends nothing
+    index: NDArray[np.int64]         # (R,) receivers' pixels (flat), sorted
+    points: F32                      # (R, 3)
+    normals: F32                     # (R, 3)
+    tiles: NDArray[np.float64]       # (R, T, 1 + 2F) their sums per sender tile
+
+
+def _slots(senders: Senders) -> tuple[F32, F32, F32]:
+    """The senders scattered onto their grid: points, normals, weights (0: no sender)."""
+    assert senders.slot_index is not None
+    n = senders.grid_shape[0] * senders.grid_shape[1]
+    pts, nrm = np.zeros((n, 3), dtype=np.float32), np.zeros((n, 3), dtype=np.float32)
+    wgt = np.zeros(n, dtype=np.float32)
+    pts[senders.slot_index] = senders.points_m
+    nrm[senders.slot_index] = senders.normals
+    wgt[senders.slot_index] = senders.weight
+    return pts, nrm, wgt
+
+
+class OneBounceCache:
+    """The last frame's one-bounce sums per receiver and sender tile, reused where unchanged.
+
+    A still camera watching a scene in which one object moves (a person walking through
+    the office) changes only a few senders and receivers from frame to frame. The sums
+    are kept per receiver and per tile of the sender grid (:data:`TILE`): a receiver whose
+    point and normal are bit-identical to the last frame's takes the last frame's tile sums
+    and redoes only the tiles in which a sender changed; new or moved receivers are summed
+    over every tile. The tile sums are then added in tile order, exactly as without the
+    cache, so the result does not depend on which frames came before (bit-identical).
+    Thread-safe: one frame at a time.
+    """
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._last: _Sums | None = None
+
+    def clear(self) -> None:
+        """Forget the last frame (the next one is summed in full)."""
+        with self._lock:
+            self._last = None
+
+    @contextmanager
+    def frame(self, senders: Senders, shape: tuple[int, int], k: list[float]
+              ) -> Iterator[Callable[[NDArray[np.int64], F32, F32], F32]]:
+        """Sums of one frame: yields ``exact(flat_index, points, normals) -> (M, 1 + 2F)``.
+
+        ``flat_index`` is each receiver's pixel (``y·W + x`` on ``shape``); every receiver
+        of this frame must be asked for inside the ``with`` block (the others are dropped).
+        """
+        if senders.slot_index is None:           # no grid: nothing to compare with
+            yield lambda _idx, pts, nrm: _reduced(pts, nrm, senders, k)
+            return
+        kk = np.asarray(k, dtype=np.float32)
+        bounds = senders.tiles()
+        every = np.arange(len(bounds) - 1, dtype=np.int64)
+        with self._lock:
+            key = (shape, senders.grid_shape, tuple(k))
+            slot_pts, slot_nrm, slot_wgt = _slots(senders)
+            last = self._last if self._last is not None and self._last.key == key else None
+            redo = every
+            if last is not None:
+                changed = ~((slot_pts == last.slot_points).all(axis=1)
+                            & (slot_nrm == last.slot_normals).all(axis=1)
+                            & (slot_wgt == last.slot_weight))
+                redo = np.unique(_tile_of(np.flatnonzero(changed), senders.grid_shape))
+                if len(redo) > len(every) // 2:
+                    last = None
+            parts: list[tuple[NDArray[np.int64], F32, F32, NDArray[np.float64]]] = []
+
+            def exact(index: NDArray[np.int64], pts: F32, nrm: F32) -> F32:
+                pts = np.ascontiguousarray(pts, dtype=np.float32)
+                nrm = np.ascontiguousarray(nrm, dtype=np.float32)
+                tiles = np.zeros((len(index), len(every), len(kk) * 2 + 1))
+                same = np.zeros(len(index), dtype=bool)
+                if last is not None and len(last.index):
+                    pos = np.minimum(np.searchsorted(last.index, index), len(last.index) - 1)
+                    same = ((last.index[pos] == index) & (last.points[pos] == pts).all(axis=1)
+                            & (last.normals[pos] == nrm).all(axis=1))
+                    if same.any():
+                        kept = last.tiles[pos[same]]
+                        if len(redo):
+                            kept[:, redo] = _tile_sums(pts[same], nrm[same], senders, kk, redo)
+                        tiles[same] = kept
+                fresh = ~same
+                if fresh.any():
+                    tiles[fresh] = _tile_sums(pts[fresh], nrm[fresh], senders, kk, every)
+                parts.append((np.asarray(index, dtype=np.int64), pts, nrm, tiles))
+                return _total(tiles)
+
+            self._last = None                      # an exception leaves no half record
+            yield exact
+            if parts:
+                index = np.concatenate([q[0] for q in parts])
+                order = np.argsort(index, kind="stable")
+                self._last = _Sums(key, slot_pts, slot_nrm, slot_wgt, index[order],
+                                   np.concatenate([q[1] for q in parts])[order],
+                                   np.concatenate([q[2] for q in parts])[order],
+                                   np.concatenate([q[3] for q in parts])[order])
+
+
+@kernel
+def _total(tiles: NDArray[np.float64]) -> F32:
+    """Receiver sums (M, V) from their tile sums (M, T, V): added in tile order (float64)."""
+    m, nt, nv = tiles.shape
+    out = np.zeros((m, nv), dtype=np.float32)
+    for i in range(m):
+        for v in range(nv):
+            acc = 0.0
+            for t in range(nt):
+                acc += tiles[i, t, v]
+            out[i, v] = acc
+    return out
+
+
 @kernel
 def _pair_sums(points: F32, normals: F32, q: F32, nq: F32, weight: F32, range_q: F32,
-               k: F32) -> F32:
-    """Compiled one-bounce sums at receivers, phasors without the receiver's own leg.
+               k: F32, bounds: NDArray[np.int64], tiles: NDArray[np.int64]
+               ) -> NDArray[np.float64]:
+    """Compiled one-bounce sums per sender tile, phasors without the receiver's own leg.
 
     Parameters
     ----------
@@ -329,49 +554,64 @@ def _pair_sums(points: F32, normals: F32, q: F32, nq: F32, weight: F32, range_q:
         :attr:`Senders.weight` and :attr:`Senders.range_m`.
     k : ndarray, shape (F,), float32
         ``2π f / c`` per modulation frequency (rad/m).
+    bounds : ndarray of int, shape (T + 1,)
+        :meth:`Senders.tiles`.
+    tiles : ndarray of int, shape (U,)
+        The tiles to sum.
 
     Returns
     -------
-    ndarray, shape (M, 1 + 2F), float32
+    ndarray, shape (M, U, 1 + 2F), float64
         Pair terms and phases in float32 like :func:`one_bounce`, sums in float64.
-        Per receiver ``Σ term`` and, per frequency, the real and imaginary parts of
-        ``Σ term · exp(i k (R_Q + |Q − P|))`` (:func:`one_bounce` times ``exp(−i k R_P)``).
+        Per receiver and tile ``Σ term`` and, per frequency, the real and imaginary parts
+        of ``Σ term · exp(i k (R_Q + |Q − P|))`` (:func:`one_bounce` times
+        ``exp(−i k R_P)``).
     """
-    m, n, nf = points.shape[0], q.shape[0], k.shape[0]
-    out = np.zeros((m, 1 + 2 * nf), dtype=np.float32)
+    m, nf, nt = points.shape[0], k.shape[0], tiles.shape[0]
+    out = np.zeros((m, nt, 1 + 2 * nf))
     for i in range(m):
         px, py, pz = points[i, 0], points[i, 1], points[i, 2]
         nx, ny, nz = normals[i, 0], normals[i, 1], normals[i, 2]
-        mag = 0.0
-        re = np.zeros(nf)
-        im = np.zeros(nf)
-        for j in range(n):
-            dx, dy, dz = q[j, 0] - px, q[j, 1] - py, q[j, 2] - pz
-            cos_p = nx * dx + ny * dy + nz * dz
-            cos_q = -(nq[j, 0] * dx + nq[j, 1] * dy + nq[j, 2] * dz)
-            if cos_p <= 0.0 or cos_q <= 0.0:
-                continue
-            dist_sq = max(dx * dx + dy * dy + dz * dz, _MIN_DIST_SQ)
-            term = cos_p * cos_q / (dist_sq * dist_sq) * weight[j]
-            mag += term
-            path = math.sqrt(dist_sq) + range_q[j]
-            for f in range(nf):
-                phase = k[f] * path
-                re[f] += term * math.cos(phase)
-                im[f] += term * math.sin(phase)
-        out[i, 0] = mag
-        for f in range(nf):
-            out[i, 1 + 2 * f] = re[f]
-            out[i, 2 + 2 * f] = im[f]
+        acc = np.zeros(1 + 2 * nf)
+        for u in range(nt):
+            t = tiles[u]
+            acc[:] = 0.0
+            for j in range(bounds[t], bounds[t + 1]):
+                dx, dy, dz = q[j, 0] - px, q[j, 1] - py, q[j, 2] - pz
+                cos_p = nx * dx + ny * dy + nz * dz
+                cos_q = -(nq[j, 0] * dx + nq[j, 1] * dy + nq[j, 2] * dz)
+                if cos_p <= 0.0 or cos_q <= 0.0:
+                    continue
+                dist_sq = max(dx * dx + dy * dy + dz * dz, _MIN_DIST_SQ)
+                term = cos_p * cos_q / (dist_sq * dist_sq) * weight[j]
+                acc[0] += term
+                path = math.sqrt(dist_sq) + range_q[j]
+                for f in range(nf):
+                    phase = k[f] * path
+                    acc[1 + 2 * f] += term * math.cos(phase)
+                    acc[2 + 2 * f] += term * math.sin(phase)
+            for v in range(1 + 2 * nf):
+                out[i, u, v] = acc[v]
     return out
 
 
-def _reduced(points_m: F32, normals: F32, senders: Senders, k: list[float]) -> F32:
-    """:func:`one_bounce` at receivers, phasors without the receiver's leg: shape (M, 1 + 2F)."""
+def _tile_sums(points_m: F32, normals: F32, senders: Senders, k: NDArray[np.float32],
+               tiles: NDArray[np.int64]) -> NDArray[np.float64]:
+    """:func:`_pair_sums` of the given sender tiles: shape (M, len(tiles), 1 + 2F)."""
     return _pair_sums(np.ascontiguousarray(points_m, dtype=np.float32),
                       np.ascontiguousarray(normals, dtype=np.float32),
                       np.ascontiguousarray(senders.points_m, dtype=np.float32),
                       np.ascontiguousarray(senders.normals, dtype=np.float32),
                       np.ascontiguousarray(senders.weight, dtype=np.float32),
                       np.ascontiguousarray(senders.range_m, dtype=np.float32),
-                      np.asarray(k, dtype=np.float32))
+                      k, senders.tiles(), np.ascontiguousarray(tiles, dtype=np.int64))
+
+
+def _reduced(points_m: F32, normals: F32, senders: Senders, k: list[float]) -> F32:
+    """:func:`one_bounce` at receivers, phasors without the receiver's leg: shape (M, 1 + 2F).
+
+    Summed per sender tile and the tiles added in order, like :class:`OneBounceCache`.
+    """
+    every = np.arange(len(senders.tiles()) - 1, dtype=np.int64)
+    return _total(_tile_sums(points_m, normals, senders, np.asarray(k, dtype=np.float32),
+                             every))
