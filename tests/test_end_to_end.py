@@ -92,10 +92,12 @@ def test_ten_frame_dataset_layout_units_and_moving_target(tmp_path):
 
 def test_tof_motion_artifacts_switch_in_the_pipeline():
     project = load_project(example_path("office"))
+    project.rig.tof.motion_artifacts = False
     with Simulator(project) as sim:
         still = sim.frame(3)
         renders = sim.render_count
         project.rig.tof.motion_artifacts = True
+        project.rig.tof.motion_sampling = "renders"
         sim.set_project(project)
         moving = sim.frame(3)
         assert sim.render_count - renders == 3  # three sample renders; the frame's is re-used

@@ -153,6 +153,11 @@ def test_version_1_files_still_load(tmp_path):
                  "stray_light"):
         assert getattr(office_v1.rig.tof, name) is False
         setattr(office.rig.tof, name, False)
+    # Motion artefacts too, by reprojection in the office (renders in the v1 defaults).
+    assert office_v1.rig.tof.motion_artifacts is False
+    assert office_v1.rig.tof.motion_sampling == "renders"
+    office.rig.tof.motion_artifacts = False
+    office.rig.tof.motion_sampling = "renders"
     # And its walker, a sliding cylinder then, is an articulated person now (issue 29).
     assert office.objects[-1].geometry.kind == "person"
     office.objects[-1] = office_v1.objects[-1]

@@ -276,6 +276,8 @@ def pmd_pico_flexx() -> TofCameraConfig:
         distortion=True,
         vignetting=True,
         stray_light=True,
+        motion_artifacts=True,
+        motion_sampling="reprojection",
     )
 
 
