@@ -240,10 +240,13 @@ def test_export_dialog_offers_the_cli_options_and_ends_with_an_open_dialog(make_
     opened: list[QUrl] = []
     window.open_url = lambda url: opened.append(url) or True
     dialog = window.export_dataset_dialog()
+    # Every format of tofradar run --out (simcore.io.writer.open_writer).
     assert [dialog.format.itemText(i) for i in range(dialog.format.count())] == [
-        "HDF5 dataset (.h5)", "MCAP recording (.mcap)"]
-    dialog.format.setCurrentIndex(1)
+        "HDF5 dataset (.h5)", "Zarr store (.zarr)", "MCAP recording (.mcap)"]
+    dialog.format.setCurrentIndex(2)
     assert dialog.destination.text().endswith(".mcap")
+    dialog.format.setCurrentIndex(1)
+    assert dialog.destination.text().endswith(".zarr")
     dialog.format.setCurrentIndex(0)
     out = tmp_path / "run.h5"
     dialog.destination.setText(str(out))
@@ -282,8 +285,36 @@ def test_export_dialog_refuses_a_destination_without_a_format(make_window, tmp_p
     dialog.destination.setText(str(tmp_path / "run.txt"))
     dialog.accept()
     assert dialog.isVisible() and window.export_job is None
-    assert ".h5 or .mcap" in (field_error(dialog.destination) or "")
+    assert ".h5, .zarr or .mcap" in (field_error(dialog.destination) or "")
     dialog.reject()
+
+
+def test_export_dialog_writes_a_zarr_store(make_window, wait_frame, qtbot, tmp_path):
+    """Zarr, which tofradar run --out also writes: the store is a folder the dialog takes."""
+    from simcore.io import open_dataset
+
+    window = make_window()
+    wait_frame(window)
+    window.open_url = lambda url: True
+    dialog = window.export_dataset_dialog()
+    out = tmp_path / "run.zarr"
+    dialog.destination.setText(str(out))
+    assert dialog.format.currentText() == "Zarr store (.zarr)"      # follows the suffix
+    dialog.frames.setValue(1)
+    dialog.accept()
+    job = window.export_job
+    assert job is not None
+    qtbot.waitUntil(job.isFinished, timeout=120_000)
+    qtbot.waitUntil(lambda: window.completion_dialog is not None
+                    and window.completion_dialog.isVisible(), timeout=10_000)
+    ds = open_dataset(out)
+    try:
+        assert ds.sizes["frame"] == 1
+    finally:
+        ds.close()
+    buttons = {b.text(): b for b in window.completion_dialog.findChildren(QPushButton)}
+    assert buttons["Open dataset"].property("url") == QUrl.fromLocalFile(str(out.resolve()))
+    window.completion_dialog.close()
 
 
 # --- 8: clutter removal in the title ------------------------------------------------------
