@@ -81,6 +81,10 @@ def test_default_layout_is_readable(make_window, wait_frame, size):
     assert board.width() >= 200, board.width()
     assert _visible_rect(board).width() >= 200
     assert _fully_visible(window.antenna_editor.table.table)[0]
+    # Nothing of the antenna editor lies past the dock's right edge (the beam pattern was
+    # cut off behind a horizontal scroll bar at 1366×768).
+    assert not window.docks["antennas"].widget().horizontalScrollBar().isVisible()
+    assert _fully_visible(window.antenna_editor.analysis.pattern_plot)[0]
     # Sensors: the derived-quantities column is whole (beside or under the form).
     window.docks["sensors"].raise_()
     QApplication.processEvents()
@@ -121,6 +125,14 @@ def test_range_profile_legend_is_beside_the_data(make_window, wait_frame):
     data = panel.plot.vb.sceneBoundingRect()
     # Right of the data (to the pixel), not over it.
     assert legend.width() > 0 and legend.left() >= data.right() - 1.0, (legend, data)
+
+
+def test_beam_pattern_names_its_curves_outside_the_data(make_window):
+    window = make_window()
+    plot = window.antenna_editor.analysis.pattern_plot.getPlotItem()
+    assert plot.legend is None                      # no legend box drawn over the curves
+    title = plot.titleLabel.text
+    assert "azimuth" in title and "elevation" in title
 
 
 # --- 4: antenna table ------------------------------------------------------------------
