@@ -114,10 +114,12 @@ def test_material_columns_stack_instead_of_being_cut_off_in_a_narrow_dock(make_w
     assert _fully_visible(window.material_editor.visible_editor)[0]
 
 
-def test_range_profile_legend_is_beside_the_data(make_window, wait_frame):
+@pytest.mark.parametrize("size", [(1366, 768), (1297, 729)])
+def test_range_profile_legend_is_beside_the_data(make_window, wait_frame, size):
+    # 1297×729: the window a first start opens on a 1366×768 screen (95 % of it).
     window = make_window()
     wait_frame(window)
-    _default_layout(window, (1366, 768))
+    _default_layout(window, size)
     panel = window.profile_panel
     panel.draw_now()
     QApplication.processEvents()
@@ -125,6 +127,10 @@ def test_range_profile_legend_is_beside_the_data(make_window, wait_frame):
     data = panel.plot.vb.sceneBoundingRect()
     # Right of the data (to the pixel), not over it.
     assert legend.width() > 0 and legend.left() >= data.right() - 1.0, (legend, data)
+    # The plot fits its widget: the range axis and its "range (m)" are not cut off below
+    # (the legend's three rows made the plot taller than the dock at 1297×729).
+    axis = panel.plot.getAxis("bottom").sceneBoundingRect()
+    assert axis.bottom() <= panel.plot_widget.height() + 0.5, (axis, panel.plot_widget.height())
 
 
 def test_beam_pattern_names_its_curves_outside_the_data(make_window):
