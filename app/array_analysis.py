@@ -227,8 +227,9 @@ class ArrayAnalysisView(QWidget):
         pp = self.pattern_plot.getPlotItem()
         # The title names the curves in their colours: a legend inside the view hid the
         # side lobes in a narrow dock, one under the axis took the plot's height (issue #34).
-        pp.setTitle(f"beam pattern: <span style='color:{AZ_COLOUR}'>— azimuth</span> "
-                    f"<span style='color:{EL_COLOUR}'>‐ ‐ elevation</span>", size="9pt")
+        # Short, because a title wider than the plot widens the plot past its widget's edge.
+        pp.setTitle(f"<span style='color:{AZ_COLOUR}'>— azimuth</span>&nbsp;&nbsp;"
+                    f"<span style='color:{EL_COLOUR}'>‐ ‐ elevation</span>", size="8pt")
         pp.setLabel("bottom", "angle", "°")
         pp.setLabel("left", "gain", "dB")
         pp.setXRange(-90, 90, padding=0)

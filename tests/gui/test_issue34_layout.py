@@ -84,7 +84,10 @@ def test_default_layout_is_readable(make_window, wait_frame, size):
     # Nothing of the antenna editor lies past the dock's right edge (the beam pattern was
     # cut off behind a horizontal scroll bar at 1366×768).
     assert not window.docks["antennas"].widget().horizontalScrollBar().isVisible()
-    assert _fully_visible(window.antenna_editor.analysis.pattern_plot)[0]
+    pattern = window.antenna_editor.analysis.pattern_plot
+    assert _fully_visible(pattern)[0]
+    # …and the plot inside it is no wider than the widget (a long title widens it).
+    assert pattern.getPlotItem().geometry().width() <= pattern.width() + 0.5
     # Sensors: the derived-quantities column is whole (beside or under the form).
     window.docks["sensors"].raise_()
     QApplication.processEvents()
