@@ -88,6 +88,18 @@ def test_default_layout_is_readable(make_window, wait_frame, size):
     assert _fully_visible(pattern)[0]
     # …and the plot inside it is no wider than the widget (a long title widens it).
     assert pattern.getPlotItem().geometry().width() <= pattern.width() + 0.5
+    # Inspector: an object's vectors (size, position, velocity…) fit the Scene column, each
+    # value whole, instead of lying past its edge behind a horizontal scroll bar.
+    doc = window.document
+    doc.select(doc.project.object_by_name("desk1_top").id)
+    QApplication.processEvents()
+    inspector = window.inspector
+    assert not inspector.horizontalScrollBar().isVisible()
+    size = inspector._geometry_widgets["size_m"]
+    for box in [*size.boxes, *inspector.angular_edit.boxes]:
+        assert _fully_visible(box)[0]
+        text = box.lineEdit().text()                 # "x 0.800 m": prefix, value, unit
+        assert box.lineEdit().fontMetrics().horizontalAdvance(text) <= box.lineEdit().width()
     # Sensors: the derived-quantities column is whole (beside or under the form).
     window.docks["sensors"].raise_()
     QApplication.processEvents()
