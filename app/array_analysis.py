@@ -139,6 +139,9 @@ def lobe_peaks(angles_deg: NDArray[np.floating], pattern_db: NDArray[np.floating
     is_peak &= a >= a.max() - within_db
     return np.asarray(angles_deg, dtype=np.float64)[is_peak]
 
+#: Colours of the pattern's azimuth and elevation cuts (named in the plot's title).
+AZ_COLOUR, EL_COLOUR = "#ffb74d", "#81c784"
+
 
 @dataclass(frozen=True)
 class ArrayPattern:
@@ -222,7 +225,11 @@ class ArrayAnalysisView(QWidget):
             f"grating lobes (other lobes within {GRATING_LOBE_DB:g} dB of the main lobe). "
             "Shaded: the radar's horizontal field of view.")
         pp = self.pattern_plot.getPlotItem()
-        pp.setTitle("beam pattern (array factor)", size="9pt")
+        # The title names the curves in their colours: a legend inside the view hid the
+        # side lobes in a narrow dock, one under the axis took the plot's height (issue #34).
+        # Short, because a title wider than the plot widens the plot past its widget's edge.
+        pp.setTitle(f"<span style='color:{AZ_COLOUR}'>— azimuth</span>&nbsp;&nbsp;"
+                    f"<span style='color:{EL_COLOUR}'>‐ ‐ elevation</span>", size="8pt")
         pp.setLabel("bottom", "angle", "°")
         pp.setLabel("left", "gain", "dB")
         pp.setXRange(-90, 90, padding=0)
@@ -230,13 +237,12 @@ class ArrayAnalysisView(QWidget):
         pp.hideButtons()
         pp.setMenuEnabled(False)
         pp.showGrid(x=True, y=True, alpha=0.25)
-        pp.addLegend(offset=(-5, 5), labelTextSize="8pt")
         self.fov_region = pg.LinearRegionItem((-50, 50), movable=False,
                                               brush=pg.mkBrush(255, 255, 255, 18),
                                               pen=pg.mkPen(None))
         pp.addItem(self.fov_region)
-        self.az_curve = pp.plot(pen=pg.mkPen("#ffb74d", width=2), name="azimuth")
-        self.el_curve = pp.plot(pen=pg.mkPen("#81c784", width=1.5, style=Qt.PenStyle.DashLine),
+        self.az_curve = pp.plot(pen=pg.mkPen(AZ_COLOUR, width=2), name="azimuth")
+        self.el_curve = pp.plot(pen=pg.mkPen(EL_COLOUR, width=1.5, style=Qt.PenStyle.DashLine),
                                 name="elevation")
         self.lobe_marks = pg.ScatterPlotItem(size=11, symbol="t1", pen=pg.mkPen("#ff5252"),
                                              brush=pg.mkBrush("#ff5252"))

@@ -3,7 +3,8 @@
 The dataset job is :func:`simcore.runner.run_dataset`, the same one ``tofradar run`` uses; the
 GUI shows its progress in a dialog whose Cancel button stops it after the current frame.
 :class:`ExportDialog` asks for what ``tofradar run`` takes (issue #34): destination and
-format (HDF5 ``.h5`` or MCAP ``.mcap``), frames or duration, seed, and a folder of PNG
+format (HDF5 ``.h5``, a Zarr store ``.zarr`` or MCAP ``.mcap``), frames or duration, seed,
+and a folder of PNG
 previews (``--preview DIR``); :func:`completion_box` ends the export with buttons that
 open the folder or the dataset.
 """
@@ -40,7 +41,10 @@ from simcore.scene import Project
 from simcore.scene.project_io import project_to_json
 
 #: Output formats of ``tofradar run --out``: label → file suffix.
-FORMATS = {"HDF5 dataset (.h5)": ".h5", "MCAP recording (.mcap)": ".mcap"}
+FORMATS = {"HDF5 dataset (.h5)": ".h5", "Zarr store (.zarr)": ".zarr",
+           "MCAP recording (.mcap)": ".mcap"}
+#: The suffixes in words, for the destination's message ("…end in .h5, .zarr or .mcap").
+SUFFIX_WORDS = ", ".join(list(FORMATS.values())[:-1]) + f" or {list(FORMATS.values())[-1]}"
 
 
 class DatasetExportJob(QThread):
@@ -161,13 +165,15 @@ class ExportDialog(QDialog):
         form = QFormLayout(self)
         self.format = QComboBox()
         self.format.addItems(list(FORMATS))
-        self.format.setToolTip("HDF5: the dataset layout of docs/dataset.md; MCAP: a "
+        self.format.setToolTip("HDF5: the dataset layout of docs/dataset.md; Zarr: the same "
+                               "layout as a folder of chunks (docs/scaling.md); MCAP: a "
                                "recording for Foxglove / ROS 2 tools (as tofradar run --out)")
         self.format.currentIndexChanged.connect(self._follow_format)
         form.addRow("format", self.format)
         row = QHBoxLayout()
         self.destination = QLineEdit(str(base_dir / f"{project.name}.h5"))
-        self.destination.setToolTip("The file to write (an existing one is replaced)")
+        self.destination.setToolTip("The file (a folder for Zarr) to write; an existing one "
+                                    "is replaced")
         browse = QPushButton("Browse…")
         browse.clicked.connect(self._browse)
         row.addWidget(self.destination, 1)
@@ -281,8 +287,8 @@ class ExportDialog(QDialog):
         if not text:
             problem = "type the file to write"
         elif out.suffix.lower() not in FORMATS.values():
-            problem = f"the file must end in .h5 or .mcap (got {out.name!r})"
-        elif out.is_dir():
+            problem = f"the file must end in {SUFFIX_WORDS} (got {out.name!r})"
+        elif out.is_dir() and out.suffix.lower() != ".zarr":
             problem = f"{out} is a folder; give a file name such as {out / 'run.h5'}"
         if problem:
             show_field_error(self.destination, problem)

@@ -330,7 +330,7 @@ class MainWindow(QMainWindow):
         """
         w, h = size.width(), size.height()
         left = int(min(390, max(260, 0.22 * w)))
-        right = int(min(690, max(480, 0.45 * w)))
+        right = int(min(690, max(480, 0.44 * w)))
         self.resizeDocks([self.docks["scene"], self.docks["tof"]], [left, right],
                          Qt.Orientation.Horizontal)
         bottom = int(min(300, max(250, 0.33 * h)))
@@ -374,7 +374,7 @@ class MainWindow(QMainWindow):
         self.save_as_action = a("Save &As…", lambda: self.save_as(),
                                 shortcut=QKeySequence("Ctrl+Shift+S"),
                                 tip="Save the project under a new name")
-        self.export_dataset_action = a("Export &dataset (HDF5 / MCAP)…",
+        self.export_dataset_action = a("Export &dataset (HDF5 / Zarr / MCAP)…",
                                        lambda: self.export_dataset_dialog(),
                                        tip="Run the headless dataset job on this project")
         self.export_images_action = a("Export panel &images…",

@@ -586,7 +586,9 @@ class RangeProfilePanel(LivePanel):
         # it hid the curve and the detections at the far end of the range).
         self.legend = pg.LegendItem(offset=None, labelTextSize="7pt", verSpacing=-6)
         self.plot.legend = self.legend  # named items join it (PlotItem.addItem)
-        self.plot.layout.addItem(self.legend, 2, 3)
+        # It spans the data's row and the range axis's: its three rows then never make the
+        # plot taller than a 1366×768 window's dock, which cut off the axis's "range (m)".
+        self.plot.layout.addItem(self.legend, 2, 3, 2, 1)
         self.curves: list[pg.PlotDataItem] = []
         self.processed = self.plot.plot(pen=pg.mkPen("#ffffff", width=2.0),
                                         name="processed")

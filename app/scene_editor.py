@@ -366,6 +366,13 @@ class ObjectInspector(QScrollArea):
         mform.addRow(kf_buttons)
         outer.addWidget(self.motion_box)
         outer.addStretch(1)
+        # In a narrow Scene column (1366×768) a row whose label and fields do not fit puts
+        # its fields under the label instead of pushing them past the dock's edge (issue
+        # #34: position, rotation and velocity were cut off behind a horizontal scroll bar).
+        for form_layout in body.findChildren(QFormLayout):
+            form_layout.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
+        for vector in body.findChildren(VectorEdit):
+            vector.fit_text()
 
         #: Current time of the time controls (s); set by the main window.
         self.time_source: Any = None
@@ -486,6 +493,7 @@ class ObjectInspector(QScrollArea):
                 else:
                     w = VectorEdit(labels=("x", "y", "z")[:n], suffix=unit, decimals=3,
                                    step=0.05, tooltip=tip)
+                    w.fit_text()
                     self._bind_vector(spec, w)
                 self.geometry_form.addRow(label, w)
                 self._geometry_widgets[field] = w

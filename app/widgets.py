@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from PyQt6.QtCore import QSignalBlocker, Qt, pyqtSignal
+from PyQt6.QtCore import QSignalBlocker, QSize, Qt, pyqtSignal
 from PyQt6.QtGui import QFocusEvent, QKeyEvent, QValidator
 from PyQt6.QtWidgets import (
     QDoubleSpinBox,
@@ -19,6 +19,7 @@ from PyQt6.QtWidgets import (
     QLabel,
     QLayout,
     QSpinBox,
+    QStyle,
     QWidget,
 )
 
@@ -95,6 +96,13 @@ class NumberBox(_TextRefusal, QDoubleSpinBox):
     """
 
     textRefused = pyqtSignal(str)
+    #: Width (px) that shows a typical value whole (:meth:`VectorEdit.fit_text`); None:
+    #: Qt's hint, which is as wide as the range's extreme values.
+    text_width: int | None = None
+
+    def minimumSizeHint(self) -> QSize:  # noqa: N802, D102 - Qt API
+        hint = super().minimumSizeHint()
+        return hint if self.text_width is None else QSize(self.text_width, hint.height())
 
     def validate(self, text: str | None, pos: int) -> tuple[QValidator.State, str, int]:  # noqa: D102
         text = text or ""
@@ -230,6 +238,29 @@ class VectorEdit(QWidget):
             box.valueChanged.connect(self._emit)
             layout.addWidget(box)
             self.boxes.append(box)
+
+    def fit_text(self) -> None:
+        """Keep each box wide enough for a value such as ``x -00.000 m`` to show whole.
+
+        Without it a narrow form squeezes the boxes to their 70 px floor and cuts the
+        unit off (``x 0.00 °/``) or pushes them past the dock's edge; with it the boxes
+        that do not fit beside the others wrap onto a second line (issue #34).
+        """
+        from app.wrap_row import WrapRow
+
+        layout = self.layout()
+        assert layout is not None
+        row = WrapRow(spacing=3)
+        for box in self.boxes:
+            text = f"{box.prefix()}-00.{'0' * box.decimals()}{box.suffix()}"
+            buttons = box.style().pixelMetric(QStyle.PixelMetric.PM_ScrollBarExtent)
+            width = box.fontMetrics().horizontalAdvance(text) + buttons + 14
+            box.setMinimumWidth(width)
+            if isinstance(box, NumberBox):
+                box.text_width = width
+            layout.removeWidget(box)
+            row.add(box)
+        layout.addWidget(row)
 
     def value(self) -> tuple[float, ...]:
         """Current vector."""

@@ -81,6 +81,25 @@ def test_default_layout_is_readable(make_window, wait_frame, size):
     assert board.width() >= 200, board.width()
     assert _visible_rect(board).width() >= 200
     assert _fully_visible(window.antenna_editor.table.table)[0]
+    # Nothing of the antenna editor lies past the dock's right edge (the beam pattern was
+    # cut off behind a horizontal scroll bar at 1366×768).
+    assert not window.docks["antennas"].widget().horizontalScrollBar().isVisible()
+    pattern = window.antenna_editor.analysis.pattern_plot
+    assert _fully_visible(pattern)[0]
+    # …and the plot inside it is no wider than the widget (a long title widens it).
+    assert pattern.getPlotItem().geometry().width() <= pattern.width() + 0.5
+    # Inspector: an object's vectors (size, position, velocity…) fit the Scene column, each
+    # value whole, instead of lying past its edge behind a horizontal scroll bar.
+    doc = window.document
+    doc.select(doc.project.object_by_name("desk1_top").id)
+    QApplication.processEvents()
+    inspector = window.inspector
+    assert not inspector.horizontalScrollBar().isVisible()
+    size = inspector._geometry_widgets["size_m"]
+    for box in [*size.boxes, *inspector.angular_edit.boxes]:
+        assert _fully_visible(box)[0]
+        text = box.lineEdit().text()                 # "x 0.800 m": prefix, value, unit
+        assert box.lineEdit().fontMetrics().horizontalAdvance(text) <= box.lineEdit().width()
     # Sensors: the derived-quantities column is whole (beside or under the form).
     window.docks["sensors"].raise_()
     QApplication.processEvents()
@@ -110,10 +129,12 @@ def test_material_columns_stack_instead_of_being_cut_off_in_a_narrow_dock(make_w
     assert _fully_visible(window.material_editor.visible_editor)[0]
 
 
-def test_range_profile_legend_is_beside_the_data(make_window, wait_frame):
+@pytest.mark.parametrize("size", [(1366, 768), (1297, 729)])
+def test_range_profile_legend_is_beside_the_data(make_window, wait_frame, size):
+    # 1297×729: the window a first start opens on a 1366×768 screen (95 % of it).
     window = make_window()
     wait_frame(window)
-    _default_layout(window, (1366, 768))
+    _default_layout(window, size)
     panel = window.profile_panel
     panel.draw_now()
     QApplication.processEvents()
@@ -121,6 +142,18 @@ def test_range_profile_legend_is_beside_the_data(make_window, wait_frame):
     data = panel.plot.vb.sceneBoundingRect()
     # Right of the data (to the pixel), not over it.
     assert legend.width() > 0 and legend.left() >= data.right() - 1.0, (legend, data)
+    # The plot fits its widget: the range axis and its "range (m)" are not cut off below
+    # (the legend's three rows made the plot taller than the dock at 1297×729).
+    axis = panel.plot.getAxis("bottom").sceneBoundingRect()
+    assert axis.bottom() <= panel.plot_widget.height() + 0.5, (axis, panel.plot_widget.height())
+
+
+def test_beam_pattern_names_its_curves_outside_the_data(make_window):
+    window = make_window()
+    plot = window.antenna_editor.analysis.pattern_plot.getPlotItem()
+    assert plot.legend is None                      # no legend box drawn over the curves
+    title = plot.titleLabel.text
+    assert "azimuth" in title and "elevation" in title
 
 
 # --- 4: antenna table ------------------------------------------------------------------
@@ -240,10 +273,13 @@ def test_export_dialog_offers_the_cli_options_and_ends_with_an_open_dialog(make_
     opened: list[QUrl] = []
     window.open_url = lambda url: opened.append(url) or True
     dialog = window.export_dataset_dialog()
+    # Every format of tofradar run --out (simcore.io.writer.open_writer).
     assert [dialog.format.itemText(i) for i in range(dialog.format.count())] == [
-        "HDF5 dataset (.h5)", "MCAP recording (.mcap)"]
-    dialog.format.setCurrentIndex(1)
+        "HDF5 dataset (.h5)", "Zarr store (.zarr)", "MCAP recording (.mcap)"]
+    dialog.format.setCurrentIndex(2)
     assert dialog.destination.text().endswith(".mcap")
+    dialog.format.setCurrentIndex(1)
+    assert dialog.destination.text().endswith(".zarr")
     dialog.format.setCurrentIndex(0)
     out = tmp_path / "run.h5"
     dialog.destination.setText(str(out))
@@ -282,8 +318,36 @@ def test_export_dialog_refuses_a_destination_without_a_format(make_window, tmp_p
     dialog.destination.setText(str(tmp_path / "run.txt"))
     dialog.accept()
     assert dialog.isVisible() and window.export_job is None
-    assert ".h5 or .mcap" in (field_error(dialog.destination) or "")
+    assert ".h5, .zarr or .mcap" in (field_error(dialog.destination) or "")
     dialog.reject()
+
+
+def test_export_dialog_writes_a_zarr_store(make_window, wait_frame, qtbot, tmp_path):
+    """Zarr, which tofradar run --out also writes: the store is a folder the dialog takes."""
+    from simcore.io import open_dataset
+
+    window = make_window()
+    wait_frame(window)
+    window.open_url = lambda url: True
+    dialog = window.export_dataset_dialog()
+    out = tmp_path / "run.zarr"
+    dialog.destination.setText(str(out))
+    assert dialog.format.currentText() == "Zarr store (.zarr)"      # follows the suffix
+    dialog.frames.setValue(1)
+    dialog.accept()
+    job = window.export_job
+    assert job is not None
+    qtbot.waitUntil(job.isFinished, timeout=120_000)
+    qtbot.waitUntil(lambda: window.completion_dialog is not None
+                    and window.completion_dialog.isVisible(), timeout=10_000)
+    ds = open_dataset(out)
+    try:
+        assert ds.sizes["frame"] == 1
+    finally:
+        ds.close()
+    buttons = {b.text(): b for b in window.completion_dialog.findChildren(QPushButton)}
+    assert buttons["Open dataset"].property("url") == QUrl.fromLocalFile(str(out.resolve()))
+    window.completion_dialog.close()
 
 
 # --- 8: clutter removal in the title ------------------------------------------------------
