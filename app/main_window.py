@@ -964,7 +964,9 @@ class MainWindow(QMainWindow):
 
         The dialog is window-modal and returned (tests fill it in and accept it).
         """
-        dialog = ExportDialog(self.document.project, self.document.base_dir, self)
+        # Proposed where Save As would start: never inside the bundled examples.
+        folder = self.document.suggested_save_path().parent
+        dialog = ExportDialog(self.document.project, folder, self)
         dialog.setWindowModality(Qt.WindowModality.WindowModal)
         dialog.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
 

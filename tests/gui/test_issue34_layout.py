@@ -21,6 +21,7 @@ from PyQt6.QtCore import QPointF, QRect, Qt, QUrl
 from PyQt6.QtWidgets import QApplication, QMessageBox, QPushButton
 
 from app.widgets import field_error
+from simcore.resources import EXAMPLES_DIR
 
 pytestmark = pytest.mark.gui
 
@@ -310,6 +311,18 @@ def test_export_dialog_offers_the_cli_options_and_ends_with_an_open_dialog(make_
     assert opened == [QUrl.fromLocalFile(str(out.resolve()))]
     assert box.isVisible()                                       # stays for "Open folder"
     box.close()
+
+
+def test_export_dialog_proposes_no_destination_in_the_bundled_examples(make_window,
+                                                                        wait_frame):
+    window = make_window()          # the office example, opened as a template
+    assert window.document.template is not None
+    wait_frame(window)
+    dialog = window.export_dataset_dialog()
+    proposed = Path(dialog.destination.text()).resolve()
+    assert EXAMPLES_DIR.resolve() not in proposed.parents
+    assert proposed.parent == window.document.suggested_save_path().parent.resolve()
+    dialog.reject()
 
 
 def test_export_dialog_refuses_a_destination_without_a_format(make_window, tmp_path):
