@@ -45,6 +45,8 @@ EXPECTED = {
     "bad_radar.json": "rig.radar.sample_rate_hz: Input should be greater than 0 (got 0)",
     "not_object.json": "expected a JSON object",
     "keyframes_unordered.json": "keyframe times must be strictly increasing",
+    "unknown_rig_front_material.json":
+        "rig.radar.rig_front_material: unknown material 'unobtainium'",
 }
 
 

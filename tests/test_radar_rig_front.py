@@ -152,3 +152,16 @@ def test_aluminium_plate_at_1_5_m_double_bounce_over_the_noise() -> None:
             assert abs(at - 2 * R) <= cfg.range_resolution_m
     assert snr[True] >= 10.0
     assert snr[True] - snr[False] >= 20.0
+
+
+def test_older_projects_get_the_rig_front_by_default() -> None:
+    """A version-1 project (written before the field existed) migrates to the default
+    rig front, the 25 mm × 25 mm aluminium board front."""
+    from pathlib import Path
+
+    from simcore.scene.project_io import load_project
+
+    old = load_project(Path(__file__).parent / "data" / "old_projects" / "v1_office.json")
+    radar = old.rig.radar
+    assert (radar.rig_front_width_m, radar.rig_front_height_m) == (0.025, 0.025)
+    assert radar.rig_front_material == "aluminium"
