@@ -36,10 +36,11 @@ R, Z = 1.5, 1.0
 THICK = 0.01
 
 
-def scene(cfg: RadarConfig, *, tilt_deg: float = 0.0) -> Project:
-    """An aluminium plate 1 m × 1 m whose front face is R ahead of the radar (world +x)."""
+def scene(cfg: RadarConfig, *, tilt_deg: float = 0.0, lateral_m: float = 0.0) -> Project:
+    """An aluminium plate 1 m × 1 m whose front face is R ahead of the radar (world +x),
+    its centre ``lateral_m`` to the side."""
     plate = SceneObject(id=1, name="plate", geometry=Box(size_m=(THICK, 1.0, 1.0)),
-                        pose=Pose(position_m=(R + THICK / 2, 0.0, Z),
+                        pose=Pose(position_m=(R + THICK / 2, lateral_m, Z),
                                   rotation_deg=(0.0, 0.0, tilt_deg)),
                         material="aluminium")
     return Project(objects=[plate], rig=SensorRig(pose=Pose(position_m=(0.0, 0.0, Z)),
@@ -109,6 +110,14 @@ def test_no_rig_front_no_double_bounce(make_renderer: Renderer) -> None:
     # An absorbing rig front (a radome of absorber) returns nothing either.
     absorber = ideal(rig_front_material="radar_absorber")
     assert rig_front_sets(make_renderer, scene(absorber)) == []
+
+
+def test_the_reflection_point_must_lie_on_the_plate(make_renderer: Renderer) -> None:
+    """The foot of the perpendicular from the radar must be on the plate: shifted 0.4 m
+    sideways (edge 0.1 m from it) the echo stays, 0.6 m (edge 0.1 m past it) it goes."""
+    cfg = ideal()
+    assert len(rig_front_sets(make_renderer, scene(cfg, lateral_m=0.4))) == 1
+    assert rig_front_sets(make_renderer, scene(cfg, lateral_m=0.6)) == []
 
 
 def test_a_tilted_plate_puts_the_rig_front_into_its_pattern_null(make_renderer: Renderer) -> None:
