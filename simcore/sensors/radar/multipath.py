@@ -41,6 +41,11 @@ directions for the bistatic (a) and (b); surface facets keep the amplitude of th
 (monostatic) return. The reflector's motion relative to the radar along its normal is
 included for (c) (the image velocity) and neglected for (a) and (b) (exact when the radar
 moves parallel to the reflector or not at all).
+
+The rig's own front (``RadarConfig.rig_front_*``, a flat rectangle in the board plane) is a
+reflector for the reflectors' own echoes: :func:`rig_front_ghosts` adds, from order 1, the
+path radar → reflector → rig front → reflector → radar as the reflector's image of the rig
+front (twice the reflector's distance, flat-plate RCS × Γ² × Γ_front).
 """
 
 from __future__ import annotations
