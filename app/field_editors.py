@@ -45,6 +45,7 @@ from app.widgets import (
     spin,
 )
 from simcore.scene import Project, fieldpath
+from simcore.scene.materials import load_material_library
 
 
 @dataclass(frozen=True)
@@ -458,6 +459,17 @@ LINK_BUDGET = [
               "radar ghosts via flat metal reflectors (image method): 0 none, 1 one "
               "bounce on the wall (either leg), 2 both legs; order 1 costs about 1.5× the "
               "synthesis, order 2 about 2.7×", kind="int"),
+    FieldSpec("rig.radar.rig_front_width_m", "rig front width", "mm",
+              "width of the rig's own front around the antennas (board or radome), which "
+              "returns a flat metal reflector's echo to it once more: an echo at twice the "
+              "reflector's range with multipath order ≥ 1 (0: no rig front)", scale=1e3,
+              step=1.0, decimals=1),
+    FieldSpec("rig.radar.rig_front_height_m", "rig front height", "mm",
+              "height of the rig's own front (0: no rig front)", scale=1e3, step=1.0,
+              decimals=1),
+    FieldSpec("rig.radar.rig_front_material", "rig front material", "",
+              "material of the rig's front: its radar reflection coefficient",
+              kind="choice", choices=tuple(load_material_library(copy=False))),
 ]
 
 #: CFAR cells and the detector options beside the main DSP choices.

@@ -45,6 +45,8 @@ EXPECTED = {
     "bad_radar.json": "rig.radar.sample_rate_hz: Input should be greater than 0 (got 0)",
     "not_object.json": "expected a JSON object",
     "keyframes_unordered.json": "keyframe times must be strictly increasing",
+    "unknown_rig_front_material.json":
+        "rig.radar.rig_front_material: unknown material 'unobtainium'",
 }
 
 
@@ -144,8 +146,9 @@ def test_version_1_files_still_load(tmp_path):
     office_v1 = load_project(OLD / "v1_office.json")
     office = load_project(EXAMPLES_DIR / "office.json")
     # The same scene; only the radar render grid changed since (it now covers the
-    # antennas' field of view in elevation too).
-    render = ("render_width", "render_height", "render_fov_h_deg")
+    # antennas' field of view in elevation too), and the example turned the BGT60TR13C's
+    # anti-aliasing low-pass on (the vendor's 500 kHz; an old file keeps its own value).
+    render = ("render_width", "render_height", "render_fov_h_deg", "if_lowpass_hz")
     for name in render:
         setattr(office.rig.radar, name, getattr(office_v1.rig.radar, name))
     # The office now ships with the ToF effects on; the v1 file keeps them off (defaults).

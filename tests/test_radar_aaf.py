@@ -59,7 +59,22 @@ def test_the_filter_must_lie_above_the_high_pass():
         RadarConfig.model_validate(bgt60tr13c().model_dump() | {"if_lowpass_hz": 50e3})
 
 
-def test_the_preset_uses_the_vendor_filters():
-    """Infineon's Radar SDK defaults for the BGT60TR13C: HP 80 kHz, AAF 500 kHz."""
+def test_the_preset_and_its_bundled_examples_use_the_vendor_filters():
+    """Infineon's Radar SDK defaults for the BGT60TR13C: HP 80 kHz, AAF 500 kHz; every
+    bundled example on the preset keeps both (as loaded, so a migration cannot drop them)."""
+    import json
+
+    from simcore.resources import example_path
+    from simcore.scene.project_io import load_project
+
     cfg = bgt60tr13c()
     assert (cfg.if_highpass_hz, cfg.if_lowpass_hz) == (80e3, 500e3)
+    examples = sorted(example_path("wall").parent.glob("*.json"))
+    using = [p for p in examples
+             if json.loads(p.read_text()).get("rig", {}).get("radar", {}).get("preset")
+             == "bgt60tr13c"]
+    assert len(using) >= 10
+    for path in using:
+        radar = load_project(path).rig.radar
+        assert radar.if_lowpass_hz == 500e3, path.name
+        assert radar.if_highpass_hz == 80e3, path.name

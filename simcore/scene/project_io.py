@@ -215,6 +215,10 @@ def check_references(project: Project, base_dir: Path) -> list[str]:
                 problems.append(f"objects[{i}].geometry.path: {what}: {path}")
         if isinstance(geom, Person):
             problems += _person_problems(f"objects[{i}].geometry", geom, materials, base_dir)
+    front = project.rig.radar.rig_front_material
+    if front not in materials:
+        problems.append(f"rig.radar.rig_front_material: unknown material {front!r} "
+                        f"(known: {', '.join(sorted(materials))})")
     return problems
 
 

@@ -247,6 +247,24 @@ class RadarConfig(Model):
                     "target → reflector → radar (× Γ²). Reflectors are large planar faces "
                     "of smooth, strongly reflecting materials (metal); off by default for "
                     "its cost (docs/physics_radar.md)")
+    # The rig's own front (evaluation board or radome) as a multipath reflector.
+    rig_front_width_m: float = Field(
+        0.025, ge=0, le=2.0, allow_inf_nan=False,
+        description="width (board x) of the rig's front around the antennas, a flat "
+                    "rectangle in the board plane centred on the board origin (the "
+                    "evaluation board or radome); with multipath_order ≥ 1 it reflects "
+                    "the echoes of the scene's planar reflectors back into them (radar → "
+                    "reflector → rig front → reflector → radar, an echo at twice the "
+                    "reflector's range). 0 = no rig front. Default 25 mm: the 60 GHz "
+                    "radar board's front (an assumed size, docs/physics_radar.md)")
+    rig_front_height_m: float = Field(
+        0.025, ge=0, le=2.0, allow_inf_nan=False,
+        description="height (board y) of the rig's front (0 = no rig front)")
+    rig_front_material: str = Field(
+        "aluminium", min_length=1,
+        description="material of the rig's front (a name in the project's material "
+                    "table): its normal-incidence radar Γ. Default aluminium: the board's "
+                    "copper ground plane around the antennas reflects like metal")
 
     @model_validator(mode="after")
     def _check(self) -> RadarConfig:

@@ -21,6 +21,8 @@ NEW_VALUES = {
     "rig.radar.leakage_path_mm": 38.0, "rig.radar.adc_noise_fs": 4.5e-4,
     "rig.radar.if_highpass_hz": 150e3, "rig.radar.if_lowpass_hz": 900e3,
     "rig.radar.speckle": False, "rig.radar.multipath_order": 2,
+    "rig.radar.rig_front_width_m": 0.06, "rig.radar.rig_front_height_m": 0.04,
+    "rig.radar.rig_front_material": "wood",
     "dsp.cfar_guard_range": 3, "dsp.cfar_train_range": 12, "dsp.cfar_guard_doppler": 2,
     "dsp.cfar_train_doppler": 6, "dsp.cfar_os_rank": 0.6, "dsp.peak_grouping": "cluster",
     "dsp.max_detections": 64, "dsp.interpolate_peaks": False,

@@ -41,6 +41,11 @@ directions for the bistatic (a) and (b); surface facets keep the amplitude of th
 (monostatic) return. The reflector's motion relative to the radar along its normal is
 included for (c) (the image velocity) and neglected for (a) and (b) (exact when the radar
 moves parallel to the reflector or not at all).
+
+The rig's own front (``RadarConfig.rig_front_*``, a flat rectangle in the board plane) is a
+reflector for the reflectors' own echoes: :func:`rig_front_ghosts` adds, from order 1, the
+path radar → reflector → rig front → reflector → radar as the reflector's image of the rig
+front (twice the reflector's distance, flat-plate RCS × Γ² × Γ_front).
 """
 
 from __future__ import annotations
@@ -64,6 +69,7 @@ from simcore.sensors.radar.equation import element_gain
 from simcore.sensors.radar.scatterers import (
     KIND_CORNER_REFLECTOR,
     KIND_FACET,
+    KIND_POINT_TARGET,
     Scatterers,
     trihedral_effective_area,
 )
@@ -227,10 +233,11 @@ class ImagePaths:
     crossing_m: NDArray[np.float64]
 
 
-def image_paths(reflector: Reflector, scatterers: Scatterers, buffers: RenderBuffers | None,
-                wavelength_m: float) -> ImagePaths | None:
-    """Primary scatterers with a valid path via ``reflector`` (module docstring), or None."""
-    refl = reflector
+def _facing_radar(refl: Reflector) -> tuple[Reflector, float] | None:
+    """The reflector turned towards the radar, and the radar's distance to its plane.
+
+    None when the radar is (nearly) in the plane or behind a one-sided face.
+    """
     s0 = float(-refl.center_m @ refl.normal)            # signed distance of the radar
     if abs(s0) < MIN_DISTANCE_M:
         return None
@@ -241,6 +248,16 @@ def image_paths(reflector: Reflector, scatterers: Scatterers, buffers: RenderBuf
                          -refl.normal, True, refl.gamma, refl.height_rms_m,
                          -refl.normal_speed_mps)
         s0 = -s0
+    return refl, s0
+
+
+def image_paths(reflector: Reflector, scatterers: Scatterers, buffers: RenderBuffers | None,
+                wavelength_m: float) -> ImagePaths | None:
+    """Primary scatterers with a valid path via ``reflector`` (module docstring), or None."""
+    facing = _facing_radar(reflector)
+    if facing is None:
+        return None
+    refl, s0 = facing
     pos = scatterers.positions_m
     s = (pos - refl.center_m) @ refl.normal
     ok = (s > MIN_DISTANCE_M) & (scatterers.object_index != refl.object_index) & (
@@ -545,7 +562,108 @@ def ghost_scatterers(project: Project, snapshot: SceneSnapshot, scatterers: Scat
             out.append(GhostSet(
                 _ghosts(scatterers, rows, images, v_img, a_img, gamma**2 * np.sqrt(aspect2)),
                 2, r.object_index))
+    # The rig's own front returns every reflector's echo to it once more (from order 1).
+    out += rig_front_ghosts(project, snapshot, config, reflectors, time_s=scatterers.time_s,
+                            buffers=buffers, materials=table)
     return out
+
+
+def flat_plate_rcs(width_m: float, height_m: float, wavelength_m: float,
+                   direction: NDArray[np.float64], normal: NDArray[np.float64],
+                   axes: NDArray[np.float64]) -> float:
+    """Monostatic physical-optics RCS of a flat perfectly conducting rectangle (m²).
+
+    ``σ = 4π (a b)² / λ² · cos²θ · sinc²(k a sinθ cosφ) · sinc²(k b sinθ sinφ)`` with
+    ``k = 2π/λ`` and ``a``, ``b`` the full side lengths (Knott, Shaeffer & Tuley, *Radar
+    Cross Section*, 2nd ed., Table 5.2), seen from the unit ``direction``; ``normal`` is the
+    plate's normal on the lit side and ``axes`` (2, 3) its edge directions (along ``a``,
+    ``b``). Zero when it is seen from behind or edge-on.
+    """
+    cos_t = float(direction @ normal)
+    if cos_t <= 0:
+        return 0.0
+    k = 2.0 * np.pi / wavelength_m
+    u_a, u_b = float(direction @ axes[0]), float(direction @ axes[1])
+    # np.sinc(x) = sin(πx)/(πx): sin(k a u)/(k a u) = np.sinc(k a u / π).
+    pattern = np.sinc(k * width_m * u_a / np.pi) * np.sinc(k * height_m * u_b / np.pi)
+    return float(4.0 * np.pi * (width_m * height_m) ** 2 / wavelength_m**2
+                 * cos_t**2 * pattern**2)
+
+
+def rig_front_ghosts(project: Project, snapshot: SceneSnapshot, config: RadarConfig,
+                     reflectors: Sequence[Reflector], *, time_s: float,
+                     buffers: RenderBuffers | None = None,
+                     materials: Mapping[str, DualBandMaterial] | None = None
+                     ) -> list[GhostSet]:
+    """The double bounce between the scene's planar reflectors and the rig's own front.
+
+    Path radar → reflector → rig front → reflector → radar: by the image method, the real
+    array sees the reflector's mirror image of the rig front (a flat plate
+    ``config.rig_front_width_m × rig_front_height_m`` in the board plane, centred on the
+    radar origin, facing the boresight), at twice the radar's distance ``s0`` to the plane
+    when it faces the radar. Its amplitude is the monostatic flat-plate RCS
+    (:func:`flat_plate_rcs`) of that image seen from the radar, × Γ² of the reflector (two
+    reflections, with its coherent factor at normal incidence) × Γ of the rig front's
+    material (with its own coherent factor). The reflection point (the foot of the
+    perpendicular from the radar to the plane) must lie inside the reflector's rectangle and
+    be seen in the render (as for :func:`image_paths`); the image moves at twice the
+    reflector's normal speed. One scatterer per reflector, attributed to the reflector's
+    object (a detection of it is labelled ``ghost`` with that id).
+
+    Returns
+    -------
+    list of GhostSet
+        Per reflector with the path, one set of order 2 (an image scatterer, real
+        antennas); empty when the rig front is off (a zero size), its
+        material does not reflect or no reflector faces the radar.
+    """
+    width, height = config.rig_front_width_m, config.rig_front_height_m
+    if width <= 0 or height <= 0 or not reflectors:
+        return []
+    table = material_table(project, copy=False) if materials is None else materials
+    mat = table.get(config.rig_front_material)
+    if mat is None:
+        return []
+    band = mat.band("radar")
+    lam = config.wavelength_m
+    gamma_front = complex(band.coefficients(SPEED_OF_LIGHT / lam)[0])
+    if band.opacity <= 0 or gamma_front == 0:
+        return []
+    g = 4.0 * np.pi * band.height_rms_m / lam          # coherent factor at normal incidence
+    gamma_front *= float(np.exp(-0.5 * g * g))
+    eye = np.eye(3)
+    positions, velocities, rcs, phase, owner = [], [], [], [], []
+    for reflector in reflectors:
+        facing = _facing_radar(reflector)
+        if facing is None:
+            continue
+        refl, s0 = facing
+        image = refl.mirror(np.zeros(3))                 # the rig front's image: 2 s0 away
+        foot = 0.5 * image                               # the reflection point
+        local = (foot - refl.center_m) @ refl.axes.T
+        if not np.all(np.abs(local) <= refl.half_size_m):
+            continue
+        if buffers is not None and not _reflector_seen(buffers, foot[None],
+                                                       refl.object_index)[0]:
+            continue
+        towards_radar = -image / (2.0 * s0)
+        sigma = flat_plate_rcs(width, height, lam, towards_radar,
+                               refl.mirror_vectors(eye[2]), refl.mirror_vectors(eye[:2]))
+        if sigma <= 0:
+            continue
+        g = 4.0 * np.pi * refl.height_rms_m / lam
+        amplitude = refl.gamma**2 * np.exp(-g * g) * gamma_front
+        positions.append(image)
+        velocities.append(2.0 * refl.normal_speed_mps * refl.normal)
+        rcs.append(sigma * abs(amplitude) ** 2)
+        phase.append(float(np.angle(amplitude)))
+        owner.append(refl.object_index)
+    return [GhostSet(Scatterers(
+        time_s=time_s, wavelength_m=lam, positions_m=p[None], velocities_mps=v[None],
+        rcs_m2=np.array([a]), phase_rad=np.array([ph]),
+        object_index=np.array([i], dtype=np.int32),
+        kind=np.array([KIND_POINT_TARGET], dtype=np.int8)), 2, i)
+        for p, v, a, ph, i in zip(positions, velocities, rcs, phase, owner, strict=True)]
 
 
 def multipath_if(project: Project, snapshot: SceneSnapshot, scatterers: Scatterers,
@@ -613,5 +731,5 @@ def _concat(sets: list[Scatterers]) -> Scatterers:
 
 
 __all__ = ["MIN_AREA_M2", "MIN_REFLECTION", "GhostSet", "ImagePaths", "Reflector",
-           "find_reflectors", "ghost_scatterers", "image_paths", "multipath_if",
-           "second_leg_clear", "synthesize_ghosts"]
+           "find_reflectors", "flat_plate_rcs", "ghost_scatterers", "image_paths",
+           "multipath_if", "rig_front_ghosts", "second_leg_clear", "synthesize_ghosts"]
