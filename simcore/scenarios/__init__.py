@@ -242,6 +242,8 @@ def generate(spec_path: str | Path, out: str | Path, *, count: int, seed: int = 
     if out.is_dir() and any(out.glob("scene_*.json")) and not overwrite:
         raise ScenarioError(f"--out {out} already holds scenes; use --overwrite")
     out.mkdir(parents=True, exist_ok=True)
+    for old in out.glob("scene_*.json"):       # --overwrite: no stale scene of a larger run
+        old.unlink()
     written = []
     for i in range(count):
         target = out / f"scene_{i:05d}.json"
