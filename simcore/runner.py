@@ -98,10 +98,17 @@ def _simulator(spec: RunSpec) -> Simulator:
 
 
 def close_simulators() -> None:
-    """Release this process's cached simulators (offscreen windows) now, not at exit."""
+    """Release this process's cached simulators (offscreen windows) now, not at exit.
+
+    The speckle phases kept per (seed, object) go too: a run over scenes moves on to
+    another seed, so its memory stays flat however many scenes it runs.
+    """
+    from simcore.sensors.radar.surfaces import release_phase_caches
+
     for sim in _SIMULATORS.values():
         sim.close()
     _SIMULATORS.clear()
+    release_phase_caches()
 
 
 class NonFiniteOutputError(RunError):

@@ -118,3 +118,31 @@ def test_scenes_of_another_layout_or_a_bad_folder_get_one_error_line(tmp_path, c
         assert main(["run", *argv, "--frames", "1", "--quiet"]) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and err[0].startswith("tofradar: error: ") and needle in err[0], err
+
+
+@pytest.mark.slow
+def test_memory_stays_flat_over_a_1000_frame_run_of_50_scenes(tmp_path):
+    """Peak RSS after the first two scenes (warm-up) grows < 50 MiB over the other 48:
+    each scene's simulator is released when the run moves on to the next scene."""
+    import resource
+
+    from simcore.runner import run_scenes
+    from simcore.scene import load_project
+    from simcore.scene.project_io import project_to_json
+
+    folder = scenes(tmp_path, 50)
+    todo = [(project_to_json(load_project(p)), p.parent)
+            for p in sorted(folder.glob("scene_*.json"))]
+    rss: list[float] = []
+
+    def sample(done: int, total: int, result: object) -> bool:
+        rss.append(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)  # MiB
+        return True
+
+    report = run_scenes(todo, tmp_path / "long.zarr", frames_per_scene=20, on_frame=sample,
+                        shard_frames=16)
+    assert report.frames_done == 1000 and len(rss) == 1000
+    growth = rss[-1] - rss[39]
+    assert growth < 50, f"peak RSS grew {growth:.1f} MiB over 960 frames of 48 scenes"
+    ds = open_dataset(tmp_path / "long.zarr")
+    np.testing.assert_array_equal(ds.scene_index.values, np.repeat(np.arange(50), 20))
