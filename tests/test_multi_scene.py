@@ -122,8 +122,10 @@ def test_scenes_of_another_layout_or_a_bad_folder_get_one_error_line(tmp_path, c
 
 @pytest.mark.slow
 def test_memory_stays_flat_over_a_1000_frame_run_of_50_scenes(tmp_path):
-    """Peak RSS after the first two scenes (warm-up) grows < 50 MiB over the other 48:
-    each scene's simulator is released when the run moves on to the next scene."""
+    """Peak RSS over the last 30 scenes (600 frames) grows < 25 MiB: each scene's simulator
+    and its seed's speckle phases are released when the run moves on, and the engine's
+    bounded caches (radar sweeps and DSP constants of the last 8 configurations) are
+    full after the first 20 scenes (measured: +55 MiB over those, +4 MiB after)."""
     import resource
 
     from simcore.runner import run_scenes
@@ -142,7 +144,22 @@ def test_memory_stays_flat_over_a_1000_frame_run_of_50_scenes(tmp_path):
     report = run_scenes(todo, tmp_path / "long.zarr", frames_per_scene=20, on_frame=sample,
                         shard_frames=16)
     assert report.frames_done == 1000 and len(rss) == 1000
-    growth = rss[-1] - rss[39]
-    assert growth < 50, f"peak RSS grew {growth:.1f} MiB over 960 frames of 48 scenes"
+    growth = rss[-1] - rss[399]
+    assert growth < 25, f"peak RSS grew {growth:.1f} MiB over the last 600 frames (30 scenes)"
     ds = open_dataset(tmp_path / "long.zarr")
     np.testing.assert_array_equal(ds.scene_index.values, np.repeat(np.arange(50), 20))
+
+
+def test_progress_of_generate_and_of_a_run_over_scenes_shows_rate_eta_and_scene(tmp_path,
+                                                                                 capsys):
+    doc = base_project_dict()
+    doc["timeline"] = {"frame_rate_hz": 20.0, "duration_s": 0.05}
+    write_project(doc, tmp_path / "tiny.json")
+    (tmp_path / "spec.json").write_text(json.dumps({"name": "p", "base": "tiny.json", "vary": {
+        "objects[0].pose.position_m[0]": {"uniform": [1.0, 3.0]}}}))
+    assert main(["generate", str(tmp_path / "spec.json"), "--out", str(tmp_path / "s"),
+                 "--count", "2", "--run", str(tmp_path / "p.h5"), "--frames", "1"]) == 0
+    err = capsys.readouterr().err
+    # tqdm: "projects: 100%|…| 2/2 [00:00<00:00, 9.1project/s]" (elapsed<ETA, rate)
+    assert "2/2 [" in err and ("project/s" in err or "s/project" in err) and "<" in err
+    assert ("frame/s" in err or "s/frame" in err) and "scene 2/2" in err

@@ -42,15 +42,15 @@ def test_draws_follow_their_distributions(tmp_path):
     x0, materials, rot = [], [], []
     for i in range(n):
         p = load_project(tmp_path / "w" / f"scene_{i:05d}.json")
-        x0.append(p.objects[0].pose.position_m[0])
-        materials.append(p.objects[1].material)
-        rot.append(p.objects[2].pose.rotation_deg[2])
-    low, high = spec["objects[0].pose.position_m[0]"]["uniform"]
+        x0.append(p.objects[3].pose.position_m[0])
+        materials.append(p.objects[0].material)
+        rot.append(p.objects[3].pose.rotation_deg[2])
+    low, high = spec["objects[3].pose.position_m[0]"]["uniform"]
     x = np.array(x0)
     assert x.min() >= low and x.max() <= high
     sigma = (high - low) / np.sqrt(12 * n)
     assert abs(x.mean() - (low + high) / 2) < 4 * sigma
-    assert set(materials) == set(spec["objects[1].material"]["choice"])   # every choice drawn
+    assert set(materials) == set(spec["objects[0].material"]["choice"])   # every choice drawn
     r = np.array(rot)
     assert r.min() >= -45.0 and r.max() <= 45.0             # the normal's clipping bounds
     assert abs(r.mean()) < 4 * 15.0 / np.sqrt(n)
