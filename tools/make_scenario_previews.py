@@ -1,9 +1,10 @@
 """Preview images of sample scenes of the bundled scenario families (docs/scenarios.md).
 
 Run from the repository root:
-``PYTHONPATH=. .venv/bin/python tools/make_scenario_previews.py``. For each family in ``resources/scenarios/``, four scenes of seed 0 are generated; each column shows
-the scene from above (objects at their pose, the rig and its heading) and the ToF camera's
-depth image of frame 0, computed by the simulator.
+``PYTHONPATH=. .venv/bin/python tools/make_scenario_previews.py``. For each family in
+``resources/scenarios/``, four scenes of seed 0 are generated; each column shows the scene
+from above (objects at their pose, the rig and its heading) and the ToF camera's depth
+image of frame 0, computed by the simulator.
 """
 
 from __future__ import annotations
