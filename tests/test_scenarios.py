@@ -114,3 +114,17 @@ def test_yaml_spec(tmp_path):
     assert generate(spec, tmp_path / "y", "--count", "2") == 0
     z = load_project(tmp_path / "y" / "scene_00001.json").rig.pose.position_m[2]
     assert 1.0 <= z <= 1.1
+
+
+@pytest.mark.parametrize(("text", "needle"), [
+    # "Billion laughs": nine levels of nine aliases, 387 million strings once expanded.
+    ("name: x\nbase: office\na0: &a0 [l, l, l, l, l, l, l, l, l]\n" + "".join(
+        f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 9)}]\n" for i in range(1, 10)),
+     "more than 200000 values"),
+    ("name: x\nbase: office\nvary: &v\n  self: *v\n", "nested deeper than 32"),   # recursion
+])
+def test_hostile_yaml_aliases_get_one_error_line_at_once(tmp_path, capsys, text, needle):
+    spec = _spec(tmp_path, text, "bomb.yaml")
+    assert generate(spec, tmp_path / "out", "--count", "1") == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("tofradar: error: ") and needle in err[0], err

@@ -110,11 +110,20 @@ class ScenarioSpec(_Strict):
         return v
 
 
+#: Most values (numbers, strings, lists, objects) of one spec, aliases counted as often as
+#: they are used (a YAML "billion laughs" of nested aliases stops here).
+MAX_VALUES = 200_000
+
+
 def _depth(doc: Any, limit: int = MAX_DEPTH) -> int:
-    stack, deepest = [(doc, 1)], 0
+    """Nesting depth of ``doc`` (stops past ``limit``); raises ValueError past MAX_VALUES."""
+    stack, deepest, seen = [(doc, 1)], 0, 0
     while stack:
         node, d = stack.pop()
         deepest = max(deepest, d)
+        seen += 1
+        if seen > MAX_VALUES:
+            raise ValueError(f"more than {MAX_VALUES} values")
         if d > limit:
             break
         if isinstance(node, dict):
@@ -150,7 +159,12 @@ def load_spec(path: str | Path) -> tuple[ScenarioSpec, Path]:
                             f"{str(exc)[:200]}") from None
     except Exception as exc:  # noqa: BLE001 — yaml's errors
         raise ScenarioError(f"{path}: not valid YAML: {str(exc)[:200]}") from None
-    if _depth(doc) > MAX_DEPTH:
+    try:
+        too_deep = _depth(doc) > MAX_DEPTH
+    except ValueError as exc:
+        raise ScenarioError(f"{path}: {exc} (YAML aliases count each time they are used)"
+                            ) from None
+    if too_deep:
         raise ScenarioError(f"{path}: nested deeper than {MAX_DEPTH} levels")
     if not isinstance(doc, dict):
         raise ScenarioError(f"{path}: a spec is an object with 'name', 'base' and 'vary'")
