@@ -225,8 +225,17 @@ def static_items(spec: AnySpec) -> H5Items:
 
 
 def _ignore_sigint() -> None:
-    """Worker processes leave Ctrl+C to the writer, which stops the run between frames."""
+    """Worker processes leave Ctrl+C to the writer, which stops the run between frames.
+
+    On Linux they also get SIGKILL when the driver dies (a killed driver leaves no worker
+    that goes on writing a shard beside the run that resumes it).
+    """
+    import os
+
+    from simcore.io.hdf5_writer import _die_with_parent
+
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _die_with_parent(os.getppid())
 
 
 def _in_order(futures: Iterator[tuple[int, Callable[[], FrameResult]]], window: int
