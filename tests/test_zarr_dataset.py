@@ -82,6 +82,20 @@ def test_same_seed_gives_the_same_bits_in_hdf5_and_zarr(tmp_path):
     h5.close()
 
 
+def test_people_arrays_have_the_same_dimension_names_and_bits_in_zarr(tmp_path):
+    """The people layout (docs/dataset.md#people) names its dimensions in Zarr too."""
+    from people_scenes import walker_project
+
+    doc = walker_project(speed=1.0, heading_deg=180.0, distance_m=3.0, frames=2)
+    doc["rig"]["radar"]["chirps_per_frame"] = 16
+    project = write_project(doc, tmp_path / "walker.json")
+    assert run(project, tmp_path / "p.h5", "--frames", "2") == 0
+    assert run(project, tmp_path / "p.zarr", "--frames", "2") == 0
+    zr = open_dataset(tmp_path / "p.zarr")
+    assert zr.people_segments_pose.dims == ("frame", "segment", "pose_row", "pose_col")
+    assert_same_dataset(open_dataset(tmp_path / "p.h5"), zr)
+
+
 def test_workers_write_their_own_shards_bit_identically(tmp_path):
     project = tiny_project(tmp_path)
     assert run(project, tmp_path / "a.h5", "--frames", "7") == 0

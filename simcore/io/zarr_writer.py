@@ -67,10 +67,10 @@ def _codecs(dtype: np.dtype[Any]) -> dict[str, Any]:
 
 
 def _dims(path: str, ndim: int, *, per_frame: bool) -> tuple[str, ...]:
-    from simcore.io.reader import DIMS
+    from simcore.io.reader import DIMS, PEOPLE_DIMS
 
-    inner = DIMS.get(path) or tuple(f"{path.strip('/').replace('/', '_')}_dim{i}"
-                                    for i in range(ndim))
+    inner = DIMS.get(path) or PEOPLE_DIMS.get(path) or tuple(
+        f"{path.strip('/').replace('/', '_')}_dim{i}" for i in range(ndim))
     if len(inner) != ndim:
         inner = tuple(f"{path.strip('/').replace('/', '_')}_dim{i}" for i in range(ndim))
     return ("frame", *inner) if per_frame else inner
