@@ -15,6 +15,7 @@ import functools
 import hashlib
 import json
 import multiprocessing
+import os
 import signal
 from collections.abc import Callable, Generator, Iterator, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
@@ -224,18 +225,18 @@ def static_items(spec: AnySpec) -> H5Items:
     return items
 
 
-def _ignore_sigint() -> None:
+def _ignore_sigint(driver: int | None = None) -> None:
     """Worker processes leave Ctrl+C to the writer, which stops the run between frames.
 
-    On Linux they also get SIGKILL when the driver dies (a killed driver leaves no worker
-    that goes on writing a shard beside the run that resumes it).
+    On Linux they also get SIGKILL when the driver (process ``driver``) dies, and exit at
+    once if it died before they started: a killed driver leaves no worker that goes on
+    writing a shard beside the run that resumes it.
     """
-    import os
-
     from simcore.io.hdf5_writer import _die_with_parent
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _die_with_parent(os.getppid())
+    if driver is not None:
+        _die_with_parent(driver)
 
 
 def _in_order(futures: Iterator[tuple[int, Callable[[], FrameResult]]], window: int
@@ -346,7 +347,8 @@ def iter_frames(spec: AnySpec, indices: Sequence[int], *, workers: int = 1,
     else:
         ctx = multiprocessing.get_context("spawn")
         with ProcessPoolExecutor(max_workers=workers, mp_context=ctx,
-                                 initializer=_ignore_sigint) as pool:
+                                 initializer=_ignore_sigint,
+                                 initargs=(os.getpid(),)) as pool:
             def submit() -> Iterator[tuple[int, Callable[[], FrameResult]]]:
                 for i in indices:
                     fut: Future[FrameResult] = pool.submit(compute_frame, spec, i)
@@ -710,7 +712,8 @@ def _shards_on_pool(spec: AnySpec, target: Any, shards: list[list[int]], *, work
     from concurrent.futures import FIRST_COMPLETED, wait
 
     ctx = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_ignore_sigint)
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_ignore_sigint,
+                               initargs=(os.getpid(),))
     pending: dict[Future[int], list[int]] = {}
     todo = list(shards)
     try:
