@@ -86,7 +86,8 @@ def test_a_folder_of_scenes_is_one_dataset_equal_to_each_scene_alone(tmp_path):
 
 @pytest.mark.slow
 def test_generate_run_spreads_scenes_over_workers_into_zarr_shards(tmp_path):
-    """Shards of 3 frames straddle the scenes (2 frames each); two workers write them."""
+    """Shards of 3 frames straddle the scenes (2 frames each); two local worker processes,
+    then two Dask workers write them."""
     folder = scenes(tmp_path)
     refs = alone(folder, tmp_path)
     assert main(["generate", str(tmp_path / "spec.json"), "--out", str(folder), "--count",
@@ -95,9 +96,14 @@ def test_generate_run_spreads_scenes_over_workers_into_zarr_shards(tmp_path):
                  "--shard-frames", "3"]) == 0
     ds = open_dataset(tmp_path / "all.zarr")
     assert_frames_equal_scenes_alone(ds, refs)
-    # Resuming the complete store of the same scenes has nothing to do; other scenes refuse.
+    # Resuming the complete store of the same scenes has nothing to do.
     assert main(["run", str(folder), "--out", str(tmp_path / "all.zarr"), "--frames",
                  str(FRAMES), "--resume", "--quiet"]) == 0
+    # The same on an embedded Dask cluster: its workers write the shards.
+    assert main(["run", str(folder), "--out", str(tmp_path / "dask.zarr"), "--frames",
+                 str(FRAMES), "--workers", "2", "--scheduler", "local", "--shard-frames",
+                 "3", "--quiet"]) == 0
+    assert_frames_equal_scenes_alone(open_dataset(tmp_path / "dask.zarr"), refs)
 
 
 def test_scenes_of_another_layout_or_a_bad_folder_get_one_error_line(tmp_path, capsys):
