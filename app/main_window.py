@@ -61,6 +61,7 @@ from app.panels import (
 )
 from app.recording_compare import add_compare_recording_action
 from app.rgb_panel import RgbPanel
+from app.scenario_export import add_export_spec_action
 from app.scene_editor import ObjectInspector, ObjectListPanel, build_add_menu
 from app.scene_import import build_import_scene_action
 from app.sensor_editor import SensorEditor
@@ -439,6 +440,7 @@ class MainWindow(QMainWindow):
         file_menu.addSeparator()
         file_menu.addActions([self.export_dataset_action, self.export_images_action])
         self.compare_recording_action = add_compare_recording_action(self, file_menu)
+        self.export_spec_action = add_export_spec_action(self, file_menu)
         file_menu.addSeparator()
         file_menu.addAction(self.quit_action)
         edit = bar.addMenu("&Edit")

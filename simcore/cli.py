@@ -179,6 +179,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     from simcore.runner import frame_count, run_dataset
 
     project_path = Path(args.project)
+    if project_path.is_dir():
+        return _run_scenes(args)
     project = load_project(project_path)
     seed = project.seed if args.seed is None else args.seed
     try:
@@ -237,6 +239,86 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(f"wrote frames {report.first_frame}..{report.frames_done - 1} to {out}")
     else:
         print(f"{out} already has {report.first_frame} frames; nothing to do")
+    return 0
+
+
+#: Most projects of one run over a folder of scenes.
+MAX_SCENES = 100_000
+
+
+def _run_scenes(args: argparse.Namespace) -> int:
+    """``tofradar run DIR``: every project of a folder into one dataset, a scene index per frame."""
+    from tqdm import tqdm
+
+    from simcore.io.hdf5_writer import DatasetExistsError, DiskFullError, ResumeError
+    from simcore.runner import frame_count, run_scenes
+
+    folder = Path(args.project)
+    files = sorted(p for p in folder.glob("*.json") if p.is_file())
+    if not files:
+        raise CliError(f"{folder}: a folder of projects holds *.json project files; found none")
+    if len(files) > MAX_SCENES:
+        raise CliError(f"{folder}: {len(files)} projects; allowed at most {MAX_SCENES}")
+    if args.seed is not None:
+        raise CliError("--seed: each scene of a folder runs with its own project seed")
+    if args.preview:
+        raise CliError("--preview is for one project, not a folder of scenes")
+    if args.resume and args.overwrite:
+        raise CliError("--resume and --overwrite exclude each other")
+    if args.scheduler is not None:
+        _check_scheduler(args.scheduler)
+    first = load_project(files[0])
+    try:
+        per_scene = frame_count(args.frames, args.duration, first.timeline.frame_rate_hz,
+                                _timeline_default(first, args))
+    except ValueError as exc:
+        raise CliError(str(exc)) from None
+    total = per_scene * len(files)
+    if total > MAX_FRAMES:
+        raise CliError(f"{len(files)} scenes × {per_scene} frames = {total} frames; allowed at "
+                       f"most {MAX_FRAMES}")
+    scenes = []
+    for path in files:
+        project = load_project(path)
+        _preflight(project, path, args, n_frames=per_scene, seed=project.seed)
+        scenes.append((project_to_json(project), path.parent))
+    cost = _preflight(first, files[0], args, n_frames=per_scene, seed=first.seed)
+    out: Path | str = args.out if "://" in args.out else Path(args.out)
+    if not _is_remote(args.out):
+        _check_disk(Path(args.out.removeprefix("file://")), cost, total, force=args.force)
+    _check_time(cost, total, args)
+    bar = tqdm(total=total, desc="frames", unit="frame", file=sys.stderr, disable=args.quiet)
+
+    def progress(done: int, n: int, result: FrameResult) -> bool:
+        bar.n = done
+        bar.set_postfix_str(f"scene {result.index // per_scene + 1}/{len(files)}",
+                            refresh=False)
+        bar.refresh()
+        return not stop.is_set()
+
+    try:
+        with stop_on_sigint() as stop:
+            report = run_scenes(scenes, out, frames_per_scene=per_scene,
+                                overwrite=args.overwrite, resume=args.resume,
+                                workers=args.workers, scheduler=args.scheduler,
+                                on_frame=progress, task_timeout_s=args.task_timeout,
+                                connect_timeout_s=args.connect_timeout,
+                                storage_options=_storage_options(args),
+                                shard_frames=args.shard_frames)
+    except (DatasetExistsError, ResumeError) as exc:
+        raise CliError(str(exc)) from None
+    except DiskFullError as exc:
+        raise CliError(f"{exc.strerror}; free space and continue with --resume") from None
+    except _store_errors() as exc:
+        raise CliError(f"--out {args.out}: {type(exc).__name__}: {str(exc)[:300]}") from None
+    finally:
+        bar.close()
+    if report.interrupted:
+        print(f"interrupted: {report.frames_done} of {total} frames are in {out}; "
+              f"continue with --resume", file=sys.stderr)
+        return 130
+    print(f"wrote {len(files)} scenes × {per_scene} frames (frames {report.first_frame}.."
+          f"{report.frames_done - 1}) to {out}")
     return 0
 
 
@@ -343,7 +425,15 @@ def cmd_generate(args: argparse.Namespace) -> int:
             bar.close()
     print(f"wrote {len(written)} projects to {args.out} "
           f"({written[0].name} .. {written[-1].name})")
-    return 0
+    if args.run is None:
+        return 0
+    run_args = build_parser().parse_args(["run", str(args.out), "--out", args.run])
+    for key in ("frames", "workers", "scheduler", "quiet", "shard_frames", "storage_option",
+                "overwrite_run", "resume", "force", "allow_outside_paths"):
+        if hasattr(args, key):
+            setattr(run_args, "overwrite" if key == "overwrite_run" else key,
+                    getattr(args, key))
+    return _run_scenes(run_args)
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
@@ -592,7 +682,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("run", help="render frames headlessly into an HDF5 dataset",
                        parents=common)
-    p.add_argument("project", help="project JSON file")
+    p.add_argument("project", help="project JSON file, or a folder of projects (one dataset "
+                                   "of every scene, a scene index per frame)")
     p.add_argument("--out", required=True,
                    help="output file: HDF5 (.h5, default), an MCAP recording (.mcap), or a "
                         "Zarr store (.zarr, or a URL such as s3://bucket/run)")
@@ -628,6 +719,23 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=_seed_int, default=0, help="random seed (default 0)")
     p.add_argument("--overwrite", action="store_true", help="replace existing scene files")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--run", metavar="OUT",
+                   help="then run every project into one dataset OUT (as 'tofradar run DIR')")
+    p.add_argument("--frames", type=_frames_int,
+                   help="with --run: frames per scene (default: the timeline)")
+    p.add_argument("--workers", type=_workers_int, default=1,
+                   help="with --run: local worker processes")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="with --run: Dask scheduler")
+    p.add_argument("--shard-frames", type=_int_at_least(1, 4096), default=16, metavar="K",
+                   help="with --run: Zarr frames per shard")
+    p.add_argument("--storage-option", action="append", metavar="KEY=VALUE",
+                   help="with --run: fsspec storage option of a Zarr URL (repeatable)")
+    p.add_argument("--overwrite-run", action="store_true",
+                   help="with --run: replace an existing dataset OUT")
+    p.add_argument("--resume", action="store_true",
+                   help="with --run: continue an interrupted dataset OUT")
+    p.add_argument("--force", action="store_true",
+                   help="with --run: run even over the memory, disk or time budget")
     p.set_defaults(func=cmd_generate)
 
     p = sub.add_parser("sweep", help="one dataset per combination of varied project fields",

@@ -15,6 +15,7 @@ import functools
 import hashlib
 import json
 import multiprocessing
+import os
 import signal
 from collections.abc import Callable, Generator, Iterator, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
@@ -57,6 +58,32 @@ class FrameResult:
     timings_ms: dict[str, float] = field(default_factory=dict)
 
 
+@dataclass(frozen=True)
+class ScenesSpec:
+    """A run over several scenes: ``frames_per_scene`` frames of each, one after another.
+
+    Dataset frame ``k`` is frame ``k % frames_per_scene`` of scene
+    ``k // frames_per_scene``; every scene keeps its own seed, so a frame equals the same
+    frame of that scene run alone, bit for bit. ``static_sha256`` is the digest of the
+    run-constant arrays (axes, object names and ids) that every scene must share.
+    """
+
+    scenes: tuple[RunSpec, ...]
+    frames_per_scene: int
+    static_sha256: str = ""
+
+    @property
+    def key(self) -> str:
+        """Identity of the run."""
+        text = "\n".join(s.key for s in self.scenes) + f"\n{self.frames_per_scene}"
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    def locate(self, index: int) -> tuple[int, int]:
+        """(scene, frame of that scene) of dataset frame ``index``."""
+        return divmod(index, self.frames_per_scene)
+
+
+AnySpec = RunSpec | ScenesSpec
 _SIMULATORS: dict[str, Simulator] = {}
 
 
@@ -72,10 +99,17 @@ def _simulator(spec: RunSpec) -> Simulator:
 
 
 def close_simulators() -> None:
-    """Release this process's cached simulators (offscreen windows) now, not at exit."""
+    """Release this process's cached simulators (offscreen windows) now, not at exit.
+
+    The speckle phases kept per (seed, object) go too: a run over scenes moves on to
+    another seed, so its memory stays flat however many scenes it runs.
+    """
+    from simcore.sensors.radar.surfaces import release_phase_caches
+
     for sim in _SIMULATORS.values():
         sim.close()
     _SIMULATORS.clear()
+    release_phase_caches()
 
 
 class NonFiniteOutputError(RunError):
@@ -119,9 +153,56 @@ def check_finite(index: int, items: H5Items) -> None:
                 "reliably (see 'tofradar validate')")
 
 
-def compute_frame(spec: RunSpec, index: int) -> FrameResult:
+def compute_frame(spec: AnySpec, index: int) -> FrameResult:
     """Compute frame ``index`` of a run (in whichever process calls it)."""
-    return _result(_simulator(spec).frame(index))
+    return next(results(spec, [index]))
+
+
+def results(spec: AnySpec, indices: Sequence[int]) -> Iterator[FrameResult]:
+    """Frames ``indices`` of a run, in order, consecutive frames of a scene overlapped.
+
+    In a run over scenes (:class:`ScenesSpec`), each frame gets its dataset index, the
+    per-frame ``/scene_index`` and detection rows numbered by dataset frame; a scene whose
+    run-constant arrays differ from the first scene's stops the run (:class:`RunError`).
+    """
+    if isinstance(spec, RunSpec):
+        for frame in _simulator(spec).frames(indices):
+            yield _result(frame)
+        return
+    groups: list[tuple[int, list[int]]] = []
+    for k in indices:
+        scene, _ = spec.locate(k)
+        if not groups or groups[-1][0] != scene:
+            groups.append((scene, []))
+        groups[-1][1].append(k)
+    for scene, ks in groups:
+        sub = spec.scenes[scene]
+        first = sub.key not in _SIMULATORS
+        sim = _simulator(sub)
+        if first and spec.static_sha256 and static_digest(sim.static_items()) != \
+                spec.static_sha256:
+            raise RunError(f"scene {scene} has other axes, object names or ids than scene 0 "
+                           "(its sensor configuration or object list differs); one dataset "
+                           "holds scenes of one layout: vary values, not the layout")
+        for k, frame in zip(ks, sim.frames([spec.locate(k)[1] for k in ks]), strict=True):
+            result = _result(frame)
+            result.index = k
+            result.items["/scene_index"] = (np.asarray(scene, dtype=np.int32), "1")
+            for rows in result.tables.values():
+                if rows.dtype.names is not None and "frame" in rows.dtype.names:
+                    rows["frame"] = k
+            yield result
+
+
+def static_digest(items: H5Items) -> str:
+    """SHA-256 of run-constant arrays (names, shapes, dtypes, values, units)."""
+    digest = hashlib.sha256()
+    for path in sorted(items):
+        array, unit = items[path]
+        arr = np.ascontiguousarray(np.asarray(array))
+        digest.update(f"{path}|{unit}|{arr.dtype.str}|{arr.shape}|".encode())
+        digest.update(arr.tobytes())
+    return digest.hexdigest()
 
 
 def _result(frame: Frame) -> FrameResult:
@@ -130,14 +211,32 @@ def _result(frame: Frame) -> FrameResult:
     return FrameResult(frame.index, items, frame.table_rows(), frame.timings_ms)
 
 
-def static_items(spec: RunSpec) -> H5Items:
-    """Run-constant datasets (object names and ids, axes)."""
-    return _simulator(spec).static_items()
+def static_items(spec: AnySpec) -> H5Items:
+    """Run-constant datasets (object names and ids, axes).
+
+    Of a run over scenes: the first scene's, with each scene's name and seed.
+    """
+    if isinstance(spec, RunSpec):
+        return _simulator(spec).static_items()
+    items = dict(_simulator(spec.scenes[0]).static_items())
+    names = [json.loads(s.project_json).get("name", "") for s in spec.scenes]
+    items["/scenes/names"] = (np.array(names, dtype=str), "")
+    items["/scenes/seeds"] = (np.array([s.seed for s in spec.scenes], dtype=np.int64), "1")
+    return items
 
 
-def _ignore_sigint() -> None:
-    """Worker processes leave Ctrl+C to the writer, which stops the run between frames."""
+def _ignore_sigint(driver: int | None = None) -> None:
+    """Worker processes leave Ctrl+C to the writer, which stops the run between frames.
+
+    On Linux they also get SIGKILL when the driver (process ``driver``) dies, and exit at
+    once if it died before they started: a killed driver leaves no worker that goes on
+    writing a shard beside the run that resumes it.
+    """
+    from simcore.io.hdf5_writer import _die_with_parent
+
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if driver is not None:
+        _die_with_parent(driver)
 
 
 def _in_order(futures: Iterator[tuple[int, Callable[[], FrameResult]]], window: int
@@ -216,7 +315,7 @@ def probe_scheduler(address: str, *, timeout_s: float = CONNECT_TIMEOUT_S) -> No
                              f"{shown!r}); a different service listens on that port")
 
 
-def iter_frames(spec: RunSpec, indices: Sequence[int], *, workers: int = 1,
+def iter_frames(spec: AnySpec, indices: Sequence[int], *, workers: int = 1,
                 scheduler: str | None = None, task_timeout_s: float = TASK_TIMEOUT_S,
                 connect_timeout_s: float = CONNECT_TIMEOUT_S) -> Iterator[FrameResult]:
     """Yield the frames ``indices`` in order, computed by ``workers`` processes or Dask.
@@ -244,12 +343,12 @@ def iter_frames(spec: RunSpec, indices: Sequence[int], *, workers: int = 1,
                               connect_timeout_s=connect_timeout_s)
     elif workers <= 1:
         # In this process, consecutive frames overlapped (Simulator.frames).
-        for frame in _simulator(spec).frames(indices):
-            yield _result(frame)
+        yield from results(spec, indices)
     else:
         ctx = multiprocessing.get_context("spawn")
         with ProcessPoolExecutor(max_workers=workers, mp_context=ctx,
-                                 initializer=_ignore_sigint) as pool:
+                                 initializer=_ignore_sigint,
+                                 initargs=(os.getpid(),)) as pool:
             def submit() -> Iterator[tuple[int, Callable[[], FrameResult]]]:
                 for i in indices:
                     fut: Future[FrameResult] = pool.submit(compute_frame, spec, i)
@@ -293,7 +392,7 @@ def _pool_result(pool: ProcessPoolExecutor, fut: Future[FrameResult]) -> FrameRe
             raise BrokenProcessPool("a worker process died") from None
 
 
-def _iter_dask(spec: RunSpec, indices: Sequence[int], *, workers: int, scheduler: str,
+def _iter_dask(spec: AnySpec, indices: Sequence[int], *, workers: int, scheduler: str,
                window: int, task_timeout_s: float, connect_timeout_s: float
                ) -> Iterator[FrameResult]:
     check_scheduler_address(scheduler)
@@ -393,7 +492,6 @@ def run_dataset(project_json: str, base_dir: Path, out: Path | str, *, n_frames:
     ``resume=True`` continues. A run that fails before its first frame leaves no file; a
     failing ``overwrite`` leaves the old file untouched (see :class:`DatasetWriter`).
     """
-    from simcore.io.writer import open_writer
     from simcore.preflight import check
     from simcore.scene.project_io import ProjectError
 
@@ -405,15 +503,105 @@ def run_dataset(project_json: str, base_dir: Path, out: Path | str, *, n_frames:
     if problems:
         raise ProjectError(f"project for {out}", problems)
     spec = RunSpec(project_json, str(base_dir), seed)
+    return _run(spec, out, project_json=project_json, seed=seed, n_frames=n_frames,
+                overwrite=overwrite, resume=resume, workers=workers, scheduler=scheduler,
+                extra_meta=extra_meta, on_frame=on_frame, task_timeout_s=task_timeout_s,
+                connect_timeout_s=connect_timeout_s, storage_options=storage_options,
+                shard_frames=shard_frames)
+
+
+def run_scenes(scenes: Sequence[tuple[str, Path]], out: Path | str, *, frames_per_scene: int,
+               overwrite: bool = False, resume: bool = False, workers: int = 1,
+               scheduler: str | None = None, extra_meta: dict[str, Any] | None = None,
+               on_frame: Callable[[int, int, FrameResult], bool] | None = None,
+               task_timeout_s: float = TASK_TIMEOUT_S,
+               connect_timeout_s: float = CONNECT_TIMEOUT_S,
+               storage_options: dict[str, Any] | None = None,
+               shard_frames: int | None = None) -> RunReport:
+    """Write ``frames_per_scene`` frames of each scene, one after another, into one dataset.
+
+    ``scenes`` are ``(project JSON, base folder)`` pairs (a folder of generated projects,
+    ``tofradar run DIR``); each scene runs with its own project seed. Dataset frame ``k``
+    is frame ``k % frames_per_scene`` of scene ``k // frames_per_scene`` and records it in
+    the per-frame ``/scene_index``; ``/scenes/names``, ``/scenes/seeds`` and
+    ``/scenes/projects`` describe the scenes, and the root ``project_json`` is scene 0's.
+    Frames are spread over the workers like a one-scene run's (whole shards per worker
+    in a Zarr store), and ``resume`` continues the same folder of scenes.
+
+    Every scene must share the first scene's layout: the same sensor axes, object names
+    and ids and ``dsp.max_detections`` (vary values, not the layout); else
+    :class:`RunError` before the first frame, or when a worker first meets the scene.
+    """
+    from simcore.preflight import check
+    from simcore.scene.project_io import ProjectError
+
+    if not scenes:
+        raise RunError("no scenes to run")
+    if is_mcap(out):
+        raise RunError(f"--out {out}: a run over scenes writes HDF5 or Zarr, not MCAP")
+    specs = []
+    limit = None
+    for i, (project_json, base_dir) in enumerate(scenes):
+        project = project_from_dict(json.loads(project_json), base_dir=Path(base_dir))
+        problems = check(project, base_dir=Path(base_dir), memory_budget_bytes=2**63,
+                         n_frames=frames_per_scene, seed=project.seed,
+                         allow_outside_paths=True, parse_meshes=False)
+        if problems:
+            raise ProjectError(f"scene {i} for {out}", problems)
+        if limit is None:
+            limit = project.dsp.max_detections
+        elif project.dsp.max_detections != limit:
+            raise RunError(f"scene {i}: dsp.max_detections {project.dsp.max_detections} "
+                           f"differs from scene 0's {limit}; one dataset holds scenes of "
+                           "one layout")
+        specs.append(RunSpec(project_json, str(base_dir), project.seed))
+    first = ScenesSpec(tuple(specs), frames_per_scene)
+    digest = static_digest(_simulator(specs[0]).static_items())
+    close_simulators()
+    spec = ScenesSpec(first.scenes, frames_per_scene, digest)
+    meta = dict(extra_meta or {})
+    meta["scenes"] = len(specs)
+    meta["frames_per_scene"] = frames_per_scene
+    meta["scenes_sha256"] = spec.key
+    return _run(spec, out, project_json=specs[0].project_json, seed=specs[0].seed,
+                n_frames=frames_per_scene * len(specs), overwrite=overwrite, resume=resume,
+                workers=workers, scheduler=scheduler, extra_meta=meta, on_frame=on_frame,
+                task_timeout_s=task_timeout_s, connect_timeout_s=connect_timeout_s,
+                storage_options=storage_options, shard_frames=shard_frames)
+
+
+def is_mcap(out: Path | str) -> bool:
+    """Whether ``out`` names an MCAP recording."""
+    return str(out).lower().endswith(".mcap")
+
+
+def _run(spec: AnySpec, out: Path | str, *, project_json: str, seed: int, n_frames: int,
+         overwrite: bool, resume: bool, workers: int, scheduler: str | None,
+         extra_meta: dict[str, Any] | None,
+         on_frame: Callable[[int, int, FrameResult], bool] | None, task_timeout_s: float,
+         connect_timeout_s: float, storage_options: dict[str, Any] | None,
+         shard_frames: int | None) -> RunReport:
+    from simcore.io.hdf5_writer import ResumeError
+    from simcore.io.writer import open_writer
+
     writer = open_writer(out, project_json=project_json, seed=seed, overwrite=overwrite,
                          resume=resume, extra_meta=extra_meta, storage_options=storage_options,
                          shard_frames=shard_frames)
+    if isinstance(spec, ScenesSpec) and resume:
+        stored = _stored_attr(writer, "scenes_sha256")
+        if stored is not None and stored != spec.key:
+            writer.close(keep=True)
+            raise ResumeError(f"cannot resume {out}: it was written from other scenes")
     todo = writer.missing(n_frames)
     report = RunReport(out, writer.n_frames, writer.n_frames, n_frames)
     with writer:
         try:
             if writer.n_frames == 0 and len(todo) == n_frames:
-                writer.write_static(static_items(spec))
+                static = static_items(spec)
+                if isinstance(spec, ScenesSpec):
+                    static["/scenes/projects"] = (
+                        np.array([s.project_json for s in spec.scenes], dtype=str), "")
+                writer.write_static(static)
             how: dict[str, Any] = {"workers": workers, "scheduler": scheduler,
                                    "task_timeout_s": task_timeout_s,
                                    "connect_timeout_s": connect_timeout_s}
@@ -429,7 +617,19 @@ def run_dataset(project_json: str, base_dir: Path, out: Path | str, *, n_frames:
     return report
 
 
-def _write_frames(writer: Any, spec: RunSpec, todo: Sequence[int], report: RunReport,
+def _stored_attr(writer: Any, key: str) -> Any:
+    """A metadata attribute of an opened writer's dataset (HDF5 ``/meta`` or Zarr root)."""
+    group = getattr(writer, "group", None)
+    if group is not None:
+        return group.attrs.get(key)
+    file = getattr(writer, "file", None)
+    if file is not None and "meta" in file:
+        value = file["meta"].attrs.get(key)
+        return value.decode() if isinstance(value, bytes) else value
+    return None
+
+
+def _write_frames(writer: Any, spec: AnySpec, todo: Sequence[int], report: RunReport,
                   on_frame: Callable[[int, int, FrameResult], bool] | None, **how: Any
                   ) -> None:
     """Compute the frames ``todo`` and write them in a thread beside the engine.
@@ -457,7 +657,7 @@ def _write_frames(writer: Any, spec: RunSpec, todo: Sequence[int], report: RunRe
     report.interrupted = threaded.stopped and writer.n_frames < n_frames
 
 
-def compute_shard(spec: RunSpec, target: Any, frames: Sequence[int]) -> int:
+def compute_shard(spec: AnySpec, target: Any, frames: Sequence[int]) -> int:
     """Compute the frames of one shard and write them into the store (in a worker).
 
     Returns the number of frames written. Only this process writes this shard: the driver
@@ -466,13 +666,12 @@ def compute_shard(spec: RunSpec, target: Any, frames: Sequence[int]) -> int:
     """
     from simcore.io.zarr_writer import write_shard
 
-    batch = [(r.index, r.items, r.tables)
-             for r in map(_result, _simulator(spec).frames(frames))]
+    batch = [(r.index, r.items, r.tables) for r in results(spec, frames)]
     write_shard(target, batch)
     return len(batch)
 
 
-def _write_shards(writer: Any, spec: RunSpec, todo: Sequence[int], report: RunReport,
+def _write_shards(writer: Any, spec: AnySpec, todo: Sequence[int], report: RunReport,
                   on_frame: Callable[[int, int, FrameResult], bool] | None, *, workers: int,
                   scheduler: str | None, task_timeout_s: float, connect_timeout_s: float
                   ) -> None:
@@ -507,13 +706,14 @@ def _write_shards(writer: Any, spec: RunSpec, todo: Sequence[int], report: RunRe
                 break
 
 
-def _shards_on_pool(spec: RunSpec, target: Any, shards: list[list[int]], *, workers: int,
+def _shards_on_pool(spec: AnySpec, target: Any, shards: list[list[int]], *, workers: int,
                     window: int) -> Generator[list[int], None, None]:
     """Shards written by local worker processes, yielded as they complete."""
     from concurrent.futures import FIRST_COMPLETED, wait
 
     ctx = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_ignore_sigint)
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_ignore_sigint,
+                               initargs=(os.getpid(),))
     pending: dict[Future[int], list[int]] = {}
     todo = list(shards)
     try:
@@ -535,7 +735,7 @@ def _shards_on_pool(spec: RunSpec, target: Any, shards: list[list[int]], *, work
         pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _shards_on_dask(spec: RunSpec, target: Any, shards: list[list[int]], *, workers: int,
+def _shards_on_dask(spec: AnySpec, target: Any, shards: list[list[int]], *, workers: int,
                     scheduler: str, window: int, task_timeout_s: float,
                     connect_timeout_s: float) -> Generator[list[int], None, None]:
     """Shards written by Dask workers, yielded as they complete."""
@@ -587,5 +787,6 @@ def _shards_on_dask(spec: RunSpec, target: Any, shards: list[list[int]], *, work
 
 
 __all__ = ["FrameResult", "NonFiniteOutputError", "RunReport", "RunSpec", "SchedulerError",
-           "check_scheduler_address", "compute_frame", "compute_shard", "frame_count",
-           "iter_frames", "probe_scheduler", "run_dataset", "static_items"]
+           "ScenesSpec", "check_scheduler_address", "compute_frame", "compute_shard",
+           "frame_count", "iter_frames", "probe_scheduler", "results", "run_dataset",
+           "run_scenes", "static_digest", "static_items"]

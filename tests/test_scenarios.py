@@ -39,18 +39,18 @@ def test_draws_follow_their_distributions(tmp_path):
     n = 400
     assert generate(WAREHOUSE, tmp_path / "w", "--count", str(n), "--seed", "3") == 0
     spec = json.loads(WAREHOUSE.read_text())["vary"]
-    x0, chirps, rot = [], [], []
+    x0, materials, rot = [], [], []
     for i in range(n):
         p = load_project(tmp_path / "w" / f"scene_{i:05d}.json")
-        x0.append(p.objects[0].pose.position_m[0])
-        chirps.append(p.rig.radar.chirps_per_frame)
-        rot.append(p.objects[2].pose.rotation_deg[2])
-    low, high = spec["objects[0].pose.position_m[0]"]["uniform"]
+        x0.append(p.objects[3].pose.position_m[0])
+        materials.append(p.objects[0].material)
+        rot.append(p.objects[3].pose.rotation_deg[2])
+    low, high = spec["objects[3].pose.position_m[0]"]["uniform"]
     x = np.array(x0)
     assert x.min() >= low and x.max() <= high
     sigma = (high - low) / np.sqrt(12 * n)
     assert abs(x.mean() - (low + high) / 2) < 4 * sigma
-    assert set(chirps) == {16, 32, 64}                       # every choice drawn
+    assert set(materials) == set(spec["objects[0].material"]["choice"])   # every choice drawn
     r = np.array(rot)
     assert r.min() >= -45.0 and r.max() <= 45.0             # the normal's clipping bounds
     assert abs(r.mean()) < 4 * 15.0 / np.sqrt(n)
@@ -114,3 +114,17 @@ def test_yaml_spec(tmp_path):
     assert generate(spec, tmp_path / "y", "--count", "2") == 0
     z = load_project(tmp_path / "y" / "scene_00001.json").rig.pose.position_m[2]
     assert 1.0 <= z <= 1.1
+
+
+@pytest.mark.parametrize(("text", "needle"), [
+    # "Billion laughs": nine levels of nine aliases, 387 million strings once expanded.
+    ("name: x\nbase: office\na0: &a0 [l, l, l, l, l, l, l, l, l]\n" + "".join(
+        f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 9)}]\n" for i in range(1, 10)),
+     "more than 200000 values"),
+    ("name: x\nbase: office\nvary: &v\n  self: *v\n", "nested deeper than 32"),   # recursion
+])
+def test_hostile_yaml_aliases_get_one_error_line_at_once(tmp_path, capsys, text, needle):
+    spec = _spec(tmp_path, text, "bomb.yaml")
+    assert generate(spec, tmp_path / "out", "--count", "1") == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("tofradar: error: ") and needle in err[0], err

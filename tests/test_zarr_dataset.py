@@ -82,6 +82,20 @@ def test_same_seed_gives_the_same_bits_in_hdf5_and_zarr(tmp_path):
     h5.close()
 
 
+def test_people_arrays_have_the_same_dimension_names_and_bits_in_zarr(tmp_path):
+    """The people layout (docs/dataset.md#people) names its dimensions in Zarr too."""
+    from people_scenes import walker_project
+
+    doc = walker_project(speed=1.0, heading_deg=180.0, distance_m=3.0, frames=2)
+    doc["rig"]["radar"]["chirps_per_frame"] = 16
+    project = write_project(doc, tmp_path / "walker.json")
+    assert run(project, tmp_path / "p.h5", "--frames", "2") == 0
+    assert run(project, tmp_path / "p.zarr", "--frames", "2") == 0
+    zr = open_dataset(tmp_path / "p.zarr")
+    assert zr.people_segments_pose.dims == ("frame", "segment", "pose_row", "pose_col")
+    assert_same_dataset(open_dataset(tmp_path / "p.h5"), zr)
+
+
 def test_workers_write_their_own_shards_bit_identically(tmp_path):
     project = tiny_project(tmp_path)
     assert run(project, tmp_path / "a.h5", "--frames", "7") == 0
@@ -237,6 +251,8 @@ def test_s3_write_and_resume_through_the_users_code_path(tmp_path, s3):
 
 @pytest.mark.slow
 def test_sigkill_of_driver_and_worker_on_s3_then_resume_is_bit_identical(tmp_path, s3):
+    """Kill the driver of an in-process run, a worker of a two-worker run, and the driver
+    of a two-worker run, each followed by --resume; the store ends complete and equal."""
     psutil = pytest.importorskip("psutil")
     s3, bucket = s3
     frames = 12
@@ -272,6 +288,24 @@ def test_sigkill_of_driver_and_worker_on_s3_then_resume_is_bit_identical(tmp_pat
         lines = err.strip().splitlines()
         assert proc.returncode == 2 and len(lines) == 1, err
         assert "worker process died" in lines[0] and "--resume" in lines[0]
+    # 2b. Resumed with two workers again; this time the driver is killed while its workers
+    #     write shards: the workers die with it (none goes on writing beside step 3).
+    if s3_n_frames(url, s3) < frames:
+        proc = subprocess.Popen([*base, "--resume", "--workers", "2"],
+                                stderr=subprocess.PIPE, text=True)
+        workers = []
+        while proc.poll() is None and time.monotonic() < deadline and not workers:
+            workers = [c for c in psutil.Process(proc.pid).children()
+                       if "spawn_main" in " ".join(c.cmdline())]
+            time.sleep(0.05)
+        if workers:
+            time.sleep(1.0)
+            proc.kill()
+            proc.wait()
+            gone, alive = psutil.wait_procs(workers, timeout=20)
+            assert not alive, f"workers outlived the killed driver: {alive}"
+        else:
+            proc.wait()
     # 3. Resumed again: complete and bit-identical to the uninterrupted run.
     proc3 = subprocess.run([*base, "--resume"], capture_output=True, text=True, timeout=300)
     assert proc3.returncode == 0, proc3.stderr

@@ -69,6 +69,10 @@ DIMS: dict[str, tuple[str, ...]] = {
     "/radar/bird_eye_z_axis": ("bev_z",),
     "/radar/detections_count": (),
     "/meta/frame_sha256": (),
+    "/scene_index": (),
+    "/scenes/names": ("scene",),
+    "/scenes/seeds": ("scene",),
+    "/scenes/projects": ("scene",),
 }
 
 #: Datasets added after a run by ``tofradar products`` (:mod:`simcore.io.products`).

@@ -110,11 +110,20 @@ class ScenarioSpec(_Strict):
         return v
 
 
+#: Most values (numbers, strings, lists, objects) of one spec, aliases counted as often as
+#: they are used (a YAML "billion laughs" of nested aliases stops here).
+MAX_VALUES = 200_000
+
+
 def _depth(doc: Any, limit: int = MAX_DEPTH) -> int:
-    stack, deepest = [(doc, 1)], 0
+    """Nesting depth of ``doc`` (stops past ``limit``); raises ValueError past MAX_VALUES."""
+    stack, deepest, seen = [(doc, 1)], 0, 0
     while stack:
         node, d = stack.pop()
         deepest = max(deepest, d)
+        seen += 1
+        if seen > MAX_VALUES:
+            raise ValueError(f"more than {MAX_VALUES} values")
         if d > limit:
             break
         if isinstance(node, dict):
@@ -150,7 +159,12 @@ def load_spec(path: str | Path) -> tuple[ScenarioSpec, Path]:
                             f"{str(exc)[:200]}") from None
     except Exception as exc:  # noqa: BLE001 — yaml's errors
         raise ScenarioError(f"{path}: not valid YAML: {str(exc)[:200]}") from None
-    if _depth(doc) > MAX_DEPTH:
+    try:
+        too_deep = _depth(doc) > MAX_DEPTH
+    except ValueError as exc:
+        raise ScenarioError(f"{path}: {exc} (YAML aliases count each time they are used)"
+                            ) from None
+    if too_deep:
         raise ScenarioError(f"{path}: nested deeper than {MAX_DEPTH} levels")
     if not isinstance(doc, dict):
         raise ScenarioError(f"{path}: a spec is an object with 'name', 'base' and 'vary'")
@@ -242,6 +256,8 @@ def generate(spec_path: str | Path, out: str | Path, *, count: int, seed: int = 
     if out.is_dir() and any(out.glob("scene_*.json")) and not overwrite:
         raise ScenarioError(f"--out {out} already holds scenes; use --overwrite")
     out.mkdir(parents=True, exist_ok=True)
+    for old in out.glob("scene_*.json"):       # --overwrite: no stale scene of a larger run
+        old.unlink()
     written = []
     for i in range(count):
         target = out / f"scene_{i:05d}.json"
@@ -253,5 +269,105 @@ def generate(spec_path: str | Path, out: str | Path, *, count: int, seed: int = 
     return written
 
 
-__all__ = ["Choice", "Normal", "ScenarioError", "ScenarioSpec", "Uniform", "generate",
-           "load_spec", "scene"]
+#: Objects larger than this (m, any side) are the room's structure: a spec made from a
+#: scene keeps them where they are.
+STRUCTURE_SIZE_M = 1.5
+
+
+def _largest_side(geometry: dict[str, Any]) -> float | None:
+    """Largest side (m) of a parametric geometry; None for meshes and unknown kinds."""
+    sides: list[float] = []
+    for key, value in geometry.items():
+        if key == "size_m" and isinstance(value, list):
+            sides.extend(float(v) for v in value)
+        elif key in ("radius_m",):
+            sides.append(2.0 * float(value))
+        elif key in ("height_m", "edge_m", "length_m", "width_m", "side_m"):
+            sides.append(float(value))
+    return max(sides) if sides else None
+
+
+def spec_from_project(project_doc: dict[str, Any], *, name: str, base: str,
+                      move_m: float = 0.1, turn_deg: float = 15.0) -> dict[str, Any]:
+    """A starting scenario spec for a scene: what can move without breaking the scene.
+
+    Varies the rig's x and y (uniform within ±``move_m`` of where it is) and yaw (within
+    ±``turn_deg``), and the same of every object that stands alone: an object stands alone
+    when it is not the room's structure (every side under :data:`STRUCTURE_SIZE_M`, not a
+    mesh), has no keyframed path, and shares the stem of its name (``desk1`` of
+    ``desk1_leg2``) with no other object, so furniture built of several parts keeps its
+    parts together. A person's height varies by ±5 % and its walking speed by ±20 %. The
+    result is a spec document to edit and :func:`load_spec`; ``base`` is the project file
+    it refers to (relative to the spec's folder).
+    """
+    half_m, half_deg = move_m, turn_deg
+
+    def around(value: float, half: float) -> dict[str, list[float]]:
+        return {"uniform": [round(value - half, 6), round(value + half, 6)]}
+
+    vary: dict[str, Any] = {}
+    rig = project_doc.get("rig", {}).get("pose", {})
+    pos, rot = rig.get("position_m", [0.0, 0.0, 0.0]), rig.get("rotation_deg", [0.0, 0.0, 0.0])
+    vary["rig.pose.position_m[0]"] = around(pos[0], half_m)
+    vary["rig.pose.position_m[1]"] = around(pos[1], half_m)
+    vary["rig.pose.rotation_deg[2]"] = around(rot[2], half_deg)
+    objects = project_doc.get("objects", [])
+    stems: dict[str, int] = {}
+    for obj in objects:
+        stem = obj["name"].rsplit("_", 1)[0] if "_" in obj["name"] else obj["name"]
+        stems[stem] = stems.get(stem, 0) + 1
+    for i, obj in enumerate(objects):
+        geometry = obj.get("geometry", {})
+        if geometry.get("kind") == "person":
+            height = float(geometry.get("height_m", 1.7))
+            vary[f"objects[{i}].geometry.height_m"] = {
+                "uniform": [round(0.95 * height, 4), round(1.05 * height, 4)]}
+            walk = (geometry.get("motion") or {}).get("walk")
+            if walk and walk.get("speed_mps"):
+                speed = float(walk["speed_mps"])
+                vary[f"objects[{i}].geometry.motion.walk.speed_mps"] = {
+                    "uniform": [round(0.8 * speed, 4), round(1.2 * speed, 4)]}
+            continue
+        side = _largest_side(geometry)
+        stem = obj["name"].rsplit("_", 1)[0] if "_" in obj["name"] else obj["name"]
+        if side is None or side >= STRUCTURE_SIZE_M or stems[stem] > 1 \
+                or (obj.get("motion") or {}).get("keyframes"):
+            continue
+        opos = obj.get("pose", {}).get("position_m", [0.0, 0.0, 0.0])
+        orot = obj.get("pose", {}).get("rotation_deg", [0.0, 0.0, 0.0])
+        vary[f"objects[{i}].pose.position_m[0]"] = around(opos[0], half_m)
+        vary[f"objects[{i}].pose.position_m[1]"] = around(opos[1], half_m)
+        vary[f"objects[{i}].pose.rotation_deg[2]"] = around(orot[2], half_deg)
+    return {"format": SPEC_FORMAT, "name": name, "base": base, "vary": vary}
+
+
+def export_spec(project_path: str | Path, spec_path: str | Path, *,
+                name: str | None = None) -> ScenarioSpec:
+    """Write the starting spec of a saved project (:func:`spec_from_project`) and check it.
+
+    The spec refers to the project file by its path relative to the spec's folder; it is
+    validated (:func:`load_spec`) and its first scene generated before it is kept.
+    """
+    import os
+    import tempfile
+
+    project_path, spec_path = Path(project_path).resolve(), Path(spec_path)
+    doc = json.loads(project_path.read_text(encoding="utf-8"))
+    base = os.path.relpath(project_path, spec_path.resolve().parent)
+    spec_doc = spec_from_project(doc, name=name or spec_path.stem, base=base)
+    spec_path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=spec_path.parent, prefix=f".{spec_path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(json.dumps(spec_doc, indent=2) + "\n")
+        spec, base_file = load_spec(tmp)
+        scene(spec, json.loads(base_file.read_text(encoding="utf-8")), seed=0, index=0,
+              base_dir=base_file.parent)
+        os.replace(tmp, spec_path)
+    finally:
+        Path(tmp).unlink(missing_ok=True)
+    return spec
+
+
+__all__ = ["Choice", "Normal", "ScenarioError", "ScenarioSpec", "Uniform", "export_spec",
+           "generate", "load_spec", "scene", "spec_from_project"]

@@ -360,6 +360,12 @@ def _speckle_phasors(seed: int, object_id: int, n: int) -> NDArray[np.complex128
     return out
 
 
+def release_phase_caches() -> None:
+    """Drop the kept speckle phases (a run moving on to a scene with another seed)."""
+    _speckle_phasors.cache_clear()
+    _phases.cache_clear()
+
+
 def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuffers,
                   meshes: Sequence[TriangleMesh | None], *, wavelength_m: float,
                   materials: Mapping[str, DualBandMaterial], speckle: bool = True,
