@@ -69,6 +69,11 @@ DIMS: dict[str, tuple[str, ...]] = {
     "/radar/bird_eye_z_axis": ("bev_z",),
     "/radar/detections_count": (),
     "/meta/frame_sha256": (),
+}
+
+#: Dimension names of the datasets that only runs over several scenes write
+#: (``tofradar run DIR``; docs/scenarios.md).
+SCENE_DIMS: dict[str, tuple[str, ...]] = {
     "/scene_index": (),
     "/scenes/names": ("scene",),
     "/scenes/seeds": ("scene",),
@@ -202,7 +207,8 @@ def open_dataset(path: str | os.PathLike[str], *,
                 continue
             per_frame = bool(ds.attrs.get("per_frame", False)) or (
                 name == "/time" and ds.shape == (n_frames,))
-            inner = DIMS.get(name) or PRODUCT_DIMS.get(name) or PEOPLE_DIMS.get(name) or tuple(
+            inner = (DIMS.get(name) or PRODUCT_DIMS.get(name) or PEOPLE_DIMS.get(name)
+                     or SCENE_DIMS.get(name)) or tuple(
                 f"{name.strip('/').replace('/', '_')}_dim{i}"
                 for i in range(ds.ndim - per_frame))
             dims = (("frame",) if per_frame else ()) + inner

@@ -67,9 +67,9 @@ def _codecs(dtype: np.dtype[Any]) -> dict[str, Any]:
 
 
 def _dims(path: str, ndim: int, *, per_frame: bool) -> tuple[str, ...]:
-    from simcore.io.reader import DIMS, PEOPLE_DIMS
+    from simcore.io.reader import DIMS, PEOPLE_DIMS, SCENE_DIMS
 
-    inner = DIMS.get(path) or PEOPLE_DIMS.get(path) or tuple(
+    inner = DIMS.get(path) or PEOPLE_DIMS.get(path) or SCENE_DIMS.get(path) or tuple(
         f"{path.strip('/').replace('/', '_')}_dim{i}" for i in range(ndim))
     if len(inner) != ndim:
         inner = tuple(f"{path.strip('/').replace('/', '_')}_dim{i}" for i in range(ndim))
