@@ -395,13 +395,13 @@ def furnish(doc: dict[str, Any], room: Room, furniture: list[FurnitureEntry],
                              "rotation_deg": [0.0, 0.0, _r(yaw)]},
                     "material": mats[role], "motion": _empty_motion()})
                 next_id += 1
-    for entry in people:
-        count = int(rng.integers(entry.count[0], entry.count[1] + 1))
+    for group in people:
+        count = int(rng.integers(group.count[0], group.count[1] + 1))
         half = PERSON_SIDE_M / 2
         for _ in range(count):
             name = fresh("walker")
             x, y, _yaw, fp = free_spot(PERSON_SIDE_M, PERSON_SIDE_M, f"person {name}")
-            n_way = int(rng.integers(entry.waypoints[0], entry.waypoints[1] + 1))
+            n_way = int(rng.integers(group.waypoints[0], group.waypoints[1] + 1))
             points = [np.array([x, y])]
             for _w in range(n_way):
                 for _t in range(MAX_TRIES):
@@ -415,7 +415,7 @@ def furnish(doc: dict[str, Any], room: Room, furniture: list[FurnitureEntry],
                 else:
                     raise FurnishError(f"scene {index}: no clear walk for person {name} after "
                                        f"{MAX_TRIES} tries; fewer pieces or waypoints")
-            speed = max(float(entry.speed_mps.draw(rng)), 0.0)
+            speed = max(float(group.speed_mps.draw(rng)), 0.0)
             taken.append(fp)
             motion = _empty_motion()
             walk = None
@@ -432,15 +432,15 @@ def furnish(doc: dict[str, Any], room: Room, furniture: list[FurnitureEntry],
                 motion["repeat"] = "back_and_forth"
                 walk = {"speed_mps": _r(speed), "path": "keyframes"}
             vitals = None
-            if entry.vital_signs is not None:
-                vitals = {key: _r(dist.draw(rng)) for key, dist in entry.vital_signs.items()}
+            if group.vital_signs is not None:
+                vitals = {key: _r(dist.draw(rng)) for key, dist in group.vital_signs.items()}
             objects.append({
                 "id": next_id, "name": name,
-                "geometry": {"kind": "person", "height_m": _r(entry.height_m.draw(rng)),
-                             "build": _r(entry.build.draw(rng)), "skin": "skin",
+                "geometry": {"kind": "person", "height_m": _r(group.height_m.draw(rng)),
+                             "build": _r(group.build.draw(rng)), "skin": "skin",
                              "clothing": "clothing",
                              "motion": {"posture": "standing", "walk": walk,
-                                        "gesture": entry.gesture.draw(rng),
+                                        "gesture": group.gesture.draw(rng),
                                         "vital_signs": vitals, "bvh": None, "sway_mm": 2.0}},
                 "pose": {"position_m": [_r(x), _r(y), _r(room.floor_z_m)],
                          "rotation_deg": [0.0, 0.0, _r(yaw)]},
