@@ -226,3 +226,16 @@ def test_piece_sizes_within_their_documented_ranges(scenes):
         assert 0.6 <= d <= 0.8 and 1.0 <= w <= 1.6
         assert 0.70 <= top["pose"]["position_m"][2] + t / 2 <= 0.76 + 1e-6
     assert np.isfinite([o["pose"]["position_m"] for o in tops]).all()
+
+
+def test_the_documented_example_spec_generates(tmp_path):
+    """The JSON example of docs/scenarios.md's furniture section is a working spec."""
+    text = (Path(__file__).parents[1] / "docs" / "scenarios.md").read_text()
+    section = text[text.index("## Furniture, people and materials by count"):]
+    start = section.index("```json") + len("```json")
+    block = section[start: section.index("```", start)]
+    spec = _write(tmp_path, json.loads(block))
+    assert _generate(spec, tmp_path / "d", "--count", "3") == 0
+    doc = json.loads((tmp_path / "d" / "scene_00002.json").read_text())
+    boxes = {o["name"].split("_")[0] for o in doc["objects"] if o["name"].startswith("box")}
+    assert 1 <= len(boxes) <= 4
