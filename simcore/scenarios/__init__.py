@@ -210,8 +210,12 @@ def scene(spec: ScenarioSpec, base_doc: dict[str, Any], *, seed: int, index: int
             furnish(doc, spec.room, spec.furniture, spec.people, rng, index=index)
     except FurnishError as exc:
         raise ScenarioError(str(exc)) from None
+    record = spec.model_dump(mode="json", by_alias=True)
+    for key in ("materials", "room", "furniture", "people"):    # a spec of 'vary' alone is
+        if not record[key]:                                      # recorded as it was before
+            del record[key]
     doc["description"] = json.dumps({"scenario": spec.name, "seed": seed, "index": index,
-                                     "spec": spec.model_dump(mode="json")}, sort_keys=True)
+                                     "spec": record}, sort_keys=True)
     doc["name"] = f"{spec.name} #{index}"
     try:
         project = project_from_dict(doc, base_dir=base_dir, source=f"scene {index}")
