@@ -41,8 +41,12 @@ MAX_PER_ENTRY = 200
 MAX_TRIES = 400
 MAX_ADDED_OBJECTS = 5000
 MAX_WAYPOINTS = 50
-#: A person's footprint (m, side of the square kept free of furniture).
+#: A person's footprint (m, side of the square kept free of furniture); shortest leg of a
+#: walk (m).
 PERSON_SIDE_M = 0.6
+MIN_LEG_M = 0.2
+#: Starts tried per person (each with MAX_TRIES tries per waypoint).
+START_TRIES = 20
 
 
 class FurnishError(RunError):
@@ -400,21 +404,26 @@ def furnish(doc: dict[str, Any], room: Room, furniture: list[FurnitureEntry],
         half = PERSON_SIDE_M / 2
         for _ in range(count):
             name = fresh("walker")
-            x, y, _yaw, fp = free_spot(PERSON_SIDE_M, PERSON_SIDE_M, f"person {name}")
             n_way = int(rng.integers(group.waypoints[0], group.waypoints[1] + 1))
-            points = [np.array([x, y])]
-            for _w in range(n_way):
-                for _t in range(MAX_TRIES):
-                    q = np.array([rng.uniform(area[0] + half, area[2] - half),
-                                  rng.uniform(area[1] + half, area[3] - half)])
-                    grown = [(t[0] - half, t[1] - half, t[2] + half, t[3] + half)
-                             for t in taken]
-                    if not any(_segment_hits(points[-1], q, t) for t in grown):
-                        points.append(q)
+            grown = [(t[0] - half, t[1] - half, t[2] + half, t[3] + half) for t in taken]
+            for _start in range(START_TRIES):   # a start boxed in by furniture: another one
+                x, y, _yaw, fp = free_spot(PERSON_SIDE_M, PERSON_SIDE_M, f"person {name}")
+                points = [np.array([x, y])]
+                for _w in range(n_way):
+                    for _t in range(MAX_TRIES):
+                        q = np.array([rng.uniform(area[0] + half, area[2] - half),
+                                      rng.uniform(area[1] + half, area[3] - half)])
+                        if float(np.hypot(*(q - points[-1]))) >= MIN_LEG_M and not any(
+                                _segment_hits(points[-1], q, t) for t in grown):
+                            points.append(q)
+                            break
+                    else:
                         break
-                else:
-                    raise FurnishError(f"scene {index}: no clear walk for person {name} after "
-                                       f"{MAX_TRIES} tries; fewer pieces or waypoints")
+                if len(points) == n_way + 1:
+                    break
+            else:
+                raise FurnishError(f"scene {index}: no clear walk of {n_way} legs for person "
+                                   f"{name} from {START_TRIES} starts; fewer pieces or waypoints")
             speed = max(float(group.speed_mps.draw(rng)), 0.0)
             taken.append(fp)
             motion = _empty_motion()
