@@ -57,8 +57,9 @@ def test_draws_follow_their_distributions(tmp_path):
 
 
 @pytest.mark.slow
-def test_a_thousand_projects_validate_and_a_sample_runs(tmp_path):
-    assert generate(WAREHOUSE, tmp_path / "k", "--count", "1000", "--seed", "5") == 0
+@pytest.mark.parametrize("family", [WAREHOUSE, OFFICE], ids=["warehouse", "office"])
+def test_a_thousand_projects_validate_and_a_sample_runs(tmp_path, family):
+    assert generate(family, tmp_path / "k", "--count", "1000", "--seed", "5") == 0
     files = sorted((tmp_path / "k").glob("scene_*.json"))
     assert len(files) == 1000
     for f in files:

@@ -49,6 +49,10 @@ def plan(ax, project) -> None:
             if radius is None:
                 radius = float(getattr(g, "radius_m", 0.1))
             ax.add_patch(Circle((x, y), radius, fc=colour, ec="k", lw=0.4, alpha=0.8))
+        if g.kind == "person" and obj.motion.keyframes:     # its walk, dashed
+            ax.plot([x + k.position_m[0] for k in obj.motion.keyframes],
+                    [y + k.position_m[1] for k in obj.motion.keyframes], "--",
+                    color="tab:red", lw=0.8)
     rx, ry = project.rig.pose.position_m[0], project.rig.pose.position_m[1]
     heading = np.deg2rad(project.rig.pose.rotation_deg[2])
     ax.arrow(rx, ry, 0.6 * np.cos(heading), 0.6 * np.sin(heading), width=0.05,

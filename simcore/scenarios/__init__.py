@@ -13,22 +13,33 @@ seed and its index in its ``description`` and gets its own noise seed.
 from __future__ import annotations
 
 import json
-import math
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic import Field, ValidationError, field_validator, model_validator
 
 from simcore.preflight import MAX_SEED, RunError
 from simcore.scene import fieldpath
 from simcore.scene.project_io import ProjectError, project_from_dict, project_to_json
 
+from ._dists import MAX_CHOICES, Choice, Normal, Strict, Uniform
+from .furnish import (
+    MAX_ADDED_OBJECTS,
+    PIECES,
+    FurnishError,
+    FurnitureEntry,
+    MaterialEntry,
+    PeopleEntry,
+    Room,
+    draw_materials,
+    furnish,
+)
+
 #: Most projects of one ``generate`` run, fields varied by one spec, values of a choice.
 MAX_COUNT = 100_000
 MAX_FIELDS = 256
-MAX_CHOICES = 1000
 #: Largest spec file (bytes) and nesting depth.
 MAX_SPEC_BYTES = 1 << 20
 MAX_DEPTH = 32
@@ -39,61 +50,12 @@ class ScenarioError(RunError):
     """A scenario spec that cannot be used (one line, naming the field)."""
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+#: Most parts of one piece of each kind (sized by drawing many).
+_MOST_PARTS = {name: max(len(p.build(np.random.default_rng(k))[0]) for k in range(32))
+               for name, p in PIECES.items()}
 
 
-class Uniform(_Strict):
-    """``{"uniform": [low, high]}``: every value in [low, high] equally likely."""
-
-    uniform: tuple[float, float]
-
-    @field_validator("uniform")
-    @classmethod
-    def _ordered(cls, v: tuple[float, float]) -> tuple[float, float]:
-        if not all(math.isfinite(x) for x in v) or v[0] > v[1]:
-            raise ValueError("needs finite low <= high")
-        return v
-
-    def draw(self, rng: np.random.Generator) -> float:
-        """One value."""
-        return float(rng.uniform(self.uniform[0], self.uniform[1]))
-
-
-class NormalParams(_Strict):
-    """Mean, standard deviation (≥ 0) and optional clipping bounds."""
-
-    mean: float = Field(allow_inf_nan=False)
-    std: float = Field(ge=0.0, allow_inf_nan=False)
-    min: float | None = Field(None, allow_inf_nan=False)
-    max: float | None = Field(None, allow_inf_nan=False)
-
-
-class Normal(_Strict):
-    """``{"normal": {"mean": m, "std": s}}``, clipped to ``min``/``max`` when given."""
-
-    normal: NormalParams
-
-    def draw(self, rng: np.random.Generator) -> float:
-        """One value."""
-        p = self.normal
-        value = float(rng.normal(p.mean, p.std))
-        lo = -math.inf if p.min is None else p.min
-        hi = math.inf if p.max is None else p.max
-        return min(max(value, lo), hi)
-
-
-class Choice(_Strict):
-    """``{"choice": [v1, v2, ...]}``: one of the values, equally likely."""
-
-    choice: list[Any] = Field(min_length=1, max_length=MAX_CHOICES)
-
-    def draw(self, rng: np.random.Generator) -> Any:
-        """One value."""
-        return self.choice[int(rng.integers(len(self.choice)))]
-
-
-class ScenarioSpec(_Strict):
+class ScenarioSpec(Strict):
     """A scenario: a base project and distributions over its fields."""
 
     format: str = SPEC_FORMAT
@@ -101,6 +63,22 @@ class ScenarioSpec(_Strict):
     base: str = Field(min_length=1, max_length=4096)
     vary: dict[str, Uniform | Normal | Choice] = Field(default_factory=dict,
                                                        max_length=MAX_FIELDS)
+    materials: dict[str, MaterialEntry] = Field(default_factory=dict, max_length=MAX_FIELDS)
+    room: Room | None = None
+    furniture: list[FurnitureEntry] = Field(default_factory=list, max_length=MAX_FIELDS)
+    people: list[PeopleEntry] = Field(default_factory=list, max_length=MAX_FIELDS)
+
+    @model_validator(mode="after")
+    def _furnishable(self) -> ScenarioSpec:
+        if (self.furniture or self.people) and self.room is None:
+            raise ValueError("furniture and people need a 'room' ({\"x_m\": [x0, x1], "
+                             "\"y_m\": [y0, y1]}) to be placed in")
+        most = sum(e.count[1] * _MOST_PARTS[e.piece] for e in self.furniture) + sum(
+            e.count[1] for e in self.people)
+        if most > MAX_ADDED_OBJECTS:
+            raise ValueError(f"furniture and people may add up to {most} objects; at most "
+                             f"{MAX_ADDED_OBJECTS}")
+        return self
 
     @field_validator("format")
     @classmethod
@@ -224,14 +202,37 @@ def scene(spec: ScenarioSpec, base_doc: dict[str, Any], *, seed: int, index: int
         except fieldpath.FieldPathError as exc:
             raise ScenarioError(f"vary {path!r}: {exc} in the base project") from None
     doc["seed"] = int(rng.integers(0, min(MAX_SEED, 2**31 - 1)))
+    try:
+        if spec.materials:
+            doc["materials"] = list(doc.get("materials") or []) + draw_materials(
+                spec.materials, _material_library(doc), rng)
+        if spec.room is not None:
+            furnish(doc, spec.room, spec.furniture, spec.people, rng, index=index)
+    except FurnishError as exc:
+        raise ScenarioError(str(exc)) from None
+    record = spec.model_dump(mode="json", by_alias=True)
+    for key in ("materials", "room", "furniture", "people"):    # a spec of 'vary' alone is
+        if not record[key]:                                      # recorded as it was before
+            del record[key]
     doc["description"] = json.dumps({"scenario": spec.name, "seed": seed, "index": index,
-                                     "spec": spec.model_dump(mode="json")}, sort_keys=True)
+                                     "spec": record}, sort_keys=True)
     doc["name"] = f"{spec.name} #{index}"
     try:
         project = project_from_dict(doc, base_dir=base_dir, source=f"scene {index}")
     except ProjectError as exc:
         raise ScenarioError(f"scene {index} is not a valid project: {str(exc)[:300]}") from None
     return project_to_json(project)
+
+
+def _material_library(doc: dict[str, Any]) -> dict[str, dict[str, Any]]:
+    """The library's materials and the project's own (which override), by name."""
+    from simcore.scene.materials import load_material_library
+
+    out = {m.name: m.model_dump(mode="json") for m in load_material_library().values()}
+    for m in doc.get("materials") or []:
+        if isinstance(m, dict) and "name" in m:
+            out[m["name"]] = m
+    return out
 
 
 def generate(spec_path: str | Path, out: str | Path, *, count: int, seed: int = 0,
@@ -369,5 +370,5 @@ def export_spec(project_path: str | Path, spec_path: str | Path, *,
     return spec
 
 
-__all__ = ["Choice", "Normal", "ScenarioError", "ScenarioSpec", "Uniform", "export_spec",
-           "generate", "load_spec", "scene", "spec_from_project"]
+__all__ = ["MAX_CHOICES", "PIECES", "Choice", "Normal", "ScenarioError", "ScenarioSpec",
+           "Uniform", "export_spec", "generate", "load_spec", "scene", "spec_from_project"]
