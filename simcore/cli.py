@@ -175,7 +175,6 @@ def cmd_run(args: argparse.Namespace) -> int:
     """Render frames of a project headlessly into an HDF5 dataset."""
     from tqdm import tqdm
 
-    from simcore.io.hdf5_writer import DatasetExistsError, DiskFullError, ResumeError
     from simcore.runner import frame_count, run_dataset
 
     project_path = Path(args.project)
@@ -213,24 +212,15 @@ def cmd_run(args: argparse.Namespace) -> int:
             _write_previews(Path(args.preview), result, preview_axes)
         return not stop.is_set()
 
-    try:
-        with stop_on_sigint() as stop:
-            report = run_dataset(project_to_json(project), project_path.parent, out,
-                                 n_frames=n_frames, seed=seed, overwrite=args.overwrite,
-                                 resume=args.resume, workers=args.workers,
-                                 scheduler=args.scheduler, on_frame=progress,
-                                 task_timeout_s=args.task_timeout,
-                                 connect_timeout_s=args.connect_timeout,
-                                 storage_options=_storage_options(args),
-                                 shard_frames=args.shard_frames)
-    except (DatasetExistsError, ResumeError) as exc:
-        raise CliError(str(exc)) from None
-    except DiskFullError as exc:
-        raise CliError(f"{exc.strerror}; free space and continue with --resume") from None
-    except _store_errors() as exc:
-        raise CliError(f"--out {args.out}: {type(exc).__name__}: {str(exc)[:300]}") from None
-    finally:
-        bar.close()
+    with _run_errors(args, bar), stop_on_sigint() as stop:
+        report = run_dataset(project_to_json(project), project_path.parent, out,
+                             n_frames=n_frames, seed=seed, overwrite=args.overwrite,
+                             resume=args.resume, workers=args.workers,
+                             scheduler=args.scheduler, on_frame=progress,
+                             task_timeout_s=args.task_timeout,
+                             connect_timeout_s=args.connect_timeout,
+                             storage_options=_storage_options(args),
+                             shard_frames=args.shard_frames)
     if report.interrupted:
         print(f"interrupted: {report.frames_done} of {n_frames} frames are in {out}; "
               f"continue with --resume", file=sys.stderr)
@@ -246,11 +236,27 @@ def cmd_run(args: argparse.Namespace) -> int:
 MAX_SCENES = 100_000
 
 
+@contextmanager
+def _run_errors(args: argparse.Namespace, bar: Any) -> Iterator[None]:
+    """Dataset-writing failures of ``run`` as one-line CLI errors; the progress bar closed."""
+    from simcore.io.hdf5_writer import DatasetExistsError, DiskFullError, ResumeError
+
+    try:
+        yield
+    except (DatasetExistsError, ResumeError) as exc:
+        raise CliError(str(exc)) from None
+    except DiskFullError as exc:
+        raise CliError(f"{exc.strerror}; free space and continue with --resume") from None
+    except _store_errors() as exc:
+        raise CliError(f"--out {args.out}: {type(exc).__name__}: {str(exc)[:300]}") from None
+    finally:
+        bar.close()
+
+
 def _run_scenes(args: argparse.Namespace) -> int:
     """``tofradar run DIR``: every project of a folder into one dataset, a scene index per frame."""
     from tqdm import tqdm
 
-    from simcore.io.hdf5_writer import DatasetExistsError, DiskFullError, ResumeError
     from simcore.runner import frame_count, run_scenes
 
     folder = Path(args.project)
@@ -296,23 +302,14 @@ def _run_scenes(args: argparse.Namespace) -> int:
         bar.refresh()
         return not stop.is_set()
 
-    try:
-        with stop_on_sigint() as stop:
-            report = run_scenes(scenes, out, frames_per_scene=per_scene,
-                                overwrite=args.overwrite, resume=args.resume,
-                                workers=args.workers, scheduler=args.scheduler,
-                                on_frame=progress, task_timeout_s=args.task_timeout,
-                                connect_timeout_s=args.connect_timeout,
-                                storage_options=_storage_options(args),
-                                shard_frames=args.shard_frames)
-    except (DatasetExistsError, ResumeError) as exc:
-        raise CliError(str(exc)) from None
-    except DiskFullError as exc:
-        raise CliError(f"{exc.strerror}; free space and continue with --resume") from None
-    except _store_errors() as exc:
-        raise CliError(f"--out {args.out}: {type(exc).__name__}: {str(exc)[:300]}") from None
-    finally:
-        bar.close()
+    with _run_errors(args, bar), stop_on_sigint() as stop:
+        report = run_scenes(scenes, out, frames_per_scene=per_scene,
+                            overwrite=args.overwrite, resume=args.resume,
+                            workers=args.workers, scheduler=args.scheduler,
+                            on_frame=progress, task_timeout_s=args.task_timeout,
+                            connect_timeout_s=args.connect_timeout,
+                            storage_options=_storage_options(args),
+                            shard_frames=args.shard_frames)
     if report.interrupted:
         print(f"interrupted: {report.frames_done} of {total} frames are in {out}; "
               f"continue with --resume", file=sys.stderr)
