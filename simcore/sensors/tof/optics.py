@@ -128,26 +128,38 @@ def distort_buffers(buffers: RenderBuffers, config: TofCameraConfig) -> RenderBu
     """The render as seen through the distorting lens (every per-pixel buffer resampled)."""
     index = distortion_map(buffers.intrinsics, config.distortion_coefficients)
     n = index.size
-    # Index n picks an appended background sample (outside the rendered field).
-    flat = np.where(index >= 0, index, n).ravel()
+    outside = np.flatnonzero(index < 0)
+    flat = np.maximum(index, 0).ravel()
     background = {"object_index": -1, "object_id": -1, "range_m": np.nan}
     changes: dict[str, object] = {}
     for field in dataclasses.fields(buffers):
         value = getattr(buffers, field.name)
         if not isinstance(value, np.ndarray) or value.shape[:2] != index.shape:
             continue
-        src = value.reshape(n, -1)
-        pad = np.full((1, src.shape[1]), background.get(field.name, 0), dtype=value.dtype)
-        picked = np.take(np.concatenate([src, pad]), flat, axis=0)
+        src = value.reshape(n, -1) if value.ndim > 2 else value.reshape(n)
+        picked = np.take(src, flat, axis=0)
+        picked[outside] = background.get(field.name, 0)   # rays outside the rendered field
         changes[field.name] = picked.reshape(value.shape)
     return dataclasses.replace(buffers, **changes)  # type: ignore[arg-type]
 
 
+_VIGNETTING: dict[PinholeIntrinsics, F32] = {}
+
+
 def vignetting(intrinsics: PinholeIntrinsics) -> F32:
-    """Natural vignetting ``cos⁴ θ`` of each pixel's off-axis angle, shape (H, W)."""
-    rays = intrinsics.ray_directions()
-    cos_axis = 1.0 / np.linalg.norm(rays, axis=-1)
-    return (cos_axis**4).astype(np.float32)
+    """Natural vignetting ``cos⁴ θ`` of each pixel's off-axis angle, shape (H, W).
+
+    Computed once per pixel grid (read-only).
+    """
+    if intrinsics not in _VIGNETTING:
+        rays = intrinsics.ray_directions()
+        cos_axis = 1.0 / np.linalg.norm(rays, axis=-1)
+        falloff = (cos_axis**4).astype(np.float32)
+        falloff.flags.writeable = False
+        if len(_VIGNETTING) > 8:
+            _VIGNETTING.clear()
+        _VIGNETTING[intrinsics] = falloff
+    return _VIGNETTING[intrinsics]
 
 
 def wiggling_planes(m_signal: F32, phase: F32, harmonics: tuple[float, float]
