@@ -128,17 +128,17 @@ def distort_buffers(buffers: RenderBuffers, config: TofCameraConfig) -> RenderBu
     """The render as seen through the distorting lens (every per-pixel buffer resampled)."""
     index = distortion_map(buffers.intrinsics, config.distortion_coefficients)
     n = index.size
-    outside = np.flatnonzero(index < 0)
-    flat = np.maximum(index, 0).ravel()
+    # Index n picks an appended background sample (outside the rendered field).
+    flat = np.where(index >= 0, index, n).ravel()
     background = {"object_index": -1, "object_id": -1, "range_m": np.nan}
     changes: dict[str, object] = {}
     for field in dataclasses.fields(buffers):
         value = getattr(buffers, field.name)
         if not isinstance(value, np.ndarray) or value.shape[:2] != index.shape:
             continue
-        src = value.reshape(n, -1) if value.ndim > 2 else value.reshape(n)
-        picked = np.take(src, flat, axis=0)
-        picked[outside] = background.get(field.name, 0)   # rays outside the rendered field
+        src = value.reshape(n, -1)
+        pad = np.full((1, src.shape[1]), background.get(field.name, 0), dtype=value.dtype)
+        picked = np.take(np.concatenate([src, pad]), flat, axis=0)
         changes[field.name] = picked.reshape(value.shape)
     return dataclasses.replace(buffers, **changes)  # type: ignore[arg-type]
 
