@@ -487,10 +487,9 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     # Receivers: each sensor pixel's mean surface point, normal and albedo.
     weight = hit.astype(np.float32)
     count = np.maximum(_block_mean(weight, k), FLOAT(1e-12))
-    pts = np.stack([_block_mean(np.where(hit, buffers.points_m[..., i], 0.0), k) / count
-                    for i in range(3)], axis=-1)
-    nrm = np.stack([_block_mean(np.where(hit, buffers.normals[..., i], 0.0), k) / count
-                    for i in range(3)], axis=-1)
+    # _block_mean sums over the first two axes: all three components in one pass.
+    pts = _block_mean(np.where(hit[..., None], buffers.points_m, FLOAT(0.0)), k) / count[..., None]
+    nrm = _block_mean(np.where(hit[..., None], buffers.normals, FLOAT(0.0)), k) / count[..., None]
     nrm /= np.maximum(np.linalg.norm(nrm, axis=-1, keepdims=True), FLOAT(1e-12))
     rho = _block_mean(np.where(hit, albedo, 0.0), k) / count
     seen = _block_mean(weight, k) > 0
