@@ -226,7 +226,11 @@ def stray_light(planes: F32, fraction: float, radius_px: float) -> F32:
             _PSF_FFT.clear()
         _PSF_FFT[key] = (size, sp_fft.rfft2(kernel, s=size).astype(np.complex64))
     size, kernel_ft = _PSF_FFT[key]
-    full = sp_fft.irfft2(sp_fft.rfft2(planes, s=size, axes=(-2, -1)) * kernel_ft, s=size,
-                         axes=(-2, -1))
+    # rfft2 / irfft2 one axis at a time, skipping the zero rows of the padding on the way
+    # in and the rows outside the output on the way out (the same 1-D transforms).
+    spectrum = sp_fft.fft(sp_fft.rfft(planes, n=size[1], axis=-1), n=size[0], axis=-2)
+    spectrum *= kernel_ft
     # The kernel is centred on (h − 1, w − 1): the same-size output starts there.
-    return np.ascontiguousarray(full[..., h - 1:2 * h - 1, w - 1:2 * w - 1], dtype=np.float32)
+    rows = sp_fft.ifft(spectrum, axis=-2, overwrite_x=True)[..., h - 1:2 * h - 1, :]
+    full = sp_fft.irfft(rows, n=size[1], axis=-1)
+    return np.ascontiguousarray(full[..., w - 1:2 * w - 1], dtype=np.float32)
