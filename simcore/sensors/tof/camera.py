@@ -480,19 +480,21 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     """
     k = config.supersampling
     hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
+    lit_albedo = np.where(hit, albedo, FLOAT(0.0))
     senders = senders_from_render(
-        buffers.points_m, buffers.normals, np.where(hit, albedo, FLOAT(0.0)),
+        buffers.points_m, buffers.normals, lit_albedo,
         _solid_angle(buffers.intrinsics), hit,
         stride=config.multipath_patch_px * k)
     # Receivers: each sensor pixel's mean surface point, normal and albedo.
     weight = hit.astype(np.float32)
-    count = np.maximum(_block_mean(weight, k), FLOAT(1e-12))
+    coverage = _block_mean(weight, k)
+    count = np.maximum(coverage, FLOAT(1e-12))
     # _block_mean sums over the first two axes: all three components in one pass.
     pts = _block_mean(np.where(hit[..., None], buffers.points_m, FLOAT(0.0)), k) / count[..., None]
     nrm = _block_mean(np.where(hit[..., None], buffers.normals, FLOAT(0.0)), k) / count[..., None]
     nrm /= np.maximum(np.linalg.norm(nrm, axis=-1, keepdims=True), FLOAT(1e-12))
-    rho = _block_mean(np.where(hit, albedo, 0.0), k) / count
-    seen = _block_mean(weight, k) > 0
+    rho = _block_mean(lit_albedo, k) / count
+    seen = coverage > 0
     h, w = seen.shape
     pts, nrm = as_float(pts), as_float(nrm)
     # Keyed by what the sums read (sensor-resolution receivers and the senders): a quarter
@@ -503,7 +505,7 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
         lambda: one_bounce_image(pts, nrm, seen, senders,
                                  list(config.modulation_frequencies_hz), step=receiver_step,
                                  cache=_ONE_BOUNCE_REUSE))
-    scale = as_float(rho * FLOAT(config.signal_electrons_at_1m) * _block_mean(weight, k))
+    scale = as_float(rho * FLOAT(config.signal_electrons_at_1m) * coverage)
     scale[~seen] = 0.0
     planes = np.zeros((1 + 2 * len(phasors), h, w), dtype=np.float32)
     planes[0] = magnitude * scale
