@@ -371,7 +371,7 @@ def _reprojected_ranges(buffers: RenderBuffers, config: TofCameraConfig
     ranges = [buffers.range_m]
     for i in (1, 2, 3):
         ranges.append(as_float(buffers.range_m + rate * FLOAT(i * config.sample_interval_s)))
-    return ranges, d
+    return ranges, as_float(d)
 
 
 def _moved_samples(buffers: RenderBuffers, config: TofCameraConfig) -> list[RenderBuffers]:

@@ -520,11 +520,11 @@ class OneBounceCache:
                             & (last.normals[pos] == nrm).all(axis=1))
                 # One gather of the kept rows straight into the frame's array (the sums
                 # are large: receivers × tiles × values in float64).
-                if same.all():
+                if last is not None and len(index) and same.all():
                     tiles = np.take(last.tiles, last.rows[pos], axis=0)
                 else:
                     tiles = np.empty(shape)
-                    if same.any():
+                    if last is not None and same.any():
                         tiles[same] = np.take(last.tiles, last.rows[pos[same]], axis=0)
                 if same.any() and len(redo):
                     kept = np.flatnonzero(same)
