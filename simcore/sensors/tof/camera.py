@@ -56,7 +56,13 @@ from simcore.sensors.tof.multipath import (
     one_bounce_image,
     senders_from_render,
 )
-from simcore.sensors.tof.optics import distort_buffers, stray_light, vignetting, wiggling_planes
+from simcore.sensors.tof.optics import (
+    distort_buffers,
+    distort_image,
+    stray_light,
+    vignetting,
+    wiggling_planes,
+)
 from simcore.sensors.tof.specular import specular_paths
 
 #: Float dtype of every sensor-resolution ToF image.
@@ -792,6 +798,9 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                          f"got {len(sample_buffers)}")
 
     if config.distortion:
+        # The albedo is per render pixel like the buffers: it follows the lens with them.
+        albedo = None if albedo is None else np.asarray(distort_image(
+            albedo, buffers.intrinsics, config.distortion_coefficients), dtype=FLOAT)
         buffers = distort_buffers(buffers, config)
         sample_buffers = (None if sample_buffers is None
                           else [distort_buffers(b, config) for b in sample_buffers])

@@ -124,22 +124,35 @@ def distortion_map(intrinsics: PinholeIntrinsics,
     return index
 
 
-def distort_buffers(buffers: RenderBuffers, config: TofCameraConfig) -> RenderBuffers:
-    """The render as seen through the distorting lens (every per-pixel buffer resampled)."""
-    index = distortion_map(buffers.intrinsics, config.distortion_coefficients)
+def distort_image(image: NDArray[np.generic], intrinsics: PinholeIntrinsics,
+                  coefficients: tuple[float, float, float, float, float],
+                  fill: object = 0) -> NDArray[np.generic]:
+    """A per-render-pixel image (H, W, …) as seen through the distorting lens.
+
+    Each pixel takes the value of the render pixel :func:`distortion_map` gives it;
+    ``fill`` where the ray falls outside the rendered field.
+    """
+    index = distortion_map(intrinsics, coefficients)
     n = index.size
     # Index n picks an appended background sample (outside the rendered field).
     flat = np.where(index >= 0, index, n).ravel()
+    src = image.reshape(n, -1)
+    pad = np.full((1, src.shape[1]), fill, dtype=image.dtype)
+    return np.take(np.concatenate([src, pad]), flat, axis=0).reshape(image.shape)
+
+
+def distort_buffers(buffers: RenderBuffers, config: TofCameraConfig) -> RenderBuffers:
+    """The render as seen through the distorting lens (every per-pixel buffer resampled)."""
+    shape = buffers.range_m.shape
     background = {"object_index": -1, "object_id": -1, "range_m": np.nan}
     changes: dict[str, object] = {}
     for field in dataclasses.fields(buffers):
         value = getattr(buffers, field.name)
-        if not isinstance(value, np.ndarray) or value.shape[:2] != index.shape:
+        if not isinstance(value, np.ndarray) or value.shape[:2] != shape:
             continue
-        src = value.reshape(n, -1)
-        pad = np.full((1, src.shape[1]), background.get(field.name, 0), dtype=value.dtype)
-        picked = np.take(np.concatenate([src, pad]), flat, axis=0)
-        changes[field.name] = picked.reshape(value.shape)
+        changes[field.name] = distort_image(value, buffers.intrinsics,
+                                            config.distortion_coefficients,
+                                            background.get(field.name, 0))
     return dataclasses.replace(buffers, **changes)  # type: ignore[arg-type]
 
 
