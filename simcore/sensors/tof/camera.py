@@ -495,9 +495,10 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     weight = hit.astype(np.float32)
     coverage = _block_mean(weight, k)
     count = np.maximum(coverage, FLOAT(1e-12))
-    # _block_mean sums over the first two axes: all three components in one pass.
-    pts = _block_mean(np.where(hit[..., None], buffers.points_m, FLOAT(0.0)), k) / count[..., None]
-    nrm = _block_mean(np.where(hit[..., None], buffers.normals, FLOAT(0.0)), k) / count[..., None]
+    pts = np.stack([_block_mean(np.where(hit, buffers.points_m[..., i], 0.0), k) / count
+                    for i in range(3)], axis=-1)
+    nrm = np.stack([_block_mean(np.where(hit, buffers.normals[..., i], 0.0), k) / count
+                    for i in range(3)], axis=-1)
     nrm /= np.maximum(np.linalg.norm(nrm, axis=-1, keepdims=True), FLOAT(1e-12))
     rho = _block_mean(lit_albedo, k) / count
     seen = coverage > 0
