@@ -242,3 +242,37 @@ def test_switches_reach_cli_and_dataset_vignetting_sweep(tmp_path) -> None:  # t
     assert ring.sum() > 100
     ratio = amplitude[True][ring].mean() / amplitude[False][ring].mean()
     assert ratio == pytest.approx(cos4[ring].mean(), rel=0.01)
+
+
+def test_multipath_albedo_follows_the_lens(monkeypatch: pytest.MonkeyPatch) -> None:
+    """With distortion, the diffuse albedo reaches multipath resampled like the buffers.
+
+    Three walls of different albedo (known per object): every pixel of the distorted render
+    must get its own object's albedo, also near the image edges where the lens moves
+    pixels by many render pixels.
+    """
+    import simcore.sensors.tof.camera as camera
+
+    cfg = base(distortion=True, multipath=True,
+               distortion_coefficients=(-0.37, 0.14, 0.002, -0.003, 0.0))
+    objects = [wall(4.0, oid=1, material="white_paint"),
+               wall(2.5, oid=2, size=1.2, y=1.0, material="black_plastic"),
+               wall(3.0, oid=3, size=1.0, y=-1.2, z=0.5, material="white_paint")]
+    buffers = render(objects, cfg)
+    per_object = np.array([0.8, 0.05, 0.5, 0.0], dtype=np.float32)   # index −1: nothing
+    albedo = per_object[buffers.object_index]
+    seen: dict[str, object] = {}
+
+    def spy(buf: RenderBuffers, config: TofCameraConfig, alb: np.ndarray,
+            **kwargs: int) -> np.ndarray:
+        seen["buffers"], seen["albedo"] = buf, alb
+        return original(buf, config, alb, **kwargs)
+
+    original = camera._multipath_planes
+    monkeypatch.setattr(camera, "_multipath_planes", spy)
+    simulate_tof(buffers, cfg, rng=np.random.default_rng(0), noise=False, albedo=albedo)
+    lensed = seen["buffers"]
+    assert isinstance(lensed, RenderBuffers)
+    moved = lensed.object_index != buffers.object_index
+    assert moved.sum() > 100                          # the lens moves object boundaries
+    np.testing.assert_array_equal(seen["albedo"], per_object[lensed.object_index])

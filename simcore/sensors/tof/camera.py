@@ -56,7 +56,13 @@ from simcore.sensors.tof.multipath import (
     one_bounce_image,
     senders_from_render,
 )
-from simcore.sensors.tof.optics import distort_buffers, stray_light, vignetting, wiggling_planes
+from simcore.sensors.tof.optics import (
+    distort_buffers,
+    distort_image,
+    stray_light,
+    vignetting,
+    wiggling_planes,
+)
 from simcore.sensors.tof.specular import specular_paths
 
 #: Float dtype of every sensor-resolution ToF image.
@@ -346,19 +352,42 @@ def reprojected_samples(buffers: RenderBuffers, config: TofCameraConfig
     list of 4 RenderBuffers
         Sample ``i`` at ``i · sample_interval_s``; only ``range_m`` and ``points_m`` change.
     """
+    ranges, d = _reprojected_ranges(buffers, config)
+    return [buffers] + [dataclasses.replace(buffers, range_m=r, points_m=as_float(d * r[..., None]))
+                        for r in ranges[1:]]
+
+
+def _reprojected_ranges(buffers: RenderBuffers, config: TofCameraConfig
+                        ) -> tuple[list[NDArray[np.float32]], NDArray[np.float32]]:
+    """The ranges of :func:`reprojected_samples` (sample 0 is ``buffers.range_m`` itself).
+
+    Returns
+    -------
+    ranges : list of 4 ndarray, shape (H, W), float32
+    d : ndarray, shape (H, W, 3), float32
+        Each pixel's unit ray (where it sees a surface).
+    """
     hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
     safe_r = np.where(hit, buffers.range_m, FLOAT(1.0))
     d = buffers.points_m / safe_r[..., None]
     n_dot_d = np.einsum("ijk,ijk->ij", buffers.normals, d)
     n_dot_v = np.einsum("ijk,ijk->ij", buffers.normals, buffers.velocity_mps)
-    rate = np.where(hit & (np.abs(n_dot_d) > 1e-6), n_dot_v / np.where(
-        np.abs(n_dot_d) > 1e-6, n_dot_d, FLOAT(1.0)), FLOAT(0.0))
-    out = [buffers]
+    moves = np.abs(n_dot_d) > 1e-6
+    rate = np.where(hit & moves, n_dot_v / np.where(moves, n_dot_d, FLOAT(1.0)), FLOAT(0.0))
+    ranges = [buffers.range_m]
     for i in (1, 2, 3):
-        r = as_float(buffers.range_m + rate * FLOAT(i * config.sample_interval_s))
-        out.append(dataclasses.replace(buffers, range_m=r,
-                                       points_m=as_float(d * r[..., None])))
-    return out
+        ranges.append(as_float(buffers.range_m + rate * FLOAT(i * config.sample_interval_s)))
+    return ranges, as_float(d)
+
+
+def _moved_samples(buffers: RenderBuffers, config: TofCameraConfig) -> list[RenderBuffers]:
+    """:func:`reprojected_samples` as :func:`_correlation_from_samples` reads them.
+
+    Only ``range_m`` is replaced (the correlation samples read ``range_m``, ``intensity``
+    and ``object_index``): the moved points of the other buffers are not built.
+    """
+    ranges, _ = _reprojected_ranges(buffers, config)
+    return [buffers] + [dataclasses.replace(buffers, range_m=r) for r in ranges[1:]]
 
 
 def _correlation_from_samples(sample_buffers: Sequence[RenderBuffers], config: TofCameraConfig,
@@ -373,15 +402,24 @@ def _correlation_from_samples(sample_buffers: Sequence[RenderBuffers], config: T
     """
     k = config.supersampling
     a3, a5 = (FLOAT(a) for a in config.wiggling_harmonics)
+    # Wiggling: cos 3x = 4c³ − 3c and cos 5x = 16c⁵ − 20c³ + 5c with c = cos x, so
+    # c + a3 cos 3x + a5 cos 5x is a polynomial in c (one cosine instead of three).
+    p1, p3, p5 = FLOAT(1 - 3 * a3 + 5 * a5), FLOAT(4 * a3 - 20 * a5), FLOAT(16 * a5)
+    contrast = FLOAT(config.demodulation_contrast)
     planes = []
     for i, buf in enumerate(sample_buffers):
         r, signal, ambient = _sample_signal(buf, config)
-        phase = r * FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT) + FLOAT(i * np.pi / 2)
-        wave = np.cos(phase)
+        phase = r * FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT)
+        phase += FLOAT(i * np.pi / 2)
+        wave = np.cos(phase, out=phase)
         if config.wiggling:
-            wave = wave + a3 * np.cos(3 * phase) + a5 * np.cos(5 * phase)
-        planes.append(_block_mean(signal + ambient, k)
-                      + _block_mean(signal * FLOAT(config.demodulation_contrast) * wave, k))
+            c2 = wave * wave
+            wave = wave * (p1 + c2 * (p3 + c2 * p5))
+        offset = _block_mean(np.add(signal, ambient, out=ambient), k)
+        signal *= contrast
+        signal *= wave
+        offset += _block_mean(signal, k)
+        planes.append(offset)
     return as_float(np.stack(planes))
 
 
@@ -448,20 +486,22 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     """
     k = config.supersampling
     hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
+    lit_albedo = np.where(hit, albedo, FLOAT(0.0))
     senders = senders_from_render(
-        buffers.points_m, buffers.normals, np.where(hit, albedo, FLOAT(0.0)),
+        buffers.points_m, buffers.normals, lit_albedo,
         _solid_angle(buffers.intrinsics), hit,
         stride=config.multipath_patch_px * k)
     # Receivers: each sensor pixel's mean surface point, normal and albedo.
     weight = hit.astype(np.float32)
-    count = np.maximum(_block_mean(weight, k), FLOAT(1e-12))
+    coverage = _block_mean(weight, k)
+    count = np.maximum(coverage, FLOAT(1e-12))
     pts = np.stack([_block_mean(np.where(hit, buffers.points_m[..., i], 0.0), k) / count
                     for i in range(3)], axis=-1)
     nrm = np.stack([_block_mean(np.where(hit, buffers.normals[..., i], 0.0), k) / count
                     for i in range(3)], axis=-1)
     nrm /= np.maximum(np.linalg.norm(nrm, axis=-1, keepdims=True), FLOAT(1e-12))
-    rho = _block_mean(np.where(hit, albedo, 0.0), k) / count
-    seen = _block_mean(weight, k) > 0
+    rho = _block_mean(lit_albedo, k) / count
+    seen = coverage > 0
     h, w = seen.shape
     pts, nrm = as_float(pts), as_float(nrm)
     # Keyed by what the sums read (sensor-resolution receivers and the senders): a quarter
@@ -472,7 +512,7 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
         lambda: one_bounce_image(pts, nrm, seen, senders,
                                  list(config.modulation_frequencies_hz), step=receiver_step,
                                  cache=_ONE_BOUNCE_REUSE))
-    scale = as_float(rho * FLOAT(config.signal_electrons_at_1m) * _block_mean(weight, k))
+    scale = as_float(rho * FLOAT(config.signal_electrons_at_1m) * coverage)
     scale[~seen] = 0.0
     planes = np.zeros((1 + 2 * len(phasors), h, w), dtype=np.float32)
     planes[0] = magnitude * scale
@@ -759,6 +799,9 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                          f"got {len(sample_buffers)}")
 
     if config.distortion:
+        # The albedo is per render pixel like the buffers: it follows the lens with them.
+        albedo = None if albedo is None else np.asarray(distort_image(
+            albedo, buffers.intrinsics, config.distortion_coefficients), dtype=FLOAT)
         buffers = distort_buffers(buffers, config)
         sample_buffers = (None if sample_buffers is None
                           else [distort_buffers(b, config) for b in sample_buffers])
@@ -767,7 +810,7 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                               else distort_buffers(exposure_reference, config))
     if (sample_buffers is None and config.motion_artifacts
             and config.motion_sampling == "reprojection"):
-        sample_buffers = reprojected_samples(buffers, config)   # after the lens: cheaper
+        sample_buffers = _moved_samples(buffers, config)   # after the lens: cheaper
     spec = None
     if config.specular:
         if mirrors is None:

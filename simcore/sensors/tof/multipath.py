@@ -263,6 +263,29 @@ def _facing(points: F32, normals: F32, y: int, x: int, yy: int, xx: int) -> bool
 
 
 @kernel
+def _near_crease(points: F32, normals: F32, seen: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Seen pixels with a seen pixel facing them across a concave crease within the guard.
+
+    Within ``CREASE_GUARD_PX`` (both axes) of each other. :func:`_facing` is symmetric
+    bit for bit (swapping the two pixels negates ``d`` exactly and swaps and negates the
+    two gaps), so each pair is tested once and marks both pixels.
+    """
+    h, w = seen.shape
+    g = CREASE_GUARD_PX
+    near = np.zeros((h, w), dtype=np.bool_)
+    for y in range(h):
+        for x in range(w):
+            if not seen[y, x]:
+                continue
+            for yy in range(y, min(y + g + 1, h)):
+                for xx in range(max(x - g, 0) if yy > y else x + 1, min(x + g + 1, w)):
+                    if seen[yy, xx] and _facing(points, normals, y, x, yy, xx):
+                        near[y, x] = True
+                        near[yy, xx] = True
+    return near
+
+
+@kernel
 def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
                        node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
                        node_values: F32, node_seen: NDArray[np.bool_],
@@ -301,7 +324,7 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
     out = np.zeros((h, w, nv), dtype=np.float32)
     missing = np.zeros((h, w), dtype=np.bool_)
     acc = np.zeros(nv)
-    g = CREASE_GUARD_PX
+    near_crease = _near_crease(points, normals, seen)
     for y in range(h):
         for x in range(w):
             if not seen[y, x]:
@@ -309,15 +332,7 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
             # A node keeps its own exact value; other pixels near a crease are flagged.
             node = ((frac_y[y] == 0.0 or frac_y[y] == 1.0)
                     and (frac_x[x] == 0.0 or frac_x[x] == 1.0))
-            crease = False
-            for yy in range(max(y - g, 0), min(y + g + 1, h) if not node else 0):
-                for xx in range(max(x - g, 0), min(x + g + 1, w)):
-                    if seen[yy, xx] and _facing(points, normals, y, x, yy, xx):
-                        crease = True
-                        break
-                if crease:
-                    break
-            if crease:
+            if near_crease[y, x] and not node:
                 missing[y, x] = True
                 continue
             total = 0.0
@@ -428,7 +443,8 @@ class _Sums:
     index: NDArray[np.int64]         # (R,) receivers' pixels (flat), sorted
     points: F32                      # (R, 3)
     normals: F32                     # (R, 3)
-    tiles: NDArray[np.float64]       # (R, T, 1 + 2F) their sums per sender tile
+    tiles: NDArray[np.float64]       # (R, T, 1 + 2F) their sums per sender tile, unsorted
+    rows: NDArray[np.int64]          # (R,) row of ``tiles`` of each sorted receiver
 
 
 def _slots(senders: Senders) -> tuple[F32, F32, F32]:
@@ -496,17 +512,24 @@ class OneBounceCache:
             def exact(index: NDArray[np.int64], pts: F32, nrm: F32) -> F32:
                 pts = np.ascontiguousarray(pts, dtype=np.float32)
                 nrm = np.ascontiguousarray(nrm, dtype=np.float32)
-                tiles = np.zeros((len(index), len(every), len(kk) * 2 + 1))
+                shape = (len(index), len(every), len(kk) * 2 + 1)
                 same = np.zeros(len(index), dtype=bool)
                 if last is not None and len(last.index):
                     pos = np.minimum(np.searchsorted(last.index, index), len(last.index) - 1)
                     same = ((last.index[pos] == index) & (last.points[pos] == pts).all(axis=1)
                             & (last.normals[pos] == nrm).all(axis=1))
-                    if same.any():
-                        kept = last.tiles[pos[same]]
-                        if len(redo):
-                            kept[:, redo] = _tile_sums(pts[same], nrm[same], senders, kk, redo)
-                        tiles[same] = kept
+                # One gather of the kept rows straight into the frame's array (the sums
+                # are large: receivers × tiles × values in float64).
+                if last is not None and len(index) and same.all():
+                    tiles = np.take(last.tiles, last.rows[pos], axis=0)
+                else:
+                    tiles = np.empty(shape)
+                    if last is not None and same.any():
+                        tiles[same] = np.take(last.tiles, last.rows[pos[same]], axis=0)
+                if same.any() and len(redo):
+                    kept = np.flatnonzero(same)
+                    tiles[kept[:, None], redo] = _tile_sums(pts[same], nrm[same], senders,
+                                                            kk, redo)
                 fresh = ~same
                 if fresh.any():
                     tiles[fresh] = _tile_sums(pts[fresh], nrm[fresh], senders, kk, every)
@@ -521,7 +544,7 @@ class OneBounceCache:
                 self._last = _Sums(key, slot_pts, slot_nrm, slot_wgt, index[order],
                                    np.concatenate([q[1] for q in parts])[order],
                                    np.concatenate([q[2] for q in parts])[order],
-                                   np.concatenate([q[3] for q in parts])[order])
+                                   np.concatenate([q[3] for q in parts]), order)
 
 
 @kernel

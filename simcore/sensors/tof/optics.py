@@ -124,30 +124,55 @@ def distortion_map(intrinsics: PinholeIntrinsics,
     return index
 
 
-def distort_buffers(buffers: RenderBuffers, config: TofCameraConfig) -> RenderBuffers:
-    """The render as seen through the distorting lens (every per-pixel buffer resampled)."""
-    index = distortion_map(buffers.intrinsics, config.distortion_coefficients)
+def distort_image(image: NDArray[np.generic], intrinsics: PinholeIntrinsics,
+                  coefficients: tuple[float, float, float, float, float],
+                  fill: object = 0) -> NDArray[np.generic]:
+    """A per-render-pixel image (H, W, …) as seen through the distorting lens.
+
+    Each pixel takes the value of the render pixel :func:`distortion_map` gives it;
+    ``fill`` where the ray falls outside the rendered field.
+    """
+    index = distortion_map(intrinsics, coefficients)
     n = index.size
     # Index n picks an appended background sample (outside the rendered field).
     flat = np.where(index >= 0, index, n).ravel()
+    src = image.reshape(n, -1)
+    pad = np.full((1, src.shape[1]), fill, dtype=image.dtype)
+    return np.take(np.concatenate([src, pad]), flat, axis=0).reshape(image.shape)
+
+
+def distort_buffers(buffers: RenderBuffers, config: TofCameraConfig) -> RenderBuffers:
+    """The render as seen through the distorting lens (every per-pixel buffer resampled)."""
+    shape = buffers.range_m.shape
     background = {"object_index": -1, "object_id": -1, "range_m": np.nan}
     changes: dict[str, object] = {}
     for field in dataclasses.fields(buffers):
         value = getattr(buffers, field.name)
-        if not isinstance(value, np.ndarray) or value.shape[:2] != index.shape:
+        if not isinstance(value, np.ndarray) or value.shape[:2] != shape:
             continue
-        src = value.reshape(n, -1)
-        pad = np.full((1, src.shape[1]), background.get(field.name, 0), dtype=value.dtype)
-        picked = np.take(np.concatenate([src, pad]), flat, axis=0)
-        changes[field.name] = picked.reshape(value.shape)
+        changes[field.name] = distort_image(value, buffers.intrinsics,
+                                            config.distortion_coefficients,
+                                            background.get(field.name, 0))
     return dataclasses.replace(buffers, **changes)  # type: ignore[arg-type]
 
 
+_VIGNETTING: dict[PinholeIntrinsics, F32] = {}
+
+
 def vignetting(intrinsics: PinholeIntrinsics) -> F32:
-    """Natural vignetting ``cos⁴ θ`` of each pixel's off-axis angle, shape (H, W)."""
-    rays = intrinsics.ray_directions()
-    cos_axis = 1.0 / np.linalg.norm(rays, axis=-1)
-    return (cos_axis**4).astype(np.float32)
+    """Natural vignetting ``cos⁴ θ`` of each pixel's off-axis angle, shape (H, W).
+
+    Computed once per pixel grid (read-only).
+    """
+    if intrinsics not in _VIGNETTING:
+        rays = intrinsics.ray_directions()
+        cos_axis = 1.0 / np.linalg.norm(rays, axis=-1)
+        falloff = (cos_axis**4).astype(np.float32)
+        falloff.flags.writeable = False
+        if len(_VIGNETTING) > 8:
+            _VIGNETTING.clear()
+        _VIGNETTING[intrinsics] = falloff
+    return _VIGNETTING[intrinsics]
 
 
 def wiggling_planes(m_signal: F32, phase: F32, harmonics: tuple[float, float]
@@ -214,7 +239,11 @@ def stray_light(planes: F32, fraction: float, radius_px: float) -> F32:
             _PSF_FFT.clear()
         _PSF_FFT[key] = (size, sp_fft.rfft2(kernel, s=size).astype(np.complex64))
     size, kernel_ft = _PSF_FFT[key]
-    full = sp_fft.irfft2(sp_fft.rfft2(planes, s=size, axes=(-2, -1)) * kernel_ft, s=size,
-                         axes=(-2, -1))
+    # rfft2 / irfft2 one axis at a time, skipping the zero rows of the padding on the way
+    # in and the rows outside the output on the way out (the same 1-D transforms).
+    spectrum = sp_fft.fft(sp_fft.rfft(planes, n=size[1], axis=-1), n=size[0], axis=-2)
+    spectrum *= kernel_ft
     # The kernel is centred on (h − 1, w − 1): the same-size output starts there.
-    return np.ascontiguousarray(full[..., h - 1:2 * h - 1, w - 1:2 * w - 1], dtype=np.float32)
+    rows = sp_fft.ifft(spectrum, axis=-2, overwrite_x=True)[..., h - 1:2 * h - 1, :]
+    full = sp_fft.irfft(rows, n=size[1], axis=-1)
+    return np.ascontiguousarray(full[..., w - 1:2 * w - 1], dtype=np.float32)
