@@ -522,7 +522,14 @@ def cmd_bench(args: argparse.Namespace) -> int:
     people = _people_speed(project_path, args.frames)
     if people is not None:
         result["people"] = people
+    variants = None
+    if args.effects:
+        from simcore.bench import effect_variants
+
+        variants = effect_variants(project_path, frames=args.frames)
     if args.json:
+        if variants is not None:
+            result["effects"] = variants
         print(json.dumps(result))
         return 0
     print(f"{project_path.name}: {args.frames} frames, median {result['frame_ms_median']:.1f} "
@@ -540,16 +547,13 @@ def cmd_bench(args: argparse.Namespace) -> int:
         print(f"  with its people {people['fps_with_people']:.2f} frames/s, without them "
               f"{people['fps_without_people']:.2f} frames/s (ratio {people['ratio']:.2f}, "
               f"same run)")
-    if args.effects:
-        _print_effect_variants(project_path, args.frames)
+    if variants is not None:
+        _print_effect_variants(variants)
     return 0
 
 
-def _print_effect_variants(project_path: Path, frames: int) -> None:
+def _print_effect_variants(variants: dict[str, Any]) -> None:
     """``bench --effects``: the project with every effect on, and plain (all off, no person)."""
-    from simcore.bench import effect_variants
-
-    variants = effect_variants(project_path, frames=frames)
     for name in ("all_effects", "plain"):
         v = variants[name]
         stages = ", ".join(f"{k} {t:.1f}" for k, t in v["stages_ms"].items())

@@ -30,3 +30,13 @@ def test_bench_cli_prints_one_json_object(capsys: pytest.CaptureFixture[str]) ->
     assert main(["bench", str(example_path("wall")), "--frames", "1", "--json"]) == 0
     result = json.loads(capsys.readouterr().out)
     assert result["frames"] == 1 and result["if_error_db"] <= -60.0
+
+
+def test_bench_json_carries_the_effect_variants(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--effects --json``: the all-effects and plain variants are in the one object."""
+    assert main(["bench", str(example_path("wall")), "--frames", "1", "--json",
+                 "--effects"]) == 0
+    effects = json.loads(capsys.readouterr().out)["effects"]
+    for name in ("all_effects", "plain"):
+        assert effects[name]["fps"] > 0
+        assert {"tof", "dsp"} <= set(effects[name]["stages_ms"])
