@@ -169,8 +169,12 @@ def estimate_cost(project: Project, *, base_dir: Path | None = None,
     """
     tof, rc = project.rig.tof, project.rig.radar
     tof_px = tof.width * tof.height * tof.supersampling**2
-    if tof.motion_artifacts:
-        tof_px *= 4
+    tof_bytes = tof_px * BYTES_PER_RENDER_PIXEL
+    if tof.motion_artifacts and tof.motion_sampling == "renders":
+        tof_px *= 4                     # four renders at the samples' times
+        tof_bytes *= 4
+    elif tof.motion_artifacts:          # reprojection: the four samples' range and points
+        tof_bytes += tof_px * 4 * 16
     radar_px = rc.render_width * rc.render_height * rc.render_supersampling**2
     if mesh_triangles is None:
         mesh_triangles = _mesh_triangle_bound(project, base_dir)
@@ -187,7 +191,7 @@ def estimate_cost(project: Project, *, base_dir: Path | None = None,
     angle = (s["n_bins"] * s["n_az"] * el * 8 + s["n_az"] * el * n_ch * 32
              + s["bev_pixels"] * 4 * 3)
     parts = {
-        "rig.tof render (width × height × supersampling²)": tof_px * BYTES_PER_RENDER_PIXEL,
+        "rig.tof render (width × height × supersampling²)": tof_bytes,
         "rig.radar render (render_width × render_height × render_supersampling²)":
             radar_px * BYTES_PER_RENDER_PIXEL,
         "rig.radar scatterers (surface facets of the objects)":
