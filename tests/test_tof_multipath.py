@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from simcore.render import RenderRequest, SceneRenderer
+from simcore.render import RenderBuffers, RenderRequest, SceneRenderer
 from simcore.scene import Box, Pose, Project, SceneObject
 from simcore.scene.model import SensorRig
 from simcore.scene.snapshot import take_snapshot
@@ -46,14 +46,19 @@ def corner_project(*, corner: bool = True) -> Project:
     return Project(objects=walls, rig=SensorRig(tof=tof))
 
 
-def simulate(project: Project, *, multipath: bool) -> tuple[np.ndarray, np.ndarray]:
-    cfg = project.rig.tof.model_copy(update={"multipath": multipath})
+def tof_render(project: Project, cfg: TofCameraConfig) -> RenderBuffers:
+    """The ToF render of ``project`` at t = 0 with ``cfg``'s intrinsics."""
     renderer = SceneRenderer(project)
     try:
-        buf = renderer.render(take_snapshot(project, 0.0),
-                              RenderRequest("tof", "tof", cfg.render_intrinsics()))
+        return renderer.render(take_snapshot(project, 0.0),
+                               RenderRequest("tof", "tof", cfg.render_intrinsics()))
     finally:
         renderer.close()
+
+
+def simulate(project: Project, *, multipath: bool) -> tuple[np.ndarray, np.ndarray]:
+    cfg = project.rig.tof.model_copy(update={"multipath": multipath})
+    buf = tof_render(project, cfg)
     out = simulate_tof(buf, cfg, rng=np.random.default_rng(0), noise=False,
                        albedo=diffuse_albedo(project, buf))
     return out.depth_m, out.gt_range
@@ -134,12 +139,7 @@ def test_a_flat_wall_shows_no_multipath() -> None:
 def test_multipath_needs_the_albedo() -> None:
     project = corner_project()
     cfg = project.rig.tof.model_copy(update={"multipath": True})
-    renderer = SceneRenderer(project)
-    try:
-        buf = renderer.render(take_snapshot(project, 0.0),
-                              RenderRequest("tof", "tof", cfg.render_intrinsics()))
-    finally:
-        renderer.close()
+    buf = tof_render(project, cfg)
     with pytest.raises(ValueError, match="albedo"):
         simulate_tof(buf, cfg, rng=np.random.default_rng(0))
 
@@ -150,12 +150,7 @@ def _corner_depths(step: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
     project = corner_project()
     cfg = project.rig.tof.model_copy(update={"multipath": True})
-    renderer = SceneRenderer(project)
-    try:
-        buf = renderer.render(take_snapshot(project, 0.0),
-                              RenderRequest("tof", "tof", cfg.render_intrinsics()))
-    finally:
-        renderer.close()
+    buf = tof_render(project, cfg)
     albedo = diffuse_albedo(project, buf)
     depths = []
     for s in (step, 1):
@@ -225,12 +220,7 @@ def test_still_scene_reuses_the_one_bounce_sums_exactly() -> None:
 
     project = corner_project()
     cfg = project.rig.tof.model_copy(update={"multipath": True})
-    renderer = SceneRenderer(project)
-    try:
-        buf = renderer.render(take_snapshot(project, 0.0),
-                              RenderRequest("tof", "tof", cfg.render_intrinsics()))
-    finally:
-        renderer.close()
+    buf = tof_render(project, cfg)
     albedo = diffuse_albedo(project, buf)
     cam._ONE_BOUNCE_CACHE.clear()
     first = cam._multipath_planes(buf, cfg, albedo)
@@ -268,12 +258,7 @@ def test_a_moving_object_updates_the_sums_to_the_full_sum() -> None:
         box = SceneObject(id=9, name="box", geometry=Box(size_m=(0.2, 0.2, 0.2)),
                           pose=Pose(position_m=(1.2, y, 0.0)), material="white_paint")
         project = base.model_copy(update={"objects": [*base.objects, box]})
-        renderer = SceneRenderer(project)
-        try:
-            buf = renderer.render(take_snapshot(project, 0.0),
-                                  RenderRequest("tof", "tof", cfg.render_intrinsics()))
-        finally:
-            renderer.close()
+        buf = tof_render(project, cfg)
         frames.append((buf, diffuse_albedo(project, buf)))
     pairs: list[int] = []
     counted = mp._tile_sums
@@ -321,12 +306,7 @@ def test_office_corners_keep_the_reference_bias() -> None:
     project = load_project(example_path("office"))
     cfg = project.rig.tof
     assert cfg.multipath, "office.json ships with ToF multipath on"
-    renderer = SceneRenderer(project)
-    try:
-        buf = renderer.render(take_snapshot(project, 0.0),
-                              RenderRequest("tof", "tof", cfg.render_intrinsics()))
-    finally:
-        renderer.close()
+    buf = tof_render(project, cfg)
     albedo = diffuse_albedo(project, buf)
     cam._ONE_BOUNCE_CACHE.clear()
     cam._ONE_BOUNCE_REUSE.clear()
