@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-from typing import Any
+import re
+from typing import Annotated, Any, Literal
 
-from pydantic import Field, PrivateAttr, model_validator
+from pydantic import AfterValidator, Field, PrivateAttr, model_validator
 
 from simcore.scene.base import Model, Positive
 from simcore.scene.dsp_config import DspConfig
@@ -16,7 +17,69 @@ from simcore.scene.rgb_config import RgbCameraConfig
 from simcore.scene.tof_config import TofCameraConfig
 
 #: Version 2: materials hold their parameters per band name (``bands``).
-FORMAT_VERSION = 2
+#: Version 3: named sensors on several rigs (``rig.name``, ``rig.sensors``, ``rigs``) and
+#: per-sensor ``frame_rate_hz`` / ``trigger_offset_s``; a version-2 file means the same.
+FORMAT_VERSION = 3
+
+#: Sensor and rig names: they name HDF5/Zarr groups, MCAP topics and TF frames.
+NAME_PATTERN = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,63}")
+#: Top-level dataset groups that a sensor may not be named after.
+RESERVED_SENSOR_NAMES = frozenset(
+    {"meta", "objects", "people", "scene_index", "rig", "rigs", "labels", "frame",
+     "frames", "time", "checksum", "products"})
+
+
+def _check_identifier(name: str) -> str:
+    if not NAME_PATTERN.fullmatch(name):
+        raise ValueError(f"{name!r} is not a valid name: a letter, then up to 63 letters, "
+                         "digits or underscores (it names dataset groups and MCAP topics)")
+    return name
+
+
+Identifier = Annotated[str, AfterValidator(_check_identifier)]
+
+
+class NamedTof(TofCameraConfig):
+    """A ToF camera in a rig's ``sensors`` table (``kind`` says which model)."""
+
+    kind: Literal["tof"] = "tof"
+
+
+class NamedRadar(RadarConfig):
+    """A radar in a rig's ``sensors`` table."""
+
+    kind: Literal["radar"] = "radar"
+
+
+class NamedRgb(RgbCameraConfig):
+    """An RGB camera in a rig's ``sensors`` table."""
+
+    kind: Literal["rgb"] = "rgb"
+
+
+SensorSpec = Annotated[NamedTof | NamedRadar | NamedRgb, Field(discriminator="kind")]
+#: Configuration class of each sensor kind, and its named (``kind``-tagged) variant.
+SENSOR_KINDS: dict[str, tuple[type[Model], type[Model]]] = {
+    "tof": (TofCameraConfig, NamedTof),
+    "radar": (RadarConfig, NamedRadar),
+    "rgb": (RgbCameraConfig, NamedRgb),
+}
+
+
+def sensor_kind(config: Model) -> str:
+    """``"tof"``, ``"radar"`` or ``"rgb"``: which sensor model a configuration is for."""
+    for kind, (base, _) in SENSOR_KINDS.items():
+        if isinstance(config, base):
+            return kind
+    raise TypeError(f"{type(config).__name__} is not a sensor configuration")
+
+
+def named_sensor(config: Model) -> Model:
+    """``config`` as an entry of a rig's ``sensors`` table (same values, ``kind`` set)."""
+    named = SENSOR_KINDS[sensor_kind(config)][1]
+    if isinstance(config, named):
+        return config
+    return named.model_validate(config.model_dump())
 
 
 class SceneObject(Model):
@@ -30,27 +93,41 @@ class SceneObject(Model):
     motion: Motion = Motion()
 
 
-class SensorRig(Model):
-    """The rig carrying the sensors; its body frame is x forward, y left, z up.
+class Rig(Model):
+    """A rig carrying named sensors; its body frame is x forward, y left, z up.
 
-    Every field with a ``pose_on_rig`` is a sensor, named by the field; ``None`` leaves an
-    optional sensor off (the RGB camera is off unless a project sets ``rgb``).
+    Each sensor has a pose on the rig (``pose_on_rig``) and moves with the rig's motion.
     """
 
+    name: Identifier = "rig"
     pose: Pose = Pose()
     motion: Motion = Motion()
-    tof: TofCameraConfig = TofCameraConfig()
-    radar: RadarConfig = RadarConfig()
-    rgb: RgbCameraConfig | None = None
+    sensors: dict[Identifier, SensorSpec] = Field(
+        default_factory=dict, max_length=64,
+        description="named sensors on this rig; the name keys the sensor's outputs")
 
     def sensor_configs(self) -> dict[str, Model]:
-        """The configurations of the sensors on the rig, by sensor name (field name)."""
+        """The configurations of the sensors on the rig, by sensor name."""
         out: dict[str, Model] = {}
         for name in type(self).model_fields:
             value = getattr(self, name)
             if value is not None and hasattr(value, "pose_on_rig"):
                 out[name] = value
+        out.update(self.sensors)
         return out
+
+
+class SensorRig(Rig):
+    """The project's first rig, with its built-in ToF camera and radar.
+
+    Every field with a ``pose_on_rig`` is a sensor, named by the field (``tof``,
+    ``radar``, ``rgb``); ``None`` leaves the optional RGB camera off. More sensors of any
+    kind go in ``sensors``, more rigs in :attr:`Project.rigs`.
+    """
+
+    tof: TofCameraConfig = TofCameraConfig()
+    radar: RadarConfig = RadarConfig()
+    rgb: RgbCameraConfig | None = None
 
 
 class Timeline(Model):
@@ -85,6 +162,9 @@ class Project(Model):
         default_factory=dict, max_length=4096,
         description="imported asset material name → library material it was mapped to")
     rig: SensorRig = SensorRig()
+    rigs: list[Rig] = Field(
+        default_factory=list, max_length=64,
+        description="further rigs, each with its own pose, motion and named sensors")
     dsp: DspConfig = DspConfig()
     #: Set on projects whose people were expanded into segments
     #: (:func:`simcore.scene.people.expand.expand_people`).
@@ -102,7 +182,61 @@ class Project(Model):
                 if v in seen:
                     raise ValueError(f"duplicate {what} {v!r}")
                 seen.add(v)
+        self._check_sensors()
         return self
+
+    def _check_sensors(self) -> None:
+        rigs: set[str] = set()
+        owner: dict[str, str] = {}
+        for rig in self.all_rigs():
+            if rig.name in rigs:
+                raise ValueError(f"duplicate rig name {rig.name!r}")
+            rigs.add(rig.name)
+            for name, cfg in rig.sensor_configs().items():
+                if name in owner:
+                    raise ValueError(f"duplicate sensor name {name!r} (on rigs "
+                                     f"{owner[name]!r} and {rig.name!r})")
+                if name in RESERVED_SENSOR_NAMES:
+                    raise ValueError(f"sensor name {name!r} is reserved for a dataset group")
+                owner[name] = rig.name
+                try:
+                    n = cfg.frame_divider(self.timeline.frame_rate_hz)  # type: ignore[attr-defined]
+                except ValueError as exc:
+                    raise ValueError(f"sensor {name!r}: {exc}") from None
+                period = n / self.timeline.frame_rate_hz
+                offset = cfg.trigger_offset_s  # type: ignore[attr-defined]
+                if offset >= period:
+                    raise ValueError(f"sensor {name!r}: trigger_offset_s {offset:g} s is not "
+                                     f"shorter than its frame period {period:g} s")
+
+    def all_rigs(self) -> list[Rig]:
+        """Every rig: :attr:`rig` first, then :attr:`rigs`."""
+        return [self.rig, *self.rigs]
+
+    def sensor_configs(self) -> dict[str, Model]:
+        """Every sensor's configuration, by name: the first rig's, then the others'."""
+        out: dict[str, Model] = {}
+        for rig in self.all_rigs():
+            out.update(rig.sensor_configs())
+        return out
+
+    def sensor_config(self, name: str) -> Model:
+        """The configuration of sensor ``name`` (KeyError naming the sensors there are)."""
+        configs = self.sensor_configs()
+        if name not in configs:
+            raise KeyError(f"no sensor {name!r} (sensors: {', '.join(configs)})")
+        return configs[name]
+
+    def sensor_rig(self, name: str) -> Rig:
+        """The rig that carries sensor ``name``."""
+        for rig in self.all_rigs():
+            if name in rig.sensor_configs():
+                return rig
+        raise KeyError(f"no sensor {name!r}")
+
+    def sensors_of_kind(self, kind: str) -> dict[str, Model]:
+        """The configurations of the sensors of one kind (``"tof"``, ...), by name."""
+        return {n: c for n, c in self.sensor_configs().items() if sensor_kind(c) == kind}
 
     def object_by_name(self, name: str) -> SceneObject:
         """Return the object called ``name`` (KeyError if absent)."""

@@ -54,7 +54,12 @@ def _v1_materials_by_band(data: dict[str, Any]) -> dict[str, Any]:
 
 
 #: ``MIGRATIONS[n]`` upgrades a version-``n`` document to version ``n + 1``.
-MIGRATIONS: dict[int, Migration] = {1: _v1_materials_by_band}
+def _v2_named_sensors(data: dict[str, Any]) -> dict[str, Any]:
+    """Version 3 adds named sensors and rigs; a version-2 rig is the first rig as it was."""
+    return data
+
+
+MIGRATIONS: dict[int, Migration] = {1: _v1_materials_by_band, 2: _v2_named_sensors}
 
 
 class ProjectError(ValueError):

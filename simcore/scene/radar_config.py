@@ -22,6 +22,7 @@ from pydantic import Field, field_validator, model_validator
 from simcore.scene.base import Finite, Model, check_name
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.motion import Pose
+from simcore.scene.sensor_timing import SensorTiming
 
 SPEED_OF_LIGHT = 299_792_458.0
 
@@ -145,7 +146,7 @@ def default_l_rx(spacing_mm: float = 2.5) -> list[Antenna]:
     ]
 
 
-class RadarConfig(Model):
+class RadarConfig(SensorTiming):
     """FMCW radar: chirp, antenna layout, transmitter, receiver chain and render sampling.
 
     ``pose_on_rig`` uses the rig's body convention (x forward, y left, z up); the radar's

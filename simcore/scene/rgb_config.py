@@ -9,12 +9,12 @@ from __future__ import annotations
 
 from pydantic import Field
 
-from simcore.scene.base import Model
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.motion import Pose
+from simcore.scene.sensor_timing import SensorTiming
 
 
-class RgbCameraConfig(Model):
+class RgbCameraConfig(SensorTiming):
     """A colour camera: resolution, field of view, mounting pose and exposure.
 
     ``pose_on_rig`` uses the rig's body convention (x forward, y left, z up); the camera's

@@ -23,9 +23,9 @@ from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
-from simcore.scene.base import Model
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.motion import Pose
+from simcore.scene.sensor_timing import SensorTiming
 
 SPEED_OF_LIGHT = 299_792_458.0
 PLANCK = 6.626_070_15e-34
@@ -38,7 +38,7 @@ MAX_MODULATION_HZ = 1e9
 MAX_RENDER_AXIS = 16384
 
 
-class TofCameraConfig(Model):
+class TofCameraConfig(SensorTiming):
     """AMCW ToF camera: resolution, field of view, mounting pose, modulation and physics.
 
     ``pose_on_rig`` uses the rig's body convention (x forward, y left, z up); the camera's
