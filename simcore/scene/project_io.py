@@ -230,12 +230,8 @@ def check_references(project: Project, base_dir: Path) -> list[str]:
 
 def _radars(project: Project) -> list[tuple[str, Any]]:
     """Every radar configuration of the project with its field path (``rig.radar``, ...)."""
-    found: list[tuple[str, Any]] = [("rig.radar", project.rig.radar)]
-    for i, rig in enumerate(project.all_rigs()):
-        where = "rig" if i == 0 else f"rigs[{i - 1}]"
-        found += [(f"{where}.sensors.{name}", cfg) for name, cfg in rig.sensors.items()
-                  if getattr(cfg, "kind", None) == "radar"]
-    return found
+    return [(project.sensor_path(name), cfg)
+            for name, cfg in project.sensors_of_kind("radar").items()]
 
 
 def _person_problems(where: str, person: Person, materials: dict[str, Any],
