@@ -360,3 +360,65 @@ def test_a_dataset_of_several_sensors_reads_back(tmp_path: Path) -> None:
             assert ds.radar_range_doppler.dims == ("frame", "velocity", "range")
         finally:
             ds.close()
+
+
+# ---------------------------------------------------------------------- field paths, checks
+def test_field_paths_reach_named_sensors_and_further_rigs() -> None:
+    from simcore.scene.fieldpath import FieldPathError, get, with_value
+
+    project = two_rig_project(("cam", "rad"))
+    edited = with_value(project, "rigs[0].sensors.rad.chirps_per_frame", 32)
+    assert get(edited, "rigs[0].sensors.rad.chirps_per_frame") == 32
+    assert get(edited.model_dump(), "rigs[0].sensors.rad.chirps_per_frame") == 32
+    assert edited.sensor_config("rad").chirps_per_frame == 32  # type: ignore[attr-defined]
+    assert get(edited, "rig.radar.chirps_per_frame") == project.rig.radar.chirps_per_frame
+    edited = with_value(project, "rigs[0].pose.position_m[0]", 1.5)
+    assert edited.rigs[0].pose.position_m[0] == 1.5
+    with pytest.raises(FieldPathError, match=r"rigs\[0\]\.sensors\.nope does not exist"):
+        with_value(project, "rigs[0].sensors.nope.fov_h_deg", 50.0)
+    assert project.sensor_path("cam") == "rigs[0].sensors.cam"
+    assert project.sensor_path("radar") == "rig.radar"
+
+
+def test_preflight_counts_and_checks_every_sensor() -> None:
+    from simcore.preflight import check, estimate_cost
+
+    one = wall_project()
+    two = two_rig_project(("cam", "rad"))
+    c1, c2 = estimate_cost(one), estimate_cost(two)
+    assert c2.render_pixels == 2 * c1.render_pixels
+    assert c2.transforms == 2 * c1.transforms
+    parts = dict(c2.memory_parts)
+    assert parts["rigs[0].sensors.cam render (width × height × supersampling²)"] == \
+        parts["rig.tof render (width × height × supersampling²)"]
+    # Half the frames: half the camera's disk per frame.
+    half = half_rate_project()
+    tof = one.rig.tof
+    assert estimate_cost(half).disk_bytes_per_frame - c1.disk_bytes_per_frame == \
+        int(0.5 * tof.width * tof.height * 37)
+    # A corner reflector at the second radar's antennas is refused, naming the object.
+    from simcore.scene.geometry import CornerReflector
+
+    at = np.asarray(two.rigs[0].pose.position_m) + np.asarray(
+        two.rigs[0].sensors["rad"].pose_on_rig.position_m)
+    target = SceneObject(id=7, name="cr", geometry=CornerReflector(edge_m=0.05),
+                         pose=Pose(position_m=tuple(float(v) for v in at)))
+    near = two.model_copy(update={"objects": [*two.objects, target]})
+    problems = check(near)
+    assert any("'cr' comes within" in p for p in problems), problems
+    assert not any("'cr'" in p for p in check(one.model_copy(
+        update={"objects": [*one.objects, target]})))
+
+
+def test_bench_second_rig_is_a_copy_of_the_first_placed_beside_it() -> None:
+    from simcore.bench import with_second_rig
+
+    office = load_project(example_path("office"))
+    two = with_second_rig(office, offset_m=(0.0, -1.0, 0.0), yaw_deg=30.0)
+    rig = two.rigs[0]
+    assert list(rig.sensors) == ["rig2_tof", "rig2_radar"]
+    first = office.rig.pose.position_m
+    np.testing.assert_allclose(rig.pose.position_m, (first[0], first[1] - 1.0, first[2]))
+    assert rig.pose.rotation_deg[2] == office.rig.pose.rotation_deg[2] + 30.0
+    tof = rig.sensors["rig2_tof"].model_dump()
+    assert tof.pop("kind") == "tof" and tof == office.rig.tof.model_dump()
