@@ -321,12 +321,25 @@ def test_version_2_files_and_their_version_3_resaves_give_the_same_frames(name: 
     assert [p for p in static if not p.startswith("/people/")] == ONE_RIG_STATIC
 
 
-def test_every_old_fixture_and_example_loads_as_version_3() -> None:
+def test_every_old_fixture_and_example_loads_as_version_3(tmp_path: Path) -> None:
+    """Every project file of earlier versions loads with the meaning of today's.
+
+    The bundled examples were re-saved as version 3 from their version-2 files (kept in
+    tests/data/old_projects): each old file loads into exactly today's example.
+    """
     from simcore.resources import EXAMPLES_DIR
 
-    files = sorted(OLD.glob("*.json")) + sorted(Path(EXAMPLES_DIR).glob("*.json"))
-    assert len(files) >= 10
-    for path in files:
+    examples = Path(EXAMPLES_DIR)
+    for folder in examples.glob("*.meshes"):       # the glTF office's meshes, relative
+        (tmp_path / folder.name).symlink_to(folder)
+    old_examples = sorted(OLD.glob("v2_*.json"))
+    assert len(old_examples) == len(list(examples.glob("*.json")))
+    for path in old_examples:
+        name = path.name.removeprefix("v2_")
+        (tmp_path / name).write_text(path.read_text())
+        old = load_project(tmp_path / name)
+        assert old == load_project(examples / name), name
+    for path in [*OLD.glob("v1_*.json"), *examples.glob("*.json")]:
         project = load_project(path)
         assert project.format_version == 3, path
         assert list(project.sensor_configs())[:2] == ["tof", "radar"], path
@@ -456,3 +469,23 @@ def test_validate_lists_every_sensor_with_its_rig_and_timing(tmp_path: Path,
     out = capsys.readouterr().out
     assert "tof2: tof on rig 'rig', 5 frames/s (every 2 frames), 13 ms after the frame" in out
     assert "rear: radar on rig 'cart', 10 frames/s (every 1 frame), 20 ms after the frame" in out
+
+
+def test_people_truth_per_radar_is_the_segments_geometry() -> None:
+    base = load_project(example_path("person_walking"))
+    project = with_rigs(base, Rig(name="cart", pose=SIDE_POSE,
+                                  sensors={"side": named_sensor(base.rig.radar)}))
+    with Simulator(project) as sim:
+        f = sim.frame(3)
+    items = f.hdf5_items()
+    origin, axes = radar_frame_of(SIDE_POSE, project.rigs[0].sensors["side"].pose_on_rig)
+    poses = items["/people/segments/pose"][0]
+    expected = np.array([geometry(p[:3, 3], origin, axes) for p in poses])
+    np.testing.assert_allclose(items["/people/segments/side/range"][0], expected[:, 0],
+                               rtol=1e-12)
+    np.testing.assert_allclose(items["/people/segments/side/azimuth"][0], expected[:, 1],
+                               atol=1e-9)
+    np.testing.assert_allclose(items["/people/segments/side/elevation"][0], expected[:, 2],
+                               atol=1e-9)
+    # The built-in radar's are unchanged beside them.
+    assert not np.allclose(items["/people/segments/radar_range"][0], expected[:, 0])
