@@ -85,6 +85,7 @@ def test_a_second_radar_sees_the_targets_where_its_pose_puts_them() -> None:
         frame = sim.frame(0)
         items = frame.hdf5_items()
         rows = frame.table_rows()
+        assert list(sim.static_items()["/poses/rig_names"][0]) == ["rig", "cart"]
     det = frame.outputs["side"].dsp.detections
     resolution = base.rig.radar.range_resolution_m
     for k, obj in enumerate(base.objects):
@@ -100,6 +101,12 @@ def test_a_second_radar_sees_the_targets_where_its_pose_puts_them() -> None:
         assert abs(det.azimuth_deg[j] - az) < 4.0
         # The detection's label: the target it is.
         assert rows["/side/detections"]["object_id"][j] == obj.id
+    # Every rig's pose, in project order.
+    rigs = items["/poses/rigs"][0]
+    assert rigs.shape == (2, 4, 4)
+    np.testing.assert_allclose(rigs[1][:3, 3], SIDE_POSE.position_m, atol=1e-12)
+    np.testing.assert_allclose(rigs[1][:3, :3], axes, atol=1e-12)
+    np.testing.assert_array_equal(rigs[0], items["/poses/rig"][0])
     # The built-in radar's truth is unchanged by the second rig.
     with Simulator(base) as sim:
         alone = sim.frame(0).hdf5_items()
