@@ -496,3 +496,20 @@ def test_people_truth_per_radar_is_the_segments_geometry() -> None:
                                atol=1e-9)
     # The built-in radar's are unchanged beside them.
     assert not np.allclose(items["/people/segments/radar_range"][0], expected[:, 0])
+
+
+def test_a_sensor_view_of_the_snapshot_keeps_the_whole_scene() -> None:
+    from simcore.scene.snapshot import take_snapshot
+
+    base = load_project(example_path("point_targets"))
+    project = with_rigs(base, Rig(name="cart", pose=SIDE_POSE,
+                                  sensors={"side": named_sensor(base.rig.radar)}))
+    snap = take_snapshot(project, 0.3)
+    assert snap.sensor_rigs == {"tof": "rig", "radar": "rig", "side": "cart"}
+    assert snap.seen_by("radar", "radar") is snap and snap.scene is snap
+    view = snap.seen_by("side", "radar")
+    assert view.sensors["radar"] is snap.sensors["side"]
+    assert view.rig is snap.rigs["cart"] and view.rig_of("side") is snap.rigs["cart"]
+    assert view.scene is snap and view.scene.sensors["radar"] is snap.sensors["radar"]
+    assert view.seen_by("tof", "tof").scene is snap
+    np.testing.assert_array_equal(view.object_transforms(), snap.object_transforms())

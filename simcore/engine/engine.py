@@ -406,7 +406,8 @@ class FrameEngine:
                 rng=frame_rng(self.seed, index, sensor.rng_stream), stage=stage,
                 background=(None if background is None
                             else Background(background[1], background[2], bg_see_through)),
-                see_through=see_through, defer=self._defer if self.threads else None)
+                see_through=see_through, defer=self._defer if self.threads else None,
+                name=sensor.name)
             return buffers, sensor.simulate(ctx)
 
         return chain
