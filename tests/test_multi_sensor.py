@@ -513,3 +513,13 @@ def test_a_sensor_view_of_the_snapshot_keeps_the_whole_scene() -> None:
     assert view.scene is snap and view.scene.sensors["radar"] is snap.sensors["radar"]
     assert view.seen_by("tof", "tof").scene is snap
     np.testing.assert_array_equal(view.object_transforms(), snap.object_transforms())
+
+
+def test_bench_rigs_reports_both_variants_from_one_run() -> None:
+    from simcore.bench import rig_variants
+
+    result = rig_variants(example_path("wall"), frames=1)
+    assert result["one_rig"]["sensors"] == 2 and result["two_rigs"]["sensors"] == 4
+    assert "tof" in result["two_rigs"]["stages_ms"]   # a still wall: no render is timed
+    assert result["time_ratio"] == pytest.approx(
+        result["two_rigs"]["frame_ms_median"] / result["one_rig"]["frame_ms_median"])
