@@ -263,6 +263,18 @@ def test_alike_sensors_share_one_render_and_keep_their_own_noise() -> None:
     assert f.buffers["twin"] is f.buffers["tof"]
     np.testing.assert_array_equal(f.outputs["twin"].gt_range, f.outputs["tof"].gt_range)
     assert not np.array_equal(f.outputs["twin"].depth_m, f.outputs["tof"].depth_m)
+    # Alike radars behind a pane (a see-through pass) share both passes too.
+    pane = SceneObject(id=2, name="pane", geometry=Box(size_m=(0.01, 1.0, 1.0)),
+                       pose=Pose(position_m=(1.0, 0.0, 0.0)), material="glass")
+    glazed = base.model_copy(update={"objects": [*base.objects, pane]})
+    counts = []
+    for project in (glazed, with_rigs(glazed, sensors={"radar_b": named_sensor(
+            glazed.rig.radar)})):
+        with Simulator(project) as sim:
+            g = sim.frame(0)
+            counts.append(sim.render_count)
+    assert "radar" in g.see_through and g.see_through["radar_b"] is g.see_through["radar"]
+    assert counts[0] == counts[1]
     streams = {s.name: s.rng_stream for s in active_sensors(twin)}
     assert streams == {"tof": 0, "radar": 1, "twin": sensor_rng_stream("tof", "twin", 0, 0)}
     assert len(set(streams.values())) == 3
