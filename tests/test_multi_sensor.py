@@ -203,6 +203,9 @@ def test_a_trigger_offset_sees_a_moving_wall_where_it_is_then() -> None:
     np.testing.assert_allclose(delayed[seen] / on_time[seen], ratio, rtol=2e-5)
     # The late radar's object truth is for its capture time: the wall's centre then.
     items = f.hdf5_items()
+    np.testing.assert_allclose(items["/late_radar/chirp_start_time"][0]
+                               - items["/radar/chirp_start_time"][0], dt, rtol=0, atol=1e-12)
+    assert f.outputs["late_radar"].raw.time_s == t + dt
     centre = np.array([3.1 + v * (t + dt), 0.0, 0.0])
     origin = (np.asarray(project.rig.pose.position_m)
               + np.asarray(project.rig.sensors["late_radar"].pose_on_rig.position_m))
