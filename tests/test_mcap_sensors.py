@@ -341,3 +341,71 @@ def test_convert_hdf5_with_rows_per_capture(tmp_path: Path) -> None:
     for (_, a), (_, b) in zip(got["/b_radar/detections"], want["/b_radar/detections"],
                               strict=True):
         assert bytes(a.data) == bytes(b.data)
+
+
+class _FakeFrame:
+    def __init__(self, project: Project, k: int):
+        self.index, self.time_s = k, k / RATE_HZ
+        self._items, self._tables = frame_items(project, k, flags=True), frame_tables(k)
+
+    def hdf5_items(self) -> dict[str, Any]:
+        return self._items
+
+    def table_rows(self) -> dict[str, np.ndarray]:
+        return self._tables
+
+
+class _FakeSimulator:
+    """The engine's frames of the two-rig project, built by hand (see frame_items)."""
+
+    def __init__(self, project: Project, **_: Any):
+        self.project, self.n_frames = project, N_FRAMES
+
+    def __enter__(self) -> _FakeSimulator:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        pass
+
+    def static_items(self) -> dict[str, Any]:
+        return {}
+
+    def frame(self, k: int) -> _FakeFrame:
+        return _FakeFrame(self.project, k)
+
+
+def test_foxglove_stream_publishes_every_sensor_at_its_capture_time(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    foxglove = pytest.importorskip("foxglove")
+    from simcore.io import live
+
+    logged: list[tuple[str, str, int]] = []
+    advertised: dict[str, str] = {}
+
+    class RecordingChannel:
+        def __init__(self, topic: str, *, message_encoding: str, schema: Any):
+            self.topic = topic
+            advertised[topic] = schema.name
+
+        def log(self, data: bytes, *, log_time: int) -> None:
+            logged.append((self.topic, advertised[self.topic], log_time))
+
+        def close(self) -> None:
+            pass
+
+    monkeypatch.setattr(foxglove, "Channel", RecordingChannel)
+    monkeypatch.setattr(live, "Simulator", _FakeSimulator)
+    project = two_rig_project()
+    report = live.serve(project, port=0, wait_for_client=False, realtime=False, linger_s=0.0)
+    assert report.frames_published == N_FRAMES
+    assert advertised == RigDescription.of(project, {}).topics()
+    by_topic: dict[str, list[int]] = defaultdict(list)
+    for topic, _, log_time in logged:
+        by_topic[topic].append(log_time)
+    assert by_topic["/tf"] == [ns(k / RATE_HZ) for k in range(N_FRAMES)]
+    for topic in advertised:
+        if topic != "/tf":
+            name = topic.split("/")[1]
+            assert by_topic[topic] == [ns(t) for k in range(N_FRAMES)
+                                       if (t := capture_time(name, k)) is not None], topic
+    assert len(by_topic["/b_radar/adc"]) == N_FRAMES // 2
