@@ -1,10 +1,14 @@
 """ROS 2 messages of a frame: standard types plus two documented tofradar messages.
 
-One frame becomes one message per topic, all stamped with the frame's simulation time
-(``header.stamp`` and the MCAP log time are equal for every sensor of a frame):
+One frame becomes one ``/tf`` message, stamped with the frame's simulation time, and one
+message per topic of every sensor that captures in the frame, stamped with that sensor's
+capture time (``header.stamp``; the MCAP log time is the same). A sensor named ``N`` of a
+project's rigs publishes the topics of its kind (:data:`SENSOR_TOPICS`) under ``/N/``, its
+messages in frame ``N``; the built-in sensors' topics are:
 
-* ``/tf`` (``tf2_msgs/msg/TFMessage``): world → rig → each sensor's optical frame
-  (``tof``, ``radar``, ``rgb``); world → each object (frame named after the object).
+* ``/tf`` (``tf2_msgs/msg/TFMessage``): world → each rig (frame named after the rig,
+  ``rig`` by default) → each of its sensors' optical frames (``tof``, ``radar``, ``rgb``);
+  world → each object (frame named after the object).
 * ``/tof/depth``, ``/tof/amplitude`` (``sensor_msgs/msg/Image``, 32FC1): distance along the
   pixel ray (m, 0 = invalid) and amplitude (DN), frame ``tof``.
 * ``/tof/camera_info`` (``sensor_msgs/msg/CameraInfo``): pinhole, no distortion.
