@@ -146,12 +146,16 @@ def detections(name: str, k: int) -> np.ndarray:
 def frame_items(project: Project, k: int, *, flags: bool) -> dict[str, Any]:
     """Frame ``k`` as the engine gives it: a sensor that does not capture has no data.
 
-    ``flags``: also the ``/<sensor>/captured`` and ``/<sensor>/time`` items of the sensors
-    slower than the timeline (otherwise the writer finds the timing from the project).
+    ``flags``: also ``/poses/rigs`` and the ``/<sensor>/captured`` and ``/<sensor>/time``
+    items of the sensors with their own timing (otherwise the writer finds the rigs' poses
+    and the timing from the project).
     """
     items: dict[str, Any] = {"/time": (np.float64(k / RATE_HZ), "s"),
                              "/poses/rig": (world_from_rig("robot_a", k / RATE_HZ), "m"),
                              "/poses/objects": (np.zeros((0, 4, 4)), "m")}
+    if flags:  # the engine's: every rig's pose, project order
+        items["/poses/rigs"] = (np.stack([world_from_rig(r, k / RATE_HZ)
+                                          for r in ("robot_a", "robot_b")]), "m")
     for name in OFFSETS:
         t = capture_time(name, k)
         if flags and (DIVIDERS[name] > 1 or OFFSETS[name]):
@@ -160,12 +164,18 @@ def frame_items(project: Project, k: int, *, flags: bool) -> dict[str, Any]:
         if t is not None:
             items.update({f"/{name}/{key}": v for key, v in sensor_data(project, name,
                                                                          k).items()})
+        elif flags:  # the engine keeps one frame axis: zeros where it did not capture
+            items.update({f"/{name}/{key}": (np.zeros_like(a), unit) for key, (a, unit)
+                          in sensor_data(project, name, k).items()})
     return items
 
 
-def frame_tables(k: int) -> dict[str, np.ndarray]:
-    return {f"/{n}/detections": detections(n, k) for n in ("radar", "b_radar")
-            if capture_time(n, k) is not None}
+def frame_tables(k: int, *, flags: bool = False) -> dict[str, np.ndarray]:
+    """The radars' detection rows (with ``flags``, the engine's: none where it did not
+    capture)."""
+    return {f"/{n}/detections": detections(n, k) if capture_time(n, k) is not None
+            else detections(n, k)[:0] for n in ("radar", "b_radar")
+            if flags or capture_time(n, k) is not None}
 
 
 def read_mcap(path: Path) -> dict[str, list[tuple[int, Any]]]:
@@ -197,7 +207,8 @@ def write_mcap(path: Path, *, flags: bool) -> Project:
                 static[f"/{name}/{p.rsplit('/', 1)[-1]}"] = v
         writer.write_static(static)
         for k in range(N_FRAMES):
-            writer.write_frame(k, frame_items(project, k, flags=flags), frame_tables(k))
+            writer.write_frame(k, frame_items(project, k, flags=flags),
+                               frame_tables(k, flags=flags))
     return project
 
 
@@ -295,14 +306,16 @@ def test_frame_messages_with_and_without_timing_items_agree() -> None:
     project = two_rig_project()
     rig = RigDescription.of(project, {})
     for k in range(N_FRAMES):
-        a = frame_messages(rig, frame_items(project, k, flags=True), frame_tables(k))
+        a = frame_messages(rig, frame_items(project, k, flags=True),
+                           frame_tables(k, flags=True))
         b = frame_messages(rig, frame_items(project, k, flags=False), frame_tables(k),
                            index=k)
         assert [(m.topic, m.stamp_ns) for m in a] == [(m.topic, m.stamp_ns) for m in b]
 
 
-def write_hdf5(path: Path, project: Project) -> None:
-    """A dataset in the layout of several sensors: b_radar stored one row per capture."""
+def write_hdf5(path: Path, project: Project, *, per_capture: bool) -> None:
+    """A dataset in the layout of several sensors: a row per frame (zeros where a sensor
+    did not capture, as the engine writes), or b_radar's arrays a row per capture."""
     with h5py.File(path, "w") as f:
         meta = f.create_group("meta")
         meta.attrs.update({"project_json": project_to_json(project), "n_frames": N_FRAMES,
@@ -310,7 +323,9 @@ def write_hdf5(path: Path, project: Project) -> None:
         frames = [frame_items(project, k, flags=True) for k in range(N_FRAMES)]
         paths = sorted({p for items in frames for p in items})
         for p in paths:
-            rows = [items[p][0] for items in frames if p in items]
+            rows = [items[p][0] for k, items in enumerate(frames) if p in items and not (
+                per_capture and p.startswith("/b_radar/") and not p.endswith(
+                    ("/captured", "/time")) and capture_time("b_radar", k) is None)]
             ds = f.create_dataset(p, data=np.stack(rows))
             ds.attrs.update({"per_frame": True, "unit": frames[0].get(p, ("", ""))[1]})
         for name in ("radar", "b_radar"):
@@ -323,12 +338,13 @@ def write_hdf5(path: Path, project: Project) -> None:
             f.create_dataset(f"/{name}/detections", data=table).attrs["table"] = True
 
 
-def test_convert_hdf5_with_rows_per_capture(tmp_path: Path) -> None:
+@pytest.mark.parametrize("per_capture", [False, True])
+def test_convert_hdf5_of_several_sensors(tmp_path: Path, per_capture: bool) -> None:
     project = two_rig_project()
     h5, mcap = tmp_path / "run.h5", tmp_path / "run.mcap"
-    write_hdf5(h5, project)
+    write_hdf5(h5, project, per_capture=per_capture)
     with h5py.File(h5) as f:
-        assert f["b_radar/adc"].shape[0] == N_FRAMES // 2
+        assert f["b_radar/adc"].shape[0] == (N_FRAMES // 2 if per_capture else N_FRAMES)
     assert main(["convert", str(h5), "--to", str(mcap)]) == 0
     direct = tmp_path / "direct.mcap"
     write_mcap(direct, flags=True)
@@ -346,7 +362,8 @@ def test_convert_hdf5_with_rows_per_capture(tmp_path: Path) -> None:
 class _FakeFrame:
     def __init__(self, project: Project, k: int):
         self.index, self.time_s = k, k / RATE_HZ
-        self._items, self._tables = frame_items(project, k, flags=True), frame_tables(k)
+        self._items = frame_items(project, k, flags=True)
+        self._tables = frame_tables(k, flags=True)
 
     def hdf5_items(self) -> dict[str, Any]:
         return self._items

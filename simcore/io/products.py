@@ -84,8 +84,12 @@ def _require(f: h5py.File, path: str) -> h5py.Dataset:
 
 
 def _object_range(f: h5py.File, name: str, radar: str) -> NDArray[np.float64]:
-    """Object ``name``'s true range from ``radar``, every frame (m)."""
-    truth = f"/objects/{radar}_range"
+    """Object ``name``'s true range from ``radar``, every frame (m).
+
+    The built-in radar's is ``/objects/radar_range``, another radar's
+    ``/objects/<radar>/range``.
+    """
+    truth = "/objects/radar_range" if radar == "radar" else f"/objects/{radar}/range"
     if "/objects/names" not in f or truth not in f:
         raise ProductsError(f"{f.filename}: no object {name!r}: the dataset has no "
                             f"/objects/names and {truth}")
@@ -205,7 +209,8 @@ def write_radar_products(path: str | os.PathLike[str], *,
         writing.
     object_name : str, keyword-only, optional
         Follow this object: the spectrogram's range gate moves with its true range from
-        this radar (``/objects/<radar>_range`` ± :data:`OBJECT_GATE_HALF_WIDTH_M`) and the
+        this radar (``/objects/radar_range``, another radar's ``/objects/<radar>/range``;
+        ± :data:`OBJECT_GATE_HALF_WIDTH_M`) and the
         chest bin is searched within that interval. Otherwise the gates come from the
         project's ``dsp.spectrogram_range_m`` and ``dsp.vitals_range_m``.
     radar : str, keyword-only

@@ -394,15 +394,19 @@ class RigDescription:
                  frame_time: bool = True) -> NDArray[np.float64]:
         """Rig body frame → world at ``time_s``.
 
-        At the frame's time: the frame's item ``/poses/rig`` (the first rig) or
-        ``/rigs/<name>/pose`` when the frame has it; otherwise (and at a sensor's capture
-        time) the rig's pose and motion evaluated at ``time_s``.
+        At the frame's time: the frame's item ``/poses/rigs`` (every rig, project order;
+        a project with several rigs) or ``/poses/rig`` (the first rig) when the frame has
+        it; otherwise (and at a sensor's capture time) the rig's pose and motion evaluated
+        at ``time_s``.
         """
         if frame_time:
-            first = next(iter(self.rigs))
-            for path in (f"/rigs/{rig}/pose", "/poses/rig" if rig == first else ""):
-                if path in items:
-                    return np.asarray(items[path][0], dtype=np.float64)
+            order = list(self.rigs)
+            if "/poses/rigs" in items:
+                poses = np.asarray(items["/poses/rigs"][0], dtype=np.float64)
+                if poses.shape[0] == len(order):
+                    return poses[order.index(rig)]
+            if rig == order[0] and "/poses/rig" in items:
+                return np.asarray(items["/poses/rig"][0], dtype=np.float64)
         pose, motion = self.rigs[rig]
         return rigid_state(pose, motion, time_s).transform
 
