@@ -426,3 +426,105 @@ def test_foxglove_stream_publishes_every_sensor_at_its_capture_time(
             assert by_topic[topic] == [ns(t) for k in range(N_FRAMES)
                                        if (t := capture_time(name, k)) is not None], topic
     assert len(by_topic["/b_radar/adc"]) == N_FRAMES // 2
+
+
+# --- The real engine: a run of two rigs to HDF5 and to MCAP --------------------------------
+
+E_FRAMES = 4
+
+
+def engine_project() -> Project:
+    """The wall example with a second, moving rig: b_tof 20 ms late, b_radar at half rate
+    30 ms late; small ToF cameras keep the run short."""
+    from simcore.resources import example_path
+    from simcore.scene import load_project
+
+    base = load_project(example_path("wall"))
+    tof = {"width": 32, "height": 24}
+    radar = {k: v for k, v in base.rig.radar.model_dump().items()
+             if k not in ("kind", "frame_rate_hz", "trigger_offset_s")}
+    rig_a = base.rig.model_copy(update={"tof": base.rig.tof.model_copy(update=tof)})
+    rig_b = Rig(name="robot_b",
+                pose=Pose(position_m=(0.5, 1.0, 1.0), rotation_deg=(0, 0, -20)),
+                motion=Motion(velocity_mps=(0.3, 0.0, 0.0)),
+                sensors={"b_tof": NamedTof(**tof, trigger_offset_s=0.02,
+                                           pose_on_rig=Pose(position_m=(0.1, 0.0, 0.0))),
+                         "b_radar": NamedRadar(**radar, frame_rate_hz=RATE_HZ / 2,
+                                               trigger_offset_s=0.03)})
+    return Project.model_validate({
+        **base.model_dump(), "rig": rig_a.model_dump(), "rigs": [rig_b.model_dump()],
+        "timeline": {"frame_rate_hz": RATE_HZ, "duration_s": E_FRAMES / RATE_HZ}})
+
+
+@pytest.fixture(scope="module")
+def engine_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Project, Path, Path, Path]:
+    from simcore.scene.project_io import save_project
+
+    tmp = tmp_path_factory.mktemp("engine")
+    project = engine_project()
+    save_project(project, tmp / "two.json")
+    h5, converted, direct = tmp / "run.h5", tmp / "conv.mcap", tmp / "run.mcap"
+    for out in (h5, direct):
+        assert main(["run", str(tmp / "two.json"), "--out", str(out), "--quiet"]) == 0
+    assert main(["convert", str(h5), "--to", str(converted)]) == 0
+    return project, h5, converted, direct
+
+
+def test_engine_run_topics_stamps_and_tf(engine_run: tuple[Project, Path, Path, Path]
+                                         ) -> None:
+    project, h5, converted, direct = engine_run
+    topics = read_mcap(converted)
+    with h5py.File(h5) as f:
+        times = f["time"][()]
+        assert {t.split("/")[1] for t in topics if t != "/tf"} == {
+            "tof", "radar", "b_tof", "b_radar"}
+        for name, n_expected in (("tof", 4), ("radar", 4), ("b_tof", 4), ("b_radar", 2)):
+            expected = [ns(k / RATE_HZ + (0.03 if name == "b_radar" else
+                                           0.02 if name == "b_tof" else 0.0))
+                        for k in range(E_FRAMES) if name != "b_radar" or k % 2 == 0]
+            assert len(expected) == n_expected
+            for topic in (t for t in topics if t.startswith(f"/{name}/")):
+                assert [t for t, _ in topics[topic]] == expected, topic
+                assert [_stamp(m) for _, m in topics[topic]] == expected, topic
+            if name in ("b_tof", "b_radar"):  # the dataset's capture times agree
+                cap = f[f"{name}/captured"][()]
+                assert [ns(t) for t in f[f"{name}/time"][()][cap]] == expected
+        captured = np.flatnonzero(f["b_radar/captured"][()])
+        for (_, cube), k in zip(topics["/b_radar/adc"], captured, strict=True):
+            np.testing.assert_array_equal(
+                np.frombuffer(bytes(cube.data), "<f4").reshape(f["b_radar/adc"].shape[1:]),
+                f["b_radar/adc"][k])
+        rigs = f["poses/rigs"][()]
+        for k, (_, msg) in enumerate(topics["/tf"]):
+            assert _stamp(msg.transforms[0]) == ns(times[k])
+            tf = {(t.header.frame_id, t.child_frame_id): transform_matrix(t.transform)
+                  for t in msg.transforms if _stamp(t) == ns(times[k])}
+            b = transform(rot_z(-20.0), (0.5 + 0.3 * times[k], 1.0, 1.0))  # configured
+            np.testing.assert_allclose(tf[("world", "robot_b")], b, atol=1e-9)
+            np.testing.assert_allclose(tf[("world", "robot_b")], rigs[k, 1], atol=1e-9)
+            np.testing.assert_allclose(tf[("world", "rig")], rigs[k, 0], atol=1e-9)
+            np.testing.assert_allclose(tf[("robot_b", "b_tof")],
+                                       transform(np.eye(3), (0.1, 0.0, 0.0)) @ OPTICAL,
+                                       atol=1e-9)
+            np.testing.assert_allclose(tf[("rig", "radar")],
+                                       project.rig.radar.pose_on_rig.matrix() @ OPTICAL,
+                                       atol=1e-9)
+    # A run straight to MCAP writes the same messages as the conversion of its HDF5 file.
+    again = read_mcap(direct)
+    assert set(again) == set(topics)
+    for topic in topics:
+        assert [t for t, _ in again[topic]] == [t for t, _ in topics[topic]], topic
+    for (_, a), (_, b) in zip(again["/b_radar/adc"], topics["/b_radar/adc"], strict=True):
+        assert bytes(a.data) == bytes(b.data)
+
+
+def test_engine_run_products_per_radar(engine_run: tuple[Project, Path, Path, Path]) -> None:
+    _, h5, _, _ = engine_run
+    assert main(["products", str(h5)]) == 0
+    with h5py.File(h5) as f:
+        for name, frames in (("radar", np.arange(E_FRAMES)), ("b_radar", np.arange(0, 4, 2))):
+            g = f[f"{name}/vitals"]
+            np.testing.assert_array_equal(g["frame"][()], frames)
+            np.testing.assert_allclose(g["time"][()], f[f"{name}/chirp_start_time"][()][
+                frames, :, 0].mean(axis=1))
+            assert f[f"{name}/spectrogram/power"].shape[0] == len(frames)
