@@ -8,7 +8,8 @@ options and the radar's own configuration, and writes two groups into the same f
 data. The built-in radar is ``radar``, so its groups are ``/radar/spectrogram`` and
 ``/radar/vitals`` as before; a radar named ``rear`` has ``/rear/spectrogram`` and
 ``/rear/vitals``. A radar slower than the timeline (``/<radar>/captured``) uses the frames it
-captured in; its vitals have ``frame`` (N,), the frame of each row.
+captured in; its vitals keep one value per frame of the dataset, NaN where it did not
+capture.
 
 ``/<radar>/spectrogram``
     ``power`` (columns, doppler) float32 dB, ``time`` (columns,) s, ``velocity_axis``
@@ -283,21 +284,29 @@ def write_radar_products(path: str | os.PathLike[str], *,
             heart_band_hz=dc.vitals_heart_band_hz, window=dc.vitals_window,
             static_offset=dc.vitals_static_offset, range_bin=k) if n >= 8 else None
         g = _replace_group(f, f"/{radar}/vitals")
-        _put(g, "time", times, "s")
+        n_frames = int(f[f"/{radar}/captured"].shape[0]) if f"/{radar}/captured" in f else n
+
+        def per_frame(values: NDArray[np.float64]) -> NDArray[np.float64]:
+            """One value per frame of the dataset: NaN where the radar did not capture."""
+            if n_frames == n:
+                return values
+            out = np.full(n_frames, np.nan)
+            out[frames] = values
+            return out
+
+        _put(g, "time", per_frame(times), "s")
         if whole is not None:
-            _put(g, "displacement", whole.displacement_m, "m")
+            _put(g, "displacement", per_frame(whole.displacement_m), "m")
             sliding = _sliding_vitals(slow[:, k], rate, rc, dc)
             for j, (name, unit) in enumerate((("breathing_rate", "Hz"),
                                               ("breathing_amplitude", "m"),
                                               ("heart_rate", "Hz"), ("heart_amplitude", "m"))):
-                _put(g, name, sliding[:, j], unit)
+                _put(g, name, per_frame(sliding[:, j]), unit)
             g.attrs.update({"breathing_rate_hz": whole.breathing_rate_hz,
                             "breathing_amplitude_m": whole.breathing_amplitude_m,
                             "heart_rate_hz": whole.heart_rate_hz,
                             "heart_amplitude_m": whole.heart_amplitude_m})
         g.attrs.update({"range_bin": k, "range_m": float(r[k])})
-        if f"/{radar}/captured" in f:  # a slower radar: the frame of each row
-            _put(g, "frame", frames.astype(np.int64), "1")
         return RadarProductsSummary(sg, whole, float(r[k]))
 
 
