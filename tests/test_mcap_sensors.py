@@ -391,16 +391,17 @@ class _FakeSimulator:
         return _FakeFrame(self.project, k)
 
 
-def test_foxglove_stream_publishes_every_sensor_at_its_capture_time(
-        monkeypatch: pytest.MonkeyPatch) -> None:
+def record_channels(monkeypatch: pytest.MonkeyPatch
+                    ) -> tuple[list[tuple[str, str, int]], dict[str, str]]:
+    """Replace the Foxglove SDK's channels by recorders: (topic, type, log time) of every
+    message logged, and the type of every topic advertised."""
     foxglove = pytest.importorskip("foxglove")
-    from simcore.io import live
-
     logged: list[tuple[str, str, int]] = []
     advertised: dict[str, str] = {}
 
     class RecordingChannel:
         def __init__(self, topic: str, *, message_encoding: str, schema: Any):
+            assert message_encoding == "cdr" and schema.encoding == "ros2msg"
             self.topic = topic
             advertised[topic] = schema.name
 
@@ -411,6 +412,14 @@ def test_foxglove_stream_publishes_every_sensor_at_its_capture_time(
             pass
 
     monkeypatch.setattr(foxglove, "Channel", RecordingChannel)
+    return logged, advertised
+
+
+def test_foxglove_stream_publishes_every_sensor_at_its_capture_time(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    from simcore.io import live
+
+    logged, advertised = record_channels(monkeypatch)
     monkeypatch.setattr(live, "Simulator", _FakeSimulator)
     project = two_rig_project()
     report = live.serve(project, port=0, wait_for_client=False, realtime=False, linger_s=0.0)
@@ -535,3 +544,19 @@ def test_engine_run_products_per_radar(engine_run: tuple[Project, Path, Path, Pa
         assert ds["b_radar_vitals_time"].shape == (E_FRAMES,)
     finally:
         ds.close()
+
+
+def test_engine_live_stream_equals_the_recording(
+        engine_run: tuple[Project, Path, Path, Path], monkeypatch: pytest.MonkeyPatch) -> None:
+    from simcore.io import live
+
+    project, _, converted, _ = engine_run
+    logged, advertised = record_channels(monkeypatch)
+    report = live.serve(project, port=0, wait_for_client=False, realtime=False, linger_s=0.0)
+    assert report.frames_published == E_FRAMES
+    recording = read_mcap(converted)
+    assert set(advertised) == set(recording)
+    by_topic: dict[str, list[int]] = defaultdict(list)
+    for topic, _, log_time in logged:
+        by_topic[topic].append(log_time)
+    assert by_topic == {topic: [t for t, _ in msgs] for topic, msgs in recording.items()}
