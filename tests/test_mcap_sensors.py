@@ -560,3 +560,27 @@ def test_engine_live_stream_equals_the_recording(
     for topic, _, log_time in logged:
         by_topic[topic].append(log_time)
     assert by_topic == {topic: [t for t, _ in msgs] for topic, msgs in recording.items()}
+
+
+@pytest.mark.parametrize(("rig_name", "sensor_name"), [("front", "front"), ("world", "b_tof"),
+                                                       ("robot_b", "world")])
+def test_colliding_tf_frames_are_one_line_errors(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], rig_name: str,
+        sensor_name: str) -> None:
+    from simcore.resources import example_path
+    from simcore.scene import load_project
+    from simcore.scene.project_io import save_project
+
+    tof = NamedTof(width=8, height=6).model_dump()
+    rigs = [{"name": rig_name, "sensors": {"b_tof": tof}}]
+    if sensor_name != "b_tof":
+        rigs.append({"name": "b", "sensors": {sensor_name: tof}})
+    project = Project.model_validate({**load_project(example_path("wall")).model_dump(),
+                                      "rigs": rigs})
+    save_project(project, tmp_path / "p.json")
+    out = tmp_path / "p.mcap"
+    assert main(["run", str(tmp_path / "p.json"), "--out", str(out), "--frames", "1",
+                 "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("tofradar: error: ") and "TF frame" in err[0]
+    assert not out.exists()

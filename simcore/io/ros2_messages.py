@@ -45,6 +45,7 @@ from scipy.spatial.transform import Rotation
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.model import Project, sensor_kind
 from simcore.scene.motion import Motion, Pose, make_transform, rigid_state
+from simcore.scene.project_io import ProjectError
 from simcore.scene.radar_config import RadarConfig
 from simcore.scene.snapshot import BODY_FROM_OPTICAL
 
@@ -347,6 +348,8 @@ class RigDescription:
 
         A radar's axes are ``/<name>/range_axis`` and ``/<name>/velocity_axis`` of
         ``static_items``, or else computed from its configuration and the project's DSP.
+        :class:`~simcore.scene.project_io.ProjectError` when a rig or sensor name would be
+        a second TF frame of that name (another rig's or sensor's, or ``world``).
         """
         from simcore.dsp.processing import static_axes_items
 
@@ -378,6 +381,16 @@ class RigDescription:
                     divider=cfg.frame_divider(rate),  # type: ignore[attr-defined]
                     trigger_offset_s=float(cfg.trigger_offset_s),  # type: ignore[attr-defined]
                     **extra)
+        owner: dict[str, str] = {WORLD_FRAME: "the world frame"}
+        for what, names in (("rig", [r.name for r in project.all_rigs()]),
+                            ("sensor", list(sensors))):
+            for name in names:
+                if name in owner:
+                    raise ProjectError(f"project {project.name!r}", [
+                        f"TF frame {name!r} would be both {owner[name]} and a {what}: "
+                        f"rename the {what} (rig and sensor names are TF frames in MCAP "
+                        "recordings and the live stream)"])
+                owner[name] = f"a {what}"
         segments = static_items.get("/people/segments/names")
         return cls(sensors, {r.name: (r.pose, r.motion) for r in project.all_rigs()}, rate,
                    [o.name for o in project.objects],
