@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 from simcore import __version__
 from simcore.preflight import MAX_FRAMES, MAX_SEED, RunError
+from simcore.scene.model import sensor_kind
 from simcore.scene.project_io import ProjectError, load_project, project_to_json
 
 if TYPE_CHECKING:
@@ -168,6 +169,16 @@ def cmd_validate(args: argparse.Namespace) -> int:
     cost = _preflight(project, Path(args.project), args)
     print(f"OK: {args.project} ({len(project.objects)} objects, format_version "
           f"{project.format_version}); {cost.describe()}")
+    rigs = project.all_rigs()
+    if len(rigs) > 1 or project.rig.sensors:
+        # Several sensors: each with its kind, rig and timing.
+        rate = project.timeline.frame_rate_hz
+        for name, cfg in project.sensor_configs().items():
+            every = cfg.frame_divider(rate)  # type: ignore[attr-defined]
+            offset = cfg.trigger_offset_s  # type: ignore[attr-defined]
+            print(f"  {name}: {sensor_kind(cfg)} on rig {project.sensor_rig(name).name!r}, "
+                  f"{rate / every:g} frames/s (every {every} frame{'s' if every > 1 else ''})"
+                  f"{f', {offset * 1e3:g} ms after the frame' if offset else ''}")
     return 0
 
 

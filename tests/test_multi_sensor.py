@@ -422,3 +422,37 @@ def test_bench_second_rig_is_a_copy_of_the_first_placed_beside_it() -> None:
     assert rig.pose.rotation_deg[2] == office.rig.pose.rotation_deg[2] + 30.0
     tof = rig.sensors["rig2_tof"].model_dump()
     assert tof.pop("kind") == "tof" and tof == office.rig.tof.model_dump()
+
+
+def test_generate_varies_named_sensors_and_further_rigs(tmp_path: Path) -> None:
+    from simcore.cli import main
+
+    save_project(two_rig_project(("cam", "rad")), tmp_path / "base.json")
+    spec = {"format": "tofradar-scenario/1", "name": "carts", "base": "base.json",
+            "vary": {"rigs[0].pose.position_m[0]": {"uniform": [1.0, 2.0]},
+                     "rigs[0].sensors.rad.chirps_per_frame": {"choice": [16, 32]}}}
+    (tmp_path / "spec.json").write_text(json.dumps(spec))
+    assert main(["generate", str(tmp_path / "spec.json"), "--count", "4", "--out",
+                 str(tmp_path / "scenes")]) == 0
+    projects = [load_project(p) for p in sorted((tmp_path / "scenes").glob("*.json"))]
+    assert len(projects) == 4
+    for p in projects:
+        assert 1.0 <= p.rigs[0].pose.position_m[0] <= 2.0
+        assert p.sensor_config("rad").chirps_per_frame in (16, 32)  # type: ignore[attr-defined]
+        assert p.rig.radar.chirps_per_frame == 16   # the built-in radar is not varied
+    assert len({p.rigs[0].pose.position_m[0] for p in projects}) == 4
+
+
+def test_validate_lists_every_sensor_with_its_rig_and_timing(tmp_path: Path,
+                                                            capsys: pytest.CaptureFixture[str]
+                                                            ) -> None:
+    from simcore.cli import main
+
+    project = with_rigs(half_rate_project(), Rig(name="cart", sensors={
+        "rear": named_sensor(wall_project().rig.radar.model_copy(
+            update={"trigger_offset_s": 0.02}))}))
+    save_project(project, tmp_path / "p.json")
+    assert main(["validate", str(tmp_path / "p.json")]) == 0
+    out = capsys.readouterr().out
+    assert "tof2: tof on rig 'rig', 5 frames/s (every 2 frames), 13 ms after the frame" in out
+    assert "rear: radar on rig 'cart', 10 frames/s (every 1 frame), 20 ms after the frame" in out
