@@ -969,24 +969,27 @@ def _add_robotics_commands(sub: argparse._SubParsersAction[_Parser],
 
 def cmd_products(args: argparse.Namespace) -> int:
     """Write the micro-Doppler spectrogram and vital signs of a finished dataset into it."""
-    from simcore.io.products import ProductsError, write_radar_products
+    from simcore.io.products import ProductsError, radars_with_adc, write_radar_products
 
     source = Path(args.dataset)
     if not source.is_file():
         raise CliError(f"{source}: no such dataset")
     try:
-        summary = write_radar_products(source, object_name=args.object)
+        radars = [args.radar] if args.radar else radars_with_adc(source)
+        summaries = {radar: write_radar_products(source, object_name=args.object, radar=radar)
+                     for radar in radars}
     except ProductsError as exc:
         raise CliError(str(exc)) from None
     except (OSError, KeyError) as exc:  # not HDF5, or no /meta: not one of our datasets
         raise CliError(f"{source}: not a tofradar HDF5 dataset ({exc})") from None
-    sg, vs = summary.spectrogram, summary.vitals
-    print(f"{source}: /radar/spectrogram ({sg.power_db.shape[0]} columns × "
-          f"{sg.power_db.shape[1]} Doppler bins) and /radar/vitals written")
-    if vs is not None:
-        print(f"chest bin at {summary.range_m:.3f} m: breathing {vs.breathing_rate_hz:.3f} Hz "
-              f"({vs.breathing_amplitude_m * 1e3:.2f} mm), heart {vs.heart_rate_hz:.3f} Hz "
-              f"({vs.heart_amplitude_m * 1e3:.3f} mm)")
+    for radar, summary in summaries.items():
+        sg, vs = summary.spectrogram, summary.vitals
+        print(f"{source}: /{radar}/spectrogram ({sg.power_db.shape[0]} columns × "
+              f"{sg.power_db.shape[1]} Doppler bins) and /{radar}/vitals written")
+        if vs is not None:
+            print(f"chest bin at {summary.range_m:.3f} m: breathing {vs.breathing_rate_hz:.3f} "
+                  f"Hz ({vs.breathing_amplitude_m * 1e3:.2f} mm), heart "
+                  f"{vs.heart_rate_hz:.3f} Hz ({vs.heart_amplitude_m * 1e3:.3f} mm)")
     return 0
 
 
@@ -998,6 +1001,8 @@ def _add_products_command(sub: argparse._SubParsersAction[_Parser],
     p.add_argument("dataset", help="HDF5 dataset written by 'tofradar run'")
     p.add_argument("--object", default=None, metavar="NAME",
                    help="follow this object's true range (range gate and chest search)")
+    p.add_argument("--radar", default=None, metavar="NAME",
+                   help="only this radar (default: every radar with ADC data in the dataset)")
     p.set_defaults(func=cmd_products)
 def cmd_import(args: argparse.Namespace) -> int:
     """Import a glTF/GLB/OBJ scene into a new project (or into a copy of BASE)."""

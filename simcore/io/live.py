@@ -1,9 +1,11 @@
 """Live stream of frames over the Foxglove WebSocket protocol (``tofradar serve PROJECT``).
 
-Every frame is published on the topics of :mod:`simcore.io.ros2_messages` as ROS 2 (CDR)
-messages with ``ros2msg`` schemas, through the Foxglove SDK's WebSocket server: Foxglove
-(or any client of the ``foxglove.websocket.v1`` protocol) shows them as a ROS 2 recording
-would be shown. See ``docs/robotics.md`` for what a client receives.
+Every frame is published on the topics of :mod:`simcore.io.ros2_messages` (``/tf`` and
+``/<sensor>/...`` for every sensor of every rig, each sensor's messages logged at its own
+capture time, none in a frame it does not capture in) as ROS 2 (CDR) messages with
+``ros2msg`` schemas, through the Foxglove SDK's WebSocket server: Foxglove (or any client
+of the ``foxglove.websocket.v1`` protocol) shows them as a ROS 2 recording would be shown.
+See ``docs/robotics.md`` for what a client receives.
 """
 
 from __future__ import annotations
@@ -17,12 +19,10 @@ from pathlib import Path
 from foxglove.websocket import ChannelView, Client, ServerListener
 
 from simcore.io.ros2_messages import (
-    TOPIC_TYPES,
     RigDescription,
     encoder,
     frame_messages,
     message_definition,
-    stamp_ns,
 )
 from simcore.pipeline import Simulator
 from simcore.scene.model import Project
@@ -99,10 +99,10 @@ def serve(project: Project, *, base_dir: Path | None = None, host: str = "127.0.
     server = foxglove.start_server(name="tofradar", host=host, port=port,
                                    server_listener=listener)
     report = ServeReport(port=server.port)
-    channels = {
+    channels = {  # every topic of every sensor of every rig
         topic: foxglove.Channel(topic, message_encoding="cdr", schema=foxglove.Schema(
             name=datatype, encoding="ros2msg", data=message_definition(datatype).encode()))
-        for topic, datatype in TOPIC_TYPES.items()}
+        for topic, datatype in RigDescription.of(project, {}).topics().items()}
     try:
         if on_ready is not None:
             on_ready(report.port)
@@ -116,9 +116,10 @@ def serve(project: Project, *, base_dir: Path | None = None, host: str = "127.0.
             index, started = 0, time.monotonic()
             while not stop.is_set() and (loop or index < total):
                 frame = sim.frame(index % total)
-                rows = frame.table_rows().get("/radar/detections")
-                for topic, datatype, msg in frame_messages(rig, frame.hdf5_items(), rows):
-                    channels[topic].log(encoder(datatype)(msg), log_time=stamp_ns(frame.time_s))
+                for message in frame_messages(rig, frame.hdf5_items(), frame.table_rows(),
+                                              index=frame.index):
+                    channels[message.topic].log(encoder(message.datatype)(message.msg),
+                                                log_time=message.stamp_ns)
                 report.frames_published += 1
                 index += 1
                 if realtime:

@@ -21,13 +21,11 @@ from numpy.typing import NDArray
 import simcore
 from simcore.io.hdf5_writer import DatasetExistsError, ResumeError, temporary_path
 from simcore.io.ros2_messages import (
-    TOPIC_TYPES,
     Items,
     RigDescription,
     encoder,
     frame_messages,
     message_definition,
-    stamp_ns,
 )
 from simcore.scene.project_io import project_from_dict
 
@@ -71,12 +69,13 @@ class McapWriter:
         meta = {"project_json": project_json, "seed": str(seed),
                 **{k: str(v) for k, v in (extra_meta or {}).items()}}
         self._writer.add_metadata("tofradar", meta)
-        # One ROS 2 schema per message type, one CDR channel per topic.
+        # One ROS 2 schema per message type, one CDR channel per topic of every sensor.
+        self._topics = RigDescription.of(self.project, {}).topics()
         schemas = {datatype: self._writer.register_schema(
             datatype, "ros2msg", message_definition(datatype).encode())
-            for datatype in sorted(set(TOPIC_TYPES.values()))}
+            for datatype in sorted(set(self._topics.values()))}
         self._channels = {topic: self._writer.register_channel(topic, "cdr", schemas[datatype])
-                          for topic, datatype in TOPIC_TYPES.items()}
+                          for topic, datatype in self._topics.items()}
         self._rig: RigDescription | None = None
         self._rows: dict[str, NDArray[Any]] = {}
         self.n_frames = 0
@@ -90,18 +89,17 @@ class McapWriter:
         self._rows[path] = rows
 
     def append(self, items: Items) -> None:
-        """Write one frame's messages (with the rows given since the last frame)."""
+        """Write one frame's messages (with the rows given since the last frame).
+
+        Each message is logged at its stamp: ``/tf`` at the frame's time, a sensor's
+        topics at its capture time; a sensor that does not capture in this frame has none.
+        """
         if self._rig is None:
             self._rig = RigDescription.of(self.project, {})
-        detections = self._rows.pop("/radar/detections", None)
-        if detections is None and "/radar/adc" in items:
-            from simcore.dsp.detections import DETECTION_DTYPE
-            detections = np.zeros(0, dtype=DETECTION_DTYPE)
-        ns = stamp_ns(float(items["/time"][0]))
-        for topic, datatype, msg in frame_messages(self._rig, items, detections):
-            self._writer.add_message(self._channels[topic], log_time=ns,
-                                     data=encoder(datatype)(msg), publish_time=ns,
-                                     sequence=self.n_frames)
+        for message in frame_messages(self._rig, items, self._rows):
+            self._writer.add_message(self._channels[message.topic], log_time=message.stamp_ns,
+                                     data=encoder(message.datatype)(message.msg),
+                                     publish_time=message.stamp_ns, sequence=self.n_frames)
         self._rows.clear()
         self.n_frames += 1
 
@@ -165,6 +163,9 @@ def convert_hdf5_to_mcap(source: str | os.PathLike[str], target: str | os.PathLi
     with h5py.File(source, "r") as f:
         meta = f["meta"].attrs
         n = int(meta["n_frames"])
+        project = project_from_dict(json.loads(str(meta["project_json"])))
+        radars = list(project.sensors_of_kind("radar"))
+        static_prefixes = ("/objects/", "/people/", *(f"/{r}/" for r in radars))
         per_frame, static = [], {}
         for name, obj in _datasets(f):
             unit = str(obj.attrs.get("unit", ""))
@@ -173,26 +174,55 @@ def convert_hdf5_to_mcap(source: str | os.PathLike[str], target: str | os.PathLi
                 continue
             if obj.attrs.get("per_frame", False):
                 per_frame.append((name, obj, unit))
-            elif name.startswith(("/radar/", "/objects/")):
+            elif name.startswith(static_prefixes):
                 static[name] = (obj[()], unit)
         with McapWriter(target, project_json=str(meta["project_json"]),
                         seed=int(meta["seed"]), overwrite=overwrite) as writer:
             writer.write_static(static)
             for k in range(n):
-                rows = _detections_of_frame(f, k)
-                if rows is not None:
-                    writer.append_rows("/radar/detections", rows)
-                writer.append({name: (obj[k], unit) for name, obj, unit in per_frame})
+                for radar in radars:
+                    rows = _detections_of_frame(f, k, radar, n)
+                    if rows is not None:
+                        writer.append_rows(f"/{radar}/detections", rows)
+                items = {}
+                for name, obj, unit in per_frame:
+                    row = _row_of_frame(f, name, len(obj), k, n)
+                    if row is not None:
+                        items[name] = (obj[row], unit)
+                writer.append(items)
     return n
 
 
-def _detections_of_frame(f: h5py.File, k: int) -> NDArray[Any] | None:
-    """Frame ``k``'s detection rows: from the per-frame table, or the flat one."""
-    if "radar/detections_by_frame" in f:
-        return np.asarray(f["radar/detections_by_frame"][k][: int(
-            f["radar/detections_count"][k])])
-    if "radar/detections" in f:
-        det = f["radar/detections"]
+def _row_of_frame(f: h5py.File, path: str, rows: int, k: int, n: int) -> int | None:
+    """Row of frame ``k`` in a per-frame dataset of ``rows`` rows (None: not captured).
+
+    A dataset with a row per frame: row ``k``. A sensor's dataset with a row per capture
+    (fewer rows than frames): its ``/<sensor>/captured`` flags say which row, if any.
+    """
+    if rows == n:
+        return k
+    captured_path = f"/{path.strip('/').split('/')[0]}/captured"
+    if captured_path == f"/{path.strip('/')}" or captured_path not in f:
+        return k if k < rows else None
+    captured = np.asarray(f[captured_path][()], dtype=bool)
+    if k >= captured.size or not captured[k]:
+        return None
+    row = int(np.count_nonzero(captured[:k]))
+    return row if row < rows else None
+
+
+def _detections_of_frame(f: h5py.File, k: int, radar: str = "radar",
+                         n: int | None = None) -> NDArray[Any] | None:
+    """Frame ``k``'s detection rows of ``radar``: from the per-frame table, or the flat one."""
+    if f"{radar}/detections_by_frame" in f:
+        table = f[f"{radar}/detections_by_frame"]
+        row = _row_of_frame(f, f"/{radar}/detections_by_frame", len(table), k,
+                            len(table) if n is None else n)
+        if row is None:
+            return None
+        return np.asarray(table[row][: int(f[f"{radar}/detections_count"][row])])
+    if f"{radar}/detections" in f:
+        det = f[f"{radar}/detections"]
         return np.asarray(det[det["frame"] == k]) if len(det) else np.asarray(det[:0])
     return None
 

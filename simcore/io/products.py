@@ -1,16 +1,22 @@
 """Post-processing of a finished dataset: micro-Doppler spectrogram and vital signs.
 
-:func:`write_radar_products` reads the raw ADC cubes (``/radar/adc``), their true chirp
-times (``/radar/chirp_start_time``) and the project stored in the file, runs
+:func:`write_radar_products` reads one radar's raw ADC cubes (``/<radar>/adc``), their
+true chirp times (``/<radar>/chirp_start_time``) and the project stored in the file, runs
 :mod:`simcore.dsp.microdoppler` and :mod:`simcore.dsp.vitals` with the project's DSP
-options, and writes two groups into the same file (replacing earlier ones):
+options and the radar's own configuration, and writes two groups into the same file
+(replacing earlier ones); :func:`write_all_radar_products` does so for every radar with ADC
+data. The built-in radar is ``radar``, so its groups are ``/radar/spectrogram`` and
+``/radar/vitals`` as before; a radar named ``rear`` has ``/rear/spectrogram`` and
+``/rear/vitals``. A radar slower than the timeline (``/<radar>/captured``) uses the frames it
+captured in; its vitals keep one value per frame of the dataset, NaN where it did not
+capture.
 
-``/radar/spectrogram``
+``/<radar>/spectrogram``
     ``power`` (columns, doppler) float32 dB, ``time`` (columns,) s, ``velocity_axis``
     (doppler,) m/s (positive = moving away); attributes ``mode``, ``window``,
     ``range_min_m``, ``range_max_m`` (the gate; per-frame gates around an object are
     listed in ``gate_center`` (N,) m).
-``/radar/vitals``
+``/<radar>/vitals``
     ``displacement`` (N,) m (the chest bin's phase displacement over the whole run),
     ``breathing_rate``, ``heart_rate`` (N,) Hz and ``breathing_amplitude``,
     ``heart_amplitude`` (N,) m: estimates over the last ``vitals_window_s`` seconds at
@@ -78,14 +84,42 @@ def _require(f: h5py.File, path: str) -> h5py.Dataset:
     return f[path]
 
 
-def _object_range(f: h5py.File, name: str) -> NDArray[np.float64]:
-    if "/objects/names" not in f or "/objects/radar_range" not in f:
+def _object_range(f: h5py.File, name: str, radar: str) -> NDArray[np.float64]:
+    """Object ``name``'s true range from ``radar``, every frame (m).
+
+    The built-in radar's is ``/objects/radar_range``, another radar's
+    ``/objects/<radar>/range``.
+    """
+    truth = "/objects/radar_range" if radar == "radar" else f"/objects/{radar}/range"
+    if "/objects/names" not in f or truth not in f:
         raise ProductsError(f"{f.filename}: no object {name!r}: the dataset has no "
-                            "/objects/names and /objects/radar_range")
+                            f"/objects/names and {truth}")
     names = [n.decode() if isinstance(n, bytes) else str(n) for n in f["/objects/names"][()]]
     if name not in names:
         raise ProductsError(f"{f.filename}: no object {name!r} (objects: {', '.join(names)})")
-    return np.asarray(f["/objects/radar_range"][:, names.index(name)], dtype=np.float64)
+    return np.asarray(f[truth][:, names.index(name)], dtype=np.float64)
+
+
+def _captured_rows(f: h5py.File, radar: str, n_rows: int) -> tuple[NDArray[np.intp],
+                                                                   NDArray[np.intp]]:
+    """(rows of the radar's arrays, their frames) of the frames the radar captured in.
+
+    A radar slower than the timeline has ``/<radar>/captured`` (one flag per frame); its
+    arrays hold a row per frame (rows of the frames it captured in are used) or a row per
+    capture (all are).
+    """
+    path = f"/{radar}/captured"
+    rows = np.arange(n_rows)
+    if path not in f:
+        return rows, rows
+    captured = np.asarray(f[path][()], dtype=bool).ravel()
+    frames = np.flatnonzero(captured)
+    if captured.size == n_rows:
+        return frames, frames
+    if frames.size == n_rows:
+        return rows, frames
+    raise ProductsError(f"{f.filename}: {path} flags {frames.size} captures of "
+                        f"{captured.size} frames, but /{radar}/adc has {n_rows} rows")
 
 
 def _gates(dc: DspConfig, r: NDArray[np.float64], centre: NDArray[np.float64] | None,
@@ -142,20 +176,48 @@ def _put(group: h5py.Group, name: str, data: NDArray[Any], unit: str) -> None:
     ds.attrs["unit"] = unit
 
 
+def radars_with_adc(path: str | os.PathLike[str]) -> list[str]:
+    """Names of the dataset's radars that have ADC data (``/<name>/adc``), project order.
+
+    ``["radar"]`` (the built-in radar) when it has none, so asking for its products names
+    what is missing.
+    """
+    with h5py.File(path, "r") as f:
+        if "meta" not in f or "project_json" not in f["meta"].attrs:
+            return ["radar"]
+        project = project_from_dict(json.loads(f["meta"].attrs["project_json"]))
+        found = [n for n in project.sensors_of_kind("radar") if f"/{n}/adc" in f]
+    return found or ["radar"]
+
+
+def write_all_radar_products(path: str | os.PathLike[str], *,
+                             object_name: str | None = None
+                             ) -> dict[str, RadarProductsSummary]:
+    """:func:`write_radar_products` for every radar with ADC data, by radar name."""
+    return {radar: write_radar_products(path, object_name=object_name, radar=radar)
+            for radar in radars_with_adc(path)}
+
+
 def write_radar_products(path: str | os.PathLike[str], *,
-                         object_name: str | None = None) -> RadarProductsSummary:
-    """Compute the spectrogram and vital signs of a dataset and store them in it.
+                         object_name: str | None = None,
+                         radar: str = "radar") -> RadarProductsSummary:
+    """Compute one radar's spectrogram and vital signs and store them in the dataset.
 
     Parameters
     ----------
     path : path-like
-        A finished HDF5 dataset with ``/radar/adc`` (``docs/dataset.md``); opened for
+        A finished HDF5 dataset with ``/<radar>/adc`` (``docs/dataset.md``); opened for
         writing.
     object_name : str, keyword-only, optional
-        Follow this object: the spectrogram's range gate moves with its true range
-        (``/objects/radar_range`` ± :data:`OBJECT_GATE_HALF_WIDTH_M`) and the chest bin is
-        searched within that interval. Otherwise the gates come from the project's
-        ``dsp.spectrogram_range_m`` and ``dsp.vitals_range_m``.
+        Follow this object: the spectrogram's range gate moves with its true range from
+        this radar (``/objects/radar_range``, another radar's ``/objects/<radar>/range``;
+        ± :data:`OBJECT_GATE_HALF_WIDTH_M`) and the
+        chest bin is searched within that interval. Otherwise the gates come from the
+        project's ``dsp.spectrogram_range_m`` and ``dsp.vitals_range_m``.
+    radar : str, keyword-only
+        Name of the radar (default: the built-in ``radar``). Its products go to
+        ``/<radar>/spectrogram`` and ``/<radar>/vitals``; a radar slower than the
+        timeline uses the frames it captured in (``/<radar>/captured``).
 
     Returns
     -------
@@ -164,23 +226,35 @@ def write_radar_products(path: str | os.PathLike[str], *,
     Raises
     ------
     ProductsError
-        Missing arrays, an unknown object, or fewer than 2 frames.
+        Missing arrays, a sensor that is not a radar, an unknown object, or fewer than 2
+        frames.
     """
     with h5py.File(path, "r+") as f:
-        adc = _require(f, "/radar/adc")
-        chirp_t = np.asarray(_require(f, "/radar/chirp_start_time")[:, :, 0], dtype=np.float64)
+        adc = _require(f, f"/{radar}/adc")
+        chirp_ds = _require(f, f"/{radar}/chirp_start_time")
         project = project_from_dict(json.loads(f["meta"].attrs["project_json"]))
-        rc, dc = project.rig.radar, project.dsp
-        n = int(adc.shape[0])
+        try:
+            rc = project.sensor_config(radar)
+        except KeyError as exc:
+            raise ProductsError(f"{f.filename}: {exc.args[0]}") from None
+        if not isinstance(rc, RadarConfig):
+            raise ProductsError(f"{f.filename}: sensor {radar!r} is not a radar (radars: "
+                                f"{', '.join(project.sensors_of_kind('radar'))})")
+        dc = project.dsp
+        rows, frames = _captured_rows(f, radar, int(adc.shape[0]))
+        chirp_t = np.asarray(chirp_ds[:, :, 0], dtype=np.float64)[rows]
+        n = int(rows.size)
         if n < 2:
-            raise ProductsError(f"{f.filename}: {n} frame(s); the products need at least 2")
+            raise ProductsError(f"{f.filename}: {n} frame(s) of {radar!r}; the products need "
+                                "at least 2")
         r = radar_axes(rc, dc).range_m
-        centre = None if object_name is None else _object_range(f, object_name)
+        centre = (None if object_name is None
+                  else _object_range(f, object_name, radar)[frames])
         gates, lo, hi = _gates(dc, r, centre, n)
         union = np.unique(np.concatenate(gates))
         ch = min(dc.vitals_channel, int(adc.shape[2]) - 1)
         gated, profiles = [], []
-        for k in range(n):  # one frame in memory at a time
+        for k in rows:  # one frame in memory at a time
             cube = range_fft(adc[k], window=dc.range_window,
                              sidelobe_db=dc.range_window_sidelobe_db, remove_dc=dc.remove_dc,
                              n_bins=r.size)
@@ -188,7 +262,7 @@ def write_radar_products(path: str | os.PathLike[str], *,
             profiles.append(cube[:, ch, :].mean(axis=0))
         local = [np.searchsorted(union, g) for g in gates]
         sg = _spectrogram(dc, rc, gated, chirp_t, local)
-        g = _replace_group(f, "/radar/spectrogram")
+        g = _replace_group(f, f"/{radar}/spectrogram")
         _put(g, "power", sg.power_db, "dB")
         _put(g, "time", sg.time_s, "s")
         _put(g, "velocity_axis", sg.velocity_mps, "m/s")
@@ -209,15 +283,25 @@ def write_radar_products(path: str | os.PathLike[str], *,
             breathing_band_hz=dc.vitals_breathing_band_hz,
             heart_band_hz=dc.vitals_heart_band_hz, window=dc.vitals_window,
             static_offset=dc.vitals_static_offset, range_bin=k) if n >= 8 else None
-        g = _replace_group(f, "/radar/vitals")
-        _put(g, "time", times, "s")
+        g = _replace_group(f, f"/{radar}/vitals")
+        n_frames = int(f[f"/{radar}/captured"].shape[0]) if f"/{radar}/captured" in f else n
+
+        def per_frame(values: NDArray[np.float64]) -> NDArray[np.float64]:
+            """One value per frame of the dataset: NaN where the radar did not capture."""
+            if n_frames == n:
+                return values
+            out = np.full(n_frames, np.nan)
+            out[frames] = values
+            return out
+
+        _put(g, "time", per_frame(times), "s")
         if whole is not None:
-            _put(g, "displacement", whole.displacement_m, "m")
-            rows = _sliding_vitals(slow[:, k], rate, rc, dc)
+            _put(g, "displacement", per_frame(whole.displacement_m), "m")
+            sliding = _sliding_vitals(slow[:, k], rate, rc, dc)
             for j, (name, unit) in enumerate((("breathing_rate", "Hz"),
                                               ("breathing_amplitude", "m"),
                                               ("heart_rate", "Hz"), ("heart_amplitude", "m"))):
-                _put(g, name, rows[:, j], unit)
+                _put(g, name, per_frame(sliding[:, j]), unit)
             g.attrs.update({"breathing_rate_hz": whole.breathing_rate_hz,
                             "breathing_amplitude_m": whole.breathing_amplitude_m,
                             "heart_rate_hz": whole.heart_rate_hz,
@@ -229,5 +313,7 @@ def write_radar_products(path: str | os.PathLike[str], *,
 __all__ = [
     "ProductsError",
     "RadarProductsSummary",
+    "radars_with_adc",
+    "write_all_radar_products",
     "write_radar_products",
 ]

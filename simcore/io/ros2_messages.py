@@ -1,10 +1,14 @@
 """ROS 2 messages of a frame: standard types plus two documented tofradar messages.
 
-One frame becomes one message per topic, all stamped with the frame's simulation time
-(``header.stamp`` and the MCAP log time are equal for every sensor of a frame):
+One frame becomes one ``/tf`` message, stamped with the frame's simulation time, and one
+message per topic of every sensor that captures in the frame, stamped with that sensor's
+capture time (``header.stamp``; the MCAP log time is the same). A sensor named ``N`` of a
+project's rigs publishes the topics of its kind (:data:`SENSOR_TOPICS`) under ``/N/``, its
+messages in frame ``N``; the built-in sensors' topics are:
 
-* ``/tf`` (``tf2_msgs/msg/TFMessage``): world → rig → each sensor's optical frame
-  (``tof``, ``radar``, ``rgb``); world → each object (frame named after the object).
+* ``/tf`` (``tf2_msgs/msg/TFMessage``): world → each rig (frame named after the rig,
+  ``rig`` by default) → each of its sensors' optical frames (``tof``, ``radar``, ``rgb``);
+  world → each object (frame named after the object).
 * ``/tof/depth``, ``/tof/amplitude`` (``sensor_msgs/msg/Image``, 32FC1): distance along the
   pixel ray (m, 0 = invalid) and amplitude (DN), frame ``tof``.
 * ``/tof/camera_info`` (``sensor_msgs/msg/CameraInfo``): pinhole, no distortion.
@@ -29,26 +33,25 @@ live stream all produce the same messages. CDR encoding and decoding use
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache
 from importlib import resources
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from simcore.scene.camera import PinholeIntrinsics
-from simcore.scene.model import Project
-from simcore.scene.motion import make_transform
+from simcore.scene.model import Project, sensor_kind
+from simcore.scene.motion import Motion, Pose, make_transform, rigid_state
+from simcore.scene.project_io import ProjectError
+from simcore.scene.radar_config import RadarConfig
 from simcore.scene.snapshot import BODY_FROM_OPTICAL
 
 Items = Mapping[str, tuple[NDArray[Any], str]]
-#: One message: (topic, ROS 2 type name, message as nested dicts).
-Message = tuple[str, str, dict[str, Any]]
 
 WORLD_FRAME = "world"
-RIG_FRAME = "rig"
 
 _STANDARD = {
     "builtin_interfaces/Time": "int32 sec\nuint32 nanosec\n",
@@ -79,19 +82,29 @@ _STANDARD = {
     "tf2_msgs/TFMessage": "geometry_msgs/TransformStamped[] transforms\n",
 }
 
-#: ROS 2 type of every topic.
-TOPIC_TYPES = {
-    "/tf": "tf2_msgs/msg/TFMessage",
-    "/tof/depth": "sensor_msgs/msg/Image",
-    "/tof/amplitude": "sensor_msgs/msg/Image",
-    "/tof/camera_info": "sensor_msgs/msg/CameraInfo",
-    "/tof/points": "sensor_msgs/msg/PointCloud2",
-    "/rgb/image": "sensor_msgs/msg/Image",
-    "/rgb/camera_info": "sensor_msgs/msg/CameraInfo",
-    "/radar/detections": "sensor_msgs/msg/PointCloud2",
-    "/radar/adc": "tofradar_msgs/msg/RadarCube",
-    "/radar/range_doppler": "tofradar_msgs/msg/RangeDopplerMap",
+#: Topics of each sensor kind: a sensor named ``N`` publishes ``/N/<suffix>``.
+SENSOR_TOPICS: dict[str, dict[str, str]] = {
+    "tof": {"depth": "sensor_msgs/msg/Image", "amplitude": "sensor_msgs/msg/Image",
+            "camera_info": "sensor_msgs/msg/CameraInfo",
+            "points": "sensor_msgs/msg/PointCloud2"},
+    "rgb": {"image": "sensor_msgs/msg/Image", "camera_info": "sensor_msgs/msg/CameraInfo"},
+    "radar": {"detections": "sensor_msgs/msg/PointCloud2",
+              "adc": "tofradar_msgs/msg/RadarCube",
+              "range_doppler": "tofradar_msgs/msg/RangeDopplerMap"},
 }
+TF_TOPIC = "/tf"
+TF_TYPE = "tf2_msgs/msg/TFMessage"
+
+
+def sensor_topics(name: str, kind: str) -> dict[str, str]:
+    """Topic → ROS 2 type of the sensor ``name`` of kind ``kind`` (``"tof"``, ...)."""
+    return {f"/{name}/{suffix}": datatype for suffix, datatype in SENSOR_TOPICS[kind].items()}
+
+
+#: ROS 2 type of every topic of the built-in rig (``tof``, ``rgb``, ``radar``); a project's
+#: own topics are :meth:`RigDescription.topics`.
+TOPIC_TYPES = {TF_TOPIC: TF_TYPE, **sensor_topics("tof", "tof"), **sensor_topics("rgb", "rgb"),
+               **sensor_topics("radar", "radar")}
 
 _FLOAT32, _INT32 = 7, 5
 #: Point layout of ``/radar/detections`` (little-endian, 28 bytes per point).
@@ -262,88 +275,231 @@ def detection_points(rows: NDArray[np.void]) -> NDArray[np.void]:
 
 
 @dataclass(frozen=True)
+class SensorDescription:
+    """What the messages of one sensor need.
+
+    Attributes
+    ----------
+    name : str
+        Sensor name: its topics are ``/<name>/...`` and its optical frame is ``<name>``.
+    kind : str
+        ``"tof"``, ``"radar"`` or ``"rgb"``.
+    rig : str
+        Name (TF frame) of the rig that carries it.
+    mount : ndarray, shape (4, 4)
+        Its optical frame → its rig's body frame.
+    divider : int
+        It captures in every ``divider``-th frame of the timeline.
+    trigger_offset_s : float
+        Its capture time after the frame's time (s).
+    intrinsics : PinholeIntrinsics or None
+        Pixel grid of a camera.
+    radar : dict
+        Waveform fields of the ``RadarCube`` message (radars only).
+    range_axis_m, velocity_axis_mps : ndarray or None
+        Axes of a radar's range–Doppler map.
+    """
+
+    name: str
+    kind: str
+    rig: str
+    mount: NDArray[np.float64]
+    divider: int = 1
+    trigger_offset_s: float = 0.0
+    intrinsics: PinholeIntrinsics | None = None
+    radar: dict[str, Any] = field(default_factory=dict)
+    range_axis_m: NDArray[np.float64] | None = None
+    velocity_axis_mps: NDArray[np.float64] | None = None
+
+    def topics(self) -> dict[str, str]:
+        """The topics of this sensor → their ROS 2 types."""
+        return sensor_topics(self.name, self.kind)
+
+
+@dataclass(frozen=True)
 class RigDescription:
     """What the messages need from the project and the run's static items.
 
     Attributes
     ----------
-    sensors : dict of str to ndarray, shape (4, 4)
-        Each sensor's optical frame → rig body frame.
-    intrinsics : dict of str to PinholeIntrinsics
-        Pixel grids of the cameras (``tof``, ``rgb``).
+    sensors : dict of str to SensorDescription
+        Every sensor of every rig, by name (the project's order: the first rig's, then
+        the other rigs').
+    rigs : dict of str to (Pose, Motion)
+        Every rig's pose and motion, by rig name (TF frame), the first rig first.
+    frame_rate_hz : float
+        The timeline's frame rate (which frames a slower sensor captures in).
     object_frames : list of str
         TF frame name of each object, project order (its name).
-    radar : dict
-        Waveform fields of the ``RadarCube`` message (empty without a radar).
-    range_axis_m, velocity_axis_mps : ndarray or None
-        Axes of the range–Doppler map.
     segment_frames : tuple of str
         TF frame name of each person segment (``"<person>/<segment>"``), the order of
         ``/people/segments/pose``; empty without people.
     """
 
-    sensors: dict[str, NDArray[np.float64]]
-    intrinsics: dict[str, PinholeIntrinsics]
+    sensors: dict[str, SensorDescription]
+    rigs: dict[str, tuple[Pose, Motion]]
+    frame_rate_hz: float
     object_frames: list[str]
-    radar: dict[str, Any]
-    range_axis_m: NDArray[np.float64] | None
-    velocity_axis_mps: NDArray[np.float64] | None
     segment_frames: tuple[str, ...] = ()
 
     @classmethod
     def of(cls, project: Project, static_items: Items) -> RigDescription:
-        """Describe a project's rig (and the radar axes of ``static_items``)."""
+        """Describe a project's rigs and sensors (and the radar axes of ``static_items``).
+
+        A radar's axes are ``/<name>/range_axis`` and ``/<name>/velocity_axis`` of
+        ``static_items``, or else computed from its configuration and the project's DSP.
+        :class:`~simcore.scene.project_io.ProjectError` when a rig or sensor name would be
+        a second TF frame of that name (another rig's or sensor's, or ``world``).
+        """
+        from simcore.dsp.processing import static_axes_items
+
         optical = make_transform(BODY_FROM_OPTICAL, np.zeros(3))
-        configs = project.rig.sensor_configs()
-        sensors = {name: cfg.pose_on_rig.matrix() @ optical  # type: ignore[attr-defined]
-                   for name, cfg in configs.items()}
-        intrinsics = {name: cfg.intrinsics() for name, cfg in configs.items()  # type: ignore
-                      if name in ("tof", "rgb")}
-        radar: dict[str, Any] = {}
-        rc = project.rig.radar
-        if rc is not None:
-            radar = {"n_tx": len(rc.tx), "n_rx": len(rc.rx), "complex_iq": rc.complex_iq,
-                     "start_frequency_hz": rc.start_frequency_hz,
-                     "bandwidth_hz": rc.bandwidth_hz, "sample_rate_hz": rc.sample_rate_hz,
-                     "chirp_repetition_time_s": rc.chirp_repetition_time_s}
-
-        def axis(path: str) -> NDArray[np.float64] | None:
-            return None if path not in static_items else np.asarray(static_items[path][0],
-                                                                    dtype=np.float64)
-
+        rate = project.timeline.frame_rate_hz
+        sensors: dict[str, SensorDescription] = {}
+        for rig in project.all_rigs():
+            for name, cfg in rig.sensor_configs().items():
+                kind = sensor_kind(cfg)
+                extra: dict[str, Any] = {}
+                if kind in ("tof", "rgb"):
+                    extra["intrinsics"] = cfg.intrinsics()  # type: ignore[attr-defined]
+                if isinstance(cfg, RadarConfig):
+                    extra["radar"] = {
+                        "n_tx": len(cfg.tx), "n_rx": len(cfg.rx), "complex_iq": cfg.complex_iq,
+                        "start_frequency_hz": cfg.start_frequency_hz,
+                        "bandwidth_hz": cfg.bandwidth_hz, "sample_rate_hz": cfg.sample_rate_hz,
+                        "chirp_repetition_time_s": cfg.chirp_repetition_time_s}
+                    axes = {k.rsplit("/", 1)[-1]: v for k, v in
+                            static_axes_items(cfg, project.dsp).items()}
+                    for key, attr in (("range_axis", "range_axis_m"),
+                                      ("velocity_axis", "velocity_axis_mps")):
+                        value = static_items.get(f"/{name}/{key}", axes.get(key))
+                        extra[attr] = (None if value is None
+                                       else np.asarray(value[0], dtype=np.float64))
+                sensors[name] = SensorDescription(
+                    name=name, kind=kind, rig=rig.name,
+                    mount=cfg.pose_on_rig.matrix() @ optical,  # type: ignore[attr-defined]
+                    divider=cfg.frame_divider(rate),  # type: ignore[attr-defined]
+                    trigger_offset_s=float(cfg.trigger_offset_s),  # type: ignore[attr-defined]
+                    **extra)
+        owner: dict[str, str] = {WORLD_FRAME: "the world frame"}
+        for what, names in (("rig", [r.name for r in project.all_rigs()]),
+                            ("sensor", list(sensors))):
+            for name in names:
+                if name in owner:
+                    raise ProjectError(f"project {project.name!r}", [
+                        f"TF frame {name!r} would be both {owner[name]} and a {what}: "
+                        f"rename the {what} (rig and sensor names are TF frames in MCAP "
+                        "recordings and the live stream)"])
+                owner[name] = f"a {what}"
         segments = static_items.get("/people/segments/names")
-        return cls(sensors, intrinsics, [o.name for o in project.objects], radar,
-                   axis("/radar/range_axis"), axis("/radar/velocity_axis"),
+        return cls(sensors, {r.name: (r.pose, r.motion) for r in project.all_rigs()}, rate,
+                   [o.name for o in project.objects],
                    tuple(str(n) for n in np.asarray(segments[0]).ravel()) if segments else ())
+
+    def topics(self) -> dict[str, str]:
+        """Every topic of the project → its ROS 2 type: ``/tf``, then each sensor's."""
+        out = {TF_TOPIC: TF_TYPE}
+        for sensor in self.sensors.values():
+            out.update(sensor.topics())
+        return out
+
+    def rig_pose(self, rig: str, items: Items, time_s: float, *,
+                 frame_time: bool = True) -> NDArray[np.float64]:
+        """Rig body frame → world at ``time_s``.
+
+        At the frame's time: the frame's item ``/poses/rigs`` (every rig, project order;
+        a project with several rigs) or ``/poses/rig`` (the first rig) when the frame has
+        it; otherwise (and at a sensor's capture time) the rig's pose and motion evaluated
+        at ``time_s``.
+        """
+        if frame_time:
+            order = list(self.rigs)
+            if "/poses/rigs" in items:
+                poses = np.asarray(items["/poses/rigs"][0], dtype=np.float64)
+                if poses.shape[0] == len(order):
+                    return poses[order.index(rig)]
+            if rig == order[0] and "/poses/rig" in items:
+                return np.asarray(items["/poses/rig"][0], dtype=np.float64)
+        pose, motion = self.rigs[rig]
+        return rigid_state(pose, motion, time_s).transform
+
+
+class Message(NamedTuple):
+    """One message: topic, ROS 2 type, the message (nested dicts) and its stamp (ns)."""
+
+    topic: str
+    datatype: str
+    msg: dict[str, Any]
+    stamp_ns: int
+
+
+def _flag(items: Items, path: str) -> bool | None:
+    return bool(np.asarray(items[path][0])) if path in items else None
+
+
+def sensor_stamp_ns(rig: RigDescription, name: str, items: Items,
+                    index: int | None = None) -> int | None:
+    """Capture time (ns) of sensor ``name`` in a frame, or None if it does not capture.
+
+    The frame's items ``/<name>/captured`` and ``/<name>/time`` when it has them;
+    otherwise the sensor's timing: it captures in every ``divider``-th frame (``index``,
+    or the frame's time × the timeline's rate), at the frame's time + its trigger offset.
+    """
+    sensor = rig.sensors[name]
+    t = float(items["/time"][0])
+    captured = _flag(items, f"/{name}/captured")
+    if captured is None:
+        k = int(round(t * rig.frame_rate_hz)) if index is None else index
+        captured = k % sensor.divider == 0
+    if not captured:
+        return None
+    path = f"/{name}/time"
+    return stamp_ns(float(items[path][0]) if path in items else t + sensor.trigger_offset_s)
 
 
 def frame_messages(rig: RigDescription, items: Items,
-                   detections: NDArray[np.void] | None = None) -> list[Message]:
+                   tables: Mapping[str, NDArray[np.void]] | None = None, *,
+                   index: int | None = None) -> list[Message]:
     """Every message of one frame.
 
     Parameters
     ----------
     rig : RigDescription
-        The rig (sensor mounts, intrinsics, radar axes).
+        The rigs and sensors (mounts, intrinsics, radar axes, timing).
     items : mapping
         The frame's HDF5 items (``Frame.hdf5_items()``: path → (array without the frame
         axis, unit)).
-    detections : ndarray of DETECTION_DTYPE, optional
-        The frame's rows of the ``/radar/detections`` table.
+    tables : mapping, optional
+        The frame's table rows by path (``/<radar>/detections``, ``Frame.table_rows()``).
+        A radar with ADC data and no rows publishes an empty detection cloud.
+    index : int, optional
+        The frame's number (default: its time × the timeline's rate): which frames a
+        slower sensor captures in, when the items do not say (``/<name>/captured``).
 
     Returns
     -------
-    list of (topic, type, message)
-        In the order of :data:`TOPIC_TYPES`; topics whose data the frame lacks are left out.
+    list of Message
+        ``/tf`` (stamped with the frame's time), then each sensor's topics in the order
+        of :meth:`RigDescription.topics`, stamped with the sensor's capture time; a
+        sensor that does not capture in this frame, and topics whose data the frame
+        lacks, are left out.
     """
-    ns = stamp_ns(float(items["/time"][0]))
+    t = float(items["/time"][0])
+    ns = stamp_ns(t)
+    tables = tables or {}
+    stamps = {name: sensor_stamp_ns(rig, name, items, index) for name in rig.sensors}
     out: list[Message] = []
 
-    def add(topic: str, msg: dict[str, Any]) -> None:
-        out.append((topic, TOPIC_TYPES[topic], msg))
-
-    tfs = [_transform(ns, WORLD_FRAME, RIG_FRAME, np.asarray(items["/poses/rig"][0]))]
-    tfs += [_transform(ns, RIG_FRAME, name, m) for name, m in rig.sensors.items()]
+    tfs = [_transform(ns, WORLD_FRAME, name, rig.rig_pose(name, items, t)) for name in rig.rigs]
+    # A rig carrying a sensor with a trigger offset: its pose at that capture time too,
+    # so a TF lookup at the sensor's stamp is exact.
+    for name in rig.rigs:
+        for s in sorted({v for k, v in stamps.items()
+                         if v is not None and v != ns and rig.sensors[k].rig == name}):
+            tfs.append(_transform(s, WORLD_FRAME, name,
+                                  rig.rig_pose(name, items, s * 1e-9, frame_time=False)))
+    tfs += [_transform(ns, sensor.rig, name, sensor.mount)
+            for name, sensor in rig.sensors.items()]
     poses = np.asarray(items["/poses/objects"][0])
     tfs += [_transform(ns, WORLD_FRAME, name, poses[i])
             for i, name in enumerate(rig.object_frames)]
@@ -351,40 +507,79 @@ def frame_messages(rig: RigDescription, items: Items,
         segments = np.asarray(items["/people/segments/pose"][0])
         tfs += [_transform(ns, WORLD_FRAME, name, segments[i])
                 for i, name in enumerate(rig.segment_frames)]
-    add("/tf", {"transforms": tfs})
-    if "/tof/depth" in items:
-        depth = np.asarray(items["/tof/depth"][0], dtype="<f4")
-        add("/tof/depth", _image(ns, "tof", depth, "32FC1"))
-        add("/tof/amplitude", _image(ns, "tof", np.asarray(items["/tof/amplitude"][0], "<f4"),
-                                     "32FC1"))
-        add("/tof/camera_info", _camera_info(ns, "tof", rig.intrinsics["tof"]))
-        pts = tof_points(depth, rig.intrinsics["tof"])
-        cloud = np.zeros(len(pts), dtype=TOF_POINT_DTYPE)
-        cloud["x"], cloud["y"], cloud["z"] = pts.T
-        add("/tof/points", _cloud(ns, "tof", cloud))
-    if "/rgb/image" in items:
-        add("/rgb/image", _image(ns, "rgb", np.asarray(items["/rgb/image"][0], np.uint8),
-                                 "rgb8"))
-        add("/rgb/camera_info", _camera_info(ns, "rgb", rig.intrinsics["rgb"]))
-    if detections is not None:
-        add("/radar/detections", _cloud(ns, "radar", detection_points(detections)))
-    if "/radar/adc" in items:
-        adc = np.asarray(items["/radar/adc"][0])
-        data = adc.astype("<c8").view("<f4") if np.iscomplexobj(adc) else adc.astype("<f4")
-        start = np.asarray(items["/radar/chirp_start_time"][0], dtype=np.float64)
-        chirps, channels, samples = adc.shape
-        add("/radar/adc", {"header": _header(ns, "radar"), "chirps": chirps,
-                           "channels": channels, "samples": samples, **rig.radar,
-                           "chirp_start_time": start.ravel().tolist(),
-                           "data": data.tobytes()})
-    if "/radar/range_doppler" in items and rig.range_axis_m is not None:
-        rd = np.asarray(items["/radar/range_doppler"][0], dtype="<f4")
-        assert rig.velocity_axis_mps is not None
-        add("/radar/range_doppler", {
-            "header": _header(ns, "radar"), "doppler_bins": rd.shape[0],
-            "range_bins": rd.shape[1], "range_axis": rig.range_axis_m.tolist(),
-            "velocity_axis": rig.velocity_axis_mps.tolist(), "data": rd.tobytes()})
+    out.append(Message(TF_TOPIC, TF_TYPE, {"transforms": tfs}, ns))
+    for name, sensor in rig.sensors.items():
+        stamp = stamps[name]
+        if stamp is not None:
+            out += _SENSOR_MESSAGES[sensor.kind](sensor, items, tables, stamp)
     return out
+
+
+def _tof_messages(sensor: SensorDescription, items: Items,
+                  tables: Mapping[str, NDArray[np.void]], ns: int) -> list[Message]:
+    n = sensor.name
+    if f"/{n}/depth" not in items:
+        return []
+    assert sensor.intrinsics is not None
+    topic = sensor.topics()
+    depth = np.asarray(items[f"/{n}/depth"][0], dtype="<f4")
+    pts = tof_points(depth, sensor.intrinsics)
+    cloud = np.zeros(len(pts), dtype=TOF_POINT_DTYPE)
+    cloud["x"], cloud["y"], cloud["z"] = pts.T
+    msgs = [("depth", _image(ns, n, depth, "32FC1"))]
+    if f"/{n}/amplitude" in items:
+        msgs.append(("amplitude", _image(ns, n, np.asarray(items[f"/{n}/amplitude"][0], "<f4"),
+                                         "32FC1")))
+    msgs += [("camera_info", _camera_info(ns, n, sensor.intrinsics)),
+             ("points", _cloud(ns, n, cloud))]
+    return [Message(f"/{n}/{s}", topic[f"/{n}/{s}"], m, ns) for s, m in msgs]
+
+
+def _rgb_messages(sensor: SensorDescription, items: Items,
+                  tables: Mapping[str, NDArray[np.void]], ns: int) -> list[Message]:
+    n = sensor.name
+    if f"/{n}/image" not in items:
+        return []
+    assert sensor.intrinsics is not None
+    topic = sensor.topics()
+    msgs = [("image", _image(ns, n, np.asarray(items[f"/{n}/image"][0], np.uint8), "rgb8")),
+            ("camera_info", _camera_info(ns, n, sensor.intrinsics))]
+    return [Message(f"/{n}/{s}", topic[f"/{n}/{s}"], m, ns) for s, m in msgs]
+
+
+def _radar_messages(sensor: SensorDescription, items: Items,
+                    tables: Mapping[str, NDArray[np.void]], ns: int) -> list[Message]:
+    n = sensor.name
+    topic = sensor.topics()
+    msgs: list[tuple[str, dict[str, Any]]] = []
+    rows = tables.get(f"/{n}/detections")
+    if rows is None and f"/{n}/adc" in items:
+        from simcore.dsp.detections import DETECTION_DTYPE
+        rows = np.zeros(0, dtype=DETECTION_DTYPE)
+    if rows is not None:
+        msgs.append(("detections", _cloud(ns, n, detection_points(rows))))
+    if f"/{n}/adc" in items:
+        adc = np.asarray(items[f"/{n}/adc"][0])
+        data = adc.astype("<c8").view("<f4") if np.iscomplexobj(adc) else adc.astype("<f4")
+        start = np.asarray(items[f"/{n}/chirp_start_time"][0], dtype=np.float64)
+        chirps, channels, samples = adc.shape
+        msgs.append(("adc", {"header": _header(ns, n), "chirps": chirps,
+                             "channels": channels, "samples": samples, **sensor.radar,
+                             "chirp_start_time": start.ravel().tolist(),
+                             "data": data.tobytes()}))
+    if f"/{n}/range_doppler" in items and sensor.range_axis_m is not None:
+        rd = np.asarray(items[f"/{n}/range_doppler"][0], dtype="<f4")
+        assert sensor.velocity_axis_mps is not None
+        msgs.append(("range_doppler", {
+            "header": _header(ns, n), "doppler_bins": rd.shape[0],
+            "range_bins": rd.shape[1], "range_axis": sensor.range_axis_m.tolist(),
+            "velocity_axis": sensor.velocity_axis_mps.tolist(), "data": rd.tobytes()}))
+    return [Message(f"/{n}/{s}", topic[f"/{n}/{s}"], m, ns) for s, m in msgs]
+
+
+_SENSOR_MESSAGES: dict[str, Callable[[SensorDescription, Items,
+                                      Mapping[str, NDArray[np.void]], int], list[Message]]] = {
+    "tof": _tof_messages, "rgb": _rgb_messages, "radar": _radar_messages}
 
 
 def cloud_array(msg: Any) -> NDArray[np.void]:
