@@ -567,20 +567,22 @@ def test_engine_live_stream_equals_the_recording(
 def test_colliding_tf_frames_are_one_line_errors(
         tmp_path: Path, capsys: pytest.CaptureFixture[str], rig_name: str,
         sensor_name: str) -> None:
+    """A rig and a sensor of one name, or either named ``world``, is refused on loading."""
+    import json
+
     from simcore.resources import example_path
     from simcore.scene import load_project
-    from simcore.scene.project_io import save_project
 
     tof = NamedTof(width=8, height=6).model_dump()
     rigs = [{"name": rig_name, "sensors": {"b_tof": tof}}]
     if sensor_name != "b_tof":
         rigs.append({"name": "b", "sensors": {sensor_name: tof}})
-    project = Project.model_validate({**load_project(example_path("wall")).model_dump(),
-                                      "rigs": rigs})
-    save_project(project, tmp_path / "p.json")
+    data = {**load_project(example_path("wall")).model_dump(mode="json"), "rigs": rigs}
+    (tmp_path / "p.json").write_text(json.dumps(data))
     out = tmp_path / "p.mcap"
     assert main(["run", str(tmp_path / "p.json"), "--out", str(out), "--frames", "1",
                  "--quiet"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("tofradar: error: ") and "TF frame" in err[0]
+    assert len(err) == 1 and err[0].startswith("tofradar: error: ") and "frame" in err[0]
+    assert repr(rig_name if rig_name != "robot_b" else sensor_name) in err[0]
     assert not out.exists()

@@ -208,6 +208,12 @@ class Project(Model):
                 if offset >= period:
                     raise ValueError(f"sensor {name!r}: trigger_offset_s {offset:g} s is not "
                                      f"shorter than its frame period {period:g} s")
+        # Rigs and sensors are both TF frames (MCAP, the live stream), beside "world".
+        for name in sorted(rigs & set(owner)):
+            raise ValueError(f"name {name!r} is both a rig's and a sensor's; each names a TF "
+                             "frame, so they must differ")
+        if "world" in rigs | set(owner):
+            raise ValueError("'world' names the world frame; choose another rig or sensor name")
 
     def all_rigs(self) -> list[Rig]:
         """Every rig: :attr:`rig` first, then :attr:`rigs`."""
