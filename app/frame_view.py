@@ -15,7 +15,7 @@ the GUI that reads a :class:`simcore.pipeline.Frame`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -202,6 +202,31 @@ class FrameView:
     notes: list[str] = field(default_factory=list)
     #: Ground truth of every object from the radar (issue #17); None when unknown.
     objects: ObjectMarks | None = None
+    #: Every sensor's images, maps and colour image of the frame, by sensor name (issue
+    #: #30); a sensor that did not capture in this frame (a lower frame rate) is absent.
+    #: ``tof``, ``radar`` and ``rgb`` above are the first sensor of each kind.
+    tofs: dict[str, TofView] = field(default_factory=dict)
+    radars: dict[str, RadarView] = field(default_factory=dict)
+    rgbs: dict[str, NDArray[np.uint8]] = field(default_factory=dict)
+
+    def for_sensor(self, kind: str, name: str) -> FrameView | None:
+        """The frame with sensor ``name``'s data as its ``tof``, ``radar`` or ``rgb``.
+
+        None when the sensor did not capture in this frame. The ground-truth marks are
+        the built-in radar's: another radar's view carries none.
+        """
+        if kind == "tof":
+            tof = self.tofs.get(name)
+            return None if tof is None else replace(self, tof=tof)
+        if kind == "radar":
+            radar = self.radars.get(name)
+            if radar is None:
+                return None
+            return replace(self, radar=radar, objects=self.objects if name == "radar" else None)
+        if kind == "rgb":
+            rgb = self.rgbs.get(name)
+            return None if rgb is None else replace(self, rgb=rgb)
+        raise ValueError(f"unknown sensor kind {kind!r}")
 
 
 # --------------------------------------------------------------------------------------
@@ -209,9 +234,9 @@ class FrameView:
 # --------------------------------------------------------------------------------------
 
 
-def _tof_view(frame: Any, project: Project) -> TofView:
-    cfg = project.rig.tof
-    tof = frame.outputs["tof"]
+def _tof_view(frame: Any, project: Project, name: str = "tof") -> TofView:
+    cfg = project.sensor_config(name)
+    tof = frame.outputs[name]
     valid = np.asarray(tof.valid, dtype=bool)
     depth = np.where(valid, tof.depth_m, np.nan).astype(np.float32)
     gt_id = getattr(tof, "gt_object_id", None)  # issue #17: object outlines
@@ -232,9 +257,9 @@ def radar_to_world(points_radar: F64, sensor_transform: F64) -> F64:
     return points_radar @ sensor_transform[:3, :3].T + sensor_transform[:3, 3]
 
 
-def channel_names(project: Project) -> list[str]:
-    """Names of the virtual channels, Tx-major (``rx1`` … with one Tx)."""
-    radar = project.rig.radar
+def channel_names(project: Project, name: str = "radar") -> list[str]:
+    """Names of radar ``name``'s virtual channels, Tx-major (``rx1`` … with one Tx)."""
+    radar: Any = project.sensor_config(name)
     rx = [a.name or f"rx{i + 1}" for i, a in enumerate(radar.rx)]
     if len(radar.tx) == 1:
         return rx
@@ -243,7 +268,7 @@ def channel_names(project: Project) -> list[str]:
 
 
 def radar_view_from_products(dsp: Any, project: Project, radar_transform: F64, *,
-                             labels: Any = None) -> RadarView:
+                             labels: Any = None, name: str = "radar") -> RadarView:
     """Adapt :class:`simcore.dsp.RadarProducts` to a :class:`RadarView`."""
     ax = dsp.axes
     velocity = np.asarray(ax.velocity_mps, dtype=np.float64)
@@ -267,7 +292,7 @@ def radar_view_from_products(dsp: Any, project: Project, radar_transform: F64, *
         None if labels is None or len(labels.object_id) != len(xyz)
         else np.asarray(labels.object_id, dtype=np.int32))
     profile = np.asarray(dsp.range_profile_db, dtype=np.float32)
-    names = channel_names(project)
+    names = channel_names(project, name)
     if len(names) != profile.shape[0]:
         names = [f"ch{i + 1}" for i in range(profile.shape[0])]
     bev = getattr(dsp, "bird_eye_db", None)
@@ -296,13 +321,35 @@ def _radar_view(frame: Any, project: Project, notes: list[str]) -> RadarView | N
                                     labels=getattr(radar, "labels", None))
 
 
+def _sensor_transform(frame: Any, project: Project, name: str) -> F64:
+    """Sensor ``name``'s world transform in this frame (its buffer's, else its pose)."""
+    buffer = getattr(frame, "buffers", {}).get(name)
+    if buffer is not None:
+        return np.asarray(buffer.sensor.transform, dtype=np.float64)
+    from app.sensors import sensor_states  # the GUI's rigs: only for a sensor without buffer
+
+    return sensor_states(project, float(frame.time_s))[name].transform
+
+
 def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> FrameView:
     """Extract what the panels draw from a pipeline frame (runs in the worker thread)."""
     notes: list[str] = []
     timings = dict(frame.timings_ms)
-    tof = _tof_view(frame, project)
-    radar = _radar_view(frame, project, notes)
+    outputs = frame.outputs
+    tofs = {n: _tof_view(frame, project, n) for n in project.sensors_of_kind("tof")
+            if n in outputs}
+    radars = {n: radar_view_from_products(outputs[n].dsp, project,
+                                          _sensor_transform(frame, project, n),
+                                          labels=getattr(outputs[n], "labels", None), name=n)
+              for n in project.sensors_of_kind("radar")
+              if n in outputs and getattr(outputs[n], "dsp", None) is not None}
+    rgbs = {n: np.asarray(outputs[n].image) for n in project.sensors_of_kind("rgb")
+            if n in outputs}
+    tof = tofs["tof"] if "tof" in tofs else _tof_view(frame, project)
+    radar = radars["radar"] if "radar" in radars else _radar_view(frame, project, notes)
     rgb = frame.outputs.get("rgb")
+    if rgb is None and rgbs:
+        rgb = next(iter(outputs[n] for n in rgbs))
     return FrameView(
         index=frame.index,
         time_s=float(frame.time_s),
@@ -315,4 +362,7 @@ def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> 
         render_count=render_count,
         notes=notes,
         objects=object_marks(getattr(frame, "objects", None), project),  # issue #17
+        tofs=tofs,
+        radars=radars,
+        rgbs=rgbs,
     )

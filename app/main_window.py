@@ -641,7 +641,7 @@ class MainWindow(QMainWindow):
 
     def _follow_rig_sensors(self, *_: object) -> None:
         """Show the RGB camera's dock when the rig gains one, hide it when it has none."""
-        has_rgb = self.document.project.rig.rgb is not None
+        has_rgb = bool(self.document.project.sensors_of_kind("rgb"))
         if has_rgb != self._rgb_shown:
             self._rgb_shown = has_rgb
             # A live panel (drawn, exported) only while the rig carries the camera.

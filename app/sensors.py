@@ -164,6 +164,16 @@ def _same_sensor(a: Any, b: Any) -> bool:
     return bool(named_sensor(a).model_dump() == named_sensor(b).model_dump())
 
 
+def current_radar_path(document: ProjectDocument) -> str:
+    """Field path of the radar the editors edit (:meth:`ProjectDocument.current_sensor`)."""
+    return sensor_path(document.project, document.current_sensor("radar") or "radar")
+
+
+def current_radar(document: ProjectDocument) -> Any:
+    """Configuration of the radar the editors edit."""
+    return document.project.sensor_config(document.current_sensor("radar") or "radar")
+
+
 # --- where things are at a time ---------------------------------------------------------
 def rig_states(project: Project, t: float) -> list[RigidState]:
     """Body-frame state of every rig at time ``t`` (s), in :meth:`Project.all_rigs` order."""
@@ -311,6 +321,7 @@ def rename_rig(document: ProjectDocument, index: int, new_name: str) -> None:
 
 
 __all__ = ["BUILT_IN", "KIND_WORDS", "RIG_KEY_PREFIX", "add_rig", "add_sensor", "copy_sensor",
+           "current_radar", "current_radar_path",
            "follow_sensor", "is_built_in", "is_rig_key", "name_problem", "remove_rig",
            "remove_sensor", "removal_refusal", "rename_refusal", "rename_rig", "rename_sensor",
            "rig_index", "rig_key", "rig_of_key", "rig_path", "rig_states", "sensor_names",
