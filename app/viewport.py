@@ -702,9 +702,11 @@ class SceneViewport(QWidget):
         self.request_render()
 
     def _apply_fov_visibility(self) -> None:
+        # An RGB camera's frustum follows the ToF switch (the window's one switch sets both).
         for key, kind in self._sensor_kinds.items():
             if not key.startswith("label:"):
-                self._rig_actors[key].SetVisibility(self._fov_visible.get(kind, True))
+                on = self._fov_visible.get("tof" if kind == "rgb" else kind, True)
+                self._rig_actors[key].SetVisibility(on)
 
     def reset_camera(self) -> None:
         """Look at the scene from behind, beside and above the rig, z up.
