@@ -7,6 +7,7 @@ scatterers, a DSP edit re-uses the ADC cube, and a ToF edit re-uses the whole ra
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from dataclasses import dataclass
 
@@ -18,7 +19,14 @@ from simcore.render.renderer import RenderRequest
 from simcore.scene.model import Project
 from simcore.scene.people.expand import body_part_table
 from simcore.scene.radar_config import RadarConfig
-from simcore.sensors.base import DeferredOutput, H5Items, SensorContext, config_key
+from simcore.sensors.base import (
+    DeferredOutput,
+    H5Items,
+    SensorBase,
+    SensorContext,
+    config_key,
+    rename_items,
+)
 from simcore.sensors.radar.background import (
     BackgroundFacets,
     cell_pixels,
@@ -59,10 +67,13 @@ class RadarFrameOutput:
     dsp: RadarProducts
     labels: DetectionLabels | None = None
     body_parts: NDArray[np.int32] | None = None
+    #: Dataset group of the sensor (its name).
+    group: str = "radar"
 
     def hdf5_items(self) -> H5Items:
-        """Per-frame datasets of the raw data and the maps."""
-        return {**self.raw.hdf5_items(), **self.dsp.hdf5_items()}
+        """Per-frame datasets of the raw data and the maps (under ``/<group>/``)."""
+        return rename_items({**self.raw.hdf5_items(), **self.dsp.hdf5_items()}, "radar",
+                            self.group)
 
     def table_rows(self, index: int) -> dict[str, NDArray[np.void]]:
         """Rows this frame adds to the detections table (with their labels)."""
@@ -74,24 +85,27 @@ class RadarFrameOutput:
             if self.body_parts is not None and self.labels.object_index is not None:
                 table = np.append(self.body_parts, np.int32(-1))
                 rows["body_part"] = table[self.labels.object_index]
-        return {"/radar/detections": rows}
+        return {f"/{self.group}/detections": rows}
 
 
 #: Prepared scatterer sets and their signs whose sum is a frame's scatterers (labels).
 _LabelParts = list[tuple[LabelScatterers, float]]
 
 
-class RadarSensor:
-    """FMCW radar (``rig.radar``): the 60 GHz band seen from the radar board."""
+class RadarSensor(SensorBase):
+    """FMCW radar (``rig.radar`` or a named one): the 60 GHz band seen from its board.
 
-    name = "radar"
+    The radar models read the radar's state as ``snapshot.sensors["radar"]``: a radar
+    with another name runs them on :meth:`SceneSnapshot.seen_by` views of its snapshot.
+    """
+
+    kind = "radar"
     band = "radar"
-    rng_stream = 1
     on_worker = True
 
     def render_request(self, project: Project) -> RenderRequest:
         """The radar pass (visibility only): facet grid × render supersampling, square pixels."""
-        return RenderRequest(self.name, self.band, project.rig.radar.render_intrinsics(),
+        return RenderRequest(self.name, self.band, self.config(project).render_intrinsics(),
                              geometry_only=True)
 
     def sample_offsets_s(self, project: Project) -> tuple[float, ...]:
@@ -100,7 +114,7 @@ class RadarSensor:
 
     def see_through(self, project: Project) -> tuple[bool, ...] | None:
         """The objects that transmit part of the radar wave (slabs: glass, paper, wood)."""
-        return transmissive_objects(project, project.rig.radar.wavelength_m)
+        return transmissive_objects(project, self.config(project).wavelength_m)
 
     def simulate(self, ctx: SensorContext) -> RadarFrameOutput | DeferredOutput:
         """Scatterers, IF synthesis, receiver and DSP of one frame.
@@ -108,14 +122,15 @@ class RadarSensor:
         Receiver, DSP and labels run on the engine's post thread when it has one
         (``ctx.defer``).
         """
-        cfg = ctx.project.rig.radar
+        cfg = self.config(ctx.project)
+        ctx = dataclasses.replace(ctx, snapshot=ctx.snapshot.seen_by(self.name, "radar"))
         found = _ideal_over_background(ctx, cfg)
         scatterers = None
         if found is None:
             scatterers = ctx.stage(
                 "radar_scatterers",
                 lambda: radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
-                                         see_through=ctx.see_through),
+                                         see_through=ctx.see_through, config=cfg),
                 reads=_scatterer_reads(ctx, cfg), inputs=(ctx.buffers, ctx.see_through))
             # Per-scatterer arrays that do not depend on antennas or waveform: an antenna
             # edit re-uses them with the scatterers.
@@ -151,8 +166,9 @@ class RadarSensor:
             "radar_receiver",
             lambda: radar_output(ideal, cfg, rng=ctx.rng, time_s=ctx.time_s,
                                  n_scatterers=n_scatterers, transformed=transformed),
-            reads=(config_key(cfg), ctx.seed, ctx.index, ctx.time_s), inputs=(ideal,))
-        to_world = ctx.snapshot.sensor(self.name).transform
+            reads=(config_key(cfg), ctx.seed, ctx.index, ctx.time_s, self.rng_stream),
+            inputs=(ideal,))
+        to_world = ctx.snapshot.sensor("radar").transform
         dsp = ctx.stage(
             "dsp", lambda: process_frame(raw.adc, cfg, ctx.project.dsp, radar_to_world=to_world),
             reads=(config_key(cfg, ctx.project.dsp), to_world.tobytes()), inputs=(raw,))
@@ -165,11 +181,13 @@ class RadarSensor:
             inputs=(dsp, *(p for p, _ in parts), *ghosts))
         parts_table = body_part_table(ctx.project)
         return RadarFrameOutput(raw=raw, dsp=dsp, labels=labels,
-                                body_parts=parts_table if np.any(parts_table >= 0) else None)
+                                body_parts=parts_table if np.any(parts_table >= 0) else None,
+                                group=self.name)
 
     def static_items(self, project: Project) -> H5Items:
         """The axes of the radar maps."""
-        return static_axes_items(project.rig.radar, project.dsp)
+        return rename_items(static_axes_items(self.config(project), project.dsp), "radar",
+                            self.name)
 
 
 def _with_multipath(ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
@@ -188,7 +206,7 @@ def _with_multipath(ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
         sc = scatterers
         if sc is None:
             sc = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
-                                  see_through=ctx.see_through)
+                                  see_through=ctx.see_through, config=cfg)
         sets = ghost_scatterers(ctx.project, ctx.snapshot, sc, cfg, buffers=ctx.buffers)
         labels = [prepare_scatterers(g.scatterers, cfg, tx_positions_m=g.tx_positions_m,
                                      rx_positions_m=g.rx_positions_m)
@@ -232,7 +250,7 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
         "radar_background_scatterers",
         lambda: BackgroundFacets.of(
             radar_scatterers(ctx.project, ctx.snapshot, bg.buffers, seed=ctx.seed,
-                             see_through=bg.see_through),
+                             see_through=bg.see_through, config=cfg),
             len(ctx.project.objects)),
         reads=reads, inputs=(bg.buffers, bg.see_through))
     background_prepared = ctx.stage("radar_background_prepare",
@@ -249,7 +267,7 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
     def frame_if() -> tuple[ComplexCube, int, int, _LabelParts]:
         pixels = cell_pixels(cells, ctx.buffers.intrinsics, facets)
         others = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
-                                  pixels=pixels, see_through=ctx.see_through)
+                                  pixels=pixels, see_through=ctx.see_through, config=cfg)
         hidden = background.in_cells(cells)
         out = background_if.copy()
         if len(hidden):
