@@ -321,6 +321,15 @@ def _radar_view(frame: Any, project: Project, notes: list[str]) -> RadarView | N
                                     labels=getattr(radar, "labels", None))
 
 
+def _no_tof(project: Project, notes: list[str]) -> TofView:
+    """An all-invalid image of the built-in camera's size: no ToF camera captured."""
+    cfg = project.rig.tof
+    notes.append("no ToF camera captured in this frame")
+    shape = (cfg.height, cfg.width)
+    return TofView(np.full(shape, np.nan, np.float32), np.zeros(shape, np.float32),
+                   np.zeros(shape, bool), float(cfg.combined_unambiguous_range_m))
+
+
 def _sensor_transform(frame: Any, project: Project, name: str) -> F64:
     """Sensor ``name``'s world transform in this frame (its buffer's, else its pose)."""
     buffer = getattr(frame, "buffers", {}).get(name)
@@ -345,7 +354,7 @@ def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> 
               if n in outputs and getattr(outputs[n], "dsp", None) is not None}
     rgbs = {n: np.asarray(outputs[n].image) for n in project.sensors_of_kind("rgb")
             if n in outputs}
-    tof = tofs["tof"] if "tof" in tofs else _tof_view(frame, project)
+    tof = tofs.get("tof") or next(iter(tofs.values()), None) or _no_tof(project, notes)
     radar = radars["radar"] if "radar" in radars else _radar_view(frame, project, notes)
     rgb = frame.outputs.get("rgb")
     if rgb is None and rgbs:
