@@ -22,6 +22,7 @@ from PyQt6.QtWidgets import (
     QLineEdit,
     QMenu,
     QPushButton,
+    QSizePolicy,
     QToolButton,
     QTreeWidget,
     QTreeWidgetItem,
@@ -49,6 +50,7 @@ from app.sensors import (
     sensor_path,
 )
 from app.widgets import clear_field_error, try_edit
+from app.wrap_row import WrapRow
 from simcore.scene import Project
 from simcore.scene.model import sensor_kind
 
@@ -89,9 +91,17 @@ class RigSensorList(QWidget):
         self.selected: tuple[str, str] = ("sensor", "radar")
         self._shown: Project | None = None
         self._listed: Any = None
-        layout = QVBoxLayout(self)
-        layout.setContentsMargins(2, 2, 2, 2)
+        outer = QVBoxLayout(self)
+        outer.setContentsMargins(2, 2, 2, 2)
+        row_of_columns = WrapRow()  # the list and the selection's form side by side
+        outer.addWidget(row_of_columns, 1)
+        left = QWidget()
+        layout = QVBoxLayout(left)
+        layout.setContentsMargins(0, 0, 0, 0)
         self.tree = QTreeWidget()
+        self.tree.setMinimumSize(360, 140)
+        # Its height is what the dock leaves: the buttons below stay in view.
+        self.tree.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Ignored)
         self.tree.setColumnCount(4)
         self.tree.setHeaderLabels(["name", "kind", "frame rate", "trigger offset"])
         self.tree.setToolTip("Every rig of the project with its sensors; pick a sensor to "
@@ -99,7 +109,6 @@ class RigSensorList(QWidget):
                              "rig to edit its pose and motion in the Inspector")
         self.tree.setRootIsDecorated(True)
         self.tree.currentItemChanged.connect(self._on_current)
-        layout.addWidget(self.tree, 1)
         row = QHBoxLayout()
         self.add_rig_button = QPushButton("Add rig")
         self.add_rig_button.setToolTip("Add an empty rig 1 m to the left of the last one; "
@@ -127,8 +136,11 @@ class RigSensorList(QWidget):
                   self.remove_button):
             row.addWidget(b)
         row.addStretch(1)
-        layout.addLayout(row)
+        layout.addLayout(row)  # the buttons above the list: in view however tall it is
+        layout.addWidget(self.tree, 1)
+        row_of_columns.add(left, 3)
         box = self.details = QGroupBox("Selected")
+        box.setMinimumWidth(300)
         form = QFormLayout(box)
         self.name_edit = QLineEdit()
         self.name_edit.setToolTip("The name: a letter, then letters, digits or underscores; "
@@ -143,7 +155,7 @@ class RigSensorList(QWidget):
         self.timing = FieldForm(document, TIMING_FIELDS, path_map=self._timing_path)
         self.timing.editFailed.connect(self.editFailed)
         form.addRow(self.timing)
-        layout.addWidget(box)
+        row_of_columns.add(box, 2)
         document.projectChanged.connect(self.refresh)
         self.refresh()
 
