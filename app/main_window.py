@@ -752,8 +752,8 @@ class MainWindow(QMainWindow):
             radar = project.rig.radar.model_copy(
                 update={"tx": before.rig.radar.tx, "rx": before.rig.radar.rx})
             rig = project.rig.model_copy(update={"radar": radar})
-            if (before.rig, before.dsp, before.timeline) == (rig, project.dsp,
-                                                             project.timeline):
+            if (before.rig, before.rigs, before.dsp, before.timeline) == (
+                    rig, project.rigs, project.dsp, project.timeline):
                 return cost, like[1]
         # Meshes come from the user's own file dialog (any folder); an empty scene is where
         # every new project starts: neither is refused while editing.

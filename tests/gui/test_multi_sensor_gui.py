@@ -306,3 +306,25 @@ def test_second_radar_on_new_rig_shows_its_own_data(make_window, wait_frame, tmp
     wait_frame(window)
     assert panel.sensor == "radar" and set(window.last_view.radars) == {"radar"}
     assert abs(panel.view.radar.profile_peak_range_m() - expected["radar"]) <= 1.5 * bin_m
+
+
+def test_antenna_editor_edits_the_picked_radar(make_window):
+    window = make_window()
+    doc, rigs, antennas = window.document, window.sensor_editor.rigs, window.antenna_editor
+    original = doc.project
+    rigs.add_rig()
+    rigs.add_sensor("radar")
+    n_rx = len(doc.project.rigs[0].sensors["radar_2"].rx)
+    n_tx = len(doc.project.rigs[0].sensors["radar_2"].tx)
+    antennas.add_element("rx")
+    assert len(doc.project.rigs[0].sensors["radar_2"].rx) == n_rx + 1
+    assert doc.project.rig.radar.rx == original.rig.radar.rx
+    antennas.move_element("rx", 0, (1.25, -2.5), finished=True)
+    assert doc.project.rigs[0].sensors["radar_2"].rx[0].position_mm == (1.25, -2.5)
+    assert doc.project.rig.radar.rx == original.rig.radar.rx
+    # Picking the built-in radar again: the antenna editor edits it.
+    rigs.select("sensor", "radar")
+    assert doc.current_sensor("radar") == "radar"
+    antennas.add_element("tx")
+    assert len(doc.project.rig.radar.tx) == len(original.rig.radar.tx) + 1
+    assert len(doc.project.rigs[0].sensors["radar_2"].tx) == n_tx
