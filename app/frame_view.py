@@ -208,12 +208,14 @@ class FrameView:
     tofs: dict[str, TofView] = field(default_factory=dict)
     radars: dict[str, RadarView] = field(default_factory=dict)
     rgbs: dict[str, NDArray[np.uint8]] = field(default_factory=dict)
+    #: Ground truth of every object from each radar other than the built-in one.
+    radar_objects: dict[str, ObjectMarks] = field(default_factory=dict)
 
     def for_sensor(self, kind: str, name: str) -> FrameView | None:
         """The frame with sensor ``name``'s data as its ``tof``, ``radar`` or ``rgb``.
 
-        None when the sensor did not capture in this frame. The ground-truth marks are
-        the built-in radar's: another radar's view carries none.
+        None when the sensor did not capture in this frame. A radar's view carries its
+        own ground-truth marks (none when the frame has no truth for it).
         """
         if kind == "tof":
             tof = self.tofs.get(name)
@@ -222,7 +224,8 @@ class FrameView:
             radar = self.radars.get(name)
             if radar is None:
                 return None
-            return replace(self, radar=radar, objects=self.objects if name == "radar" else None)
+            marks = self.objects if name == "radar" else self.radar_objects.get(name)
+            return replace(self, radar=radar, objects=marks)
         if kind == "rgb":
             rgb = self.rgbs.get(name)
             return None if rgb is None else replace(self, rgb=rgb)
@@ -321,6 +324,23 @@ def _radar_view(frame: Any, project: Project, notes: list[str]) -> RadarView | N
                                     labels=getattr(radar, "labels", None))
 
 
+def radar_object_marks(frame: Any, project: Project) -> dict[str, ObjectMarks]:
+    """Each further radar's object truth (``/objects/<name>/range`` … of the frame)."""
+    items = getattr(frame, "sensor_truth", None) or {}
+    ids = np.array([o.id for o in project.objects], dtype=np.int32)
+    out: dict[str, ObjectMarks] = {}
+    for name in project.sensors_of_kind("radar"):
+        keys = [f"/objects/{name}/{q}" for q in ("range", "radial_velocity", "azimuth",
+                                                  "elevation")]
+        if name == "radar" or not all(k in items for k in keys):
+            continue
+        arrays = [np.asarray(items[k][0], dtype=np.float64) for k in keys]
+        if any(len(a) != len(ids) for a in arrays):
+            continue
+        out[name] = ObjectMarks(ids, *arrays)
+    return out
+
+
 def _no_tof(project: Project, notes: list[str]) -> TofView:
     """An all-invalid image of the built-in camera's size: no ToF camera captured."""
     cfg = project.rig.tof
@@ -374,4 +394,5 @@ def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> 
         tofs=tofs,
         radars=radars,
         rgbs=rgbs,
+        radar_objects=radar_object_marks(frame, project),
     )

@@ -240,6 +240,7 @@ class SensorEditor(QScrollArea):
         self.tabs.addTab(self._build_link_budget(), "Link budget")
         self.tabs.addTab(self._build_dsp_page(), "Radar processing")
         self.tabs.addTab(self._build_tof(), "ToF camera")
+        self.tabs.setCurrentIndex(1)  # the Radar page first, as before issue #30
         self._extent_key: tuple[Any, ...] | None = None
         self._extent: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
         document.projectChanged.connect(self.refresh)

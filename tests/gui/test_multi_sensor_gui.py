@@ -136,7 +136,7 @@ def test_panel_draws_the_picked_sensor_and_keeps_it_across_frames(make_window, w
     np.testing.assert_allclose(ys, -40.0, atol=1e-3)
 
 
-def test_copy_tof_camera_and_remove_sensors(make_window, qtbot):
+def test_copy_tof_camera_and_remove_sensors(make_window, wait_frame, qtbot):
     window = make_window()
     doc, rigs, tof_panel = window.document, window.sensor_editor.rigs, window.tof_panel
     original = doc.project
@@ -156,6 +156,11 @@ def test_copy_tof_camera_and_remove_sensors(make_window, qtbot):
     assert doc.project.rig.sensors["tof_copy"].width == 64
     assert doc.project.rig.tof.width == original.rig.tof.width
     tof_panel.set_sensor("tof_copy")
+    wait_frame(window)
+    # The panel shows the copy's own image: 64 columns, the built-in camera's unchanged.
+    height = original.rig.tof.height
+    assert tof_panel.view.tof.depth_m.shape == (height, 64)
+    assert window.last_view.tofs["tof"].depth_m.shape == (height, original.rig.tof.width)
     # Remove the copy: one undo step; the panel falls back to the built-in camera.
     rigs.select("sensor", "tof_copy")
     assert rigs.remove_button.isEnabled()
@@ -289,8 +294,10 @@ def test_second_radar_on_new_rig_shows_its_own_data(make_window, wait_frame, tmp
     bin_m = doc.project.rig.radar.range_resolution_m
     for name, r in expected.items():
         assert abs(view.radars[name].profile_peak_range_m() - r) <= 1.5 * bin_m, name
-    # The panel draws radar_2's profile, not the built-in radar's.
+    # The panel draws radar_2's profile, not the built-in radar's, with its own truth.
     assert abs(panel.view.radar.profile_peak_range_m() - 2.0) <= 1.5 * bin_m
+    assert panel.view.objects.range_m == pytest.approx([2.0], abs=1e-9)
+    assert view.objects.range_m == pytest.approx([np.hypot(2.0, 1.0)], abs=1e-9)
     np.testing.assert_array_equal(panel.view.radar.profile_db, view.radars["radar_2"].profile_db)
     # Rename: the panel stays on it and its next frames.
     rigs.name_edit.setText("side")
