@@ -217,19 +217,21 @@ class FrameView:
         None when the sensor did not capture in this frame. A radar's view carries its
         own ground-truth marks (none when the frame has no truth for it).
         """
+        # ``tof``, ``radar`` and ``rgb`` show the first sensor of each kind that captured
+        # (or, in a view made without the per-sensor tables, the built-in one): the view
+        # itself then, as it is (a panel keeps the very view; a test may edit ``radar``).
+        if kind not in ("tof", "radar", "rgb"):
+            raise ValueError(f"unknown sensor kind {kind!r}")
+        table: dict[str, Any] = {"tof": self.tofs, "radar": self.radars, "rgb": self.rgbs}[kind]
+        if name == next(iter(table), kind):
+            return self
+        if name not in table:
+            return None
         if kind == "tof":
-            tof = self.tofs.get(name)
-            return None if tof is None else replace(self, tof=tof)
-        if kind == "radar":
-            radar = self.radars.get(name)
-            if radar is None:
-                return None
-            marks = self.objects if name == "radar" else self.radar_objects.get(name)
-            return replace(self, radar=radar, objects=marks)
+            return replace(self, tof=table[name])
         if kind == "rgb":
-            rgb = self.rgbs.get(name)
-            return None if rgb is None else replace(self, rgb=rgb)
-        raise ValueError(f"unknown sensor kind {kind!r}")
+            return replace(self, rgb=table[name])
+        return replace(self, radar=table[name], objects=self.radar_objects.get(name))
 
 
 # --------------------------------------------------------------------------------------
@@ -374,25 +376,29 @@ def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> 
               if n in outputs and getattr(outputs[n], "dsp", None) is not None}
     rgbs = {n: np.asarray(outputs[n].image) for n in project.sensors_of_kind("rgb")
             if n in outputs}
-    tof = tofs.get("tof") or next(iter(tofs.values()), None) or _no_tof(project, notes)
-    radar = radars["radar"] if "radar" in radars else _radar_view(frame, project, notes)
-    rgb = frame.outputs.get("rgb")
-    if rgb is None and rgbs:
-        rgb = next(iter(outputs[n] for n in rgbs))
+    # The first sensor of each kind that captured (the built-in one when it did).
+    tof = next(iter(tofs.values()), None) or _no_tof(project, notes)
+    radar = next(iter(radars.values()), None) or _radar_view(frame, project, notes)
+    marks = radar_object_marks(frame, project)
+    objects = object_marks(getattr(frame, "objects", None), project)  # issue #17
+    first_radar = next(iter(radars), "radar")
+    if first_radar != "radar":
+        objects = marks.get(first_radar)
+    rgb = next(iter(rgbs.values()), None)
     return FrameView(
         index=frame.index,
         time_s=float(frame.time_s),
         tof=tof,
         radar=radar,
-        rgb=None if rgb is None else np.asarray(rgb.image),
+        rgb=rgb,
         object_poses=np.asarray(frame.object_poses),
         rig_pose=np.asarray(frame.rig_pose),
         timings_ms=timings,
         render_count=render_count,
         notes=notes,
-        objects=object_marks(getattr(frame, "objects", None), project),  # issue #17
+        objects=objects,
         tofs=tofs,
         radars=radars,
         rgbs=rgbs,
-        radar_objects=radar_object_marks(frame, project),
+        radar_objects=marks,
     )
