@@ -19,7 +19,6 @@ follows the scatterers).
 
 from __future__ import annotations
 
-import hashlib
 from collections.abc import Callable, Hashable, Sequence
 from concurrent.futures import Future
 from dataclasses import dataclass
@@ -137,6 +136,8 @@ class SensorContext:
         :meth:`Sensor.simulate` to return: the sensor's chain is then free for the next
         frame (a pipeline stage). The post thread runs frames in order. None: no post
         thread (return ``rest()``).
+    name : str
+        The sensor's name (:attr:`config` is its configuration).
     """
 
     project: Project
@@ -150,6 +151,21 @@ class SensorContext:
     background: Background | None = None
     see_through: RenderBuffers | None = None
     defer: Callable[[Callable[[], SensorOutput]], DeferredOutput] | None = None
+    name: str = ""
+
+    @property
+    def config(self) -> Any:
+        """The configuration of the sensor being run (``project.sensor_config(name)``)."""
+        return self.project.sensor_config(self.name)
+
+    @property
+    def scene(self) -> SceneSnapshot:
+        """The whole snapshot at the capture time, every sensor under its own name.
+
+        Equal to :attr:`snapshot` except inside a model that runs on a sensor view of it
+        (:meth:`SceneSnapshot.seen_by`: the radar chain of a named radar).
+        """
+        return self.snapshot.scene
 
     @property
     def time_s(self) -> float:
@@ -171,8 +187,8 @@ class Sensor(Protocol):
         The material band it sees (:data:`simcore.scene.materials.BANDS`).
     rng_stream : int
         Its independent random stream (:func:`sensor_rng_stream`: the built-in sensors
-        keep theirs, another sensor's is derived from its name), so changing one sensor
-        leaves the others' noise untouched.
+        keep theirs, another sensor's is its rig's and its place in the rig's table), so
+        changing one sensor leaves the others' noise untouched.
     on_worker : bool
         Whether the engine runs its simulation on the worker thread (beside the
         calling thread's rendering and the other sensors).
@@ -214,17 +230,23 @@ class Sensor(Protocol):
 BUILTIN_STREAMS = {"tof": 0, "radar": 1, "rgb": 2}
 
 
-def sensor_rng_stream(kind: str, name: str) -> int:
+#: Random streams of the sensors in rigs' ``sensors`` tables start here, this many per rig.
+TABLE_STREAMS, STREAMS_PER_RIG = 1_000, 1_000
+
+
+def sensor_rng_stream(kind: str, name: str, rig_index: int = 0, slot: int = 0) -> int:
     """The random stream of sensor ``name`` of kind ``kind``.
 
-    A built-in sensor (named as its kind) keeps its historical stream; any other sensor
-    gets one derived from its name (stable across runs and edits of other sensors, and
-    apart from the built-ins' small numbers).
+    A built-in sensor (the first rig's ``tof``, ``radar``, ``rgb`` fields) keeps its
+    historical stream. A sensor of a rig's ``sensors`` table gets one from where it sits:
+    rig ``rig_index`` (0 = the first rig), entry ``slot`` of its table. So renaming a
+    sensor changes nothing but its names (its noise stays bit for bit), and adding or
+    removing a sensor leaves the streams of the other rigs' sensors and of the sensors
+    before it untouched.
     """
     if name == kind and kind in BUILTIN_STREAMS:
         return BUILTIN_STREAMS[kind]
-    digest = hashlib.sha256(f"tofradar-sensor:{name}".encode()).digest()
-    return 1_000 + int.from_bytes(digest[:6], "big")
+    return TABLE_STREAMS + STREAMS_PER_RIG * rig_index + slot
 
 
 class SensorBase:
@@ -238,9 +260,10 @@ class SensorBase:
     band: str = ""
     on_worker: bool = False
 
-    def __init__(self, name: str | None = None):
+    def __init__(self, name: str | None = None, rng_stream: int | None = None):
         self.name = self.kind if name is None else name
-        self.rng_stream = sensor_rng_stream(self.kind, self.name)
+        self.rng_stream = (sensor_rng_stream(self.kind, self.name) if rng_stream is None
+                           else rng_stream)
 
     def config(self, project: Project) -> Any:
         """The sensor's configuration in ``project`` (ValueError when it is not there)."""
@@ -253,8 +276,8 @@ class SensorBase:
         return f"{type(self).__name__}({self.name!r})"
 
 
-#: Sensor classes by kind: ``_REGISTRY[kind](name)`` is the sensor called ``name``.
-_REGISTRY: dict[str, Callable[[str], Sensor]] = {}
+#: Sensor classes by kind: ``_REGISTRY[kind](name, rng_stream)`` is the sensor ``name``.
+_REGISTRY: dict[str, Callable[..., Sensor]] = {}
 
 
 def register(sensor: Sensor | type) -> Any:
@@ -296,11 +319,16 @@ def rename_items(items: dict[str, T], kind: str, name: str) -> dict[str, T]:
 def active_sensors(project: Project) -> list[Sensor]:
     """One sensor per configured sensor of every rig, in the project's order."""
     out: list[Sensor] = []
-    for name, cfg in project.sensor_configs().items():
-        kind = sensor_kind(cfg)
-        if kind not in _REGISTRY:
-            raise ValueError(f"sensor {name!r}: kind {kind!r} has no registered sensor model")
-        out.append(_REGISTRY[kind](name))
+    for rig_index, rig in enumerate(project.all_rigs()):
+        table = list(rig.sensors)
+        for name, cfg in rig.sensor_configs().items():
+            kind = sensor_kind(cfg)
+            if kind not in _REGISTRY:
+                raise ValueError(f"sensor {name!r}: kind {kind!r} has no registered sensor "
+                                 "model")
+            stream = sensor_rng_stream(kind, name, rig_index,
+                                       table.index(name) if name in table else 0)
+            out.append(_REGISTRY[kind](name, stream))
     return out
 
 
