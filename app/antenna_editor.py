@@ -48,7 +48,9 @@ from PyQt6.QtWidgets import (
 from app.antenna_table import AntennaTable
 from app.array_analysis import VIRTUAL_COLOUR, ArrayAnalysisView, virtual_positions_mm
 from app.document import EditError, ProjectDocument
+from app.sensors import current_radar, current_radar_path
 from app.widgets import int_spin, spin
+from simcore.scene import fieldpath
 from simcore.scene import radar_arrays as arrays
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig, aliasing_warnings
 
@@ -432,6 +434,7 @@ class AntennaEditor(QWidget):
         self.splitter.setChildrenCollapsible(False)
         layout.addWidget(self.splitter)
         document.projectChanged.connect(self.refresh)
+        document.currentSensorChanged.connect(self.refresh)
         document.projectReplaced.connect(self._refit)
         self.refresh()
 
@@ -559,7 +562,7 @@ class AntennaEditor(QWidget):
 
     def refresh(self, *_: object) -> None:
         """Show the project's antennas, the snap grid and the layout's warnings."""
-        radar = self.document.project.rig.radar
+        radar = current_radar(self.document)
         key = (radar.tx, radar.rx, radar.start_frequency_hz, radar.bandwidth_hz,
                radar.render_fov_h_deg, radar.render_width, radar.render_height,
                self.snap_mode.currentText(), self.board.show_virtual)
@@ -614,8 +617,8 @@ class AntennaEditor(QWidget):
                      finished: bool = False) -> None:  # noqa: FBT001, FBT002 - Qt slot
         """Move Tx/Rx ``index`` to ``position_mm`` (the board view's drag path)."""
         try:
-            name = self.document.project.rig.radar.model_dump()[role][index]["name"]
-            self.document.set_value(f"rig.radar.{role}[{index}].position_mm",
+            name = current_radar(self.document).model_dump()[role][index]["name"]
+            self.document.set_value(f"{current_radar_path(self.document)}.{role}[{index}].position_mm",
                                     (float(position_mm[0]), float(position_mm[1])),
                                     text=f"Move antenna {name or role}",
                                     merge_key=f"antenna:{role}{index}")
@@ -626,13 +629,13 @@ class AntennaEditor(QWidget):
 
     def apply_layout(self, name: str) -> None:
         """Replace the Rx (and for MIMO the Tx) positions by a layout preset."""
-        radar = self.document.project.rig.radar
+        radar = current_radar(self.document)
         d = self.spacing.value() * radar.wavelength_m * 1e3
         tx, rx = layout_positions(name, n=self.n_spin.value(), nx=self.nx_spin.value(),
                                   ny=self.ny_spin.value(), spacing_mm=d)
 
         def mutate(data: dict[str, Any]) -> None:
-            r = data["rig"]["radar"]
+            r = fieldpath.get(data, current_radar_path(self.document))
             r["rx"] = [{"name": f"rx{i + 1}", "position_mm": tuple(p)} for i, p in enumerate(rx)]
             if tx is not None:
                 r["tx"] = [{"name": f"tx{i + 1}", "position_mm": tuple(p)}
@@ -647,7 +650,7 @@ class AntennaEditor(QWidget):
 
     def add_element(self, role: str) -> None:
         """Append a Tx or Rx element where :func:`next_element_position` puts it."""
-        radar = self.document.project.rig.radar
+        radar = current_radar(self.document)
         items = radar.tx if role == "tx" else radar.rx
         x, y = next_element_position(radar, role, self.pitch_mm(radar))
         names = {a.name for a in items}
@@ -656,7 +659,8 @@ class AntennaEditor(QWidget):
             i += 1
 
         def mutate(data: dict[str, Any]) -> None:
-            data["rig"]["radar"][role].append({"name": f"{role}{i}", "position_mm": (x, y)})
+            radar = fieldpath.get(data, current_radar_path(self.document))
+            radar[role].append({"name": f"{role}{i}", "position_mm": (x, y)})
 
         try:
             self.document.edit(f"Add {role}", mutate)
@@ -665,12 +669,13 @@ class AntennaEditor(QWidget):
 
     def remove_element(self, role: str) -> None:
         """Remove the last Tx or Rx element (at least one of each stays)."""
-        items = getattr(self.document.project.rig.radar, role)
+        items = getattr(current_radar(self.document), role)
         if len(items) <= 1:
             self.editFailed.emit(f"a radar needs at least one {role.capitalize()}: "
                                  f"{items[0].name or role} stays")
             return
         try:
-            self.document.edit(f"Remove {role}", lambda d: d["rig"]["radar"][role].pop())
+            path = current_radar_path(self.document)
+            self.document.edit(f"Remove {role}", lambda d: fieldpath.get(d, path)[role].pop())
         except EditError as exc:
             self.editFailed.emit(str(exc))

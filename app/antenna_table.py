@@ -29,7 +29,9 @@ from PyQt6.QtWidgets import (
 )
 
 from app.document import EditError, ProjectDocument
+from app.sensors import current_radar, current_radar_path
 from app.widgets import clear_field_error, show_field_error
+from simcore.scene import fieldpath
 from simcore.scene.radar_config import CosinePattern, RadarConfig
 
 #: Columns of the table.
@@ -122,6 +124,7 @@ class AntennaTable(QWidget):
         layout.addWidget(self.table, 1)
         self.rows: list[tuple[str, int]] = []
         document.projectChanged.connect(self.refresh)
+        document.currentSensorChanged.connect(self.refresh)
         self.refresh()
 
     def sizeHint(self) -> QSize:  # noqa: N802, D102 - Qt API
@@ -135,7 +138,7 @@ class AntennaTable(QWidget):
     # --- showing ------------------------------------------------------------------------
     def refresh(self, *_: object) -> None:
         """Show the project's elements (a cell being edited is left alone)."""
-        radar = self.document.project.rig.radar
+        radar = current_radar(self.document)
         rows = [("tx", i) for i in range(len(radar.tx))] + [("rx", i) for i in range(len(radar.rx))]
         with QSignalBlocker(self.table):
             if self.table.rowCount() != len(rows):
@@ -192,7 +195,7 @@ class AntennaTable(QWidget):
         if row >= len(self.rows):
             return
         role, index = self.rows[row]
-        radar = self.document.project.rig.radar
+        radar = current_radar(self.document)
         element = getattr(radar, role)[index]
         name = element.name or f"{role}{index + 1}"
         try:
@@ -204,7 +207,7 @@ class AntennaTable(QWidget):
 
     def _commit(self, radar: RadarConfig, role: str, index: int, name: str, col: int,
                 text: str) -> None:
-        path = f"rig.radar.{role}[{index}]"
+        path = f"{current_radar_path(self.document)}.{role}[{index}]"
         element = getattr(radar, role)[index]
         if col == NAME:
             new = text.strip()
@@ -228,7 +231,8 @@ class AntennaTable(QWidget):
                 return
 
             def mutate(d: dict[str, Any]) -> None:
-                d["rig"]["radar"][role][index]["pattern"] = pattern
+                radar = fieldpath.get(d, current_radar_path(self.document))
+                radar[role][index]["pattern"] = pattern
 
             words = "default" if pattern is None else text.strip()
             self.document.edit(f"Set pattern of {name} to {words}", mutate)

@@ -22,6 +22,7 @@ from PyQt6.QtCore import Qt
 from PyQt6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
 
 from app.document import ProjectDocument
+from app.sensors import current_radar
 from app.widgets import spin
 from simcore.scene.radar_config import RadarConfig
 
@@ -269,11 +270,12 @@ class ArrayAnalysisView(QWidget):
         layout.addLayout(row)
         layout.addWidget(self.summary)
         document.projectChanged.connect(self.refresh)
+        document.currentSensorChanged.connect(self.refresh)
         self.refresh()
 
     def refresh(self, *_: object) -> None:
         """Recompute the virtual array and the pattern from the document's radar."""
-        radar = self.document.project.rig.radar
+        radar = current_radar(self.document)
         key = (tuple(a.position_mm for a in radar.tx), tuple(a.position_mm for a in radar.rx),
                radar.wavelength_m, radar.render_fov_h_deg, self.steer_az.value(),
                self.steer_el.value())

@@ -32,6 +32,8 @@ from simcore.scene.project_io import ProjectError, check_references
 
 #: Selection key of the sensor rig (objects are selected by their integer id).
 RIG = "rig"
+#: Selection keys of the further rigs (issue #30): ``"rig:<name>"``.
+RIG_KEY_PREFIX = "rig:"
 
 #: Folder of the last project opened or saved in this session (Save As starts there).
 _LAST_FOLDER: list[Path] = []
@@ -155,7 +157,12 @@ class ProjectDocument(QObject):
     dirtyChanged(bool)
         The project differs (or no longer differs) from the saved file.
     selectionChanged(object)
-        Selected object id, :data:`RIG`, or ``None``.
+        Selected object id, :data:`RIG` (the first rig), ``"rig:<name>"`` (a further rig,
+        issue #30), or ``None``.
+    currentSensorChanged(str, str)
+        The sensor of a kind (``"tof"``, ``"radar"``, ``"rgb"``) that the sensor editor,
+        antenna editor and array analysis edit changed to the named one: picked by the
+        user, renamed, or gone (then the first of its kind).
     """
 
     projectChanged = pyqtSignal(object)
@@ -163,6 +170,7 @@ class ProjectDocument(QObject):
     pathChanged = pyqtSignal(object)
     dirtyChanged = pyqtSignal(bool)
     selectionChanged = pyqtSignal(object)
+    currentSensorChanged = pyqtSignal(str, str)
 
     def __init__(self, project: Project | None = None, path: Path | None = None,
                  parent: QObject | None = None):
@@ -174,6 +182,8 @@ class ProjectDocument(QObject):
         self._path = path
         self._template: Path | None = None
         self._selection: int | str | None = None
+        #: The sensor of each kind that the editors edit (issue #30).
+        self._current: dict[str, str | None] = {}
         self._materials: dict[str, DualBandMaterial] = {}
         self._materials_for: Project | None = None
         #: ``before_push(old, new)`` runs before an edit is pushed and raises
@@ -264,12 +274,41 @@ class ProjectDocument(QObject):
         return self._materials
 
     def select(self, key: int | str | None) -> None:
-        """Select an object by id, the rig (:data:`RIG`) or nothing."""
-        if key is not None and key != RIG and not any(o.id == key for o in self._project.objects):
+        """Select an object by id, a rig (:data:`RIG`, ``"rig:<name>"``) or nothing."""
+        if key is not None and not self._selectable(key, self._project):
             key = None
         if key != self._selection:
             self._selection = key
             self.selectionChanged.emit(key)
+
+    @staticmethod
+    def _selectable(key: int | str, project: Project) -> bool:
+        """Whether ``key`` names an object or a rig of ``project``."""
+        if key == RIG:
+            return True
+        if isinstance(key, str):
+            return key.startswith(RIG_KEY_PREFIX) and any(
+                r.name == key[len(RIG_KEY_PREFIX):] for r in project.rigs)
+        return any(o.id == key for o in project.objects)
+
+    def current_sensor(self, kind: str) -> str | None:
+        """Name of the sensor of ``kind`` that the editors edit (None: the project has none).
+
+        The first rig's built-in one (``tof``, ``radar``) until another is picked with
+        :meth:`set_current_sensor`; it follows renames, undo and redo.
+        """
+        names = self._project.sensors_of_kind(kind)
+        name = self._current.get(kind)
+        return name if name in names else next(iter(names), None)
+
+    def set_current_sensor(self, kind: str, name: str) -> None:
+        """Let the editors of ``kind`` sensors edit sensor ``name`` (KeyError if absent)."""
+        if name not in self._project.sensors_of_kind(kind):
+            raise KeyError(f"no {kind} sensor {name!r}")
+        if self.current_sensor(kind) != name:
+            self._current[kind] = name
+            self.currentSensorChanged.emit(kind, name)
+        self._current[kind] = name
 
     def selected_index(self) -> int | None:
         """Index in ``project.objects`` of the selected object, or ``None``."""
@@ -355,11 +394,21 @@ class ProjectDocument(QObject):
         _MERGE_IDS.clear()
 
     def _set_project(self, project: Project) -> None:
-        self._project = project
-        if self._selection not in (None, RIG) and not any(
-                o.id == self._selection for o in project.objects):
+        from app.sensors import follow_sensor  # app.sensors edits documents: imported late
+
+        before, self._project = self._project, project
+        moved = []
+        for kind, name in list(self._current.items()):
+            now = None if name is None else follow_sensor(before, project, name, kind)
+            if now != name:
+                self._current[kind] = now
+                moved.append((kind, now))
+        if self._selection is not None and not self._selectable(self._selection, project):
             self._selection = None
             self.selectionChanged.emit(None)
+        for kind, now in moved:
+            if now is not None:
+                self.currentSensorChanged.emit(kind, now)
         self.projectChanged.emit(project)
 
     # --- files ------------------------------------------------------------------------
@@ -370,6 +419,7 @@ class ProjectDocument(QObject):
         self._path = path
         self._template = template
         self._selection = None
+        self._current = {}
         self._project = project
         self.undo_stack.setClean()
         self.pathChanged.emit(path)

@@ -338,10 +338,13 @@ class FieldForm(QWidget):
     editFailed = pyqtSignal(str)
 
     def __init__(self, document: ProjectDocument, specs: list[FieldSpec],
-                 parent: QWidget | None = None):
+                 parent: QWidget | None = None, *,
+                 path_map: Callable[[str], str] | None = None):
         super().__init__(parent)
         self.document = document
         self.specs = specs
+        #: Maps a spec's path to the field edited now (the selected sensor's, issue #30).
+        self.path_map = path_map
         self.widgets: dict[str, Any] = {}
         self.form = QFormLayout(self)
         self.form.setContentsMargins(4, 4, 4, 4)
@@ -396,9 +399,13 @@ class FieldForm(QWidget):
             return None
         return int(value) if spec.kind == "int" else float(value)
 
+    def path_of(self, spec: FieldSpec) -> str:
+        """The project field that ``spec``'s row edits now."""
+        return spec.path if self.path_map is None else self.path_map(spec.path)
+
     def _set(self, spec: FieldSpec, shown: Any, widget: QWidget) -> None:
         """Write one field (shown value); a refused value stays in ``widget`` with why."""
-        commit_path(self.document, spec, shown, widget)
+        commit_path(self.document, spec, shown, widget, path=self.path_of(spec))
 
     def value(self, path: str) -> Any:
         """The project's value of ``path`` (SI)."""
@@ -408,7 +415,7 @@ class FieldForm(QWidget):
         """Show the project's values."""
         for spec in self.specs:
             w = self.widgets[spec.path]
-            v = self.value(spec.path)
+            v = self.value(self.path_of(spec))
             if spec.kind == "choice":
                 with QSignalBlocker(w):
                     w.setCurrentText(str(v))

@@ -15,7 +15,7 @@ the GUI that reads a :class:`simcore.pipeline.Frame`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -202,6 +202,36 @@ class FrameView:
     notes: list[str] = field(default_factory=list)
     #: Ground truth of every object from the radar (issue #17); None when unknown.
     objects: ObjectMarks | None = None
+    #: Every sensor's images, maps and colour image of the frame, by sensor name (issue
+    #: #30); a sensor that did not capture in this frame (a lower frame rate) is absent.
+    #: ``tof``, ``radar`` and ``rgb`` above are the first sensor of each kind.
+    tofs: dict[str, TofView] = field(default_factory=dict)
+    radars: dict[str, RadarView] = field(default_factory=dict)
+    rgbs: dict[str, NDArray[np.uint8]] = field(default_factory=dict)
+    #: Ground truth of every object from each radar other than the built-in one.
+    radar_objects: dict[str, ObjectMarks] = field(default_factory=dict)
+
+    def for_sensor(self, kind: str, name: str) -> FrameView | None:
+        """The frame with sensor ``name``'s data as its ``tof``, ``radar`` or ``rgb``.
+
+        None when the sensor did not capture in this frame. A radar's view carries its
+        own ground-truth marks (none when the frame has no truth for it).
+        """
+        # ``tof``, ``radar`` and ``rgb`` show the first sensor of each kind that captured
+        # (or, in a view made without the per-sensor tables, the built-in one): the view
+        # itself then, as it is (a panel keeps the very view; a test may edit ``radar``).
+        if kind not in ("tof", "radar", "rgb"):
+            raise ValueError(f"unknown sensor kind {kind!r}")
+        table: dict[str, Any] = {"tof": self.tofs, "radar": self.radars, "rgb": self.rgbs}[kind]
+        if name == next(iter(table), kind):
+            return self
+        if name not in table:
+            return None
+        if kind == "tof":
+            return replace(self, tof=table[name])
+        if kind == "rgb":
+            return replace(self, rgb=table[name])
+        return replace(self, radar=table[name], objects=self.radar_objects.get(name))
 
 
 # --------------------------------------------------------------------------------------
@@ -209,9 +239,9 @@ class FrameView:
 # --------------------------------------------------------------------------------------
 
 
-def _tof_view(frame: Any, project: Project) -> TofView:
-    cfg = project.rig.tof
-    tof = frame.outputs["tof"]
+def _tof_view(frame: Any, project: Project, name: str = "tof") -> TofView:
+    cfg = project.sensor_config(name)
+    tof = frame.outputs[name]
     valid = np.asarray(tof.valid, dtype=bool)
     depth = np.where(valid, tof.depth_m, np.nan).astype(np.float32)
     gt_id = getattr(tof, "gt_object_id", None)  # issue #17: object outlines
@@ -232,9 +262,9 @@ def radar_to_world(points_radar: F64, sensor_transform: F64) -> F64:
     return points_radar @ sensor_transform[:3, :3].T + sensor_transform[:3, 3]
 
 
-def channel_names(project: Project) -> list[str]:
-    """Names of the virtual channels, Tx-major (``rx1`` … with one Tx)."""
-    radar = project.rig.radar
+def channel_names(project: Project, name: str = "radar") -> list[str]:
+    """Names of radar ``name``'s virtual channels, Tx-major (``rx1`` … with one Tx)."""
+    radar: Any = project.sensor_config(name)
     rx = [a.name or f"rx{i + 1}" for i, a in enumerate(radar.rx)]
     if len(radar.tx) == 1:
         return rx
@@ -243,7 +273,7 @@ def channel_names(project: Project) -> list[str]:
 
 
 def radar_view_from_products(dsp: Any, project: Project, radar_transform: F64, *,
-                             labels: Any = None) -> RadarView:
+                             labels: Any = None, name: str = "radar") -> RadarView:
     """Adapt :class:`simcore.dsp.RadarProducts` to a :class:`RadarView`."""
     ax = dsp.axes
     velocity = np.asarray(ax.velocity_mps, dtype=np.float64)
@@ -267,7 +297,7 @@ def radar_view_from_products(dsp: Any, project: Project, radar_transform: F64, *
         None if labels is None or len(labels.object_id) != len(xyz)
         else np.asarray(labels.object_id, dtype=np.int32))
     profile = np.asarray(dsp.range_profile_db, dtype=np.float32)
-    names = channel_names(project)
+    names = channel_names(project, name)
     if len(names) != profile.shape[0]:
         names = [f"ch{i + 1}" for i in range(profile.shape[0])]
     bev = getattr(dsp, "bird_eye_db", None)
@@ -296,23 +326,79 @@ def _radar_view(frame: Any, project: Project, notes: list[str]) -> RadarView | N
                                     labels=getattr(radar, "labels", None))
 
 
+def radar_object_marks(frame: Any, project: Project) -> dict[str, ObjectMarks]:
+    """Each further radar's object truth (``/objects/<name>/range`` … of the frame)."""
+    items = getattr(frame, "sensor_truth", None) or {}
+    ids = np.array([o.id for o in project.objects], dtype=np.int32)
+    out: dict[str, ObjectMarks] = {}
+    for name in project.sensors_of_kind("radar"):
+        keys = [f"/objects/{name}/{q}" for q in ("range", "radial_velocity", "azimuth",
+                                                  "elevation")]
+        if name == "radar" or not all(k in items for k in keys):
+            continue
+        arrays = [np.asarray(items[k][0], dtype=np.float64) for k in keys]
+        if any(len(a) != len(ids) for a in arrays):
+            continue
+        out[name] = ObjectMarks(ids, *arrays)
+    return out
+
+
+def _no_tof(project: Project, notes: list[str]) -> TofView:
+    """An all-invalid image of the built-in camera's size: no ToF camera captured."""
+    cfg = project.rig.tof
+    notes.append("no ToF camera captured in this frame")
+    shape = (cfg.height, cfg.width)
+    return TofView(np.full(shape, np.nan, np.float32), np.zeros(shape, np.float32),
+                   np.zeros(shape, bool), float(cfg.combined_unambiguous_range_m))
+
+
+def _sensor_transform(frame: Any, project: Project, name: str) -> F64:
+    """Sensor ``name``'s world transform in this frame (its buffer's, else its pose)."""
+    buffer = getattr(frame, "buffers", {}).get(name)
+    if buffer is not None:
+        return np.asarray(buffer.sensor.transform, dtype=np.float64)
+    from app.sensors import sensor_states  # the GUI's rigs: only for a sensor without buffer
+
+    return sensor_states(project, float(frame.time_s))[name].transform
+
+
 def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> FrameView:
     """Extract what the panels draw from a pipeline frame (runs in the worker thread)."""
     notes: list[str] = []
     timings = dict(frame.timings_ms)
-    tof = _tof_view(frame, project)
-    radar = _radar_view(frame, project, notes)
-    rgb = frame.outputs.get("rgb")
+    outputs = frame.outputs
+    tofs = {n: _tof_view(frame, project, n) for n in project.sensors_of_kind("tof")
+            if n in outputs}
+    radars = {n: radar_view_from_products(outputs[n].dsp, project,
+                                          _sensor_transform(frame, project, n),
+                                          labels=getattr(outputs[n], "labels", None), name=n)
+              for n in project.sensors_of_kind("radar")
+              if n in outputs and getattr(outputs[n], "dsp", None) is not None}
+    rgbs = {n: np.asarray(outputs[n].image) for n in project.sensors_of_kind("rgb")
+            if n in outputs}
+    # The first sensor of each kind that captured (the built-in one when it did).
+    tof = next(iter(tofs.values()), None) or _no_tof(project, notes)
+    radar = next(iter(radars.values()), None) or _radar_view(frame, project, notes)
+    marks = radar_object_marks(frame, project)
+    objects = object_marks(getattr(frame, "objects", None), project)  # issue #17
+    first_radar = next(iter(radars), "radar")
+    if first_radar != "radar":
+        objects = marks.get(first_radar)
+    rgb = next(iter(rgbs.values()), None)
     return FrameView(
         index=frame.index,
         time_s=float(frame.time_s),
         tof=tof,
         radar=radar,
-        rgb=None if rgb is None else np.asarray(rgb.image),
+        rgb=rgb,
         object_poses=np.asarray(frame.object_poses),
         rig_pose=np.asarray(frame.rig_pose),
         timings_ms=timings,
         render_count=render_count,
         notes=notes,
-        objects=object_marks(getattr(frame, "objects", None), project),  # issue #17
+        objects=objects,
+        tofs=tofs,
+        radars=radars,
+        rgbs=rgbs,
+        radar_objects=marks,
     )

@@ -641,7 +641,7 @@ class MainWindow(QMainWindow):
 
     def _follow_rig_sensors(self, *_: object) -> None:
         """Show the RGB camera's dock when the rig gains one, hide it when it has none."""
-        has_rgb = self.document.project.rig.rgb is not None
+        has_rgb = bool(self.document.project.sensors_of_kind("rgb"))
         if has_rgb != self._rgb_shown:
             self._rgb_shown = has_rgb
             # A live panel (drawn, exported) only while the rig carries the camera.
@@ -752,8 +752,8 @@ class MainWindow(QMainWindow):
             radar = project.rig.radar.model_copy(
                 update={"tx": before.rig.radar.tx, "rx": before.rig.radar.rx})
             rig = project.rig.model_copy(update={"radar": radar})
-            if (before.rig, before.dsp, before.timeline) == (rig, project.dsp,
-                                                             project.timeline):
+            if (before.rig, before.rigs, before.dsp, before.timeline) == (
+                    rig, project.rigs, project.dsp, project.timeline):
                 return cost, like[1]
         # Meshes come from the user's own file dialog (any folder); an empty scene is where
         # every new project starts: neither is refused while editing.

@@ -22,10 +22,11 @@ from typing import Any
 import numpy as np
 import pyqtgraph as pg
 from numpy.typing import NDArray
-from PyQt6.QtCore import QPointF, QRectF, Qt, pyqtSignal
+from PyQt6.QtCore import QPointF, QRectF, QSignalBlocker, Qt, pyqtSignal
 from PyQt6.QtGui import QColor, QFont
 from PyQt6.QtWidgets import (
     QCheckBox,
+    QComboBox,
     QGraphicsItem,
     QHBoxLayout,
     QLabel,
@@ -36,6 +37,7 @@ from PyQt6.QtWidgets import (
 )
 
 from app.frame_view import FrameView, ObjectMarks
+from app.sensors import follow_sensor
 from simcore.dsp.profile import range_profile_cfar
 from simcore.scene import Project
 from simcore.scene.dsp_config import DspConfig
@@ -184,6 +186,9 @@ class LivePanel(QWidget):
     objectClicked = pyqtSignal(int)
     #: Whether the panel has an A/B comparison (freeze a reference, show the difference).
     comparable = False
+    #: The kind of sensor the panel shows (``"tof"``, ``"radar"``, ``"rgb"``): a combo box
+    #: picks which one of that kind (issue #30); None: no choice.
+    sensor_kind: str | None = None
 
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
@@ -227,10 +232,22 @@ class LivePanel(QWidget):
         self._layout = QVBoxLayout(self)
         self._layout.setContentsMargins(2, 2, 2, 2)
         self._layout.setSpacing(1)
+        #: The sensor shown (None: the first of :attr:`sensor_kind`) and the project seen
+        #: last (to follow a renamed sensor).
+        self.sensor: str | None = None
+        self._project: Project | None = None
+        self.sensor_combo = QComboBox()
+        self.sensor_combo.setObjectName("sensor")
+        self.sensor_combo.setToolTip("The sensor this panel shows; the choice is kept across "
+                                     "frames and edits and follows a renamed sensor")
+        self.sensor_combo.activated.connect(
+            lambda _i: self.set_sensor(self.sensor_combo.currentText()))
 
     def _finish_layout(self, widget: QWidget) -> None:
         top = self.top_row = QHBoxLayout()
         top.setContentsMargins(0, 0, 0, 0)
+        if self.sensor_kind is not None:
+            top.addWidget(self.sensor_combo)
         top.addWidget(self.info, 1)
         if self.comparable:
             self._build_compare_buttons(top)
@@ -295,8 +312,55 @@ class LivePanel(QWidget):
         """Name of an object for marks and read-outs."""
         return self.object_names.get(int(object_id), f"object {object_id}")
 
+    def set_sensor(self, name: str) -> None:
+        """Show sensor ``name`` (of the panel's kind) from now on, redrawing the frame."""
+        if self._project is not None and self.sensor_kind is not None and \
+                name not in self._project.sensors_of_kind(self.sensor_kind):
+            raise KeyError(f"no {self.sensor_kind} sensor {name!r}")
+        changed = name != self.sensor
+        self.sensor = name
+        with QSignalBlocker(self.sensor_combo):
+            self.sensor_combo.setCurrentText(name)
+        if changed:
+            if self._project is not None:
+                self.set_project(self._project)
+            if self.comparable and self.reference is not None:
+                self.reference = None  # a reference of another sensor compares nothing
+                self.freeze_button.setText("Freeze A")
+                self.diff_button.setEnabled(False)
+                self.set_show_difference(False)
+            self.redraw()
+
+    def shown_sensor_config(self, project: Project) -> Any:
+        """Configuration of the sensor the panel shows (None: none of its kind)."""
+        if self.sensor_kind is None:
+            return None
+        names = project.sensors_of_kind(self.sensor_kind)
+        return names.get(self.sensor or "", next(iter(names.values()), None))
+
+    def _follow_sensors(self, project: Project) -> None:
+        """Keep the sensor shown through edits: follow a rename, else fall back."""
+        kind = self.sensor_kind
+        if kind is None:
+            return
+        names = list(project.sensors_of_kind(kind))
+        if self.sensor is not None:
+            self.sensor = follow_sensor(self._project, project, self.sensor, kind)
+        if self.sensor is None and names:
+            self.sensor = names[0]
+        with QSignalBlocker(self.sensor_combo):
+            if [self.sensor_combo.itemText(i) for i in range(self.sensor_combo.count())] \
+                    != names:
+                self.sensor_combo.clear()
+                self.sensor_combo.addItems(names)
+            if self.sensor is not None:
+                self.sensor_combo.setCurrentText(self.sensor)
+        self.sensor_combo.setVisible(len(names) > 1)
+
     def set_project(self, project: Project) -> None:
         """Follow the project: object names, the radar's angular coverage (subclasses more)."""
+        self._follow_sensors(project)
+        self._project = project
         self.object_names = {o.id: o.name for o in project.objects}
         self.hint.setVisible(not project.objects)
         self.coverage_deg = (project.dsp.azimuth_min_deg, project.dsp.azimuth_max_deg,
@@ -362,6 +426,13 @@ class LivePanel(QWidget):
         if self._pending is None:
             return
         view, self._pending = self._pending, None
+        if self.sensor_kind is not None and self.sensor is not None:
+            mine = view.for_sensor(self.sensor_kind, self.sensor)
+            if mine is None:  # the sensor did not capture in this frame: keep its last
+                _set_text(self.info, f"{self.sensor}: no capture in frame {view.index + 1} "
+                          "(its frame rate is lower); showing its last")
+                return
+            view = mine
         self.view = view
         try:
             self.draw(view)
@@ -438,6 +509,8 @@ def _colour_bar(plot_layout: pg.GraphicsLayout, image: pg.ImageItem, cmap: str, 
 
 class TofPanel(LivePanel):
     """ToF depth (m) and amplitude images with colour bars; invalid pixels in magenta."""
+
+    sensor_kind = "tof"
 
     title = "ToF camera"
 
@@ -561,6 +634,8 @@ class RangeProfilePanel(LivePanel):
     reference profile and the difference.
     """
 
+    sensor_kind = "radar"
+
     title = "Range profile"
     comparable = True
 
@@ -627,7 +702,7 @@ class RangeProfilePanel(LivePanel):
 
     def set_project(self, project: Project) -> None:  # noqa: D102
         super().set_project(project)
-        radar = project.rig.radar
+        radar = self.shown_sensor_config(project)
         self.dsp = project.dsp
         self.looks = max(1, len(radar.tx) * len(radar.rx) * radar.chirps_per_frame)
 
@@ -842,6 +917,8 @@ def _set_image_rect(image: pg.ImageItem, plot: pg.PlotItem, rect: QRectF) -> Non
 
 class MapPanel(LivePanel):
     """A radar map panel: image, colour bar, detections, truth marks, A/B difference."""
+
+    sensor_kind = "radar"
 
     comparable = True
     cmap = "viridis"

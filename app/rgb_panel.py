@@ -15,6 +15,8 @@ from app.panels import LivePanel, _set_text
 class RgbPanel(LivePanel):
     """Colour image (8-bit sRGB) of the RGB camera, from the frame's own snapshot."""
 
+    sensor_kind = "rgb"
+
     title = "RGB camera"
 
     def __init__(self, parent: QWidget | None = None):

@@ -44,6 +44,7 @@ from app.scene_edits import (
     import_mesh,
     rename_object,
 )
+from app.sensors import is_rig_key, rig_key, rig_of_key, rig_path
 from app.widgets import BIG, VectorEdit, set_quietly, spin, try_edit
 from simcore.scene import Project, fieldpath
 
@@ -97,6 +98,7 @@ class ObjectListPanel(QWidget):
 
     def _rebuild(self, project: Project) -> None:
         listed = [(o.id, o.name, o.geometry.kind, o.material) for o in project.objects]
+        listed.append([r.name for r in project.rigs])
         if listed == self._listed:
             return
         self._listed = listed
@@ -110,6 +112,14 @@ class ObjectListPanel(QWidget):
             rig.setData(Qt.ItemDataRole.UserRole, RIG)
             rig.setToolTip("The rig carrying both sensors: move it like an object")
             self.list.addItem(rig)
+            for i, other in enumerate(project.rigs, start=1):  # issue #30: further rigs
+                item = QListWidgetItem(f"Rig {other.name}")
+                item.setIcon(rig.icon())
+                item.setFont(font)
+                item.setData(Qt.ItemDataRole.UserRole, rig_key(project, i))
+                item.setToolTip(f"Rig {other.name} with {len(other.sensors)} sensors: move it "
+                                "like an object; its sensors are in the Sensors dock")
+                self.list.addItem(item)
             for obj in project.objects:
                 item = QListWidgetItem(obj.name)
                 item.setData(Qt.ItemDataRole.UserRole, obj.id)
@@ -130,7 +140,7 @@ class ObjectListPanel(QWidget):
                     break
             else:
                 self.list.clearSelection()
-        has_object = key is not None and key != RIG
+        has_object = key is not None and not is_rig_key(key)
         self.duplicate_button.setEnabled(has_object)
         self.delete_button.setEnabled(has_object)
 
@@ -140,7 +150,7 @@ class ObjectListPanel(QWidget):
 
     def _on_item_changed(self, item: QListWidgetItem) -> None:
         key = item.data(Qt.ItemDataRole.UserRole)
-        if key == RIG:
+        if is_rig_key(key):
             return
         name = item.text().strip()
         if not try_edit(self.editFailed.emit, lambda: rename_object(self.document, key, name)):
@@ -150,13 +160,13 @@ class ObjectListPanel(QWidget):
     def duplicate_selected(self) -> None:
         """Duplicate the selected object."""
         key = self.document.selection
-        if key is not None and key != RIG:
+        if key is not None and not is_rig_key(key):
             try_edit(self.editFailed.emit, lambda: duplicate_object(self.document, key))
 
     def delete_selected(self) -> None:
         """Delete the selected object."""
         key = self.document.selection
-        if key is not None and key != RIG:
+        if key is not None and not is_rig_key(key):
             try_edit(self.editFailed.emit, lambda: delete_object(self.document, key))
 
 
@@ -383,8 +393,9 @@ class ObjectInspector(QScrollArea):
     # --- paths ------------------------------------------------------------------------
     def _base_path(self) -> str | None:
         key = self.document.selection
-        if key == RIG:
-            return "rig"
+        rig = rig_of_key(self.document.project, key)
+        if rig is not None:
+            return rig_path(rig)
         idx = self.document.selected_index()
         return None if idx is None else f"objects[{idx}]"
 
@@ -392,6 +403,9 @@ class ObjectInspector(QScrollArea):
         """What the selection is called in undo texts: the object's name or "sensor rig"."""
         if self.document.selection == RIG:
             return "sensor rig"
+        rig = rig_of_key(self.document.project, self.document.selection)
+        if rig is not None:
+            return f"rig {self.document.project.all_rigs()[rig].name}"
         idx = self.document.selected_index()
         return "" if idx is None else self.document.project.objects[idx].name
 
@@ -436,7 +450,8 @@ class ObjectInspector(QScrollArea):
         project = self.document.project
         key = self.document.selection
         idx = self.document.selected_index()
-        is_rig = key == RIG
+        rig_i = rig_of_key(project, key)
+        is_rig = rig_i is not None
         has = is_rig or idx is not None
         self.object_box.setVisible(idx is not None)
         # Hidden, not greyed: greyed boxes would show the last selection's values.
@@ -445,9 +460,11 @@ class ObjectInspector(QScrollArea):
         if not has:
             self.heading.setText("Nothing selected — click an object in the 3D view or list")
             return
-        if is_rig:
-            self.heading.setText("Sensor rig — body frame x forward, y left, z up")
-            pose, motion = project.rig.pose, project.rig.motion
+        if rig_i is not None:
+            rig = project.all_rigs()[rig_i]
+            self.heading.setText(("Sensor rig" if rig_i == 0 else f"Rig {rig.name}")
+                                 + " — body frame x forward, y left, z up")
+            pose, motion = rig.pose, rig.motion
         else:
             assert idx is not None
             obj = project.objects[idx]
@@ -524,7 +541,7 @@ class ObjectInspector(QScrollArea):
     # --- edits ------------------------------------------------------------------------
     def _on_name(self) -> None:
         key = self.document.selection
-        if key is None or key == RIG:
+        if key is None or is_rig_key(key):
             return
         name = self.name_edit.text().strip()
         try_edit(self.editFailed.emit, lambda: rename_object(self.document, key, name),
@@ -544,8 +561,7 @@ class ObjectInspector(QScrollArea):
         base = self._base_path()
         if base is None:
             return []
-        motion = (self.document.project.rig.motion if base == "rig"
-                  else self.document.project.objects[self.document.selected_index()].motion)
+        motion = fieldpath.get(self.document.project, base).motion
         return [k.model_dump() for k in motion.keyframes]
 
     def _on_keyframe_edited(self, item: QTableWidgetItem) -> None:

@@ -32,6 +32,7 @@ MATERIAL_COLOURS = {
 
 TOF_COLOUR = "#3ddc97"
 RADAR_COLOUR = "#ff9f40"
+RGB_COLOUR = "#6ab0ff"
 SELECTION_COLOUR = "#ffd54a"
 
 
@@ -89,9 +90,12 @@ def frustum_edges(fov_h_deg: float, fov_v_deg: float, depth_m: float) -> pv.Poly
     return pv.PolyData(f.points, lines=lines)
 
 
-def radar_fov_v_deg(project: Project) -> float:
-    """Vertical field of view of the radar render grid (square pixels) (degrees)."""
-    r = project.rig.radar
+def radar_fov_v_deg(project: Project, radar: Any = None) -> float:
+    """Vertical field of view of a radar's render grid (square pixels) (degrees).
+
+    ``radar``: the radar's configuration (default the first rig's radar).
+    """
+    r = project.rig.radar if radar is None else radar
     return float(np.rad2deg(2 * np.arctan(np.tan(np.deg2rad(r.render_fov_h_deg) / 2)
                                           * r.render_height / r.render_width)))
 

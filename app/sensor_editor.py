@@ -38,6 +38,8 @@ from app.field_editors import (
     bind_number_box,
     commit_path,
 )
+from app.rig_editor import RigSensorList
+from app.sensors import sensor_path, sensor_states
 from app.tof_effects import TofEffectsBox
 from app.widgets import (
     BIG,
@@ -51,7 +53,7 @@ from app.widgets import (
     try_edit,
 )
 from app.wrap_row import WrapRow
-from simcore.scene import Project
+from simcore.scene import Project, fieldpath
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig, aliasing_warnings
 from simcore.scene.radar_presets import RADAR_PRESETS
 from simcore.scene.snapshot import take_snapshot
@@ -87,10 +89,11 @@ def angle_resolution_deg(config: RadarConfig) -> tuple[float | None, float | Non
     return out[0], out[1]
 
 
-def scene_radial_extent(project: Project, t: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-    """Ranges (m) and radial velocities (m/s) of the object origins seen from the radar."""
+def scene_radial_extent(project: Project, t: float = 0.0, radar_name: str = "radar"
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """Ranges (m) and radial velocities (m/s) of the object origins seen from a radar."""
     snap = take_snapshot(project, t)
-    radar = snap.sensors["radar"]
+    radar = sensor_states(project, t)[radar_name]
     ranges, velocities = [], []
     for state in snap.objects:
         d = state.origin - radar.position
@@ -106,14 +109,16 @@ def scene_radial_extent(project: Project, t: float = 0.0) -> tuple[np.ndarray, n
     return np.array(ranges), np.array(velocities)
 
 
-def radar_warnings(project: Project, extent: tuple[np.ndarray, np.ndarray] | None = None
-                   ) -> list[str]:
-    """Aliasing and array warnings for the project's radar (empty if none).
+def radar_warnings(project: Project, extent: tuple[np.ndarray, np.ndarray] | None = None,
+                   radar_name: str = "radar") -> list[str]:
+    """Aliasing and array warnings for one radar of the project (empty if none).
 
     ``extent`` is :func:`scene_radial_extent` of the project when already known.
     """
-    cfg = project.rig.radar
-    ranges, velocities = scene_radial_extent(project) if extent is None else extent
+    cfg = project.sensor_config(radar_name)
+    assert isinstance(cfg, RadarConfig)
+    ranges, velocities = (scene_radial_extent(project, radar_name=radar_name) if extent is None
+                          else extent)
     return aliasing_warnings(cfg, ranges_m=ranges, radial_velocities_mps=velocities)
 
 
@@ -205,7 +210,12 @@ SENSOR_FIELDS: dict[str, FieldSpec] = {
 
 
 class SensorEditor(QScrollArea):
-    """Edit the ToF camera and the radar of the rig; shows derived radar quantities."""
+    """Edit the rigs and sensors, and the ToF camera and radar picked; derived quantities.
+
+    The first page lists every rig and sensor (:class:`app.rig_editor.RigSensorList`); the
+    Radar, Link budget and ToF camera pages edit the radar and ToF camera picked there
+    (:meth:`ProjectDocument.current_sensor`), the built-in ones until another is picked.
+    """
 
     editFailed = pyqtSignal(str)
 
@@ -219,6 +229,9 @@ class SensorEditor(QScrollArea):
         outer.setContentsMargins(2, 2, 2, 2)
         self.tabs = QTabWidget()
         outer.addWidget(self.tabs)
+        self.rigs = RigSensorList(document)  # issue #30: every rig and sensor
+        self.rigs.editFailed.connect(self.editFailed)
+        self.tabs.addTab(self.rigs, "Rigs and sensors")
         radar_page = WrapRow()  # the derived column wraps below when narrow (issue #34)
         radar_page.box.setContentsMargins(2, 2, 2, 2)
         radar_page.add(self._build_radar(), 1)
@@ -227,14 +240,21 @@ class SensorEditor(QScrollArea):
         self.tabs.addTab(self._build_link_budget(), "Link budget")
         self.tabs.addTab(self._build_dsp_page(), "Radar processing")
         self.tabs.addTab(self._build_tof(), "ToF camera")
+        self.tabs.setCurrentIndex(1)  # the Radar page first, as before issue #30
         self._extent_key: tuple[Any, ...] | None = None
         self._extent: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
         document.projectChanged.connect(self.refresh)
+        document.currentSensorChanged.connect(self.refresh)
         self.refresh()
 
     # --- construction -----------------------------------------------------------------
+    def _which(self, kind: str) -> str:
+        """“radar_b on rig2”: the sensor of ``kind`` edited now."""
+        name = self.document.current_sensor(kind) or kind
+        return f"{name} on {self.document.project.sensor_rig(name).name}"
+
     def _build_tof(self) -> QWidget:
-        box = QGroupBox("ToF camera (AMCW)")
+        box = self.tof_box = QGroupBox("ToF camera (AMCW)")
         form = QFormLayout(box)
         self.tof_preset = QComboBox()
         self.tof_preset.addItems(sorted(tof_presets()))
@@ -295,7 +315,7 @@ class SensorEditor(QScrollArea):
         return box
 
     def _build_radar(self) -> QWidget:
-        box = QGroupBox("Radar (FMCW)")
+        box = self.radar_box = QGroupBox("Radar (FMCW)")
         form = QFormLayout(box)
         self.radar_preset = QComboBox()
         self.radar_preset.addItems(sorted(radar_presets()))
@@ -354,7 +374,7 @@ class SensorEditor(QScrollArea):
         box.setToolTip("Transmit power, antenna gains and the receiver chain: they set the "
                        "signal and noise levels of the ADC data")
         layout = QVBoxLayout(box)
-        self.link_form = FieldForm(self.document, LINK_BUDGET)
+        self.link_form = FieldForm(self.document, LINK_BUDGET, path_map=self._path)
         self.link_form.editFailed.connect(self.editFailed)
         layout.addWidget(self.link_form)
         layout.addStretch(1)
@@ -447,16 +467,41 @@ class SensorEditor(QScrollArea):
         if isinstance(widget, VectorEdit):
             for i, box in enumerate(widget.boxes):
                 bind_number_box(box, spec, widget, i)
-            widget.edited.connect(lambda v: commit_path(self.document, spec, v, widget))
+            widget.edited.connect(lambda v: commit_path(self.document, spec, v, widget,
+                                                        path=self._path(spec.path)))
         else:
             bind_number_box(widget, spec)
-            widget.valueChanged.connect(lambda v: commit_path(self.document, spec, v, widget))
+            widget.valueChanged.connect(lambda v: commit_path(self.document, spec, v, widget,
+                                                              path=self._path(spec.path)))
+
+    def _path(self, path: str) -> str:
+        """``path`` of the built-in ToF camera or radar, for the sensor edited now.
+
+        ``rig.radar.bandwidth_hz`` → ``rigs[0].sensors.radar_b.bandwidth_hz`` while the
+        editor edits radar ``radar_b`` (issue #30); other paths are kept.
+        """
+        for kind in ("tof", "radar"):
+            head = f"rig.{kind}."
+            if path.startswith(head):
+                name = self.document.current_sensor(kind)
+                if name is not None:
+                    return f"{sensor_path(self.document.project, name)}.{path[len(head):]}"
+        return path
+
+    def tof_config(self) -> Any:
+        """The configuration of the ToF camera edited now."""
+        return self.document.project.sensor_config(self.document.current_sensor("tof") or "tof")
+
+    def radar_config(self) -> Any:
+        """The configuration of the radar edited now."""
+        return self.document.project.sensor_config(
+            self.document.current_sensor("radar") or "radar")
 
     def _set(self, path: str, value: Any, field: QWidget | None = None, *,
              text: str) -> None:
         """Set a choice or switch; a refused value stays in ``field``, marked with why."""
         try_edit(self.editFailed.emit,
-                 lambda: self.document.set_value(path, value, text=text),
+                 lambda: self.document.set_value(self._path(path), value, text=text),
                  self.refresh, field=field)
 
     def _set_frequencies(self, field: QWidget) -> None:
@@ -464,16 +509,20 @@ class SensorEditor(QScrollArea):
         if self.tof_f2_on.isChecked():
             shown.append(self.tof_f2.value())
         spec = SENSOR_FIELDS["tof_f"]
-        commit_path(self.document, spec, shown, field,
+        commit_path(self.document, spec, shown, field, path=self._path(spec.path),
                     text=f"Set modulation frequencies to {spec.text(spec.to_si(shown))}")
 
     def apply_tof_preset(self, name: str) -> None:
         """Replace the ToF settings by preset ``name``, keeping the mounting pose."""
         cfg = tof_presets()[name]().model_dump()
+        path = self._path("rig.tof.x").removesuffix(".x")
 
         def mutate(d: dict[str, Any]) -> None:
-            cfg["pose_on_rig"] = d["rig"]["tof"]["pose_on_rig"]
-            d["rig"]["tof"] = cfg
+            old = fieldpath.get(d, path)
+            for keep in ("pose_on_rig", "kind", "frame_rate_hz", "trigger_offset_s"):
+                if keep in old:
+                    cfg[keep] = old[keep]
+            fieldpath.set_in(d, path, cfg)
 
         try_edit(self.editFailed.emit,
                  lambda: self.document.edit(f"ToF preset {name}", mutate), self.refresh,
@@ -482,12 +531,15 @@ class SensorEditor(QScrollArea):
     def apply_radar_preset(self, name: str) -> None:
         """Replace the radar settings by preset ``name``, keeping pose and render grid."""
         cfg = radar_presets()[name]().model_dump()
+        path = self._path("rig.radar.x").removesuffix(".x")
 
         def mutate(d: dict[str, Any]) -> None:
-            old = d["rig"]["radar"]
-            for keep in ("pose_on_rig", "render_width", "render_height", "render_fov_h_deg"):
-                cfg[keep] = old[keep]
-            d["rig"]["radar"] = cfg
+            old = fieldpath.get(d, path)
+            for keep in ("pose_on_rig", "render_width", "render_height", "render_fov_h_deg",
+                         "kind", "frame_rate_hz", "trigger_offset_s"):
+                if keep in old:
+                    cfg[keep] = old[keep]
+            fieldpath.set_in(d, path, cfg)
 
         try_edit(self.editFailed.emit,
                  lambda: self.document.edit(f"Radar preset {name}", mutate), self.refresh,
@@ -497,7 +549,10 @@ class SensorEditor(QScrollArea):
     def refresh(self, *_: object) -> None:
         """Show the project's sensor settings and the derived quantities."""
         project = self.document.project
-        tof, radar = project.rig.tof, project.rig.radar
+        tof, radar = self.tof_config(), self.radar_config()
+        self.tof_box.setTitle(f"ToF camera (AMCW) — {self._which('tof')}")
+        self.radar_box.setTitle(f"Radar (FMCW) — {self._which('radar')}")
+        self.link_form.refresh()
         with QSignalBlocker(self.tof_preset):
             self.tof_preset.setCurrentText(tof.preset)
         set_quietly(self.tof_width, tof.width)
@@ -544,7 +599,8 @@ class SensorEditor(QScrollArea):
     def refresh_derived(self) -> None:
         """Recompute the derived radar quantities and warnings."""
         project = self.document.project
-        radar = project.rig.radar
+        radar = self.radar_config()
+        name = self.document.current_sensor("radar") or "radar"
         az, el = angle_resolution_deg(radar)
         lam = radar.wavelength_m
         rows = [
@@ -565,10 +621,11 @@ class SensorEditor(QScrollArea):
             f"<tr><td style='color:#9aa4ae; padding-right:8px'>{k}</td><td>{v}</td></tr>"
             for k, v in rows) + "</table>")
         # The scene's ranges and velocities need a snapshot: only when the scene moved.
-        key = (project.objects, project.rig.pose, project.rig.motion, radar.pose_on_rig)
+        rig = project.sensor_rig(name)
+        key = (name, project.objects, rig.pose, rig.motion, radar.pose_on_rig)
         if key != self._extent_key:
-            self._extent_key, self._extent = key, scene_radial_extent(project)
-        warnings = radar_warnings(project, self._extent)
+            self._extent_key, self._extent = key, scene_radial_extent(project, radar_name=name)
+        warnings = radar_warnings(project, self._extent, radar_name=name)
         self.warnings.setText("\n".join(f"⚠ {w}" for w in warnings))
         self.warnings.setVisible(bool(warnings))
 

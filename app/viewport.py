@@ -19,13 +19,14 @@ from numpy.typing import NDArray
 from PyQt6.QtCore import QTimer, pyqtSignal
 from PyQt6.QtWidgets import QButtonGroup, QHBoxLayout, QLabel, QToolButton, QVBoxLayout, QWidget
 from pyvista.plotting.affine_widget import AffineWidget3D
-from vtkmodules.vtkRenderingCore import vtkPropPicker
+from vtkmodules.vtkRenderingCore import vtkBillboardTextActor3D, vtkPropPicker
 
-from app.document import RIG, EditError, ProjectDocument
+from app.document import EditError, ProjectDocument
 from app.frame_view import FrameView
 from app.offscreen_view import OffscreenCanvas
 from app.scene_geometry import (
     RADAR_COLOUR,
+    RGB_COLOUR,
     SELECTION_COLOUR,
     TOF_COLOUR,
     PersonPoser,
@@ -36,8 +37,10 @@ from app.scene_geometry import (
     material_colour,
     radar_fov_v_deg,
 )
+from app.sensors import rig_key, rig_of_key, rig_path, rig_states, sensor_states
 from simcore.scene import Project
 from simcore.scene.materials import BandMaterial
+from simcore.scene.model import sensor_kind
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
 from simcore.sensors.tof.camera import slab_transmittance
 
@@ -181,6 +184,9 @@ class SceneViewport(QWidget):
         #: id -> (actor, (colour, opacity, selected)) as last set on the actor's property.
         self._styles: dict[int, tuple[Any, tuple[Any, ...]]] = {}
         self._rig_actors: dict[str, Any] = {}
+        #: Sensor kind of each frustum, edge and name actor in ``_rig_actors`` (issue #30).
+        self._sensor_kinds: dict[str, str] = {}
+        self._fov_visible: dict[str, bool] = {}
         self._sensor_key = ""
         self._cloud: pv.PolyData | None = None
         self._cloud_actor: Any = None
@@ -380,7 +386,8 @@ class SceneViewport(QWidget):
         return (project.objects, project.materials, rig.pose, rig.motion,
                 rig.tof.pose_on_rig, rig.radar.pose_on_rig, rig.tof.fov_h_deg,
                 rig.tof.fov_v_deg, rig.tof.unambiguous_range_m, rig.radar.render_fov_h_deg,
-                radar_fov_v_deg(project), rig.radar.max_range_m)
+                radar_fov_v_deg(project), rig.radar.max_range_m, rig.sensors, project.rigs,
+                rig.rgb)
 
     def _sync(self, project: Project) -> None:
         if self._closed:
@@ -529,50 +536,85 @@ class SceneViewport(QWidget):
         actor.user_matrix = np.eye(4)
         return True
 
+    @staticmethod
+    def _sensor_actor_names(name: str) -> tuple[str, str]:
+        """Keys in ``_rig_actors`` of a sensor's frustum and edges (built-ins: as before)."""
+        if name in ("tof", "radar"):
+            return f"{name}_fov", f"{name}_edges"
+        return f"fov:{name}", f"edges:{name}"
+
+    @staticmethod
+    def _sensor_look(project: Project, cfg: Any) -> tuple[str, float, float, float, float]:
+        """(colour, h fov, v fov, depth, face opacity) of a sensor's drawn frustum."""
+        kind = sensor_kind(cfg)
+        if kind == "tof":
+            return (TOF_COLOUR, cfg.fov_h_deg, cfg.fov_v_deg,
+                    min(cfg.unambiguous_range_m, 4.0), 0.06)
+        if kind == "radar":
+            return (RADAR_COLOUR, cfg.render_fov_h_deg, radar_fov_v_deg(project, cfg),
+                    min(cfg.max_range_m, 6.0), 0.04)
+        return RGB_COLOUR, cfg.fov_h_deg, cfg.fov_v_deg, 2.0, 0.04
+
     def _sync_rig(self, project: Project, snap: SceneSnapshot) -> None:
-        rig = project.rig
-        key = (f"{rig.tof.fov_h_deg},{rig.tof.fov_v_deg},{rig.tof.unambiguous_range_m},"
-               f"{rig.radar.render_fov_h_deg},{radar_fov_v_deg(project)},{rig.radar.max_range_m}")
+        """Draw every rig (body, axes) and every sensor (frustum and name), issue #30."""
+        rigs = project.all_rigs()
+        looks = {name: (sensor_kind(cfg), self._sensor_look(project, cfg))
+                 for rig in rigs for name, cfg in rig.sensor_configs().items()}
+        key = repr(([r.name for r in rigs], looks))
         if key != self._sensor_key:
             for actor in self._rig_actors.values():
                 self.plotter.remove_actor(actor, render=False)
             self._rig_actors = {}
+            self._sensor_kinds = {}
             p = self.plotter
-            body = pv.Box(bounds=(-0.04, 0.02, -0.09, 0.09, -0.03, 0.03))
-            self._rig_actors["body"] = p.add_mesh(body, color="#5a6b7d", render=False,
-                                                  name="rig-body")
-            arrows = (pv.Arrow(start=(0, 0, 0), direction=(1, 0, 0), scale=0.25)
-                      + pv.Arrow(start=(0, 0, 0), direction=(0, 1, 0), scale=0.15)
-                      + pv.Arrow(start=(0, 0, 0), direction=(0, 0, 1), scale=0.15))
-            self._rig_actors["axes"] = p.add_mesh(arrows, color="#9fb3c8", render=False,
-                                                  pickable=False, name="rig-axes")
-            tof_depth = min(rig.tof.unambiguous_range_m, 4.0)
-            radar_depth = min(rig.radar.max_range_m, 6.0)
-            tof_fov = (rig.tof.fov_h_deg, rig.tof.fov_v_deg)
-            radar_fov = (rig.radar.render_fov_h_deg, radar_fov_v_deg(project))
-            self._rig_actors["tof_fov"] = p.add_mesh(
-                frustum(*tof_fov, tof_depth), color=TOF_COLOUR, opacity=0.06, pickable=False,
-                render=False, name="tof-fov")
-            self._rig_actors["tof_edges"] = p.add_mesh(
-                frustum_edges(*tof_fov, tof_depth), color=TOF_COLOUR, line_width=1.5,
-                pickable=False, render=False, name="tof-fov-edges")
-            self._rig_actors["radar_fov"] = p.add_mesh(
-                frustum(*radar_fov, radar_depth), color=RADAR_COLOUR, opacity=0.04,
-                pickable=False, render=False, name="radar-fov")
-            self._rig_actors["radar_edges"] = p.add_mesh(
-                frustum_edges(*radar_fov, radar_depth), color=RADAR_COLOUR, line_width=1.5,
-                pickable=False, render=False, name="radar-fov-edges")
+            for i, rig in enumerate(rigs):
+                suffix = "" if i == 0 else f":{rig.name}"
+                body = pv.Box(bounds=(-0.04, 0.02, -0.09, 0.09, -0.03, 0.03))
+                self._rig_actors["body" + suffix] = p.add_mesh(
+                    body, color="#5a6b7d", render=False, name="rig-body" + suffix)
+                arrows = (pv.Arrow(start=(0, 0, 0), direction=(1, 0, 0), scale=0.25)
+                          + pv.Arrow(start=(0, 0, 0), direction=(0, 1, 0), scale=0.15)
+                          + pv.Arrow(start=(0, 0, 0), direction=(0, 0, 1), scale=0.15))
+                self._rig_actors["axes" + suffix] = p.add_mesh(
+                    arrows, color="#9fb3c8", render=False, pickable=False,
+                    name="rig-axes" + suffix)
+            for name, (kind, (colour, fov_h, fov_v, depth, opacity)) in looks.items():
+                fov, edges = self._sensor_actor_names(name)
+                self._rig_actors[fov] = p.add_mesh(
+                    frustum(fov_h, fov_v, depth), color=colour, opacity=opacity,
+                    pickable=False, render=False, name=f"fov-{name}")
+                self._rig_actors[edges] = p.add_mesh(
+                    frustum_edges(fov_h, fov_v, depth), color=colour, line_width=1.5,
+                    pickable=False, render=False, name=f"edges-{name}")
+                label = vtkBillboardTextActor3D()
+                label.SetInput(name)
+                label.GetTextProperty().SetColor(pv.Color(colour).float_rgb)
+                label.GetTextProperty().SetFontSize(13)
+                label.GetTextProperty().SetBold(True)
+                label.SetPickable(False)
+                p.add_actor(label, name=f"label-{name}", render=False, pickable=False)
+                self._rig_actors[f"label:{name}"] = label
+                for k in (fov, edges, f"label:{name}"):
+                    self._sensor_kinds[k] = kind
             self._sensor_key = key
-        rig_t = snap.rig.transform
-        self._rig_actors["body"].user_matrix = rig_t
-        self._rig_actors["axes"].user_matrix = rig_t
-        for name in ("tof_fov", "tof_edges"):
-            self._rig_actors[name].user_matrix = snap.sensors["tof"].transform
-        for name in ("radar_fov", "radar_edges"):
-            self._rig_actors[name].user_matrix = snap.sensors["radar"].transform
-        body = self._rig_actors["body"].prop
-        body.show_edges = self.document.selection == RIG
-        body.edge_color = SELECTION_COLOUR
+            self._apply_fov_visibility()
+        states = sensor_states(project, snap.time_s)
+        for i, (rig, state) in enumerate(zip(rigs, rig_states(project, snap.time_s),
+                                             strict=True)):
+            suffix = "" if i == 0 else f":{rig.name}"
+            rig_t = snap.rig.transform if i == 0 else state.transform
+            self._rig_actors["body" + suffix].user_matrix = rig_t
+            self._rig_actors["axes" + suffix].user_matrix = rig_t
+            body = self._rig_actors["body" + suffix].prop
+            body.show_edges = self.document.selection == rig_key(project, i)
+            body.edge_color = SELECTION_COLOUR
+        for name in looks:
+            transform = snap.sensors[name].transform if name in snap.sensors else \
+                states[name].transform
+            for k in self._sensor_actor_names(name):
+                self._rig_actors[k].user_matrix = transform
+            # The name floats just above the sensor (world z up).
+            self._rig_actors[f"label:{name}"].SetPosition(*(transform[:3, 3] + (0, 0, 0.07)))
 
     # --- band views ---------------------------------------------------------------------
     @property
@@ -654,12 +696,17 @@ class SceneViewport(QWidget):
         return x0, x1, y0, y1
 
     def set_sensor_fov_visible(self, *, tof: bool, radar: bool) -> None:
-        """Show or hide the ToF and radar field-of-view frustums."""
-        for name in ("tof_fov", "tof_edges"):
-            self._rig_actors[name].SetVisibility(tof)
-        for name in ("radar_fov", "radar_edges"):
-            self._rig_actors[name].SetVisibility(radar)
+        """Show or hide the field-of-view frustums of every ToF camera and every radar."""
+        self._fov_visible = {"tof": tof, "radar": radar}
+        self._apply_fov_visibility()
         self.request_render()
+
+    def _apply_fov_visibility(self) -> None:
+        # An RGB camera's frustum follows the ToF switch (the window's one switch sets both).
+        for key, kind in self._sensor_kinds.items():
+            if not key.startswith("label:"):
+                on = self._fov_visible.get("tof" if kind == "rgb" else kind, True)
+                self._rig_actors[key].SetVisibility(on)
 
     def reset_camera(self) -> None:
         """Look at the scene from behind, beside and above the rig, z up.
@@ -782,8 +829,10 @@ class SceneViewport(QWidget):
         for oid, (_, a) in self._actors.items():
             if a is actor:
                 return oid
-        if actor is self._rig_actors.get("body"):
-            return RIG
+        project = self.document.project
+        for i, rig in enumerate(project.all_rigs()):
+            if actor is self._rig_actors.get("body" if i == 0 else f"body:{rig.name}"):
+                return rig_key(project, i)
         return None
 
     def display_position_of(self, key: SelectionKey) -> tuple[int, int] | None:
@@ -794,8 +843,9 @@ class SceneViewport(QWidget):
         snap = self._snapshot
         if snap is None:
             return None
-        if key == RIG:
-            world = snap.rig.origin
+        rig = rig_of_key(self.document.project, key)
+        if rig is not None:
+            world = rig_states(self.document.project, snap.time_s)[rig].origin
         else:
             try:
                 index = self.document.index_of(int(key))  # type: ignore[arg-type]
@@ -821,8 +871,9 @@ class SceneViewport(QWidget):
         snap = self._snapshot
         if key is None or snap is None:
             return None
-        if key == RIG:
-            return snap.rig.transform
+        rig = rig_of_key(self.document.project, key)
+        if rig is not None:
+            return rig_states(self.document.project, snap.time_s)[rig].transform
         idx = self.document.selected_index()
         return None if idx is None else snap.objects[idx].transform
 
@@ -868,11 +919,13 @@ class SceneViewport(QWidget):
         world = np.asarray(world, dtype=float)
         merge = f"drag:{key}"
         try:
-            if key == RIG:
-                pose = base_pose_for_world(project.rig.pose, project.rig.motion, self._time_s,
-                                           world)
-                self.document.set_value("rig.pose", pose.model_dump(), text="Move sensor rig",
-                                        merge_key=merge)
+            rig_i = rig_of_key(project, key)
+            if rig_i is not None:
+                rig = project.all_rigs()[rig_i]
+                pose = base_pose_for_world(rig.pose, rig.motion, self._time_s, world)
+                self.document.set_value(f"{rig_path(rig_i)}.pose", pose.model_dump(),
+                                        text="Move sensor rig" if rig_i == 0
+                                        else f"Move rig {rig.name}", merge_key=merge)
             else:
                 idx = self.document.index_of(int(key))
                 obj = project.objects[idx]
