@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -757,10 +758,27 @@ def changed_pixels(raster: Raster, background: tuple[Raster, RenderBuffers] | No
     return _differing(raster, ref)
 
 
+#: The last few :func:`_differing` results with the rasters they compared: the engine asks
+#: for a frame's changed pixels and then shades over the same background, which asks again.
+_DIFFERING: dict[tuple[int, int], tuple[Raster, Raster, NDArray[np.intp] | None]] = {}
+_DIFFERING_LOCK = threading.Lock()
+
+
 def _differing(raster: Raster, ref: Raster) -> NDArray[np.intp] | None:
-    """Pixels whose label differs, None when they are more than half."""
+    """Pixels whose label differs (read-only), None when they are more than half."""
+    key = (id(raster), id(ref))
+    with _DIFFERING_LOCK:
+        hit = _DIFFERING.get(key)
+    if hit is not None and hit[0] is raster and hit[1] is ref:
+        return hit[2]
     changed = np.flatnonzero(raster.labels.ravel() != ref.labels.ravel())
-    return changed if changed.size <= raster.labels.size // 2 else None
+    changed.setflags(write=False)
+    out = changed if changed.size <= raster.labels.size // 2 else None
+    with _DIFFERING_LOCK:
+        while len(_DIFFERING) >= 8:     # the oldest first (insertion order)
+            del _DIFFERING[next(iter(_DIFFERING))]
+        _DIFFERING[key] = (raster, ref, out)
+    return out
 
 
 def _shade_pixels(raster: Raster, idx: NDArray[np.intp] | None
