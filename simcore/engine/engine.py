@@ -2,9 +2,10 @@
 
 One frame is: snapshot → a render pass per sensor (GPU, on the calling thread, which owns
 the VTK windows) → shading and the sensor's simulation. Sensors that ask for it
-(``on_worker``, the radar) run their shading and simulation on one worker thread while the
-calling thread renders and simulates the others; numpy and finufft release the GIL, so on
-two cores the chains overlap.
+(``on_worker``: the ToF camera and the radar) run their shading and simulation each on its
+own worker thread, while the calling thread renders the next frame and simulates the others;
+numpy, finufft and the compiled kernels release the GIL, so on two cores the chains overlap
+and no chain waits for the calling thread's renders of another sensor.
 
 Every step goes through the engine's one :class:`~simcore.engine.cache.StageCache`. A
 render is keyed by the scene's version, the pass and the poses and velocities of the
@@ -138,7 +139,7 @@ class FrameEngine:
         Use the stage cache and the still-background accelerator (default). False runs
         every step of every frame: the plain path the accelerated one is tested against.
     threads : bool
-        Run ``on_worker`` sensors on a worker thread (default).
+        Run each ``on_worker`` sensor on its own worker thread (default).
     """
 
     def __init__(self, project: Project, *, base_dir: Path | None = None,
@@ -153,7 +154,7 @@ class FrameEngine:
         self.cache = StageCache(keep=6, enabled=accelerate)
         self.background = StillBackground() if accelerate else None
         self.threads = threads
-        self._worker: ThreadPoolExecutor | None = None
+        self._workers: dict[str, ThreadPoolExecutor] = {}
         self._post: ThreadPoolExecutor | None = None
         self._scene_json = ""
         self._scene_version = 0
@@ -253,7 +254,7 @@ class FrameEngine:
                 chain = self._sensor_chain(sensor, snap, index, timings, flight.through,
                                            plain=plain)
                 if sensor.on_worker and self.threads:
-                    flight.futures[sensor.name] = self._pool().submit(chain)
+                    flight.futures[sensor.name] = self._pool(sensor.name).submit(chain)
                 else:
                     flight.results[sensor.name] = chain()
         except BaseException:
@@ -398,11 +399,13 @@ class FrameEngine:
         """GPU passes run so far (edits of antennas or DSP settings do not add any)."""
         return self.renderer.render_count
 
-    def _pool(self) -> ThreadPoolExecutor:
-        if self._worker is None:
-            self._worker = ThreadPoolExecutor(max_workers=1, thread_name_prefix="sensor-chain",
-                                              initializer=_single_threaded_blas)
-        return self._worker
+    def _pool(self, sensor: str) -> ThreadPoolExecutor:
+        """The sensor's own worker thread: its frames run in order, beside other sensors'."""
+        if sensor not in self._workers:
+            self._workers[sensor] = ThreadPoolExecutor(
+                max_workers=1, thread_name_prefix=f"sensor-chain-{sensor}",
+                initializer=_single_threaded_blas)
+        return self._workers[sensor]
 
     def _defer(self, rest: Callable[[], SensorOutput]) -> DeferredOutput:
         """Run a sensor's last steps on the post thread (frames in order)."""
@@ -416,9 +419,9 @@ class FrameEngine:
         if self._ahead is not None:
             _drain(self._ahead)
             self._ahead = None
-        if self._worker is not None:
-            self._worker.shutdown(wait=True)
-            self._worker = None
+        for worker in self._workers.values():
+            worker.shutdown(wait=True)
+        self._workers.clear()
         if self._post is not None:
             self._post.shutdown(wait=True)
             self._post = None
