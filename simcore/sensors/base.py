@@ -164,8 +164,8 @@ class Sensor(Protocol):
         Its independent random stream (unique per sensor; changing one sensor leaves the
         others' noise untouched).
     on_worker : bool
-        Whether the engine runs its simulation on the worker thread (beside the
-        calling thread's rendering and the other sensors).
+        Whether the engine runs its shading and simulation on a worker thread of its own
+        (beside the calling thread's rendering and the other sensors).
     """
 
     name: str

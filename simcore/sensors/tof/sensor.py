@@ -23,7 +23,7 @@ class TofSensor:
     name = "tof"
     band = "tof"
     rng_stream = 0
-    on_worker = False
+    on_worker = True
 
     def render_request(self, project: Project) -> RenderRequest:
         """The supersampled near-infrared pass from the camera."""
