@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import ctypes
 import dataclasses
+import functools
 import time
 from collections.abc import Callable, Hashable, Iterable, Iterator, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -155,7 +156,7 @@ class FrameEngine:
         self.background = StillBackground() if accelerate else None
         self.threads = threads
         self._workers: dict[str, ThreadPoolExecutor] = {}
-        self._post: ThreadPoolExecutor | None = None
+        self._posts: dict[str, ThreadPoolExecutor] = {}
         self._scene_json = ""
         self._scene_version = 0
         self._ahead: _InFlight | None = None
@@ -360,7 +361,8 @@ class FrameEngine:
                 rng=frame_rng(self.seed, index, sensor.rng_stream), stage=stage,
                 background=(None if background is None
                             else Background(background[1], background[2], bg_see_through)),
-                see_through=see_through, defer=self._defer if self.threads else None)
+                see_through=see_through,
+                defer=functools.partial(self._defer, sensor.name) if self.threads else None)
             return buffers, sensor.simulate(ctx)
 
         return chain
@@ -407,12 +409,16 @@ class FrameEngine:
                 initializer=_single_threaded_blas)
         return self._workers[sensor]
 
-    def _defer(self, rest: Callable[[], SensorOutput]) -> DeferredOutput:
-        """Run a sensor's last steps on the post thread (frames in order)."""
-        if self._post is None:
-            self._post = ThreadPoolExecutor(max_workers=1, thread_name_prefix="sensor-post",
-                                            initializer=_single_threaded_blas)
-        return DeferredOutput(self._post.submit(rest))
+    def _defer(self, sensor: str, rest: Callable[[], SensorOutput]) -> DeferredOutput:
+        """Run a sensor's last steps on its post thread (its frames in order).
+
+        Each sensor has its own: one sensor's deferred steps do not queue behind another's.
+        """
+        if sensor not in self._posts:
+            self._posts[sensor] = ThreadPoolExecutor(
+                max_workers=1, thread_name_prefix=f"sensor-post-{sensor}",
+                initializer=_single_threaded_blas)
+        return DeferredOutput(self._posts[sensor].submit(rest))
 
     def close(self) -> None:
         """Release the rendering resources and the worker thread."""
@@ -422,9 +428,9 @@ class FrameEngine:
         for worker in self._workers.values():
             worker.shutdown(wait=True)
         self._workers.clear()
-        if self._post is not None:
-            self._post.shutdown(wait=True)
-            self._post = None
+        for post in self._posts.values():
+            post.shutdown(wait=True)
+        self._posts.clear()
         self.renderer.close()
 
 

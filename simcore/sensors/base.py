@@ -127,10 +127,10 @@ class SensorContext:
         behind the band's partially transparent objects); None when it hides nothing.
     defer : callable or None
         ``defer(rest)`` runs ``rest()`` — the frame's last steps, returning the output —
-        on the engine's post thread and returns a :class:`DeferredOutput` for
+        on the sensor's post thread and returns a :class:`DeferredOutput` for
         :meth:`Sensor.simulate` to return: the sensor's chain is then free for the next
-        frame (a pipeline stage). The post thread runs frames in order. None: no post
-        thread (return ``rest()``).
+        frame (a pipeline stage). Each sensor has its own post thread, which runs its
+        frames in order. None: no post thread (return ``rest()``).
     """
 
     project: Project
