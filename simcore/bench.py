@@ -5,13 +5,21 @@ and reports per-stage medians, the frame rate, the IF synthesis error against th
 direct sum and its speed-up, and the latency of an antenna edit (the GUI's drag path: cached
 renders and scatterers, synthesis + DSP only). Timings are wall-clock medians; the machine
 load is reported with them because other jobs on a shared machine change them.
+
+CPU time changes much less with the load than wall time, so the benchmark also reports the
+CPU time of each thread per frame (:func:`thread_cpu`) and from it the frame time a machine
+with two free cores cannot beat: the busiest thread's CPU time (each thread runs its chain
+in order) or half the process's, whichever is larger (``two_core_floor_ms``).
 """
 
 from __future__ import annotations
 
 import os
 import platform
+import threading
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -50,6 +58,68 @@ def _machine() -> dict[str, Any]:
         "finufft": finufft.__version__,
         "vtk": getattr(vtkmodules, "__version__", "?"),
     }
+
+
+def _thread_times_ms() -> dict[int, tuple[str, float]]:
+    """CPU time (user + system, ms) and name of each thread of this process, by native id.
+
+    Linux (``/proc/self/task``); empty elsewhere. Python threads are named as in
+    :mod:`threading` (the calling thread ``calling``, a pool's ``name_N`` without ``_N``
+    when it has one thread), the others (llvmpipe's, OpenBLAS's) by their system name.
+    """
+    try:
+        tids = os.listdir("/proc/self/task")
+        tick = os.sysconf("SC_CLK_TCK")
+    except (OSError, AttributeError, ValueError):
+        return {}
+    names = {t.native_id: t.name for t in threading.enumerate() if t.native_id is not None}
+    names[threading.main_thread().native_id or -1] = "calling"
+    out: dict[int, tuple[str, float]] = {}
+    for tid in tids:
+        try:
+            with open(f"/proc/self/task/{tid}/stat", encoding="ascii", errors="replace") as f:
+                head, tail = f.read().rsplit(")", 1)
+        except (OSError, ValueError):
+            continue
+        fields = tail.split()
+        name = names.get(int(tid)) or head.split("(", 1)[-1]
+        out[int(tid)] = (name, (int(fields[11]) + int(fields[12])) * 1e3 / tick)
+    return out
+
+
+@contextmanager
+def thread_cpu(frames: int) -> Iterator[dict[str, Any]]:
+    """Measure the CPU time per frame of each thread over the ``with`` block.
+
+    The yielded dict is filled on exit: ``thread_cpu_ms`` (thread name → CPU ms per frame,
+    threads under 0.5 ms left out; empty where ``/proc`` is missing), ``cpu_ms`` (the
+    process's CPU ms per frame) and ``two_core_floor_ms``: the larger of the busiest
+    thread's and half the process's CPU ms per frame, the shortest frame interval two free
+    cores allow (NaN without per-thread times). Resolution: a clock tick (10 ms) over all
+    ``frames``.
+    """
+    out: dict[str, Any] = {}
+    before, c0 = _thread_times_ms(), time.process_time()
+    yield out
+    cpu = (time.process_time() - c0) * 1e3 / max(frames, 1)
+    times = _thread_times_ms()
+    names = [name for name, _ in times.values()]
+    per: dict[str, float] = {}
+    for tid, (name, ms) in times.items():
+        used = (ms - before.get(tid, (name, 0.0))[1]) / max(frames, 1)
+        if used < 0.5:
+            continue
+        # A one-thread pool's "name_0" is named like its chain; other duplicates numbered.
+        if name.endswith("_0") and name[:-2] + "_1" not in names:
+            name = name[:-2]
+        key, n = name, 1
+        while key in per:
+            n += 1
+            key = f"{name}#{n}"
+        per[key] = used
+    out["thread_cpu_ms"] = dict(sorted(per.items(), key=lambda kv: -kv[1]))
+    out["cpu_ms"] = cpu
+    out["two_core_floor_ms"] = max(max(per.values()), 0.5 * cpu) if per else float("nan")
 
 
 def _moved_antennas(project: Project, shift_mm: float) -> Project:
@@ -169,7 +239,8 @@ def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
     dict
         ``fps`` (1000 / median frame time: the interval between consecutive frames of
         the run), ``frame_ms_median``, ``frame_ms_p90``, ``cpu_ms_median`` (process CPU
-        time per frame, all threads), ``latency_ms_median`` (from a frame's start to its
+        time per frame, all threads), ``thread_cpu_ms`` and ``two_core_floor_ms``
+        (:func:`thread_cpu`), ``latency_ms_median`` (from a frame's start to its
         result; frames overlap, so it can exceed the frame time), ``stages_ms``
         (median wall time of each stage; the ToF and radar chains overlap, so they add up
         to more than the frame), ``if_error_db``, ``if_speedup`` and the other keys of
@@ -190,16 +261,17 @@ def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
         index = indices[-1]
         c0, t0 = time.process_time(), time.perf_counter()
         # As a headless run computes them: consecutive frames overlapped (Simulator.frames).
-        for frame in sim.frames(indices):
-            c1, t1 = time.process_time(), time.perf_counter()
-            walls.append((t1 - t0) * 1e3)
-            cpus.append((c1 - c0) * 1e3)
-            c0, t0 = c1, t1
-            latencies.append(frame.timings_ms["total"])
-            transformed.append(frame.outputs["radar"].raw.transformed_scatterers)
-            for name, value in frame.timings_ms.items():
-                if name != "total":
-                    stage_times.setdefault(name, []).append(value)
+        with thread_cpu(frames) as threads:
+            for frame in sim.frames(indices):
+                c1, t1 = time.process_time(), time.perf_counter()
+                walls.append((t1 - t0) * 1e3)
+                cpus.append((c1 - c0) * 1e3)
+                c0, t0 = c1, t1
+                latencies.append(frame.timings_ms["total"])
+                transformed.append(frame.outputs["radar"].raw.transformed_scatterers)
+                for name, value in frame.timings_ms.items():
+                    if name != "total":
+                        stage_times.setdefault(name, []).append(value)
         load_after = _load()
         latency = antenna_edit_latency(sim, index, edits=antenna_edits) if antenna_edits \
             else float("nan")
@@ -218,6 +290,8 @@ def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
         "frame_ms_median": frame_ms,
         "frame_ms_p90": float(np.percentile(walls, 90)) if walls else float("nan"),
         "cpu_ms_median": _median(cpus),
+        "thread_cpu_ms": threads["thread_cpu_ms"],
+        "two_core_floor_ms": threads["two_core_floor_ms"],
         "latency_ms_median": _median(latencies),
         "stages_ms": {name: _median(values) for name, values in stage_times.items()},
         **accuracy,
@@ -361,16 +435,20 @@ def rig_variants(project_path: str | Path, *, frames: int) -> dict[str, Any]:
     return result
 
 
-def _frame_rate(project: Project, base_dir: Path, frames: int) -> float:
-    """Frames per second of ``frames`` overlapped frames after an untimed frame 0."""
+def _frame_rate(project: Project, base_dir: Path, frames: int) -> tuple[float, float]:
+    """Frames per second and two-core floor (ms, :func:`thread_cpu`) of ``frames`` frames.
+
+    The frames are overlapped as in a headless run, after an untimed frame 0.
+    """
     with Simulator(project, base_dir=base_dir) as sim:
         n = max(sim.n_frames, 1)
         sim.frame(0)
         indices = [(i + 1) % n for i in range(frames)]
         t0 = time.perf_counter()
-        for _ in sim.frames(indices):
-            pass
-        return frames / (time.perf_counter() - t0)
+        with thread_cpu(frames) as threads:
+            for _ in sim.frames(indices):
+                pass
+        return frames / (time.perf_counter() - t0), threads["two_core_floor_ms"]
 
 
 def people_speed(project_path: str | Path, *, frames: int) -> dict[str, Any] | None:
@@ -380,7 +458,11 @@ def people_speed(project_path: str | Path, *, frames: int) -> dict[str, Any] | N
     -------
     dict or None
         ``fps_with_people``, ``fps_without_people`` and their ratio ``ratio``, measured
-        one after the other (A/B, same frames); None if the project has no people.
+        one after the other (A/B, same frames); the same from the two-core floors
+        (:func:`thread_cpu`): ``floor_ms_with_people``, ``floor_ms_without_people`` and
+        ``floor_ratio`` (without ÷ with: the ratio of frame rates two free cores would
+        allow at best, steadier than ``ratio`` on a loaded machine); None if the project
+        has no people.
     """
     from simcore.scene.people import Person
 
@@ -390,11 +472,13 @@ def people_speed(project_path: str | Path, *, frames: int) -> dict[str, Any] | N
         return None
     without = project.model_copy(update={"objects": [
         o for o in project.objects if not isinstance(o.geometry, Person)]})
-    fps_without = _frame_rate(without, path.parent, frames)
-    fps_with = _frame_rate(project, path.parent, frames)
+    fps_without, floor_without = _frame_rate(without, path.parent, frames)
+    fps_with, floor_with = _frame_rate(project, path.parent, frames)
     return {"fps_with_people": fps_with, "fps_without_people": fps_without,
-            "ratio": fps_with / fps_without, "load": _load()}
+            "ratio": fps_with / fps_without, "floor_ms_with_people": floor_with,
+            "floor_ms_without_people": floor_without,
+            "floor_ratio": floor_without / floor_with, "load": _load()}
 
 
 __all__ = ["antenna_edit_latency", "effect_variants", "if_synthesis_accuracy",
-           "people_speed", "run_benchmark", "with_effects"]
+           "people_speed", "run_benchmark", "thread_cpu", "with_effects"]

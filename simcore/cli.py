@@ -559,12 +559,22 @@ def cmd_bench(args: argparse.Namespace) -> int:
           f"{result['subset']} scatterers, speed-up {result['if_speedup']:.0f}x "
           f"(NUFFT of all {result['scatterers']} scatterers {result['nufft_full_ms']:.1f} ms)")
     print(f"  antenna edit -> radar maps: {result['antenna_edit_ms']:.1f} ms")
+    if result["thread_cpu_ms"]:
+        threads = ", ".join(f"{k} {v:.1f}" for k, v in result["thread_cpu_ms"].items())
+        floor = result["two_core_floor_ms"]
+        print(f"  CPU per thread (ms/frame): {threads}; two free cores: at best "
+              f"{floor:.1f} ms/frame ({1e3 / floor:.2f} frames/s)")
     print(f"  load average before/after: {result['machine']['load_before']} / "
           f"{result['machine']['load_after']}")
     if people is not None:
         print(f"  with its people {people['fps_with_people']:.2f} frames/s, without them "
               f"{people['fps_without_people']:.2f} frames/s (ratio {people['ratio']:.2f}, "
               f"same run)")
+        if people["floor_ratio"] == people["floor_ratio"]:     # not NaN
+            print(f"  two free cores at best: with its people "
+                  f"{people['floor_ms_with_people']:.1f} ms/frame, without them "
+                  f"{people['floor_ms_without_people']:.1f} ms/frame "
+                  f"(ratio {people['floor_ratio']:.2f})")
     if variants is not None:
         _print_effect_variants(variants)
     if rigs is not None:

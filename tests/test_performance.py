@@ -7,10 +7,14 @@ give the same data as the plain ones is tested in ``test_engine.py``.
 from __future__ import annotations
 
 import json
+import os
+import threading
+import time
+from concurrent.futures import ThreadPoolExecutor
 
 import pytest
 
-from simcore.bench import run_benchmark
+from simcore.bench import run_benchmark, thread_cpu
 from simcore.cli import main
 from simcore.resources import example_path
 
@@ -24,6 +28,46 @@ def test_run_benchmark_reports_the_issue_keys() -> None:
     assert result["if_error_db"] <= -60.0
     assert {"render_tof", "render_radar", "tof", "radar_synthesis", "dsp"} <= set(
         result["stages_ms"])
+    if os.path.isdir("/proc/self/task"):
+        # The ToF camera and the radar each run on a worker thread of their own.
+        assert {"calling", "sensor-chain-tof", "sensor-chain-radar"} <= set(
+            result["thread_cpu_ms"])
+        busiest = max(result["thread_cpu_ms"].values())
+        assert result["two_core_floor_ms"] >= busiest
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self/task"), reason="per-thread times: Linux")
+def test_thread_cpu_charges_each_thread_its_own_time() -> None:
+    """A thread that spins for a known CPU time (its own clock) is charged that time.
+
+    Two named threads spin 0.3 s and 0.15 s of CPU each, one in a one-thread pool (named
+    like its chain, without the pool's "_0"); over 2 frames each is charged half its time
+    per frame (within two 10 ms clock ticks), and the floor is at least the busier one's.
+    """
+    spent: dict[str, float] = {}
+    done, release = threading.Barrier(3), threading.Event()
+
+    def spin(name: str, seconds: float) -> None:
+        c0 = time.thread_time()
+        while time.thread_time() - c0 < seconds:
+            sum(range(1000))
+        spent[name] = time.thread_time() - c0
+        done.wait()
+        release.wait()     # measured while the thread still exists
+
+    worker = threading.Thread(target=spin, args=("spinner", 0.3), name="spinner")
+    with ThreadPoolExecutor(1, thread_name_prefix="chain") as pool:
+        with thread_cpu(2) as out:
+            worker.start()
+            job = pool.submit(spin, "chain", 0.15)
+            done.wait()
+        release.set()
+        job.result()
+        worker.join()
+    assert out["thread_cpu_ms"]["spinner"] == pytest.approx(spent["spinner"] * 1e3 / 2,
+                                                             abs=10.0)
+    assert out["thread_cpu_ms"]["chain"] == pytest.approx(spent["chain"] * 1e3 / 2, abs=10.0)
+    assert out["two_core_floor_ms"] >= out["thread_cpu_ms"]["spinner"]
 
 
 def test_bench_cli_prints_one_json_object(capsys: pytest.CaptureFixture[str]) -> None:

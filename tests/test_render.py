@@ -195,3 +195,52 @@ def test_still_objects_cached_pass_equals_one_full_pass(make_renderer):
     pass_ = renderer._passes["radar"]
     assert [c.moving for c in pass_.chunks] == [False, True, False]
     assert pass_._still is not None, "the cached still pass was used"
+
+
+@pytest.mark.parametrize("case", ["leaves the view", "passes through the camera"])
+def test_moving_objects_box_read_back_equals_one_full_pass(make_renderer, monkeypatch, case):
+    """Over the cached still pass only the moving objects' pixel box is read back and merged.
+
+    A sphere either slides sideways across the view and out of it (a box at the image edge,
+    then an empty one: no draw at all), or flies through the camera (vertices behind the
+    near plane: the whole image). Every snapshot's labels equal those of a fresh renderer
+    that draws everything in one pass, and each kind of box occurred.
+    """
+    motion = (Motion(velocity_mps=(0.0, 4.0, 0.0)) if case == "leaves the view"
+              else Motion(velocity_mps=(-2.0, 0.0, 0.0)))
+    start = (3.0, -0.6, 0.2) if case == "leaves the view" else (1.5, 0.1, 0.05)
+    project = Project(
+        objects=[
+            SceneObject(id=1, name="wall", geometry=Box(size_m=(0.2, 40, 30)),
+                        pose=Pose(position_m=(4.1, 0, 0)), material="concrete"),
+            SceneObject(id=2, name="ball", geometry=Sphere(radius_m=0.4),
+                        pose=Pose(position_m=start), material="aluminium", motion=motion),
+            SceneObject(id=3, name="post", geometry=Box(size_m=(0.3, 0.3, 2.0)),
+                        pose=Pose(position_m=(2.5, 0.4, 0.0)), material="aluminium"),
+        ])
+    request = RenderRequest("radar", "radar", RADAR, geometry_only=True)
+    renderer = make_renderer(project)
+    renderer.rasterize(take_snapshot(project, 0.0), request)
+    renderer.rasterize(take_snapshot(project, 0.05), request)      # the still view, twice
+    pass_ = renderer._passes["radar"]
+    boxes: list[tuple[int, int, int, int] | None] = []
+    real_box = pass_._moving_box
+
+    def recorded(*args):
+        boxes.append(real_box(*args))
+        return boxes[-1]
+
+    monkeypatch.setattr(pass_, "_moving_box", recorded)
+    times = np.arange(0.1, 2.6, 0.1) if case == "leaves the view" else np.arange(0.1, 1.3, 0.1)
+    for t in times:
+        snap = take_snapshot(project, float(t))
+        labels = renderer.rasterize(snap, request).labels
+        reference = make_renderer(project).rasterize(snap, request).labels
+        np.testing.assert_array_equal(labels, reference, err_msg=f"t={t:.1f}")
+    full = (0, RADAR.height, 0, RADAR.width)
+    if case == "leaves the view":
+        assert any(b is not None and b[0] < b[1] and b[2] < b[3] and b != full for b in boxes)
+        assert any(b is not None and (b[0] == b[1] or b[2] == b[3]) for b in boxes)
+        assert all(b is not None for b in boxes)
+    else:
+        assert None in boxes

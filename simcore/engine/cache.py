@@ -52,6 +52,7 @@ class StageCache:
     _entries: dict[str, OrderedDict[int, _Entry]] = field(default_factory=dict)
     _lock: threading.Lock = field(default_factory=threading.Lock)
     _next: int = 0
+    _running: dict[Hashable, threading.Event] = field(default_factory=dict)
 
     def lookup(self, name: str, reads: Hashable, inputs: Sequence[object]
                ) -> tuple[bool, Any]:
@@ -89,18 +90,38 @@ class StageCache:
         ``timings`` accumulates the wall time (ms) of steps that ran, under ``label``
         (default ``name``).
         """
-        found, value = self.lookup(name, reads, inputs)
-        if found:
-            return value
-        with self._lock:
-            self.misses[name] = self.misses.get(name, 0) + 1
-        t0 = time.perf_counter()
-        value = fn()
-        if timings is not None:
+        # One run per key at a time: a thread asking for a step another thread is running
+        # (alike sensors on their own worker threads share a render's shading) waits for
+        # that result instead of computing it again.
+        key = (name, reads, tuple(id(i) for i in inputs))
+        while True:
+            found, value = self.lookup(name, reads, inputs)
+            if found:
+                return value
             with self._lock:
-                key = name if label is None else label
-                timings[key] = timings.get(key, 0.0) + (time.perf_counter() - t0) * 1e3
-        self.store(name, reads, inputs, value)
+                running = self._running.get(key) if self.enabled else None
+                if running is None:
+                    self.misses[name] = self.misses.get(name, 0) + 1
+                    mine = threading.Event()
+                    if self.enabled:
+                        self._running[key] = mine
+            if running is None:
+                break
+            running.wait()       # then look again (or run it, if that run failed)
+        try:
+            t0 = time.perf_counter()
+            value = fn()
+            if timings is not None:
+                with self._lock:
+                    label_ = name if label is None else label
+                    timings[label_] = (timings.get(label_, 0.0)
+                                       + (time.perf_counter() - t0) * 1e3)
+            self.store(name, reads, inputs, value)
+        finally:
+            with self._lock:
+                if self._running.get(key) is mine:
+                    del self._running[key]
+            mine.set()
         return value
 
     def clear(self) -> None:

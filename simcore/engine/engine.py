@@ -2,9 +2,10 @@
 
 One frame is: snapshot → a render pass per sensor (GPU, on the calling thread, which owns
 the VTK windows) → shading and the sensor's simulation. Sensors that ask for it
-(``on_worker``, the radar) run their shading and simulation on one worker thread while the
-calling thread renders and simulates the others; numpy and finufft release the GIL, so on
-two cores the chains overlap.
+(``on_worker``: the ToF camera and the radar) run their shading and simulation each on its
+own worker thread, while the calling thread renders the next frame and simulates the others;
+numpy, finufft and the compiled kernels release the GIL, so on two cores the chains overlap
+and no chain waits for the calling thread's renders of another sensor.
 
 Every step goes through the engine's one :class:`~simcore.engine.cache.StageCache`. A
 render is keyed by the scene's version, the pass and the poses and velocities of the
@@ -19,6 +20,7 @@ from __future__ import annotations
 
 import ctypes
 import dataclasses
+import functools
 import time
 from collections.abc import Callable, Hashable, Iterable, Iterator, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -156,7 +158,7 @@ class FrameEngine:
         Use the stage cache and the still-background accelerator (default). False runs
         every step of every frame: the plain path the accelerated one is tested against.
     threads : bool
-        Run ``on_worker`` sensors on a worker thread (default).
+        Run each ``on_worker`` sensor on its own worker thread (default).
     """
 
     def __init__(self, project: Project, *, base_dir: Path | None = None,
@@ -171,8 +173,8 @@ class FrameEngine:
         self.cache = StageCache(keep=6, enabled=accelerate)
         self.background = StillBackground() if accelerate else None
         self.threads = threads
-        self._worker: ThreadPoolExecutor | None = None
-        self._post: ThreadPoolExecutor | None = None
+        self._workers: dict[str, ThreadPoolExecutor] = {}
+        self._posts: dict[str, ThreadPoolExecutor] = {}
         self._scene_json = ""
         self._scene_version = 0
         self._ahead: _InFlight | None = None
@@ -297,7 +299,7 @@ class FrameEngine:
                 chain = self._sensor_chain(sensor, snapshots[sensor.name], index, timings,
                                            flight.through, plain=plain)
                 if sensor.on_worker and self.threads:
-                    flight.futures[sensor.name] = self._pool().submit(chain)
+                    flight.futures[sensor.name] = self._pool(sensor.name).submit(chain)
                 else:
                     flight.results[sensor.name] = chain()
         except BaseException:
@@ -409,7 +411,8 @@ class FrameEngine:
                 rng=frame_rng(self.seed, index, sensor.rng_stream), stage=stage,
                 background=(None if background is None
                             else Background(background[1], background[2], bg_see_through)),
-                see_through=see_through, defer=self._defer if self.threads else None,
+                see_through=see_through,
+                defer=functools.partial(self._defer, sensor.name) if self.threads else None,
                 name=sensor.name)
             return buffers, sensor.simulate(ctx)
 
@@ -464,30 +467,36 @@ class FrameEngine:
         """GPU passes run so far (edits of antennas or DSP settings do not add any)."""
         return self.renderer.render_count
 
-    def _pool(self) -> ThreadPoolExecutor:
-        if self._worker is None:
-            self._worker = ThreadPoolExecutor(max_workers=1, thread_name_prefix="sensor-chain",
-                                              initializer=_single_threaded_blas)
-        return self._worker
+    def _pool(self, sensor: str) -> ThreadPoolExecutor:
+        """The sensor's own worker thread: its frames run in order, beside other sensors'."""
+        if sensor not in self._workers:
+            self._workers[sensor] = ThreadPoolExecutor(
+                max_workers=1, thread_name_prefix=f"sensor-chain-{sensor}",
+                initializer=_single_threaded_blas)
+        return self._workers[sensor]
 
-    def _defer(self, rest: Callable[[], SensorOutput]) -> DeferredOutput:
-        """Run a sensor's last steps on the post thread (frames in order)."""
-        if self._post is None:
-            self._post = ThreadPoolExecutor(max_workers=1, thread_name_prefix="sensor-post",
-                                            initializer=_single_threaded_blas)
-        return DeferredOutput(self._post.submit(rest))
+    def _defer(self, sensor: str, rest: Callable[[], SensorOutput]) -> DeferredOutput:
+        """Run a sensor's last steps on its post thread (its frames in order).
+
+        Each sensor has its own: one sensor's deferred steps do not queue behind another's.
+        """
+        if sensor not in self._posts:
+            self._posts[sensor] = ThreadPoolExecutor(
+                max_workers=1, thread_name_prefix=f"sensor-post-{sensor}",
+                initializer=_single_threaded_blas)
+        return DeferredOutput(self._posts[sensor].submit(rest))
 
     def close(self) -> None:
         """Release the rendering resources and the worker thread."""
         if self._ahead is not None:
             _drain(self._ahead)
             self._ahead = None
-        if self._worker is not None:
-            self._worker.shutdown(wait=True)
-            self._worker = None
-        if self._post is not None:
-            self._post.shutdown(wait=True)
-            self._post = None
+        for worker in self._workers.values():
+            worker.shutdown(wait=True)
+        self._workers.clear()
+        for post in self._posts.values():
+            post.shutdown(wait=True)
+        self._posts.clear()
         self.renderer.close()
 
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -211,6 +212,7 @@ class _IndexPass:
             [np.full(len(m.points), i) for i, m in enumerate(geometry.meshes)
              if m is not None] or [np.zeros(0, np.int64)])
         self._world = self._model.copy()
+        self._hidden = np.zeros(n_obj, dtype=bool)
         # Point and triangle offsets of each object, and one past the last.
         self._pt0 = np.append(geometry.point_offsets, len(self._model))
         self._tri0 = np.searchsorted(geometry.triangle_object, np.arange(n_obj + 1))
@@ -270,6 +272,7 @@ class _IndexPass:
         """Move each actor's points to the world frame of ``transforms`` (if that changed)."""
         transforms = np.ascontiguousarray(transforms, dtype=np.float64)
         hidden = ~np.asarray(visible, dtype=bool)
+        self._hidden = hidden
         if self._last is not None and self._last != transforms.tobytes():
             last = np.frombuffer(self._last).reshape(transforms.shape)
             moved = np.any(last != transforms, axis=(1, 2)) & ~self._moving
@@ -323,15 +326,20 @@ class _IndexPass:
         if key != self._still_seen:     # a still view seen twice: re-use its still part
             self._still_seen = key
             return self._draw(intr)[0]
-        return self._over_still(intr, key)
+        return self._over_still(intr, key, pos, rot)
 
-    def _over_still(self, intr: PinholeIntrinsics, key: bytes) -> NDArray[np.uint32]:
+    def _over_still(self, intr: PinholeIntrinsics, key: bytes, pos: NDArray[np.float64],
+                    rot: NDArray[np.float64]) -> NDArray[np.uint32]:
         """The moving objects drawn alone, over the still ones' labels and depth (cached).
 
         A fragment passes the depth test when not farther than what is drawn (VTK's
         ``GL_LEQUAL``): of the triangles at the nearest depth the last drawn, the highest
         label, wins. The same rule on the two passes' labels and depths gives the labels
         of one pass with everything.
+
+        Outside the pixel box of the moving objects (:meth:`_moving_box`) their pass holds
+        the cleared label 0 at the far depth, which never wins: only that box is read back
+        and merged, and when it is empty (nothing that moves is in view) nothing is drawn.
         """
         shown = [c.actor.GetVisibility() for c in self.chunks]
         if self._still is None or self._still[0] != key:
@@ -340,29 +348,76 @@ class _IndexPass:
             self._still = (key, *self._draw(intr, depth=True))
             for c, v in zip(self.chunks, shown, strict=True):
                 c.actor.SetVisibility(v)
+        _, still_labels, still_depth = self._still
+        box = self._moving_box(intr, pos, rot)
+        if box is not None and (box[0] == box[1] or box[2] == box[3]):
+            return still_labels.copy()
         for c in self.chunks:
             c.actor.SetVisibility(bool(c.actor.GetVisibility()) and c.moving)
-        labels, depth = self._draw(intr, depth=True)
+        labels, depth = self._draw(intr, depth=True, box=box)
         for c, v in zip(self.chunks, shown, strict=True):
             c.actor.SetVisibility(v)
-        _, still_labels, still_depth = self._still
-        take = (depth < still_depth) | ((depth == still_depth) & (labels > still_labels))
-        return np.where(take, labels, still_labels)
+        if box is None:
+            take = (depth < still_depth) | ((depth == still_depth) & (labels > still_labels))
+            return np.where(take, labels, still_labels)
+        r0, r1, c0, c1 = box
+        sl, sd = still_labels[r0:r1, c0:c1], still_depth[r0:r1, c0:c1]
+        take = (depth < sd) | ((depth == sd) & (labels > sl))
+        out = still_labels.copy()
+        out[r0:r1, c0:c1] = np.where(take, labels, sl)
+        return out
 
-    def _draw(self, intr: PinholeIntrinsics, *, depth: bool = False
+    def _moving_box(self, intr: PinholeIntrinsics, pos: NDArray[np.float64],
+                    rot: NDArray[np.float64]) -> tuple[int, int, int, int] | None:
+        """Rows ``r0:r1`` and columns ``c0:c1`` that hold every pixel a moving object covers.
+
+        The bounding box of the drawn moving objects' projected vertices (after
+        :meth:`_pose`), one pixel wider on each side than any pixel centre they can cover,
+        cut to the image; empty (r0 == r1 or c0 == c1) when none is in view. None (the
+        whole image) when a vertex is not in front of the near plane: a triangle clipped
+        there does not project within its vertices' box.
+        """
+        rows = [c.points for c in self.chunks if c.moving and c.actor.GetVisibility()]
+        if not rows:
+            return 0, 0, 0, 0
+        idx = np.concatenate([np.arange(r.start, r.stop) for r in rows])
+        idx = idx[~self._hidden[self._owner[idx]]]
+        if not idx.size:
+            return 0, 0, 0, 0
+        p = (self._world[idx] - pos) @ rot                       # optical frame
+        z = p[:, 2]
+        if not np.all(z > NEAR_M):
+            return None
+        u = intr.fx * p[:, 0] / z + intr.cx
+        v = intr.fy * p[:, 1] / z + intr.cy
+        c0 = min(max(int(np.floor(u.min())) - 1, 0), intr.width)
+        c1 = max(min(int(np.ceil(u.max())) + 1, intr.width), c0)
+        r0 = min(max(int(np.floor(v.min())) - 1, 0), intr.height)
+        r1 = max(min(int(np.ceil(v.max())) + 1, intr.height), r0)
+        return r0, r1, c0, c1
+
+    def _draw(self, intr: PinholeIntrinsics, *, depth: bool = False,
+              box: tuple[int, int, int, int] | None = None
               ) -> tuple[NDArray[np.uint32], NDArray[np.float32]]:
-        """Render; the labels and (with ``depth``, else empty) the depth buffer, (H, W)."""
+        """Render; the labels and (with ``depth``, else empty) the depth buffer, (H, W).
+
+        ``box`` (rows ``r0:r1``, columns ``c0:c1``, non-empty): read back only that part.
+        """
+        r0, r1, c0, c1 = (0, intr.height, 0, intr.width) if box is None else box
+        h, w = r1 - r0, c1 - c0
+        # The window's rows count from the bottom: image rows r0:r1 are rows
+        # height − r1 … height − 1 − r0 there.
+        x0, y0, x1, y1 = c0, intr.height - r1, c1 - 1, intr.height - 1 - r0
         self.window.Render()
-        self.window.GetRGBACharPixelData(0, 0, intr.width - 1, intr.height - 1, 0,
-                                         self._pixels, 0)
-        rgba = vtk_to_numpy(self._pixels).reshape(intr.height, intr.width, 4)[::-1]
+        self.window.GetRGBACharPixelData(x0, y0, x1, y1, 0, self._pixels, 0)
+        rgba = vtk_to_numpy(self._pixels).reshape(h, w, 4)[::-1]
         # A new array (the read-back buffer is re-used by the next render).
         labels = np.bitwise_and(rgba.view("<u4")[..., 0], np.uint32(0xFFFFFF))
         z = np.zeros((0, 0), dtype=np.float32)
         if depth:
             buf = vtkFloatArray()
-            self.window.GetZbufferData(0, 0, intr.width - 1, intr.height - 1, buf)
-            z = vtk_to_numpy(buf).reshape(intr.height, intr.width)[::-1].copy()
+            self.window.GetZbufferData(x0, y0, x1, y1, buf)
+            z = vtk_to_numpy(buf).reshape(h, w)[::-1].copy()
         return labels, z
 
     def close(self) -> None:
@@ -703,10 +758,27 @@ def changed_pixels(raster: Raster, background: tuple[Raster, RenderBuffers] | No
     return _differing(raster, ref)
 
 
+#: The last few :func:`_differing` results with the rasters they compared: the engine asks
+#: for a frame's changed pixels and then shades over the same background, which asks again.
+_DIFFERING: dict[tuple[int, int], tuple[Raster, Raster, NDArray[np.intp] | None]] = {}
+_DIFFERING_LOCK = threading.Lock()
+
+
 def _differing(raster: Raster, ref: Raster) -> NDArray[np.intp] | None:
-    """Pixels whose label differs, None when they are more than half."""
+    """Pixels whose label differs (read-only), None when they are more than half."""
+    key = (id(raster), id(ref))
+    with _DIFFERING_LOCK:
+        hit = _DIFFERING.get(key)
+    if hit is not None and hit[0] is raster and hit[1] is ref:
+        return hit[2]
     changed = np.flatnonzero(raster.labels.ravel() != ref.labels.ravel())
-    return changed if changed.size <= raster.labels.size // 2 else None
+    changed.setflags(write=False)
+    out = changed if changed.size <= raster.labels.size // 2 else None
+    with _DIFFERING_LOCK:
+        while len(_DIFFERING) >= 8:     # the oldest first (insertion order)
+            del _DIFFERING[next(iter(_DIFFERING))]
+        _DIFFERING[key] = (raster, ref, out)
+    return out
 
 
 def _shade_pixels(raster: Raster, idx: NDArray[np.intp] | None
@@ -727,7 +799,10 @@ def _shade_pixels(raster: Raster, idx: NDArray[np.intp] | None
     pixels = (np.ascontiguousarray(idx, dtype=np.int64) if idx is not None
               else np.zeros(0, dtype=np.int64))
     vertices, vnormals = geo.world_vertices(transforms)
-    plane_n, plane_d = _planes(geo, vertices, rot, origin, labels)
+    # The kernels read the plane of each shaded pixel's own label only: over a background,
+    # the planes of the changed pixels' triangles (not of every triangle the pass shows).
+    plane_n, plane_d = _planes(geo, vertices, rot, origin,
+                               labels[pixels] if subset else labels)
     if raster.geometry_only:
         rng, obj, obj_id = shade_geometry(labels, pixels, subset, u, v, ray_norm, plane_n,
                                           plane_d, geo.label_object, tables.ids)

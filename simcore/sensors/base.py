@@ -132,10 +132,10 @@ class SensorContext:
         behind the band's partially transparent objects); None when it hides nothing.
     defer : callable or None
         ``defer(rest)`` runs ``rest()`` — the frame's last steps, returning the output —
-        on the engine's post thread and returns a :class:`DeferredOutput` for
+        on the sensor's post thread and returns a :class:`DeferredOutput` for
         :meth:`Sensor.simulate` to return: the sensor's chain is then free for the next
-        frame (a pipeline stage). The post thread runs frames in order. None: no post
-        thread (return ``rest()``).
+        frame (a pipeline stage). Each sensor has its own post thread, which runs its
+        frames in order. None: no post thread (return ``rest()``).
     name : str
         The sensor's name (:attr:`config` is its configuration).
     """
@@ -190,8 +190,8 @@ class Sensor(Protocol):
         keep theirs, another sensor's is its rig's and its place in the rig's table), so
         changing one sensor leaves the others' noise untouched.
     on_worker : bool
-        Whether the engine runs its simulation on the worker thread (beside the
-        calling thread's rendering and the other sensors).
+        Whether the engine runs its shading and simulation on a worker thread of its own
+        (beside the calling thread's rendering and the other sensors).
     """
 
     name: str

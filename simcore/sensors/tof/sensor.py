@@ -23,7 +23,7 @@ class TofSensor(SensorBase):
 
     kind = "tof"
     band = "tof"
-    on_worker = False
+    on_worker = True
 
     def render_request(self, project: Project) -> RenderRequest:
         """The supersampled near-infrared pass from the camera."""
