@@ -364,10 +364,13 @@ def interference_if(
 
 def interference_to_noise_db(interference: NDArray[np.complex128], victim: RadarConfig
                              ) -> float:
-    """Interference-to-noise ratio of a frame (dB): mean interference power over the cube
-    (the real part for a real IF, I and Q for IQ) over the receiver noise variance per
-    real channel (:func:`simcore.sensors.radar.equation.noise_std_fs`). −inf without
-    interference; +inf for a noise-free receiver with interference."""
+    """Interference-to-noise ratio of a frame (dB).
+
+    Mean interference power over the cube (the real part for a real IF, I and Q for IQ)
+    over the receiver noise variance per real channel
+    (:func:`simcore.sensors.radar.equation.noise_std_fs`). −inf without interference; +inf
+    for a noise-free receiver with interference.
+    """
     x = interference if victim.complex_iq else interference.real
     power = float(np.mean(np.abs(x) ** 2) / (2.0 if victim.complex_iq else 1.0))
     noise = noise_std_fs(victim) ** 2
