@@ -50,6 +50,15 @@ class FrameResult:
     buffers: dict[str, RenderBuffers]
     timings_ms: dict[str, float] = field(default_factory=dict)
     see_through: dict[str, RenderBuffers] = field(default_factory=dict)
+    #: Kind of every sensor of the project (also those that did not capture), by name.
+    kinds: dict[str, str] = field(default_factory=dict)
+    #: The snapshot each capturing sensor saw (at its capture time), by name.
+    snapshots: dict[str, SceneSnapshot] = field(default_factory=dict)
+
+    @property
+    def capture_times(self) -> dict[str, float]:
+        """Capture time (s) of every sensor that captured in this frame."""
+        return {n: s.time_s for n, s in self.snapshots.items()}
 
 
 def _single_threaded_blas() -> None:
@@ -96,15 +105,18 @@ class _InFlight:
     sensors: list[Sensor]
     timings: dict[str, float]
     start: float
+    snapshots: dict[str, SceneSnapshot] = field(default_factory=dict)
     futures: dict[str, Future[tuple[RenderBuffers, SensorOutput]]] = field(default_factory=dict)
     results: dict[str, tuple[RenderBuffers, SensorOutput]] = field(default_factory=dict)
     through: dict[str, RenderBuffers] = field(default_factory=dict)
 
 
 class StillBackground:
-    """Accelerator: the still objects rendered alone, once, for a still rig.
+    """Accelerator: the still objects rendered alone, once, for the sensors of still rigs.
 
-    Applies when the rig and some (not all) objects never move. Then every frame's render
+    Applies when some (not all) objects never move, to the sensors whose rig never moves
+    (every rig's motion counts: a sensor on a moving rig renders every frame in full).
+    Then every frame's render
     differs from the background only where moving objects are: shading copies the other
     pixels (the same values as shading them), and sensors get the changed pixels
     (:class:`~simcore.sensors.base.Background`) to re-use work done on the background.
@@ -112,6 +124,11 @@ class StillBackground:
 
     def __init__(self) -> None:
         self.hide: tuple[bool, ...] | None = None
+        self.still_rigs: frozenset[str] = frozenset()
+
+    def applies_to(self, rig: str) -> bool:
+        """Whether the background serves the sensors of rig ``rig``."""
+        return self.hide is not None and rig in self.still_rigs
 
     def follow(self, project: Project) -> None:
         """Decide from the project's motions whether (and what) to hide."""
@@ -119,7 +136,8 @@ class StillBackground:
         # rigid motion says.
         parts = body_part_table(project)
         still = [o.motion.is_static and parts[i] < 0 for i, o in enumerate(project.objects)]
-        applies = project.rig.motion.is_static and any(still) and not all(still)
+        self.still_rigs = frozenset(r.name for r in project.all_rigs() if r.motion.is_static)
+        applies = bool(self.still_rigs) and any(still) and not all(still)
         self.hide = tuple(not s for s in still) if applies else None
 
 
@@ -159,6 +177,8 @@ class FrameEngine:
         self._scene_version = 0
         self._ahead: _InFlight | None = None
         self._edited = False
+        #: Rasters of the frame being started, by what makes two passes alike.
+        self._shared: dict[Hashable, Raster] = {}
         self.set_project(project)
 
     # ------------------------------------------------------------------ project
@@ -187,6 +207,13 @@ class FrameEngine:
             self._scene_version += 1
         self.project = project
         self.sensors = active_sensors(project)
+        # Results kept per stage: six per sensor of the most numerous kind (the sensors of
+        # a kind share their stages' names; a still scene is then rendered and
+        # synthesised once however many sensors there are).
+        per_kind: dict[str, int] = {}
+        for sensor in self.sensors:
+            per_kind[sensor.kind] = per_kind.get(sensor.kind, 0) + 1
+        self.cache.keep = 6 * max(per_kind.values(), default=1)
         if self.background is not None:
             self.background.follow(project)
 
@@ -241,17 +268,34 @@ class FrameEngine:
         timings: dict[str, float] = {}
         project = self.project
         t0 = time.perf_counter()
-        snap = take_snapshot(project, project.timeline.frame_time(index))
+        frame_time = project.timeline.frame_time(index)
+        snap = take_snapshot(project, frame_time)
+        # Each sensor that captures in this frame sees the scene at the frame's time plus
+        # its trigger offset: one snapshot per distinct capture time.
+        rate = project.timeline.frame_rate_hz
+        capturing = []
+        by_offset: dict[float, SceneSnapshot] = {0.0: snap}
+        snapshots: dict[str, SceneSnapshot] = {}
+        for sensor in self.sensors:
+            cfg = project.sensor_config(sensor.name)
+            if not cfg.captures(index, rate):  # type: ignore[attr-defined]
+                continue
+            offset = float(cfg.trigger_offset_s)  # type: ignore[attr-defined]
+            if offset not in by_offset:
+                by_offset[offset] = take_snapshot(project, frame_time + offset)
+            snapshots[sensor.name] = by_offset[offset]
+            capturing.append(sensor)
         timings["snapshot"] = (time.perf_counter() - t0) * 1e3
         # GPU passes on this thread; worker sensors' rasters first so their chain starts.
-        order = sorted(self.sensors, key=lambda s: not (s.on_worker and self.threads))
-        flight = _InFlight(index=index, snapshot=snap, sensors=list(self.sensors),
-                           timings=timings, start=start)
+        order = sorted(capturing, key=lambda s: not (s.on_worker and self.threads))
+        flight = _InFlight(index=index, snapshot=snap, sensors=capturing,
+                           timings=timings, start=start, snapshots=snapshots)
         plain, self._edited = self._edited, False
+        self._shared.clear()
         try:
             for sensor in order:
-                chain = self._sensor_chain(sensor, snap, index, timings, flight.through,
-                                           plain=plain)
+                chain = self._sensor_chain(sensor, snapshots[sensor.name], index, timings,
+                                           flight.through, plain=plain)
                 if sensor.on_worker and self.threads:
                     flight.futures[sensor.name] = self._pool().submit(chain)
                 else:
@@ -280,13 +324,15 @@ class FrameEngine:
             raise error
         flight.timings["total"] = (time.perf_counter() - flight.start) * 1e3
         names = [s.name for s in flight.sensors]
-        snap = flight.snapshot
+        snaps = flight.snapshots
         return FrameResult(
-            index=flight.index, snapshot=snap,
+            index=flight.index, snapshot=flight.snapshot,
             outputs={n: results[n][1] for n in names},
-            buffers={n: _stamped(results[n][0], snap, n) for n in names},
+            buffers={n: _stamped(results[n][0], snaps[n], n) for n in names},
             timings_ms=flight.timings,
-            see_through={n: _stamped(b, snap, n) for n, b in flight.through.items()})
+            see_through={n: _stamped(b, snaps[n], n) for n, b in flight.through.items()},
+            kinds={s.name: s.kind for s in self.sensors},
+            snapshots=dict(snaps))
 
     def _sensor_chain(self, sensor: Sensor, snap: SceneSnapshot, index: int,
                       timings: dict[str, float], through_out: dict[str, RenderBuffers], *,
@@ -310,7 +356,8 @@ class FrameEngine:
                                                                               hide),
                                   reads=(self._scene_version, request, hide), inputs=(raster,),
                                   timings=timings, label=f"render_{sensor.name}_see_through"))
-        bg_raster = None if plain else self._background_raster(snap, request, timings)
+        bg_raster = (None if plain or not self._background_for(sensor.name)
+                     else self._background_raster(snap, request, timings))
         bg_through = None
         if bg_raster is not None and hide is not None:
             assert self.background is not None and self.background.hide is not None
@@ -371,11 +418,26 @@ class FrameEngine:
         # another time is the same pass, so the previous frame's render serves
         # auto-exposure. The background is still: its render does not read the poses.
         kind = kind or ("background" if hide is not None else "frame")
+        state = _state_key(snap, request.sensor)
         reads = (self._scene_version, request, hide,
-                 None if kind.startswith("background") else _state_key(snap, request.sensor))
-        return self.cache.run(f"raster:{request.sensor}:{kind}",
-                              lambda: self.renderer.rasterize(snap, request, hide=hide),
-                              reads=reads, timings=timings, label=label)
+                 None if kind.startswith("background") else state)
+        # Sensors whose passes are alike (band, pixel grid, pose and velocities, instant)
+        # share one raster: a second camera where the first is renders nothing.
+        alike = (kind, hide, snap.time_s, request.band, request.intrinsics,
+                 request.geometry_only, state)
+        shared = self._shared.get(alike)
+        if shared is not None:
+            return shared
+        raster = self.cache.run(f"raster:{request.sensor}:{kind}",
+                                lambda: self.renderer.rasterize(snap, request, hide=hide),
+                                reads=reads, timings=timings, label=label)
+        self._shared[alike] = raster
+        return raster
+
+    def _background_for(self, sensor: str) -> bool:
+        """Whether the still background serves ``sensor`` (its rig never moves)."""
+        return (self.background is not None
+                and self.background.applies_to(self.project.sensor_rig(sensor).name))
 
     def _background_raster(self, snap: SceneSnapshot, request: RenderRequest,
                            timings: dict[str, float]) -> Raster | None:

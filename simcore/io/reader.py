@@ -20,6 +20,7 @@ Examples
 
 from __future__ import annotations
 
+import json
 import os
 from typing import Any
 
@@ -32,6 +33,8 @@ from simcore.dsp.detections import DETECTION_UNITS
 #: per-frame arrays.
 DIMS: dict[str, tuple[str, ...]] = {
     "/poses/rig": ("pose_row", "pose_col"),
+    "/poses/rigs": ("rig", "pose_row", "pose_col"),
+    "/poses/rig_names": ("rig",),
     "/poses/objects": ("object", "pose_row", "pose_col"),
     "/objects/names": ("object",),
     "/objects/ids": ("object",),
@@ -128,6 +131,7 @@ COORDS = {
     "/radar/spectrogram/time": "spectrogram_time",
     "/radar/spectrogram/velocity_axis": "spectrogram_velocity",
     "/objects/names": "object_name",
+    "/poses/rig_names": "rig_name",
     "/objects/ids": "object_id",
     "/people/names": "person_name",
     "/people/segments/names": "segment_name",
@@ -135,6 +139,94 @@ COORDS = {
 }
 
 _LABELS = {"xyz": ["x", "y", "z"], "corner": ["min", "max"], "color": ["r", "g", "b"]}
+
+
+#: Dimensions that keep their name under a named sensor's group (they have label coordinates
+#: or mean the same for every sensor); the others get the sensor's name as a prefix.
+_COMMON_DIMS = frozenset({"xyz", "corner", "color", "axis", "pose_row", "pose_col", "object",
+                          "segment", "person"})
+
+
+def sensor_kinds(project_json: str) -> dict[str, str]:
+    """Kind of every sensor of a stored project document, by name (``{}`` if unreadable).
+
+    Read from the document as stored (any format version: a version-2 project has the
+    built-in ``tof`` and ``radar``, and ``rgb`` when set).
+    """
+    try:
+        doc = json.loads(project_json)
+        rig = doc.get("rig") or {}
+        kinds = {k: k for k in ("tof", "radar") if k in rig or "rig" in doc}
+        if rig.get("rgb") is not None:
+            kinds["rgb"] = "rgb"
+        for r in [rig, *(doc.get("rigs") or [])]:
+            for name, cfg in (r.get("sensors") or {}).items():
+                kinds[str(name)] = str(cfg.get("kind", ""))
+        return kinds
+    except (ValueError, AttributeError, TypeError):
+        return {}
+
+
+def _builtin_path(path: str, kinds: dict[str, str]) -> tuple[str, str] | None:
+    """``(path under its kind's group, sensor name)`` for a named sensor's dataset path."""
+    head, sep, rest = path.strip("/").partition("/")
+    kind = kinds.get(head)
+    if not sep or kind is None or kind == head:
+        return None
+    return f"/{kind}/{rest}", head
+
+
+def dims_of(path: str, kinds: dict[str, str] | None = None) -> tuple[str, ...] | None:
+    """Dimension names of dataset ``path`` (without the frame axis), None when unknown.
+
+    A named sensor's datasets (``/front_radar/range_doppler``) have the dimensions of its
+    kind's (``/radar/range_doppler``), prefixed with its name (``front_radar_velocity``,
+    ``front_radar_range``) so that sensors with other axes do not clash; a named radar's
+    object truth (``/objects/<name>/range``) is along ``object``, its people truth
+    (``/people/segments/<name>/range``) along ``segment``.
+    """
+    found = (DIMS.get(path) or PRODUCT_DIMS.get(path) or PEOPLE_DIMS.get(path)
+             or SCENE_DIMS.get(path))
+    if found is not None or not kinds:
+        return found
+    builtin = _builtin_path(path, kinds)
+    if builtin is not None:
+        base = dims_of(builtin[0])
+        if base is None:
+            return None
+        return tuple(d if d in _COMMON_DIMS else f"{builtin[1]}_{d}" for d in base)
+    parts = path.strip("/").split("/")
+    if len(parts) == 3 and parts[0] == "objects" and parts[1] in kinds:
+        return ("object",)
+    if len(parts) == 4 and parts[:2] == ["people", "segments"] and parts[2] in kinds:
+        return ("segment",)
+    return None
+
+
+def coord_of(path: str, kinds: dict[str, str] | None = None) -> str | None:
+    """The coordinate that dataset ``path`` becomes, None for a plain variable.
+
+    ``/radar/range_axis`` → ``range``; a named radar's ``/<name>/range_axis`` →
+    ``<name>_range``.
+    """
+    if path in COORDS or not kinds:
+        return COORDS.get(path)
+    builtin = _builtin_path(path, kinds)
+    if builtin is None or builtin[0] not in COORDS:
+        return None
+    return f"{builtin[1]}_{COORDS[builtin[0]]}"
+
+
+def _table_names(path: str, kinds: dict[str, str]) -> tuple[str, str]:
+    """Row dimension of a detections table and slot dimension of its per-frame form.
+
+    ``detection`` and ``slot`` for the built-in radar's; ``<name>_detection`` and
+    ``<name>_slot`` for a named radar's (its variables ``<name>_detection_<field>``).
+    """
+    builtin = _builtin_path(path.removesuffix("_by_frame"), kinds)
+    if builtin is None:
+        return "detection", "slot"
+    return f"{builtin[1]}_detection", f"{builtin[1]}_slot"
 
 
 def _datasets(f: h5py.File) -> list[h5py.Dataset]:
@@ -184,6 +276,9 @@ def open_dataset(path: str | os.PathLike[str], *,
     f = h5py.File(path, "r")
     try:
         n_frames = int(f["meta"].attrs["n_frames"])
+        project_json = f["meta"].attrs.get("project_json", "")
+        kinds = sensor_kinds(project_json.decode() if isinstance(project_json, bytes)
+                             else str(project_json))
         variables: dict[str, Any] = {}
         coords: dict[str, Any] = {}
         for ds in _datasets(f):
@@ -193,30 +288,32 @@ def open_dataset(path: str | os.PathLike[str], *,
             if ds.attrs.get("table_rows", False):  # per-frame rows, padded: lazy, by field
                 rows = _lazy(ds)
                 base = name.strip("/").replace("/", "_")
+                slot = _table_names(name, kinds)[1]
                 for field in ds.dtype.names or ():
                     variables[f"{base}_{field}"] = xr.Variable(
-                        ("frame", "slot"), rows[field],
+                        ("frame", slot), rows[field],
                         attrs={"units": DETECTION_UNITS.get(field, ""), "hdf5_path": name})
                 continue
             if ds.attrs.get("table", False):  # the detections: rows of all frames, read now
                 table = ds[()]
+                detection = _table_names(name, kinds)[0]
                 for field in ds.dtype.names or ():
-                    variables[f"detection_{field}"] = xr.Variable(
-                        ("detection",), table[field],
+                    variables[f"{detection}_{field}"] = xr.Variable(
+                        (detection,), table[field],
                         attrs={"units": DETECTION_UNITS.get(field, ""), "hdf5_path": name})
                 continue
             per_frame = bool(ds.attrs.get("per_frame", False)) or (
                 name == "/time" and ds.shape == (n_frames,))
-            inner = (DIMS.get(name) or PRODUCT_DIMS.get(name) or PEOPLE_DIMS.get(name)
-                     or SCENE_DIMS.get(name)) or tuple(
+            inner = dims_of(name, kinds) or tuple(
                 f"{name.strip('/').replace('/', '_')}_dim{i}"
                 for i in range(ds.ndim - per_frame))
             dims = (("frame",) if per_frame else ()) + inner
             if len(dims) != ds.ndim:
                 raise ValueError(f"{path}: {name} has shape {ds.shape}, expected dims {dims}")
-            if name == "/time" or name in COORDS:  # small: read now, as coordinates
+            coord = coord_of(name, kinds)
+            if name == "/time" or coord is not None:  # small: read now, as coordinates
                 values = ds.asstr()[()] if ds.dtype.kind == "O" else ds[()]
-                coords[COORDS.get(name, "time")] = xr.Variable(dims, values, attrs=attrs)
+                coords[coord or "time"] = xr.Variable(dims, values, attrs=attrs)
             else:
                 var = xr.Variable(dims, _lazy(ds), attrs=attrs)
                 variables[name.strip("/").replace("/", "_")] = var
@@ -257,6 +354,7 @@ def open_zarr_dataset(url: str, *, storage_options: dict[str, Any] | None = None
 
     group = open_group(url, mode="r", storage_options=storage_options)
     n_frames = int(group.attrs["n_frames"])
+    kinds = sensor_kinds(str(group.attrs.get("project_json", "")))
     variables: dict[str, Any] = {}
     coords: dict[str, Any] = {}
     tables: dict[str, dict[str, Any]] = {}
@@ -269,11 +367,12 @@ def open_zarr_dataset(url: str, *, storage_options: dict[str, Any] | None = None
         if sep and per_frame:
             tables.setdefault(table, {})[field] = array
             continue
-        if name == "/time" or name in COORDS:  # small: read now, as coordinates
+        coord = coord_of(name, kinds)
+        if name == "/time" or coord is not None:  # small: read now, as coordinates
             values = np.asarray(array[:n_frames] if per_frame else array[...])
             if values.dtype.kind == "T":        # NumPy 2 strings → objects, as from HDF5
                 values = values.astype(object)
-            coords[COORDS.get(name, "time")] = xr.Variable(dims, values, attrs=attrs)
+            coords[coord or "time"] = xr.Variable(dims, values, attrs=attrs)
             continue
         data = da.from_zarr(array)
         variables[name.strip("/").replace("/", "_")] = xr.Variable(
@@ -282,14 +381,15 @@ def open_zarr_dataset(url: str, *, storage_options: dict[str, Any] | None = None
         counts = np.asarray(group[f"{table.strip('/')}_count"][:n_frames])
         keep = np.arange(next(iter(fields.values())).shape[1])[None, :] < counts[:, None]
         base = table.strip("/").replace("/", "_")
+        detection, slot = _table_names(table, kinds)
         for field, array in fields.items():
             unit = DETECTION_UNITS.get(field, "")
             attrs = {"units": unit, "zarr_path": f"{table}_by_frame/{field}"}
             data = da.from_zarr(array)[:n_frames]
-            variables[f"{base}_by_frame_{field}"] = xr.Variable(("frame", "slot"), data,
+            variables[f"{base}_by_frame_{field}"] = xr.Variable(("frame", slot), data,
                                                                 attrs=attrs)
             flat = np.asarray(array[:n_frames])[keep]
-            variables[f"detection_{field}"] = xr.Variable(("detection",), flat, attrs=attrs)
+            variables[f"{detection}_{field}"] = xr.Variable((detection,), flat, attrs=attrs)
     coords["frame"] = xr.Variable(("frame",), np.arange(n_frames))
     for dim, labels in _LABELS.items():
         coords.setdefault(dim, xr.Variable((dim,), np.array(labels)))

@@ -45,6 +45,7 @@ from simcore.io.hdf5_writer import (
     ResumeError,
     frame_checksum,
 )
+from simcore.io.reader import sensor_kinds
 
 #: Frames per shard by default (a shard of the office is about 32 MB before compression).
 DEFAULT_SHARD_FRAMES = 16
@@ -66,10 +67,11 @@ def _codecs(dtype: np.dtype[Any]) -> dict[str, Any]:
                                       typesize=dtype.itemsize)}
 
 
-def _dims(path: str, ndim: int, *, per_frame: bool) -> tuple[str, ...]:
-    from simcore.io.reader import DIMS, PEOPLE_DIMS, SCENE_DIMS
+def _dims(path: str, ndim: int, *, per_frame: bool,
+          kinds: dict[str, str] | None = None) -> tuple[str, ...]:
+    from simcore.io.reader import dims_of
 
-    inner = DIMS.get(path) or PEOPLE_DIMS.get(path) or SCENE_DIMS.get(path) or tuple(
+    inner = dims_of(path, kinds) or tuple(
         f"{path.strip('/').replace('/', '_')}_dim{i}" for i in range(ndim))
     if len(inner) != ndim:
         inner = tuple(f"{path.strip('/').replace('/', '_')}_dim{i}" for i in range(ndim))
@@ -132,6 +134,7 @@ class ZarrWriter:
         self.path = url
         self.storage_options = storage_options
         self.max_detections = _max_detections(project_json)
+        self.kinds = sensor_kinds(project_json)
         self._pending: dict[int, tuple[Any, Any]] = {}
         self._complete: set[int] = set()
         self._arrays: ArrayCache | None = None
@@ -217,7 +220,7 @@ class ZarrWriter:
             dtype: Any = str if arr.dtype.kind == "U" else arr.dtype
             out = self.group.create_array(
                 path.strip("/"), shape=arr.shape, dtype=dtype, overwrite=True,
-                dimension_names=_dims(path, arr.ndim, per_frame=False),
+                dimension_names=_dims(path, arr.ndim, per_frame=False, kinds=self.kinds),
                 attributes={"unit": unit, "units": unit},
                 **({} if dtype is str else _codecs(arr.dtype)))
             out[...] = arr
@@ -234,7 +237,7 @@ class ZarrWriter:
             if not self.has_arrays:
                 create_arrays(self.group, batch[0][1], batch[0][2], n_total=self.n_total,
                               shard_frames=self.shard_frames,
-                              max_detections=self.max_detections)
+                              max_detections=self.max_detections, kinds=self.kinds)
             if self._arrays is None:
                 self._arrays = ArrayCache(self.group)
             write_shard_arrays(self._arrays, batch, max_detections=self.max_detections)
@@ -309,7 +312,7 @@ def _exists(url: str, storage_options: dict[str, Any] | None) -> bool:
 
 def create_arrays(group: Any, items: dict[str, tuple[NDArray[Any], str]],
                   tables: dict[str, NDArray[Any]], *, n_total: int, shard_frames: int,
-                  max_detections: int) -> None:
+                  max_detections: int, kinds: dict[str, str] | None = None) -> None:
     """Create the per-frame arrays of a run from its first frame (the driver does this)."""
     def make(path: str, shape: tuple[int, ...], dtype: np.dtype[Any], unit: str,
              dims: tuple[str, ...]) -> None:
@@ -326,7 +329,8 @@ def create_arrays(group: Any, items: dict[str, tuple[NDArray[Any], str]],
 
     for path, (array, unit) in items.items():
         arr = np.asarray(array)
-        make(path, arr.shape, arr.dtype, unit, _dims(path, arr.ndim, per_frame=True))
+        make(path, arr.shape, arr.dtype, unit,
+             _dims(path, arr.ndim, per_frame=True, kinds=kinds))
     from simcore.dsp.detections import DETECTION_UNITS
 
     for path, rows in tables.items():

@@ -73,6 +73,18 @@ class ObjectTruth:
     radar_nearest_range_m: NDArray[np.float64] = field(
         default_factory=lambda: np.zeros(0, dtype=np.float64))
 
+    def sensor_items(self, name: str) -> H5Items:
+        """The ``radar_*`` truth as a named radar's: ``/objects/<name>/range``, ...
+
+        For any radar but the built-in one (whose truth is ``/objects/radar_range``, ...).
+        """
+        return {
+            f"/objects/{name}/range": (self.radar_range_m, "m"),
+            f"/objects/{name}/radial_velocity": (self.radar_radial_velocity_mps, "m/s"),
+            f"/objects/{name}/azimuth": (self.radar_azimuth_deg, "deg"),
+            f"/objects/{name}/elevation": (self.radar_elevation_deg, "deg"),
+        }
+
     def take(self, index: NDArray[np.integer]) -> ObjectTruth:
         """The truth of objects ``index`` (e.g. a person's torso for the person)."""
         return ObjectTruth(*(getattr(self, f)[index] for f in self.__dataclass_fields__))
@@ -129,7 +141,8 @@ class TruthCache:
 def object_ground_truth(project: Project, snapshot: SceneSnapshot,
                         local_points: Sequence[NDArray[np.floating] | None], *,
                         local_triangles: Sequence[NDArray[np.integer] | None] | None = None,
-                        cache: TruthCache | None = None) -> ObjectTruth:
+                        cache: TruthCache | None = None, sensor: str = "radar"
+                        ) -> ObjectTruth:
     """Ground truth of every object of a frame.
 
     Parameters
@@ -149,6 +162,10 @@ def object_ground_truth(project: Project, snapshot: SceneSnapshot,
         Results of the previous frames: objects that did not move (nor the radar, for
         their nearest range) are not computed again. The arrays of ``local_points`` and
         ``local_triangles`` must not be modified in place between calls.
+    sensor : str
+        The radar whose range, radial velocity, angles and nearest range the ``radar_*``
+        fields hold (default the built-in ``radar``); NaN when the snapshot has no such
+        sensor.
 
     Returns
     -------
@@ -165,7 +182,7 @@ def object_ground_truth(project: Project, snapshot: SceneSnapshot,
     size = np.zeros((k, 3))
     ref = np.zeros((k, 3))
     origin = np.zeros((k, 3))
-    radar = snapshot.sensors.get("radar")
+    radar = snapshot.sensors.get(sensor)
     radar_key = None if radar is None else np.asarray(radar.position, np.float64).tobytes()
     nearest = np.full(k, np.nan)
     kept_before = {} if cache is None else cache._objects
@@ -224,7 +241,7 @@ def object_ground_truth(project: Project, snapshot: SceneSnapshot,
         cache._objects = kept_now
     # Each reference point's velocity as a point of its body (RigidState.point_velocity).
     ref_vel = vel + np.cross(ang, ref - origin)
-    rng, v_r, az, el = _relative_to(snapshot, "radar", ref, ref_vel)
+    rng, v_r, az, el = _relative_to(snapshot, sensor, ref, ref_vel)
     return ObjectTruth(vel, ang, aabb, center, rot, size, ref, rng, v_r, az, el, nearest)
 
 

@@ -6,7 +6,7 @@ computed from the snapshot taken at the frame's timestamp.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -65,15 +65,21 @@ class SceneSnapshot:
     objects : list of RigidState
         One state per project object, in project order.
     rig : RigidState
-        The sensor rig's body frame.
+        The first rig's body frame (``project.rig``).
     sensors : dict of str to SensorState
-        Optical-frame pose of every sensor on the rig, by sensor name.
+        Optical-frame pose of every sensor of every rig, by sensor name.
+    rigs : dict of str to RigidState
+        Body frame of every rig, by rig name (the first rig's is :attr:`rig`).
+    sensor_rigs : dict of str to str
+        Name of the rig that carries each sensor.
     """
 
     time_s: float
     objects: list[RigidState]
     rig: RigidState
     sensors: dict[str, SensorState]
+    rigs: dict[str, RigidState] = field(default_factory=dict)
+    sensor_rigs: dict[str, str] = field(default_factory=dict)
 
     def sensor(self, name: str) -> SensorState:
         """The state of sensor ``name`` (KeyError naming the sensors there are)."""
@@ -82,6 +88,30 @@ class SceneSnapshot:
         except KeyError:
             raise KeyError(f"no sensor {name!r} on the rig (sensors: "
                            f"{', '.join(self.sensors)})") from None
+
+    def rig_of(self, sensor: str) -> RigidState:
+        """The body frame of the rig that carries sensor ``sensor`` (the first rig's if unknown)."""
+        rig = self.sensor_rigs.get(sensor)
+        return self.rig if rig is None else self.rigs[rig]
+
+    def seen_by(self, sensor: str, as_name: str) -> SceneSnapshot:
+        """The snapshot as sensor ``sensor``'s models read it: it is ``sensors[as_name]``.
+
+        A sensor model written for the built-in sensor of its kind (the radar's scatterers
+        and multipath read ``sensors["radar"]`` and ``rig``) computes any other sensor of
+        that kind from this view: ``sensors[as_name]`` is ``sensor``'s state and ``rig``
+        its rig's. The same snapshot when ``sensor == as_name`` and it is on the first rig.
+        """
+        if sensor == as_name and self.sensor_rigs.get(sensor) in (None, self._first_rig()):
+            return self
+        view = replace(self, sensors={**self.sensors, as_name: self.sensor(sensor)},
+                       rig=self.rig_of(sensor))
+        if "_transforms" in self.__dict__:
+            view.__dict__["_transforms"] = self.__dict__["_transforms"]
+        return view
+
+    def _first_rig(self) -> str | None:
+        return next(iter(self.rigs), None)
 
     def object_transforms(self) -> NDArray[np.float64]:
         """World transforms of all objects, shape (objects, 4, 4) (a new array each call).
@@ -110,8 +140,14 @@ def _sensor_state(rig: RigidState, mount: NDArray[np.float64]) -> SensorState:
 
 
 def take_snapshot(project: Project, t: float) -> SceneSnapshot:
-    """Evaluate every object's and sensor's pose and velocity at time ``t`` (s)."""
-    rig = rigid_state(project.rig.pose, project.rig.motion, t)
+    """Evaluate every object's, rig's and sensor's pose and velocity at time ``t`` (s)."""
+    rigs = {r.name: rigid_state(r.pose, r.motion, t) for r in project.all_rigs()}
+    sensors: dict[str, SensorState] = {}
+    owners: dict[str, str] = {}
+    for r in project.all_rigs():
+        for name, cfg in r.sensor_configs().items():
+            sensors[name] = _sensor_state(rigs[r.name], cfg.pose_on_rig.matrix())  # type: ignore[attr-defined]
+            owners[name] = r.name
     objects = [rigid_state(o.pose, o.motion, t) for o in project.objects]
     people = getattr(project, "_people", None)
     if people is not None:  # segments of people (simcore.scene.people.expand)
@@ -119,7 +155,8 @@ def take_snapshot(project: Project, t: float) -> SceneSnapshot:
     return SceneSnapshot(
         time_s=float(t),
         objects=objects,
-        rig=rig,
-        sensors={name: _sensor_state(rig, cfg.pose_on_rig.matrix())  # type: ignore[attr-defined]
-                 for name, cfg in project.rig.sensor_configs().items()},
+        rig=rigs[project.rig.name],
+        sensors=sensors,
+        rigs=rigs,
+        sensor_rigs=owners,
     )

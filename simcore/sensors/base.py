@@ -1,11 +1,15 @@
 """What a sensor is to the frame engine: a :class:`Sensor` protocol and a registry.
 
-A sensor is one package under ``simcore/sensors/`` that registers one :class:`Sensor`
-object. The engine asks it which render pass it needs (:meth:`Sensor.render_request`),
-renders that pass from the frame's snapshot, and hands it a :class:`SensorContext`; the
-sensor returns its output (anything with ``hdf5_items()``), stored in the frame under the
-sensor's name. The sensor's configuration is the rig field of the same name
-(``project.rig.<name>``), ``None`` when an optional sensor is off.
+A sensor kind is one package under ``simcore/sensors/`` that registers its class; the
+engine makes one instance per configured sensor (:func:`active_sensors`: a project may
+carry several sensors of a kind, on several rigs), each with its ``name``. The engine
+asks it which render pass it needs (:meth:`Sensor.render_request`), renders that pass
+from the snapshot at its capture time, and hands it a :class:`SensorContext`; the sensor
+returns its output (anything with ``hdf5_items()``), stored in the frame under the
+sensor's name. The sensor's configuration is ``project.sensor_config(name)``
+(:func:`sensor_config`): the first rig's built-in ``tof``/``radar``/``rgb`` field or an
+entry of a rig's ``sensors`` table. The models write their dataset items under their
+kind's group; :func:`rename_items` moves them to the sensor's own.
 
 The physics inside a sensor are plain functions of (inputs, config, rng); a sensor runs
 them through :meth:`SensorContext.stage`, which lets the engine's one stage cache skip a
@@ -26,7 +30,7 @@ from numpy.typing import NDArray
 from simcore.render.buffers import RenderBuffers
 from simcore.render.renderer import RenderRequest
 from simcore.scene.base import Model
-from simcore.scene.model import Project
+from simcore.scene.model import Project, sensor_kind
 from simcore.scene.snapshot import SceneSnapshot
 
 #: HDF5 items of a frame: dataset path → (array without the frame axis, unit).
@@ -103,9 +107,10 @@ class SensorContext:
     Attributes
     ----------
     project : Project
-        The project (its ``rig.<sensor name>`` is the sensor's configuration).
+        The project (``project.sensor_config(sensor.name)`` is the sensor's configuration).
     snapshot : SceneSnapshot
-        The frame's snapshot; every output of the frame carries ``snapshot.time_s``.
+        The snapshot at the sensor's capture time (the frame's time plus its trigger
+        offset); its output carries ``snapshot.time_s``.
     index : int
         Frame index.
     seed : int
@@ -147,28 +152,33 @@ class SensorContext:
 
     @property
     def time_s(self) -> float:
-        """Timestamp of the frame (s)."""
+        """Capture time of the sensor in this frame (s)."""
         return float(self.snapshot.time_s)
 
 
 class Sensor(Protocol):
-    """A sensor plug-in: one object per sensor kind, registered with :func:`register`.
+    """A sensor plug-in: one instance per configured sensor, made by its kind's class.
 
     Attributes
     ----------
     name : str
-        Rig field of its configuration, key of ``Frame.outputs`` and its HDF5 group.
+        The sensor's name (key of its configuration in the project, of ``Frame.outputs``
+        and its dataset group).
+    kind : str
+        Its model (``"tof"``, ``"radar"``, ``"rgb"``): the key of its class in the registry.
     band : str
         The material band it sees (:data:`simcore.scene.materials.BANDS`).
     rng_stream : int
-        Its independent random stream (unique per sensor; changing one sensor leaves the
-        others' noise untouched).
+        Its independent random stream (:func:`sensor_rng_stream`: the built-in sensors
+        keep theirs, another sensor's is its rig's and its place in the rig's table), so
+        changing one sensor leaves the others' noise untouched.
     on_worker : bool
         Whether the engine runs its simulation on the worker thread (beside the
         calling thread's rendering and the other sensors).
     """
 
     name: str
+    kind: str
     band: str
     rng_stream: int
     on_worker: bool
@@ -199,38 +209,110 @@ class Sensor(Protocol):
         ...
 
 
-_REGISTRY: dict[str, Sensor] = {}
+#: Random streams of the built-in sensors (bit-identical noise in today's projects).
+BUILTIN_STREAMS = {"tof": 0, "radar": 1, "rgb": 2}
 
 
-def register(sensor: Sensor) -> Sensor:
-    """Add a sensor kind to the registry (its ``name`` and ``rng_stream`` must be new)."""
-    if sensor.name in _REGISTRY:
-        raise ValueError(f"a sensor named {sensor.name!r} is registered already")
-    streams = {s.rng_stream: s.name for s in _REGISTRY.values()}
-    if sensor.rng_stream in streams:
-        raise ValueError(f"sensor {sensor.name!r}: random stream {sensor.rng_stream} is "
-                         f"{streams[sensor.rng_stream]!r}'s")
-    _REGISTRY[sensor.name] = sensor
+#: Random streams of the sensors in rigs' ``sensors`` tables start here, this many per rig.
+TABLE_STREAMS, STREAMS_PER_RIG = 1_000, 1_000
+
+
+def sensor_rng_stream(kind: str, name: str, rig_index: int = 0, slot: int = 0) -> int:
+    """The random stream of sensor ``name`` of kind ``kind``.
+
+    A built-in sensor (the first rig's ``tof``, ``radar``, ``rgb`` fields) keeps its
+    historical stream. A sensor of a rig's ``sensors`` table gets one from where it sits:
+    rig ``rig_index`` (0 = the first rig), entry ``slot`` of its table. So renaming a
+    sensor changes nothing but its names (its noise stays bit for bit), and adding or
+    removing a sensor leaves the streams of the other rigs' sensors and of the sensors
+    before it untouched.
+    """
+    if name == kind and kind in BUILTIN_STREAMS:
+        return BUILTIN_STREAMS[kind]
+    return TABLE_STREAMS + STREAMS_PER_RIG * rig_index + slot
+
+
+class SensorBase:
+    """What every sensor class shares: its name, its stream and its configuration.
+
+    A subclass sets ``kind``, ``band`` and ``on_worker``; ``SensorClass(name)`` is the
+    sensor called ``name`` (default: the kind's built-in sensor).
+    """
+
+    kind: str = ""
+    band: str = ""
+    on_worker: bool = False
+
+    def __init__(self, name: str | None = None, rng_stream: int | None = None):
+        self.name = self.kind if name is None else name
+        self.rng_stream = (sensor_rng_stream(self.kind, self.name) if rng_stream is None
+                           else rng_stream)
+
+    def config(self, project: Project) -> Any:
+        """The sensor's configuration in ``project`` (ValueError when it is not there)."""
+        cfg = sensor_config(project, self.name)
+        if cfg is None:
+            raise ValueError(f"the project has no sensor {self.name!r}")
+        return cfg
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self.name!r})"
+
+
+#: Sensor classes by kind: ``_REGISTRY[kind](name, rng_stream)`` is the sensor ``name``.
+_REGISTRY: dict[str, Callable[..., Sensor]] = {}
+
+
+def register(sensor: Sensor | type) -> Any:
+    """Add a sensor kind: its class (or an instance of it, whose kind is its ``kind``)."""
+    cls = sensor if isinstance(sensor, type) else type(sensor)
+    kind = getattr(cls, "kind", "") or getattr(sensor, "name", "")
+    if not kind:
+        raise ValueError(f"{cls.__name__} has no kind")
+    if kind in _REGISTRY:
+        raise ValueError(f"a sensor kind {kind!r} is registered already")
+    _REGISTRY[kind] = cls
     return sensor
 
 
 def registered() -> dict[str, Sensor]:
-    """Every registered sensor kind, by name."""
-    return dict(_REGISTRY)
+    """The built-in sensor of every registered kind, by kind."""
+    return {kind: factory(kind) for kind, factory in _REGISTRY.items()}
 
 
 def sensor_config(project: Project, name: str) -> Any:
-    """The configuration of sensor ``name`` on the project's rig (None when it is off)."""
-    return getattr(project.rig, name, None)
+    """The configuration of sensor ``name`` on any of the project's rigs (None when absent)."""
+    return project.sensor_configs().get(name)
+
+
+def rename_items(items: dict[str, T], kind: str, name: str) -> dict[str, T]:
+    """Dataset items of a sensor of ``kind``, moved from ``/<kind>/...`` to ``/<name>/...``.
+
+    The sensor models write their items under their kind's group; a sensor named
+    otherwise gets them under its own. Items outside that group stay where they are; a
+    built-in sensor (``name == kind``) keeps every path.
+    """
+    if name == kind:
+        return items
+    old, new = f"/{kind}/", f"/{name}/"
+    return {(new + path[len(old):] if path.startswith(old) else path): value
+            for path, value in items.items()}
 
 
 def active_sensors(project: Project) -> list[Sensor]:
-    """The registered sensors that the project's rig carries, in registration order."""
-    configs = project.rig.sensor_configs()
-    unknown = sorted(set(configs) - set(_REGISTRY))
-    if unknown:
-        raise ValueError(f"rig sensor {unknown[0]!r} has no registered sensor model")
-    return [s for name, s in _REGISTRY.items() if name in configs]
+    """One sensor per configured sensor of every rig, in the project's order."""
+    out: list[Sensor] = []
+    for rig_index, rig in enumerate(project.all_rigs()):
+        table = list(rig.sensors)
+        for name, cfg in rig.sensor_configs().items():
+            kind = sensor_kind(cfg)
+            if kind not in _REGISTRY:
+                raise ValueError(f"sensor {name!r}: kind {kind!r} has no registered sensor "
+                                 "model")
+            stream = sensor_rng_stream(kind, name, rig_index,
+                                       table.index(name) if name in table else 0)
+            out.append(_REGISTRY[kind](name, stream))
+    return out
 
 
 def frame_rng(seed: int, index: int, stream: int) -> np.random.Generator:

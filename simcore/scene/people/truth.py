@@ -90,6 +90,26 @@ def people_truth(people: PeopleExpansion, snapshot: SceneSnapshot) -> PeopleTrut
                        rates[:, 0], rates[:, 1], phase)
 
 
+def people_radar_items(people: PeopleExpansion, snapshot: SceneSnapshot, radar: str
+                       ) -> H5Items:
+    """Per-segment truth seen from a named radar: ``/people/segments/<radar>/range``, ...
+
+    The same quantities as :class:`PeopleTruth`'s ``segment_radar_*`` (which are the
+    built-in radar's), from radar ``radar``'s pose in ``snapshot``.
+    """
+    index = np.concatenate([np.arange(p.first, p.first + len(SEGMENTS)) for p in people.people])
+    states = [snapshot.objects[i] for i in index]
+    pos = np.stack([s.transform[:3, 3] for s in states])
+    vel = np.stack([s.velocity_mps for s in states])
+    rng, v_r, az, el = _relative_to(snapshot, radar, pos, vel)
+    return {
+        f"/people/segments/{radar}/range": (rng, "m"),
+        f"/people/segments/{radar}/radial_velocity": (v_r, "m/s"),
+        f"/people/segments/{radar}/azimuth": (az, "deg"),
+        f"/people/segments/{radar}/elevation": (el, "deg"),
+    }
+
+
 def people_static_items(people: PeopleExpansion) -> H5Items:
     """Run-constant ``/people`` datasets: names, ids, segment names and body-part ids."""
     seg_names = [f"{p.name}/{s}" for p in people.people for s in SEGMENTS]

@@ -7,6 +7,7 @@ scatterers, a DSP edit re-uses the ADC cube, and a ToF edit re-uses the whole ra
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from dataclasses import dataclass
 
@@ -18,7 +19,14 @@ from simcore.render.renderer import RenderRequest
 from simcore.scene.model import Project
 from simcore.scene.people.expand import body_part_table
 from simcore.scene.radar_config import RadarConfig
-from simcore.sensors.base import DeferredOutput, H5Items, SensorContext, config_key
+from simcore.sensors.base import (
+    DeferredOutput,
+    H5Items,
+    SensorBase,
+    SensorContext,
+    config_key,
+    rename_items,
+)
 from simcore.sensors.radar.background import (
     BackgroundFacets,
     cell_pixels,
@@ -65,10 +73,13 @@ class RadarFrameOutput:
     dsp: RadarProducts
     labels: DetectionLabels | None = None
     body_parts: NDArray[np.int32] | None = None
+    #: Dataset group of the sensor (its name).
+    group: str = "radar"
 
     def hdf5_items(self) -> H5Items:
-        """Per-frame datasets of the raw data and the maps."""
-        return {**self.raw.hdf5_items(), **self.dsp.hdf5_items()}
+        """Per-frame datasets of the raw data and the maps (under ``/<group>/``)."""
+        return rename_items({**self.raw.hdf5_items(), **self.dsp.hdf5_items()}, "radar",
+                            self.group)
 
     def table_rows(self, index: int) -> dict[str, NDArray[np.void]]:
         """Rows this frame adds to the detections table (with their labels)."""
@@ -80,24 +91,27 @@ class RadarFrameOutput:
             if self.body_parts is not None and self.labels.object_index is not None:
                 table = np.append(self.body_parts, np.int32(-1))
                 rows["body_part"] = table[self.labels.object_index]
-        return {"/radar/detections": rows}
+        return {f"/{self.group}/detections": rows}
 
 
 #: Prepared scatterer sets and their signs whose sum is a frame's scatterers (labels).
 _LabelParts = list[tuple[LabelScatterers, float]]
 
 
-class RadarSensor:
-    """FMCW radar (``rig.radar``): the 60 GHz band seen from the radar board."""
+class RadarSensor(SensorBase):
+    """FMCW radar (``rig.radar`` or a named one): the 60 GHz band seen from its board.
 
-    name = "radar"
+    The radar models read the radar's state as ``snapshot.sensors["radar"]``: a radar
+    with another name runs them on :meth:`SceneSnapshot.seen_by` views of its snapshot.
+    """
+
+    kind = "radar"
     band = "radar"
-    rng_stream = 1
     on_worker = True
 
     def render_request(self, project: Project) -> RenderRequest:
         """The radar pass (visibility only): facet grid × render supersampling, square pixels."""
-        return RenderRequest(self.name, self.band, project.rig.radar.render_intrinsics(),
+        return RenderRequest(self.name, self.band, self.config(project).render_intrinsics(),
                              geometry_only=True)
 
     def sample_offsets_s(self, project: Project) -> tuple[float, ...]:
@@ -106,7 +120,7 @@ class RadarSensor:
 
     def see_through(self, project: Project) -> tuple[bool, ...] | None:
         """The objects that transmit part of the radar wave (slabs: glass, paper, wood)."""
-        return transmissive_objects(project, project.rig.radar.wavelength_m)
+        return transmissive_objects(project, self.config(project).wavelength_m)
 
     def simulate(self, ctx: SensorContext) -> RadarFrameOutput | DeferredOutput:
         """Scatterers, IF synthesis, receiver and DSP of one frame.
@@ -114,19 +128,19 @@ class RadarSensor:
         Receiver, DSP and labels run on the engine's post thread when it has one
         (``ctx.defer``).
         """
-        base = ctx.project.rig.radar
         # The frame's hopping channel and chirp jitter (none by default): the same draw as
         # other radars receive as interference (simcore.sensors.radar.transmit).
+        base = self.config(ctx.project)
         cfg = frame_transmit_config(
             base, ctx.index // base.frame_divider(ctx.project.timeline.frame_rate_hz))
+        ctx = dataclasses.replace(ctx, snapshot=ctx.snapshot.seen_by(self.name, "radar"))
         found = _ideal_over_background(ctx, cfg)
         scatterers = None
         if found is None:
             scatterers = ctx.stage(
                 "radar_scatterers",
-                lambda: radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers,
-                                         config=cfg, seed=ctx.seed,
-                                         see_through=ctx.see_through),
+                lambda: radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
+                                         see_through=ctx.see_through, config=cfg),
                 reads=_scatterer_reads(ctx, cfg), inputs=(ctx.buffers, ctx.see_through))
             # Per-scatterer arrays that do not depend on antennas or waveform: an antenna
             # edit re-uses them with the scatterers.
@@ -143,7 +157,7 @@ class RadarSensor:
         if cfg.multipath_order > 0:
             ideal, ghosts = _with_multipath(ctx, cfg, ideal, scatterers)
         inr_db = None
-        interference = _interference(ctx, cfg, scatterers)
+        interference = _interference(ctx, self.name, cfg, scatterers)
         if interference is not None:
             ideal = ideal + interference.cube
             inr_db = interference.inr_db
@@ -168,8 +182,9 @@ class RadarSensor:
             lambda: radar_output(ideal, cfg, rng=ctx.rng, time_s=ctx.time_s,
                                  n_scatterers=n_scatterers, transformed=transformed,
                                  inr_db=inr_db),
-            reads=(config_key(cfg), ctx.seed, ctx.index, ctx.time_s), inputs=(ideal,))
-        to_world = ctx.snapshot.sensor(self.name).transform
+            reads=(config_key(cfg), ctx.seed, ctx.index, ctx.time_s, self.rng_stream),
+            inputs=(ideal,))
+        to_world = ctx.snapshot.sensor("radar").transform
         dsp = ctx.stage(
             "dsp", lambda: process_frame(raw.adc, cfg, ctx.project.dsp, radar_to_world=to_world),
             reads=(config_key(cfg, ctx.project.dsp), to_world.tobytes()), inputs=(raw,))
@@ -182,11 +197,13 @@ class RadarSensor:
             inputs=(dsp, *(p for p, _ in parts), *ghosts))
         parts_table = body_part_table(ctx.project)
         return RadarFrameOutput(raw=raw, dsp=dsp, labels=labels,
-                                body_parts=parts_table if np.any(parts_table >= 0) else None)
+                                body_parts=parts_table if np.any(parts_table >= 0) else None,
+                                group=self.name)
 
     def static_items(self, project: Project) -> H5Items:
         """The axes of the radar maps."""
-        return static_axes_items(project.rig.radar, project.dsp)
+        return rename_items(static_axes_items(self.config(project), project.dsp), "radar",
+                            self.name)
 
 
 def _with_multipath(ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
@@ -204,9 +221,8 @@ def _with_multipath(ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
     def run() -> tuple[ComplexCube, list[LabelScatterers]]:
         sc = scatterers
         if sc is None:
-            sc = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers,
-                                         config=cfg, seed=ctx.seed,
-                                  see_through=ctx.see_through)
+            sc = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
+                                  see_through=ctx.see_through, config=cfg)
         sets = ghost_scatterers(ctx.project, ctx.snapshot, sc, cfg, buffers=ctx.buffers)
         labels = [prepare_scatterers(g.scatterers, cfg, tx_positions_m=g.tx_positions_m,
                                      rx_positions_m=g.rx_positions_m)
@@ -220,14 +236,14 @@ def _with_multipath(ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
                      inputs=(ideal, ctx.buffers, ctx.see_through))
 
 
-def _interference(ctx: SensorContext, cfg: RadarConfig, scatterers: Scatterers | None
-                  ) -> FrameInterference | None:
+def _interference(ctx: SensorContext, name: str, cfg: RadarConfig,
+                  scatterers: Scatterers | None) -> FrameInterference | None:
     """The other radars' signals in this frame (stage ``radar_interference``), or None.
 
     Over the direct paths, and with ``multipath_order`` ≥ 1 also over the frame's
     scatterers (computed here when the frame's IF was built over the still background).
     """
-    if not aggressors(ctx.project, "radar"):
+    if not aggressors(ctx.project, name):
         return None
     reflect = cfg.multipath_order > 0
 
@@ -237,7 +253,7 @@ def _interference(ctx: SensorContext, cfg: RadarConfig, scatterers: Scatterers |
             sc = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers,
                                          config=cfg, seed=ctx.seed,
                                   see_through=ctx.see_through)
-        return frame_interference(ctx.project, "radar", cfg, ctx.time_s,
+        return frame_interference(ctx.project, name, cfg, ctx.time_s,
                                   scatterers=sc if reflect else None)
 
     rigs = ctx.project.all_rigs()
@@ -277,9 +293,8 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
     background = ctx.stage(
         "radar_background_scatterers",
         lambda: BackgroundFacets.of(
-            radar_scatterers(ctx.project, ctx.snapshot, bg.buffers,
-                                         config=cfg, seed=ctx.seed,
-                             see_through=bg.see_through),
+            radar_scatterers(ctx.project, ctx.snapshot, bg.buffers, seed=ctx.seed,
+                             see_through=bg.see_through, config=cfg),
             len(ctx.project.objects)),
         reads=reads, inputs=(bg.buffers, bg.see_through))
     background_prepared = ctx.stage("radar_background_prepare",
@@ -295,9 +310,8 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
 
     def frame_if() -> tuple[ComplexCube, int, int, _LabelParts]:
         pixels = cell_pixels(cells, ctx.buffers.intrinsics, facets)
-        others = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers,
-                                         config=cfg, seed=ctx.seed,
-                                  pixels=pixels, see_through=ctx.see_through)
+        others = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
+                                  pixels=pixels, see_through=ctx.see_through, config=cfg)
         hidden = background.in_cells(cells)
         out = background_if.copy()
         if len(hidden):

@@ -11,23 +11,23 @@ from simcore.scene.model import Project
 from simcore.scene.people.expand import body_part_table
 from simcore.scene.project_io import material_table
 from simcore.scene.rgb_config import RgbCameraConfig
-from simcore.sensors.base import H5Items, SensorContext, config_key
+from simcore.sensors.base import H5Items, SensorBase, SensorContext, config_key
 from simcore.sensors.rgb.camera import BAND, RgbOutput, object_colors, simulate_rgb
 
 
-class RgbSensor:
-    """Colour camera (``rig.rgb``): the visible band seen from the camera."""
+class RgbSensor(SensorBase):
+    """Colour camera (``rig.rgb`` or a named one): the visible band seen from the camera."""
 
-    name = "rgb"
+    kind = "rgb"
     band = BAND
-    rng_stream = 2
     on_worker = False
 
-    @staticmethod
-    def _config(project: Project) -> RgbCameraConfig:
-        cfg = project.rig.rgb
+    def _config(self, project: Project) -> RgbCameraConfig:
+        cfg = project.sensor_configs().get(self.name)
         if cfg is None:
-            raise ValueError("the rig has no RGB camera (rig.rgb is not set)")
+            raise ValueError(f"the project has no RGB camera {self.name!r}"
+                             + (" (rig.rgb is not set)" if self.name == "rgb" else ""))
+        assert isinstance(cfg, RgbCameraConfig)
         return cfg
 
     def render_request(self, project: Project) -> RenderRequest:

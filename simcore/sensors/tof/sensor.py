@@ -12,45 +12,47 @@ from simcore.render.renderer import RenderRequest
 from simcore.scene.model import Project
 from simcore.scene.people.expand import body_part_table
 from simcore.scene.project_io import material_table
-from simcore.sensors.base import H5Items, SensorContext, config_key
+from simcore.scene.tof_config import TofCameraConfig
+from simcore.sensors.base import H5Items, SensorBase, SensorContext, config_key
 from simcore.sensors.tof.camera import TofOutput, simulate_tof, slab_transmittance
 from simcore.sensors.tof.specular import is_mirror, material_columns
 
 
-class TofSensor:
-    """AMCW ToF camera (``rig.tof``): the near-infrared band seen from the camera."""
+class TofSensor(SensorBase):
+    """AMCW ToF camera (``rig.tof`` or a named one): the near-infrared band it sees."""
 
-    name = "tof"
+    kind = "tof"
     band = "tof"
-    rng_stream = 0
     on_worker = False
 
     def render_request(self, project: Project) -> RenderRequest:
         """The supersampled near-infrared pass from the camera."""
-        return RenderRequest(self.name, self.band, project.rig.tof.render_intrinsics())
+        return RenderRequest(self.name, self.band, self.config(project).render_intrinsics())
 
     def see_through(self, project: Project) -> tuple[bool, ...] | None:
         """The objects that transmit part of the near-IR light (glass panes); None if none."""
-        mask = tuple(bool(t > 0) for t in transmittance(project))
+        mask = tuple(bool(t > 0) for t in transmittance(project, self.config(project)))
         return mask if any(mask) else None
 
     def sample_offsets_s(self, project: Project) -> tuple[float, ...]:
         """Times of extra renders: motion artefacts, then the previous frame (auto-exposure).
 
         With motion artefacts, the 2nd to 4th correlation samples' start times; with
-        auto-exposure, one frame period earlier (the frame auto-exposure looks at).
+        auto-exposure, one of the camera's frame periods earlier (the frame auto-exposure
+        looks at).
         """
-        cfg = project.rig.tof
+        cfg = self.config(project)
         offsets: tuple[float, ...] = ()
         if cfg.motion_artifacts and cfg.motion_sampling == "renders":
             offsets += tuple(i * cfg.sample_interval_s for i in (1, 2, 3))
         if cfg.auto_exposure:
-            offsets += (-1.0 / project.timeline.frame_rate_hz,)
+            rate = project.timeline.frame_rate_hz
+            offsets += (-cfg.frame_divider(rate) / rate,)
         return offsets
 
     def simulate(self, ctx: SensorContext) -> TofOutput:
         """The camera model over the render (and the sample renders, if any)."""
-        cfg = ctx.project.rig.tof
+        cfg = self.config(ctx.project)
         extra = list(ctx.sample_buffers)
         previous = extra.pop() if cfg.auto_exposure else None
         samples = (ctx.buffers, *extra) if extra else None
@@ -61,14 +63,14 @@ class TofSensor:
                                                 *ctx.project.objects),
                                inputs=(ctx.buffers,))
         through = ctx.see_through
-        trans = None if through is None else transmittance(ctx.project)
+        trans = None if through is None else transmittance(ctx.project, cfg)
         mirrors = mirror_table(ctx.project) if cfg.specular else None
         out: TofOutput = ctx.stage(
             "tof", lambda: simulate_tof(ctx.buffers, cfg, rng=ctx.rng, sample_buffers=samples,
                                         albedo=albedo, exposure_reference=previous,
                                         see_through=through, transmittance=trans,
                                         mirrors=mirrors),
-            reads=(config_key(cfg), ctx.seed, ctx.index,
+            reads=(config_key(cfg), ctx.seed, ctx.index, self.rng_stream,
                    None if trans is None else trans.tobytes()),
             inputs=(ctx.buffers, *ctx.sample_buffers, through))
         parts = body_part_table(ctx.project)
@@ -83,14 +85,15 @@ class TofSensor:
         return {}
 
 
-def transmittance(project: Project) -> NDArray[np.float64]:
+def transmittance(project: Project, config: TofCameraConfig | None = None
+                  ) -> NDArray[np.float64]:
     """One-pass near-IR power transmittance of every object (0: opaque), shape (N,).
 
     From each object's ToF-band material (:func:`simcore.sensors.tof.camera.slab_transmittance`
-    at the camera's wavelength).
+    at the wavelength of camera ``config``, default ``rig.tof``).
     """
     table = material_table(project, copy=False)
-    wavelength_m = project.rig.tof.wavelength_nm * 1e-9
+    wavelength_m = (project.rig.tof if config is None else config).wavelength_nm * 1e-9
     return np.array([slab_transmittance(table[o.material].band("tof"), wavelength_m)
                      if o.material in table else 0.0 for o in project.objects],
                     dtype=np.float64)
