@@ -20,9 +20,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simcore.scene.model import Project, Rig
-from simcore.scene.motion import rigid_state
 from simcore.scene.radar_config import RadarConfig
-from simcore.scene.snapshot import SensorState, _sensor_state
+from simcore.sensors.placement import other_sensors, sensor_state
 from simcore.sensors.radar.interference import (
     PathSet,
     direct_paths,
@@ -34,20 +33,10 @@ from simcore.sensors.radar.scatterers import Scatterers
 from simcore.sensors.radar.transmit import frame_period_s, frame_transmit_config
 
 
-def sensor_state(rig: Rig, config: RadarConfig, time_s: float) -> SensorState:
-    """World pose and velocity of a sensor on ``rig`` at ``time_s`` (any rig)."""
-    return _sensor_state(rigid_state(rig.pose, rig.motion, time_s),
-                         config.pose_on_rig.matrix())
-
-
 def aggressors(project: Project, victim: str) -> list[tuple[str, Rig, RadarConfig]]:
     """Every radar of the project but ``victim``: (name, rig, configuration)."""
-    out = []
-    for rig in project.all_rigs():
-        for name, cfg in rig.sensor_configs().items():
-            if name != victim and isinstance(cfg, RadarConfig):
-                out.append((name, rig, cfg))
-    return out
+    return [(n, r, c) for n, r, c in other_sensors(project, victim, RadarConfig)
+            if isinstance(c, RadarConfig)]
 
 
 @dataclass(frozen=True)
@@ -129,4 +118,4 @@ def frame_interference(project: Project, victim: str, victim_config: RadarConfig
     return FrameInterference(cube, interference_to_noise_db(cube, victim_config), n_frames)
 
 
-__all__ = ["FrameInterference", "aggressors", "frame_interference", "sensor_state"]
+__all__ = ["FrameInterference", "aggressors", "frame_interference"]

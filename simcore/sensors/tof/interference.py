@@ -27,10 +27,14 @@ detector responds to the other's carrier (docs/interference.md).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from simcore.scene.tof_config import SPEED_OF_LIGHT
+from simcore.render.buffers import RenderBuffers
+from simcore.scene.tof_config import PLANCK, SPEED_OF_LIGHT, TofCameraConfig
 
 
 def cross_correlation_factor(victim_frequency_hz: float, aggressor_frequency_hz: float, *,
@@ -107,9 +111,201 @@ def extra_shot_noise_variance(aggressor_intensity: ArrayLike, *, overlap_fractio
     return np.asarray(overlap_fraction * np.asarray(aggressor_intensity), dtype=np.float64)
 
 
+def hopped_config(config: TofCameraConfig, frame_number: int) -> TofCameraConfig:
+    """The camera as it modulates in its frame ``frame_number`` (frequency hopping).
+
+    Every modulation frequency raised by ``c × hop_step_hz``, ``c`` drawn from
+    ``numpy.random.default_rng((hop_seed, frame_number))``; ``config`` itself without
+    hopping.
+    """
+    if config.hop_channels <= 1 or config.hop_step_hz <= 0:
+        return config
+    rng = np.random.default_rng((int(config.hop_seed), int(frame_number) & 0x7FFFFFFF))
+    shift = int(rng.integers(config.hop_channels)) * config.hop_step_hz
+    return config.model_copy(update={"modulation_frequencies_hz": [
+        f + shift for f in config.modulation_frequencies_hz]})
+
+
+def light_windows_s(config: TofCameraConfig) -> NDArray[np.float64]:
+    """The four correlation samples' exposures from the capture time, shape (4, 2) (s).
+
+    Sample ``i`` is exposed from ``i × sample_interval_s`` for ``exposure_time_s`` (the
+    camera's illumination is on then).
+    """
+    starts = np.arange(4) * config.sample_interval_s
+    return np.stack([starts, starts + config.exposure_time_s], axis=1)
+
+
+def overlap_fraction(victim: TofCameraConfig, aggressor: TofCameraConfig,
+                     aggressor_start_s: float) -> float:
+    """Part of the victim's exposure during which the aggressor's light is on.
+
+    Mean over the victim's four correlation samples of the time its exposure overlaps
+    any of the aggressor's (aggressor capture ``aggressor_start_s`` after the victim's),
+    over the exposure time. 0: time multiplexed.
+    """
+    own = light_windows_s(victim)
+    other = light_windows_s(aggressor) + aggressor_start_s
+    total = 0.0
+    for lo, hi in own:
+        for a_lo, a_hi in other:
+            total += max(0.0, min(hi, a_hi) - max(lo, a_lo))
+    return float(min(1.0, total / (4.0 * victim.exposure_time_s)))
+
+
+@dataclass(frozen=True)
+class Illuminator:
+    """Another camera's modulated light during a victim frame.
+
+    Attributes
+    ----------
+    config : TofCameraConfig
+        The other camera in that frame (its hopped frequencies, its exposure windows).
+    pose : ndarray, shape (4, 4)
+        Its optical frame (x right, y down, z forward) → world.
+    start_s : float
+        Its capture time minus the victim's (s).
+    """
+
+    config: TofCameraConfig
+    pose: NDArray[np.float64]
+    start_s: float
+
+    def key(self) -> bytes:
+        """Cache key."""
+        return (self.config.model_dump_json().encode() + self.pose.tobytes()
+                + np.float64(self.start_s).tobytes())
+
+
+def _block_mean(image: NDArray[np.float64], factor: int) -> NDArray[np.float64]:
+    if factor == 1:
+        return image
+    h, w = image.shape
+    return image.reshape(h // factor, factor, w // factor, factor).mean(axis=(1, 3))
+
+
+def interference_planes(buffers: RenderBuffers, config: TofCameraConfig,
+                        illuminators: Sequence[Illuminator]) -> NDArray[np.float32]:
+    """Other cameras' light in the victim's pixels, as offset and phasor planes (e⁻).
+
+    For each illuminator and each victim render sub-pixel that shows a surface point
+    ``P``: the point is lit if it lies in the illuminator's field of view (its emitter
+    fills it, like the victim's own) and faces it; its irradiance
+    ``E = I_a cos θ_a / d_a²`` (``I_a`` = power / illuminated solid angle) makes a
+    Lambertian radiance ``ρ E / π``, with ``ρ cos θ_v`` the render's response ``f`` seen
+    from the victim (``ρ = f / cos θ_v``). Electrons per correlation sample
+    ``S_a = f (cos θ_a / cos θ_v) (I_a / π) · electrons_per_radiance / d_a²``, path
+    ``L = d_a + R``. The victim's phasor gains
+    ``m S_a c(Δf, T, ρ) e^{j (2π f_a L / c + θ)}`` (``c`` =
+    :func:`cross_correlation_factor` of the frequencies and the exposure overlap ``ρ``,
+    ``θ = −2π f_a · start_s``, the aggressor's modulation starting later) and its offset
+    ``ρ S_a`` (the photons: shot noise at any frequency).
+
+    Direct light: when the illuminator's emitter is in the victim's view, unoccluded, and
+    the victim in the illuminator's field, the emitter adds to the pixel it images
+    ``I_a / d² × aperture area`` (a point source through the lens:
+    ``π (f / 2N)²``, ``f`` the focal length) times exposure, quantum efficiency and
+    photons per joule, over the path ``d``.
+
+    Not modelled: whether the illuminator itself sees ``P`` (occlusion on its side);
+    multipath of the foreign light; the sum-frequency term.
+
+    Parameters
+    ----------
+    buffers : RenderBuffers
+        The victim's supersampled render (``points_m``, ``normals``, ``cos_incidence``,
+        ``intensity``, ``range_m``, ``sensor``).
+    config : TofCameraConfig
+        The victim in this frame (hopped frequencies, this frame's exposure).
+    illuminators : sequence of Illuminator
+        The other cameras whose light falls in the frame.
+
+    Returns
+    -------
+    ndarray, shape (1 + 2F, H, W), float32
+        Offset, then (re, im) per modulation frequency, at sensor resolution.
+    """
+    k = config.supersampling
+    freqs = config.modulation_frequencies_hz
+    hs, ws = buffers.shape
+    planes = np.zeros((1 + 2 * len(freqs), hs, ws), np.float64)
+    hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
+    pose = buffers.sensor.transform
+    rot, origin = pose[:3, :3], pose[:3, 3]
+    pts = np.asarray(buffers.points_m, np.float64) @ rot.T + origin
+    nrm = np.asarray(buffers.normals, np.float64) @ rot.T
+    rng = np.where(hit, buffers.range_m, 0.0).astype(np.float64)
+    cos_v = np.maximum(np.asarray(buffers.cos_incidence, np.float64), 0.05)
+    epr = config.electrons_per_radiance
+    m = config.demodulation_contrast
+    for ill in illuminators:
+        rho = overlap_fraction(config, ill.config, ill.start_s)
+        if rho <= 0:
+            continue
+        a_rot, a_pos = ill.pose[:3, :3], ill.pose[:3, 3]
+        intensity_a = ill.config.illumination_power_w / ill.config.illumination_solid_angle_sr
+        tan_h = np.tan(np.radians(ill.config.fov_h_deg) / 2)
+        tan_v = np.tan(np.radians(ill.config.fov_v_deg) / 2)
+        w = pts - a_pos
+        d_a = np.maximum(np.linalg.norm(w, axis=-1), 1e-3)
+        loc = w @ a_rot
+        z = loc[..., 2]
+        lit = hit & (z > 0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lit &= (np.abs(loc[..., 0]) <= tan_h * z) & (np.abs(loc[..., 1]) <= tan_v * z)
+        cos_a = np.maximum(-np.einsum("ijk,ijk->ij", nrm, w) / d_a, 0.0)
+        s_a = np.where(lit, np.asarray(buffers.intensity, np.float64) * cos_a / cos_v
+                       * intensity_a / np.pi * epr / d_a**2, 0.0)
+        path = d_a + rng
+        offset = rho * s_a
+        phasors = []
+        for j, f_v in enumerate(freqs):
+            f_a = ill.config.modulation_frequencies_hz[min(j, len(
+                ill.config.modulation_frequencies_hz) - 1)]
+            c = cross_correlation_factor(f_v, f_a, exposure_s=config.exposure_time_s,
+                                         overlap_fraction=rho)
+            phase = 2 * np.pi * f_a * path / SPEED_OF_LIGHT - 2 * np.pi * f_a * ill.start_s
+            phasors.append(m * s_a * c * np.exp(1j * phase))
+        # Direct: the emitter itself in the victim's view.
+        a_v = (a_pos - origin) @ rot                 # emitter in the victim's optical frame
+        d = float(np.linalg.norm(a_v))
+        b_loc = (origin - a_pos) @ a_rot             # victim in the emitter's frame
+        if a_v[2] > 0 and b_loc[2] > 0 and abs(b_loc[0]) <= tan_h * b_loc[2] \
+                and abs(b_loc[1]) <= tan_v * b_loc[2]:
+            intr = buffers.intrinsics
+            u = intr.fx * a_v[0] / a_v[2] + intr.cx
+            v = intr.fy * a_v[1] / a_v[2] + intr.cy
+            col, row = int(np.floor(u)), int(np.floor(v))
+            if 0 <= row < hs and 0 <= col < ws and not (
+                    hit[row, col] and buffers.range_m[row, col] < d - 1e-3):
+                focal = config.intrinsics().fx * config.pixel_pitch_um * 1e-6
+                aperture = np.pi * (focal / (2 * config.f_number)) ** 2
+                photons = config.wavelength_nm * 1e-9 / (PLANCK * SPEED_OF_LIGHT)
+                e = (intensity_a / d**2 * aperture * config.exposure_time_s
+                     * config.quantum_efficiency * photons) * k * k   # per sub-pixel
+                offset[row, col] += rho * e
+                for j, f_v in enumerate(freqs):
+                    f_a = ill.config.modulation_frequencies_hz[min(j, len(
+                        ill.config.modulation_frequencies_hz) - 1)]
+                    c = cross_correlation_factor(f_v, f_a, exposure_s=config.exposure_time_s,
+                                                 overlap_fraction=rho)
+                    phasors[j][row, col] += m * e * c * np.exp(
+                        1j * (2 * np.pi * f_a * (d / SPEED_OF_LIGHT - ill.start_s)))
+        planes[0] += offset
+        for j, ph in enumerate(phasors):
+            planes[1 + 2 * j] += ph.real
+            planes[2 + 2 * j] += ph.imag
+    return np.stack([_block_mean(p, k) for p in planes]).astype(np.float32)
+
+
 __all__ = [
+    "Illuminator",
     "cross_correlation_factor",
     "extra_shot_noise_variance",
+    "hopped_config",
+    "interference_planes",
+    "light_windows_s",
+    "overlap_fraction",
     "interfered_phasor",
     "path_phase_rad",
     "phasor_depth_m",
