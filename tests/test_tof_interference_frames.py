@@ -140,3 +140,41 @@ def test_in_frames_the_aggressor_biases_and_time_multiplexing_removes_it() -> No
           f"trigger (formula {expect:.4f}), {np.median(muxed[c]):.4f} time multiplexed")
     assert abs(float(np.median(same[c])) - expect) < 0.01
     assert np.array_equal(muxed, alone)
+
+
+def test_facing_cameras_see_the_emitter_at_half_its_distance() -> None:
+    """No scene: the aggressor 3 m ahead, facing the victim, is a point source imaged on
+    the centre pixel with ``I_a / d² · π (f / 2N)² · T · QE · λ / (h c)`` electrons per
+    correlation sample, over a one-way path: the depth reads d / 2."""
+    from simcore.scene.tof_config import PLANCK
+
+    plain = {"vignetting": False, "stray_light": False, "distortion": False,
+             "ambient_light": False}
+    victim = camera(**plain)
+    aggressor = camera(**plain, illumination_power_w=1e-4)
+    d = 3.0
+    pose = optical_pose((d, 0.0, 1.0))
+    pose[:3, 0] *= -1                    # turned round: looks along −x
+    pose[:3, 2] *= -1
+    p = Project(rig=SensorRig(pose=Pose(position_m=(0.0, 0.0, 1.0)), tof=victim))
+    renderer = SceneRenderer(p)
+    try:
+        buf = renderer.render(take_snapshot(p, 0.0),
+                              RenderRequest("tof", "tof", victim.render_intrinsics()))
+    finally:
+        renderer.close()
+    out = simulate_tof(buf, victim, rng=np.random.default_rng(0), noise=False,
+                       illuminators=[Illuminator(aggressor, pose, 0.0)])
+    intensity_w = aggressor.illumination_power_w / aggressor.illumination_solid_angle_sr
+    focal = victim.intrinsics().fx * victim.pixel_pitch_um * 1e-6
+    electrons = (intensity_w / d**2 * np.pi * (focal / (2 * victim.f_number)) ** 2
+                 * victim.exposure_time_s * victim.quantum_efficiency
+                 * victim.wavelength_nm * 1e-9 / (PLANCK * SPEED_OF_LIGHT))
+    row, col = victim.height // 2, victim.width // 2
+    lit = np.argwhere(out.intensity > 0)
+    assert lit.tolist() == [[row, col]]
+    expect_dn = electrons * victim.conversion_gain_dn_per_electron
+    print(f"emitter pixel {out.intensity[row, col]:.1f} DN (formula {expect_dn:.1f}), depth "
+          f"{out.depth_m[row, col]:.4f} m")
+    assert out.intensity[row, col] == pytest.approx(expect_dn, rel=0.01, abs=1.0)
+    assert out.depth_m[row, col] == pytest.approx(d / 2, abs=1e-3)

@@ -232,8 +232,9 @@ def interference_planes(buffers: RenderBuffers, config: TofCameraConfig,
     hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
     pose = buffers.sensor.transform
     rot, origin = pose[:3, :3], pose[:3, 3]
-    pts = np.asarray(buffers.points_m, np.float64) @ rot.T + origin
-    nrm = np.asarray(buffers.normals, np.float64) @ rot.T
+    pts = np.where(hit[..., None], np.asarray(buffers.points_m, np.float64), 0.0) @ rot.T \
+        + origin
+    nrm = np.where(hit[..., None], np.asarray(buffers.normals, np.float64), 0.0) @ rot.T
     rng = np.where(hit, buffers.range_m, 0.0).astype(np.float64)
     cos_v = np.maximum(np.asarray(buffers.cos_incidence, np.float64), 0.05)
     epr = config.electrons_per_radiance
@@ -265,7 +266,7 @@ def interference_planes(buffers: RenderBuffers, config: TofCameraConfig,
             c = cross_correlation_factor(f_v, f_a, exposure_s=config.exposure_time_s,
                                          overlap_fraction=rho)
             phase = 2 * np.pi * f_a * path / SPEED_OF_LIGHT - 2 * np.pi * f_a * ill.start_s
-            phasors.append(m * s_a * c * np.exp(1j * phase))
+            phasors.append(np.where(lit, m * s_a * c * np.exp(1j * phase), 0.0))
         # Direct: the emitter itself in the victim's view.
         a_v = (a_pos - origin) @ rot                 # emitter in the victim's optical frame
         d = float(np.linalg.norm(a_v))
