@@ -239,9 +239,39 @@ def reflected_paths(victim: RadarConfig, victim_pose: ArrayLike, aggressor: Rada
     return PathSet(amp, delay, rate)
 
 
+#: Where the gate's raised-cosine taper starts, as a fraction of the grid's rate: the
+#: difference frequency fades out between it and :data:`GATE_FRACTION` (a hard cut would
+#: ring into the passband).
+TAPER_FRACTION = 0.25
+#: Attenuation of the anti-aliasing filter where the gate's taper starts (dB): what the
+#: taper changes is at least this far down.
+GATE_ATTENUATION_DB = 60.0
+
+
+def _gate_taper(f_rel: NDArray[np.float64]) -> NDArray[np.float64]:
+    """1 below :data:`TAPER_FRACTION` of the rate, raised cosine to 0 at the gate."""
+    x = np.clip((f_rel - TAPER_FRACTION) / (GATE_FRACTION - TAPER_FRACTION), 0.0, 1.0)
+    return np.asarray(0.5 * (1.0 + np.cos(np.pi * x)), dtype=np.float64)
+
+
+def default_oversample(victim: RadarConfig) -> int:
+    """The simulation grid's rate over the ADC rate (at least 2, at most 16).
+
+    Without an anti-aliasing filter, 16 (components up to 3.6× the ADC's rate fold back
+    as on the chip). With one of order ``n`` at ``f_AAF``, the smallest grid whose gate
+    taper starts (:data:`TAPER_FRACTION` of its rate) where the filter is
+    :data:`GATE_ATTENUATION_DB` down: ``(f_taper / f_AAF)^n`` ≥ 10^(60/20).
+    """
+    if victim.if_lowpass_hz <= 0:
+        return 16
+    ratio = 10.0 ** (GATE_ATTENUATION_DB / (20.0 * victim.if_lowpass_order))
+    need = ratio * victim.if_lowpass_hz / (TAPER_FRACTION * victim.sample_rate_hz)
+    return int(min(16, max(2, np.ceil(need))))
+
+
 def mix_paths(victim: RadarConfig, aggressor: RadarConfig, paths: PathSet, *,
               aggressor_starts_s: ArrayLike, victim_starts_s: ArrayLike | None = None,
-              oversample: int = 16) -> NDArray[np.complex128]:
+              oversample: int | None = None) -> NDArray[np.complex128]:
     """The aggressor's chirps over ``paths``, mixed with the victim's, after its IF filters.
 
     Parameters
@@ -257,8 +287,9 @@ def mix_paths(victim: RadarConfig, aggressor: RadarConfig, paths: PathSet, *,
     victim_starts_s : array_like, shape (victim chirps, victim tx), optional
         Start of every victim chirp from its frame start (s); default
         ``victim.chirp_start_times_s()`` (with the frame's jitter, if any).
-    oversample : int
-        Simulation grid rate over the victim's ADC rate.
+    oversample : int, optional
+        Simulation grid rate over the victim's ADC rate; default
+        :func:`default_oversample`.
 
     Returns
     -------
@@ -276,6 +307,8 @@ def mix_paths(victim: RadarConfig, aggressor: RadarConfig, paths: PathSet, *,
                 else np.asarray(victim_starts_s, np.float64))
     a_starts = np.asarray(aggressor_starts_s, np.float64)
     n_v_tx, n_rx = len(victim.tx), len(victim.rx)
+    if oversample is None:
+        oversample = default_oversample(victim)
     rate = victim.sample_rate_hz * oversample
     t_n = np.arange(victim.samples_per_chirp * oversample) / rate
     out = np.zeros((victim.chirps_per_frame, n_v_tx * n_rx, t_n.size), dtype=np.complex128)
@@ -301,6 +334,12 @@ def mix_paths(victim: RadarConfig, aggressor: RadarConfig, paths: PathSet, *,
                     t_k = v_starts[k, t]
                     for s in a_starts[:, j]:
                         if s + lo <= t_k + span and s + hi + t_a >= t_k:
+                            # The difference frequency is linear over the chirp: skip
+                            # pairs whose beat stays beyond the gate all along.
+                            f0 = f_v0 - f_a0 - k_a * (t_k - s - lo)
+                            f1 = f0 + (k_v - k_a) * span
+                            if f0 * f1 > 0 and min(abs(f0), abs(f1)) >= GATE_FRACTION * rate:
+                                continue
                             pairs.append((k, t, t_k, s))
             if not pairs:
                 continue
@@ -316,9 +355,10 @@ def mix_paths(victim: RadarConfig, aggressor: RadarConfig, paths: PathSet, *,
             ta = u - lo
             on = (ta >= 0) & (ta <= t_a)
             f_diff = f_v0 + k_v * t_n[None, :] - (f_a0 + k_a * ta)
-            on &= np.abs(f_diff) < GATE_FRACTION * rate
+            taper = _gate_taper(np.abs(f_diff) / rate)
+            on &= taper > 0
             phase = own[None, :] - 2 * np.pi * (f_a0 * u + 0.5 * k_a * u**2)
-            sig = np.where(on, summed * np.exp(1j * phase), 0.0)
+            sig = np.where(on, taper * summed * np.exp(1j * phase), 0.0)
             for q, (k, t, _, _) in enumerate(pairs):
                 out[k, t * n_rx + r] += sig[q]
     filtered = _filtered(out, rate, victim)
@@ -332,7 +372,7 @@ def interference_if(
     aggressor_pose: ArrayLike,
     *,
     timing: AggressorTiming | None = None,
-    oversample: int = 16,
+    oversample: int | None = None,
 ) -> NDArray[np.complex128]:
     """The aggressor's direct signal in the victim's ADC cube, after the IF filters (FS).
 
