@@ -304,6 +304,63 @@ def effect_variants(project_path: str | Path, *, frames: int) -> dict[str, Any]:
     return result
 
 
+def with_second_rig(project: Project, *, offset_m: tuple[float, float, float] = (0.5, -1.0, 0.0),
+                    yaw_deg: float = 25.0, name: str = "rig2") -> Project:
+    """The project with a copy of its first rig's ToF camera and radar on a second rig.
+
+    The second rig stands ``offset_m`` from the first (in the first rig's body frame:
+    forward, left, up) and is turned ``yaw_deg`` further left; it has the first rig's
+    motion, and its sensors (``<name>_tof``, ``<name>_radar``) the built-ins' settings.
+    """
+    from simcore.scene.model import Rig, named_sensor
+    from simcore.scene.motion import Pose
+
+    first = project.rig
+    yaw = np.radians(first.pose.rotation_deg[2])
+    fwd, left, up = offset_m
+    position = (first.pose.position_m[0] + fwd * np.cos(yaw) - left * np.sin(yaw),
+                first.pose.position_m[1] + fwd * np.sin(yaw) + left * np.cos(yaw),
+                first.pose.position_m[2] + up)
+    rotation = (first.pose.rotation_deg[0], first.pose.rotation_deg[1],
+                first.pose.rotation_deg[2] + yaw_deg)
+    rig = Rig(name=name, pose=Pose(position_m=tuple(float(v) for v in position),
+                                   rotation_deg=rotation),
+              motion=first.motion,
+              sensors={f"{name}_tof": named_sensor(first.tof),
+                       f"{name}_radar": named_sensor(first.radar)})
+    doc = project.model_dump()
+    doc["rigs"] = [*doc["rigs"], rig.model_dump()]
+    return type(project).model_validate(doc)
+
+
+def rig_variants(project_path: str | Path, *, frames: int) -> dict[str, Any]:
+    """Frame rate of the project as it is and with a second rig (:func:`with_second_rig`).
+
+    Both are timed in one run, one after the other (A/B): their ratio is meaningful on a
+    loaded machine. Linear cost in the number of sensors means ``time_ratio`` (two-rig
+    frame time / one-rig frame time) at most the ratio of sensors (2 for a rig with a ToF
+    camera and a radar).
+
+    Returns
+    -------
+    dict
+        ``one_rig`` and ``two_rigs`` (``fps``, ``frame_ms_median``, ``stages_ms``,
+        ``sensors``), ``time_ratio`` and ``load`` (load average before and after).
+    """
+    path = Path(project_path)
+    project = load_project(path)
+    two = with_second_rig(project)
+    before = _load()
+    result: dict[str, Any] = {}
+    for key, variant in (("one_rig", project), ("two_rigs", two)):
+        result[key] = {**_time_variant(variant, path.parent, frames),
+                       "sensors": len(variant.sensor_configs())}
+    one_ms, two_ms = result["one_rig"]["frame_ms_median"], result["two_rigs"]["frame_ms_median"]
+    result["time_ratio"] = two_ms / one_ms if one_ms > 0 else float("nan")
+    result["load"] = {"before": before, "after": _load()}
+    return result
+
+
 def _frame_rate(project: Project, base_dir: Path, frames: int) -> float:
     """Frames per second of ``frames`` overlapped frames after an untimed frame 0."""
     with Simulator(project, base_dir=base_dir) as sim:

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 from simcore import __version__
 from simcore.preflight import MAX_FRAMES, MAX_SEED, RunError
+from simcore.scene.model import sensor_kind
 from simcore.scene.project_io import ProjectError, load_project, project_to_json
 
 if TYPE_CHECKING:
@@ -168,6 +169,16 @@ def cmd_validate(args: argparse.Namespace) -> int:
     cost = _preflight(project, Path(args.project), args)
     print(f"OK: {args.project} ({len(project.objects)} objects, format_version "
           f"{project.format_version}); {cost.describe()}")
+    rigs = project.all_rigs()
+    if len(rigs) > 1 or project.rig.sensors:
+        # Several sensors: each with its kind, rig and timing.
+        rate = project.timeline.frame_rate_hz
+        for name, cfg in project.sensor_configs().items():
+            every = cfg.frame_divider(rate)  # type: ignore[attr-defined]
+            offset = cfg.trigger_offset_s  # type: ignore[attr-defined]
+            print(f"  {name}: {sensor_kind(cfg)} on rig {project.sensor_rig(name).name!r}, "
+                  f"{rate / every:g} frames/s (every {every} frame{'s' if every > 1 else ''})"
+                  f"{f', {offset * 1e3:g} ms after the frame' if offset else ''}")
     return 0
 
 
@@ -527,9 +538,16 @@ def cmd_bench(args: argparse.Namespace) -> int:
         from simcore.bench import effect_variants
 
         variants = effect_variants(project_path, frames=args.frames)
+    rigs = None
+    if args.rigs:
+        from simcore.bench import rig_variants
+
+        rigs = rig_variants(project_path, frames=args.frames)
     if args.json:
         if variants is not None:
             result["effects"] = variants
+        if rigs is not None:
+            result["rigs"] = rigs
         print(json.dumps(result))
         return 0
     print(f"{project_path.name}: {args.frames} frames, median {result['frame_ms_median']:.1f} "
@@ -549,7 +567,20 @@ def cmd_bench(args: argparse.Namespace) -> int:
               f"same run)")
     if variants is not None:
         _print_effect_variants(variants)
+    if rigs is not None:
+        _print_rig_variants(rigs)
     return 0
+
+
+def _print_rig_variants(rigs: dict[str, Any]) -> None:
+    """``bench --rigs``: the project as it is and with a second rig, same run."""
+    for name in ("one_rig", "two_rigs"):
+        v = rigs[name]
+        stages = ", ".join(f"{k} {t:.1f}" for k, t in v["stages_ms"].items())
+        print(f"{name:<9} {v['sensors']} sensors {v['frame_ms_median']:7.1f} ms/frame "
+              f"({v['fps']:.2f} frames/s); stages (ms): {stages}")
+    print(f"  two rigs / one rig frame time: {rigs['time_ratio']:.2f} (same run); load "
+          f"average before/after: {rigs['load']['before']} / {rigs['load']['after']}")
 
 
 def _print_effect_variants(variants: dict[str, Any]) -> None:
@@ -778,6 +809,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--effects", action="store_true",
                    help="also time the project with every ToF/radar effect on, and plain "
                         "(all off, no person), in the same run")
+    p.add_argument("--rigs", action="store_true",
+                   help="also time the project with a second rig (a copy of its ToF camera "
+                        "and radar placed beside it), in the same run")
     p.set_defaults(func=cmd_bench)
 
     p = sub.add_parser("materials", help="list the materials and what each does per band",

@@ -32,7 +32,8 @@ from simcore.scene.mesh_files import (
 )
 from simcore.scene.model import Project
 from simcore.scene.motion import Motion, Pose
-from simcore.scene.radar_config import SPEED_OF_LIGHT
+from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
+from simcore.scene.tof_config import TofCameraConfig
 
 #: Longest run accepted (frames) and largest seed (HDF5 stores it as a signed 64-bit int).
 MAX_FRAMES = 10_000_000
@@ -112,9 +113,13 @@ class CostEstimate:
                 f"≈ {self.seconds_per_frame:.2g} s per frame")
 
 
-def _radar_sizes(project: Project) -> dict[str, int]:
-    """Sizes of the radar products without building any axis (fields may be huge)."""
-    rc, dc = project.rig.radar, project.dsp
+def _radar_sizes(project: Project, rc: RadarConfig | None = None) -> dict[str, int]:
+    """Sizes of a radar's products (default the built-in radar's).
+
+    Without building any axis (fields may be huge).
+    """
+    rc = project.rig.radar if rc is None else rc
+    dc = project.dsp
     n_fft = dc.range_fft_size or 1 << max(0, (rc.samples_per_chirp - 1).bit_length())
     n_bins = n_fft if rc.complex_iq else n_fft // 2
     bin_m = rc.sample_rate_hz / n_fft * SPEED_OF_LIGHT / (2.0 * rc.slope_hz_per_s)
@@ -167,54 +172,73 @@ def estimate_cost(project: Project, *, base_dir: Path | None = None,
     -------
     CostEstimate
     """
-    tof, rc = project.rig.tof, project.rig.radar
-    tof_px = tof.width * tof.height * tof.supersampling**2
-    tof_bytes = tof_px * BYTES_PER_RENDER_PIXEL
-    if tof.motion_artifacts and tof.motion_sampling == "renders":
-        tof_px *= 4                     # four renders at the samples' times
-        tof_bytes *= 4
-    elif tof.motion_artifacts:          # reprojection: the four samples' range and points
-        tof_bytes += tof_px * 4 * 16
-    radar_px = rc.render_width * rc.render_height * rc.render_supersampling**2
     if mesh_triangles is None:
         mesh_triangles = _mesh_triangle_bound(project, base_dir)
     n_point = sum(1 for o in project.objects if o.geometry.kind in ("point_target",
                                                                     "corner_reflector"))
     # Surface facets (at most 10 cm, fixed to the objects): about half face the radar.
     scatterers = int(0.5 * _surface_facets(project, mesh_triangles, mesh_area_m2)) + n_point
-    n_ch = len(rc.tx) * len(rc.rx)
-    transforms = rc.chirps_per_frame * n_ch
-    s = _radar_sizes(project)
-    cube = rc.chirps_per_frame * n_ch * rc.samples_per_chirp * 16 * 4
-    ffts = (rc.chirps_per_frame * n_ch * s["n_fft"] + s["n_dop"] * n_ch * s["n_bins"]) * 8 * 3
-    el = s["n_el"] if any(a.position_mm[1] for a in (*rc.tx, *rc.rx)) else 1
-    angle = (s["n_bins"] * s["n_az"] * el * 8 + s["n_az"] * el * n_ch * 32
-             + s["bev_pixels"] * 4 * 3)
-    parts = {
-        "rig.tof render (width × height × supersampling²)": tof_bytes,
-        "rig.radar render (render_width × render_height × render_supersampling²)":
-            radar_px * BYTES_PER_RENDER_PIXEL,
-        "rig.radar scatterers (surface facets of the objects)":
-            scatterers * BYTES_PER_SCATTERER * 2,
-        "rig.radar ADC cube (chirps_per_frame × tx × rx × samples_per_chirp)": cube,
-        "dsp FFTs (range_fft_size, doppler_fft_size)": ffts,
-        "dsp angle maps (azimuth/elevation steps, bev_resolution_m)": angle,
-        "mesh triangles": mesh_triangles * BYTES_PER_TRIANGLE,
-    }
+    parts: dict[str, int] = {}
+    render_px = transforms = disk = 0
+    seconds = 0.0
+    rate = project.timeline.frame_rate_hz
+    # Every sensor: memory while it runs, disk and time per frame scaled by the share of
+    # frames it captures in.
+    for name, tof in project.sensors_of_kind("tof").items():
+        assert isinstance(tof, TofCameraConfig)
+        share = 1.0 / tof.frame_divider(rate)
+        where = project.sensor_path(name)
+        tof_px = tof.width * tof.height * tof.supersampling**2
+        tof_bytes = tof_px * BYTES_PER_RENDER_PIXEL
+        if tof.motion_artifacts and tof.motion_sampling == "renders":
+            tof_px *= 4                     # four renders at the samples' times
+            tof_bytes *= 4
+        elif tof.motion_artifacts:          # reprojection: the four samples' range and points
+            tof_bytes += tof_px * 4 * 16
+        parts[f"{where} render (width × height × supersampling²)"] = tof_bytes
+        render_px += tof_px
+        seconds += share * SECONDS_PER_RENDER_PIXEL * tof_px
+        disk += int(share * tof.height * tof.width * 37)
+    ffts_all = angle_all = 0
+    for name, rc in project.sensors_of_kind("radar").items():
+        assert isinstance(rc, RadarConfig)
+        share = 1.0 / rc.frame_divider(rate)
+        where = project.sensor_path(name)
+        radar_px = rc.render_width * rc.render_height * rc.render_supersampling**2
+        n_ch = len(rc.tx) * len(rc.rx)
+        n_nufft = rc.chirps_per_frame * n_ch
+        s = _radar_sizes(project, rc)
+        cube = rc.chirps_per_frame * n_ch * rc.samples_per_chirp * 16 * 4
+        ffts_all += (rc.chirps_per_frame * n_ch * s["n_fft"]
+                     + s["n_dop"] * n_ch * s["n_bins"]) * 8 * 3
+        el = s["n_el"] if any(a.position_mm[1] for a in (*rc.tx, *rc.rx)) else 1
+        angle_all += (s["n_bins"] * s["n_az"] * el * 8 + s["n_az"] * el * n_ch * 32
+                      + s["bev_pixels"] * 4 * 3)
+        parts[f"{where} render (render_width × render_height × render_supersampling²)"] = (
+            radar_px * BYTES_PER_RENDER_PIXEL)
+        parts[f"{where} scatterers (surface facets of the objects)"] = (
+            scatterers * BYTES_PER_SCATTERER * 2)
+        parts[f"{where} ADC cube (chirps_per_frame × tx × rx × samples_per_chirp)"] = cube
+        render_px += radar_px
+        transforms += n_nufft
+        sample = 8 if rc.complex_iq else 4
+        disk += int(share * (n_ch * rc.chirps_per_frame * rc.samples_per_chirp * sample
+                             + rc.chirps_per_frame * len(rc.tx) * 8
+                             + (n_ch + 1) * s["n_bins"] * 4 + s["n_dop"] * s["n_bins"] * 4
+                             + s["n_az"] * s["n_bins"] * 4 + s["bev_pixels"] * 4
+                             + project.dsp.max_detections * 36))
+        seconds += share * (SECONDS_PER_RENDER_PIXEL * radar_px
+                            + SECONDS_PER_NUFFT_POINT * n_nufft
+                            * (scatterers + rc.samples_per_chirp)
+                            + SECONDS_PER_DSP_CELL * (n_ch * s["n_dop"] * s["n_bins"]
+                                                      + s["n_bins"] * s["n_az"] * el))
+    parts["dsp FFTs (range_fft_size, doppler_fft_size)"] = ffts_all
+    parts["dsp angle maps (azimuth/elevation steps, bev_resolution_m)"] = angle_all
+    parts["mesh triangles"] = mesh_triangles * BYTES_PER_TRIANGLE
     memory = BASE_MEMORY_BYTES + sum(parts.values())
-    h, w = tof.height, tof.width
-    sample = 8 if rc.complex_iq else 4
-    disk = (h * w * 37 + n_ch * rc.chirps_per_frame * rc.samples_per_chirp * sample
-            + rc.chirps_per_frame * len(rc.tx) * 8
-            + (n_ch + 1) * s["n_bins"] * 4 + s["n_dop"] * s["n_bins"] * 4
-            + s["n_az"] * s["n_bins"] * 4 + s["bev_pixels"] * 4
-            + project.dsp.max_detections * 36 + 8 + 128 * (1 + len(project.objects)))
-    seconds = (SECONDS_PER_RENDER_PIXEL * (tof_px + radar_px)
-               + SECONDS_PER_NUFFT_POINT * transforms * (scatterers + rc.samples_per_chirp)
-               + SECONDS_PER_DSP_CELL * (n_ch * s["n_dop"] * s["n_bins"]
-                                         + s["n_bins"] * s["n_az"] * el))
+    disk += 8 + 128 * (1 + len(project.objects))
     ordered = tuple(sorted(parts.items(), key=lambda kv: -kv[1]))
-    return CostEstimate(render_pixels=tof_px + radar_px, scatterers=scatterers,
+    return CostEstimate(render_pixels=render_px, scatterers=scatterers,
                         transforms=transforms, memory_bytes=int(memory),
                         disk_bytes_per_frame=int(disk), seconds_per_frame=float(seconds),
                         mesh_triangles=int(mesh_triangles), memory_parts=ordered)
@@ -328,32 +352,77 @@ def timeline_frames(project: Project) -> float:
 def _physics_problems(project: Project, n_frames: int) -> list[str]:
     """Derived quantities that must be finite and in range."""
     out: list[str] = []
-    rc, tof, dc = project.rig.radar, project.rig.tof, project.dsp
-    derived = {
-        "rig.radar wavelength (m)": rc.wavelength_m,
-        "rig.radar chirp slope (Hz/s)": rc.slope_hz_per_s,
-        "rig.radar range resolution (m)": rc.range_resolution_m,
-        "rig.radar unambiguous range (m)": rc.max_range_m,
-        "rig.radar velocity resolution (m/s)": rc.velocity_resolution_mps,
-        "rig.radar unambiguous velocity (m/s)": rc.max_velocity_mps,
-        "rig.radar frame duration (s)": rc.frame_duration_s,
-        "rig.tof electrons per radiance": tof.electrons_per_radiance,
-        "rig.tof signal electrons at 1 m": tof.signal_electrons_at_1m,
-        "rig.tof unambiguous range (m)": tof.unambiguous_range_m,
-    }
-    for name, value in derived.items():
-        # float32 carries the images and the IF cube: stay well inside its range.
-        if not (math.isfinite(value) and 1e-30 < value < 1e30):
-            out.append(f"{name}: derived value {value:.3g} is out of range; allowed "
-                       "(1e-30, 1e30)")
-    s = _radar_sizes(project)
+    radars = {project.sensor_path(n): c for n, c in project.sensors_of_kind("radar").items()}
+    tofs = {project.sensor_path(n): c for n, c in project.sensors_of_kind("tof").items()}
+    for where, rc in radars.items():
+        assert isinstance(rc, RadarConfig)
+        out += _radar_problems(project, where, rc)
+    for where, tof in tofs.items():
+        assert isinstance(tof, TofCameraConfig)
+        out += _finite({
+            f"{where} electrons per radiance": tof.electrons_per_radiance,
+            f"{where} signal electrons at 1 m": tof.signal_electrons_at_1m,
+            f"{where} unambiguous range (m)": tof.unambiguous_range_m,
+        })
+    # Motion: every body stays within the world and below the speed limit; delays finite.
+    offsets = [float(c.trigger_offset_s)  # type: ignore[attr-defined]
+               for c in project.sensor_configs().values()]
+    t_end = (n_frames / project.timeline.frame_rate_hz + max(offsets, default=0.0)
+             + max((c.frame_duration_s for c in radars.values()  # type: ignore[attr-defined]
+                    ), default=0.0)
+             + 4 * max((c.sample_interval_s for c in tofs.values()  # type: ignore[attr-defined]
+                        ), default=0.0))
+    rig_reach = rig_speed = 0.0
+    for i, rig in enumerate(project.all_rigs()):
+        reach, speed = _reach(rig.pose, rig.motion, t_end)
+        where = "rig" if i == 0 else f"rigs[{i - 1}]"
+        if reach > MAX_COORDINATE_M:
+            out.append(f"{where}.motion: the rig reaches {reach:.3g} m from the origin within "
+                       f"{t_end:.3g} s; allowed ±{MAX_COORDINATE_M:g} m")
+        rig_reach, rig_speed = max(rig_reach, reach), max(rig_speed, speed)
+    for i, obj in enumerate(project.objects):
+        reach, speed = _reach(obj.pose, obj.motion, t_end)
+        if reach > MAX_COORDINATE_M:
+            out.append(f"objects[{i}].motion: {obj.name!r} reaches {reach:.3g} m from the "
+                       f"origin within {t_end:.3g} s; allowed ±{MAX_COORDINATE_M:g} m")
+        elif speed + rig_speed > MAX_SPEED_MPS:
+            out.append(f"objects[{i}].motion: relative speed {speed + rig_speed:.3g} m/s to "
+                       f"the rig; allowed at most {MAX_SPEED_MPS:g} m/s")
+        delay = 2 * (reach + rig_reach) / SPEED_OF_LIGHT
+        if not math.isfinite(delay):
+            out.append(f"objects[{i}].pose: round-trip delay {delay!r} s is not finite")
+    out += _clearance_problems(project, n_frames)
+    return out
+
+
+def _finite(derived: dict[str, float]) -> list[str]:
+    """Derived quantities that must be finite and in range, one line each."""
+    # float32 carries the images and the IF cube: stay well inside its range.
+    return [f"{name}: derived value {value:.3g} is out of range; allowed (1e-30, 1e30)"
+            for name, value in derived.items()
+            if not (math.isfinite(value) and 1e-30 < value < 1e30)]
+
+
+def _radar_problems(project: Project, where: str, rc: RadarConfig) -> list[str]:
+    """A radar's derived quantities and FFT sizes against the DSP settings."""
+    dc = project.dsp
+    out = _finite({
+        f"{where} wavelength (m)": rc.wavelength_m,
+        f"{where} chirp slope (Hz/s)": rc.slope_hz_per_s,
+        f"{where} range resolution (m)": rc.range_resolution_m,
+        f"{where} unambiguous range (m)": rc.max_range_m,
+        f"{where} velocity resolution (m/s)": rc.velocity_resolution_mps,
+        f"{where} unambiguous velocity (m/s)": rc.max_velocity_mps,
+        f"{where} frame duration (s)": rc.frame_duration_s,
+    })
+    s = _radar_sizes(project, rc)
     if dc.range_fft_size is not None and dc.range_fft_size < rc.samples_per_chirp:
         out.append(f"dsp.range_fft_size: {dc.range_fft_size} is below "
-                   f"rig.radar.samples_per_chirp = {rc.samples_per_chirp}; allowed "
+                   f"{where}.samples_per_chirp = {rc.samples_per_chirp}; allowed "
                    f"[{rc.samples_per_chirp}, 65536]")
     if dc.doppler_fft_size is not None and dc.doppler_fft_size < rc.chirps_per_frame:
         out.append(f"dsp.doppler_fft_size: {dc.doppler_fft_size} is below "
-                   f"rig.radar.chirps_per_frame = {rc.chirps_per_frame}; allowed "
+                   f"{where}.chirps_per_frame = {rc.chirps_per_frame}; allowed "
                    f"[{rc.chirps_per_frame}, 65536]")
     n_fft = max(s["n_fft"], 1)
     bin_m = rc.sample_rate_hz / n_fft * SPEED_OF_LIGHT / (2.0 * rc.slope_hz_per_s)
@@ -367,25 +436,6 @@ def _physics_problems(project: Project, n_frames: int) -> list[str]:
         out.append(f"dsp.bev_resolution_m: {dc.bev_resolution_m:g} m gives a bird's-eye image "
                    f"of {s['bev_pixels']:.3g} pixels; at most {MAX_BEV_PIXELS} (coarser "
                    "resolution or a smaller max_range_m)")
-    # Motion: every body stays within the world and below the speed limit; delays finite.
-    t_end = n_frames / project.timeline.frame_rate_hz + rc.frame_duration_s \
-        + 4 * tof.sample_interval_s
-    rig_reach, rig_speed = _reach(project.rig.pose, project.rig.motion, t_end)
-    if rig_reach > MAX_COORDINATE_M:
-        out.append(f"rig.motion: the rig reaches {rig_reach:.3g} m from the origin within "
-                   f"{t_end:.3g} s; allowed ±{MAX_COORDINATE_M:g} m")
-    for i, obj in enumerate(project.objects):
-        reach, speed = _reach(obj.pose, obj.motion, t_end)
-        if reach > MAX_COORDINATE_M:
-            out.append(f"objects[{i}].motion: {obj.name!r} reaches {reach:.3g} m from the "
-                       f"origin within {t_end:.3g} s; allowed ±{MAX_COORDINATE_M:g} m")
-        elif speed + rig_speed > MAX_SPEED_MPS:
-            out.append(f"objects[{i}].motion: relative speed {speed + rig_speed:.3g} m/s to "
-                       f"the rig; allowed at most {MAX_SPEED_MPS:g} m/s")
-        delay = 2 * (reach + rig_reach) / SPEED_OF_LIGHT
-        if not math.isfinite(delay):
-            out.append(f"objects[{i}].pose: round-trip delay {delay!r} s is not finite")
-    out += _clearance_problems(project, n_frames)
     return out
 
 
@@ -402,15 +452,17 @@ def _clearance_problems(project: Project, n_frames: int) -> list[str]:
                 if o.geometry.kind in ("point_target", "corner_reflector")]
     if not analytic:
         return []
-    rc = project.rig.radar
-    elements = np.concatenate([rc.tx_positions_m(), rc.rx_positions_m()])
+    radars = project.sensors_of_kind("radar")
+    elements = {n: np.concatenate([rc.tx_positions_m(), rc.rx_positions_m()])  # type: ignore[attr-defined]
+                for n, rc in radars.items()}
     frames = np.unique(np.linspace(0, max(n_frames - 1, 0), min(n_frames, 128)).astype(int))
     worst: dict[int, tuple[float, float]] = {}
     for k in frames:
         t = project.timeline.frame_time(int(k))
         snap = take_snapshot(project, t)
-        to_world = snap.sensor("radar").transform
-        ants = elements @ to_world[:3, :3].T + to_world[:3, 3]
+        ants = np.concatenate([
+            elements[n] @ snap.sensor(n).transform[:3, :3].T + snap.sensor(n).transform[:3, 3]
+            for n in radars])
         for i in analytic:
             origin = snap.objects[i].transform[:3, 3]
             d = float(np.linalg.norm(ants - origin, axis=1).min())

@@ -37,6 +37,7 @@ PRELUDES: dict[str, str] = {
     "dataset.md": """
 import subprocess, sys
 from simcore.resources import example_path
+from simcore.scene import load_project
 subprocess.run([sys.executable, "-m", "simcore.cli", "run", str(example_path("wall")),
                 "--out", "out/demo.h5", "--frames", "2", "--quiet"], check=True)
 """,

@@ -234,6 +234,16 @@ class Project(Model):
                 return rig
         raise KeyError(f"no sensor {name!r}")
 
+    def sensor_path(self, name: str) -> str:
+        """Field path of sensor ``name`` (``rig.radar``, ``rigs[0].sensors.side``, ...)."""
+        for i, rig in enumerate(self.all_rigs()):
+            where = "rig" if i == 0 else f"rigs[{i - 1}]"
+            if name in rig.sensors:
+                return f"{where}.sensors.{name}"
+            if name in rig.sensor_configs():
+                return f"{where}.{name}"
+        raise KeyError(f"no sensor {name!r}")
+
     def sensors_of_kind(self, kind: str) -> dict[str, Model]:
         """The configurations of the sensors of one kind (``"tof"``, ...), by name."""
         return {n: c for n, c in self.sensor_configs().items() if sensor_kind(c) == kind}

@@ -220,11 +220,18 @@ def check_references(project: Project, base_dir: Path) -> list[str]:
                 problems.append(f"objects[{i}].geometry.path: {what}: {path}")
         if isinstance(geom, Person):
             problems += _person_problems(f"objects[{i}].geometry", geom, materials, base_dir)
-    front = project.rig.radar.rig_front_material
-    if front not in materials:
-        problems.append(f"rig.radar.rig_front_material: unknown material {front!r} "
-                        f"(known: {', '.join(sorted(materials))})")
+    for where, radar in _radars(project):
+        front = radar.rig_front_material
+        if front not in materials:
+            problems.append(f"{where}.rig_front_material: unknown material {front!r} "
+                            f"(known: {', '.join(sorted(materials))})")
     return problems
+
+
+def _radars(project: Project) -> list[tuple[str, Any]]:
+    """Every radar configuration of the project with its field path (``rig.radar``, ...)."""
+    return [(project.sensor_path(name), cfg)
+            for name, cfg in project.sensors_of_kind("radar").items()]
 
 
 def _person_problems(where: str, person: Person, materials: dict[str, Any],

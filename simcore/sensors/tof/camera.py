@@ -441,7 +441,9 @@ def _solid_angle(intrinsics: PinholeIntrinsics) -> NDArray[np.float32]:
 #: The last frame's exact one-bounce sums per receiver: a frame in which only part of the
 #: render changed (a person walking past a still camera) sums only what changed.
 _ONE_BOUNCE_REUSE = OneBounceCache()
-#: The last one-bounce result, keyed by a digest of its inputs (still scenes reuse it).
+#: The last one-bounce results, keyed by a digest of their inputs (still scenes reuse
+#: them): one per camera for up to this many cameras (least recently used dropped).
+_ONE_BOUNCE_KEEP = 8
 _ONE_BOUNCE_CACHE: dict[bytes, tuple[NDArray[np.float32], list[tuple[NDArray[np.float32],
                                                                     NDArray[np.float32]]]]] = {}
 
@@ -462,12 +464,14 @@ def _cached_one_bounce(arrays: tuple[NDArray[np.generic], ...], params: tuple[ob
     for a in arrays:
         digest.update(np.ascontiguousarray(a).data)
     key = digest.digest()
-    hit = _ONE_BOUNCE_CACHE.get(key)
+    hit = _ONE_BOUNCE_CACHE.pop(key, None)
     if hit is not None:
+        _ONE_BOUNCE_CACHE[key] = hit            # most recently used last
         return hit
     result = compute()
-    _ONE_BOUNCE_CACHE.clear()
     _ONE_BOUNCE_CACHE[key] = result
+    while len(_ONE_BOUNCE_CACHE) > _ONE_BOUNCE_KEEP:
+        del _ONE_BOUNCE_CACHE[next(iter(_ONE_BOUNCE_CACHE))]
     return result
 
 
@@ -512,7 +516,8 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
         (h, w, tuple(config.modulation_frequencies_hz), receiver_step),
         lambda: one_bounce_image(pts, nrm, seen, senders,
                                  list(config.modulation_frequencies_hz), step=receiver_step,
-                                 cache=_ONE_BOUNCE_REUSE))
+                                 cache=_ONE_BOUNCE_REUSE,
+                                 camera=np.ascontiguousarray(buffers.sensor.transform).tobytes()))
     scale = as_float(rho * FLOAT(config.signal_electrons_at_1m) * coverage)
     scale[~seen] = 0.0
     planes = np.zeros((1 + 2 * len(phasors), h, w), dtype=np.float32)

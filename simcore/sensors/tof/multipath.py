@@ -29,7 +29,8 @@ from __future__ import annotations
 
 import math
 import threading
-from collections.abc import Callable, Iterator
+from collections import OrderedDict
+from collections.abc import Callable, Hashable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -361,7 +362,7 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
 
 def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], senders: Senders,
                      frequencies_hz: list[float], *, step: int = RECEIVER_STEP,
-                     cache: OneBounceCache | None = None
+                     cache: OneBounceCache | None = None, camera: Hashable = None
                      ) -> tuple[F32, list[tuple[F32, F32]]]:
     """:func:`one_bounce` for every pixel of an image, exact on a coarse grid of receivers.
 
@@ -385,6 +386,9 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
     cache : OneBounceCache, keyword-only, optional
         Reuse of the previous call's exact sums where only part of the render changed
         (:class:`OneBounceCache`); the result is the same sum.
+    camera : hashable, keyword-only, optional
+        Which camera the receivers are (its pose): the cache keeps each camera's last
+        frame apart, so several cameras do not evict each other's sums.
 
     Returns
     -------
@@ -409,7 +413,7 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
     node_seen = seen[grid]
     k = [2.0 * np.pi * f / SPEED_OF_LIGHT for f in frequencies_hz]
     flat = np.arange(h * w).reshape(h, w)
-    with (cache or OneBounceCache()).frame(senders, (h, w), k) as exact:
+    with (cache or OneBounceCache()).frame(senders, (h, w), k, camera=camera) as exact:
         values = np.zeros((len(rows), len(cols), 1 + 2 * nf), dtype=np.float32)
         values[node_seen] = exact(flat[grid][node_seen], points_m[grid][node_seen],
                                   normals[grid][node_seen])
@@ -469,25 +473,32 @@ class OneBounceCache:
     and redoes only the tiles in which a sender changed; new or moved receivers are summed
     over every tile. The tile sums are then added in tile order, exactly as without the
     cache, so the result does not depend on which frames came before (bit-identical).
+    The last frame is kept per camera (up to :attr:`KEEP` cameras, least recently used
+    dropped), so the cameras of several rigs do not evict each other's sums.
     Thread-safe: one frame at a time.
     """
 
+    #: Cameras whose last frame is kept.
+    KEEP = 8
+
     def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._last: _Sums | None = None
+        self._last: OrderedDict[Hashable, _Sums] = OrderedDict()
 
     def clear(self) -> None:
-        """Forget the last frame (the next one is summed in full)."""
+        """Forget the last frames (the next ones are summed in full)."""
         with self._lock:
-            self._last = None
+            self._last.clear()
 
     @contextmanager
-    def frame(self, senders: Senders, shape: tuple[int, int], k: list[float]
+    def frame(self, senders: Senders, shape: tuple[int, int], k: list[float], *,
+              camera: Hashable = None
               ) -> Iterator[Callable[[NDArray[np.int64], F32, F32], F32]]:
         """Sums of one frame: yields ``exact(flat_index, points, normals) -> (M, 1 + 2F)``.
 
         ``flat_index`` is each receiver's pixel (``y·W + x`` on ``shape``); every receiver
         of this frame must be asked for inside the ``with`` block (the others are dropped).
+        ``camera`` names whose frame it is (compared with that camera's last frame).
         """
         if senders.slot_index is None:           # no grid: nothing to compare with
             yield lambda _idx, pts, nrm: _reduced(pts, nrm, senders, k)
@@ -498,7 +509,8 @@ class OneBounceCache:
         with self._lock:
             key = (shape, senders.grid_shape, tuple(k))
             slot_pts, slot_nrm, slot_wgt = _slots(senders)
-            last = self._last if self._last is not None and self._last.key == key else None
+            last = self._last.get(camera)
+            last = last if last is not None and last.key == key else None
             redo = every
             if last is not None:
                 changed = ~((slot_pts == last.slot_points).all(axis=1)
@@ -536,15 +548,17 @@ class OneBounceCache:
                 parts.append((np.asarray(index, dtype=np.int64), pts, nrm, tiles))
                 return _total(tiles)
 
-            self._last = None                      # an exception leaves no half record
+            self._last.pop(camera, None)           # an exception leaves no half record
             yield exact
             if parts:
                 index = np.concatenate([q[0] for q in parts])
                 order = np.argsort(index, kind="stable")
-                self._last = _Sums(key, slot_pts, slot_nrm, slot_wgt, index[order],
-                                   np.concatenate([q[1] for q in parts])[order],
-                                   np.concatenate([q[2] for q in parts])[order],
-                                   np.concatenate([q[3] for q in parts]), order)
+                self._last[camera] = _Sums(key, slot_pts, slot_nrm, slot_wgt, index[order],
+                                           np.concatenate([q[1] for q in parts])[order],
+                                           np.concatenate([q[2] for q in parts])[order],
+                                           np.concatenate([q[3] for q in parts]), order)
+                while len(self._last) > self.KEEP:
+                    self._last.popitem(last=False)
 
 
 @kernel
