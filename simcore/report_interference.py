@@ -29,6 +29,7 @@ from simcore.scene.geometry import CornerReflector
 from simcore.scene.model import NamedRadar, Rig, SensorRig, Timeline
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.scene.radar_presets import bgt60tr13c
+from simcore.sensors.radar.interference import INR_NONE_DB
 
 FIGURE = "fig12_interference.png"
 TARGET_M = 2.5
@@ -143,7 +144,7 @@ def interference_section(out_dir: str | Path, *, quick: bool = False
     n = numbers
     def inr(name: str) -> str:
         value = n[name]["inr_db"]
-        return "none in the passband" if value == float("-inf") else f"{value:.1f} dB"
+        return "none in the passband" if value <= INR_NONE_DB else f"{value:.1f} dB"
 
     def found(name: str) -> str:
         return "found" if n[name]["target_found"] else "missed"

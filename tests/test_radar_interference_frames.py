@@ -18,7 +18,12 @@ from simcore.scene.model import NamedRadar, Project, Rig, SensorRig, Timeline
 from simcore.scene.motion import Pose
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.scene.radar_presets import bgt60tr13c
-from simcore.sensors.radar.interference import AggressorTiming, interference_if
+from simcore.sensors.radar.interference import (
+    INR_NOISE_FREE_DB,
+    INR_NONE_DB,
+    AggressorTiming,
+    interference_if,
+)
 
 QUIET = {"noise_variance_adc": 0.0, "leakage_dbc": None, "adc_bits": None,
          "chirps_per_frame": 4}
@@ -98,7 +103,7 @@ def test_burst_in_the_frame_at_the_crossing_with_the_link_budget(distance_m: flo
                            optical_pose((distance_m, 0, 1), yaw_deg),
                            timing=AggressorTiming(offset))
     assert np.allclose(adc, cube.real, atol=1e-6)
-    assert inr == float("inf")                      # noise-free victim
+    assert inr == INR_NOISE_FREE_DB                      # noise-free victim
     tau = board_delay_s(victim, aggressor, distance_m, yaw_deg)
     t_cross = (aggressor.start_frequency_hz - victim.start_frequency_hz
                - k_a * (offset + tau)) / d_slope + group_delay_s(victim)
@@ -192,7 +197,7 @@ def test_frequency_hopping_silences_frames_on_different_channels() -> None:
             inr = frame.outputs["radar"].raw.inr_db
             seen.append(inr)
             assert same
-    quiet = [x for x in seen if x < -20]
+    quiet = [x for x in seen if x == INR_NONE_DB]
     loud = [x for x in seen if x > 20]
     print("INR per frame", np.round(seen, 1))
     assert len(quiet) + len(loud) == 8 and quiet and loud
@@ -236,8 +241,8 @@ def test_aggressor_reaches_the_victim_over_a_scatterer_with_multipath() -> None:
                               sensors={"aggressor": named})])
         with Simulator(p) as sim:
             out[order] = sim.frame(0).outputs["radar"].raw
-    assert out[0].inr_db == float("-inf")
-    assert out[1].inr_db == float("inf")       # noise-free victim, interference present
+    assert out[0].inr_db == INR_NONE_DB
+    assert out[1].inr_db == INR_NOISE_FREE_DB       # noise-free victim, interference present
     # The victim's own echo sits at r_v; the difference of the two cubes is the ghost
     # (the victim's multipath adds nothing for a lone reflector without planar faces).
     diff = np.asarray(out[1].adc, np.float64) - np.asarray(out[0].adc, np.float64)

@@ -402,23 +402,31 @@ def interference_if(
                      oversample=oversample)
 
 
+#: ``inr_db`` of a frame whose interference did not reach the passband (dB): finite, so
+#: datasets stay finite.
+INR_NONE_DB = -300.0
+#: ``inr_db`` of a noise-free receiver (``noise_variance_adc = 0``) with interference (dB).
+INR_NOISE_FREE_DB = 300.0
+
+
 def interference_to_noise_db(interference: NDArray[np.complex128], victim: RadarConfig
                              ) -> float:
     """Interference-to-noise ratio of a frame (dB).
 
     Mean interference power over the cube (the real part for a real IF, I and Q for IQ)
     over the receiver noise variance per real channel
-    (:func:`simcore.sensors.radar.equation.noise_std_fs`). −inf without interference; +inf
-    for a noise-free receiver with interference.
+    (:func:`simcore.sensors.radar.equation.noise_std_fs`), within
+    [:data:`INR_NONE_DB`, :data:`INR_NOISE_FREE_DB`]: the floor without interference, the
+    ceiling for a noise-free receiver with interference.
     """
     x = interference if victim.complex_iq else interference.real
     power = float(np.mean(np.abs(x) ** 2) / (2.0 if victim.complex_iq else 1.0))
     noise = noise_std_fs(victim) ** 2
     if power <= 0:
-        return float("-inf")
+        return INR_NONE_DB
     if noise <= 0:
-        return float("inf")
-    return float(10.0 * np.log10(power / noise))
+        return INR_NOISE_FREE_DB
+    return float(np.clip(10.0 * np.log10(power / noise), INR_NONE_DB, INR_NOISE_FREE_DB))
 
 
 def burst_centre_s(victim: RadarConfig, aggressor: RadarConfig, *, chirp_start_s: float,
@@ -461,6 +469,8 @@ def ghost_range_m(victim: RadarConfig, aggressor: RadarConfig, *, lag_s: float) 
 
 
 __all__ = [
+    "INR_NOISE_FREE_DB",
+    "INR_NONE_DB",
     "MAX_REFLECTED_PATHS",
     "AggressorTiming",
     "PathSet",
