@@ -138,8 +138,8 @@ def interference_section(out_dir: str | Path, *, quick: bool = False
     fig.tight_layout()
     fig.savefig(out / FIGURE, dpi=80)
     plt.close(fig)
-    numbers: dict[str, Any] = {name: {k: c[k] for k in ("floor_db", "detections", "target_found", "inr_db")}
-               for name, c in cases.items()}
+    keys = ("floor_db", "detections", "target_found", "inr_db")
+    numbers: dict[str, Any] = {name: {k: c[k] for k in keys} for name, c in cases.items()}
     numbers["ghost_range_m"] = float(ghost_m)
     n = numbers
     def inr(name: str) -> str:
