@@ -228,75 +228,83 @@ def interference_planes(buffers: RenderBuffers, config: TofCameraConfig,
     k = config.supersampling
     freqs = config.modulation_frequencies_hz
     hs, ws = buffers.shape
-    planes = np.zeros((1 + 2 * len(freqs), hs, ws), np.float64)
-    hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
+    planes = np.zeros((1 + 2 * len(freqs), hs * ws), np.float64)
+    hit = ((buffers.object_index >= 0) & np.isfinite(buffers.range_m)).reshape(-1)
+    idx = np.flatnonzero(hit)
+    # Everything in the victim's optical frame, on the pixels that show a surface.
+    pts = np.asarray(buffers.points_m, np.float32).reshape(-1, 3)[idx]
+    nrm = np.asarray(buffers.normals, np.float32).reshape(-1, 3)[idx]
+    rng = np.asarray(buffers.range_m, np.float32).reshape(-1)[idx]
+    response = np.asarray(buffers.intensity, np.float32).reshape(-1)[idx]
+    cos_v = np.maximum(np.asarray(buffers.cos_incidence, np.float32).reshape(-1)[idx],
+                       np.float32(0.05))
     pose = buffers.sensor.transform
     rot, origin = pose[:3, :3], pose[:3, 3]
-    pts = np.where(hit[..., None], np.asarray(buffers.points_m, np.float64), 0.0) @ rot.T \
-        + origin
-    nrm = np.where(hit[..., None], np.asarray(buffers.normals, np.float64), 0.0) @ rot.T
-    rng = np.where(hit, buffers.range_m, 0.0).astype(np.float64)
-    cos_v = np.maximum(np.asarray(buffers.cos_incidence, np.float64), 0.05)
     epr = config.electrons_per_radiance
     m = config.demodulation_contrast
     for ill in illuminators:
         rho = overlap_fraction(config, ill.config, ill.start_s)
         if rho <= 0:
             continue
-        a_rot, a_pos = ill.pose[:3, :3], ill.pose[:3, 3]
+        a_pos = (ill.pose[:3, 3] - origin) @ rot          # emitter in the victim's frame
+        a_rot = rot.T @ ill.pose[:3, :3]                  # its axes in the victim's frame
         intensity_a = ill.config.illumination_power_w / ill.config.illumination_solid_angle_sr
         tan_h = np.tan(np.radians(ill.config.fov_h_deg) / 2)
         tan_v = np.tan(np.radians(ill.config.fov_v_deg) / 2)
-        w = pts - a_pos
-        d_a = np.maximum(np.linalg.norm(w, axis=-1), 1e-3)
-        loc = w @ a_rot
-        z = loc[..., 2]
-        lit = hit & (z > 0)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            lit &= (np.abs(loc[..., 0]) <= tan_h * z) & (np.abs(loc[..., 1]) <= tan_v * z)
-        cos_a = np.maximum(-np.einsum("ijk,ijk->ij", nrm, w) / d_a, 0.0)
-        s_a = np.where(lit, np.asarray(buffers.intensity, np.float64) * cos_a / cos_v
-                       * intensity_a / np.pi * epr / d_a**2, 0.0)
-        path = d_a + rng
-        offset = rho * s_a
-        phasors = []
-        for j, f_v in enumerate(freqs):
-            f_a = ill.config.modulation_frequencies_hz[min(j, len(
-                ill.config.modulation_frequencies_hz) - 1)]
-            c = cross_correlation_factor(f_v, f_a, exposure_s=config.exposure_time_s,
-                                         overlap_fraction=rho)
-            phase = 2 * np.pi * f_a * path / SPEED_OF_LIGHT - 2 * np.pi * f_a * ill.start_s
-            phasors.append(np.where(lit, m * s_a * c * np.exp(1j * phase), 0.0))
+        cs = [cross_correlation_factor(f_v, _paired(ill.config, j),
+                                       exposure_s=config.exposure_time_s,
+                                       overlap_fraction=rho) for j, f_v in enumerate(freqs)]
+        w = pts - a_pos.astype(np.float32)
+        d_a = np.maximum(np.sqrt(np.einsum("ij,ij->i", w, w)), np.float32(1e-3))
+        loc = w @ a_rot.astype(np.float32)
+        z = loc[:, 2]
+        lit = (z > 0) & (np.abs(loc[:, 0]) <= tan_h * z) & (np.abs(loc[:, 1]) <= tan_v * z)
+        cos_a = -np.einsum("ij,ij->i", nrm, w) / d_a
+        lit &= cos_a > 0
+        sel = np.flatnonzero(lit)
+        if sel.size:
+            da = d_a[sel].astype(np.float64)
+            s_a = (response[sel] * cos_a[sel] / cos_v[sel]).astype(np.float64) * (
+                intensity_a / np.pi * epr) / da**2
+            path = da + rng[sel]
+            where = idx[sel]
+            planes[0, where] += rho * s_a
+            for j in range(len(freqs)):
+                f_a = _paired(ill.config, j)
+                phase = 2 * np.pi * f_a * (path / SPEED_OF_LIGHT - ill.start_s)
+                ph = m * s_a * cs[j] * np.exp(1j * phase)
+                planes[1 + 2 * j, where] += ph.real
+                planes[2 + 2 * j, where] += ph.imag
         # Direct: the emitter itself in the victim's view.
-        a_v = (a_pos - origin) @ rot                 # emitter in the victim's optical frame
-        d = float(np.linalg.norm(a_v))
-        b_loc = (origin - a_pos) @ a_rot             # victim in the emitter's frame
-        if a_v[2] > 0 and b_loc[2] > 0 and abs(b_loc[0]) <= tan_h * b_loc[2] \
+        d = float(np.linalg.norm(a_pos))
+        b_loc = -a_pos @ a_rot                            # victim in the emitter's frame
+        if a_pos[2] > 0 and b_loc[2] > 0 and abs(b_loc[0]) <= tan_h * b_loc[2] \
                 and abs(b_loc[1]) <= tan_v * b_loc[2]:
             intr = buffers.intrinsics
-            u = intr.fx * a_v[0] / a_v[2] + intr.cx
-            v = intr.fy * a_v[1] / a_v[2] + intr.cy
-            col, row = int(np.floor(u)), int(np.floor(v))
+            col = int(np.floor(intr.fx * a_pos[0] / a_pos[2] + intr.cx))
+            row = int(np.floor(intr.fy * a_pos[1] / a_pos[2] + intr.cy))
             if 0 <= row < hs and 0 <= col < ws and not (
-                    hit[row, col] and buffers.range_m[row, col] < d - 1e-3):
+                    hit[row * ws + col] and buffers.range_m[row, col] < d - 1e-3):
                 focal = config.intrinsics().fx * config.pixel_pitch_um * 1e-6
                 aperture = np.pi * (focal / (2 * config.f_number)) ** 2
                 photons = config.wavelength_nm * 1e-9 / (PLANCK * SPEED_OF_LIGHT)
                 e = (intensity_a / d**2 * aperture * config.exposure_time_s
                      * config.quantum_efficiency * photons) * k * k   # per sub-pixel
-                offset[row, col] += rho * e
-                for j, f_v in enumerate(freqs):
-                    f_a = ill.config.modulation_frequencies_hz[min(j, len(
-                        ill.config.modulation_frequencies_hz) - 1)]
-                    c = cross_correlation_factor(f_v, f_a, exposure_s=config.exposure_time_s,
-                                                 overlap_fraction=rho)
-                    phasors[j][row, col] += m * e * c * np.exp(
+                at = row * ws + col
+                planes[0, at] += rho * e
+                for j in range(len(freqs)):
+                    f_a = _paired(ill.config, j)
+                    ph = m * e * cs[j] * np.exp(
                         1j * (2 * np.pi * f_a * (d / SPEED_OF_LIGHT - ill.start_s)))
-        planes[0] += offset
-        for j, ph in enumerate(phasors):
-            planes[1 + 2 * j] += ph.real
-            planes[2 + 2 * j] += ph.imag
-    return np.stack([_block_mean(p, k) for p in planes]).astype(np.float32)
+                    planes[1 + 2 * j, at] += ph.real
+                    planes[2 + 2 * j, at] += ph.imag
+    return np.stack([_block_mean(p.reshape(hs, ws), k) for p in planes]).astype(np.float32)
+
+
+def _paired(aggressor: TofCameraConfig, j: int) -> float:
+    """The aggressor's modulation frequency met by the victim's ``j``-th."""
+    freqs = aggressor.modulation_frequencies_hz
+    return float(freqs[min(j, len(freqs) - 1)])
 
 
 __all__ = [
