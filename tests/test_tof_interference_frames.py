@@ -178,3 +178,38 @@ def test_facing_cameras_see_the_emitter_at_half_its_distance() -> None:
           f"{out.depth_m[row, col]:.4f} m")
     assert out.intensity[row, col] == pytest.approx(expect_dn, rel=0.01, abs=1.0)
     assert out.depth_m[row, col] == pytest.approx(d / 2, abs=1e-3)
+
+
+def test_per_frame_hopping_removes_the_bias_when_the_channels_differ() -> None:
+    """Both cameras hop over 4 channels 1 MHz apart with their own seeds: in frames on
+    different channels the median depth is the one without the aggressor (within the
+    noise); on the same channel it is biased like the phasor sum at that frequency."""
+    from simcore.sensors.tof.interference import hopped_config
+
+    side = 0.5
+    hop = {"hop_step_hz": 1e6, "hop_channels": 4}
+    victim = camera(modulation_frequencies_hz=[20e6], hop_seed=1, **hop)
+    aggressor = camera(modulation_frequencies_hz=[20e6], hop_seed=2, **hop)
+    d_a = np.hypot(WALL_M, side)
+    same_seen = differ_seen = 0
+    with Simulator(wall_project(victim, aggressor, side)) as sim, \
+            Simulator(wall_project(victim, None, side)) as alone_sim:
+        for i in range(6):
+            f_v = hopped_config(victim, i).modulation_frequencies_hz[0]
+            f_a = hopped_config(aggressor, i).modulation_frequencies_hz[0]
+            depth = sim.frame(i).outputs["tof"].depth_m
+            alone = alone_sim.frame(i).outputs["tof"].depth_m
+            h, w = depth.shape
+            c = (slice(h // 2 - 2, h // 2 + 2), slice(w // 2 - 2, w // 2 + 2))
+            got, base = float(np.median(depth[c])), float(np.median(alone[c]))
+            if f_v == f_a:
+                k = 2 * np.pi * f_v / SPEED_OF_LIGHT
+                phasor = (np.exp(2j * k * WALL_M)
+                          + (WALL_M / d_a) ** 3 * np.exp(1j * k * (d_a + WALL_M)))
+                expect = np.mod(np.angle(phasor), 2 * np.pi) / (2 * k)
+                assert abs(got - expect) < 0.01, (i, got, expect)
+                same_seen += 1
+            else:
+                assert abs(got - base) < 0.004, (i, got, base)
+                differ_seen += 1
+    assert same_seen and differ_seen
