@@ -203,6 +203,9 @@ def test_a_trigger_offset_sees_a_moving_wall_where_it_is_then() -> None:
     np.testing.assert_allclose(delayed[seen] / on_time[seen], ratio, rtol=2e-5)
     # The late radar's object truth is for its capture time: the wall's centre then.
     items = f.hdf5_items()
+    np.testing.assert_allclose(items["/late_radar/chirp_start_time"][0]
+                               - items["/radar/chirp_start_time"][0], dt, rtol=0, atol=1e-12)
+    assert f.outputs["late_radar"].raw.time_s == t + dt
     centre = np.array([3.1 + v * (t + dt), 0.0, 0.0])
     origin = (np.asarray(project.rig.pose.position_m)
               + np.asarray(project.rig.sensors["late_radar"].pose_on_rig.position_m))
@@ -263,6 +266,18 @@ def test_alike_sensors_share_one_render_and_keep_their_own_noise() -> None:
     assert f.buffers["twin"] is f.buffers["tof"]
     np.testing.assert_array_equal(f.outputs["twin"].gt_range, f.outputs["tof"].gt_range)
     assert not np.array_equal(f.outputs["twin"].depth_m, f.outputs["tof"].depth_m)
+    # Alike radars behind a pane (a see-through pass) share both passes too.
+    pane = SceneObject(id=2, name="pane", geometry=Box(size_m=(0.01, 1.0, 1.0)),
+                       pose=Pose(position_m=(1.0, 0.0, 0.0)), material="glass")
+    glazed = base.model_copy(update={"objects": [*base.objects, pane]})
+    counts = []
+    for project in (glazed, with_rigs(glazed, sensors={"radar_b": named_sensor(
+            glazed.rig.radar)})):
+        with Simulator(project) as sim:
+            g = sim.frame(0)
+            counts.append(sim.render_count)
+    assert "radar" in g.see_through and g.see_through["radar_b"] is g.see_through["radar"]
+    assert counts[0] == counts[1]
     streams = {s.name: s.rng_stream for s in active_sensors(twin)}
     assert streams == {"tof": 0, "radar": 1, "twin": sensor_rng_stream("tof", "twin", 0, 0)}
     assert len(set(streams.values())) == 3
@@ -501,3 +516,30 @@ def test_people_truth_per_radar_is_the_segments_geometry() -> None:
                                atol=1e-9)
     # The built-in radar's are unchanged beside them.
     assert not np.allclose(items["/people/segments/radar_range"][0], expected[:, 0])
+
+
+def test_a_sensor_view_of_the_snapshot_keeps_the_whole_scene() -> None:
+    from simcore.scene.snapshot import take_snapshot
+
+    base = load_project(example_path("point_targets"))
+    project = with_rigs(base, Rig(name="cart", pose=SIDE_POSE,
+                                  sensors={"side": named_sensor(base.rig.radar)}))
+    snap = take_snapshot(project, 0.3)
+    assert snap.sensor_rigs == {"tof": "rig", "radar": "rig", "side": "cart"}
+    assert snap.seen_by("radar", "radar") is snap and snap.scene is snap
+    view = snap.seen_by("side", "radar")
+    assert view.sensors["radar"] is snap.sensors["side"]
+    assert view.rig is snap.rigs["cart"] and view.rig_of("side") is snap.rigs["cart"]
+    assert view.scene is snap and view.scene.sensors["radar"] is snap.sensors["radar"]
+    assert view.seen_by("tof", "tof").scene is snap
+    np.testing.assert_array_equal(view.object_transforms(), snap.object_transforms())
+
+
+def test_bench_rigs_reports_both_variants_from_one_run() -> None:
+    from simcore.bench import rig_variants
+
+    result = rig_variants(example_path("wall"), frames=1)
+    assert result["one_rig"]["sensors"] == 2 and result["two_rigs"]["sensors"] == 4
+    assert "tof" in result["two_rigs"]["stages_ms"]   # a still wall: no render is timed
+    assert result["time_ratio"] == pytest.approx(
+        result["two_rigs"]["frame_ms_median"] / result["one_rig"]["frame_ms_median"])

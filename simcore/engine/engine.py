@@ -350,11 +350,14 @@ class FrameEngine:
                                 f"render_{sensor.name}_samples")
                    for dt in sensor.sample_offsets_s(project)]
         hide = _see_through(sensor, project)
+        # A raster shared with an alike sensor (named after that one) shares its
+        # see-through pass too: the same stage, request and input.
+        owner = dataclasses.replace(request, sensor=raster.sensor)
         through = (None if hide is None else
-                   self.cache.run(f"raster:{request.sensor}:see_through",
-                                  lambda: self.renderer.rasterize_see_through(raster, request,
+                   self.cache.run(f"raster:{raster.sensor}:see_through",
+                                  lambda: self.renderer.rasterize_see_through(raster, owner,
                                                                               hide),
-                                  reads=(self._scene_version, request, hide), inputs=(raster,),
+                                  reads=(self._scene_version, owner, hide), inputs=(raster,),
                                   timings=timings, label=f"render_{sensor.name}_see_through"))
         bg_raster = (None if plain or not self._background_for(sensor.name)
                      else self._background_raster(snap, request, timings))
@@ -406,7 +409,8 @@ class FrameEngine:
                 rng=frame_rng(self.seed, index, sensor.rng_stream), stage=stage,
                 background=(None if background is None
                             else Background(background[1], background[2], bg_see_through)),
-                see_through=see_through, defer=self._defer if self.threads else None)
+                see_through=see_through, defer=self._defer if self.threads else None,
+                name=sensor.name)
             return buffers, sensor.simulate(ctx)
 
         return chain

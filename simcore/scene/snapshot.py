@@ -101,6 +101,8 @@ class SceneSnapshot:
         and multipath read ``sensors["radar"]`` and ``rig``) computes any other sensor of
         that kind from this view: ``sensors[as_name]`` is ``sensor``'s state and ``rig``
         its rig's. The same snapshot when ``sensor == as_name`` and it is on the first rig.
+        In a view, ``sensors[as_name]`` no longer is the sensor of that name: read other
+        sensors' states from :attr:`scene`, the snapshot the view was made from.
         """
         if sensor == as_name and self.sensor_rigs.get(sensor) in (None, self._first_rig()):
             return self
@@ -108,7 +110,13 @@ class SceneSnapshot:
                        rig=self.rig_of(sensor))
         if "_transforms" in self.__dict__:
             view.__dict__["_transforms"] = self.__dict__["_transforms"]
+        view.__dict__["_scene"] = self.scene
         return view
+
+    @property
+    def scene(self) -> SceneSnapshot:
+        """The whole snapshot, every sensor under its own name (itself unless a view)."""
+        return self.__dict__.get("_scene", self)
 
     def _first_rig(self) -> str | None:
         return next(iter(self.rigs), None)

@@ -136,6 +136,8 @@ class SensorContext:
         :meth:`Sensor.simulate` to return: the sensor's chain is then free for the next
         frame (a pipeline stage). The post thread runs frames in order. None: no post
         thread (return ``rest()``).
+    name : str
+        The sensor's name (:attr:`config` is its configuration).
     """
 
     project: Project
@@ -149,6 +151,21 @@ class SensorContext:
     background: Background | None = None
     see_through: RenderBuffers | None = None
     defer: Callable[[Callable[[], SensorOutput]], DeferredOutput] | None = None
+    name: str = ""
+
+    @property
+    def config(self) -> Any:
+        """The configuration of the sensor being run (``project.sensor_config(name)``)."""
+        return self.project.sensor_config(self.name)
+
+    @property
+    def scene(self) -> SceneSnapshot:
+        """The whole snapshot at the capture time, every sensor under its own name.
+
+        Equal to :attr:`snapshot` except inside a model that runs on a sensor view of it
+        (:meth:`SceneSnapshot.seen_by`: the radar chain of a named radar).
+        """
+        return self.snapshot.scene
 
     @property
     def time_s(self) -> float:

@@ -102,7 +102,9 @@ class RadarSensor(SensorBase):
     """FMCW radar (``rig.radar`` or a named one): the 60 GHz band seen from its board.
 
     The radar models read the radar's state as ``snapshot.sensors["radar"]``: a radar
-    with another name runs them on :meth:`SceneSnapshot.seen_by` views of its snapshot.
+    with another name runs them on a :meth:`SceneSnapshot.seen_by` view of its snapshot
+    (``ctx.snapshot`` in its chain); ``ctx.scene`` is the whole snapshot, in which every
+    radar (the built-in one too) is under its own name.
     """
 
     kind = "radar"
