@@ -349,18 +349,25 @@ def mix_paths(victim: RadarConfig, aggressor: RadarConfig, paths: PathSet, *,
             tau = tau0[None, :] + tau_dot[None, :] * t_k_arr[:, None]   # (Q, P)
             weights = amp[None, :] * np.exp(2j * np.pi * (
                 tau * (f_a0 + k_a * lag[:, None]) - 0.5 * k_a * tau**2))
-            tones = np.exp(2j * np.pi * k_a * tau0[:, None] * t_n[None, :])   # (P, N)
-            summed = weights @ tones                                          # (Q, N)
+            # The gate first (real arithmetic), then the signal on the grid's columns
+            # that any pair has inside it (the bursts: a small part of the chirp).
             u = t_n[None, :] + lag[:, None]             # since the aggressor chirp's send
             ta = u - lo
             on = (ta >= 0) & (ta <= t_a)
             f_diff = f_v0 + k_v * t_n[None, :] - (f_a0 + k_a * ta)
             taper = _gate_taper(np.abs(f_diff) / rate)
             on &= taper > 0
-            phase = own[None, :] - 2 * np.pi * (f_a0 * u + 0.5 * k_a * u**2)
-            sig = np.where(on, taper * summed * np.exp(1j * phase), 0.0)
+            cols = np.flatnonzero(on.any(axis=0))
+            if cols.size == 0:
+                continue
+            t_c = t_n[cols]
+            tones = np.exp(2j * np.pi * k_a * tau0[:, None] * t_c[None, :])   # (P, C)
+            summed = weights @ tones                                          # (Q, C)
+            u_c = u[:, cols]
+            phase = own[None, cols] - 2 * np.pi * (f_a0 * u_c + 0.5 * k_a * u_c**2)
+            sig = np.where(on[:, cols], taper[:, cols] * summed * np.exp(1j * phase), 0.0)
             for q, (k, t, _, _) in enumerate(pairs):
-                out[k, t * n_rx + r] += sig[q]
+                out[k, t * n_rx + r, cols] += sig[q]
     filtered = _filtered(out, rate, victim)
     return np.ascontiguousarray(filtered[..., ::oversample])
 
