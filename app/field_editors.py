@@ -477,6 +477,30 @@ LINK_BUDGET = [
     FieldSpec("rig.radar.rig_front_material", "rig front material", "",
               "material of the rig's front: its radar reflection coefficient",
               kind="choice", choices=tuple(load_material_library(copy=False))),
+    # --- issue #30: transmit-side interference mitigation (docs/interference.md) ---
+    FieldSpec("rig.radar.chirp_jitter_s", "chirp start jitter", "µs",
+              "random extra delay of each chirp's start, uniform in [0, jitter), new every "
+              "frame: spreads an equal-slope radar's ghost (0: off)", scale=1e6, step=0.5,
+              decimals=3),
+    FieldSpec("rig.radar.hop_step_hz", "hopping step", "MHz",
+              "frequency hopping per frame: start frequency + channel × step", scale=1e-6,
+              step=50.0, decimals=1),
+    FieldSpec("rig.radar.hop_channels", "hopping channels", "",
+              "channels to hop among, one drawn per frame (1: no hopping)", kind="int"),
+    FieldSpec("rig.radar.transmit_seed", "jitter/hopping seed", "",
+              "seed of this radar's jitter and hopping sequence (equal seeds hop in step)",
+              kind="int"),
+]
+#: A ToF camera's interference mitigation (issue #30, docs/interference.md).
+TOF_INTERFERENCE = [
+    FieldSpec("rig.tof.hop_step_hz", "hopping step", "MHz",
+              "modulation frequency hopping per frame: every frequency + channel × step "
+              "(another camera on another frequency only adds shot noise)", scale=1e-6,
+              step=0.5, decimals=3),
+    FieldSpec("rig.tof.hop_channels", "hopping channels", "",
+              "channels to hop among, one drawn per frame (1: no hopping)", kind="int"),
+    FieldSpec("rig.tof.hop_seed", "hopping seed", "",
+              "seed of this camera's hopping sequence (equal seeds hop in step)", kind="int"),
 ]
 
 #: CFAR cells and the detector options beside the main DSP choices.
@@ -560,5 +584,6 @@ PRODUCTS = [
               "virtual channel whose phase is used", kind="int"),
 ]
 
-__all__ = ["DETECTION", "LINK_BUDGET", "PROCESSING", "PRODUCTS", "FieldForm", "FieldSpec",
-           "bind_number_box", "commit_path", "commit_value", "model_bounds", "range_text"]
+__all__ = ["DETECTION", "LINK_BUDGET", "PROCESSING", "PRODUCTS", "TOF_INTERFERENCE",
+           "FieldForm", "FieldSpec", "bind_number_box", "commit_path", "commit_value",
+           "model_bounds", "range_text"]

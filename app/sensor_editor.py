@@ -33,6 +33,7 @@ from app.field_editors import (
     LINK_BUDGET,
     PROCESSING,
     PRODUCTS,
+    TOF_INTERFERENCE,
     FieldForm,
     FieldSpec,
     bind_number_box,
@@ -312,6 +313,9 @@ class SensorEditor(QScrollArea):
         form.addRow(self.tof_derived)
         self.tof_effects = TofEffectsBox(self._set)
         form.addRow(self.tof_effects)
+        self.tof_interference_form = FieldForm(self.document, TOF_INTERFERENCE)
+        self.tof_interference_form.editFailed.connect(self.editFailed)
+        form.addRow(self.tof_interference_form)
         return box
 
     def _build_radar(self) -> QWidget:

@@ -735,6 +735,13 @@ def generate_report(out_dir: str | Path, *, quick: bool = False,
     result.figures.append(Figure(*fig_tof, section="Multipath"))
     result.numbers["multipath"] = {"radar": nums, "tof": nums_tof}
     say("multipath done")
+    from simcore.report_interference import interference_section
+
+    figures, nums = interference_section(out, quick=quick)
+    for file, title, text in figures:
+        result.figures.append(Figure(file, title, text, section="Interference"))
+    result.numbers["interference"] = nums
+    say("interference done")
     figures, nums = products_section(out, quick=quick)
     for file, title, text in figures:
         result.figures.append(Figure(file, title, text, section="Radar products"))

@@ -12,7 +12,7 @@ def test_quick_report_figures_and_numbers(tmp_path):
     out = tmp_path / "validation"
     assert main(["report", "--out", str(out), "--quick", "--quiet"]) == 0
     figures = sorted(p.name for p in out.glob("fig*.png"))
-    assert len(figures) == 13 + (shared_recording() is not None)
+    assert len(figures) == 14 + (shared_recording() is not None)
     assert all((out / f).stat().st_size > 20_000 for f in figures)   # real plots, not blanks
     readme = (out / "README.md").read_text()
     assert all(f in readme for f in figures)
@@ -77,6 +77,15 @@ def test_quick_report_figures_and_numbers(tmp_path):
 
     ghost = n["multipath"]["radar"]
     assert isinstance(ghost, dict) and ghost                   # the radar multipath section
+    # Interference (#30): bursts buried the weak target, interpolation brings it back with
+    # a floor ≥ 10 dB lower; jitter and hopping remove the equal-slope ghost.
+    inter = n["interference"]
+    assert inter["clean"]["target_found"] and not inter["bursts, off"]["target_found"]
+    assert inter["bursts, interpolation"]["target_found"]
+    assert inter["bursts, off"]["floor_db"] - inter["bursts, interpolation"]["floor_db"] >= 10
+    assert inter["ghost, off"]["inr_db"] > 20
+    assert inter["ghost, chirp jitter"]["inr_db"] < inter["ghost, off"]["inr_db"] - 10
+    assert inter["ghost, hopping"]["inr_db"] < inter["ghost, off"]["inr_db"] - 10
     # ToF MPI (#16): without it the ideal camera measures the rendered range (0 off the
     # depth edges); one diffuse bounce only adds longer paths, so depth reads long.
     mpi = n["multipath"]["tof"]

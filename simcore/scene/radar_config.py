@@ -17,7 +17,7 @@ from typing import Annotated, Literal, Union
 
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, PrivateAttr, field_validator, model_validator
 
 from simcore.scene.base import Finite, Model, check_name
 from simcore.scene.camera import PinholeIntrinsics
@@ -234,6 +234,25 @@ class RadarConfig(SensorTiming):
     adc_bits: int | None = Field(12, ge=1, le=24, description="None = no quantization")
     adc_full_scale_v: float = Field(1.0, ge=1e-9, le=1e6, allow_inf_nan=False,
                                     description="peak ADC input voltage of the largest code")
+    # Transmit-side interference mitigation (docs/interference.md); off by default.
+    chirp_jitter_s: float = Field(
+        0.0, ge=0, le=1e-3, allow_inf_nan=False,
+        description="random extra delay of each chirp's start, uniform in [0, "
+                    "chirp_jitter_s), drawn anew every frame from transmit_seed (s): "
+                    "decorrelates an equal-slope aggressor's ghost over the chirps. "
+                    "0 = off. The chirp must still end before the next one starts")
+    hop_step_hz: float = Field(
+        0.0, ge=0, le=50e9, allow_inf_nan=False,
+        description="frequency hopping per frame: each frame's start frequency is "
+                    "start_frequency_hz + c × hop_step_hz with a channel c drawn from "
+                    "0 … hop_channels − 1 every frame (Hz)")
+    hop_channels: int = Field(
+        1, ge=1, le=1024,
+        description="number of hopping channels (1 = no frequency hopping)")
+    transmit_seed: int = Field(
+        0, ge=0, le=2**31 - 1,
+        description="seed of this radar's chirp jitter and hopping sequence; radars "
+                    "with equal seeds and settings hop and jitter in step")
     # Scattering and synthesis.
     speckle: bool = Field(
         default=True,
@@ -266,6 +285,10 @@ class RadarConfig(SensorTiming):
         description="material of the rig's front (a name in the project's material "
                     "table): its normal-incidence radar Γ. Default aluminium: the board's "
                     "copper ground plane around the antennas reflects like metal")
+
+    #: One frame's chirp start jitter, (chirps × tx,) in TDM order (s); set only on the
+    #: per-frame copies of :func:`simcore.sensors.radar.transmit.frame_transmit_config`.
+    _chirp_delays_s: NDArray[np.float64] | None = PrivateAttr(default=None)
 
     @model_validator(mode="after")
     def _check(self) -> RadarConfig:
@@ -308,6 +331,19 @@ class RadarConfig(SensorTiming):
                 f"samples_per_chirp / sample_rate_hz = {sampling_time * 1e6:.1f} µs exceeds "
                 f"chirp_time_s = {self.chirp_time_s * 1e6:.1f} µs"
             )
+        if self.chirp_repetition_time_s < (self.chirp_time_s + self.chirp_jitter_s) * (1 - 1e-9):
+            if self.chirp_jitter_s > 0:
+                longest = (self.chirp_time_s + self.chirp_jitter_s) * 1e6
+                raise ValueError(
+                    f"chirp_time_s + chirp_jitter_s ({longest:.1f} µs) exceeds "
+                    "chirp_repetition_time_s "
+                    f"({self.chirp_repetition_time_s * 1e6:.1f} µs): a jittered chirp would "
+                    "overlap the next")
+        hop_top = top + (self.hop_channels - 1) * self.hop_step_hz
+        if hop_top > MAX_CARRIER_FREQUENCY_HZ:
+            raise ValueError(
+                f"the highest hopping channel ends at {hop_top:.4g} Hz, beyond the radar "
+                f"band limit {MAX_CARRIER_FREQUENCY_HZ:.4g} Hz")
         if self.chirp_repetition_time_s < self.chirp_time_s * (1 - 1e-9):
             raise ValueError(
                 f"chirp_repetition_time_s ({self.chirp_repetition_time_s * 1e6:.1f} µs) is "
@@ -411,7 +447,10 @@ class RadarConfig(SensorTiming):
         """Chirp start times from the frame start, shape (chirps, tx), s (TDM order)."""
         n_tx = len(self.tx)
         slots = np.arange(self.chirps_per_frame)[:, None] * n_tx + np.arange(n_tx)[None, :]
-        return np.asarray(slots * self.chirp_repetition_time_s, dtype=np.float64)
+        starts = np.asarray(slots * self.chirp_repetition_time_s, dtype=np.float64)
+        if self._chirp_delays_s is not None:   # one frame's jitter (frame_transmit_config)
+            starts = starts + self._chirp_delays_s.reshape(starts.shape)
+        return starts
 
     def pattern_coverage_deg(self, level_db: float = COVERAGE_LEVEL_DB
                              ) -> tuple[float, float]:

@@ -157,6 +157,19 @@ class TofCameraConfig(SensorTiming):
     stray_light_radius_px: float = Field(
         8.0, gt=0, le=1e4, allow_inf_nan=False,
         description="core radius r0 of the tail (1 + r²/r0²)^-3/2 (sensor pixels)")
+    # Interference mitigation between cameras (docs/interference.md); off by default.
+    hop_step_hz: float = Field(
+        0.0, ge=0, le=100e6, allow_inf_nan=False,
+        description="modulation frequency hopping per frame: every modulation frequency "
+                    "is raised by c × hop_step_hz with a channel c drawn from 0 … "
+                    "hop_channels − 1 every frame (Hz); another camera on another "
+                    "frequency only adds shot noise")
+    hop_channels: int = Field(
+        1, ge=1, le=1024, description="hopping channels (1 = no frequency hopping)")
+    hop_seed: int = Field(
+        0, ge=0, le=2**31 - 1,
+        description="seed of this camera's hopping sequence; cameras with equal seeds "
+                    "and settings hop in step")
 
     @model_validator(mode="after")
     def _check_exposure_range(self) -> TofCameraConfig:
@@ -175,6 +188,10 @@ class TofCameraConfig(SensorTiming):
                     f"{size * self.supersampling} render pixels; at most {MAX_RENDER_AXIS} "
                     "per axis")
         freqs = self.modulation_frequencies_hz
+        top = max(freqs) + (self.hop_channels - 1) * self.hop_step_hz
+        if top > MAX_MODULATION_HZ:
+            raise ValueError(f"the highest hopping channel modulates at {top:.4g} Hz; at most "
+                             f"{MAX_MODULATION_HZ:g} Hz")
         if any(not (f > 0 and math.isfinite(f)) for f in freqs):
             raise ValueError("modulation_frequencies_hz must be positive and finite")
         if len(freqs) == 2:

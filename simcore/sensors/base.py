@@ -339,4 +339,14 @@ def frame_rng(seed: int, index: int, stream: int) -> np.random.Generator:
 
 def config_key(*models: Model | None) -> str:
     """A configuration slice as text, for :meth:`SensorContext.stage`'s ``reads``."""
-    return "\n".join("null" if m is None else m.model_dump_json() for m in models)
+    return "\n".join("null" if m is None else m.model_dump_json() + _private_key(m)
+                     for m in models)
+
+
+def _private_key(model: Model) -> str:
+    """A radar frame copy's chirp jitter, which its JSON does not hold.
+
+    (:func:`simcore.sensors.radar.transmit.frame_transmit_config`.)
+    """
+    delays = getattr(model, "_chirp_delays_s", None)
+    return "" if delays is None else "\n" + delays.tobytes().hex()

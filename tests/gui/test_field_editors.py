@@ -23,6 +23,8 @@ NEW_VALUES = {
     "rig.radar.speckle": False, "rig.radar.multipath_order": 2,
     "rig.radar.rig_front_width_m": 0.06, "rig.radar.rig_front_height_m": 0.04,
     "rig.radar.rig_front_material": "wood",
+    "rig.radar.chirp_jitter_s": 2e-6, "rig.radar.hop_step_hz": 250e6,
+    "rig.radar.hop_channels": 4, "rig.radar.transmit_seed": 9,
     "dsp.cfar_guard_range": 3, "dsp.cfar_train_range": 12, "dsp.cfar_guard_doppler": 2,
     "dsp.cfar_train_doppler": 6, "dsp.cfar_os_rank": 0.6, "dsp.peak_grouping": "cluster",
     "dsp.max_detections": 64, "dsp.interpolate_peaks": False,

@@ -77,6 +77,8 @@ class RadarOutput:
     n_scatterers: int
     clipped_samples: int
     transformed_scatterers: int = 0
+    #: Interference-to-noise ratio of the other radars' signals (dB); None: no other radar.
+    inr_db: float | None = None
 
     @property
     def virtual_positions_m(self) -> NDArray[np.float64]:
@@ -86,10 +88,13 @@ class RadarOutput:
 
     def hdf5_items(self) -> dict[str, tuple[NDArray[np.generic], str]]:
         """Per-frame datasets: HDF5 path → (array without the frame axis, unit)."""
-        return {
+        items: dict[str, tuple[NDArray[np.generic], str]] = {
             "/radar/adc": (self.adc, ADC_UNIT),
             "/radar/chirp_start_time": (self.chirp_start_s, "s"),
         }
+        if self.inr_db is not None:
+            items["/radar/inr_db"] = (np.asarray(self.inr_db, dtype=np.float64), "dB")
+        return items
 
 
 def radar_scatterers(project: Project, snapshot: SceneSnapshot, buffers: RenderBuffers, *,
@@ -125,8 +130,8 @@ def radar_scatterers(project: Project, snapshot: SceneSnapshot, buffers: RenderB
 
 
 def radar_output(ideal: ComplexCube, config: RadarConfig, *, rng: np.random.Generator,
-                 time_s: float, n_scatterers: int, transformed: int | None = None
-                 ) -> RadarOutput:
+                 time_s: float, n_scatterers: int, transformed: int | None = None,
+                 inr_db: float | None = None) -> RadarOutput:
     """The receiver over a noise-free IF cube: leakage, noise, high-pass, ADC.
 
     Parameters
@@ -154,6 +159,7 @@ def radar_output(ideal: ComplexCube, config: RadarConfig, *, rng: np.random.Gene
         n_scatterers=n_scatterers,
         clipped_samples=clipped,
         transformed_scatterers=n_scatterers if transformed is None else transformed,
+        inr_db=inr_db,
     )
 
 

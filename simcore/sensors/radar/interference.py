@@ -42,7 +42,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
-from simcore.sensors.radar.equation import R_REF_OHM, element_gain, if_filter_response
+from simcore.sensors.radar.equation import (
+    R_REF_OHM,
+    element_gain,
+    if_filter_response,
+    noise_std_fs,
+)
+from simcore.sensors.radar.scatterers import Scatterers
 
 GATE_FRACTION = 0.45  # of the simulation grid's rate: beyond it the signal is dropped
 
@@ -108,6 +114,264 @@ def _filtered(x: NDArray[np.complex128], rate_hz: float, victim: RadarConfig
     return np.fft.ifft(np.fft.fft(x, n_fft, axis=-1) * h, axis=-1)[..., :n]
 
 
+@dataclass(frozen=True)
+class PathSet:
+    """Propagation paths from each aggressor Tx to each victim Rx.
+
+    Attributes
+    ----------
+    amplitude_fs : ndarray, shape (aggressor tx, victim rx, P), complex128
+        Peak IF amplitude at the victim's ADC of each path, before the IF filters (FS),
+        with the path's scattering phase.
+    delay_s : ndarray, shape (aggressor tx, victim rx, P), float64
+        Propagation delay at the victim's frame start (s).
+    delay_rate : ndarray, shape (aggressor tx, victim rx, P), float64
+        Rate of change of the delay (s/s): the path's Doppler ``−f_c · delay_rate``.
+    """
+
+    amplitude_fs: NDArray[np.complex128]
+    delay_s: NDArray[np.float64]
+    delay_rate: NDArray[np.float64]
+
+    @staticmethod
+    def concatenate(sets: list[PathSet]) -> PathSet:
+        """All paths of several sets (same antenna counts)."""
+        return PathSet(*(np.concatenate([getattr(p, f) for p in sets], axis=-1)
+                         for f in ("amplitude_fs", "delay_s", "delay_rate")))
+
+    @property
+    def n_paths(self) -> int:
+        """Paths per (aggressor Tx, victim Rx)."""
+        return int(self.delay_s.shape[-1])
+
+
+def direct_paths(victim: RadarConfig, victim_pose: ArrayLike, aggressor: RadarConfig,
+                 aggressor_pose: ArrayLike, *, victim_velocity_mps: ArrayLike = (0, 0, 0),
+                 aggressor_velocity_mps: ArrayLike = (0, 0, 0)) -> PathSet:
+    """The line of sight from every aggressor Tx to every victim Rx (one-way Friis).
+
+    Both element patterns towards each other; the radars co-polarised (module docstring).
+    Velocities: world velocities of the two radars (m/s), for the paths' Doppler.
+    """
+    pv, pa = np.asarray(victim_pose, np.float64), np.asarray(aggressor_pose, np.float64)
+    rx_w = _world(pv, victim.rx_positions_m())
+    tx_w = _world(pa, aggressor.tx_positions_m())
+    dv = np.asarray(victim_velocity_mps, np.float64) - np.asarray(aggressor_velocity_mps,
+                                                                   np.float64)
+    n_a, n_r = len(tx_w), len(rx_w)
+    amp = np.zeros((n_a, n_r, 1), np.complex128)
+    delay = np.zeros((n_a, n_r, 1))
+    rate = np.zeros((n_a, n_r, 1))
+    for j in range(n_a):
+        for r in range(n_r):
+            d_vec = rx_w[r] - tx_w[j]
+            dist = max(float(np.linalg.norm(d_vec)), 1e-3)
+            g_t = element_gain(aggressor.element_pattern, (d_vec @ pa[:3, :3])[None, :])[0]
+            g_r = element_gain(victim.element_pattern, (-d_vec @ pv[:3, :3])[None, :])[0]
+            amp[j, r, 0] = friis_if_amplitude_fs(victim, aggressor, distance_m=dist,
+                                                 gain_tx=float(g_t), gain_rx=float(g_r))
+            delay[j, r, 0] = dist / SPEED_OF_LIGHT
+            rate[j, r, 0] = float(d_vec @ dv) / dist / SPEED_OF_LIGHT
+    return PathSet(amp, delay, rate)
+
+
+#: Reflected paths kept per (aggressor Tx, victim Rx): the strongest, by amplitude.
+MAX_REFLECTED_PATHS = 512
+
+
+def reflected_paths(victim: RadarConfig, victim_pose: ArrayLike, aggressor: RadarConfig,
+                    aggressor_pose: ArrayLike, scatterers: Scatterers, *,
+                    victim_velocity_mps: ArrayLike = (0, 0, 0),
+                    aggressor_velocity_mps: ArrayLike = (0, 0, 0),
+                    max_paths: int = MAX_REFLECTED_PATHS) -> PathSet:
+    """Bistatic paths aggressor Tx → scatterer → victim Rx over the victim's scatterers.
+
+    Bistatic radar equation ``P_r = P_t G_t g_t σ G_r g_r λ² / ((4π)³ R_a² R_v²)`` with the
+    aggressor's power and Tx pattern towards the scatterer and the victim's Rx pattern;
+    ``σ`` and the scattering phase are those the victim sees (its render's facets and
+    analytic targets: the monostatic–bistatic equivalence, exact for small bistatic
+    angles). Not modelled: whether the aggressor itself sees the scatterer (occlusion on
+    the aggressor's side), only its pattern limits it. The ``max_paths`` strongest paths
+    per (Tx, Rx) are kept.
+
+    Parameters
+    ----------
+    scatterers : Scatterers
+        The victim's scatterers, in the victim's optical frame.
+    """
+    pv, pa = np.asarray(victim_pose, np.float64), np.asarray(aggressor_pose, np.float64)
+    n_a, n_r = len(aggressor.tx), len(victim.rx)
+    if len(scatterers) == 0:
+        z = np.zeros((n_a, n_r, 0))
+        return PathSet(z.astype(np.complex128), z, z)
+    x_v = scatterers.positions_m                       # victim optical frame
+    x_w = _world(pv, x_v)
+    v_w = scatterers.velocities_mps @ pv[:3, :3].T + np.asarray(victim_velocity_mps)
+    rx_w = _world(pv, victim.rx_positions_m())
+    tx_w = _world(pa, aggressor.tx_positions_m())
+    va = np.asarray(aggressor_velocity_mps, np.float64)
+    vv = np.asarray(victim_velocity_mps, np.float64)
+    p_t = 1e-3 * 10.0 ** (aggressor.tx_power_dbm / 10.0)
+    g0 = 10.0 ** ((aggressor.tx_gain_dbi + victim.rx_gain_dbi) / 10.0)
+    lam = aggressor.wavelength_m
+    volts_per = 10.0 ** (victim.if_gain_db / 20.0) / victim.adc_full_scale_v
+    keep = min(max_paths, len(scatterers))
+    amp = np.zeros((n_a, n_r, keep), np.complex128)
+    delay = np.zeros((n_a, n_r, keep))
+    rate = np.zeros((n_a, n_r, keep))
+    g_r = element_gain(victim.element_pattern, x_v)          # victim sees from its origin
+    for j in range(n_a):
+        to_p = x_w - tx_w[j]
+        r_a = np.maximum(np.linalg.norm(to_p, axis=1), 1e-3)
+        g_t = element_gain(aggressor.element_pattern, to_p @ pa[:3, :3])
+        rate_a = np.einsum("ij,ij->i", to_p, v_w - va) / r_a
+        for r in range(n_r):
+            from_p = x_w - rx_w[r]
+            r_v = np.maximum(np.linalg.norm(from_p, axis=1), 1e-3)
+            p_r = (p_t * g0 * g_t * g_r * scatterers.rcs_m2 * lam**2
+                   / ((4 * np.pi) ** 3 * r_a**2 * r_v**2))
+            a = np.sqrt(2.0 * R_REF_OHM * p_r) * volts_per
+            top = np.argsort(-a, kind="stable")[:keep]
+            amp[j, r] = a[top] * np.exp(1j * scatterers.phase_rad[top])
+            delay[j, r] = (r_a[top] + r_v[top]) / SPEED_OF_LIGHT
+            rate_v = np.einsum("ij,ij->i", from_p[top], v_w[top] - vv) / r_v[top]
+            rate[j, r] = (rate_a[top] + rate_v) / SPEED_OF_LIGHT
+    return PathSet(amp, delay, rate)
+
+
+#: Where the gate's raised-cosine taper starts, as a fraction of the grid's rate: the
+#: difference frequency fades out between it and :data:`GATE_FRACTION` (a hard cut would
+#: ring into the passband).
+TAPER_FRACTION = 0.25
+#: Attenuation of the anti-aliasing filter where the gate's taper starts (dB): what the
+#: taper changes is at least this far down.
+GATE_ATTENUATION_DB = 60.0
+
+
+def _gate_taper(f_rel: NDArray[np.float64]) -> NDArray[np.float64]:
+    """1 below :data:`TAPER_FRACTION` of the rate, raised cosine to 0 at the gate."""
+    x = np.clip((f_rel - TAPER_FRACTION) / (GATE_FRACTION - TAPER_FRACTION), 0.0, 1.0)
+    return np.asarray(0.5 * (1.0 + np.cos(np.pi * x)), dtype=np.float64)
+
+
+def default_oversample(victim: RadarConfig) -> int:
+    """The simulation grid's rate over the ADC rate (at least 2, at most 16).
+
+    Without an anti-aliasing filter, 16 (components up to 3.6× the ADC's rate fold back
+    as on the chip). With one of order ``n`` at ``f_AAF``, the smallest grid whose gate
+    taper starts (:data:`TAPER_FRACTION` of its rate) where the filter is
+    :data:`GATE_ATTENUATION_DB` down: ``(f_taper / f_AAF)^n`` ≥ 10^(60/20).
+    """
+    if victim.if_lowpass_hz <= 0:
+        return 16
+    ratio = 10.0 ** (GATE_ATTENUATION_DB / (20.0 * victim.if_lowpass_order))
+    need = ratio * victim.if_lowpass_hz / (TAPER_FRACTION * victim.sample_rate_hz)
+    return int(min(16, max(2, np.ceil(need))))
+
+
+def mix_paths(victim: RadarConfig, aggressor: RadarConfig, paths: PathSet, *,
+              aggressor_starts_s: ArrayLike, victim_starts_s: ArrayLike | None = None,
+              oversample: int | None = None) -> NDArray[np.complex128]:
+    """The aggressor's chirps over ``paths``, mixed with the victim's, after its IF filters.
+
+    Parameters
+    ----------
+    victim, aggressor : RadarConfig
+        The two radars as they transmit in this frame (start frequencies hopped:
+        :func:`simcore.sensors.radar.transmit.frame_transmit_config`).
+    paths : PathSet
+        Aggressor Tx → victim Rx paths.
+    aggressor_starts_s : array_like, shape (aggressor chirps, aggressor tx)
+        Send time of every aggressor chirp (TDM order) relative to the victim's frame
+        start (s).
+    victim_starts_s : array_like, shape (victim chirps, victim tx), optional
+        Start of every victim chirp from its frame start (s); default
+        ``victim.chirp_start_times_s()`` (with the frame's jitter, if any).
+    oversample : int, optional
+        Simulation grid rate over the victim's ADC rate; default
+        :func:`default_oversample`.
+
+    Returns
+    -------
+    ndarray, shape (victim chirps, victim tx*rx, victim samples), complex128
+        Complex IF in FS, noise-free; the real part is the real-IF signal.
+
+    Notes
+    -----
+    Per path the delay is ``τ₀ + τ' t_k`` at the victim chirp's start ``t_k``: its
+    Doppler phase is exact chirp to chirp, the range migration within the frame (a few
+    picoseconds of delay) is left out. The gate of each pair of chirps is taken at the
+    shortest delay of the pair's paths (the paths' delays differ by nanoseconds).
+    """
+    v_starts = (victim.chirp_start_times_s() if victim_starts_s is None
+                else np.asarray(victim_starts_s, np.float64))
+    a_starts = np.asarray(aggressor_starts_s, np.float64)
+    n_v_tx, n_rx = len(victim.tx), len(victim.rx)
+    if oversample is None:
+        oversample = default_oversample(victim)
+    rate = victim.sample_rate_hz * oversample
+    t_n = np.arange(victim.samples_per_chirp * oversample) / rate
+    out = np.zeros((victim.chirps_per_frame, n_v_tx * n_rx, t_n.size), dtype=np.complex128)
+    if paths.n_paths == 0:
+        return np.ascontiguousarray(out[..., ::oversample])
+    k_v, k_a = victim.slope_hz_per_s, aggressor.slope_hz_per_s
+    f_v0, f_a0 = victim.start_frequency_hz, aggressor.start_frequency_hz
+    t_a = aggressor.chirp_time_s
+    span = t_n[-1]
+    own = 2 * np.pi * (f_v0 * t_n + 0.5 * k_v * t_n**2)
+    for j in range(len(aggressor.tx)):
+        for r in range(n_rx):
+            amp, tau0, tau_dot = (paths.amplitude_fs[j, r], paths.delay_s[j, r],
+                                  paths.delay_rate[j, r])
+            live = np.abs(amp) > 0
+            if not live.any():
+                continue
+            amp, tau0, tau_dot = amp[live], tau0[live], tau_dot[live]
+            lo, hi = float(tau0.min()), float(tau0.max())
+            pairs = []                   # (victim chirp, victim tx, aggressor chirp start)
+            for k in range(v_starts.shape[0]):
+                for t in range(n_v_tx):
+                    t_k = v_starts[k, t]
+                    for s in a_starts[:, j]:
+                        if s + lo <= t_k + span and s + hi + t_a >= t_k:
+                            # The difference frequency is linear over the chirp: skip
+                            # pairs whose beat stays beyond the gate all along.
+                            f0 = f_v0 - f_a0 - k_a * (t_k - s - lo)
+                            f1 = f0 + (k_v - k_a) * span
+                            if f0 * f1 > 0 and min(abs(f0), abs(f1)) >= GATE_FRACTION * rate:
+                                continue
+                            pairs.append((k, t, t_k, s))
+            if not pairs:
+                continue
+            t_k_arr = np.array([p[2] for p in pairs])
+            s_arr = np.array([p[3] for p in pairs])
+            lag = t_k_arr - s_arr                                 # (Q,)
+            tau = tau0[None, :] + tau_dot[None, :] * t_k_arr[:, None]   # (Q, P)
+            weights = amp[None, :] * np.exp(2j * np.pi * (
+                tau * (f_a0 + k_a * lag[:, None]) - 0.5 * k_a * tau**2))
+            # The gate first (real arithmetic), then the signal on the grid's columns
+            # that any pair has inside it (the bursts: a small part of the chirp).
+            u = t_n[None, :] + lag[:, None]             # since the aggressor chirp's send
+            ta = u - lo
+            on = (ta >= 0) & (ta <= t_a)
+            f_diff = f_v0 + k_v * t_n[None, :] - (f_a0 + k_a * ta)
+            taper = _gate_taper(np.abs(f_diff) / rate)
+            on &= taper > 0
+            cols = np.flatnonzero(on.any(axis=0))
+            if cols.size == 0:
+                continue
+            t_c = t_n[cols]
+            tones = np.exp(2j * np.pi * k_a * tau0[:, None] * t_c[None, :])   # (P, C)
+            summed = weights @ tones                                          # (Q, C)
+            u_c = u[:, cols]
+            phase = own[None, cols] - 2 * np.pi * (f_a0 * u_c + 0.5 * k_a * u_c**2)
+            sig = np.where(on[:, cols], taper[:, cols] * summed * np.exp(1j * phase), 0.0)
+            for q, (k, t, _, _) in enumerate(pairs):
+                out[k, t * n_rx + r, cols] += sig[q]
+    filtered = _filtered(out, rate, victim)
+    return np.ascontiguousarray(filtered[..., ::oversample])
+
+
 def interference_if(
     victim: RadarConfig,
     victim_pose: ArrayLike,
@@ -115,7 +379,7 @@ def interference_if(
     aggressor_pose: ArrayLike,
     *,
     timing: AggressorTiming | None = None,
-    oversample: int = 16,
+    oversample: int | None = None,
 ) -> NDArray[np.complex128]:
     """The aggressor's direct signal in the victim's ADC cube, after the IF filters (FS).
 
@@ -133,48 +397,43 @@ def interference_if(
     Returns
     -------
     ndarray, shape (victim chirps, victim tx*rx, victim samples), complex128
-        Complex IF in FS, noise-free; the real part is the real-IF signal. The same on
-        every victim Tx slot of a chirp (the victim's own Tx does not matter).
+        Complex IF in FS, noise-free; the real part is the real-IF signal.
     """
     timing = AggressorTiming() if timing is None else timing
-    pv, pa = np.asarray(victim_pose, np.float64), np.asarray(aggressor_pose, np.float64)
-    rx_w = _world(pv, victim.rx_positions_m())
-    tx_w = _world(pa, aggressor.tx_positions_m())
-    n_v_tx, n_rx = len(victim.tx), len(victim.rx)
-    n_a_tx = len(aggressor.tx)
-    rate = victim.sample_rate_hz * oversample
-    t_n = np.arange(victim.samples_per_chirp * oversample) / rate  # since the chirp start
-    k_v, k_a = victim.slope_hz_per_s, aggressor.slope_hz_per_s
-    f_v0, f_a0 = victim.start_frequency_hz, aggressor.start_frequency_hz
-    jitter = np.zeros(aggressor.chirps_per_frame)
-    jitter[:len(timing.chirp_jitter_s)] = timing.chirp_jitter_s[:aggressor.chirps_per_frame]
-    starts = (timing.start_offset_s + np.arange(aggressor.chirps_per_frame)
-              * aggressor.chirp_repetition_time_s + jitter)
-    out = np.zeros((victim.chirps_per_frame, n_v_tx * n_rx, t_n.size), dtype=np.complex128)
-    for r in range(n_rx):
-        for j in range(n_a_tx):
-            d_vec = rx_w[r] - tx_w[j]
-            dist = float(np.linalg.norm(d_vec))
-            g_t = element_gain(aggressor.element_pattern, (d_vec @ pa[:3, :3])[None, :])[0]
-            g_r = element_gain(victim.element_pattern, (-d_vec @ pv[:3, :3])[None, :])[0]
-            amp = friis_if_amplitude_fs(victim, aggressor, distance_m=dist,
-                                        gain_tx=float(g_t), gain_rx=float(g_r))
-            tau = dist / SPEED_OF_LIGHT
-            for m in range(j, aggressor.chirps_per_frame, n_a_tx):
-                for k in range(victim.chirps_per_frame):
-                    t_k = k * victim.chirp_repetition_time_s
-                    ta = t_n + t_k - starts[m] - tau  # time since the aggressor chirp began
-                    on = (ta >= 0) & (ta <= aggressor.chirp_time_s)
-                    if not on.any():
-                        continue
-                    f_diff = f_v0 + k_v * t_n - (f_a0 + k_a * ta)
-                    on &= np.abs(f_diff) < GATE_FRACTION * rate
-                    phase = 2 * np.pi * ((f_v0 * t_n + 0.5 * k_v * t_n**2)
-                                         - (f_a0 * ta + 0.5 * k_a * ta**2))
-                    sig = np.where(on, amp * np.exp(1j * phase), 0.0)
-                    out[k, r::n_rx][:] += sig[None, :]
-    filtered = _filtered(out, rate, victim)
-    return np.ascontiguousarray(filtered[..., ::oversample])
+    starts = aggressor.chirp_start_times_s() + timing.start_offset_s
+    flat = starts.reshape(-1)
+    n = min(len(timing.chirp_jitter_s), flat.size)
+    flat[:n] += np.asarray(timing.chirp_jitter_s[:n])
+    paths = direct_paths(victim, victim_pose, aggressor, aggressor_pose)
+    return mix_paths(victim, aggressor, paths, aggressor_starts_s=flat.reshape(starts.shape),
+                     oversample=oversample)
+
+
+#: ``inr_db`` of a frame whose interference did not reach the passband (dB): finite, so
+#: datasets stay finite.
+INR_NONE_DB = -300.0
+#: ``inr_db`` of a noise-free receiver (``noise_variance_adc = 0``) with interference (dB).
+INR_NOISE_FREE_DB = 300.0
+
+
+def interference_to_noise_db(interference: NDArray[np.complex128], victim: RadarConfig
+                             ) -> float:
+    """Interference-to-noise ratio of a frame (dB).
+
+    Mean interference power over the cube (the real part for a real IF, I and Q for IQ)
+    over the receiver noise variance per real channel
+    (:func:`simcore.sensors.radar.equation.noise_std_fs`), within
+    [:data:`INR_NONE_DB`, :data:`INR_NOISE_FREE_DB`]: the floor without interference, the
+    ceiling for a noise-free receiver with interference.
+    """
+    x = interference if victim.complex_iq else interference.real
+    power = float(np.mean(np.abs(x) ** 2) / (2.0 if victim.complex_iq else 1.0))
+    noise = noise_std_fs(victim) ** 2
+    if power <= 0:
+        return INR_NONE_DB
+    if noise <= 0:
+        return INR_NOISE_FREE_DB
+    return float(np.clip(10.0 * np.log10(power / noise), INR_NONE_DB, INR_NOISE_FREE_DB))
 
 
 def burst_centre_s(victim: RadarConfig, aggressor: RadarConfig, *, chirp_start_s: float,
@@ -217,10 +476,18 @@ def ghost_range_m(victim: RadarConfig, aggressor: RadarConfig, *, lag_s: float) 
 
 
 __all__ = [
+    "INR_NOISE_FREE_DB",
+    "INR_NONE_DB",
+    "MAX_REFLECTED_PATHS",
     "AggressorTiming",
+    "PathSet",
     "burst_centre_s",
+    "direct_paths",
     "burst_duration_s",
     "friis_if_amplitude_fs",
     "ghost_range_m",
     "interference_if",
+    "interference_to_noise_db",
+    "mix_paths",
+    "reflected_paths",
 ]

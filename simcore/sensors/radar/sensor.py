@@ -33,6 +33,11 @@ from simcore.sensors.radar.background import (
     changed_cells,
 )
 from simcore.sensors.radar.frontend import RadarOutput, radar_output, radar_scatterers
+from simcore.sensors.radar.interference_frame import (
+    FrameInterference,
+    aggressors,
+    frame_interference,
+)
 from simcore.sensors.radar.labels import (
     DetectionLabels,
     LabelScatterers,
@@ -43,6 +48,7 @@ from simcore.sensors.radar.multipath import ghost_scatterers, synthesize_ghosts
 from simcore.sensors.radar.scatterers import Scatterers
 from simcore.sensors.radar.surfaces import transmissive_objects
 from simcore.sensors.radar.synthesis import ComplexCube, prepare, synthesize_if
+from simcore.sensors.radar.transmit import frame_transmit_config
 
 
 @dataclass(frozen=True)
@@ -124,7 +130,11 @@ class RadarSensor(SensorBase):
         Receiver, DSP and labels run on the engine's post thread when it has one
         (``ctx.defer``).
         """
-        cfg = self.config(ctx.project)
+        # The frame's hopping channel and chirp jitter (none by default): the same draw as
+        # other radars receive as interference (simcore.sensors.radar.transmit).
+        base = self.config(ctx.project)
+        cfg = frame_transmit_config(
+            base, ctx.index // base.frame_divider(ctx.project.timeline.frame_rate_hz))
         ctx = dataclasses.replace(ctx, snapshot=ctx.snapshot.seen_by(self.name, "radar"))
         found = _ideal_over_background(ctx, cfg)
         scatterers = None
@@ -148,16 +158,21 @@ class RadarSensor(SensorBase):
         ghosts: list[LabelScatterers] = []
         if cfg.multipath_order > 0:
             ideal, ghosts = _with_multipath(ctx, cfg, ideal, scatterers)
+        inr_db = None
+        interference = _interference(ctx, self.name, cfg, scatterers)
+        if interference is not None:
+            ideal = ideal + interference.cube
+            inr_db = interference.inr_db
         rest = functools.partial(self._finish, ctx, cfg, ideal, n_scatterers, transformed,
-                                 scatterers, parts, ghosts)
+                                 scatterers, parts, ghosts, inr_db)
         # Receiver, DSP and labels on the engine's post thread: the chain goes on to the
         # next frame's scatterers and synthesis meanwhile.
         return ctx.defer(rest) if ctx.defer is not None else rest()
 
     def _finish(self, ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
                 n_scatterers: int, transformed: int, scatterers: Scatterers | None,
-                parts: _LabelParts | None, ghosts: list[LabelScatterers]
-                ) -> RadarFrameOutput:
+                parts: _LabelParts | None, ghosts: list[LabelScatterers],
+                inr_db: float | None = None) -> RadarFrameOutput:
         """The frame's last steps: label terms, receiver, DSP, detection labels."""
         if parts is None:
             assert scatterers is not None
@@ -167,7 +182,8 @@ class RadarSensor(SensorBase):
         raw = ctx.stage(
             "radar_receiver",
             lambda: radar_output(ideal, cfg, rng=ctx.rng, time_s=ctx.time_s,
-                                 n_scatterers=n_scatterers, transformed=transformed),
+                                 n_scatterers=n_scatterers, transformed=transformed,
+                                 inr_db=inr_db),
             reads=(config_key(cfg), ctx.seed, ctx.index, ctx.time_s, self.rng_stream),
             inputs=(ideal,))
         to_world = ctx.snapshot.sensor("radar").transform
@@ -220,6 +236,34 @@ def _with_multipath(ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
                      reads=(_scatterer_reads(ctx, cfg), config_key(cfg), ctx.time_s,
                             to_world.tobytes()),
                      inputs=(ideal, ctx.buffers, ctx.see_through))
+
+
+def _interference(ctx: SensorContext, name: str, cfg: RadarConfig,
+                  scatterers: Scatterers | None) -> FrameInterference | None:
+    """The other radars' signals in this frame (stage ``radar_interference``), or None.
+
+    Over the direct paths, and with ``multipath_order`` ≥ 1 also over the frame's
+    scatterers (computed here when the frame's IF was built over the still background).
+    """
+    if not aggressors(ctx.project, name):
+        return None
+    reflect = cfg.multipath_order > 0
+
+    def run() -> FrameInterference | None:
+        sc = scatterers
+        if reflect and sc is None:
+            sc = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers,
+                                         config=cfg, seed=ctx.seed,
+                                  see_through=ctx.see_through)
+        return frame_interference(ctx.project, name, cfg, ctx.time_s,
+                                  scatterers=sc if reflect else None)
+
+    rigs = ctx.project.all_rigs()
+    return ctx.stage("radar_interference", run,
+                     reads=(config_key(cfg, *rigs), ctx.time_s,
+                            ctx.project.timeline.frame_rate_hz,
+                            _scatterer_reads(ctx, cfg) if reflect else None),
+                     inputs=(ctx.buffers, ctx.see_through) if reflect else ())
 
 
 def _scatterer_reads(ctx: SensorContext, cfg: RadarConfig) -> object:

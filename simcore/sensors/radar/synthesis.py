@@ -416,6 +416,8 @@ class _Sweep:
     def of(cls, config: RadarConfig) -> _Sweep:
         """The sweep of a configuration (the last few kept: their targets are re-used)."""
         key = config.model_dump_json()
+        if config._chirp_delays_s is not None:   # one frame's chirp jitter
+            key += config._chirp_delays_s.tobytes().hex()
         with _SWEEPS_LOCK:
             hit = _SWEEPS.get(key)
         if hit is None:

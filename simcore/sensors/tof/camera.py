@@ -50,6 +50,7 @@ from simcore.render.buffers import RenderBuffers, downsample_ground_truth
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.materials import BandMaterial
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
+from simcore.sensors.tof.interference import Illuminator, interference_planes
 from simcore.sensors.tof.multipath import (
     RECEIVER_STEP,
     OneBounceCache,
@@ -740,8 +741,8 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                  exposure_reference: RenderBuffers | None = None,
                  see_through: RenderBuffers | None = None,
                  transmittance: NDArray[np.floating] | None = None,
-                 mirrors: tuple[NDArray[np.float32], NDArray[np.bool_]] | None = None
-                 ) -> TofOutput:
+                 mirrors: tuple[NDArray[np.float32], NDArray[np.bool_]] | None = None,
+                 illuminators: Sequence[Illuminator] = ()) -> TofOutput:
     """Simulate one AMCW ToF frame from the ToF band's supersampled render.
 
     Parameters
@@ -779,6 +780,10 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         (:func:`simcore.sensors.tof.specular.material_columns`, ``is_mirror``); needed when
         ``config.specular`` is on: light reaching pixels via glossy surfaces
         (:mod:`simcore.sensors.tof.specular`), also counted by auto-exposure.
+    illuminators : sequence of Illuminator, optional
+        Other cameras whose modulated light falls on the scene (and into the lens)
+        during the frame: ToF–ToF interference
+        (:func:`simcore.sensors.tof.interference.interference_planes`).
 
     Returns
     -------
@@ -847,6 +852,9 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
             raise ValueError("the see-through render must have the render's shape")
         through = _transmitted_planes(buffers, see_through, transmittance, config)
         indirect = through if indirect is None else indirect + through
+    if illuminators:
+        foreign = interference_planes(buffers, config, illuminators)
+        indirect = foreign if indirect is None else indirect + foreign
     mixed = None
     if sample_buffers is None:
         # 1.–2. Per sub-pixel signal/ambient electrons, range and phase, summed per sensor

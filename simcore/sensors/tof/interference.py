@@ -27,10 +27,14 @@ detector responds to the other's carrier (docs/interference.md).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from simcore.scene.tof_config import SPEED_OF_LIGHT
+from simcore.render.buffers import RenderBuffers
+from simcore.scene.tof_config import PLANCK, SPEED_OF_LIGHT, TofCameraConfig
 
 
 def cross_correlation_factor(victim_frequency_hz: float, aggressor_frequency_hz: float, *,
@@ -107,9 +111,212 @@ def extra_shot_noise_variance(aggressor_intensity: ArrayLike, *, overlap_fractio
     return np.asarray(overlap_fraction * np.asarray(aggressor_intensity), dtype=np.float64)
 
 
+def hopped_config(config: TofCameraConfig, frame_number: int) -> TofCameraConfig:
+    """The camera as it modulates in its frame ``frame_number`` (frequency hopping).
+
+    Every modulation frequency raised by ``c × hop_step_hz``, ``c`` drawn from
+    ``numpy.random.default_rng((hop_seed, frame_number))``; ``config`` itself without
+    hopping.
+    """
+    if config.hop_channels <= 1 or config.hop_step_hz <= 0:
+        return config
+    rng = np.random.default_rng((int(config.hop_seed), int(frame_number) & 0x7FFFFFFF))
+    shift = int(rng.integers(config.hop_channels)) * config.hop_step_hz
+    return config.model_copy(update={"modulation_frequencies_hz": [
+        f + shift for f in config.modulation_frequencies_hz]})
+
+
+def light_windows_s(config: TofCameraConfig) -> NDArray[np.float64]:
+    """The four correlation samples' exposures from the capture time, shape (4, 2) (s).
+
+    Sample ``i`` is exposed from ``i × sample_interval_s`` for ``exposure_time_s`` (the
+    camera's illumination is on then).
+    """
+    starts = np.arange(4) * config.sample_interval_s
+    return np.stack([starts, starts + config.exposure_time_s], axis=1)
+
+
+def overlap_fraction(victim: TofCameraConfig, aggressor: TofCameraConfig,
+                     aggressor_start_s: float) -> float:
+    """Part of the victim's exposure during which the aggressor's light is on.
+
+    Mean over the victim's four correlation samples of the time its exposure overlaps
+    any of the aggressor's (aggressor capture ``aggressor_start_s`` after the victim's),
+    over the exposure time. 0: time multiplexed.
+    """
+    own = light_windows_s(victim)
+    other = light_windows_s(aggressor) + aggressor_start_s
+    total = 0.0
+    for lo, hi in own:
+        for a_lo, a_hi in other:
+            total += max(0.0, min(hi, a_hi) - max(lo, a_lo))
+    return float(min(1.0, total / (4.0 * victim.exposure_time_s)))
+
+
+@dataclass(frozen=True)
+class Illuminator:
+    """Another camera's modulated light during a victim frame.
+
+    Attributes
+    ----------
+    config : TofCameraConfig
+        The other camera in that frame (its hopped frequencies, its exposure windows).
+    pose : ndarray, shape (4, 4)
+        Its optical frame (x right, y down, z forward) → world.
+    start_s : float
+        Its capture time minus the victim's (s).
+    """
+
+    config: TofCameraConfig
+    pose: NDArray[np.float64]
+    start_s: float
+
+    def key(self) -> bytes:
+        """Cache key."""
+        return (self.config.model_dump_json().encode() + self.pose.tobytes()
+                + np.float64(self.start_s).tobytes())
+
+
+def interference_planes(buffers: RenderBuffers, config: TofCameraConfig,
+                        illuminators: Sequence[Illuminator]) -> NDArray[np.float32]:
+    """Other cameras' light in the victim's pixels, as offset and phasor planes (e⁻).
+
+    For each illuminator and each victim pixel that shows a surface point ``P`` (one
+    render sub-pixel per pixel, the one at ``(k//2, k//2)`` of its block: the foreign
+    light varies slowly, and this is ``k²`` times cheaper than every sub-pixel): the
+    point is lit if it lies in the illuminator's field of view (its emitter fills it, like
+    the victim's own) and faces it; its irradiance
+    ``E = I_a cos θ_a / d_a²`` (``I_a`` = power / illuminated solid angle) makes a
+    Lambertian radiance ``ρ E / π``, with ``ρ cos θ_v`` the render's response ``f`` seen
+    from the victim (``ρ = f / cos θ_v``). Electrons per correlation sample
+    ``S_a = f (cos θ_a / cos θ_v) (I_a / π) · electrons_per_radiance / d_a²``, path
+    ``L = d_a + R``. The victim's phasor gains
+    ``m S_a c(Δf, T, ρ) e^{j (2π f_a L / c + θ)}`` (``c`` =
+    :func:`cross_correlation_factor` of the frequencies and the exposure overlap ``ρ``,
+    ``θ = −2π f_a · start_s``, the aggressor's modulation starting later) and its offset
+    ``ρ S_a`` (the photons: shot noise at any frequency).
+
+    Direct light: when the illuminator's emitter is in the victim's view, unoccluded, and
+    the victim in the illuminator's field, the emitter adds to the pixel it images
+    ``I_a / d² × aperture area`` (a point source through the lens:
+    ``π (f / 2N)²``, ``f`` the focal length) times exposure, quantum efficiency and
+    photons per joule, over the path ``d``.
+
+    Not modelled: whether the illuminator itself sees ``P`` (occlusion on its side);
+    multipath of the foreign light; the sum-frequency term.
+
+    Parameters
+    ----------
+    buffers : RenderBuffers
+        The victim's supersampled render (``points_m``, ``normals``, ``cos_incidence``,
+        ``intensity``, ``range_m``, ``sensor``).
+    config : TofCameraConfig
+        The victim in this frame (hopped frequencies, this frame's exposure).
+    illuminators : sequence of Illuminator
+        The other cameras whose light falls in the frame.
+
+    Returns
+    -------
+    ndarray, shape (1 + 2F, H, W), float32
+        Offset, then (re, im) per modulation frequency, at sensor resolution.
+    """
+    k = config.supersampling
+    freqs = config.modulation_frequencies_hz
+    hs, ws = buffers.shape
+    # One render sub-pixel per sensor pixel (the one at (k//2, k//2) of its block): the
+    # foreign light varies slowly over the scene, and this is k² times cheaper.
+    o = k // 2
+    hit_full = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
+    hit = hit_full[o::k, o::k].reshape(-1)
+    h, w_px = config.height, config.width
+    planes = np.zeros((1 + 2 * len(freqs), h * w_px), np.float64)
+    idx = np.flatnonzero(hit)
+
+    def pick(a: NDArray[np.generic], last: int | None = None) -> NDArray[np.float32]:
+        v = np.asarray(a, np.float32)[o::k, o::k]
+        return v.reshape(-1, last)[idx] if last else v.reshape(-1)[idx]
+
+    # Everything in the victim's optical frame, on the pixels that show a surface.
+    pts, nrm = pick(buffers.points_m, 3), pick(buffers.normals, 3)
+    rng, response = pick(buffers.range_m), pick(buffers.intensity)
+    cos_v = np.maximum(pick(buffers.cos_incidence), np.float32(0.05))
+    pose = buffers.sensor.transform
+    rot, origin = pose[:3, :3], pose[:3, 3]
+    epr = config.electrons_per_radiance
+    m = config.demodulation_contrast
+    for ill in illuminators:
+        rho = overlap_fraction(config, ill.config, ill.start_s)
+        if rho <= 0:
+            continue
+        a_pos = (ill.pose[:3, 3] - origin) @ rot          # emitter in the victim's frame
+        a_rot = rot.T @ ill.pose[:3, :3]                  # its axes in the victim's frame
+        intensity_a = ill.config.illumination_power_w / ill.config.illumination_solid_angle_sr
+        tan_h = np.tan(np.radians(ill.config.fov_h_deg) / 2)
+        tan_v = np.tan(np.radians(ill.config.fov_v_deg) / 2)
+        cs = [cross_correlation_factor(f_v, _paired(ill.config, j),
+                                       exposure_s=config.exposure_time_s,
+                                       overlap_fraction=rho) for j, f_v in enumerate(freqs)]
+        w = pts - a_pos.astype(np.float32)
+        d_a = np.maximum(np.sqrt(np.einsum("ij,ij->i", w, w)), np.float32(1e-3))
+        loc = w @ a_rot.astype(np.float32)
+        z = loc[:, 2]
+        lit = (z > 0) & (np.abs(loc[:, 0]) <= tan_h * z) & (np.abs(loc[:, 1]) <= tan_v * z)
+        cos_a = -np.einsum("ij,ij->i", nrm, w) / d_a
+        lit &= cos_a > 0
+        sel = np.flatnonzero(lit)
+        if sel.size:
+            da = d_a[sel].astype(np.float64)
+            s_a = (response[sel] * cos_a[sel] / cos_v[sel]).astype(np.float64) * (
+                intensity_a / np.pi * epr) / da**2
+            path = da + rng[sel]
+            where = idx[sel]
+            planes[0, where] += rho * s_a
+            for j in range(len(freqs)):
+                f_a = _paired(ill.config, j)
+                phase = 2 * np.pi * f_a * (path / SPEED_OF_LIGHT - ill.start_s)
+                ph = m * s_a * cs[j] * np.exp(1j * phase)
+                planes[1 + 2 * j, where] += ph.real
+                planes[2 + 2 * j, where] += ph.imag
+        # Direct: the emitter itself in the victim's view.
+        d = float(np.linalg.norm(a_pos))
+        b_loc = -a_pos @ a_rot                            # victim in the emitter's frame
+        if a_pos[2] > 0 and b_loc[2] > 0 and abs(b_loc[0]) <= tan_h * b_loc[2] \
+                and abs(b_loc[1]) <= tan_v * b_loc[2]:
+            intr = buffers.intrinsics
+            col = int(np.floor(intr.fx * a_pos[0] / a_pos[2] + intr.cx))
+            row = int(np.floor(intr.fy * a_pos[1] / a_pos[2] + intr.cy))
+            if 0 <= row < hs and 0 <= col < ws and not (
+                    hit_full[row, col] and buffers.range_m[row, col] < d - 1e-3):
+                focal = config.intrinsics().fx * config.pixel_pitch_um * 1e-6
+                aperture = np.pi * (focal / (2 * config.f_number)) ** 2
+                photons = config.wavelength_nm * 1e-9 / (PLANCK * SPEED_OF_LIGHT)
+                e = (intensity_a / d**2 * aperture * config.exposure_time_s
+                     * config.quantum_efficiency * photons)
+                at = (row // k) * w_px + col // k
+                planes[0, at] += rho * e
+                for j in range(len(freqs)):
+                    f_a = _paired(ill.config, j)
+                    ph = m * e * cs[j] * np.exp(
+                        1j * (2 * np.pi * f_a * (d / SPEED_OF_LIGHT - ill.start_s)))
+                    planes[1 + 2 * j, at] += ph.real
+                    planes[2 + 2 * j, at] += ph.imag
+    return planes.reshape(-1, h, w_px).astype(np.float32)
+
+
+def _paired(aggressor: TofCameraConfig, j: int) -> float:
+    """The aggressor's modulation frequency met by the victim's ``j``-th."""
+    freqs = aggressor.modulation_frequencies_hz
+    return float(freqs[min(j, len(freqs) - 1)])
+
+
 __all__ = [
+    "Illuminator",
     "cross_correlation_factor",
     "extra_shot_noise_variance",
+    "hopped_config",
+    "interference_planes",
+    "light_windows_s",
+    "overlap_fraction",
     "interfered_phasor",
     "path_phase_rad",
     "phasor_depth_m",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 from numpy.typing import NDArray
@@ -14,7 +15,14 @@ from simcore.scene.people.expand import body_part_table
 from simcore.scene.project_io import material_table
 from simcore.scene.tof_config import TofCameraConfig
 from simcore.sensors.base import H5Items, SensorBase, SensorContext, config_key
+from simcore.sensors.placement import other_sensors, sensor_state
 from simcore.sensors.tof.camera import TofOutput, simulate_tof, slab_transmittance
+from simcore.sensors.tof.interference import (
+    Illuminator,
+    hopped_config,
+    light_windows_s,
+    overlap_fraction,
+)
 from simcore.sensors.tof.specular import is_mirror, material_columns
 
 
@@ -52,7 +60,10 @@ class TofSensor(SensorBase):
 
     def simulate(self, ctx: SensorContext) -> TofOutput:
         """The camera model over the render (and the sample renders, if any)."""
-        cfg = self.config(ctx.project)
+        base = self.config(ctx.project)
+        rate = ctx.project.timeline.frame_rate_hz
+        cfg = hopped_config(base, ctx.index // base.frame_divider(rate))
+        lights = illuminators(ctx.project, self.name, ctx.time_s)
         extra = list(ctx.sample_buffers)
         previous = extra.pop() if cfg.auto_exposure else None
         samples = (ctx.buffers, *extra) if extra else None
@@ -69,9 +80,10 @@ class TofSensor(SensorBase):
             "tof", lambda: simulate_tof(ctx.buffers, cfg, rng=ctx.rng, sample_buffers=samples,
                                         albedo=albedo, exposure_reference=previous,
                                         see_through=through, transmittance=trans,
-                                        mirrors=mirrors),
+                                        mirrors=mirrors, illuminators=lights),
             reads=(config_key(cfg), ctx.seed, ctx.index, self.rng_stream,
-                   None if trans is None else trans.tobytes()),
+                   None if trans is None else trans.tobytes(),
+                   b"".join(light.key() for light in lights)),
             inputs=(ctx.buffers, *ctx.sample_buffers, through))
         parts = body_part_table(ctx.project)
         if np.any(parts >= 0):  # people: per-pixel body part beside the object id
@@ -119,3 +131,33 @@ def diffuse_albedo(project: Project, buffers: RenderBuffers) -> NDArray[np.float
     values = np.array([(1.0 - b.metallic) * b.reflectance for b in per_object] + [0.0],
                       dtype=np.float32)
     return values[buffers.object_index]
+
+
+def illuminators(project: Project, name: str, time_s: float) -> list[Illuminator]:
+    """The other ToF cameras' frames whose light is on during camera ``name``'s frame.
+
+    Each camera captures its frame ``n`` at ``n × period + trigger_offset_s`` on the
+    timeline's clock (hopping per its own frame count), its illumination on during its
+    four correlation samples' exposures
+    (:func:`simcore.sensors.tof.interference.light_windows_s`); the pose is its pose at
+    that capture time.
+    """
+    rate = project.timeline.frame_rate_hz
+    own = project.sensor_config(name)
+    assert isinstance(own, TofCameraConfig)
+    end = time_s + float(light_windows_s(own)[-1, 1])
+    out = []
+    for _, rig, cfg in other_sensors(project, name, TofCameraConfig):
+        assert isinstance(cfg, TofCameraConfig)
+        period = cfg.frame_divider(rate) / rate
+        span = float(light_windows_s(cfg)[-1, 1])
+        first = math.floor((time_s - cfg.trigger_offset_s - span) / period)
+        last = math.floor((end - cfg.trigger_offset_s) / period)
+        for n in range(max(first, 0), last + 1):
+            start = n * period + cfg.trigger_offset_s
+            frame_cfg = hopped_config(cfg, n)
+            if overlap_fraction(own, frame_cfg, start - time_s) <= 0:
+                continue
+            pose = sensor_state(rig, cfg, start).transform
+            out.append(Illuminator(frame_cfg, pose, start - time_s))
+    return out
