@@ -586,3 +586,25 @@ def test_colliding_tf_frames_are_one_line_errors(
     assert len(err) == 1 and err[0].startswith("tofradar: error: ") and "frame" in err[0]
     assert repr(rig_name if rig_name != "robot_b" else sensor_name) in err[0]
     assert not out.exists()
+
+
+def test_each_radars_interference_to_noise_ratio_reaches_its_adc_message(
+        tmp_path: Path) -> None:
+    """The two facing radars: every RadarCube carries the frame's ``/<radar>/inr_db``."""
+    import h5py
+
+    from simcore.resources import example_path
+    from simcore.sensors.radar.interference import INR_NONE_DB
+
+    example = example_path("two_radars_facing")
+    h5, mcap = tmp_path / "r.h5", tmp_path / "r.mcap"
+    for out in (h5, mcap):
+        assert main(["run", str(example), "--out", str(out), "--frames", "2",
+                     "--quiet"]) == 0
+    with h5py.File(h5, "r") as f:
+        expected = {name: f[f"/{name}/inr_db"][:] for name in ("radar", "radar_b")}
+    recording = read_mcap(mcap)
+    for name, inr in expected.items():
+        got = [m.inr_db for _, m in recording[f"/{name}/adc"]]
+        np.testing.assert_allclose(got, inr, rtol=0, atol=1e-9)
+        assert np.all(inr > INR_NONE_DB)      # the other radar is heard in every frame

@@ -48,6 +48,7 @@ from simcore.scene.motion import Motion, Pose, make_transform, rigid_state
 from simcore.scene.project_io import ProjectError
 from simcore.scene.radar_config import RadarConfig
 from simcore.scene.snapshot import BODY_FROM_OPTICAL
+from simcore.sensors.radar.interference import INR_NONE_DB
 
 Items = Mapping[str, tuple[NDArray[Any], str]]
 
@@ -563,9 +564,11 @@ def _radar_messages(sensor: SensorDescription, items: Items,
         data = adc.astype("<c8").view("<f4") if np.iscomplexobj(adc) else adc.astype("<f4")
         start = np.asarray(items[f"/{n}/chirp_start_time"][0], dtype=np.float64)
         chirps, channels, samples = adc.shape
+        inr = items.get(f"/{n}/inr_db")
         msgs.append(("adc", {"header": _header(ns, n), "chirps": chirps,
                              "channels": channels, "samples": samples, **sensor.radar,
                              "chirp_start_time": start.ravel().tolist(),
+                             "inr_db": INR_NONE_DB if inr is None else float(inr[0]),
                              "data": data.tobytes()}))
     if f"/{n}/range_doppler" in items and sensor.range_axis_m is not None:
         rd = np.asarray(items[f"/{n}/range_doppler"][0], dtype="<f4")
