@@ -118,6 +118,44 @@ PEOPLE_DIMS: dict[str, tuple[str, ...]] = {
     "/people/gait_phase": ("person",),
 }
 
+#: Dimensions whose length is a scene's count of things (objects, people, body segments),
+#: and the group of each: in a run over scenes whose counts differ, arrays along them are
+#: padded to the largest scene's count, with ``<group>/count`` and ``<group>/valid`` per
+#: frame and the names per scene under ``/scenes<group>/`` (docs/dataset.md).
+ENTITY_GROUPS: dict[str, str] = {"object": "/objects", "person": "/people",
+                                 "segment": "/people/segments"}
+
+
+def inner_dims(path: str) -> tuple[str, ...] | None:
+    """Dimension names of a dataset of the layout, without a per-frame leading ``frame``."""
+    for table in (DIMS, PEOPLE_DIMS, SCENE_DIMS, PRODUCT_DIMS):
+        if path in table:
+            return table[path]
+    return None
+
+
+def entity_of(path: str) -> str | None:
+    """The entity dimension (``object``, ``person``, ``segment``) of ``path``'s first axis."""
+    dims = inner_dims(path)
+    return dims[0] if dims and dims[0] in ENTITY_GROUPS else None
+
+
+def _entity_scene_dims() -> dict[str, tuple[str, ...]]:
+    """``/objects/count``, ``/objects/valid``, ``/scenes/objects/names`` … of each entity."""
+    out: dict[str, tuple[str, ...]] = {}
+    for entity, group in ENTITY_GROUPS.items():
+        out[f"{group}/count"] = ()
+        out[f"{group}/valid"] = (entity,)
+        out[f"/scenes{group}/count"] = ("scene",)
+    for table in (DIMS, PEOPLE_DIMS):
+        for path, dims in table.items():
+            if dims and dims[0] in ENTITY_GROUPS:
+                out[f"/scenes{path}"] = ("scene", *dims)
+    return out
+
+
+SCENE_DIMS.update(_entity_scene_dims())
+
 #: Axis datasets that become coordinates: path → coordinate name.
 COORDS = {
     "/radar/range_axis": "range",
@@ -217,6 +255,10 @@ def open_dataset(path: str | os.PathLike[str], *,
             if name == "/time" or name in COORDS:  # small: read now, as coordinates
                 values = ds.asstr()[()] if ds.dtype.kind == "O" else ds[()]
                 coords[COORDS.get(name, "time")] = xr.Variable(dims, values, attrs=attrs)
+            elif getattr(h5py.check_string_dtype(ds.dtype), "length", 0) is None:
+                # Names (variable-length strings): str, as from a Zarr store.
+                variables[name.strip("/").replace("/", "_")] = xr.Variable(
+                    dims, ds.asstr()[()].astype(str), attrs=attrs)
             else:
                 var = xr.Variable(dims, _lazy(ds), attrs=attrs)
                 variables[name.strip("/").replace("/", "_")] = var
