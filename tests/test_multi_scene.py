@@ -271,3 +271,32 @@ def test_a_padded_run_stopped_in_scene_1_resumes_to_the_same_dataset(tmp_path, s
     assert main(["run", str(folder), "--out", str(out), "--frames", str(FRAMES),
                  "--resume", "--quiet"]) == 0
     assert_padded_scenes_equal_alone(open_dataset(out), refs)
+
+
+@pytest.mark.slow
+def test_the_office_family_whose_counts_vary_runs_into_one_dataset(tmp_path):
+    """Known answer: each generated project's own object and people lists."""
+    from simcore.resources import RESOURCES_DIR
+
+    folder = tmp_path / "office"
+    assert main(["generate", str(RESOURCES_DIR / "scenarios" / "office_family.json"),
+                 "--count", "4", "--seed", "3", "--out", str(folder), "--quiet", "--run",
+                 str(tmp_path / "office.h5"), "--frames", "1"]) == 0
+    docs = [json.loads(p.read_text()) for p in sorted(folder.glob("scene_*.json"))]
+    names = [[o["name"] for o in d["objects"]] for d in docs]
+    people = [[o["name"] for o in d["objects"] if o["geometry"]["kind"] == "person"]
+              for d in docs]
+    assert len({len(n) for n in names}) > 1 and len({len(p) for p in people}) > 1
+    ds = open_dataset(tmp_path / "office.h5")
+    width = max(len(n) for n in names)
+    np.testing.assert_array_equal(ds.objects_count.values, [len(n) for n in names])
+    np.testing.assert_array_equal(ds.people_count.values, [len(p) for p in people])
+    np.testing.assert_array_equal(ds.people_segments_count.values, [17 * len(p) for p in people])
+    for s, scene_names in enumerate(names):
+        assert list(ds.scenes_objects_names.values[s]) == scene_names + [""] * (
+            width - len(scene_names))
+        assert list(ds.scenes_people_names.values[s][: len(people[s])]) == people[s]
+        valid = ds.objects_valid.values[s]
+        assert valid.sum() == len(scene_names) and valid[: len(scene_names)].all()
+        assert np.isfinite(ds.poses_objects.values[s][valid]).all()
+        assert np.isnan(ds.poses_objects.values[s][~valid]).all()
