@@ -4,7 +4,8 @@ The parts of a scenario spec beyond ``vary`` (``docs/scenarios.md``):
 
 - ``room``: the floor rectangle (``x_m``, ``y_m``, world metres) where pieces and people
   are placed, and the clearance kept free around the rig;
-- ``furniture``: pieces of the :data:`PIECES` library added by count (``count: [lo, hi]``,
+- ``furniture``: pieces of the :data:`PIECES` library (parametric, or bundled meshes at
+  their real size) added by count (``count: [lo, hi]``,
   inclusive), each sized within its own ranges, turned by a random yaw and placed so that
   its footprint's axis-aligned bounding box lies inside the room and overlaps no other
   piece, no object of the base project standing in the room, and not the rig's clearance;
@@ -21,6 +22,7 @@ so the same spec and seed give the same bytes.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from typing import Any
@@ -147,12 +149,49 @@ Part = tuple[str, dict[str, Any], tuple[float, float, float]]   # role, geometry
 
 
 class Piece:
-    """A parametric piece: draws its size and returns its parts and footprint."""
+    """A piece of the library: draws its size and returns its parts and footprint.
+
+    ``mesh``: the bundled mesh file (``furniture/<name>.obj``) of a mesh piece, else None.
+    """
 
     def __init__(self, roles: tuple[str, ...], defaults: dict[str, str],
                  build: Callable[[np.random.Generator], tuple[list[Part], float, float]],
-                 doc: str) -> None:
+                 doc: str, mesh: str | None = None) -> None:
         self.roles, self.defaults, self.build, self.doc = roles, defaults, build, doc
+        self.mesh = mesh
+
+
+#: Folder of the bundled furniture meshes under the resources, and the folder (next to the
+#: generated projects) that holds their copies: a generated project names
+#: ``furniture/<piece>.obj``, relative to its own folder.
+FURNITURE_DIR = "furniture"
+
+
+@functools.cache
+def mesh_bounds(name: str) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """(lowest, highest) corner (m) of the bundled furniture mesh ``name``."""
+    from simcore.resources import RESOURCES_DIR
+    from simcore.scene.mesh_files import read_mesh_arrays
+
+    points, _ = read_mesh_arrays(RESOURCES_DIR / FURNITURE_DIR / f"{name}.obj")
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    return (float(lo[0]), float(lo[1]), float(lo[2])), (float(hi[0]), float(hi[1]),
+                                                        float(hi[2]))
+
+
+def _mesh_build(name: str) -> Callable[[np.random.Generator], tuple[list[Part], float, float]]:
+    """The build of a mesh piece: one part at its real size, standing on the floor.
+
+    The part's local centre puts the mesh's footprint centre on the piece's position and
+    its lowest point at floor height; nothing is drawn.
+    """
+    def build(rng: np.random.Generator) -> tuple[list[Part], float, float]:
+        lo, hi = mesh_bounds(name)
+        geometry = {"kind": "mesh", "path": f"{FURNITURE_DIR}/{name}.obj", "scale": 1.0}
+        centre = (-(lo[0] + hi[0]) / 2, -(lo[1] + hi[1]) / 2, -lo[2])
+        return [("body", geometry, centre)], hi[0] - lo[0], hi[1] - lo[1]
+
+    return build
 
 
 def _box(role: str, sx: float, sy: float, sz: float, x: float, y: float, z: float) -> Part:
@@ -240,6 +279,17 @@ PIECES: dict[str, Piece] = {
                  "a cylinder of radius 0.12–0.2 m, 0.3–0.5 m high"),
     "plant": Piece(("pot", "leaves"), {"pot": "black_plastic", "leaves": "fabric"}, _plant,
                    "a pot and a round crown of radius 0.2–0.4 m"),
+    # Bundled meshes (resources/furniture, built by tools/make_furniture_meshes.py).
+    "sofa": Piece(("body",), {"body": "fabric"}, _mesh_build("sofa"),
+                  "three-seat sofa mesh, 0.95 × 2.0 × 0.85 m", mesh="sofa"),
+    "armchair": Piece(("body",), {"body": "fabric"}, _mesh_build("armchair"),
+                      "armchair mesh, 0.9 × 0.85 × 0.9 m", mesh="armchair"),
+    "bookcase": Piece(("body",), {"body": "wood"}, _mesh_build("bookcase"),
+                      "bookcase mesh with a back and five boards, 0.35 × 0.9 × 1.8 m",
+                      mesh="bookcase"),
+    "dining_table": Piece(("body",), {"body": "wood"}, _mesh_build("dining_table"),
+                          "table mesh on four round legs, 0.9 × 1.6 × 0.75 m",
+                          mesh="dining_table"),
 }
 
 
@@ -377,6 +427,7 @@ class _Placer:
         self.objects: list[dict[str, Any]] = doc.setdefault("objects", [])
         self.next_id = max((int(o.get("id", 0)) for o in self.objects), default=0) + 1
         self.names = {o.get("name") for o in self.objects}
+        self.bundled: list[int] = []     # objects that name a bundled furniture mesh
 
     def fresh(self, stem: str) -> str:
         """``stem`` + the first number no object's name (or name prefix) uses."""
@@ -416,6 +467,8 @@ class _Placer:
         self.taken.append(fp)
         cy, sy = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
         for k, (role, geometry, (lx, ly, lz)) in enumerate(parts):
+            if piece.mesh is not None:
+                self.bundled.append(len(self.objects))
             self.objects.append({
                 "id": self.next_id, "name": f"{stem}_{role}{k + 1}",
                 "geometry": _rounded(geometry),
@@ -494,11 +547,14 @@ class _Placer:
 
 
 def furnish(doc: dict[str, Any], room: Room, furniture: list[FurnitureEntry],
-            people: list[PeopleEntry], rng: np.random.Generator, *, index: int) -> None:
+            people: list[PeopleEntry], rng: np.random.Generator, *, index: int) -> list[int]:
     """Add the pieces and people to the project document ``doc`` (in place).
 
     Each entry draws its count, then its pieces (or people) one by one, in the spec's
-    order; each lands in a free spot of the room (:class:`_Placer`).
+    order; each lands in a free spot of the room (:class:`_Placer`). Returns the indices
+    of the objects that name a bundled furniture mesh (``furniture/<piece>.obj``,
+    relative to the generated project's folder, where :func:`simcore.scenarios.generate`
+    copies it).
     """
     placer = _Placer(doc, room, rng, index)
     for entry in furniture:
@@ -509,3 +565,4 @@ def furnish(doc: dict[str, Any], room: Room, furniture: list[FurnitureEntry],
         count = int(rng.integers(group.count[0], group.count[1] + 1))
         for _ in range(count):
             placer.add_person(group)
+    return placer.bundled
