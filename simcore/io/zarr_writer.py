@@ -132,7 +132,7 @@ class ZarrWriter:
         self.path = url
         self.storage_options = storage_options
         self.max_detections = _max_detections(project_json)
-        self._pending: dict[int, tuple[Any, Any]] = {}
+        self._pending: dict[int, ShardBuffer] = {}
         self._complete: set[int] = set()
         self._arrays: ArrayCache | None = None
         self.n_total = 0
@@ -224,20 +224,32 @@ class ZarrWriter:
 
     def write_frame(self, index: int, items: dict[str, tuple[NDArray[Any], str]],
                     tables: dict[str, NDArray[Any]]) -> None:
-        """Keep frame ``index``; write its shard once all its frames are here."""
-        self._pending[index] = (items, tables)
+        """Add frame ``index`` to its shard's buffer; write the shard once it is complete."""
         shard = index // self.shard_frames
         start = shard * self.shard_frames
+        if self._arrays is None and self.n_total:
+            if not self.has_arrays:      # the run's first frame: create the arrays
+                create_arrays(self.group, items, tables, n_total=self.n_total,
+                              shard_frames=self.shard_frames,
+                              max_detections=self.max_detections)
+            self._arrays = ArrayCache(self.group)
+        buffer = self._pending.get(shard)
+        if buffer is None:
+            end = min(self.n_total, start + self.shard_frames) if self.n_total else \
+                start + self.shard_frames
+            buffer = self._pending[shard] = ShardBuffer(start, end - start, self._arrays)
+        buffer.add(index, items, tables)
         frames = range(start, min(self.n_total or index + 1, start + self.shard_frames))
-        if all(k in self._pending for k in frames):
-            batch = [(k, *self._pending.pop(k)) for k in frames]
+        if all(k in buffer.added for k in frames):
+            del self._pending[shard]
             if not self.has_arrays:
-                create_arrays(self.group, batch[0][1], batch[0][2], n_total=self.n_total,
+                assert buffer.first is not None
+                create_arrays(self.group, *buffer.first, n_total=self.n_total,
                               shard_frames=self.shard_frames,
                               max_detections=self.max_detections)
             if self._arrays is None:
                 self._arrays = ArrayCache(self.group)
-            write_shard_arrays(self._arrays, batch, max_detections=self.max_detections)
+            buffer.write(self._arrays, len(frames), max_detections=self.max_detections)
             self.mark_complete(frames)
 
     def mark_complete(self, frames: Sequence[int]) -> None:
@@ -346,6 +358,7 @@ class ArrayCache:
     def __init__(self, group: Any):
         self.group = group
         self._arrays: dict[str, Any] = {}
+        self._encoders: dict[str, ShardEncoder | None] = {}
 
     def __getitem__(self, path: str) -> Any:
         key = path.strip("/")
@@ -353,6 +366,183 @@ class ArrayCache:
         if array is None:
             array = self._arrays[key] = self.group[key]
         return array
+
+    def encoder(self, path: str) -> ShardEncoder | None:
+        """The direct shard encoder of ``path`` (None: zarr writes it)."""
+        key = path.strip("/")
+        if key not in self._encoders:
+            self._encoders[key] = ShardEncoder.of(self[key])
+        return self._encoders[key]
+
+
+class ShardEncoder:
+    """Encodes an array's frames and shards as zarr's sharding codec would, without zarr.
+
+    For the arrays of one chunk per frame in shards of frames (``create_arrays``' large
+    arrays: codecs ``sharding_indexed`` of [bytes (little endian), Blosc], index [bytes
+    (little endian), CRC-32C] at the end). A frame's chunk is Blosc-compressed when the
+    frame arrives (:meth:`chunk`; Blosc drops the GIL), and a shard is the frames' chunks
+    one after another, then the index of (offset, length) pairs and its CRC-32C
+    (:meth:`shard`): the bytes zarr itself writes (``tests/test_zarr_dataset.py``
+    compares them), without zarr's per-chunk work, in one store write per array and shard.
+    """
+
+    def __init__(self, array: Any, blosc: Any, shard_frames: int) -> None:
+        self.array = array
+        self.blosc = blosc
+        self.dtype = np.dtype(array.dtype).newbyteorder("<")
+        self.shard_frames = shard_frames
+
+    @classmethod
+    def of(cls, array: Any) -> ShardEncoder | None:
+        """The encoder of ``array``, or None when its codecs are not the ones above."""
+        try:
+            from numcodecs import Blosc
+            from zarr.codecs import BloscCodec, BytesCodec, Crc32cCodec, ShardingCodec
+
+            codecs = array.metadata.codecs
+            outer = tuple(array.metadata.chunk_grid.chunk_shape)
+        except (AttributeError, ImportError):
+            return None
+        if len(codecs) != 1 or not isinstance(codecs[0], ShardingCodec):
+            return None
+        sharding = codecs[0]
+        inner, index = sharding.codecs, sharding.index_codecs
+        little = (len(inner) == 2 and isinstance(inner[0], BytesCodec) and (
+            inner[0].endian.value == "little" if inner[0].endian is not None
+            else np.dtype(array.dtype).itemsize == 1))     # bytes: no byte order
+        if (tuple(sharding.chunk_shape) != (1, *outer[1:]) or not little
+                or not isinstance(inner[1], BloscCodec) or len(index) != 2
+                or not isinstance(index[0], BytesCodec) or index[0].endian is None
+                or index[0].endian.value != "little"
+                or not isinstance(index[1], Crc32cCodec)
+                or sharding.index_location.value != "end"):
+            return None
+        b = inner[1]
+        shuffle = {"noshuffle": 0, "shuffle": 1, "bitshuffle": 2}[b.shuffle.value]
+        blosc = Blosc.from_config({"cname": b.cname.value, "clevel": b.clevel,
+                                   "shuffle": shuffle, "blocksize": b.blocksize,
+                                   "typesize": b.typesize})
+        return cls(array, blosc, outer[0])
+
+    def frame(self, arr: NDArray[Any]) -> NDArray[Any]:
+        """A frame as the array stores it (its dtype, little endian, C order)."""
+        return np.ascontiguousarray(arr, dtype=self.dtype)
+
+    def chunk(self, frame: NDArray[Any]) -> bytes:
+        """One frame's chunk, compressed (``frame`` from :meth:`frame`)."""
+        return bytes(self.blosc.encode(frame.reshape(-1).view(np.uint8)))
+
+    def shard(self, chunks: Sequence[bytes]) -> bytes:
+        """A shard of the frames' ``chunks`` (the first frames of the shard), with its index."""
+        import google_crc32c
+
+        index = np.full((self.shard_frames, *([1] * (self.array.ndim - 1)), 2), 2**64 - 1,
+                        dtype="<u8")
+        flat = index.reshape(self.shard_frames, 2)
+        offset = 0
+        for j, chunk in enumerate(chunks):
+            flat[j] = (offset, len(chunk))
+            offset += len(chunk)
+        index_bytes = index.tobytes()
+        crc = np.array([google_crc32c.value(index_bytes)], dtype="<u4").tobytes()
+        return b"".join(chunks) + index_bytes + crc
+
+    def key(self, start: int) -> Any:
+        """The store path of the shard that begins at frame ``start``."""
+        coords = (start // self.shard_frames, *([0] * (self.array.ndim - 1)))
+        return self.array.store_path / self.array.metadata.encode_chunk_key(coords)
+
+
+class ShardBuffer:
+    """The frames of one shard, gathered as they come, then written in one go.
+
+    :meth:`add` copies a frame's arrays into the shard's blocks (frames × frame shape)
+    and takes its checksum at once, so this work is spread over the frames as they
+    arrive (in the writer thread, beside the engine) instead of falling on the frame that
+    completes the shard; :meth:`write` then leaves zarr only the encoding and storing of
+    each array's block.
+
+    Parameters
+    ----------
+    start : int
+        The shard's first frame.
+    capacity : int
+        Frames the shard can hold (fewer in the last shard of a run).
+    """
+
+    def __init__(self, start: int, capacity: int, arrays: ArrayCache | None = None) -> None:
+        self.start = start
+        self.capacity = capacity
+        self.arrays = arrays
+        self.added: set[int] = set()
+        self.first: tuple[Any, Any] | None = None     # a frame's items and tables
+        self.blocks: dict[str, NDArray[Any]] = {}
+        self.chunks: dict[str, list[bytes]] = {}       # arrays encoded here, frame by frame
+        self.rows: dict[str, list[NDArray[Any]]] = {}
+        self.digests = np.zeros((capacity, 32), dtype=np.uint8)
+
+    def add(self, index: int, items: dict[str, tuple[NDArray[Any], str]],
+            tables: dict[str, NDArray[Any]]) -> None:
+        """Copy frame ``index`` into the blocks and record its checksum."""
+        j = index - self.start
+        if not 0 <= j < self.capacity:
+            raise ValueError(f"frame {index} is not in the shard of frames {self.start}.."
+                             f"{self.start + self.capacity - 1}")
+        if self.first is None:
+            self.first = (items, tables)
+        stored: list[tuple[str, NDArray[Any]]] = []
+        for path, rows in tables.items():
+            self.rows.setdefault(path, [np.zeros(0, rows.dtype)] * self.capacity)[j] = rows
+            stored.append((f"{path}_by_frame", rows))
+            stored.append((f"{path}_count", np.asarray(len(rows), dtype=np.int64)))
+        for path, (array, _) in items.items():
+            arr = np.asarray(array)
+            encoder = None if self.arrays is None else self.arrays.encoder(path)
+            if encoder is not None:
+                frame = encoder.frame(arr)
+                chunks = self.chunks.setdefault(path, [b""] * self.capacity)
+                if frame.shape != tuple(encoder.array.shape[1:]):
+                    raise ValueError(f"{path}: frame shape {frame.shape} != "
+                                     f"{tuple(encoder.array.shape[1:])}")
+                chunks[j] = encoder.chunk(frame)
+                stored.append((path, frame))
+                continue
+            block = self.blocks.get(path)
+            if block is None:
+                block = self.blocks[path] = np.zeros((self.capacity, *arr.shape), arr.dtype)
+            if block.shape[1:] != arr.shape:
+                raise ValueError(f"{path}: frame shape {arr.shape} != {block.shape[1:]}")
+            block[j] = arr
+            stored.append((path, block[j]))
+        self.digests[j] = np.frombuffer(bytes.fromhex(frame_checksum(stored)), dtype=np.uint8)
+        self.added.add(index)
+
+    def write(self, arrays: ArrayCache, frames: int, *, max_detections: int) -> None:
+        """Write the first ``frames`` frames, then their checksums (the shard's record)."""
+        import zarr
+        from zarr.core.buffer import default_buffer_prototype
+        from zarr.core.sync import sync
+
+        start, stop = self.start, self.start + frames
+        writes = []
+        for path, chunks in self.chunks.items():
+            encoder = arrays.encoder(path)
+            assert encoder is not None
+            shard = default_buffer_prototype().buffer.from_bytes(encoder.shard(chunks[:frames]))
+            writes.append(encoder.key(start).set(shard))
+        if writes:
+            sync(_gather(writes))
+        # Every chunk is written, also one equal to the fill value: no read-back, no deletes.
+        with zarr.config.set({"array.write_empty_chunks": True}):
+            for path, block in self.blocks.items():
+                array = arrays[path]
+                data = block[:frames]
+                arrays[path][start:stop] = (data if data.dtype == array.dtype
+                                            else data.astype(array.dtype))
+            for path, rows in self.rows.items():
+                _write_table(arrays, path, rows[:frames], start, max_detections=max_detections)
+            arrays[CHECKSUM_PATH][start:stop] = self.digests[:frames]
 
 
 def write_shard_arrays(group: Any, batch: list[tuple[int, Any, Any]], *,
@@ -363,33 +553,17 @@ def write_shard_arrays(group: Any, batch: list[tuple[int, Any, Any]], *,
     are the shard's completion record: written last, so a shard cut short (a killed
     process) has none and is recomputed by ``--resume``.
     """
-    import zarr
-
     arrays = group if isinstance(group, ArrayCache) else ArrayCache(group)
-    start = batch[0][0]
-    stop = batch[-1][0] + 1
-    digests = np.zeros((len(batch), 32), dtype=np.uint8)
-    stored: list[list[tuple[str, NDArray[Any]]]] = [[] for _ in batch]
-    for j, (_, _, tables) in enumerate(batch):
-        for path, rows in tables.items():
-            stored[j].append((f"{path}_by_frame", rows))
-            stored[j].append((f"{path}_count", np.asarray(len(rows), dtype=np.int64)))
-    # Every chunk is written, also one equal to the fill value: no read-back, no deletes.
-    with zarr.config.set({"array.write_empty_chunks": True}):
-        for path in batch[0][1]:
-            array = arrays[path]
-            stack = np.stack([np.asarray(items[path][0]) for _, items, _ in batch])
-            stack = stack.astype(array.dtype, copy=False)
-            array[start:stop] = stack
-            for j in range(len(batch)):
-                stored[j].append((path, stack[j]))
-        for path in batch[0][2]:
-            _write_table(arrays, path, [tables[path] for _, _, tables in batch], start,
-                         max_detections=max_detections)
-        for j in range(len(batch)):
-            digests[j] = np.frombuffer(bytes.fromhex(frame_checksum(stored[j])),
-                                       dtype=np.uint8)
-        arrays[CHECKSUM_PATH][start:stop] = digests
+    buffer = ShardBuffer(batch[0][0], len(batch), arrays)
+    for index, items, tables in batch:
+        buffer.add(index, items, tables)
+    buffer.write(arrays, len(batch), max_detections=max_detections)
+
+
+async def _gather(writes: list[Any]) -> None:
+    import asyncio
+
+    await asyncio.gather(*writes)
 
 
 def _write_table(arrays: ArrayCache, path: str, frames: list[NDArray[Any]], start: int, *,
@@ -426,5 +600,5 @@ def write_shard(target: ShardTarget, batch: list[tuple[int, Any, Any]]) -> None:
     write_shard_arrays(group, batch, max_detections=target.max_detections)
 
 
-__all__ = ["DEFAULT_SHARD_FRAMES", "ShardTarget", "ZarrWriter", "create_arrays",
-           "open_group", "write_shard", "write_shard_arrays", "ArrayCache"]
+__all__ = ["DEFAULT_SHARD_FRAMES", "ShardBuffer", "ShardEncoder", "ShardTarget", "ZarrWriter",
+           "create_arrays", "open_group", "write_shard", "write_shard_arrays", "ArrayCache"]
