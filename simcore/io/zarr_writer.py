@@ -24,6 +24,12 @@ Shards are the unit of writing: one process writes a whole shard (its frames' da
 its checksums) and no two processes ever write one shard, so workers write their own
 frames concurrently (:func:`write_shard`) while the driver only creates the arrays and
 commits metadata. ``resume`` recomputes the shards without a complete record.
+
+A frame is prepared when it arrives (:class:`ShardBuffer`): its checksum is taken, its
+large arrays' chunks are Blosc-compressed (:class:`ShardEncoder`, the bytes of zarr's
+sharding codec) and its small arrays copied into the shard's blocks, so the work is
+spread over the frames in the writer thread; a complete shard is then one store write
+per large array, plus zarr's writes of the small ones.
 """
 
 from __future__ import annotations
