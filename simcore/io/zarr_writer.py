@@ -380,6 +380,83 @@ class ArrayCache:
             self._encoders[key] = ShardEncoder.of(self[key])
         return self._encoders[key]
 
+    def block_encoder(self, path: str) -> BlockEncoder | None:
+        """The direct encoder of a small array of one chunk per shard (None: zarr)."""
+        key = "block:" + path.strip("/")
+        if key not in self._encoders:
+            self._encoders[key] = BlockEncoder.of(self[path])  # type: ignore[assignment]
+        return self._encoders[key]  # type: ignore[return-value]
+
+
+def _blosc_of(codecs: Any, dtype: np.dtype[Any]) -> Any:
+    """The Blosc (numcodecs) of codecs [bytes (little endian; none for bytes), Blosc], or None."""
+    from numcodecs import Blosc
+    from zarr.codecs import BloscCodec, BytesCodec
+
+    if len(codecs) != 2 or not isinstance(codecs[0], BytesCodec) or \
+            not isinstance(codecs[1], BloscCodec):
+        return None
+    endian = codecs[0].endian
+    if not (endian.value == "little" if endian is not None else dtype.itemsize == 1):
+        return None
+    b = codecs[1]
+    shuffle = {"noshuffle": 0, "shuffle": 1, "bitshuffle": 2}[b.shuffle.value]
+    return Blosc.from_config({"cname": b.cname.value, "clevel": b.clevel, "shuffle": shuffle,
+                              "blocksize": b.blocksize, "typesize": b.typesize})
+
+
+class BlockEncoder:
+    """Encodes a small array's chunk of one shard of frames as zarr would, without zarr.
+
+    For ``create_arrays``' small arrays (one chunk of ``shard_frames`` frames, codecs
+    [bytes, Blosc]): the chunk is the shard's frames, padded with the fill value past the
+    array's end, Blosc-compressed, stored under the chunk's key.
+    """
+
+    def __init__(self, array: Any, blosc: Any, rows: int) -> None:
+        self.array, self.blosc, self.rows = array, blosc, rows
+        self.dtype = np.dtype(array.dtype).newbyteorder("<")
+
+    @classmethod
+    def of(cls, array: Any) -> BlockEncoder | None:
+        """The encoder of ``array``, or None when its codecs or chunks differ."""
+        try:
+            codecs = array.metadata.codecs
+            chunk = tuple(array.metadata.chunk_grid.chunk_shape)
+        except AttributeError:
+            return None
+        blosc = _blosc_of(codecs, np.dtype(array.dtype))
+        if blosc is None or chunk[1:] != tuple(array.shape[1:]):
+            return None
+        return cls(array, blosc, chunk[0])
+
+    def write(self, start: int, block: NDArray[Any]) -> Any:
+        """The store write of rows ``start…`` (a coroutine), or None if not a whole chunk."""
+        from zarr.core.buffer import default_buffer_prototype
+
+        n = len(block)
+        if start % self.rows or n != min(self.rows, self.array.shape[0] - start):
+            return None
+        full = np.full((self.rows, *block.shape[1:]), self.array.fill_value, self.dtype)
+        full[:n] = block
+        data = bytes(self.blosc.encode(full.reshape(-1).view(np.uint8)))
+        coords = (start // self.rows, *([0] * (self.array.ndim - 1)))
+        key = self.array.store_path / self.array.metadata.encode_chunk_key(coords)
+        return key.set(default_buffer_prototype().buffer.from_bytes(data))
+
+
+def _put(arrays: ArrayCache, path: str, start: int, block: NDArray[Any],
+         writes: list[Any]) -> None:
+    """Rows ``start…`` of ``path``: a direct store write queued in ``writes``, or zarr's."""
+    encoder = arrays.block_encoder(path)
+    write = None if encoder is None else encoder.write(start, block)
+    if write is not None:
+        writes.append(write)
+        return
+    array = arrays[path]
+    array[start:start + len(block)] = (block if block.dtype == array.dtype
+                                       else block.astype(array.dtype))
+
 
 class ShardEncoder:
     """Encodes an array's frames and shards as zarr's sharding codec would, without zarr.
@@ -403,8 +480,7 @@ class ShardEncoder:
     def of(cls, array: Any) -> ShardEncoder | None:
         """The encoder of ``array``, or None when its codecs are not the ones above."""
         try:
-            from numcodecs import Blosc
-            from zarr.codecs import BloscCodec, BytesCodec, Crc32cCodec, ShardingCodec
+            from zarr.codecs import BytesCodec, Crc32cCodec, ShardingCodec
 
             codecs = array.metadata.codecs
             outer = tuple(array.metadata.chunk_grid.chunk_shape)
@@ -413,22 +489,14 @@ class ShardEncoder:
         if len(codecs) != 1 or not isinstance(codecs[0], ShardingCodec):
             return None
         sharding = codecs[0]
-        inner, index = sharding.codecs, sharding.index_codecs
-        little = (len(inner) == 2 and isinstance(inner[0], BytesCodec) and (
-            inner[0].endian.value == "little" if inner[0].endian is not None
-            else np.dtype(array.dtype).itemsize == 1))     # bytes: no byte order
-        if (tuple(sharding.chunk_shape) != (1, *outer[1:]) or not little
-                or not isinstance(inner[1], BloscCodec) or len(index) != 2
+        blosc = _blosc_of(sharding.codecs, np.dtype(array.dtype))
+        index = sharding.index_codecs
+        if (tuple(sharding.chunk_shape) != (1, *outer[1:]) or blosc is None or len(index) != 2
                 or not isinstance(index[0], BytesCodec) or index[0].endian is None
                 or index[0].endian.value != "little"
                 or not isinstance(index[1], Crc32cCodec)
                 or sharding.index_location.value != "end"):
             return None
-        b = inner[1]
-        shuffle = {"noshuffle": 0, "shuffle": 1, "bitshuffle": 2}[b.shuffle.value]
-        blosc = Blosc.from_config({"cname": b.cname.value, "clevel": b.clevel,
-                                   "shuffle": shuffle, "blocksize": b.blocksize,
-                                   "typesize": b.typesize})
         return cls(array, blosc, outer[0])
 
     def frame(self, arr: NDArray[Any]) -> NDArray[Any]:
@@ -530,25 +598,27 @@ class ShardBuffer:
         from zarr.core.buffer import default_buffer_prototype
         from zarr.core.sync import sync
 
-        start, stop = self.start, self.start + frames
+        start = self.start
         writes = []
         for path, chunks in self.chunks.items():
             encoder = arrays.encoder(path)
             assert encoder is not None
             shard = default_buffer_prototype().buffer.from_bytes(encoder.shard(chunks[:frames]))
             writes.append(encoder.key(start).set(shard))
-        if writes:
-            sync(_gather(writes))
         # Every chunk is written, also one equal to the fill value: no read-back, no deletes.
         with zarr.config.set({"array.write_empty_chunks": True}):
             for path, block in self.blocks.items():
-                array = arrays[path]
-                data = block[:frames]
-                arrays[path][start:stop] = (data if data.dtype == array.dtype
-                                            else data.astype(array.dtype))
+                _put(arrays, path, start, block[:frames], writes)
             for path, rows in self.rows.items():
-                _write_table(arrays, path, rows[:frames], start, max_detections=max_detections)
-            arrays[CHECKSUM_PATH][start:stop] = self.digests[:frames]
+                _write_table(arrays, path, rows[:frames], start, writes,
+                             max_detections=max_detections)
+            if writes:
+                sync(_gather(writes))
+            # The record last, once the data are stored.
+            last: list[Any] = []
+            _put(arrays, CHECKSUM_PATH, start, self.digests[:frames], last)
+            if last:
+                sync(_gather(last))
 
 
 def write_shard_arrays(group: Any, batch: list[tuple[int, Any, Any]], *,
@@ -572,8 +642,8 @@ async def _gather(writes: list[Any]) -> None:
     await asyncio.gather(*writes)
 
 
-def _write_table(arrays: ArrayCache, path: str, frames: list[NDArray[Any]], start: int, *,
-                 max_detections: int) -> None:
+def _write_table(arrays: ArrayCache, path: str, frames: list[NDArray[Any]], start: int,
+                 writes: list[Any], *, max_detections: int) -> None:
     counts = np.array([len(rows) for rows in frames], dtype=np.int64)
     if counts.max(initial=0) > max_detections:
         raise ValueError(f"{path}: {int(counts.max())} rows in one frame, more than "
@@ -584,8 +654,8 @@ def _write_table(arrays: ArrayCache, path: str, frames: list[NDArray[Any]], star
         block = np.zeros((len(frames), max_detections), dtype=out.dtype)
         for j, rows in enumerate(frames):
             block[j, : len(rows)] = rows[name]
-        out[start:start + len(frames)] = block
-    arrays[f"{path}_count"][start:start + len(frames)] = counts
+        _put(arrays, f"{path}_by_frame/{name}", start, block, writes)
+    _put(arrays, f"{path}_count", start, counts, writes)
 
 
 _GROUPS: dict[ShardTarget, Any] = {}
@@ -606,5 +676,6 @@ def write_shard(target: ShardTarget, batch: list[tuple[int, Any, Any]]) -> None:
     write_shard_arrays(group, batch, max_detections=target.max_detections)
 
 
-__all__ = ["DEFAULT_SHARD_FRAMES", "ShardBuffer", "ShardEncoder", "ShardTarget", "ZarrWriter",
-           "create_arrays", "open_group", "write_shard", "write_shard_arrays", "ArrayCache"]
+__all__ = ["DEFAULT_SHARD_FRAMES", "BlockEncoder", "ShardBuffer", "ShardEncoder", "ShardTarget",
+           "ZarrWriter", "create_arrays", "open_group", "write_shard", "write_shard_arrays",
+           "ArrayCache"]
