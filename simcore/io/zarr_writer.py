@@ -29,7 +29,8 @@ A frame is prepared when it arrives (:class:`ShardBuffer`): its checksum is take
 large arrays' chunks are Blosc-compressed (:class:`ShardEncoder`, the bytes of zarr's
 sharding codec) and its small arrays copied into the shard's blocks, so the work is
 spread over the frames in the writer thread; a complete shard is then one store write
-per large array, plus zarr's writes of the small ones.
+per array (:class:`BlockEncoder` for the small ones), the completion record last. These
+are the bytes zarr's own codecs write; arrays of other codecs go through zarr.
 """
 
 from __future__ import annotations
