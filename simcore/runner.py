@@ -59,18 +59,38 @@ class FrameResult:
 
 
 @dataclass(frozen=True)
+class ArraySlot:
+    """One per-frame array of a run over scenes, as every frame of the dataset holds it.
+
+    ``entity`` names the dimension of the first axis when it counts things (``object``,
+    ``person``, ``segment``: :data:`simcore.io.reader.ENTITY_GROUPS`); ``shape[0]`` is
+    then the largest scene's count, and a scene with fewer is padded.
+    """
+
+    path: str
+    shape: tuple[int, ...]
+    dtype: str
+    unit: str
+    entity: str | None = None
+
+
+@dataclass(frozen=True)
 class ScenesSpec:
     """A run over several scenes: ``frames_per_scene`` frames of each, one after another.
 
     Dataset frame ``k`` is frame ``k % frames_per_scene`` of scene
     ``k // frames_per_scene``; every scene keeps its own seed, so a frame equals the same
-    frame of that scene run alone, bit for bit. ``static_sha256`` is the digest of the
-    run-constant arrays (axes, object names and ids) that every scene must share.
+    frame of that scene run alone, bit for bit. ``static_sha256`` holds (path, digest) of
+    the run-constant arrays every scene shares (sensor axes; not the names and ids of
+    objects and people, which are per scene); ``layout`` the per-frame arrays of every
+    frame, padded to the largest scene's object, person and segment counts
+    (:func:`pad_items`).
     """
 
     scenes: tuple[RunSpec, ...]
     frames_per_scene: int
-    static_sha256: str = ""
+    static_sha256: tuple[tuple[str, str], ...] = ()
+    layout: tuple[ArraySlot, ...] = ()
 
     @property
     def key(self) -> str:
@@ -179,14 +199,13 @@ def results(spec: AnySpec, indices: Sequence[int]) -> Iterator[FrameResult]:
         sub = spec.scenes[scene]
         first = sub.key not in _SIMULATORS
         sim = _simulator(sub)
-        if first and spec.static_sha256 and static_digest(sim.static_items()) != \
-                spec.static_sha256:
-            raise RunError(f"scene {scene} has other axes, object names or ids than scene 0 "
-                           "(its sensor configuration or object list differs); one dataset "
-                           "holds scenes of one layout: vary values, not the layout")
+        if first and spec.static_sha256:
+            check_shared_statics(scene, sim.static_items(), spec.static_sha256)
         for k, frame in zip(ks, sim.frames([spec.locate(k)[1] for k in ks]), strict=True):
             result = _result(frame)
             result.index = k
+            if spec.layout:
+                result.items = pad_items(result.items, spec.layout, scene=scene)
             result.items["/scene_index"] = (np.asarray(scene, dtype=np.int32), "1")
             for rows in result.tables.values():
                 if rows.dtype.names is not None and "frame" in rows.dtype.names:
@@ -205,6 +224,103 @@ def static_digest(items: H5Items) -> str:
     return digest.hexdigest()
 
 
+def shared_statics(items: H5Items) -> H5Items:
+    """The run-constant arrays a run over scenes shares (sensor axes).
+
+    All but those along an entity axis: the names and ids of objects, people and segments
+    are per scene.
+    """
+    from simcore.io.reader import entity_of
+
+    return {path: value for path, value in items.items() if entity_of(path) is None}
+
+
+def static_digests(items: H5Items) -> tuple[tuple[str, str], ...]:
+    """(path, SHA-256) of each shared run-constant array (:func:`shared_statics`)."""
+    return tuple((path, static_digest({path: value}))
+                 for path, value in sorted(shared_statics(items).items()))
+
+
+def check_shared_statics(scene: int, items: H5Items,
+                         reference: tuple[tuple[str, str], ...]) -> None:
+    """Refuse a scene whose shared run-constant arrays (sensor axes) differ from the run's.
+
+    A scene may lack some (a scene without people has no ``/people/body_part_names``);
+    every one it has must equal the reference scene's.
+    """
+    known = dict(reference)
+    for path, digest in static_digests(items):
+        if known.get(path) != digest:
+            raise RunError(f"scene {scene} has other sensor axes than the other scenes "
+                           f"({path} differs: its sensor configuration differs); one dataset "
+                           "holds scenes of one layout: vary values and object counts, not "
+                           "the sensors")
+
+
+def _fill_value(dtype: np.dtype[Any]) -> Any:
+    """What a padded slot holds: NaN (floats), −1 (signed integers), 0, False or ""."""
+    if dtype.kind in "fc":
+        return np.nan
+    if dtype.kind == "i":
+        return -1
+    if dtype.kind in "US":
+        return ""
+    return 0
+
+
+def pad_items(items: H5Items, layout: Sequence[ArraySlot], *, scene: int) -> H5Items:
+    """A frame's arrays in the run's layout: entity axes padded, absent arrays filled.
+
+    Arrays along an entity axis (objects, people, segments) are padded to the layout's
+    count with :func:`_fill_value`; an array the scene does not have (the ``/people``
+    truth of a scene without people) is all fill. Each entity group gets its per-frame
+    ``<group>/count`` (int32) and ``<group>/valid`` (bool, True for the first ``count``
+    slots). An array outside the layout, or of another shape, stops the run.
+    """
+    from simcore.io.reader import ENTITY_GROUPS, entity_of
+
+    known = {slot.path for slot in layout}
+    for path in items:
+        if path not in known:
+            raise RunError(f"scene {scene} writes {path}, which the scene the run's layout "
+                           "was taken from does not; one dataset holds scenes of one layout")
+    counts: dict[str, int] = {}
+    for path, (array, _) in items.items():
+        entity = entity_of(path)
+        if entity is not None:
+            n = int(np.shape(array)[0])
+            if counts.setdefault(entity, n) != n:
+                raise RunError(f"scene {scene}: {path} has {n} {entity}s, other arrays "
+                               f"{counts[entity]}")
+    out: H5Items = {}
+    sizes = {slot.entity: slot.shape[0] for slot in layout if slot.entity is not None}
+    for slot in layout:
+        dtype = np.dtype(slot.dtype)
+        found = items.get(slot.path)
+        if found is None:
+            out[slot.path] = (np.full(slot.shape, _fill_value(dtype), dtype=dtype), slot.unit)
+            continue
+        arr = np.asarray(found[0])
+        if slot.entity is not None:
+            n = arr.shape[0] if arr.ndim else 0
+            if n < slot.shape[0] and arr.shape[1:] == slot.shape[1:]:
+                padded = np.full(slot.shape, _fill_value(arr.dtype), dtype=arr.dtype)
+                padded[:n] = arr
+                arr = padded
+        if arr.shape != slot.shape or arr.dtype != dtype:
+            raise RunError(f"scene {scene}: {slot.path} has shape {arr.shape} "
+                           f"({arr.dtype}), the run's layout {slot.shape} ({dtype}); one "
+                           "dataset holds scenes of one layout (vary values and counts, "
+                           "not the sensors)")
+        out[slot.path] = (arr, found[1])
+    for entity, size in sizes.items():
+        group = ENTITY_GROUPS[entity]
+        n = counts.get(entity, 0)
+        out[f"{group}/count"] = (np.asarray(n, dtype=np.int32), "1")
+        out[f"{group}/valid"] = (np.arange(size) < n, "1")
+    return out
+
+
 def _result(frame: Frame) -> FrameResult:
     items = frame.hdf5_items()
     check_finite(frame.index, items)
@@ -218,11 +334,107 @@ def static_items(spec: AnySpec) -> H5Items:
     """
     if isinstance(spec, RunSpec):
         return _simulator(spec).static_items()
-    items = dict(_simulator(spec.scenes[0]).static_items())
+    reference = _reference_scene([_entity_statics(s) for s in spec.scenes])
+    items = shared_statics(_simulator(spec.scenes[reference]).static_items())
+    items.update(scene_entity_statics(spec.scenes))
     names = [json.loads(s.project_json).get("name", "") for s in spec.scenes]
     items["/scenes/names"] = (np.array(names, dtype=str), "")
     items["/scenes/seeds"] = (np.array([s.seed for s in spec.scenes], dtype=np.int64), "1")
     return items
+
+
+def _entity_statics(spec: RunSpec) -> H5Items:
+    """A scene's run-constant arrays along an entity axis, without building its simulator.
+
+    The names and ids of its objects, people and segments, as its simulator's
+    ``static_items`` has them.
+    """
+    from simcore.io.reader import entity_of
+    from simcore.scene.people.expand import expand_people, people_of
+    from simcore.scene.people.truth import people_static_items
+
+    base = Path(spec.base_dir)
+    project = project_from_dict(json.loads(spec.project_json), base_dir=base)
+    items: H5Items = {
+        "/objects/names": (np.array([o.name for o in project.objects], dtype=str), ""),
+        "/objects/ids": (np.array([o.id for o in project.objects], dtype=np.int32), "1"),
+    }
+    people = people_of(expand_people(project, base_dir=base))
+    if people is not None:
+        items.update(people_static_items(people))
+    return {path: value for path, value in items.items() if entity_of(path) is not None}
+
+
+def _entity_counts(statics: H5Items) -> dict[str, int]:
+    """Objects, people and segments of a scene (from its :func:`_entity_statics`)."""
+    from simcore.io.reader import ENTITY_GROUPS
+
+    return {entity: len(statics[f"{group}/names"][0]) if f"{group}/names" in statics else 0
+            for entity, group in ENTITY_GROUPS.items()}
+
+
+def _reference_scene(statics: Sequence[H5Items]) -> int:
+    """The first scene with the most kinds of entity (objects, people, segments).
+
+    The run's layout and shared run-constant arrays are taken from it.
+    """
+    kinds = [sum(n > 0 for n in _entity_counts(s).values()) for s in statics]
+    return kinds.index(max(kinds))
+
+
+def scene_entity_statics(scenes: Sequence[RunSpec]) -> H5Items:
+    """Names and ids of every scene's objects, people and segments, padded per scene.
+
+    ``/scenes/objects/names`` (S, largest object count) and so on for every run-constant
+    array along an entity axis, padded with "" or −1, and ``/scenes/<group>/count`` (S,).
+    """
+    from simcore.io.reader import ENTITY_GROUPS, entity_of
+
+    statics = [_entity_statics(s) for s in scenes]
+    counts = [_entity_counts(s) for s in statics]
+    out: H5Items = {}
+    paths = list(dict.fromkeys(path for s in statics for path in s))
+    for path in paths:
+        entity = entity_of(path)
+        assert entity is not None
+        size = max(c[entity] for c in counts)
+        first = next(s[path] for s in statics if path in s)
+        arr0, unit = np.asarray(first[0]), first[1]
+        dtype: Any = object if arr0.dtype.kind == "U" else arr0.dtype
+        table = np.full((len(scenes), size, *arr0.shape[1:]), _fill_value(arr0.dtype),
+                        dtype=dtype)
+        for i, s in enumerate(statics):
+            if path in s:
+                values = np.asarray(s[path][0])
+                table[i, : len(values)] = values
+        out[f"/scenes{path}"] = (table.astype(str) if dtype is object else table, unit)
+    for entity, group in ENTITY_GROUPS.items():
+        if any(c[entity] for c in counts) or entity == "object":
+            out[f"/scenes{group}/count"] = (
+                np.array([c[entity] for c in counts], dtype=np.int32), "1")
+    return out
+
+
+def scenes_layout(scenes: Sequence[RunSpec], statics: Sequence[H5Items], reference: int
+                  ) -> tuple[ArraySlot, ...]:
+    """The per-frame arrays of a run over scenes, from frame 0 of the reference scene.
+
+    Arrays along an entity axis get the largest scene's count.
+    """
+    from simcore.io.reader import entity_of
+
+    counts = [_entity_counts(s) for s in statics]
+    frame = _result(next(_simulator(scenes[reference]).frames([0])))
+    layout = []
+    for path, (array, unit) in frame.items.items():
+        arr = np.asarray(array)
+        entity = entity_of(path)
+        shape = arr.shape
+        if entity is not None and arr.ndim:
+            shape = (max(c[entity] for c in counts), *arr.shape[1:])
+        layout.append(ArraySlot(path, tuple(int(n) for n in shape), arr.dtype.str, unit,
+                                entity if arr.ndim else None))
+    return tuple(layout)
 
 
 def _ignore_sigint(driver: int | None = None) -> None:
@@ -528,9 +740,14 @@ def run_scenes(scenes: Sequence[tuple[str, Path]], out: Path | str, *, frames_pe
     Frames are spread over the workers like a one-scene run's (whole shards per worker
     in a Zarr store), and ``resume`` continues the same folder of scenes.
 
-    Every scene must share the first scene's layout: the same sensor axes, object names
-    and ids and ``dsp.max_detections`` (vary values, not the layout); else
-    :class:`RunError` before the first frame, or when a worker first meets the scene.
+    Scenes may hold different objects and people: arrays along the object, person and
+    segment axes are padded to the largest scene's count (NaN, −1 or False), with
+    per-frame ``/objects/count`` and ``/objects/valid`` (and ``/people/…``,
+    ``/people/segments/…``), and each scene's names and ids in ``/scenes/objects/names``
+    and so on (:func:`pad_items`, :func:`scene_entity_statics`); the layout comes from
+    frame 0 of the first scene with the most kinds of entity, computed here. Every scene
+    must share the sensors' axes and ``dsp.max_detections``; else :class:`RunError`
+    before the first frame, or when a worker first meets the scene.
     """
     from simcore.preflight import check
     from simcore.scene.project_io import ProjectError
@@ -555,10 +772,16 @@ def run_scenes(scenes: Sequence[tuple[str, Path]], out: Path | str, *, frames_pe
                            f"differs from scene 0's {limit}; one dataset holds scenes of "
                            "one layout")
         specs.append(RunSpec(project_json, str(base_dir), project.seed))
-    first = ScenesSpec(tuple(specs), frames_per_scene)
-    digest = static_digest(_simulator(specs[0]).static_items())
-    close_simulators()
-    spec = ScenesSpec(first.scenes, frames_per_scene, digest)
+    statics = [_entity_statics(s) for s in specs]
+    reference = _reference_scene(statics)
+    try:
+        digests = static_digests(_simulator(specs[reference]).static_items())
+        if reference != 0:
+            check_shared_statics(0, _simulator(specs[0]).static_items(), digests)
+        layout = scenes_layout(specs, statics, reference)
+    finally:
+        close_simulators()
+    spec = ScenesSpec(tuple(specs), frames_per_scene, digests, layout)
     meta = dict(extra_meta or {})
     meta["scenes"] = len(specs)
     meta["frames_per_scene"] = frames_per_scene
@@ -786,7 +1009,8 @@ def _shards_on_dask(spec: AnySpec, target: Any, shards: list[list[int]], *, work
             cluster.close()
 
 
-__all__ = ["FrameResult", "NonFiniteOutputError", "RunReport", "RunSpec", "SchedulerError",
-           "ScenesSpec", "check_scheduler_address", "compute_frame", "compute_shard",
-           "frame_count", "iter_frames", "probe_scheduler", "results", "run_dataset",
-           "run_scenes", "static_digest", "static_items"]
+__all__ = ["ArraySlot", "FrameResult", "NonFiniteOutputError", "RunReport", "RunSpec",
+           "SchedulerError", "ScenesSpec", "check_scheduler_address", "compute_frame",
+           "compute_shard", "frame_count", "iter_frames", "pad_items", "probe_scheduler", "results",
+           "run_dataset", "run_scenes", "scene_entity_statics", "static_digest",
+           "static_digests", "static_items"]

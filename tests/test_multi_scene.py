@@ -169,3 +169,134 @@ def test_progress_of_generate_and_of_a_run_over_scenes_shows_rate_eta_and_scene(
     # tqdm: "projects: 100%|…| 2/2 [00:00<00:00, 9.1project/s]" (elapsed<ETA, rate)
     assert "2/2 [" in err and ("project/s" in err or "s/project" in err) and "<" in err
     assert ("frame/s" in err or "s/frame" in err) and "scene 2/2" in err
+
+
+# ------------------------------------------------------------ scenes of different counts
+def scenes_of_counts(tmp_path: Path) -> Path:
+    """Three scenes of 2, 5 and 3 objects; the 5-object one has a walking person."""
+    base = base_project_dict()
+    base["timeline"] = {"frame_rate_hz": 20.0, "duration_s": FRAMES / 20.0}
+    corners, wall = base["objects"][:3], base["objects"][3]
+    person = {"id": 5, "name": "walker",
+              "geometry": {"kind": "person", "height_m": 1.7,
+                           "motion": {"walk": {"speed_mps": 0.8}}},
+              "pose": {"position_m": [2.5, 0.8, 0.0], "rotation_deg": [0.0, 0.0, 180.0]}}
+    folder = tmp_path / "counts"
+    folder.mkdir()
+    lists = [[corners[0], wall], [*corners, person, wall], [corners[2], corners[1], wall]]
+    for i, objects in enumerate(lists):
+        doc = json.loads(json.dumps(base))
+        doc["name"], doc["seed"], doc["objects"] = f"counts_{i}", 40 + i, objects
+        write_project(doc, folder / f"scene_{i:02d}.json")
+    return folder
+
+
+PER_OBJECT = ("poses_objects", "objects_velocity", "objects_aabb", "objects_obb_size",
+              "objects_radar_range", "objects_radar_azimuth")
+PER_PERSON = ("people_breathing_rate", "people_gait_phase")
+PER_SEGMENT = ("people_segments_pose", "people_segments_radar_range")
+
+
+def assert_padded_scenes_equal_alone(ds, refs) -> None:
+    """Counts, masks, names and per-object (person, segment) truth of each scene equal its
+    own dataset's; the padded slots hold NaN (or −1, "")."""
+    n_obj, n_people, n_seg = 5, 1, 17
+    np.testing.assert_array_equal(ds.scene_index.values, np.repeat(np.arange(3), FRAMES))
+    np.testing.assert_array_equal(ds.scenes_objects_count.values, [2, 5, 3])
+    np.testing.assert_array_equal(ds.scenes_people_count.values, [0, 1, 0])
+    assert ds.objects_valid.shape == (3 * FRAMES, n_obj)
+    for s, ref in enumerate(refs):
+        frames = slice(s * FRAMES, (s + 1) * FRAMES)
+        n = ref.sizes["object"]
+        np.testing.assert_array_equal(ds.objects_count.values[frames], n)
+        np.testing.assert_array_equal(ds.objects_valid.values[frames],
+                                      np.broadcast_to(np.arange(n_obj) < n, (FRAMES, n_obj)))
+        names = [str(v) for v in ds.scenes_objects_names.values[s]]
+        assert names == [str(v) for v in ref.object_name.values] + [""] * (n_obj - n)
+        np.testing.assert_array_equal(ds.scenes_objects_ids.values[s],
+                                      [*ref.object_id.values, *[-1] * (n_obj - n)])
+        for name in PER_OBJECT:
+            a, b = ds[name].values[frames], ref[name].values
+            assert a.dtype == b.dtype and a[:, :n].tobytes() == b.tobytes(), (name, s)
+            assert np.isnan(a[:, n:]).all(), (name, s)
+        people = ref.sizes.get("person", 0)
+        np.testing.assert_array_equal(ds.people_count.values[frames], people)
+        np.testing.assert_array_equal(ds.people_segments_count.values[frames], 17 * people)
+        for name in (*PER_PERSON, *PER_SEGMENT):
+            a = ds[name].values[frames]
+            if people:
+                assert a.tobytes() == ref[name].values.tobytes(), (name, s)
+            else:
+                assert a.shape[1] in (n_people, n_seg) and np.isnan(a).all(), (name, s)
+        # Arrays that only scenes with people have are filled with "no person".
+        body = ds.tof_gt_body_part.values[frames]
+        if people:
+            assert body.tobytes() == ref.tof_gt_body_part.values.tobytes()
+        else:
+            assert (body == -1).all()
+        for name in ("radar_adc", "tof_depth", "radar_detections_count"):
+            a, b = ds[name].values[frames], ref[name].values
+            assert a.tobytes() == b.tobytes(), (name, s)
+
+
+@pytest.mark.parametrize("suffix, how", [
+    ("h5", []), ("zarr", []),
+    pytest.param("zarr", ["--workers", "2", "--shard-frames", "3"], marks=pytest.mark.slow)])
+def test_scenes_of_2_5_and_3_objects_run_into_one_padded_dataset(tmp_path, suffix, how):
+    """Known answer: each scene's own single-scene dataset. With workers, shards of 3
+    frames straddle scenes of different counts."""
+    folder = scenes_of_counts(tmp_path)
+    refs = alone(folder, tmp_path)
+    assert [ref.sizes["object"] for ref in refs] == [2, 5, 3]
+    out = tmp_path / f"all.{suffix}"
+    assert main(["run", str(folder), "--out", str(out), "--frames", str(FRAMES), "--quiet",
+                 *how]) == 0
+    assert_padded_scenes_equal_alone(open_dataset(out), refs)
+
+
+@pytest.mark.parametrize("suffix", ["h5", "zarr"])
+def test_a_padded_run_stopped_in_scene_1_resumes_to_the_same_dataset(tmp_path, suffix):
+    from simcore.runner import run_scenes
+    from simcore.scene import load_project
+    from simcore.scene.project_io import project_to_json
+
+    folder = scenes_of_counts(tmp_path)
+    refs = alone(folder, tmp_path)
+    todo = [(project_to_json(load_project(p)), p.parent)
+            for p in sorted(folder.glob("scene_*.json"))]
+    out = tmp_path / f"cut.{suffix}"
+    report = run_scenes(todo, out, frames_per_scene=FRAMES, shard_frames=1,
+                        on_frame=lambda done, total, result: done < FRAMES + 1)
+    assert report.interrupted and 0 < report.frames_done < 3 * FRAMES
+    assert main(["run", str(folder), "--out", str(out), "--frames", str(FRAMES),
+                 "--resume", "--quiet"]) == 0
+    assert_padded_scenes_equal_alone(open_dataset(out), refs)
+
+
+@pytest.mark.slow
+def test_the_office_family_whose_counts_vary_runs_into_one_dataset(tmp_path):
+    """Known answer: each generated project's own object and people lists."""
+    from simcore.resources import RESOURCES_DIR
+
+    folder = tmp_path / "office"
+    assert main(["generate", str(RESOURCES_DIR / "scenarios" / "office_family.json"),
+                 "--count", "4", "--seed", "3", "--out", str(folder), "--quiet", "--run",
+                 str(tmp_path / "office.h5"), "--frames", "1"]) == 0
+    docs = [json.loads(p.read_text()) for p in sorted(folder.glob("scene_*.json"))]
+    names = [[o["name"] for o in d["objects"]] for d in docs]
+    people = [[o["name"] for o in d["objects"] if o["geometry"]["kind"] == "person"]
+              for d in docs]
+    assert len({len(n) for n in names}) > 1 and len({len(p) for p in people}) > 1
+    ds = open_dataset(tmp_path / "office.h5")
+    width = max(len(n) for n in names)
+    np.testing.assert_array_equal(ds.objects_count.values, [len(n) for n in names])
+    np.testing.assert_array_equal(ds.people_count.values, [len(p) for p in people])
+    np.testing.assert_array_equal(ds.people_segments_count.values, [17 * len(p) for p in people])
+    for s, scene_names in enumerate(names):
+        assert list(ds.scenes_objects_names.values[s]) == scene_names + [""] * (
+            width - len(scene_names))
+        assert list(ds.scenes_people_names.values[s][: len(people[s])]) == people[s]
+        valid = ds.objects_valid.values[s]
+        assert valid.sum() == len(scene_names) and valid[: len(scene_names)].all()
+        assert np.isfinite(ds.poses_objects.values[s][valid]).all()
+        assert np.isnan(ds.poses_objects.values[s][~valid]).all()

@@ -53,6 +53,7 @@ def test_package_data_covers_every_bundled_file():
                for m in glob.glob(p, root_dir=ROOT / "simcore", recursive=True)}
     bundled = {p.relative_to(ROOT / "simcore") for p in RESOURCES_DIR.rglob("*") if p.is_file()}
     assert Path("_resources/examples/office.json") in bundled
+    assert Path("_resources/furniture/sofa.obj") in shipped     # the furniture meshes
     assert bundled == shipped
 
 

@@ -186,7 +186,7 @@ def _with(**changes: object) -> dict:
 
 
 @pytest.mark.parametrize(("doc", "needle"), [
-    (_with(furniture=[{"piece": "sofa", "count": [1, 2]}]), "piece 'sofa' is not one of"),
+    (_with(furniture=[{"piece": "piano", "count": [1, 2]}]), "piece 'piano' is not one of"),
     (_with(furniture=[{"piece": "desk", "count": [3, 1]}]), "low <= high"),
     (_with(furniture=[{"piece": "desk", "count": [0, 100000]}]), "high <= 200"),
     (_with(furniture=[{"piece": "shelf", "count": [200, 200]}] * 4), "at most 5000"),
@@ -251,3 +251,126 @@ def test_a_scene_regenerates_from_its_own_record(tmp_path):
     again = _write(tmp_path, record["spec"], "again.json")
     assert _generate(again, tmp_path / "b", "--count", "3", "--seed", "21") == 0
     assert (tmp_path / "b" / "scene_00002.json").read_bytes() == original
+
+
+# ---------------------------------------------------------------- bundled furniture meshes
+#: Sizes (depth x, width y, height z; m) the mesh tool builds (tools/make_furniture_meshes.py).
+MESH_SIZES = {"sofa": (0.95, 2.0, 0.85), "armchair": (0.9, 0.85, 0.9),
+              "bookcase": (0.35, 0.9, 1.8), "dining_table": (0.9, 1.6, 0.75)}
+
+
+def _obj_vertices(path: Path) -> np.ndarray:
+    """Vertices of an OBJ file, parsed here (not with the simulator's reader)."""
+    return np.array([[float(v) for v in line.split()[1:4]]
+                     for line in path.read_text().splitlines() if line.startswith("v ")])
+
+
+def test_bundled_furniture_meshes_have_their_documented_sizes_and_stand_on_z0():
+    import trimesh
+
+    for name, size in MESH_SIZES.items():
+        path = RESOURCES_DIR / "furniture" / f"{name}.obj"
+        v = _obj_vertices(path)
+        np.testing.assert_allclose(v.max(axis=0) - v.min(axis=0), size, atol=1e-4)
+        np.testing.assert_allclose(v.min(axis=0)[2], 0.0, atol=1e-5)
+        np.testing.assert_allclose((v.max(axis=0) + v.min(axis=0))[:2] / 2, 0.0, atol=1e-5)
+        mesh = trimesh.load(path, force="mesh")           # a standard reader takes it too
+        assert len(mesh.faces) > 50 and mesh.area > 0
+
+
+@pytest.fixture(scope="module")
+def mesh_scenes(tmp_path_factory) -> tuple[Path, list[dict]]:
+    from hostile import base_project_dict, write_project
+
+    tmp = tmp_path_factory.mktemp("mesh_furniture")
+    base = base_project_dict()
+    base["timeline"] = {"frame_rate_hz": 10.0, "duration_s": 0.1}
+    write_project(base, tmp / "tiny.json")
+    spec = {"name": "meshes", "base": "tiny.json",
+            "room": {"x_m": [0.5, 6.5], "y_m": [-3.5, 3.5], "floor_z_m": 0.0,
+                     "rig_clearance_m": 0.5},
+            "furniture": [{"piece": "sofa", "count": [1, 1]},
+                          {"piece": "armchair", "count": [1, 2]},
+                          {"piece": "bookcase", "count": [0, 1],
+                           "materials": {"body": {"choice": ["aluminium"]}}},
+                          {"piece": "dining_table", "count": [1, 1]},
+                          {"piece": "chair", "count": [1, 2]}]}
+    path = _write(tmp, spec)
+    assert _generate(path, tmp / "out", "--count", "12", "--seed", "2") == 0
+    docs = []
+    for f in sorted((tmp / "out").glob("scene_*.json")):
+        load_project(f)                                 # validates: the copies are found
+        docs.append(json.loads(f.read_text()))
+    return tmp / "out", docs
+
+
+def test_mesh_pieces_land_on_the_floor_in_the_room_without_overlap(mesh_scenes):
+    """World footprints from the OBJ vertices turned by each object's pose (parsed here)."""
+    out, docs = mesh_scenes
+    for name in MESH_SIZES:
+        assert (out / "furniture" / f"{name}.obj").read_bytes() == (
+            RESOURCES_DIR / "furniture" / f"{name}.obj").read_bytes()
+    seen: dict[str, set[int]] = {name: set() for name in MESH_SIZES}
+    for doc in docs:
+        rects, counts = [], {name: 0 for name in MESH_SIZES}
+        for obj in doc["objects"]:
+            g = obj["geometry"]
+            if g["kind"] == "mesh":
+                assert g["path"].startswith("furniture/") and g["scale"] == 1.0
+                piece = Path(g["path"]).stem
+                counts[piece] += 1
+                v = _obj_vertices(out / g["path"])
+                yaw = math.radians(obj["pose"]["rotation_deg"][2])
+                assert obj["pose"]["rotation_deg"][:2] == [0.0, 0.0]
+                rot = np.array([[math.cos(yaw), -math.sin(yaw), 0],
+                                [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]])
+                world = v @ rot.T + np.asarray(obj["pose"]["position_m"])
+                assert abs(world[:, 2].min()) < 1e-5             # stands on the floor
+                np.testing.assert_allclose(world[:, 2].max(), MESH_SIZES[piece][2], atol=1e-5)
+                lo, hi = world.min(axis=0), world.max(axis=0)
+                rects.append((lo[0], lo[1], hi[0], hi[1]))
+                assert obj["material"] == ("aluminium" if piece == "bookcase" else
+                                           "wood" if piece == "dining_table" else "fabric")
+            elif re.fullmatch(r"chair\d+_[a-z]+\d+", obj["name"]):
+                rects.append(_part_rect(obj))
+        assert counts["sofa"] == 1 and counts["dining_table"] == 1
+        assert 1 <= counts["armchair"] <= 2 and counts["bookcase"] <= 1
+        for name, n in counts.items():
+            seen[name].add(n)
+        for r in rects:
+            assert 0.5 - 1e-5 <= r[0] and r[2] <= 6.5 + 1e-5
+            assert -3.5 - 1e-5 <= r[1] and r[3] <= 3.5 + 1e-5
+    assert seen["armchair"] == {1, 2} and seen["bookcase"] == {0, 1}
+
+
+def test_mesh_pieces_do_not_overlap_each_other(mesh_scenes):
+    out, docs = mesh_scenes
+    for doc in docs:
+        pieces: dict[str, list[tuple[float, float, float, float]]] = {}
+        for obj in doc["objects"]:
+            g = obj["geometry"]
+            stem = obj["name"].rsplit("_", 1)[0]
+            if g["kind"] == "mesh":
+                v = _obj_vertices(out / g["path"])
+                yaw = math.radians(obj["pose"]["rotation_deg"][2])
+                x = v[:, 0] * math.cos(yaw) - v[:, 1] * math.sin(yaw)
+                y = v[:, 0] * math.sin(yaw) + v[:, 1] * math.cos(yaw)
+                p = obj["pose"]["position_m"]
+                pieces.setdefault(stem, []).append((x.min() + p[0], y.min() + p[1],
+                                                    x.max() + p[0], y.max() + p[1]))
+            elif re.fullmatch(r"chair\d+", stem):
+                pieces.setdefault(stem, []).append(_part_rect(obj))
+        rects = [(min(r[0] for r in rs), min(r[1] for r in rs), max(r[2] for r in rs),
+                  max(r[3] for r in rs)) for rs in pieces.values()]
+        assert len(rects) >= 4
+        for i, r in enumerate(rects):
+            for other in rects[i + 1:]:
+                assert _apart(r, other), (r, other)
+
+
+def test_a_scene_with_mesh_pieces_runs_from_its_own_folder(mesh_scenes, tmp_path,
+                                                            monkeypatch):
+    out, _ = mesh_scenes
+    monkeypatch.chdir(tmp_path)                 # the folder of scenes is complete
+    assert main(["run", str(out / "scene_00000.json"), "--out", "one.h5", "--frames", "1",
+                 "--quiet"]) == 0

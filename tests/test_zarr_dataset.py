@@ -96,6 +96,56 @@ def test_people_arrays_have_the_same_dimension_names_and_bits_in_zarr(tmp_path):
     assert_same_dataset(open_dataset(tmp_path / "p.h5"), zr)
 
 
+def test_shards_encoded_here_are_the_bytes_zarr_writes(tmp_path):
+    """Known answer: zarr's own codecs. Shards of 4 frames over 10 frames (the last one
+    partial): large float32 and bool arrays (sharded), small ones and a detection table
+    (one chunk per shard), written once by the direct encoders and once by zarr (encoders
+    switched off): every stored object has the same bytes."""
+    from simcore.io.zarr_writer import ArrayCache, ShardEncoder, write_shard_arrays
+
+    rng = np.random.default_rng(0)
+    rows = np.dtype([("frame", "<i8"), ("range", "<f4"), ("object_id", "<i4")])
+
+    def table(k: int) -> np.ndarray:
+        out = np.zeros(k % 3, dtype=rows)
+        out["frame"], out["range"], out["object_id"] = k, rng.random(k % 3), 7
+        return out
+
+    frames = [(k, {"/tof/depth": (rng.normal(2, .01, (80, 64)).astype(np.float32), "m"),
+                   "/tof/valid": (rng.random((80, 64)) > .3, "1"),
+                   "/radar/adc": (rng.normal(0, .01, (16, 3, 128)).astype(np.float32), "FS"),
+                   "/poses/rig": (rng.normal(size=(4, 4)), "m"),
+                   "/time": (np.asarray(0.05 * k), "s")},
+               {"/radar/detections": table(k)}) for k in range(10)]
+    stores = {}
+    for name, direct in (("direct", True), ("zarr", False)):
+        group = open_group(str(tmp_path / f"{name}.zarr"), mode="w")
+        create_arrays(group, frames[0][1], frames[0][2], n_total=10, shard_frames=4,
+                      max_detections=3)
+        cache = ArrayCache(group)
+        if direct:
+            assert all(cache.encoder(p) is not None for p in ("/tof/depth", "/tof/valid",
+                                                              "/radar/adc"))
+            assert all(cache.block_encoder(p) is not None for p in (
+                "/time", "/poses/rig", "/radar/detections_by_frame/range", "meta/frame_sha256"))
+        else:                                    # the reference: zarr writes every array
+            cache.encoder = lambda path: None              # type: ignore[method-assign]
+            cache.block_encoder = lambda path: None        # type: ignore[method-assign]
+        for start in (0, 4, 8):
+            write_shard_arrays(cache, frames[start:start + 4], max_detections=3)
+        stores[name] = {f.relative_to(tmp_path / f"{name}.zarr"): f.read_bytes()
+                        for f in (tmp_path / f"{name}.zarr").rglob("*") if f.is_file()}
+    assert stores["direct"].keys() == stores["zarr"].keys()
+    assert Path("tof/depth/c/2/0/0") in stores["direct"]
+    assert Path("radar/detections_by_frame/range/c/2/0") in stores["direct"]
+    for key, data in stores["direct"].items():
+        assert data == stores["zarr"][key], key
+    stored = open_group(str(tmp_path / "direct.zarr"), mode="r")
+    assert ShardEncoder.of(stored["time"]) is None
+    np.testing.assert_array_equal(stored["radar/detections_count"][:], [k % 3 for k in range(10)])
+    np.testing.assert_array_equal(stored["poses/rig"][9], frames[9][1]["/poses/rig"][0])
+
+
 def test_workers_write_their_own_shards_bit_identically(tmp_path):
     project = tiny_project(tmp_path)
     assert run(project, tmp_path / "a.h5", "--frames", "7") == 0

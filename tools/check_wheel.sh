@@ -42,6 +42,14 @@ step "tofradar validate ex/wall.json"
 tofradar validate ex/wall.json
 step "tofradar run ex/wall.json --frames 2 --out x.h5"
 tofradar run ex/wall.json --frames 2 --out x.h5 --quiet
+step "tofradar generate: a spec with a bundled furniture mesh (sofa), then validate"
+cat > spec.json <<'SPEC'
+{"name": "wheel", "base": "wall", "room": {"x_m": [0.5, 4.5], "y_m": [-2.0, 2.0]},
+ "furniture": [{"piece": "sofa", "count": [1, 1]}]}
+SPEC
+tofradar generate spec.json --count 1 --out gen --quiet
+test -f gen/furniture/sofa.obj
+tofradar validate gen/scene_00000.json
 step "checking x.h5"
 python - <<'EOF'
 import sys

@@ -33,8 +33,6 @@ from simcore.dsp.detections import DETECTION_UNITS
 #: per-frame arrays.
 DIMS: dict[str, tuple[str, ...]] = {
     "/poses/rig": ("pose_row", "pose_col"),
-    "/poses/rigs": ("rig", "pose_row", "pose_col"),
-    "/poses/rig_names": ("rig",),
     "/poses/objects": ("object", "pose_row", "pose_col"),
     "/objects/names": ("object",),
     "/objects/ids": ("object",),
@@ -72,6 +70,12 @@ DIMS: dict[str, tuple[str, ...]] = {
     "/radar/bird_eye_z_axis": ("bev_z",),
     "/radar/detections_count": (),
     "/meta/frame_sha256": (),
+}
+
+#: Dimension names of the datasets that only projects with several rigs write.
+RIGS_DIMS: dict[str, tuple[str, ...]] = {
+    "/poses/rigs": ("rig", "pose_row", "pose_col"),
+    "/poses/rig_names": ("rig",),
 }
 
 #: Dimension names of the datasets that only runs over several scenes write
@@ -120,6 +124,44 @@ PEOPLE_DIMS: dict[str, tuple[str, ...]] = {
     "/people/heart_rate": ("person",),
     "/people/gait_phase": ("person",),
 }
+
+#: Dimensions whose length is a scene's count of things (objects, people, body segments),
+#: and the group of each: in a run over scenes whose counts differ, arrays along them are
+#: padded to the largest scene's count, with ``<group>/count`` and ``<group>/valid`` per
+#: frame and the names per scene under ``/scenes<group>/`` (docs/dataset.md).
+ENTITY_GROUPS: dict[str, str] = {"object": "/objects", "person": "/people",
+                                 "segment": "/people/segments"}
+
+
+def inner_dims(path: str) -> tuple[str, ...] | None:
+    """Dimension names of a dataset of the layout, without a per-frame leading ``frame``."""
+    for table in (DIMS, RIGS_DIMS, PEOPLE_DIMS, SCENE_DIMS, PRODUCT_DIMS):
+        if path in table:
+            return table[path]
+    return None
+
+
+def entity_of(path: str) -> str | None:
+    """The entity dimension (``object``, ``person``, ``segment``) of ``path``'s first axis."""
+    dims = inner_dims(path)
+    return dims[0] if dims and dims[0] in ENTITY_GROUPS else None
+
+
+def _entity_scene_dims() -> dict[str, tuple[str, ...]]:
+    """``/objects/count``, ``/objects/valid``, ``/scenes/objects/names`` … of each entity."""
+    out: dict[str, tuple[str, ...]] = {}
+    for entity, group in ENTITY_GROUPS.items():
+        out[f"{group}/count"] = ()
+        out[f"{group}/valid"] = (entity,)
+        out[f"/scenes{group}/count"] = ("scene",)
+    for table in (DIMS, PEOPLE_DIMS):
+        for path, dims in table.items():
+            if dims and dims[0] in ENTITY_GROUPS:
+                out[f"/scenes{path}"] = ("scene", *dims)
+    return out
+
+
+SCENE_DIMS.update(_entity_scene_dims())
 
 #: Axis datasets that become coordinates: path → coordinate name.
 COORDS = {
@@ -185,8 +227,8 @@ def dims_of(path: str, kinds: dict[str, str] | None = None) -> tuple[str, ...] |
     object truth (``/objects/<name>/range``) is along ``object``, its people truth
     (``/people/segments/<name>/range``) along ``segment``.
     """
-    found = (DIMS.get(path) or PRODUCT_DIMS.get(path) or PEOPLE_DIMS.get(path)
-             or SCENE_DIMS.get(path))
+    found = (DIMS.get(path) or RIGS_DIMS.get(path) or PRODUCT_DIMS.get(path)
+             or PEOPLE_DIMS.get(path) or SCENE_DIMS.get(path))
     if found is not None or not kinds:
         return found
     builtin = _builtin_path(path, kinds)
@@ -314,6 +356,10 @@ def open_dataset(path: str | os.PathLike[str], *,
             if name == "/time" or coord is not None:  # small: read now, as coordinates
                 values = ds.asstr()[()] if ds.dtype.kind == "O" else ds[()]
                 coords[coord or "time"] = xr.Variable(dims, values, attrs=attrs)
+            elif getattr(h5py.check_string_dtype(ds.dtype), "length", 0) is None:
+                # Names (variable-length strings): str, as from a Zarr store.
+                variables[name.strip("/").replace("/", "_")] = xr.Variable(
+                    dims, ds.asstr()[()].astype(str), attrs=attrs)
             else:
                 var = xr.Variable(dims, _lazy(ds), attrs=attrs)
                 variables[name.strip("/").replace("/", "_")] = var

@@ -24,6 +24,13 @@ Shards are the unit of writing: one process writes a whole shard (its frames' da
 its checksums) and no two processes ever write one shard, so workers write their own
 frames concurrently (:func:`write_shard`) while the driver only creates the arrays and
 commits metadata. ``resume`` recomputes the shards without a complete record.
+
+A frame is prepared when it arrives (:class:`ShardBuffer`): its checksum is taken, its
+large arrays' chunks are Blosc-compressed (:class:`ShardEncoder`, the bytes of zarr's
+sharding codec) and its small arrays copied into the shard's blocks, so the work is
+spread over the frames in the writer thread; a complete shard is then one store write
+per array (:class:`BlockEncoder` for the small ones), the completion record last. These
+are the bytes zarr's own codecs write; arrays of other codecs go through zarr.
 """
 
 from __future__ import annotations
@@ -135,7 +142,7 @@ class ZarrWriter:
         self.storage_options = storage_options
         self.max_detections = _max_detections(project_json)
         self.kinds = sensor_kinds(project_json)
-        self._pending: dict[int, tuple[Any, Any]] = {}
+        self._pending: dict[int, ShardBuffer] = {}
         self._complete: set[int] = set()
         self._arrays: ArrayCache | None = None
         self.n_total = 0
@@ -227,20 +234,32 @@ class ZarrWriter:
 
     def write_frame(self, index: int, items: dict[str, tuple[NDArray[Any], str]],
                     tables: dict[str, NDArray[Any]]) -> None:
-        """Keep frame ``index``; write its shard once all its frames are here."""
-        self._pending[index] = (items, tables)
+        """Add frame ``index`` to its shard's buffer; write the shard once it is complete."""
         shard = index // self.shard_frames
         start = shard * self.shard_frames
+        if self._arrays is None and self.n_total:
+            if not self.has_arrays:      # the run's first frame: create the arrays
+                create_arrays(self.group, items, tables, n_total=self.n_total,
+                              shard_frames=self.shard_frames,
+                              max_detections=self.max_detections, kinds=self.kinds)
+            self._arrays = ArrayCache(self.group)
+        buffer = self._pending.get(shard)
+        if buffer is None:
+            end = min(self.n_total, start + self.shard_frames) if self.n_total else \
+                start + self.shard_frames
+            buffer = self._pending[shard] = ShardBuffer(start, end - start, self._arrays)
+        buffer.add(index, items, tables)
         frames = range(start, min(self.n_total or index + 1, start + self.shard_frames))
-        if all(k in self._pending for k in frames):
-            batch = [(k, *self._pending.pop(k)) for k in frames]
+        if all(k in buffer.added for k in frames):
+            del self._pending[shard]
             if not self.has_arrays:
-                create_arrays(self.group, batch[0][1], batch[0][2], n_total=self.n_total,
+                assert buffer.first is not None
+                create_arrays(self.group, *buffer.first, n_total=self.n_total,
                               shard_frames=self.shard_frames,
                               max_detections=self.max_detections, kinds=self.kinds)
             if self._arrays is None:
                 self._arrays = ArrayCache(self.group)
-            write_shard_arrays(self._arrays, batch, max_detections=self.max_detections)
+            buffer.write(self._arrays, len(frames), max_detections=self.max_detections)
             self.mark_complete(frames)
 
     def mark_complete(self, frames: Sequence[int]) -> None:
@@ -350,6 +369,7 @@ class ArrayCache:
     def __init__(self, group: Any):
         self.group = group
         self._arrays: dict[str, Any] = {}
+        self._encoders: dict[str, ShardEncoder | None] = {}
 
     def __getitem__(self, path: str) -> Any:
         key = path.strip("/")
@@ -357,6 +377,253 @@ class ArrayCache:
         if array is None:
             array = self._arrays[key] = self.group[key]
         return array
+
+    def encoder(self, path: str) -> ShardEncoder | None:
+        """The direct shard encoder of ``path`` (None: zarr writes it)."""
+        key = path.strip("/")
+        if key not in self._encoders:
+            self._encoders[key] = ShardEncoder.of(self[key])
+        return self._encoders[key]
+
+    def block_encoder(self, path: str) -> BlockEncoder | None:
+        """The direct encoder of a small array of one chunk per shard (None: zarr)."""
+        key = "block:" + path.strip("/")
+        if key not in self._encoders:
+            self._encoders[key] = BlockEncoder.of(self[path])  # type: ignore[assignment]
+        return self._encoders[key]  # type: ignore[return-value]
+
+
+def _blosc_of(codecs: Any, dtype: np.dtype[Any]) -> Any:
+    """The Blosc (numcodecs) of codecs [bytes (little endian; none for bytes), Blosc], or None."""
+    from numcodecs import Blosc
+    from zarr.codecs import BloscCodec, BytesCodec
+
+    if len(codecs) != 2 or not isinstance(codecs[0], BytesCodec) or \
+            not isinstance(codecs[1], BloscCodec):
+        return None
+    endian = codecs[0].endian
+    if not (endian.value == "little" if endian is not None else dtype.itemsize == 1):
+        return None
+    b = codecs[1]
+    shuffle = {"noshuffle": 0, "shuffle": 1, "bitshuffle": 2}[b.shuffle.value]
+    return Blosc.from_config({"cname": b.cname.value, "clevel": b.clevel, "shuffle": shuffle,
+                              "blocksize": b.blocksize, "typesize": b.typesize})
+
+
+class BlockEncoder:
+    """Encodes a small array's chunk of one shard of frames as zarr would, without zarr.
+
+    For ``create_arrays``' small arrays (one chunk of ``shard_frames`` frames, codecs
+    [bytes, Blosc]): the chunk is the shard's frames, padded with the fill value past the
+    array's end, Blosc-compressed, stored under the chunk's key.
+    """
+
+    def __init__(self, array: Any, blosc: Any, rows: int) -> None:
+        self.array, self.blosc, self.rows = array, blosc, rows
+        self.dtype = np.dtype(array.dtype).newbyteorder("<")
+
+    @classmethod
+    def of(cls, array: Any) -> BlockEncoder | None:
+        """The encoder of ``array``, or None when its codecs or chunks differ."""
+        try:
+            codecs = array.metadata.codecs
+            chunk = tuple(array.metadata.chunk_grid.chunk_shape)
+        except AttributeError:
+            return None
+        blosc = _blosc_of(codecs, np.dtype(array.dtype))
+        if blosc is None or chunk[1:] != tuple(array.shape[1:]):
+            return None
+        return cls(array, blosc, chunk[0])
+
+    def write(self, start: int, block: NDArray[Any]) -> Any:
+        """The store write of rows ``start…`` (a coroutine), or None if not a whole chunk."""
+        from zarr.core.buffer import default_buffer_prototype
+
+        n = len(block)
+        if start % self.rows or n != min(self.rows, self.array.shape[0] - start):
+            return None
+        full = np.full((self.rows, *block.shape[1:]), self.array.fill_value, self.dtype)
+        full[:n] = block
+        data = bytes(self.blosc.encode(full.reshape(-1).view(np.uint8)))
+        coords = (start // self.rows, *([0] * (self.array.ndim - 1)))
+        key = self.array.store_path / self.array.metadata.encode_chunk_key(coords)
+        return key.set(default_buffer_prototype().buffer.from_bytes(data))
+
+
+def _put(arrays: ArrayCache, path: str, start: int, block: NDArray[Any],
+         writes: list[Any]) -> None:
+    """Rows ``start…`` of ``path``: a direct store write queued in ``writes``, or zarr's."""
+    encoder = arrays.block_encoder(path)
+    write = None if encoder is None else encoder.write(start, block)
+    if write is not None:
+        writes.append(write)
+        return
+    array = arrays[path]
+    array[start:start + len(block)] = (block if block.dtype == array.dtype
+                                       else block.astype(array.dtype))
+
+
+class ShardEncoder:
+    """Encodes an array's frames and shards as zarr's sharding codec would, without zarr.
+
+    For the arrays of one chunk per frame in shards of frames (``create_arrays``' large
+    arrays: codecs ``sharding_indexed`` of [bytes (little endian), Blosc], index [bytes
+    (little endian), CRC-32C] at the end). A frame's chunk is Blosc-compressed when the
+    frame arrives (:meth:`chunk`; Blosc drops the GIL), and a shard is the frames' chunks
+    one after another, then the index of (offset, length) pairs and its CRC-32C
+    (:meth:`shard`): the bytes zarr itself writes (``tests/test_zarr_dataset.py``
+    compares them), without zarr's per-chunk work, in one store write per array and shard.
+    """
+
+    def __init__(self, array: Any, blosc: Any, shard_frames: int) -> None:
+        self.array = array
+        self.blosc = blosc
+        self.dtype = np.dtype(array.dtype).newbyteorder("<")
+        self.shard_frames = shard_frames
+
+    @classmethod
+    def of(cls, array: Any) -> ShardEncoder | None:
+        """The encoder of ``array``, or None when its codecs are not the ones above."""
+        try:
+            from zarr.codecs import BytesCodec, Crc32cCodec, ShardingCodec
+
+            codecs = array.metadata.codecs
+            outer = tuple(array.metadata.chunk_grid.chunk_shape)
+        except (AttributeError, ImportError):
+            return None
+        if len(codecs) != 1 or not isinstance(codecs[0], ShardingCodec):
+            return None
+        sharding = codecs[0]
+        blosc = _blosc_of(sharding.codecs, np.dtype(array.dtype))
+        index = sharding.index_codecs
+        if (tuple(sharding.chunk_shape) != (1, *outer[1:]) or blosc is None or len(index) != 2
+                or not isinstance(index[0], BytesCodec) or index[0].endian is None
+                or index[0].endian.value != "little"
+                or not isinstance(index[1], Crc32cCodec)
+                or sharding.index_location.value != "end"):
+            return None
+        return cls(array, blosc, outer[0])
+
+    def frame(self, arr: NDArray[Any]) -> NDArray[Any]:
+        """A frame as the array stores it (its dtype, little endian, C order)."""
+        return np.ascontiguousarray(arr, dtype=self.dtype)
+
+    def chunk(self, frame: NDArray[Any]) -> bytes:
+        """One frame's chunk, compressed (``frame`` from :meth:`frame`)."""
+        return bytes(self.blosc.encode(frame.reshape(-1).view(np.uint8)))
+
+    def shard(self, chunks: Sequence[bytes]) -> bytes:
+        """A shard of the frames' ``chunks`` (the first frames of the shard), with its index."""
+        import google_crc32c
+
+        index = np.full((self.shard_frames, *([1] * (self.array.ndim - 1)), 2), 2**64 - 1,
+                        dtype="<u8")
+        flat = index.reshape(self.shard_frames, 2)
+        offset = 0
+        for j, chunk in enumerate(chunks):
+            flat[j] = (offset, len(chunk))
+            offset += len(chunk)
+        index_bytes = index.tobytes()
+        crc = np.array([google_crc32c.value(index_bytes)], dtype="<u4").tobytes()
+        return b"".join(chunks) + index_bytes + crc
+
+    def key(self, start: int) -> Any:
+        """The store path of the shard that begins at frame ``start``."""
+        coords = (start // self.shard_frames, *([0] * (self.array.ndim - 1)))
+        return self.array.store_path / self.array.metadata.encode_chunk_key(coords)
+
+
+class ShardBuffer:
+    """The frames of one shard, gathered as they come, then written in one go.
+
+    :meth:`add` copies a frame's arrays into the shard's blocks (frames × frame shape)
+    and takes its checksum at once, so this work is spread over the frames as they
+    arrive (in the writer thread, beside the engine) instead of falling on the frame that
+    completes the shard; :meth:`write` then leaves zarr only the encoding and storing of
+    each array's block.
+
+    Parameters
+    ----------
+    start : int
+        The shard's first frame.
+    capacity : int
+        Frames the shard can hold (fewer in the last shard of a run).
+    """
+
+    def __init__(self, start: int, capacity: int, arrays: ArrayCache | None = None) -> None:
+        self.start = start
+        self.capacity = capacity
+        self.arrays = arrays
+        self.added: set[int] = set()
+        self.first: tuple[Any, Any] | None = None     # a frame's items and tables
+        self.blocks: dict[str, NDArray[Any]] = {}
+        self.chunks: dict[str, list[bytes]] = {}       # arrays encoded here, frame by frame
+        self.rows: dict[str, list[NDArray[Any]]] = {}
+        self.digests = np.zeros((capacity, 32), dtype=np.uint8)
+
+    def add(self, index: int, items: dict[str, tuple[NDArray[Any], str]],
+            tables: dict[str, NDArray[Any]]) -> None:
+        """Copy frame ``index`` into the blocks and record its checksum."""
+        j = index - self.start
+        if not 0 <= j < self.capacity:
+            raise ValueError(f"frame {index} is not in the shard of frames {self.start}.."
+                             f"{self.start + self.capacity - 1}")
+        if self.first is None:
+            self.first = (items, tables)
+        stored: list[tuple[str, NDArray[Any]]] = []
+        for path, rows in tables.items():
+            self.rows.setdefault(path, [np.zeros(0, rows.dtype)] * self.capacity)[j] = rows
+            stored.append((f"{path}_by_frame", rows))
+            stored.append((f"{path}_count", np.asarray(len(rows), dtype=np.int64)))
+        for path, (array, _) in items.items():
+            arr = np.asarray(array)
+            encoder = None if self.arrays is None else self.arrays.encoder(path)
+            if encoder is not None:
+                frame = encoder.frame(arr)
+                chunks = self.chunks.setdefault(path, [b""] * self.capacity)
+                if frame.shape != tuple(encoder.array.shape[1:]):
+                    raise ValueError(f"{path}: frame shape {frame.shape} != "
+                                     f"{tuple(encoder.array.shape[1:])}")
+                chunks[j] = encoder.chunk(frame)
+                stored.append((path, frame))
+                continue
+            block = self.blocks.get(path)
+            if block is None:
+                block = self.blocks[path] = np.zeros((self.capacity, *arr.shape), arr.dtype)
+            if block.shape[1:] != arr.shape:
+                raise ValueError(f"{path}: frame shape {arr.shape} != {block.shape[1:]}")
+            block[j] = arr
+            stored.append((path, block[j]))
+        self.digests[j] = np.frombuffer(bytes.fromhex(frame_checksum(stored)), dtype=np.uint8)
+        self.added.add(index)
+
+    def write(self, arrays: ArrayCache, frames: int, *, max_detections: int) -> None:
+        """Write the first ``frames`` frames, then their checksums (the shard's record)."""
+        import zarr
+        from zarr.core.buffer import default_buffer_prototype
+        from zarr.core.sync import sync
+
+        start = self.start
+        writes = []
+        for path, chunks in self.chunks.items():
+            encoder = arrays.encoder(path)
+            assert encoder is not None
+            shard = default_buffer_prototype().buffer.from_bytes(encoder.shard(chunks[:frames]))
+            writes.append(encoder.key(start).set(shard))
+        # Every chunk is written, also one equal to the fill value: no read-back, no deletes.
+        with zarr.config.set({"array.write_empty_chunks": True}):
+            for path, block in self.blocks.items():
+                _put(arrays, path, start, block[:frames], writes)
+            for path, rows in self.rows.items():
+                _write_table(arrays, path, rows[:frames], start, writes,
+                             max_detections=max_detections)
+            if writes:
+                sync(_gather(writes))
+            # The record last, once the data are stored.
+            last: list[Any] = []
+            _put(arrays, CHECKSUM_PATH, start, self.digests[:frames], last)
+            if last:
+                sync(_gather(last))
 
 
 def write_shard_arrays(group: Any, batch: list[tuple[int, Any, Any]], *,
@@ -367,37 +634,21 @@ def write_shard_arrays(group: Any, batch: list[tuple[int, Any, Any]], *,
     are the shard's completion record: written last, so a shard cut short (a killed
     process) has none and is recomputed by ``--resume``.
     """
-    import zarr
-
     arrays = group if isinstance(group, ArrayCache) else ArrayCache(group)
-    start = batch[0][0]
-    stop = batch[-1][0] + 1
-    digests = np.zeros((len(batch), 32), dtype=np.uint8)
-    stored: list[list[tuple[str, NDArray[Any]]]] = [[] for _ in batch]
-    for j, (_, _, tables) in enumerate(batch):
-        for path, rows in tables.items():
-            stored[j].append((f"{path}_by_frame", rows))
-            stored[j].append((f"{path}_count", np.asarray(len(rows), dtype=np.int64)))
-    # Every chunk is written, also one equal to the fill value: no read-back, no deletes.
-    with zarr.config.set({"array.write_empty_chunks": True}):
-        for path in batch[0][1]:
-            array = arrays[path]
-            stack = np.stack([np.asarray(items[path][0]) for _, items, _ in batch])
-            stack = stack.astype(array.dtype, copy=False)
-            array[start:stop] = stack
-            for j in range(len(batch)):
-                stored[j].append((path, stack[j]))
-        for path in batch[0][2]:
-            _write_table(arrays, path, [tables[path] for _, _, tables in batch], start,
-                         max_detections=max_detections)
-        for j in range(len(batch)):
-            digests[j] = np.frombuffer(bytes.fromhex(frame_checksum(stored[j])),
-                                       dtype=np.uint8)
-        arrays[CHECKSUM_PATH][start:stop] = digests
+    buffer = ShardBuffer(batch[0][0], len(batch), arrays)
+    for index, items, tables in batch:
+        buffer.add(index, items, tables)
+    buffer.write(arrays, len(batch), max_detections=max_detections)
 
 
-def _write_table(arrays: ArrayCache, path: str, frames: list[NDArray[Any]], start: int, *,
-                 max_detections: int) -> None:
+async def _gather(writes: list[Any]) -> None:
+    import asyncio
+
+    await asyncio.gather(*writes)
+
+
+def _write_table(arrays: ArrayCache, path: str, frames: list[NDArray[Any]], start: int,
+                 writes: list[Any], *, max_detections: int) -> None:
     counts = np.array([len(rows) for rows in frames], dtype=np.int64)
     if counts.max(initial=0) > max_detections:
         raise ValueError(f"{path}: {int(counts.max())} rows in one frame, more than "
@@ -408,8 +659,8 @@ def _write_table(arrays: ArrayCache, path: str, frames: list[NDArray[Any]], star
         block = np.zeros((len(frames), max_detections), dtype=out.dtype)
         for j, rows in enumerate(frames):
             block[j, : len(rows)] = rows[name]
-        out[start:start + len(frames)] = block
-    arrays[f"{path}_count"][start:start + len(frames)] = counts
+        _put(arrays, f"{path}_by_frame/{name}", start, block, writes)
+    _put(arrays, f"{path}_count", start, counts, writes)
 
 
 _GROUPS: dict[ShardTarget, Any] = {}
@@ -430,5 +681,6 @@ def write_shard(target: ShardTarget, batch: list[tuple[int, Any, Any]]) -> None:
     write_shard_arrays(group, batch, max_detections=target.max_detections)
 
 
-__all__ = ["DEFAULT_SHARD_FRAMES", "ShardTarget", "ZarrWriter", "create_arrays",
-           "open_group", "write_shard", "write_shard_arrays", "ArrayCache"]
+__all__ = ["DEFAULT_SHARD_FRAMES", "BlockEncoder", "ShardBuffer", "ShardEncoder", "ShardTarget",
+           "ZarrWriter", "create_arrays", "open_group", "write_shard", "write_shard_arrays",
+           "ArrayCache"]

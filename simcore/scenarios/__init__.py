@@ -13,6 +13,7 @@ seed and its index in its ``description`` and gets its own noise seed.
 from __future__ import annotations
 
 import json
+import shutil
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -21,11 +22,14 @@ import numpy as np
 from pydantic import Field, ValidationError, field_validator, model_validator
 
 from simcore.preflight import MAX_SEED, RunError
+from simcore.resources import RESOURCES_DIR
 from simcore.scene import fieldpath
+from simcore.scene.geometry import Mesh
 from simcore.scene.project_io import ProjectError, project_from_dict, project_to_json
 
 from ._dists import MAX_CHOICES, Choice, Normal, Strict, Uniform
 from .furnish import (
+    FURNITURE_DIR,
     MAX_ADDED_OBJECTS,
     PIECES,
     FurnishError,
@@ -206,8 +210,9 @@ def scene(spec: ScenarioSpec, base_doc: dict[str, Any], *, seed: int, index: int
         if spec.materials:
             doc["materials"] = list(doc.get("materials") or []) + draw_materials(
                 spec.materials, _material_library(doc), rng)
+        bundled: list[int] = []
         if spec.room is not None:
-            furnish(doc, spec.room, spec.furniture, spec.people, rng, index=index)
+            bundled = furnish(doc, spec.room, spec.furniture, spec.people, rng, index=index)
     except FurnishError as exc:
         raise ScenarioError(str(exc)) from None
     record = spec.model_dump(mode="json", by_alias=True)
@@ -217,11 +222,35 @@ def scene(spec: ScenarioSpec, base_doc: dict[str, Any], *, seed: int, index: int
     doc["description"] = json.dumps({"scenario": spec.name, "seed": seed, "index": index,
                                      "spec": record}, sort_keys=True)
     doc["name"] = f"{spec.name} #{index}"
+    # Bundled furniture meshes are checked where they are; the project names the copy next
+    # to it (generate() writes it), so a folder of scenes is complete and the same bytes
+    # on every machine.
+    checked = json.loads(json.dumps(doc))
+    for i in bundled:
+        checked["objects"][i]["geometry"]["path"] = str(RESOURCES_DIR / doc["objects"][i][
+            "geometry"]["path"])
     try:
-        project = project_from_dict(doc, base_dir=base_dir, source=f"scene {index}")
+        project = project_from_dict(checked, base_dir=base_dir, source=f"scene {index}")
     except ProjectError as exc:
         raise ScenarioError(f"scene {index} is not a valid project: {str(exc)[:300]}") from None
+    for i in bundled:
+        geometry = project.objects[i].geometry
+        assert isinstance(geometry, Mesh)
+        geometry.path = doc["objects"][i]["geometry"]["path"]
     return project_to_json(project)
+
+
+def copy_furniture_meshes(spec: ScenarioSpec, out: Path) -> list[Path]:
+    """Copy the bundled meshes of the spec's mesh pieces into ``out/furniture``."""
+    names = sorted({PIECES[e.piece].mesh for e in spec.furniture
+                    if PIECES[e.piece].mesh is not None}, key=str)
+    copied = []
+    for name in names:
+        target = out / FURNITURE_DIR / f"{name}.obj"
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(RESOURCES_DIR / FURNITURE_DIR / f"{name}.obj", target)
+        copied.append(target)
+    return copied
 
 
 def _material_library(doc: dict[str, Any]) -> dict[str, dict[str, Any]]:
@@ -259,6 +288,7 @@ def generate(spec_path: str | Path, out: str | Path, *, count: int, seed: int = 
     out.mkdir(parents=True, exist_ok=True)
     for old in out.glob("scene_*.json"):       # --overwrite: no stale scene of a larger run
         old.unlink()
+    copy_furniture_meshes(spec, out)
     written = []
     for i in range(count):
         target = out / f"scene_{i:05d}.json"
@@ -371,4 +401,5 @@ def export_spec(project_path: str | Path, spec_path: str | Path, *,
 
 
 __all__ = ["MAX_CHOICES", "PIECES", "Choice", "Normal", "ScenarioError", "ScenarioSpec",
-           "Uniform", "export_spec", "generate", "load_spec", "scene", "spec_from_project"]
+           "Uniform", "copy_furniture_meshes", "export_spec", "generate", "load_spec", "scene",
+           "spec_from_project"]

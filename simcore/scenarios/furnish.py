@@ -4,7 +4,8 @@ The parts of a scenario spec beyond ``vary`` (``docs/scenarios.md``):
 
 - ``room``: the floor rectangle (``x_m``, ``y_m``, world metres) where pieces and people
   are placed, and the clearance kept free around the rig;
-- ``furniture``: pieces of the :data:`PIECES` library added by count (``count: [lo, hi]``,
+- ``furniture``: pieces of the :data:`PIECES` library (parametric, or bundled meshes at
+  their real size) added by count (``count: [lo, hi]``,
   inclusive), each sized within its own ranges, turned by a random yaw and placed so that
   its footprint's axis-aligned bounding box lies inside the room and overlaps no other
   piece, no object of the base project standing in the room, and not the rig's clearance;
@@ -21,6 +22,7 @@ so the same spec and seed give the same bytes.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from typing import Any
@@ -147,12 +149,49 @@ Part = tuple[str, dict[str, Any], tuple[float, float, float]]   # role, geometry
 
 
 class Piece:
-    """A parametric piece: draws its size and returns its parts and footprint."""
+    """A piece of the library: draws its size and returns its parts and footprint.
+
+    ``mesh``: the bundled mesh file (``furniture/<name>.obj``) of a mesh piece, else None.
+    """
 
     def __init__(self, roles: tuple[str, ...], defaults: dict[str, str],
                  build: Callable[[np.random.Generator], tuple[list[Part], float, float]],
-                 doc: str) -> None:
+                 doc: str, mesh: str | None = None) -> None:
         self.roles, self.defaults, self.build, self.doc = roles, defaults, build, doc
+        self.mesh = mesh
+
+
+#: Folder of the bundled furniture meshes under the resources, and the folder (next to the
+#: generated projects) that holds their copies: a generated project names
+#: ``furniture/<piece>.obj``, relative to its own folder.
+FURNITURE_DIR = "furniture"
+
+
+@functools.cache
+def mesh_bounds(name: str) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """(lowest, highest) corner (m) of the bundled furniture mesh ``name``."""
+    from simcore.resources import RESOURCES_DIR
+    from simcore.scene.mesh_files import read_mesh_arrays
+
+    points, _ = read_mesh_arrays(RESOURCES_DIR / FURNITURE_DIR / f"{name}.obj")
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    return (float(lo[0]), float(lo[1]), float(lo[2])), (float(hi[0]), float(hi[1]),
+                                                        float(hi[2]))
+
+
+def _mesh_build(name: str) -> Callable[[np.random.Generator], tuple[list[Part], float, float]]:
+    """The build of a mesh piece: one part at its real size, standing on the floor.
+
+    The part's local centre puts the mesh's footprint centre on the piece's position and
+    its lowest point at floor height; nothing is drawn.
+    """
+    def build(rng: np.random.Generator) -> tuple[list[Part], float, float]:
+        lo, hi = mesh_bounds(name)
+        geometry = {"kind": "mesh", "path": f"{FURNITURE_DIR}/{name}.obj", "scale": 1.0}
+        centre = (-(lo[0] + hi[0]) / 2, -(lo[1] + hi[1]) / 2, -lo[2])
+        return [("body", geometry, centre)], hi[0] - lo[0], hi[1] - lo[1]
+
+    return build
 
 
 def _box(role: str, sx: float, sy: float, sz: float, x: float, y: float, z: float) -> Part:
@@ -240,6 +279,17 @@ PIECES: dict[str, Piece] = {
                  "a cylinder of radius 0.12–0.2 m, 0.3–0.5 m high"),
     "plant": Piece(("pot", "leaves"), {"pot": "black_plastic", "leaves": "fabric"}, _plant,
                    "a pot and a round crown of radius 0.2–0.4 m"),
+    # Bundled meshes (resources/furniture, built by tools/make_furniture_meshes.py).
+    "sofa": Piece(("body",), {"body": "fabric"}, _mesh_build("sofa"),
+                  "three-seat sofa mesh, 0.95 × 2.0 × 0.85 m", mesh="sofa"),
+    "armchair": Piece(("body",), {"body": "fabric"}, _mesh_build("armchair"),
+                      "armchair mesh, 0.9 × 0.85 × 0.9 m", mesh="armchair"),
+    "bookcase": Piece(("body",), {"body": "wood"}, _mesh_build("bookcase"),
+                      "bookcase mesh with a back and five boards, 0.35 × 0.9 × 1.8 m",
+                      mesh="bookcase"),
+    "dining_table": Piece(("body",), {"body": "wood"}, _mesh_build("dining_table"),
+                          "table mesh on four round legs, 0.9 × 1.6 × 0.75 m",
+                          mesh="dining_table"),
 }
 
 
@@ -333,10 +383,12 @@ def _empty_motion() -> dict[str, Any]:
             "keyframes": [], "repeat": "hold"}
 
 
-def furnish(doc: dict[str, Any], room: Room, furniture: list[FurnitureEntry],
-            people: list[PeopleEntry], rng: np.random.Generator, *, index: int) -> None:
-    """Add the pieces and people to the project document ``doc`` (in place)."""
-    area: Rect = (room.x_m[0], room.y_m[0], room.x_m[1], room.y_m[1])
+def _base_footprints(doc: dict[str, Any], area: Rect, room: Room) -> list[Rect]:
+    """Floor areas already taken before any piece is placed.
+
+    The base project's objects standing in the room (not the floor or the ceiling) and the
+    rig's clearance.
+    """
     ax, ay = area[2] - area[0], area[3] - area[1]
     taken: list[Rect] = []
     for obj in doc.get("objects", []):
@@ -350,19 +402,46 @@ def furnish(doc: dict[str, Any], room: Room, furniture: list[FurnitureEntry],
     c = room.rig_clearance_m
     if c > 0:
         taken.append((rig[0] - c, rig[1] - c, rig[0] + c, rig[1] + c))
-    objects = doc.setdefault("objects", [])
-    next_id = max((int(o.get("id", 0)) for o in objects), default=0) + 1
-    names = {o.get("name") for o in objects}
+    return taken
 
-    def fresh(stem: str) -> str:
+
+def _rounded(geometry: dict[str, Any]) -> dict[str, Any]:
+    """A part's geometry with its floats rounded to the micrometre (stable JSON)."""
+    return {key: ([_r(v) for v in val] if isinstance(val, list)
+                  else _r(val) if isinstance(val, float) else val)
+            for key, val in geometry.items()}
+
+
+class _Placer:
+    """Adds pieces and people to one project document, keeping their footprints apart.
+
+    Holds the room, the footprints taken so far, the names in use and the next object id;
+    every draw comes from ``rng`` in the order of the calls.
+    """
+
+    def __init__(self, doc: dict[str, Any], room: Room, rng: np.random.Generator,
+                 index: int) -> None:
+        self.room, self.rng, self.index = room, rng, index
+        self.area: Rect = (room.x_m[0], room.y_m[0], room.x_m[1], room.y_m[1])
+        self.taken = _base_footprints(doc, self.area, room)
+        self.objects: list[dict[str, Any]] = doc.setdefault("objects", [])
+        self.next_id = max((int(o.get("id", 0)) for o in self.objects), default=0) + 1
+        self.names = {o.get("name") for o in self.objects}
+        self.bundled: list[int] = []     # objects that name a bundled furniture mesh
+
+    def fresh(self, stem: str) -> str:
+        """``stem`` + the first number no object's name (or name prefix) uses."""
         k = 1
-        while f"{stem}{k}" in names or any(n and str(n).startswith(f"{stem}{k}_")
-                                           for n in names):
+        while f"{stem}{k}" in self.names or any(n and str(n).startswith(f"{stem}{k}_")
+                                                for n in self.names):
             k += 1
-        names.add(f"{stem}{k}")
+        self.names.add(f"{stem}{k}")
         return f"{stem}{k}"
 
-    def free_spot(d: float, w: float, what: str) -> tuple[float, float, float, Rect]:
+    def free_spot(self, d: float, w: float, what: str) -> tuple[float, float, float, Rect]:
+        """A position and yaw where a d × w footprint lies in the room, clear of the rest."""
+        area, rng = self.area, self.rng
+        ax, ay = area[2] - area[0], area[3] - area[1]
         for _ in range(MAX_TRIES):
             yaw = float(rng.uniform(-180.0, 180.0))
             c_, s_ = abs(math.cos(math.radians(yaw))), abs(math.sin(math.radians(yaw)))
@@ -372,86 +451,118 @@ def furnish(doc: dict[str, Any], room: Room, furniture: list[FurnitureEntry],
             x = float(rng.uniform(area[0] + hx, area[2] - hx))
             y = float(rng.uniform(area[1] + hy, area[3] - hy))
             fp = _footprint(x, y, yaw, d, w)
-            if not any(_overlap(fp, t) for t in taken):
+            if not any(_overlap(fp, t) for t in self.taken):
                 return x, y, yaw, fp
-        raise FurnishError(f"scene {index}: no free place for {what} in the room after "
+        raise FurnishError(f"scene {self.index}: no free place for {what} in the room after "
                            f"{MAX_TRIES} tries; lower the counts or enlarge room.x_m/y_m")
 
+    def add_piece(self, entry: FurnitureEntry) -> None:
+        """One piece of ``entry``: its parts sized, materials drawn, placed and turned."""
+        rng, piece = self.rng, PIECES[entry.piece]
+        parts, d, w = piece.build(rng)
+        mats = {role: (str(entry.materials[role].draw(rng)) if role in entry.materials
+                       else piece.defaults[role]) for role in piece.roles}
+        stem = self.fresh(entry.piece)
+        x, y, yaw, fp = self.free_spot(d, w, f"a {entry.piece}")
+        self.taken.append(fp)
+        cy, sy = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
+        for k, (role, geometry, (lx, ly, lz)) in enumerate(parts):
+            if piece.mesh is not None:
+                self.bundled.append(len(self.objects))
+            self.objects.append({
+                "id": self.next_id, "name": f"{stem}_{role}{k + 1}",
+                "geometry": _rounded(geometry),
+                "pose": {"position_m": [_r(x + cy * lx - sy * ly), _r(y + sy * lx + cy * ly),
+                                        _r(self.room.floor_z_m + lz)],
+                         "rotation_deg": [0.0, 0.0, _r(yaw)]},
+                "material": mats[role], "motion": _empty_motion()})
+            self.next_id += 1
+
+    def _walk(self, n_way: int, name: str) -> tuple[list[np.ndarray], Rect]:
+        """A start clear of the furniture and ``n_way`` legs that cross none of it."""
+        area, rng, half = self.area, self.rng, PERSON_SIDE_M / 2
+        grown = [(t[0] - half, t[1] - half, t[2] + half, t[3] + half) for t in self.taken]
+        for _start in range(START_TRIES):   # a start boxed in by furniture: another one
+            x, y, _yaw, fp = self.free_spot(PERSON_SIDE_M, PERSON_SIDE_M, f"person {name}")
+            points = [np.array([x, y])]
+            for _w in range(n_way):
+                for _t in range(MAX_TRIES):
+                    q = np.array([rng.uniform(area[0] + half, area[2] - half),
+                                  rng.uniform(area[1] + half, area[3] - half)])
+                    if float(np.hypot(*(q - points[-1]))) >= MIN_LEG_M and not any(
+                            _segment_hits(points[-1], q, t) for t in grown):
+                        points.append(q)
+                        break
+                else:
+                    break
+            if len(points) == n_way + 1:
+                return points, fp
+        raise FurnishError(f"scene {self.index}: no clear walk of {n_way} legs for person "
+                           f"{name} from {START_TRIES} starts; fewer pieces or waypoints")
+
+    @staticmethod
+    def _keyframes(points: list[np.ndarray], speed: float
+                   ) -> tuple[dict[str, Any], dict[str, Any] | None, float]:
+        """The motion (keyframes relative to the start), walk and heading of a path."""
+        motion = _empty_motion()
+        if len(points) < 2 or speed <= 0:
+            return motion, None, 0.0
+        step = points[1] - points[0]
+        yaw = math.degrees(math.atan2(step[1], step[0]))
+        x, y = points[0]
+        t = 0.0
+        for k, p in enumerate(points):
+            if k:
+                t += float(np.hypot(*(p - points[k - 1]))) / speed
+            motion["keyframes"].append({"time_s": _r(t), "position_m": [
+                _r(p[0] - x), _r(p[1] - y), 0.0], "rotation_deg": [0.0, 0.0, 0.0]})
+        motion["repeat"] = "back_and_forth"
+        return motion, {"speed_mps": _r(speed), "path": "keyframes"}, yaw
+
+    def add_person(self, group: PeopleEntry) -> None:
+        """One person of ``group``: a clear random walk, drawn body, gesture and vitals."""
+        rng = self.rng
+        name = self.fresh("walker")
+        n_way = int(rng.integers(group.waypoints[0], group.waypoints[1] + 1))
+        points, fp = self._walk(n_way, name)
+        speed = max(float(group.speed_mps.draw(rng)), 0.0)
+        self.taken.append(fp)
+        motion, walk, yaw = self._keyframes(points, speed)
+        vitals = None
+        if group.vital_signs is not None:
+            vitals = {key: _r(dist.draw(rng)) for key, dist in group.vital_signs.items()}
+        x, y = points[0]
+        self.objects.append({
+            "id": self.next_id, "name": name,
+            "geometry": {"kind": "person", "height_m": _r(group.height_m.draw(rng)),
+                         "build": _r(group.build.draw(rng)), "skin": "skin",
+                         "clothing": "clothing",
+                         "motion": {"posture": "standing", "walk": walk,
+                                    "gesture": group.gesture.draw(rng),
+                                    "vital_signs": vitals, "bvh": None, "sway_mm": 2.0}},
+            "pose": {"position_m": [_r(x), _r(y), _r(self.room.floor_z_m)],
+                     "rotation_deg": [0.0, 0.0, _r(yaw)]},
+            "material": "clothing", "motion": motion})
+        self.next_id += 1
+
+
+def furnish(doc: dict[str, Any], room: Room, furniture: list[FurnitureEntry],
+            people: list[PeopleEntry], rng: np.random.Generator, *, index: int) -> list[int]:
+    """Add the pieces and people to the project document ``doc`` (in place).
+
+    Each entry draws its count, then its pieces (or people) one by one, in the spec's
+    order; each lands in a free spot of the room (:class:`_Placer`). Returns the indices
+    of the objects that name a bundled furniture mesh (``furniture/<piece>.obj``,
+    relative to the generated project's folder, where :func:`simcore.scenarios.generate`
+    copies it).
+    """
+    placer = _Placer(doc, room, rng, index)
     for entry in furniture:
-        piece = PIECES[entry.piece]
         count = int(rng.integers(entry.count[0], entry.count[1] + 1))
         for _ in range(count):
-            parts, d, w = piece.build(rng)
-            mats = {role: (str(entry.materials[role].draw(rng)) if role in entry.materials
-                           else piece.defaults[role]) for role in piece.roles}
-            stem = fresh(entry.piece)
-            x, y, yaw, fp = free_spot(d, w, f"a {entry.piece}")
-            taken.append(fp)
-            cy, sy = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
-            for k, (role, geometry, (lx, ly, lz)) in enumerate(parts):
-                geometry = {key: ([_r(v) for v in val] if isinstance(val, list)
-                                  else _r(val) if isinstance(val, float) else val)
-                            for key, val in geometry.items()}
-                objects.append({
-                    "id": next_id, "name": f"{stem}_{role}{k + 1}", "geometry": geometry,
-                    "pose": {"position_m": [_r(x + cy * lx - sy * ly), _r(y + sy * lx + cy * ly),
-                                            _r(room.floor_z_m + lz)],
-                             "rotation_deg": [0.0, 0.0, _r(yaw)]},
-                    "material": mats[role], "motion": _empty_motion()})
-                next_id += 1
+            placer.add_piece(entry)
     for group in people:
         count = int(rng.integers(group.count[0], group.count[1] + 1))
-        half = PERSON_SIDE_M / 2
         for _ in range(count):
-            name = fresh("walker")
-            n_way = int(rng.integers(group.waypoints[0], group.waypoints[1] + 1))
-            grown = [(t[0] - half, t[1] - half, t[2] + half, t[3] + half) for t in taken]
-            for _start in range(START_TRIES):   # a start boxed in by furniture: another one
-                x, y, _yaw, fp = free_spot(PERSON_SIDE_M, PERSON_SIDE_M, f"person {name}")
-                points = [np.array([x, y])]
-                for _w in range(n_way):
-                    for _t in range(MAX_TRIES):
-                        q = np.array([rng.uniform(area[0] + half, area[2] - half),
-                                      rng.uniform(area[1] + half, area[3] - half)])
-                        if float(np.hypot(*(q - points[-1]))) >= MIN_LEG_M and not any(
-                                _segment_hits(points[-1], q, t) for t in grown):
-                            points.append(q)
-                            break
-                    else:
-                        break
-                if len(points) == n_way + 1:
-                    break
-            else:
-                raise FurnishError(f"scene {index}: no clear walk of {n_way} legs for person "
-                                   f"{name} from {START_TRIES} starts; fewer pieces or waypoints")
-            speed = max(float(group.speed_mps.draw(rng)), 0.0)
-            taken.append(fp)
-            motion = _empty_motion()
-            walk = None
-            yaw = 0.0
-            if len(points) > 1 and speed > 0:
-                step = points[1] - points[0]
-                yaw = math.degrees(math.atan2(step[1], step[0]))
-                t = 0.0
-                for k, p in enumerate(points):
-                    if k:
-                        t += float(np.hypot(*(p - points[k - 1]))) / speed
-                    motion["keyframes"].append({"time_s": _r(t), "position_m": [
-                        _r(p[0] - x), _r(p[1] - y), 0.0], "rotation_deg": [0.0, 0.0, 0.0]})
-                motion["repeat"] = "back_and_forth"
-                walk = {"speed_mps": _r(speed), "path": "keyframes"}
-            vitals = None
-            if group.vital_signs is not None:
-                vitals = {key: _r(dist.draw(rng)) for key, dist in group.vital_signs.items()}
-            objects.append({
-                "id": next_id, "name": name,
-                "geometry": {"kind": "person", "height_m": _r(group.height_m.draw(rng)),
-                             "build": _r(group.build.draw(rng)), "skin": "skin",
-                             "clothing": "clothing",
-                             "motion": {"posture": "standing", "walk": walk,
-                                        "gesture": group.gesture.draw(rng),
-                                        "vital_signs": vitals, "bvh": None, "sway_mm": 2.0}},
-                "pose": {"position_m": [_r(x), _r(y), _r(room.floor_z_m)],
-                         "rotation_deg": [0.0, 0.0, _r(yaw)]},
-                "material": "clothing", "motion": motion})
-            next_id += 1
+            placer.add_person(group)
+    return placer.bundled
