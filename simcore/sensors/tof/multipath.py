@@ -286,19 +286,21 @@ def _near_crease(points: F32, normals: F32, seen: NDArray[np.bool_]) -> NDArray[
 
 
 @kernel
-def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
-                       node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
-                       node_values: F32, node_seen: NDArray[np.bool_],
-                       cell_y: NDArray[np.int64], frac_y: F32,
-                       cell_x: NDArray[np.int64], frac_x: F32
-                       ) -> tuple[F32, NDArray[np.bool_]]:
-    """Surface-aware bilinear interpolation of node values to every pixel.
+def _node_weights(points: F32, normals: F32, seen: NDArray[np.bool_],
+                  node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
+                  node_seen: NDArray[np.bool_],
+                  cell_y: NDArray[np.int64], frac_y: F32,
+                  cell_x: NDArray[np.int64], frac_x: F32
+                  ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Each pixel's weights of the four nodes around it, and the pixels to sum exactly.
 
     Of the four nodes around a pixel, only those on the pixel's own smooth surface (normals
     within ``SAME_SURFACE_COS``; each point near the other's tangent plane) are blended, with
-    their bilinear weights renormalised. A seen pixel without such a node, or with a pixel
-    of another surface facing it across a concave crease within ``CREASE_GUARD_PX`` (and
-    not itself a node), is flagged.
+    their bilinear weights (renormalised by :func:`_blend_nodes`). A seen pixel without such
+    a node, or with a pixel of another surface facing it across a concave crease within
+    ``CREASE_GUARD_PX`` (and not itself a node), is flagged. The weights do not depend on
+    the node values, so the flagged pixels are known before any sum: the nodes and they
+    are summed in one pass (:class:`OneBounceCache`).
 
     Parameters
     ----------
@@ -307,23 +309,21 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
     seen : ndarray of bool, shape (H, W)
     node_rows, node_cols : ndarray of int, shapes (NY,), (NX,)
         Pixel coordinates of the node grid.
-    node_values : ndarray, shape (NY, NX, V)
     node_seen : ndarray of bool, shape (NY, NX)
     cell_y, frac_y, cell_x, frac_x : ndarray, shapes (H,), (H,), (W,), (W,)
         From :func:`_cell_of`.
 
     Returns
     -------
-    values : ndarray, shape (H, W, V)
+    weights : ndarray, shape (H, W, 4), float64
+        Weight of node ``(cell_y + dy, cell_x + dx)`` at ``2 dy + dx`` (0: not blended).
     missing : ndarray of bool, shape (H, W)
         Seen pixels with no node on their surface or next to a concave crease (to be
         computed exactly).
     """
     h, w = seen.shape
-    nv = node_values.shape[2]
-    out = np.zeros((h, w, nv), dtype=np.float32)
+    weights = np.zeros((h, w, 4))
     missing = np.zeros((h, w), dtype=np.bool_)
-    acc = np.zeros(nv)
     near_crease = _near_crease(points, normals, seen)
     for y in range(h):
         for x in range(w):
@@ -336,7 +336,6 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
                 missing[y, x] = True
                 continue
             total = 0.0
-            acc[:] = 0.0
             for dy in range(2):
                 iy = min(cell_y[y] + dy, len(node_rows) - 1)
                 wy = frac_y[y] if dy else 1.0 - frac_y[y]
@@ -349,14 +348,76 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
                         continue
                     weight = wy * wx + 1e-6
                     total += weight
-                    for v in range(nv):
-                        acc[v] += weight * node_values[iy, ix, v]
-            if total > 0.0:
-                for v in range(nv):
-                    out[y, x, v] = acc[v] / total
-            else:
+                    weights[y, x, 2 * dy + dx] = weight
+            if total <= 0.0:
                 missing[y, x] = True
-    return out, missing
+    return weights, missing
+
+
+@kernel
+def _blend_nodes(seen: NDArray[np.bool_], weights: NDArray[np.float64],
+                 missing: NDArray[np.bool_], node_values: F32,
+                 cell_y: NDArray[np.int64], cell_x: NDArray[np.int64],
+                 exact_index: NDArray[np.int64], exact_values: F32, points: F32,
+                 k: F32) -> F32:
+    """Indirect light per pixel: nodes blended by :func:`_node_weights`, or the exact sum.
+
+    The blend adds the weighted node values in float64 and divides by the weights' sum;
+    pixels in ``missing`` take their exact sum (``exact_values`` row of their flat pixel
+    index in ``exact_index``, the last such row). Then each receiver's own leg
+    ``exp(i k_f R_P)`` is put back on the phasors, in float32 throughout (``R_P = |P|``,
+    the phase, its cosine and sine, and the complex product as numpy's complex64 one).
+
+    Returns
+    -------
+    ndarray, shape (1 + 2F, H, W), float32
+        The magnitude and per frequency the phasor's real and imaginary parts; 0 where
+        not ``seen``.
+    """
+    h, w = seen.shape
+    nv = node_values.shape[2]
+    ny, nx = node_values.shape[0], node_values.shape[1]
+    out = np.zeros((nv, h, w), dtype=np.float32)
+    row = np.full(h * w, -1, dtype=np.int64)
+    for i in range(exact_index.shape[0]):
+        row[exact_index[i]] = i
+    acc = np.zeros(nv)
+    val = np.zeros(nv, dtype=np.float32)
+    for y in range(h):
+        for x in range(w):
+            if not seen[y, x]:
+                continue
+            if missing[y, x]:
+                r = row[y * w + x]
+                for v in range(nv):
+                    val[v] = exact_values[r, v]
+            else:
+                total = 0.0
+                acc[:] = 0.0
+                for dy in range(2):
+                    iy = min(cell_y[y] + dy, ny - 1)
+                    for dx in range(2):
+                        weight = weights[y, x, 2 * dy + dx]
+                        if weight == 0.0:
+                            continue
+                        ix = min(cell_x[x] + dx, nx - 1)
+                        total += weight
+                        for v in range(nv):
+                            acc[v] += weight * node_values[iy, ix, v]
+                for v in range(nv):
+                    val[v] = acc[v] / total
+            out[0, y, x] = val[0]
+            px, py, pz = points[y, x, 0], points[y, x, 1], points[y, x, 2]
+            r_p = math.sqrt(px * px + py * py + pz * pz)
+            for f in range(k.shape[0]):
+                phase = k[f] * r_p
+                c, s = math.cos(phase), math.sin(phase)
+                re, im = val[1 + 2 * f], val[2 + 2 * f]
+                # numpy's complex64 product, fused: fma(re, c, −im·s), fma(re, s, im·c)
+                # (the float32 products are exact in float64).
+                out[1 + 2 * f, y, x] = np.float64(re) * np.float64(c) - np.float64(im * s)
+                out[2 + 2 * f, y, x] = np.float64(re) * np.float64(s) + np.float64(im * c)
+    return out
 
 
 def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], senders: Senders,
@@ -406,30 +467,25 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
         return magnitude, phasors
     rows, cols = _node_axis(h, step), _node_axis(w, step)
     grid = np.ix_(rows, cols)
-    node_seen = seen[grid]
+    node_seen = np.ascontiguousarray(seen[grid])
     k = [2.0 * np.pi * f / SPEED_OF_LIGHT for f in frequencies_hz]
-    flat = np.arange(h * w).reshape(h, w)
+    pts = np.ascontiguousarray(points_m, dtype=np.float32)
+    nrm = np.ascontiguousarray(normals, dtype=np.float32)
+    cy, fy = _cell_of(h, rows)
+    cx, fx = _cell_of(w, cols)
+    # Which pixels blend which nodes, and which are summed exactly, before any sum: the
+    # nodes and those pixels are then summed in one pass.
+    weights, missing = _node_weights(pts, nrm, np.ascontiguousarray(seen), rows, cols,
+                                     node_seen, cy, fy, cx, fx)
+    node_index = (rows[:, None] * w + cols[None, :])[node_seen]
+    index = np.concatenate([node_index, np.flatnonzero(missing)])
     with (cache or OneBounceCache()).frame(senders, (h, w), k) as exact:
-        values = np.zeros((len(rows), len(cols), 1 + 2 * nf), dtype=np.float32)
-        values[node_seen] = exact(flat[grid][node_seen], points_m[grid][node_seen],
-                                  normals[grid][node_seen])
-        cy, fy = _cell_of(h, rows)
-        cx, fx = _cell_of(w, cols)
-        out, missing = _interpolate_nodes(
-            np.ascontiguousarray(points_m, dtype=np.float32),
-            np.ascontiguousarray(normals, dtype=np.float32), np.ascontiguousarray(seen),
-            rows, cols, values, np.ascontiguousarray(node_seen), cy, fy, cx, fx)
-        if missing.any():
-            out[missing] = exact(flat[missing], points_m[missing], normals[missing])
-    r_p = np.linalg.norm(points_m, axis=-1)
-    magnitude = np.where(seen, out[..., 0], np.float32(0.0)).astype(np.float32)
-    phasors = []
-    for j, kk in enumerate(k):
-        own = np.exp(1j * kk * r_p)
-        ph = (out[..., 1 + 2 * j] + 1j * out[..., 2 + 2 * j]) * own
-        phasors.append((np.where(seen, ph.real, 0.0).astype(np.float32),
-                        np.where(seen, ph.imag, 0.0).astype(np.float32)))
-    return magnitude, phasors
+        sums = exact(index, pts.reshape(-1, 3)[index], nrm.reshape(-1, 3)[index])
+    values = np.zeros((len(rows), len(cols), 1 + 2 * nf), dtype=np.float32)
+    values[node_seen] = sums[:len(node_index)]
+    out = _blend_nodes(np.ascontiguousarray(seen), weights, missing, values, cy, cx, index,
+                       sums, pts, np.asarray(k, dtype=np.float32))
+    return out[0], [(out[1 + 2 * j], out[2 + 2 * j]) for j in range(nf)]
 
 
 @dataclass
@@ -440,11 +496,10 @@ class _Sums:
     slot_points: F32                 # (S, 3) on the sender grid, zeros where none
     slot_normals: F32                # (S, 3)
     slot_weight: F32                 # (S,), 0 where a grid position sends nothing
-    index: NDArray[np.int64]         # (R,) receivers' pixels (flat), sorted
+    row: NDArray[np.int64]           # (H·W,) each pixel's receiver row, −1 where none
     points: F32                      # (R, 3)
     normals: F32                     # (R, 3)
-    tiles: NDArray[np.float64]       # (R, T, 1 + 2F) their sums per sender tile, unsorted
-    rows: NDArray[np.int64]          # (R,) row of ``tiles`` of each sorted receiver
+    tiles: NDArray[np.float64]       # (R, T, 1 + 2F) their sums per sender tile
 
 
 def _slots(senders: Senders) -> tuple[F32, F32, F32]:
@@ -508,43 +563,97 @@ class OneBounceCache:
                 if len(redo) > len(every) // 2:
                     last = None
             parts: list[tuple[NDArray[np.int64], F32, F32, NDArray[np.float64]]] = []
+            nv = len(kk) * 2 + 1
 
             def exact(index: NDArray[np.int64], pts: F32, nrm: F32) -> F32:
+                index = np.ascontiguousarray(index, dtype=np.int64)
                 pts = np.ascontiguousarray(pts, dtype=np.float32)
                 nrm = np.ascontiguousarray(nrm, dtype=np.float32)
-                shape = (len(index), len(every), len(kk) * 2 + 1)
-                same = np.zeros(len(index), dtype=bool)
-                if last is not None and len(last.index):
-                    pos = np.minimum(np.searchsorted(last.index, index), len(last.index) - 1)
-                    same = ((last.index[pos] == index) & (last.points[pos] == pts).all(axis=1)
-                            & (last.normals[pos] == nrm).all(axis=1))
-                # One gather of the kept rows straight into the frame's array (the sums
-                # are large: receivers × tiles × values in float64).
-                if last is not None and len(index) and same.all():
-                    tiles = np.take(last.tiles, last.rows[pos], axis=0)
+                if last is not None:
+                    old = _kept_rows(index, pts, nrm, last.row, last.points, last.normals)
+                    old_tiles = last.tiles
                 else:
-                    tiles = np.empty(shape)
-                    if last is not None and same.any():
-                        tiles[same] = np.take(last.tiles, last.rows[pos[same]], axis=0)
+                    old = np.full(len(index), -1, dtype=np.int64)
+                    old_tiles = np.zeros((0, len(every), nv))
+                same = old >= 0
+                redone = np.zeros((0, len(redo), nv))
                 if same.any() and len(redo):
-                    kept = np.flatnonzero(same)
-                    tiles[kept[:, None], redo] = _tile_sums(pts[same], nrm[same], senders,
-                                                            kk, redo)
-                fresh = ~same
-                if fresh.any():
-                    tiles[fresh] = _tile_sums(pts[fresh], nrm[fresh], senders, kk, every)
-                parts.append((np.asarray(index, dtype=np.int64), pts, nrm, tiles))
-                return _total(tiles)
+                    redone = _tile_sums(pts[same], nrm[same], senders, kk, redo)
+                fresh = np.zeros((0, len(every), nv))
+                if not same.all():
+                    fresh = _tile_sums(pts[~same], nrm[~same], senders, kk, every)
+                # One compiled pass: kept rows with their redone tiles, fresh rows, totals.
+                tiles, total = _merge_tiles(old, old_tiles, np.ascontiguousarray(redo),
+                                            redone, fresh)
+                parts.append((index, pts, nrm, tiles))
+                return total
 
             self._last = None                      # an exception leaves no half record
             yield exact
             if parts:
-                index = np.concatenate([q[0] for q in parts])
-                order = np.argsort(index, kind="stable")
-                self._last = _Sums(key, slot_pts, slot_nrm, slot_wgt, index[order],
-                                   np.concatenate([q[1] for q in parts])[order],
-                                   np.concatenate([q[2] for q in parts])[order],
-                                   np.concatenate([q[3] for q in parts]), order)
+                index, pts, nrm, tiles = (
+                    parts[0] if len(parts) == 1
+                    else tuple(np.concatenate([q[i] for q in parts]) for i in range(4)))
+                row = np.full(shape[0] * shape[1], -1, dtype=np.int64)
+                row[index] = np.arange(len(index))
+                self._last = _Sums(key, slot_pts, slot_nrm, slot_wgt, row, pts, nrm, tiles)
+
+
+@kernel
+def _kept_rows(index: NDArray[np.int64], points: F32, normals: F32, row: NDArray[np.int64],
+               last_points: F32, last_normals: F32) -> NDArray[np.int64]:
+    """Each receiver's row in the last frame's record, −1 unless bit-identical there.
+
+    Identical: the same pixel with the same point and normal.
+    """
+    out = np.full(index.shape[0], -1, dtype=np.int64)
+    for i in range(index.shape[0]):
+        p = index[i]
+        if p < 0 or p >= row.shape[0]:
+            continue
+        r = row[p]
+        if r < 0:
+            continue
+        same = True
+        for c in range(3):
+            if last_points[r, c] != points[i, c] or last_normals[r, c] != normals[i, c]:
+                same = False
+        if same:
+            out[i] = r
+    return out
+
+
+@kernel
+def _merge_tiles(old: NDArray[np.int64], old_tiles: NDArray[np.float64],
+                 redo: NDArray[np.int64], redone: NDArray[np.float64],
+                 fresh: NDArray[np.float64]) -> tuple[NDArray[np.float64], F32]:
+    """A frame's tile sums and receiver totals from the kept, redone and fresh sums.
+
+    Receiver ``i`` with ``old[i] ≥ 0`` takes row ``old[i]`` of ``old_tiles`` with the tiles
+    ``redo`` replaced by its next row of ``redone``; the others take their next row of
+    ``fresh`` (every tile). Totals as :func:`_total` (tiles added in order, float64).
+    """
+    m = old.shape[0]
+    nt, nv = fresh.shape[1], fresh.shape[2]
+    tiles = np.empty((m, nt, nv))
+    total = np.zeros((m, nv), dtype=np.float32)
+    kept = 0
+    new = 0
+    for i in range(m):
+        if old[i] >= 0:
+            tiles[i] = old_tiles[old[i]]
+            for u in range(redo.shape[0]):
+                tiles[i, redo[u]] = redone[kept, u]
+            kept += 1
+        else:
+            tiles[i] = fresh[new]
+            new += 1
+        for v in range(nv):
+            acc = 0.0
+            for t in range(nt):
+                acc += tiles[i, t, v]
+            total[i, v] = acc
+    return tiles, total
 
 
 @kernel
