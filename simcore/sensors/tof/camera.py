@@ -46,6 +46,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.ndimage import gaussian_filter
 
+from simcore.jit import kernel
 from simcore.render.buffers import RenderBuffers, downsample_ground_truth
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.materials import BandMaterial
@@ -470,6 +471,65 @@ def _cached_one_bounce(arrays: tuple[NDArray[np.generic], ...], params: tuple[ob
     return result
 
 
+@kernel
+def _receivers(points: NDArray[np.float32], normals: NDArray[np.float32],
+               hit: NDArray[np.bool_], albedo: NDArray[np.float32], k: int
+               ) -> tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32],
+                          NDArray[np.float32]]:
+    """Each sensor pixel's mean surface point, unit normal and albedo over its hit sub-pixels.
+
+    As :func:`_block_mean` of the hit sub-pixels' values (0 elsewhere) divided by the hit
+    fraction ``coverage`` (at least 1e-12), in float32 and in the same order, the normal then
+    scaled to unit length.
+
+    Returns
+    -------
+    points, normals : ndarray, shape (H, W, 3), float32
+    albedo, coverage : ndarray, shape (H, W), float32
+    """
+    h, w = hit.shape[0] // k, hit.shape[1] // k
+    inv = np.float32(1.0 / (k * k))
+    pts = np.empty((h, w, 3), dtype=np.float32)
+    nrm = np.empty((h, w, 3), dtype=np.float32)
+    rho = np.empty((h, w), dtype=np.float32)
+    coverage = np.empty((h, w), dtype=np.float32)
+    zero = np.float32(0.0)
+    sp = np.empty(3, dtype=np.float32)
+    sn = np.empty(3, dtype=np.float32)
+    for y in range(h):
+        for x in range(w):
+            cov, sa = zero, zero
+            for i in range(k):
+                for j in range(k):
+                    yy, xx = y * k + i, x * k + j
+                    on = hit[yy, xx]
+                    a = albedo[yy, xx]
+                    if i == 0 and j == 0:
+                        cov = np.float32(1.0) if on else zero
+                        sa = a
+                        for c in range(3):
+                            sp[c] = points[yy, xx, c] if on else zero
+                            sn[c] = normals[yy, xx, c] if on else zero
+                    else:
+                        cov += np.float32(1.0) if on else zero
+                        sa += a
+                        for c in range(3):
+                            sp[c] += points[yy, xx, c] if on else zero
+                            sn[c] += normals[yy, xx, c] if on else zero
+            cov *= inv
+            count = max(cov, np.float32(1e-12))
+            coverage[y, x] = cov
+            rho[y, x] = (sa * inv) / count
+            for c in range(3):
+                pts[y, x, c] = (sp[c] * inv) / count
+                sn[c] = (sn[c] * inv) / count
+            norm = max(np.float32(math.sqrt(sn[0] * sn[0] + sn[1] * sn[1] + sn[2] * sn[2])),
+                       np.float32(1e-12))
+            for c in range(3):
+                nrm[y, x, c] = sn[c] / norm
+    return pts, nrm, rho, coverage
+
+
 def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
                       albedo: NDArray[np.float32], *, receiver_step: int = RECEIVER_STEP
                      ) -> NDArray[np.float32]:
@@ -492,18 +552,12 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
         _solid_angle(buffers.intrinsics), hit,
         stride=config.multipath_patch_px * k)
     # Receivers: each sensor pixel's mean surface point, normal and albedo.
-    weight = hit.astype(np.float32)
-    coverage = _block_mean(weight, k)
-    count = np.maximum(coverage, FLOAT(1e-12))
-    pts = np.stack([_block_mean(np.where(hit, buffers.points_m[..., i], 0.0), k) / count
-                    for i in range(3)], axis=-1)
-    nrm = np.stack([_block_mean(np.where(hit, buffers.normals[..., i], 0.0), k) / count
-                    for i in range(3)], axis=-1)
-    nrm /= np.maximum(np.linalg.norm(nrm, axis=-1, keepdims=True), FLOAT(1e-12))
-    rho = _block_mean(lit_albedo, k) / count
+    pts, nrm, rho, coverage = _receivers(
+        np.ascontiguousarray(buffers.points_m, dtype=np.float32),
+        np.ascontiguousarray(buffers.normals, dtype=np.float32), np.ascontiguousarray(hit),
+        np.ascontiguousarray(lit_albedo, dtype=np.float32), k)
     seen = coverage > 0
     h, w = seen.shape
-    pts, nrm = as_float(pts), as_float(nrm)
     # Keyed by what the sums read (sensor-resolution receivers and the senders): a quarter
     # of the render's bytes to digest.
     magnitude, phasors = _cached_one_bounce(

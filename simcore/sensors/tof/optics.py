@@ -34,6 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import fft as sp_fft
 
+from simcore.jit import kernel
 from simcore.render.buffers import RenderBuffers
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
@@ -134,11 +135,26 @@ def distort_image(image: NDArray[np.generic], intrinsics: PinholeIntrinsics,
     """
     index = distortion_map(intrinsics, coefficients)
     n = index.size
-    # Index n picks an appended background sample (outside the rendered field).
-    flat = np.where(index >= 0, index, n).ravel()
-    src = image.reshape(n, -1)
-    pad = np.full((1, src.shape[1]), fill, dtype=image.dtype)
-    return np.take(np.concatenate([src, pad]), flat, axis=0).reshape(image.shape)
+    src = np.ascontiguousarray(image).reshape(n, -1)
+    out = _gather_rows(src, index.ravel(), np.full(src.shape[1], fill, dtype=image.dtype))
+    return out.reshape(image.shape)
+
+
+@kernel
+def _gather_rows(src: NDArray[np.generic], index: NDArray[np.int64],
+                 fill: NDArray[np.generic]) -> NDArray[np.generic]:
+    """Row ``index[i]`` of ``src`` (N, C) for every ``i``, ``fill`` where ``index[i] < 0``."""
+    n, c = index.shape[0], src.shape[1]
+    out = np.empty((n, c), dtype=src.dtype)
+    for i in range(n):
+        j = index[i]
+        if j >= 0:
+            for m in range(c):
+                out[i, m] = src[j, m]
+        else:
+            for m in range(c):
+                out[i, m] = fill[m]
+    return out
 
 
 def distort_buffers(buffers: RenderBuffers, config: TofCameraConfig) -> RenderBuffers:
