@@ -368,17 +368,48 @@ def _reprojected_ranges(buffers: RenderBuffers, config: TofCameraConfig
     d : ndarray, shape (H, W, 3), float32
         Each pixel's unit ray (where it sees a surface).
     """
-    hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
-    safe_r = np.where(hit, buffers.range_m, FLOAT(1.0))
-    d = buffers.points_m / safe_r[..., None]
-    n_dot_d = np.einsum("ijk,ijk->ij", buffers.normals, d)
-    n_dot_v = np.einsum("ijk,ijk->ij", buffers.normals, buffers.velocity_mps)
-    moves = np.abs(n_dot_d) > 1e-6
-    rate = np.where(hit & moves, n_dot_v / np.where(moves, n_dot_d, FLOAT(1.0)), FLOAT(0.0))
-    ranges = [buffers.range_m]
-    for i in (1, 2, 3):
-        ranges.append(as_float(buffers.range_m + rate * FLOAT(i * config.sample_interval_s)))
-    return ranges, as_float(d)
+    ranges, d = _reprojection(np.ascontiguousarray(buffers.range_m, dtype=np.float32),
+                              np.ascontiguousarray(buffers.object_index, dtype=np.int32),
+                              np.ascontiguousarray(buffers.points_m, dtype=np.float32),
+                              np.ascontiguousarray(buffers.normals, dtype=np.float32),
+                              np.ascontiguousarray(buffers.velocity_mps, dtype=np.float32),
+                              float(config.sample_interval_s))
+    return [buffers.range_m, ranges[0], ranges[1], ranges[2]], d
+
+
+@kernel
+def _reprojection(range_m: NDArray[np.float32], index: NDArray[np.int32],
+                  points: NDArray[np.float32], normals: NDArray[np.float32],
+                  velocity: NDArray[np.float32], interval: float
+                  ) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+    """:func:`_reprojected_ranges` in one pass: samples 1–3's ranges (3, H, W) and the rays.
+
+    Float32 throughout, in numpy's order: ``d = P / R``, ``rate = (n·v) / (n·d)`` where the
+    pixel sees a surface and ``|n·d| > 1e-6``, else 0; ``R_i = R + rate · (i Δt)``.
+    """
+    h, w = range_m.shape
+    ranges = np.empty((3, h, w), dtype=np.float32)
+    d = np.empty((h, w, 3), dtype=np.float32)
+    one, zero, tiny = np.float32(1.0), np.float32(0.0), np.float32(1e-6)
+    steps = np.empty(3, dtype=np.float32)
+    for i in range(3):
+        steps[i] = np.float32((i + 1) * interval)
+    for y in range(h):
+        for x in range(w):
+            r = range_m[y, x]
+            hit = index[y, x] >= 0 and math.isfinite(r)
+            safe = r if hit else one
+            d0, d1, d2 = points[y, x, 0] / safe, points[y, x, 1] / safe, points[y, x, 2] / safe
+            d[y, x, 0], d[y, x, 1], d[y, x, 2] = d0, d1, d2
+            n0, n1, n2 = normals[y, x, 0], normals[y, x, 1], normals[y, x, 2]
+            n_dot_d = n0 * d0 + n1 * d1 + n2 * d2
+            n_dot_v = n0 * velocity[y, x, 0] + n1 * velocity[y, x, 1] + n2 * velocity[y, x, 2]
+            rate = zero
+            if hit and abs(n_dot_d) > tiny:
+                rate = n_dot_v / n_dot_d
+            for i in range(3):
+                ranges[i, y, x] = r + rate * steps[i]
+    return ranges, d
 
 
 def _moved_samples(buffers: RenderBuffers, config: TofCameraConfig) -> list[RenderBuffers]:
@@ -406,22 +437,82 @@ def _correlation_from_samples(sample_buffers: Sequence[RenderBuffers], config: T
     # Wiggling: cos 3x = 4c³ − 3c and cos 5x = 16c⁵ − 20c³ + 5c with c = cos x, so
     # c + a3 cos 3x + a5 cos 5x is a polynomial in c (one cosine instead of three).
     p1, p3, p5 = FLOAT(1 - 3 * a3 + 5 * a5), FLOAT(4 * a3 - 20 * a5), FLOAT(16 * a5)
+    if not config.wiggling:          # c (1 + c² (0 + c² 0)) = c exactly
+        p1, p3, p5 = FLOAT(1.0), FLOAT(0.0), FLOAT(0.0)
     contrast = FLOAT(config.demodulation_contrast)
+    signal_1m = FLOAT(config.signal_electrons_at_1m)
+    ambient_e = FLOAT(config.ambient_electrons if config.ambient_light else 0.0)
     planes = []
     for i, buf in enumerate(sample_buffers):
-        r, signal, ambient = _sample_signal(buf, config)
-        phase = r * FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT)
-        phase += FLOAT(i * np.pi / 2)
+        # Two compiled passes around numpy's float32 cosine (the same numbers as the
+        # numpy steps of _sample_signal and _block_mean, in their order).
+        phase, signal, ambient = _sample_terms(
+            np.ascontiguousarray(buf.range_m, dtype=np.float32),
+            np.ascontiguousarray(buf.intensity, dtype=np.float32),
+            np.ascontiguousarray(buf.object_index, dtype=np.int32), signal_1m, ambient_e,
+            FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT), FLOAT(i * np.pi / 2))
         wave = np.cos(phase, out=phase)
-        if config.wiggling:
-            c2 = wave * wave
-            wave = wave * (p1 + c2 * (p3 + c2 * p5))
-        offset = _block_mean(np.add(signal, ambient, out=ambient), k)
-        signal *= contrast
-        signal *= wave
-        offset += _block_mean(signal, k)
-        planes.append(offset)
+        planes.append(_sample_plane(signal, ambient, wave, k, contrast, p1, p3, p5))
     return as_float(np.stack(planes))
+
+
+@kernel
+def _sample_terms(range_m: NDArray[np.float32], intensity: NDArray[np.float32],
+                  index: NDArray[np.int32], signal_1m: np.float32, ambient_e: np.float32,
+                  k_phase: np.float32, phase0: np.float32
+                  ) -> tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32]]:
+    """Per sub-pixel phase ``k R + φ0``, signal and ambient electrons (:func:`_sample_signal`)."""
+    h, w = range_m.shape
+    phase = np.empty((h, w), dtype=np.float32)
+    signal = np.empty((h, w), dtype=np.float32)
+    ambient = np.empty((h, w), dtype=np.float32)
+    near = np.float32(MIN_RANGE_M)
+    for y in range(h):
+        for x in range(w):
+            r = range_m[y, x]
+            if index[y, x] >= 0 and math.isfinite(r):
+                r = max(r, near)
+                response = intensity[y, x]
+            else:
+                r = np.float32(1.0)
+                response = np.float32(0.0)
+            signal[y, x] = response * signal_1m / (r * r)
+            ambient[y, x] = response * ambient_e
+            phase[y, x] = r * k_phase + phase0
+    return phase, signal, ambient
+
+
+@kernel
+def _sample_plane(signal: NDArray[np.float32], ambient: NDArray[np.float32],
+                  wave: NDArray[np.float32], k: int, contrast: np.float32,
+                  p1: np.float32, p3: np.float32, p5: np.float32) -> NDArray[np.float32]:
+    """One correlation sample per sensor pixel, float32.
+
+    The block mean of ``S + B`` plus that of ``m S w``, ``w = c (p1 + c² (p3 + c² p5))`` of
+    the wave ``c`` (wiggling; ``p = (1, 0, 0)``: the plain cosine).
+    """
+    h, w = signal.shape[0] // k, signal.shape[1] // k
+    inv = np.float32(1.0 / (k * k))
+    out = np.empty((h, w), dtype=np.float32)
+    for y in range(h):
+        for x in range(w):
+            total = np.float32(0.0)
+            modulated = np.float32(0.0)
+            for i in range(k):
+                for j in range(k):
+                    yy, xx = y * k + i, x * k + j
+                    c = wave[yy, xx]
+                    c2 = c * c
+                    c = c * (p1 + c2 * (p3 + c2 * p5))
+                    a = signal[yy, xx] + ambient[yy, xx]
+                    m = signal[yy, xx] * contrast * c
+                    if i == 0 and j == 0:
+                        total, modulated = a, m
+                    else:
+                        total += a
+                        modulated += m
+            out[y, x] = total * inv + modulated * inv
+    return out
 
 
 _SOLID_ANGLE: dict[tuple[float, ...], NDArray[np.float32]] = {}
