@@ -951,8 +951,14 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         sample_buffers = (None if sample_buffers is None
                           else [distort_buffers(b, config) for b in sample_buffers])
         see_through = None if see_through is None else distort_buffers(see_through, config)
-        exposure_reference = (None if exposure_reference is None
-                              else distort_buffers(exposure_reference, config))
+        if exposure_reference is not None:
+            # Auto-exposure reads only these three (auto_exposure_s): the reference never
+            # leaves this function, so its other buffers are not resampled.
+            ref, lens = exposure_reference, config.distortion_coefficients
+            exposure_reference = dataclasses.replace(
+                ref, range_m=distort_image(ref.range_m, ref.intrinsics, lens, np.nan),
+                intensity=distort_image(ref.intensity, ref.intrinsics, lens, 0),
+                object_index=distort_image(ref.object_index, ref.intrinsics, lens, -1))
     if (sample_buffers is None and config.motion_artifacts
             and config.motion_sampling == "reprojection"):
         sample_buffers = _moved_samples(buffers, config)   # after the lens: cheaper

@@ -29,6 +29,7 @@
 from __future__ import annotations
 
 import dataclasses
+from typing import TypeVar, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,6 +41,7 @@ from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
 
 F32 = NDArray[np.float32]
+G = TypeVar("G", bound=np.generic)
 #: Fixed-point iterations of the Brown–Conrady inversion.
 UNDISTORT_ITERATIONS = 20
 
@@ -125,9 +127,9 @@ def distortion_map(intrinsics: PinholeIntrinsics,
     return index
 
 
-def distort_image(image: NDArray[np.generic], intrinsics: PinholeIntrinsics,
+def distort_image(image: NDArray[G], intrinsics: PinholeIntrinsics,
                   coefficients: tuple[float, float, float, float, float],
-                  fill: object = 0) -> NDArray[np.generic]:
+                  fill: object = 0) -> NDArray[G]:
     """A per-render-pixel image (H, W, …) as seen through the distorting lens.
 
     Each pixel takes the value of the render pixel :func:`distortion_map` gives it;
@@ -137,7 +139,7 @@ def distort_image(image: NDArray[np.generic], intrinsics: PinholeIntrinsics,
     n = index.size
     src = np.ascontiguousarray(image).reshape(n, -1)
     out = _gather_rows(src, index.ravel(), np.full(src.shape[1], fill, dtype=image.dtype))
-    return out.reshape(image.shape)
+    return cast("NDArray[G]", out.reshape(image.shape))
 
 
 @kernel
