@@ -12,7 +12,7 @@ from simcore.render.renderer import RenderRequest
 from simcore.scene.model import Project
 from simcore.scene.people.expand import body_part_table
 from simcore.scene.project_io import material_table
-from simcore.sensors.base import H5Items, SensorContext, config_key
+from simcore.sensors.base import DeferredOutput, H5Items, SensorContext, config_key
 from simcore.sensors.tof.camera import TofOutput, simulate_tof, slab_transmittance
 from simcore.sensors.tof.specular import is_mirror, material_columns
 
@@ -48,8 +48,17 @@ class TofSensor:
             offsets += (-1.0 / project.timeline.frame_rate_hz,)
         return offsets
 
-    def simulate(self, ctx: SensorContext) -> TofOutput:
-        """The camera model over the render (and the sample renders, if any)."""
+    def simulate(self, ctx: SensorContext) -> TofOutput | DeferredOutput:
+        """The camera model over the render (and the sample renders, if any).
+
+        Run on the engine's post thread where there is one (:attr:`SensorContext.defer`):
+        the calling thread goes on to the next frame's renders meanwhile.
+        """
+        if ctx.defer is not None:
+            return ctx.defer(lambda: self._simulate(ctx))
+        return self._simulate(ctx)
+
+    def _simulate(self, ctx: SensorContext) -> TofOutput:
         cfg = ctx.project.rig.tof
         extra = list(ctx.sample_buffers)
         previous = extra.pop() if cfg.auto_exposure else None
