@@ -36,7 +36,6 @@ from __future__ import annotations
 
 import cmath
 import dataclasses
-import hashlib
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -532,9 +531,9 @@ def _solid_angle(intrinsics: PinholeIntrinsics) -> NDArray[np.float32]:
 #: The last frame's exact one-bounce sums per receiver: a frame in which only part of the
 #: render changed (a person walking past a still camera) sums only what changed.
 _ONE_BOUNCE_REUSE = OneBounceCache()
-#: The last one-bounce result, keyed by a digest of its inputs (still scenes reuse it).
-_ONE_BOUNCE_CACHE: dict[bytes, tuple[NDArray[np.float32], list[tuple[NDArray[np.float32],
-                                                                    NDArray[np.float32]]]]] = {}
+#: The last one-bounce result with copies of its inputs (still scenes reuse it).
+_ONE_BOUNCE_CACHE: dict[bytes, tuple[tuple[NDArray[np.generic], ...], tuple[
+    NDArray[np.float32], list[tuple[NDArray[np.float32], NDArray[np.float32]]]]]] = {}
 
 
 def _cached_one_bounce(arrays: tuple[NDArray[np.generic], ...], params: tuple[object, ...],
@@ -547,19 +546,36 @@ def _cached_one_bounce(arrays: tuple[NDArray[np.generic], ...], params: tuple[ob
 
     The one-bounce sums depend only on the receivers' points and normals and on the senders
     (not on the exposure), so a still camera looking at a still scene reuses them frame
-    after frame; the BLAKE2 digest of the inputs costs about a millisecond.
+    after frame. The inputs are compared byte for byte with the last call's (a compiled
+    comparison that stops at the first difference: a moving scene costs little).
     """
-    digest = hashlib.blake2b(repr(params).encode(), digest_size=20)
-    for a in arrays:
-        digest.update(np.ascontiguousarray(a).data)
-    key = digest.digest()
+    key = repr(params).encode()
     hit = _ONE_BOUNCE_CACHE.get(key)
-    if hit is not None:
-        return hit
+    if hit is not None and len(hit[0]) == len(arrays) and all(
+            _same_bytes(a, b) for a, b in zip(arrays, hit[0], strict=True)):
+        return hit[1]
     result = compute()
     _ONE_BOUNCE_CACHE.clear()
-    _ONE_BOUNCE_CACHE[key] = result
+    _ONE_BOUNCE_CACHE[key] = (tuple(np.array(a, copy=True) for a in arrays), result)
     return result
+
+
+def _same_bytes(a: NDArray[np.generic], b: NDArray[np.generic]) -> bool:
+    """Whether two arrays have the same dtype, shape and bytes."""
+    if a.dtype != b.dtype or a.shape != b.shape:
+        return False
+    word = np.uint64 if a.nbytes % 8 == 0 else np.uint8
+    return bool(_equal_words(np.ascontiguousarray(a).reshape(-1).view(word),
+                             np.ascontiguousarray(b).reshape(-1).view(word)))
+
+
+@kernel
+def _equal_words(a: NDArray[np.unsignedinteger], b: NDArray[np.unsignedinteger]) -> bool:
+    """Word-wise equality, stopping at the first difference."""
+    for i in range(a.shape[0]):
+        if a[i] != b[i]:
+            return False
+    return True
 
 
 @kernel
@@ -947,10 +963,16 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         # The albedo is per render pixel like the buffers: it follows the lens with them.
         albedo = None if albedo is None else np.asarray(distort_image(
             albedo, buffers.intrinsics, config.distortion_coefficients), dtype=FLOAT)
-        buffers = distort_buffers(buffers, config)
+        # Buffers the camera model never reads stay as rendered (the distorted render
+        # does not leave this function); the velocities only for motion reprojection.
+        skip: tuple[str, ...] = ("cos_incidence", "radial_velocity_mps")
+        if not (config.motion_artifacts and config.motion_sampling == "reprojection"):
+            skip += ("velocity_mps",)
+        buffers = distort_buffers(buffers, config, skip=skip)
         sample_buffers = (None if sample_buffers is None
-                          else [distort_buffers(b, config) for b in sample_buffers])
-        see_through = None if see_through is None else distort_buffers(see_through, config)
+                          else [distort_buffers(b, config, skip=skip) for b in sample_buffers])
+        see_through = (None if see_through is None
+                       else distort_buffers(see_through, config, skip=skip))
         if exposure_reference is not None:
             # Auto-exposure reads only these three (auto_exposure_s): the reference never
             # leaves this function, so its other buffers are not resampled.

@@ -159,14 +159,20 @@ def _gather_rows(src: NDArray[np.generic], index: NDArray[np.int64],
     return out
 
 
-def distort_buffers(buffers: RenderBuffers, config: TofCameraConfig) -> RenderBuffers:
-    """The render as seen through the distorting lens (every per-pixel buffer resampled)."""
+def distort_buffers(buffers: RenderBuffers, config: TofCameraConfig, *,
+                    skip: tuple[str, ...] = ()) -> RenderBuffers:
+    """The render as seen through the distorting lens (every per-pixel buffer resampled).
+
+    ``skip``: buffers left as they are (not seen through the lens) — for a caller that never
+    reads them (the camera model does not read ``cos_incidence`` or the radial velocity).
+    """
     shape = buffers.range_m.shape
     background = {"object_index": -1, "object_id": -1, "range_m": np.nan}
     changes: dict[str, object] = {}
     for field in dataclasses.fields(buffers):
         value = getattr(buffers, field.name)
-        if not isinstance(value, np.ndarray) or value.shape[:2] != shape:
+        if (field.name in skip or not isinstance(value, np.ndarray)
+                or value.shape[:2] != shape):
             continue
         changes[field.name] = distort_image(value, buffers.intrinsics,
                                             config.distortion_coefficients,
