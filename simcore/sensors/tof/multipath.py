@@ -327,31 +327,130 @@ def _node_weights(points: F32, normals: F32, seen: NDArray[np.bool_],
     near_crease = _near_crease(points, normals, seen)
     for y in range(h):
         for x in range(w):
+            _pixel_weights(points, normals, seen, node_rows, node_cols, node_seen, cell_y,
+                           frac_y, cell_x, frac_x, near_crease, y, x, weights, missing)
+    return weights, missing
+
+
+@kernel
+def _pixel_weights(points: F32, normals: F32, seen: NDArray[np.bool_],
+                   node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
+                   node_seen: NDArray[np.bool_], cell_y: NDArray[np.int64], frac_y: F32,
+                   cell_x: NDArray[np.int64], frac_x: F32, near_crease: NDArray[np.bool_],
+                   y: int, x: int, weights: NDArray[np.float64], missing: NDArray[np.bool_]
+                   ) -> None:
+    """:func:`_node_weights` of pixel (y, x), written into ``weights`` and ``missing``.
+
+    ``near_crease[y, x]``: whether the pixel has another surface facing it across a
+    concave crease within ``CREASE_GUARD_PX`` (:func:`_near_crease`).
+    """
+    for v in range(4):
+        weights[y, x, v] = 0.0
+    missing[y, x] = False
+    if not seen[y, x]:
+        return
+    # A node keeps its own exact value; other pixels near a crease are flagged.
+    node = ((frac_y[y] == 0.0 or frac_y[y] == 1.0)
+            and (frac_x[x] == 0.0 or frac_x[x] == 1.0))
+    if near_crease[y, x] and not node:
+        missing[y, x] = True
+        return
+    total = 0.0
+    for dy in range(2):
+        iy = min(cell_y[y] + dy, len(node_rows) - 1)
+        wy = frac_y[y] if dy else 1.0 - frac_y[y]
+        for dx in range(2):
+            ix = min(cell_x[x] + dx, len(node_cols) - 1)
+            wx = frac_x[x] if dx else 1.0 - frac_x[x]
+            if not node_seen[iy, ix]:
+                continue
+            if _relation(points, normals, y, x, node_rows[iy], node_cols[ix]):
+                continue
+            weight = wy * wx + 1e-6
+            total += weight
+            weights[y, x, 2 * dy + dx] = weight
+    if total <= 0.0:
+        missing[y, x] = True
+
+
+@kernel
+def _update_node_weights(points: F32, normals: F32, seen: NDArray[np.bool_],
+                         node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
+                         node_seen: NDArray[np.bool_], cell_y: NDArray[np.int64],
+                         frac_y: F32, cell_x: NDArray[np.int64], frac_x: F32,
+                         last_points: F32, last_normals: F32, last_seen: NDArray[np.bool_],
+                         weights: NDArray[np.float64], missing: NDArray[np.bool_],
+                         reach: int) -> int:
+    """Redo :func:`_node_weights` in place only where the receivers changed.
+
+    ``weights`` and ``missing`` hold the last frame's, computed from ``last_points``,
+    ``last_normals`` and ``last_seen``. A pixel's result reads its own receiver, its four
+    nodes (within ``reach − CREASE_GUARD_PX`` pixels: the node step) and the pixels within
+    ``CREASE_GUARD_PX`` (the crease guard), so every pixel within ``reach`` of a changed
+    receiver (point, normal or seen, bit for bit) is redone; the others keep theirs — the
+    same numbers as a fresh :func:`_node_weights`. Returns the number of pixels redone.
+    """
+    h, w = seen.shape
+    changed = np.zeros((h, w), dtype=np.bool_)
+    for y in range(h):
+        for x in range(w):
+            if seen[y, x] != last_seen[y, x]:
+                changed[y, x] = True
+                continue
             if not seen[y, x]:
                 continue
-            # A node keeps its own exact value; other pixels near a crease are flagged.
-            node = ((frac_y[y] == 0.0 or frac_y[y] == 1.0)
-                    and (frac_x[x] == 0.0 or frac_x[x] == 1.0))
-            if near_crease[y, x] and not node:
-                missing[y, x] = True
+            for c in range(3):
+                if (points[y, x, c] != last_points[y, x, c]
+                        or normals[y, x, c] != last_normals[y, x, c]):
+                    changed[y, x] = True
+    # Box dilation by ``reach``, one axis at a time.
+    rows = np.zeros((h, w), dtype=np.bool_)
+    for y in range(h):
+        last = -reach - 1
+        for x in range(w):
+            if changed[y, x]:
+                last = x
+            if x - last <= reach:
+                rows[y, x] = True
+        last = w + reach + 1
+        for x in range(w - 1, -1, -1):
+            if changed[y, x]:
+                last = x
+            if last - x <= reach:
+                rows[y, x] = True
+    redo = np.zeros((h, w), dtype=np.bool_)
+    for x in range(w):
+        last = -reach - 1
+        for y in range(h):
+            if rows[y, x]:
+                last = y
+            if y - last <= reach:
+                redo[y, x] = True
+        last = h + reach + 1
+        for y in range(h - 1, -1, -1):
+            if rows[y, x]:
+                last = y
+            if last - y <= reach:
+                redo[y, x] = True
+    g = CREASE_GUARD_PX
+    count = 0
+    near_crease = np.zeros((h, w), dtype=np.bool_)
+    for y in range(h):
+        for x in range(w):
+            if not redo[y, x]:
                 continue
-            total = 0.0
-            for dy in range(2):
-                iy = min(cell_y[y] + dy, len(node_rows) - 1)
-                wy = frac_y[y] if dy else 1.0 - frac_y[y]
-                for dx in range(2):
-                    ix = min(cell_x[x] + dx, len(node_cols) - 1)
-                    wx = frac_x[x] if dx else 1.0 - frac_x[x]
-                    if not node_seen[iy, ix]:
-                        continue
-                    if _relation(points, normals, y, x, node_rows[iy], node_cols[ix]):
-                        continue
-                    weight = wy * wx + 1e-6
-                    total += weight
-                    weights[y, x, 2 * dy + dx] = weight
-            if total <= 0.0:
-                missing[y, x] = True
-    return weights, missing
+            count += 1
+            near = False
+            if seen[y, x]:
+                for yy in range(max(y - g, 0), min(y + g + 1, h)):
+                    for xx in range(max(x - g, 0), min(x + g + 1, w)):
+                        if ((yy != y or xx != x) and seen[yy, xx]
+                                and _facing(points, normals, y, x, yy, xx)):
+                            near = True
+            near_crease[y, x] = near
+            _pixel_weights(points, normals, seen, node_rows, node_cols, node_seen, cell_y,
+                           frac_y, cell_x, frac_x, near_crease, y, x, weights, missing)
+    return count
 
 
 @kernel
@@ -475,8 +574,18 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
     cx, fx = _cell_of(w, cols)
     # Which pixels blend which nodes, and which are summed exactly, before any sum: the
     # nodes and those pixels are then summed in one pass.
-    weights, missing = _node_weights(pts, nrm, np.ascontiguousarray(seen), rows, cols,
-                                     node_seen, cy, fy, cx, fx)
+    seen = np.ascontiguousarray(seen)
+    reuse = cache.weights_record((h, w, step)) if cache is not None else None
+    if reuse is None:
+        weights, missing = _node_weights(pts, nrm, seen, rows, cols, node_seen, cy, fy, cx,
+                                         fx)
+    else:
+        last_pts, last_nrm, last_seen, weights, missing = reuse
+        weights, missing = weights.copy(), missing.copy()
+        _update_node_weights(pts, nrm, seen, rows, cols, node_seen, cy, fy, cx, fx, last_pts,
+                             last_nrm, last_seen, weights, missing, step + CREASE_GUARD_PX)
+    if cache is not None:
+        cache.keep_weights((h, w, step), (pts.copy(), nrm.copy(), seen.copy(), weights, missing))
     node_index = (rows[:, None] * w + cols[None, :])[node_seen]
     index = np.concatenate([node_index, np.flatnonzero(missing)])
     with (cache or OneBounceCache()).frame(senders, (h, w), k) as exact:
@@ -500,6 +609,10 @@ class _Sums:
     points: F32                      # (R, 3)
     normals: F32                     # (R, 3)
     tiles: NDArray[np.float64]       # (R, T, 1 + 2F) their sums per sender tile
+
+
+#: A frame's receiver points, normals and seen mask with its node weights and flags.
+_Weights = tuple[F32, F32, NDArray[np.bool_], NDArray[np.float64], NDArray[np.bool_]]
 
 
 def _slots(senders: Senders) -> tuple[F32, F32, F32]:
@@ -530,11 +643,24 @@ class OneBounceCache:
     def __init__(self) -> None:
         self._lock = threading.Lock()
         self._last: _Sums | None = None
+        self._weights: tuple[object, _Weights] | None = None
 
     def clear(self) -> None:
         """Forget the last frame (the next one is summed in full)."""
         with self._lock:
             self._last = None
+            self._weights = None
+
+    def weights_record(self, key: object) -> _Weights | None:
+        """The last frame's receivers and node weights (:func:`_node_weights`) for ``key``."""
+        with self._lock:
+            record = self._weights
+        return record[1] if record is not None and record[0] == key else None
+
+    def keep_weights(self, key: object, record: _Weights) -> None:
+        """Keep this frame's receivers and node weights for the next frame."""
+        with self._lock:
+            self._weights = (key, record)
 
     @contextmanager
     def frame(self, senders: Senders, shape: tuple[int, int], k: list[float]
