@@ -50,6 +50,7 @@ front (twice the reflector's distance, flat-plate RCS × Γ² × Γ_front).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
@@ -57,6 +58,7 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import NDArray
 
+from simcore.jit import kernel
 from simcore.render.buffers import RenderBuffers
 from simcore.scene.base import Model
 from simcore.scene.geometry import Box, CornerReflector, Plane, corner_reflector_axes
@@ -258,27 +260,81 @@ def image_paths(reflector: Reflector, scatterers: Scatterers, buffers: RenderBuf
     if facing is None:
         return None
     refl, s0 = facing
-    pos = scatterers.positions_m
-    s = (pos - refl.center_m) @ refl.normal
-    ok = (s > MIN_DISTANCE_M) & (scatterers.object_index != refl.object_index) & (
-        scatterers.rcs_m2 > 0)
-    rows = np.flatnonzero(ok)
+    intr = None if buffers is None else buffers.intrinsics
+    labels = (np.zeros((0, 0), dtype=np.int32) if buffers is None
+              else np.ascontiguousarray(buffers.object_index, dtype=np.int32))
+    # One compiled pass over the scatterers (the steps of the module docstring).
+    rows, images, q = _image_candidates(
+        np.ascontiguousarray(scatterers.positions_m, dtype=np.float64),
+        np.ascontiguousarray(scatterers.object_index, dtype=np.int64),
+        np.ascontiguousarray(scatterers.rcs_m2, dtype=np.float64),
+        np.ascontiguousarray(refl.center_m, dtype=np.float64),
+        np.ascontiguousarray(refl.normal, dtype=np.float64),
+        np.ascontiguousarray(refl.axes, dtype=np.float64),
+        np.ascontiguousarray(refl.half_size_m, dtype=np.float64), float(s0),
+        int(refl.object_index), labels,
+        np.zeros(4) if intr is None else np.array([intr.fx, intr.fy, intr.cx, intr.cy],
+                                                  dtype=np.float64))
     if not len(rows):
         return None
-    images = pos[rows] - 2.0 * s[rows, None] * refl.normal
-    # Crossing point of the leg origin → image with the plane.
-    q = (s0 / (s0 + s[rows]))[:, None] * images
-    local = (q - refl.center_m) @ refl.axes.T
-    inside = np.all(np.abs(local) <= refl.half_size_m, axis=1)
-    if buffers is not None:
-        inside &= _reflector_seen(buffers, q, refl.object_index)
-    if not np.any(inside):
-        return None
-    rows, images, q = rows[inside], images[inside], q[inside]
     cos_i = s0 / np.maximum(np.linalg.norm(q, axis=1), 1e-300)
     g = 4.0 * np.pi * refl.height_rms_m * cos_i / wavelength_m
     gamma = refl.gamma * np.exp(-0.5 * g * g)
     return ImagePaths(refl, rows, images, gamma.astype(np.complex128), q)
+
+
+@kernel
+def _image_candidates(pos: NDArray[np.float64], object_index: NDArray[np.int64],
+                      rcs: NDArray[np.float64], center: NDArray[np.float64],
+                      normal: NDArray[np.float64], axes: NDArray[np.float64],
+                      half: NDArray[np.float64], s0: float, reflector: int,
+                      labels: NDArray[np.int32], intrinsics: NDArray[np.float64]
+                      ) -> tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64]]:
+    """The scatterers with a path via the reflector: rows, images and crossing points.
+
+    A scatterer of another object, with a cross-section, in front of the plane (signed
+    distance ``s > MIN_DISTANCE_M``) has the image ``P − 2 s n``; the leg from the radar to
+    the image crosses the plane at ``q = s0 / (s0 + s) · image``, which must lie within the
+    reflector's rectangle and, with a render (``labels`` not empty), be seen as the
+    reflector where it falls inside the image (:func:`_reflector_seen`).
+    """
+    n = pos.shape[0]
+    rows = np.empty(n, dtype=np.intp)
+    images = np.empty((n, 3))
+    crossing = np.empty((n, 3))
+    h, w = labels.shape
+    fx, fy, cx, cy = intrinsics[0], intrinsics[1], intrinsics[2], intrinsics[3]
+    img = np.empty(3)
+    q = np.empty(3)
+    k = 0
+    for i in range(n):
+        s = ((pos[i, 0] - center[0]) * normal[0] + (pos[i, 1] - center[1]) * normal[1]
+             + (pos[i, 2] - center[2]) * normal[2])
+        if not (s > MIN_DISTANCE_M and object_index[i] != reflector and rcs[i] > 0):
+            continue
+        f = s0 / (s0 + s)
+        for c in range(3):
+            img[c] = pos[i, c] - 2.0 * s * normal[c]
+            q[c] = f * img[c]
+        inside = True
+        for a in range(2):
+            local = ((q[0] - center[0]) * axes[a, 0] + (q[1] - center[1]) * axes[a, 1]
+                     + (q[2] - center[2]) * axes[a, 2])
+            if not abs(local) <= half[a]:
+                inside = False
+        if not inside:
+            continue
+        if h > 0 and q[2] > 0:
+            col = math.floor(fx * q[0] / q[2] + cx)
+            row = math.floor(fy * q[1] / q[2] + cy)
+            if 0 <= col < w and 0 <= row < h and labels[int(row), int(col)] != reflector:
+                continue
+        rows[k] = i
+        for c in range(3):
+            images[k, c] = img[c]
+            crossing[k, c] = q[c]
+        k += 1
+    return rows[:k].copy(), images[:k].copy(), crossing[:k].copy()
 
 
 def _reflector_seen(buffers: RenderBuffers, points: NDArray[np.float64], object_index: int

@@ -36,8 +36,8 @@ from __future__ import annotations
 
 import cmath
 import dataclasses
-import hashlib
 import math
+import threading
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from math import gcd
@@ -46,6 +46,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.ndimage import gaussian_filter
 
+from simcore.jit import kernel
 from simcore.render.buffers import RenderBuffers, downsample_ground_truth
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.materials import BandMaterial
@@ -368,17 +369,48 @@ def _reprojected_ranges(buffers: RenderBuffers, config: TofCameraConfig
     d : ndarray, shape (H, W, 3), float32
         Each pixel's unit ray (where it sees a surface).
     """
-    hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
-    safe_r = np.where(hit, buffers.range_m, FLOAT(1.0))
-    d = buffers.points_m / safe_r[..., None]
-    n_dot_d = np.einsum("ijk,ijk->ij", buffers.normals, d)
-    n_dot_v = np.einsum("ijk,ijk->ij", buffers.normals, buffers.velocity_mps)
-    moves = np.abs(n_dot_d) > 1e-6
-    rate = np.where(hit & moves, n_dot_v / np.where(moves, n_dot_d, FLOAT(1.0)), FLOAT(0.0))
-    ranges = [buffers.range_m]
-    for i in (1, 2, 3):
-        ranges.append(as_float(buffers.range_m + rate * FLOAT(i * config.sample_interval_s)))
-    return ranges, as_float(d)
+    ranges, d = _reprojection(np.ascontiguousarray(buffers.range_m, dtype=np.float32),
+                              np.ascontiguousarray(buffers.object_index, dtype=np.int32),
+                              np.ascontiguousarray(buffers.points_m, dtype=np.float32),
+                              np.ascontiguousarray(buffers.normals, dtype=np.float32),
+                              np.ascontiguousarray(buffers.velocity_mps, dtype=np.float32),
+                              float(config.sample_interval_s))
+    return [buffers.range_m, ranges[0], ranges[1], ranges[2]], d
+
+
+@kernel
+def _reprojection(range_m: NDArray[np.float32], index: NDArray[np.int32],
+                  points: NDArray[np.float32], normals: NDArray[np.float32],
+                  velocity: NDArray[np.float32], interval: float
+                  ) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+    """:func:`_reprojected_ranges` in one pass: samples 1–3's ranges (3, H, W) and the rays.
+
+    Float32 throughout, in numpy's order: ``d = P / R``, ``rate = (n·v) / (n·d)`` where the
+    pixel sees a surface and ``|n·d| > 1e-6``, else 0; ``R_i = R + rate · (i Δt)``.
+    """
+    h, w = range_m.shape
+    ranges = np.empty((3, h, w), dtype=np.float32)
+    d = np.empty((h, w, 3), dtype=np.float32)
+    one, zero, tiny = np.float32(1.0), np.float32(0.0), np.float32(1e-6)
+    steps = np.empty(3, dtype=np.float32)
+    for i in range(3):
+        steps[i] = np.float32((i + 1) * interval)
+    for y in range(h):
+        for x in range(w):
+            r = range_m[y, x]
+            hit = index[y, x] >= 0 and math.isfinite(r)
+            safe = r if hit else one
+            d0, d1, d2 = points[y, x, 0] / safe, points[y, x, 1] / safe, points[y, x, 2] / safe
+            d[y, x, 0], d[y, x, 1], d[y, x, 2] = d0, d1, d2
+            n0, n1, n2 = normals[y, x, 0], normals[y, x, 1], normals[y, x, 2]
+            n_dot_d = n0 * d0 + n1 * d1 + n2 * d2
+            n_dot_v = n0 * velocity[y, x, 0] + n1 * velocity[y, x, 1] + n2 * velocity[y, x, 2]
+            rate = zero
+            if hit and abs(n_dot_d) > tiny:
+                rate = n_dot_v / n_dot_d
+            for i in range(3):
+                ranges[i, y, x] = r + rate * steps[i]
+    return ranges, d
 
 
 def _moved_samples(buffers: RenderBuffers, config: TofCameraConfig) -> list[RenderBuffers]:
@@ -406,22 +438,82 @@ def _correlation_from_samples(sample_buffers: Sequence[RenderBuffers], config: T
     # Wiggling: cos 3x = 4c³ − 3c and cos 5x = 16c⁵ − 20c³ + 5c with c = cos x, so
     # c + a3 cos 3x + a5 cos 5x is a polynomial in c (one cosine instead of three).
     p1, p3, p5 = FLOAT(1 - 3 * a3 + 5 * a5), FLOAT(4 * a3 - 20 * a5), FLOAT(16 * a5)
+    if not config.wiggling:          # c (1 + c² (0 + c² 0)) = c exactly
+        p1, p3, p5 = FLOAT(1.0), FLOAT(0.0), FLOAT(0.0)
     contrast = FLOAT(config.demodulation_contrast)
+    signal_1m = FLOAT(config.signal_electrons_at_1m)
+    ambient_e = FLOAT(config.ambient_electrons if config.ambient_light else 0.0)
     planes = []
     for i, buf in enumerate(sample_buffers):
-        r, signal, ambient = _sample_signal(buf, config)
-        phase = r * FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT)
-        phase += FLOAT(i * np.pi / 2)
+        # Two compiled passes around numpy's float32 cosine (the same numbers as the
+        # numpy steps of _sample_signal and _block_mean, in their order).
+        phase, signal, ambient = _sample_terms(
+            np.ascontiguousarray(buf.range_m, dtype=np.float32),
+            np.ascontiguousarray(buf.intensity, dtype=np.float32),
+            np.ascontiguousarray(buf.object_index, dtype=np.int32), signal_1m, ambient_e,
+            FLOAT(4.0 * np.pi * f_mod / SPEED_OF_LIGHT), FLOAT(i * np.pi / 2))
         wave = np.cos(phase, out=phase)
-        if config.wiggling:
-            c2 = wave * wave
-            wave = wave * (p1 + c2 * (p3 + c2 * p5))
-        offset = _block_mean(np.add(signal, ambient, out=ambient), k)
-        signal *= contrast
-        signal *= wave
-        offset += _block_mean(signal, k)
-        planes.append(offset)
+        planes.append(_sample_plane(signal, ambient, wave, k, contrast, p1, p3, p5))
     return as_float(np.stack(planes))
+
+
+@kernel
+def _sample_terms(range_m: NDArray[np.float32], intensity: NDArray[np.float32],
+                  index: NDArray[np.int32], signal_1m: np.float32, ambient_e: np.float32,
+                  k_phase: np.float32, phase0: np.float32
+                  ) -> tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32]]:
+    """Per sub-pixel phase ``k R + φ0``, signal and ambient electrons (:func:`_sample_signal`)."""
+    h, w = range_m.shape
+    phase = np.empty((h, w), dtype=np.float32)
+    signal = np.empty((h, w), dtype=np.float32)
+    ambient = np.empty((h, w), dtype=np.float32)
+    near = np.float32(MIN_RANGE_M)
+    for y in range(h):
+        for x in range(w):
+            r = range_m[y, x]
+            if index[y, x] >= 0 and math.isfinite(r):
+                r = max(r, near)
+                response = intensity[y, x]
+            else:
+                r = np.float32(1.0)
+                response = np.float32(0.0)
+            signal[y, x] = response * signal_1m / (r * r)
+            ambient[y, x] = response * ambient_e
+            phase[y, x] = r * k_phase + phase0
+    return phase, signal, ambient
+
+
+@kernel
+def _sample_plane(signal: NDArray[np.float32], ambient: NDArray[np.float32],
+                  wave: NDArray[np.float32], k: int, contrast: np.float32,
+                  p1: np.float32, p3: np.float32, p5: np.float32) -> NDArray[np.float32]:
+    """One correlation sample per sensor pixel, float32.
+
+    The block mean of ``S + B`` plus that of ``m S w``, ``w = c (p1 + c² (p3 + c² p5))`` of
+    the wave ``c`` (wiggling; ``p = (1, 0, 0)``: the plain cosine).
+    """
+    h, w = signal.shape[0] // k, signal.shape[1] // k
+    inv = np.float32(1.0 / (k * k))
+    out = np.empty((h, w), dtype=np.float32)
+    for y in range(h):
+        for x in range(w):
+            total = np.float32(0.0)
+            modulated = np.float32(0.0)
+            for i in range(k):
+                for j in range(k):
+                    yy, xx = y * k + i, x * k + j
+                    c = wave[yy, xx]
+                    c2 = c * c
+                    c = c * (p1 + c2 * (p3 + c2 * p5))
+                    a = signal[yy, xx] + ambient[yy, xx]
+                    m = signal[yy, xx] * contrast * c
+                    if i == 0 and j == 0:
+                        total, modulated = a, m
+                    else:
+                        total += a
+                        modulated += m
+            out[y, x] = total * inv + modulated * inv
+    return out
 
 
 _SOLID_ANGLE: dict[tuple[float, ...], NDArray[np.float32]] = {}
@@ -441,11 +533,12 @@ def _solid_angle(intrinsics: PinholeIntrinsics) -> NDArray[np.float32]:
 #: The last frame's exact one-bounce sums per receiver: a frame in which only part of the
 #: render changed (a person walking past a still camera) sums only what changed.
 _ONE_BOUNCE_REUSE = OneBounceCache()
-#: The last one-bounce results, keyed by a digest of their inputs (still scenes reuse
-#: them): one per camera for up to this many cameras (least recently used dropped).
+#: The last one-bounce results with copies of their inputs (still scenes reuse them): one
+#: per camera for up to this many cameras (least recently used dropped).
 _ONE_BOUNCE_KEEP = 8
-_ONE_BOUNCE_CACHE: dict[bytes, tuple[NDArray[np.float32], list[tuple[NDArray[np.float32],
-                                                                    NDArray[np.float32]]]]] = {}
+_ONE_BOUNCE_CACHE: list[tuple[bytes, tuple[NDArray[np.generic], ...], tuple[
+    NDArray[np.float32], list[tuple[NDArray[np.float32], NDArray[np.float32]]]]]] = []
+_ONE_BOUNCE_LOCK = threading.Lock()
 
 
 def _cached_one_bounce(arrays: tuple[NDArray[np.generic], ...], params: tuple[object, ...],
@@ -458,21 +551,98 @@ def _cached_one_bounce(arrays: tuple[NDArray[np.generic], ...], params: tuple[ob
 
     The one-bounce sums depend only on the receivers' points and normals and on the senders
     (not on the exposure), so a still camera looking at a still scene reuses them frame
-    after frame; the BLAKE2 digest of the inputs costs about a millisecond.
+    after frame. The inputs are compared byte for byte with the last call's (a compiled
+    comparison that stops at the first difference: a moving scene costs little).
     """
-    digest = hashlib.blake2b(repr(params).encode(), digest_size=20)
-    for a in arrays:
-        digest.update(np.ascontiguousarray(a).data)
-    key = digest.digest()
-    hit = _ONE_BOUNCE_CACHE.pop(key, None)
-    if hit is not None:
-        _ONE_BOUNCE_CACHE[key] = hit            # most recently used last
-        return hit
+    key = repr(params).encode()
+    with _ONE_BOUNCE_LOCK:
+        for i, (k, inputs, value) in enumerate(_ONE_BOUNCE_CACHE):
+            if k == key and len(inputs) == len(arrays) and all(
+                    _same_bytes(a, b) for a, b in zip(arrays, inputs, strict=True)):
+                _ONE_BOUNCE_CACHE.append(_ONE_BOUNCE_CACHE.pop(i))   # most recent last
+                return value
     result = compute()
-    _ONE_BOUNCE_CACHE[key] = result
-    while len(_ONE_BOUNCE_CACHE) > _ONE_BOUNCE_KEEP:
-        del _ONE_BOUNCE_CACHE[next(iter(_ONE_BOUNCE_CACHE))]
+    with _ONE_BOUNCE_LOCK:
+        _ONE_BOUNCE_CACHE.append((key, tuple(np.array(a, copy=True) for a in arrays), result))
+        del _ONE_BOUNCE_CACHE[:-_ONE_BOUNCE_KEEP]
     return result
+
+
+def _same_bytes(a: NDArray[np.generic], b: NDArray[np.generic]) -> bool:
+    """Whether two arrays have the same dtype, shape and bytes."""
+    if a.dtype != b.dtype or a.shape != b.shape:
+        return False
+    word = np.uint64 if a.nbytes % 8 == 0 else np.uint8
+    return bool(_equal_words(np.ascontiguousarray(a).reshape(-1).view(word),
+                             np.ascontiguousarray(b).reshape(-1).view(word)))
+
+
+@kernel
+def _equal_words(a: NDArray[np.unsignedinteger], b: NDArray[np.unsignedinteger]) -> bool:
+    """Word-wise equality, stopping at the first difference."""
+    for i in range(a.shape[0]):
+        if a[i] != b[i]:
+            return False
+    return True
+
+
+@kernel
+def _receivers(points: NDArray[np.float32], normals: NDArray[np.float32],
+               hit: NDArray[np.bool_], albedo: NDArray[np.float32], k: int
+               ) -> tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32],
+                          NDArray[np.float32]]:
+    """Each sensor pixel's mean surface point, unit normal and albedo over its hit sub-pixels.
+
+    As :func:`_block_mean` of the hit sub-pixels' values (0 elsewhere) divided by the hit
+    fraction ``coverage`` (at least 1e-12), in float32 and in the same order, the normal then
+    scaled to unit length.
+
+    Returns
+    -------
+    points, normals : ndarray, shape (H, W, 3), float32
+    albedo, coverage : ndarray, shape (H, W), float32
+    """
+    h, w = hit.shape[0] // k, hit.shape[1] // k
+    inv = np.float32(1.0 / (k * k))
+    pts = np.empty((h, w, 3), dtype=np.float32)
+    nrm = np.empty((h, w, 3), dtype=np.float32)
+    rho = np.empty((h, w), dtype=np.float32)
+    coverage = np.empty((h, w), dtype=np.float32)
+    zero = np.float32(0.0)
+    sp = np.empty(3, dtype=np.float32)
+    sn = np.empty(3, dtype=np.float32)
+    for y in range(h):
+        for x in range(w):
+            cov, sa = zero, zero
+            for i in range(k):
+                for j in range(k):
+                    yy, xx = y * k + i, x * k + j
+                    on = hit[yy, xx]
+                    a = albedo[yy, xx]
+                    if i == 0 and j == 0:
+                        cov = np.float32(1.0) if on else zero
+                        sa = a
+                        for c in range(3):
+                            sp[c] = points[yy, xx, c] if on else zero
+                            sn[c] = normals[yy, xx, c] if on else zero
+                    else:
+                        cov += np.float32(1.0) if on else zero
+                        sa += a
+                        for c in range(3):
+                            sp[c] += points[yy, xx, c] if on else zero
+                            sn[c] += normals[yy, xx, c] if on else zero
+            cov *= inv
+            count = max(cov, np.float32(1e-12))
+            coverage[y, x] = cov
+            rho[y, x] = (sa * inv) / count
+            for c in range(3):
+                pts[y, x, c] = (sp[c] * inv) / count
+                sn[c] = (sn[c] * inv) / count
+            norm = max(np.float32(math.sqrt(sn[0] * sn[0] + sn[1] * sn[1] + sn[2] * sn[2])),
+                       np.float32(1e-12))
+            for c in range(3):
+                nrm[y, x, c] = sn[c] / norm
+    return pts, nrm, rho, coverage
 
 
 def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
@@ -497,18 +667,12 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
         _solid_angle(buffers.intrinsics), hit,
         stride=config.multipath_patch_px * k)
     # Receivers: each sensor pixel's mean surface point, normal and albedo.
-    weight = hit.astype(np.float32)
-    coverage = _block_mean(weight, k)
-    count = np.maximum(coverage, FLOAT(1e-12))
-    pts = np.stack([_block_mean(np.where(hit, buffers.points_m[..., i], 0.0), k) / count
-                    for i in range(3)], axis=-1)
-    nrm = np.stack([_block_mean(np.where(hit, buffers.normals[..., i], 0.0), k) / count
-                    for i in range(3)], axis=-1)
-    nrm /= np.maximum(np.linalg.norm(nrm, axis=-1, keepdims=True), FLOAT(1e-12))
-    rho = _block_mean(lit_albedo, k) / count
+    pts, nrm, rho, coverage = _receivers(
+        np.ascontiguousarray(buffers.points_m, dtype=np.float32),
+        np.ascontiguousarray(buffers.normals, dtype=np.float32), np.ascontiguousarray(hit),
+        np.ascontiguousarray(lit_albedo, dtype=np.float32), k)
     seen = coverage > 0
     h, w = seen.shape
-    pts, nrm = as_float(pts), as_float(nrm)
     # Keyed by what the sums read (sensor-resolution receivers and the senders): a quarter
     # of the render's bytes to digest.
     magnitude, phasors = _cached_one_bounce(
@@ -812,12 +976,24 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         # The albedo is per render pixel like the buffers: it follows the lens with them.
         albedo = None if albedo is None else np.asarray(distort_image(
             albedo, buffers.intrinsics, config.distortion_coefficients), dtype=FLOAT)
-        buffers = distort_buffers(buffers, config)
+        # Buffers the camera model never reads stay as rendered (the distorted render
+        # does not leave this function); the velocities only for motion reprojection.
+        skip: tuple[str, ...] = ("cos_incidence", "radial_velocity_mps")
+        if not (config.motion_artifacts and config.motion_sampling == "reprojection"):
+            skip += ("velocity_mps",)
+        buffers = distort_buffers(buffers, config, skip=skip)
         sample_buffers = (None if sample_buffers is None
-                          else [distort_buffers(b, config) for b in sample_buffers])
-        see_through = None if see_through is None else distort_buffers(see_through, config)
-        exposure_reference = (None if exposure_reference is None
-                              else distort_buffers(exposure_reference, config))
+                          else [distort_buffers(b, config, skip=skip) for b in sample_buffers])
+        see_through = (None if see_through is None
+                       else distort_buffers(see_through, config, skip=skip))
+        if exposure_reference is not None:
+            # Auto-exposure reads only these three (auto_exposure_s): the reference never
+            # leaves this function, so its other buffers are not resampled.
+            ref, lens = exposure_reference, config.distortion_coefficients
+            exposure_reference = dataclasses.replace(
+                ref, range_m=distort_image(ref.range_m, ref.intrinsics, lens, np.nan),
+                intensity=distort_image(ref.intensity, ref.intrinsics, lens, 0),
+                object_index=distort_image(ref.object_index, ref.intrinsics, lens, -1))
     if (sample_buffers is None and config.motion_artifacts
             and config.motion_sampling == "reprojection"):
         sample_buffers = _moved_samples(buffers, config)   # after the lens: cheaper

@@ -287,19 +287,21 @@ def _near_crease(points: F32, normals: F32, seen: NDArray[np.bool_]) -> NDArray[
 
 
 @kernel
-def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
-                       node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
-                       node_values: F32, node_seen: NDArray[np.bool_],
-                       cell_y: NDArray[np.int64], frac_y: F32,
-                       cell_x: NDArray[np.int64], frac_x: F32
-                       ) -> tuple[F32, NDArray[np.bool_]]:
-    """Surface-aware bilinear interpolation of node values to every pixel.
+def _node_weights(points: F32, normals: F32, seen: NDArray[np.bool_],
+                  node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
+                  node_seen: NDArray[np.bool_],
+                  cell_y: NDArray[np.int64], frac_y: F32,
+                  cell_x: NDArray[np.int64], frac_x: F32
+                  ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Each pixel's weights of the four nodes around it, and the pixels to sum exactly.
 
     Of the four nodes around a pixel, only those on the pixel's own smooth surface (normals
     within ``SAME_SURFACE_COS``; each point near the other's tangent plane) are blended, with
-    their bilinear weights renormalised. A seen pixel without such a node, or with a pixel
-    of another surface facing it across a concave crease within ``CREASE_GUARD_PX`` (and
-    not itself a node), is flagged.
+    their bilinear weights (renormalised by :func:`_blend_nodes`). A seen pixel without such
+    a node, or with a pixel of another surface facing it across a concave crease within
+    ``CREASE_GUARD_PX`` (and not itself a node), is flagged. The weights do not depend on
+    the node values, so the flagged pixels are known before any sum: the nodes and they
+    are summed in one pass (:class:`OneBounceCache`).
 
     Parameters
     ----------
@@ -308,56 +310,214 @@ def _interpolate_nodes(points: F32, normals: F32, seen: NDArray[np.bool_],
     seen : ndarray of bool, shape (H, W)
     node_rows, node_cols : ndarray of int, shapes (NY,), (NX,)
         Pixel coordinates of the node grid.
-    node_values : ndarray, shape (NY, NX, V)
     node_seen : ndarray of bool, shape (NY, NX)
     cell_y, frac_y, cell_x, frac_x : ndarray, shapes (H,), (H,), (W,), (W,)
         From :func:`_cell_of`.
 
     Returns
     -------
-    values : ndarray, shape (H, W, V)
+    weights : ndarray, shape (H, W, 4), float64
+        Weight of node ``(cell_y + dy, cell_x + dx)`` at ``2 dy + dx`` (0: not blended).
     missing : ndarray of bool, shape (H, W)
         Seen pixels with no node on their surface or next to a concave crease (to be
         computed exactly).
     """
     h, w = seen.shape
-    nv = node_values.shape[2]
-    out = np.zeros((h, w, nv), dtype=np.float32)
+    weights = np.zeros((h, w, 4))
     missing = np.zeros((h, w), dtype=np.bool_)
-    acc = np.zeros(nv)
     near_crease = _near_crease(points, normals, seen)
+    for y in range(h):
+        for x in range(w):
+            _pixel_weights(points, normals, seen, node_rows, node_cols, node_seen, cell_y,
+                           frac_y, cell_x, frac_x, near_crease, y, x, weights, missing)
+    return weights, missing
+
+
+@kernel
+def _pixel_weights(points: F32, normals: F32, seen: NDArray[np.bool_],
+                   node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
+                   node_seen: NDArray[np.bool_], cell_y: NDArray[np.int64], frac_y: F32,
+                   cell_x: NDArray[np.int64], frac_x: F32, near_crease: NDArray[np.bool_],
+                   y: int, x: int, weights: NDArray[np.float64], missing: NDArray[np.bool_]
+                   ) -> None:
+    """:func:`_node_weights` of pixel (y, x), written into ``weights`` and ``missing``.
+
+    ``near_crease[y, x]``: whether the pixel has another surface facing it across a
+    concave crease within ``CREASE_GUARD_PX`` (:func:`_near_crease`).
+    """
+    for v in range(4):
+        weights[y, x, v] = 0.0
+    missing[y, x] = False
+    if not seen[y, x]:
+        return
+    # A node keeps its own exact value; other pixels near a crease are flagged.
+    node = ((frac_y[y] == 0.0 or frac_y[y] == 1.0)
+            and (frac_x[x] == 0.0 or frac_x[x] == 1.0))
+    if near_crease[y, x] and not node:
+        missing[y, x] = True
+        return
+    total = 0.0
+    for dy in range(2):
+        iy = min(cell_y[y] + dy, len(node_rows) - 1)
+        wy = frac_y[y] if dy else 1.0 - frac_y[y]
+        for dx in range(2):
+            ix = min(cell_x[x] + dx, len(node_cols) - 1)
+            wx = frac_x[x] if dx else 1.0 - frac_x[x]
+            if not node_seen[iy, ix]:
+                continue
+            if _relation(points, normals, y, x, node_rows[iy], node_cols[ix]):
+                continue
+            weight = wy * wx + 1e-6
+            total += weight
+            weights[y, x, 2 * dy + dx] = weight
+    if total <= 0.0:
+        missing[y, x] = True
+
+
+@kernel
+def _update_node_weights(points: F32, normals: F32, seen: NDArray[np.bool_],
+                         node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
+                         node_seen: NDArray[np.bool_], cell_y: NDArray[np.int64],
+                         frac_y: F32, cell_x: NDArray[np.int64], frac_x: F32,
+                         last_points: F32, last_normals: F32, last_seen: NDArray[np.bool_],
+                         weights: NDArray[np.float64], missing: NDArray[np.bool_],
+                         reach: int) -> int:
+    """Redo :func:`_node_weights` in place only where the receivers changed.
+
+    ``weights`` and ``missing`` hold the last frame's, computed from ``last_points``,
+    ``last_normals`` and ``last_seen``. A pixel's result reads its own receiver, its four
+    nodes (within ``reach − CREASE_GUARD_PX`` pixels: the node step) and the pixels within
+    ``CREASE_GUARD_PX`` (the crease guard), so every pixel within ``reach`` of a changed
+    receiver (point, normal or seen, bit for bit) is redone; the others keep theirs — the
+    same numbers as a fresh :func:`_node_weights`. Returns the number of pixels redone.
+    """
+    h, w = seen.shape
+    changed = np.zeros((h, w), dtype=np.bool_)
+    for y in range(h):
+        for x in range(w):
+            if seen[y, x] != last_seen[y, x]:
+                changed[y, x] = True
+                continue
+            if not seen[y, x]:
+                continue
+            for c in range(3):
+                if (points[y, x, c] != last_points[y, x, c]
+                        or normals[y, x, c] != last_normals[y, x, c]):
+                    changed[y, x] = True
+    # Box dilation by ``reach``, one axis at a time.
+    rows = np.zeros((h, w), dtype=np.bool_)
+    for y in range(h):
+        last = -reach - 1
+        for x in range(w):
+            if changed[y, x]:
+                last = x
+            if x - last <= reach:
+                rows[y, x] = True
+        last = w + reach + 1
+        for x in range(w - 1, -1, -1):
+            if changed[y, x]:
+                last = x
+            if last - x <= reach:
+                rows[y, x] = True
+    redo = np.zeros((h, w), dtype=np.bool_)
+    for x in range(w):
+        last = -reach - 1
+        for y in range(h):
+            if rows[y, x]:
+                last = y
+            if y - last <= reach:
+                redo[y, x] = True
+        last = h + reach + 1
+        for y in range(h - 1, -1, -1):
+            if rows[y, x]:
+                last = y
+            if last - y <= reach:
+                redo[y, x] = True
+    g = CREASE_GUARD_PX
+    count = 0
+    near_crease = np.zeros((h, w), dtype=np.bool_)
+    for y in range(h):
+        for x in range(w):
+            if not redo[y, x]:
+                continue
+            count += 1
+            near = False
+            if seen[y, x]:
+                for yy in range(max(y - g, 0), min(y + g + 1, h)):
+                    for xx in range(max(x - g, 0), min(x + g + 1, w)):
+                        if ((yy != y or xx != x) and seen[yy, xx]
+                                and _facing(points, normals, y, x, yy, xx)):
+                            near = True
+            near_crease[y, x] = near
+            _pixel_weights(points, normals, seen, node_rows, node_cols, node_seen, cell_y,
+                           frac_y, cell_x, frac_x, near_crease, y, x, weights, missing)
+    return count
+
+
+@kernel
+def _blend_nodes(seen: NDArray[np.bool_], weights: NDArray[np.float64],
+                 missing: NDArray[np.bool_], node_values: F32,
+                 cell_y: NDArray[np.int64], cell_x: NDArray[np.int64],
+                 exact_index: NDArray[np.int64], exact_values: F32, points: F32,
+                 k: F32) -> F32:
+    """Indirect light per pixel: nodes blended by :func:`_node_weights`, or the exact sum.
+
+    The blend adds the weighted node values in float64 and divides by the weights' sum;
+    pixels in ``missing`` take their exact sum (``exact_values`` row of their flat pixel
+    index in ``exact_index``, the last such row). Then each receiver's own leg
+    ``exp(i k_f R_P)`` is put back on the phasors, in float32 throughout (``R_P = |P|``,
+    the phase, its cosine and sine, and the complex product as numpy's complex64 one).
+
+    Returns
+    -------
+    ndarray, shape (1 + 2F, H, W), float32
+        The magnitude and per frequency the phasor's real and imaginary parts; 0 where
+        not ``seen``.
+    """
+    h, w = seen.shape
+    nv = node_values.shape[2]
+    ny, nx = node_values.shape[0], node_values.shape[1]
+    out = np.zeros((nv, h, w), dtype=np.float32)
+    row = np.full(h * w, -1, dtype=np.int64)
+    for i in range(exact_index.shape[0]):
+        row[exact_index[i]] = i
+    acc = np.zeros(nv)
+    val = np.zeros(nv, dtype=np.float32)
     for y in range(h):
         for x in range(w):
             if not seen[y, x]:
                 continue
-            # A node keeps its own exact value; other pixels near a crease are flagged.
-            node = ((frac_y[y] == 0.0 or frac_y[y] == 1.0)
-                    and (frac_x[x] == 0.0 or frac_x[x] == 1.0))
-            if near_crease[y, x] and not node:
-                missing[y, x] = True
-                continue
-            total = 0.0
-            acc[:] = 0.0
-            for dy in range(2):
-                iy = min(cell_y[y] + dy, len(node_rows) - 1)
-                wy = frac_y[y] if dy else 1.0 - frac_y[y]
-                for dx in range(2):
-                    ix = min(cell_x[x] + dx, len(node_cols) - 1)
-                    wx = frac_x[x] if dx else 1.0 - frac_x[x]
-                    if not node_seen[iy, ix]:
-                        continue
-                    if _relation(points, normals, y, x, node_rows[iy], node_cols[ix]):
-                        continue
-                    weight = wy * wx + 1e-6
-                    total += weight
-                    for v in range(nv):
-                        acc[v] += weight * node_values[iy, ix, v]
-            if total > 0.0:
+            if missing[y, x]:
+                r = row[y * w + x]
                 for v in range(nv):
-                    out[y, x, v] = acc[v] / total
+                    val[v] = exact_values[r, v]
             else:
-                missing[y, x] = True
-    return out, missing
+                total = 0.0
+                acc[:] = 0.0
+                for dy in range(2):
+                    iy = min(cell_y[y] + dy, ny - 1)
+                    for dx in range(2):
+                        weight = weights[y, x, 2 * dy + dx]
+                        if weight == 0.0:
+                            continue
+                        ix = min(cell_x[x] + dx, nx - 1)
+                        total += weight
+                        for v in range(nv):
+                            acc[v] += weight * node_values[iy, ix, v]
+                for v in range(nv):
+                    val[v] = acc[v] / total
+            out[0, y, x] = val[0]
+            px, py, pz = points[y, x, 0], points[y, x, 1], points[y, x, 2]
+            r_p = math.sqrt(px * px + py * py + pz * pz)
+            for f in range(k.shape[0]):
+                phase = k[f] * r_p
+                c, s = math.cos(phase), math.sin(phase)
+                re, im = val[1 + 2 * f], val[2 + 2 * f]
+                # numpy's complex64 product, fused: fma(re, c, −im·s), fma(re, s, im·c)
+                # (the float32 products are exact in float64).
+                out[1 + 2 * f, y, x] = np.float64(re) * np.float64(c) - np.float64(im * s)
+                out[2 + 2 * f, y, x] = np.float64(re) * np.float64(s) + np.float64(im * c)
+    return out
 
 
 def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], senders: Senders,
@@ -410,30 +570,36 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
         return magnitude, phasors
     rows, cols = _node_axis(h, step), _node_axis(w, step)
     grid = np.ix_(rows, cols)
-    node_seen = seen[grid]
+    node_seen = np.ascontiguousarray(seen[grid])
     k = [2.0 * np.pi * f / SPEED_OF_LIGHT for f in frequencies_hz]
-    flat = np.arange(h * w).reshape(h, w)
+    pts = np.ascontiguousarray(points_m, dtype=np.float32)
+    nrm = np.ascontiguousarray(normals, dtype=np.float32)
+    cy, fy = _cell_of(h, rows)
+    cx, fx = _cell_of(w, cols)
+    # Which pixels blend which nodes, and which are summed exactly, before any sum: the
+    # nodes and those pixels are then summed in one pass.
+    seen = np.ascontiguousarray(seen)
+    reuse = cache.weights_record((camera, h, w, step)) if cache is not None else None
+    if reuse is None:
+        weights, missing = _node_weights(pts, nrm, seen, rows, cols, node_seen, cy, fy, cx,
+                                         fx)
+    else:
+        last_pts, last_nrm, last_seen, weights, missing = reuse
+        weights, missing = weights.copy(), missing.copy()
+        _update_node_weights(pts, nrm, seen, rows, cols, node_seen, cy, fy, cx, fx, last_pts,
+                             last_nrm, last_seen, weights, missing, step + CREASE_GUARD_PX)
+    if cache is not None:
+        cache.keep_weights((camera, h, w, step),
+                          (pts.copy(), nrm.copy(), seen.copy(), weights, missing))
+    node_index = (rows[:, None] * w + cols[None, :])[node_seen]
+    index = np.concatenate([node_index, np.flatnonzero(missing)])
     with (cache or OneBounceCache()).frame(senders, (h, w), k, camera=camera) as exact:
-        values = np.zeros((len(rows), len(cols), 1 + 2 * nf), dtype=np.float32)
-        values[node_seen] = exact(flat[grid][node_seen], points_m[grid][node_seen],
-                                  normals[grid][node_seen])
-        cy, fy = _cell_of(h, rows)
-        cx, fx = _cell_of(w, cols)
-        out, missing = _interpolate_nodes(
-            np.ascontiguousarray(points_m, dtype=np.float32),
-            np.ascontiguousarray(normals, dtype=np.float32), np.ascontiguousarray(seen),
-            rows, cols, values, np.ascontiguousarray(node_seen), cy, fy, cx, fx)
-        if missing.any():
-            out[missing] = exact(flat[missing], points_m[missing], normals[missing])
-    r_p = np.linalg.norm(points_m, axis=-1)
-    magnitude = np.where(seen, out[..., 0], np.float32(0.0)).astype(np.float32)
-    phasors = []
-    for j, kk in enumerate(k):
-        own = np.exp(1j * kk * r_p)
-        ph = (out[..., 1 + 2 * j] + 1j * out[..., 2 + 2 * j]) * own
-        phasors.append((np.where(seen, ph.real, 0.0).astype(np.float32),
-                        np.where(seen, ph.imag, 0.0).astype(np.float32)))
-    return magnitude, phasors
+        sums = exact(index, pts.reshape(-1, 3)[index], nrm.reshape(-1, 3)[index])
+    values = np.zeros((len(rows), len(cols), 1 + 2 * nf), dtype=np.float32)
+    values[node_seen] = sums[:len(node_index)]
+    out = _blend_nodes(np.ascontiguousarray(seen), weights, missing, values, cy, cx, index,
+                       sums, pts, np.asarray(k, dtype=np.float32))
+    return out[0], [(out[1 + 2 * j], out[2 + 2 * j]) for j in range(nf)]
 
 
 @dataclass
@@ -444,11 +610,14 @@ class _Sums:
     slot_points: F32                 # (S, 3) on the sender grid, zeros where none
     slot_normals: F32                # (S, 3)
     slot_weight: F32                 # (S,), 0 where a grid position sends nothing
-    index: NDArray[np.int64]         # (R,) receivers' pixels (flat), sorted
+    row: NDArray[np.int64]           # (H·W,) each pixel's receiver row, −1 where none
     points: F32                      # (R, 3)
     normals: F32                     # (R, 3)
-    tiles: NDArray[np.float64]       # (R, T, 1 + 2F) their sums per sender tile, unsorted
-    rows: NDArray[np.int64]          # (R,) row of ``tiles`` of each sorted receiver
+    tiles: NDArray[np.float64]       # (R, T, 1 + 2F) their sums per sender tile
+
+
+#: A frame's receiver points, normals and seen mask with its node weights and flags.
+_Weights = tuple[F32, F32, NDArray[np.bool_], NDArray[np.float64], NDArray[np.bool_]]
 
 
 def _slots(senders: Senders) -> tuple[F32, F32, F32]:
@@ -484,11 +653,26 @@ class OneBounceCache:
     def __init__(self) -> None:
         self._lock = threading.Lock()
         self._last: OrderedDict[Hashable, _Sums] = OrderedDict()
+        self._weights: OrderedDict[Hashable, _Weights] = OrderedDict()
 
     def clear(self) -> None:
         """Forget the last frames (the next ones are summed in full)."""
         with self._lock:
             self._last.clear()
+            self._weights.clear()
+
+    def weights_record(self, key: Hashable) -> _Weights | None:
+        """The last receivers and node weights (:func:`_node_weights`) kept for ``key``."""
+        with self._lock:
+            return self._weights.get(key)
+
+    def keep_weights(self, key: Hashable, record: _Weights) -> None:
+        """Keep this frame's receivers and node weights for ``key``'s next frame."""
+        with self._lock:
+            self._weights[key] = record
+            self._weights.move_to_end(key)
+            while len(self._weights) > self.KEEP:
+                self._weights.popitem(last=False)
 
     @contextmanager
     def frame(self, senders: Senders, shape: tuple[int, int], k: list[float], *,
@@ -520,45 +704,100 @@ class OneBounceCache:
                 if len(redo) > len(every) // 2:
                     last = None
             parts: list[tuple[NDArray[np.int64], F32, F32, NDArray[np.float64]]] = []
+            nv = len(kk) * 2 + 1
 
             def exact(index: NDArray[np.int64], pts: F32, nrm: F32) -> F32:
+                index = np.ascontiguousarray(index, dtype=np.int64)
                 pts = np.ascontiguousarray(pts, dtype=np.float32)
                 nrm = np.ascontiguousarray(nrm, dtype=np.float32)
-                shape = (len(index), len(every), len(kk) * 2 + 1)
-                same = np.zeros(len(index), dtype=bool)
-                if last is not None and len(last.index):
-                    pos = np.minimum(np.searchsorted(last.index, index), len(last.index) - 1)
-                    same = ((last.index[pos] == index) & (last.points[pos] == pts).all(axis=1)
-                            & (last.normals[pos] == nrm).all(axis=1))
-                # One gather of the kept rows straight into the frame's array (the sums
-                # are large: receivers × tiles × values in float64).
-                if last is not None and len(index) and same.all():
-                    tiles = np.take(last.tiles, last.rows[pos], axis=0)
+                if last is not None:
+                    old = _kept_rows(index, pts, nrm, last.row, last.points, last.normals)
+                    old_tiles = last.tiles
                 else:
-                    tiles = np.empty(shape)
-                    if last is not None and same.any():
-                        tiles[same] = np.take(last.tiles, last.rows[pos[same]], axis=0)
+                    old = np.full(len(index), -1, dtype=np.int64)
+                    old_tiles = np.zeros((0, len(every), nv))
+                same = old >= 0
+                redone = np.zeros((0, len(redo), nv))
                 if same.any() and len(redo):
-                    kept = np.flatnonzero(same)
-                    tiles[kept[:, None], redo] = _tile_sums(pts[same], nrm[same], senders,
-                                                            kk, redo)
-                fresh = ~same
-                if fresh.any():
-                    tiles[fresh] = _tile_sums(pts[fresh], nrm[fresh], senders, kk, every)
-                parts.append((np.asarray(index, dtype=np.int64), pts, nrm, tiles))
-                return _total(tiles)
+                    redone = _tile_sums(pts[same], nrm[same], senders, kk, redo)
+                fresh = np.zeros((0, len(every), nv))
+                if not same.all():
+                    fresh = _tile_sums(pts[~same], nrm[~same], senders, kk, every)
+                # One compiled pass: kept rows with their redone tiles, fresh rows, totals.
+                tiles, total = _merge_tiles(old, old_tiles, np.ascontiguousarray(redo),
+                                            redone, fresh)
+                parts.append((index, pts, nrm, tiles))
+                return total
 
             self._last.pop(camera, None)           # an exception leaves no half record
             yield exact
             if parts:
-                index = np.concatenate([q[0] for q in parts])
-                order = np.argsort(index, kind="stable")
-                self._last[camera] = _Sums(key, slot_pts, slot_nrm, slot_wgt, index[order],
-                                           np.concatenate([q[1] for q in parts])[order],
-                                           np.concatenate([q[2] for q in parts])[order],
-                                           np.concatenate([q[3] for q in parts]), order)
+                index, pts, nrm, tiles = (
+                    parts[0] if len(parts) == 1
+                    else tuple(np.concatenate([q[i] for q in parts]) for i in range(4)))
+                row = np.full(shape[0] * shape[1], -1, dtype=np.int64)
+                row[index] = np.arange(len(index))
+                self._last[camera] = _Sums(key, slot_pts, slot_nrm, slot_wgt, row, pts, nrm,
+                                           tiles)
                 while len(self._last) > self.KEEP:
                     self._last.popitem(last=False)
+
+
+@kernel
+def _kept_rows(index: NDArray[np.int64], points: F32, normals: F32, row: NDArray[np.int64],
+               last_points: F32, last_normals: F32) -> NDArray[np.int64]:
+    """Each receiver's row in the last frame's record, −1 unless bit-identical there.
+
+    Identical: the same pixel with the same point and normal.
+    """
+    out = np.full(index.shape[0], -1, dtype=np.int64)
+    for i in range(index.shape[0]):
+        p = index[i]
+        if p < 0 or p >= row.shape[0]:
+            continue
+        r = row[p]
+        if r < 0:
+            continue
+        same = True
+        for c in range(3):
+            if last_points[r, c] != points[i, c] or last_normals[r, c] != normals[i, c]:
+                same = False
+        if same:
+            out[i] = r
+    return out
+
+
+@kernel
+def _merge_tiles(old: NDArray[np.int64], old_tiles: NDArray[np.float64],
+                 redo: NDArray[np.int64], redone: NDArray[np.float64],
+                 fresh: NDArray[np.float64]) -> tuple[NDArray[np.float64], F32]:
+    """A frame's tile sums and receiver totals from the kept, redone and fresh sums.
+
+    Receiver ``i`` with ``old[i] ≥ 0`` takes row ``old[i]`` of ``old_tiles`` with the tiles
+    ``redo`` replaced by its next row of ``redone``; the others take their next row of
+    ``fresh`` (every tile). Totals as :func:`_total` (tiles added in order, float64).
+    """
+    m = old.shape[0]
+    nt, nv = fresh.shape[1], fresh.shape[2]
+    tiles = np.empty((m, nt, nv))
+    total = np.zeros((m, nv), dtype=np.float32)
+    kept = 0
+    new = 0
+    for i in range(m):
+        if old[i] >= 0:
+            tiles[i] = old_tiles[old[i]]
+            for u in range(redo.shape[0]):
+                tiles[i, redo[u]] = redone[kept, u]
+            kept += 1
+        else:
+            tiles[i] = fresh[new]
+            new += 1
+        for v in range(nv):
+            acc = 0.0
+            for t in range(nt):
+                acc += tiles[i, t, v]
+            total[i, v] = acc
+    return tiles, total
 
 
 @kernel

@@ -29,16 +29,19 @@
 from __future__ import annotations
 
 import dataclasses
+from typing import TypeVar, cast
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy import fft as sp_fft
 
+from simcore.jit import kernel
 from simcore.render.buffers import RenderBuffers
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
 
 F32 = NDArray[np.float32]
+G = TypeVar("G", bound=np.generic)
 #: Fixed-point iterations of the Brown–Conrady inversion.
 UNDISTORT_ITERATIONS = 20
 
@@ -124,9 +127,9 @@ def distortion_map(intrinsics: PinholeIntrinsics,
     return index
 
 
-def distort_image(image: NDArray[np.generic], intrinsics: PinholeIntrinsics,
+def distort_image(image: NDArray[G], intrinsics: PinholeIntrinsics,
                   coefficients: tuple[float, float, float, float, float],
-                  fill: object = 0) -> NDArray[np.generic]:
+                  fill: object = 0) -> NDArray[G]:
     """A per-render-pixel image (H, W, …) as seen through the distorting lens.
 
     Each pixel takes the value of the render pixel :func:`distortion_map` gives it;
@@ -134,21 +137,76 @@ def distort_image(image: NDArray[np.generic], intrinsics: PinholeIntrinsics,
     """
     index = distortion_map(intrinsics, coefficients)
     n = index.size
-    # Index n picks an appended background sample (outside the rendered field).
-    flat = np.where(index >= 0, index, n).ravel()
-    src = image.reshape(n, -1)
-    pad = np.full((1, src.shape[1]), fill, dtype=image.dtype)
-    return np.take(np.concatenate([src, pad]), flat, axis=0).reshape(image.shape)
+    src = np.ascontiguousarray(image).reshape(n, -1)
+    pad = np.full(src.shape[1], fill, dtype=image.dtype)
+    # The common widths with their own loops (a fixed inner width: ~3× faster).
+    if src.shape[1] == 1:
+        out = _gather_1(src.reshape(n), index.ravel(), pad)
+    elif src.shape[1] == 3:
+        out = _gather_3(src, index.ravel(), pad)
+    else:
+        out = _gather_rows(src, index.ravel(), pad)
+    return cast("NDArray[G]", out.reshape(image.shape))
 
 
-def distort_buffers(buffers: RenderBuffers, config: TofCameraConfig) -> RenderBuffers:
-    """The render as seen through the distorting lens (every per-pixel buffer resampled)."""
+@kernel
+def _gather_1(src: NDArray[np.generic], index: NDArray[np.int64],
+              fill: NDArray[np.generic]) -> NDArray[np.generic]:
+    """:func:`_gather_rows` of a single column, shape (N,)."""
+    n = index.shape[0]
+    out = np.empty(n, dtype=src.dtype)
+    for i in range(n):
+        j = index[i]
+        out[i] = src[j] if j >= 0 else fill[0]
+    return out
+
+
+@kernel
+def _gather_3(src: NDArray[np.generic], index: NDArray[np.int64],
+              fill: NDArray[np.generic]) -> NDArray[np.generic]:
+    """:func:`_gather_rows` of three columns, shape (N, 3)."""
+    n = index.shape[0]
+    out = np.empty((n, 3), dtype=src.dtype)
+    for i in range(n):
+        j = index[i]
+        if j >= 0:
+            out[i, 0], out[i, 1], out[i, 2] = src[j, 0], src[j, 1], src[j, 2]
+        else:
+            out[i, 0], out[i, 1], out[i, 2] = fill[0], fill[1], fill[2]
+    return out
+
+
+@kernel
+def _gather_rows(src: NDArray[np.generic], index: NDArray[np.int64],
+                 fill: NDArray[np.generic]) -> NDArray[np.generic]:
+    """Row ``index[i]`` of ``src`` (N, C) for every ``i``, ``fill`` where ``index[i] < 0``."""
+    n, c = index.shape[0], src.shape[1]
+    out = np.empty((n, c), dtype=src.dtype)
+    for i in range(n):
+        j = index[i]
+        if j >= 0:
+            for m in range(c):
+                out[i, m] = src[j, m]
+        else:
+            for m in range(c):
+                out[i, m] = fill[m]
+    return out
+
+
+def distort_buffers(buffers: RenderBuffers, config: TofCameraConfig, *,
+                    skip: tuple[str, ...] = ()) -> RenderBuffers:
+    """The render as seen through the distorting lens (every per-pixel buffer resampled).
+
+    ``skip``: buffers left as they are (not seen through the lens) — for a caller that never
+    reads them (the camera model does not read ``cos_incidence`` or the radial velocity).
+    """
     shape = buffers.range_m.shape
     background = {"object_index": -1, "object_id": -1, "range_m": np.nan}
     changes: dict[str, object] = {}
     for field in dataclasses.fields(buffers):
         value = getattr(buffers, field.name)
-        if not isinstance(value, np.ndarray) or value.shape[:2] != shape:
+        if (field.name in skip or not isinstance(value, np.ndarray)
+                or value.shape[:2] != shape):
             continue
         changes[field.name] = distort_image(value, buffers.intrinsics,
                                             config.distortion_coefficients,

@@ -14,7 +14,7 @@ from simcore.scene.model import Project
 from simcore.scene.people.expand import body_part_table
 from simcore.scene.project_io import material_table
 from simcore.scene.tof_config import TofCameraConfig
-from simcore.sensors.base import H5Items, SensorBase, SensorContext, config_key
+from simcore.sensors.base import DeferredOutput, H5Items, SensorBase, SensorContext, config_key
 from simcore.sensors.placement import other_sensors, sensor_state
 from simcore.sensors.tof.camera import TofOutput, simulate_tof, slab_transmittance
 from simcore.sensors.tof.interference import (
@@ -58,8 +58,17 @@ class TofSensor(SensorBase):
             offsets += (-cfg.frame_divider(rate) / rate,)
         return offsets
 
-    def simulate(self, ctx: SensorContext) -> TofOutput:
-        """The camera model over the render (and the sample renders, if any)."""
+    def simulate(self, ctx: SensorContext) -> TofOutput | DeferredOutput:
+        """The camera model over the render (and the sample renders, if any).
+
+        Run on the sensor's post thread where there is one (:attr:`SensorContext.defer`):
+        its chain goes on to the next frame meanwhile.
+        """
+        if ctx.defer is not None:
+            return ctx.defer(lambda: self._simulate(ctx))
+        return self._simulate(ctx)
+
+    def _simulate(self, ctx: SensorContext) -> TofOutput:
         base = self.config(ctx.project)
         rate = ctx.project.timeline.frame_rate_hz
         cfg = hopped_config(base, ctx.index // base.frame_divider(rate))
