@@ -419,18 +419,23 @@ def rig_variants(project_path: str | Path, *, frames: int) -> dict[str, Any]:
     -------
     dict
         ``one_rig`` and ``two_rigs`` (``fps``, ``frame_ms_median``, ``stages_ms``,
-        ``sensors``), ``time_ratio`` and ``load`` (load average before and after).
+        ``sensors``), the same of the plain project (:func:`with_effects` off, no person:
+        ``plain_one_rig``, ``plain_two_rigs``), ``time_ratio`` and ``plain_time_ratio``,
+        and ``load`` (load average before and after).
     """
     path = Path(project_path)
     project = load_project(path)
-    two = with_second_rig(project)
+    plain = with_effects(project, on=False, person=False)
     before = _load()
     result: dict[str, Any] = {}
-    for key, variant in (("one_rig", project), ("two_rigs", two)):
+    for key, variant in (("one_rig", project), ("two_rigs", with_second_rig(project)),
+                         ("plain_one_rig", plain), ("plain_two_rigs", with_second_rig(plain))):
         result[key] = {**_time_variant(variant, path.parent, frames),
                        "sensors": len(variant.sensor_configs())}
-    one_ms, two_ms = result["one_rig"]["frame_ms_median"], result["two_rigs"]["frame_ms_median"]
-    result["time_ratio"] = two_ms / one_ms if one_ms > 0 else float("nan")
+    for prefix in ("", "plain_"):
+        one_ms = result[f"{prefix}one_rig"]["frame_ms_median"]
+        two_ms = result[f"{prefix}two_rigs"]["frame_ms_median"]
+        result[f"{prefix}time_ratio"] = two_ms / one_ms if one_ms > 0 else float("nan")
     result["load"] = {"before": before, "after": _load()}
     return result
 

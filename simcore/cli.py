@@ -584,13 +584,14 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 def _print_rig_variants(rigs: dict[str, Any]) -> None:
     """``bench --rigs``: the project as it is and with a second rig, same run."""
-    for name in ("one_rig", "two_rigs"):
+    for name in ("one_rig", "two_rigs", "plain_one_rig", "plain_two_rigs"):
         v = rigs[name]
         stages = ", ".join(f"{k} {t:.1f}" for k, t in v["stages_ms"].items())
-        print(f"{name:<9} {v['sensors']} sensors {v['frame_ms_median']:7.1f} ms/frame "
+        print(f"{name:<14} {v['sensors']} sensors {v['frame_ms_median']:7.1f} ms/frame "
               f"({v['fps']:.2f} frames/s); stages (ms): {stages}")
-    print(f"  two rigs / one rig frame time: {rigs['time_ratio']:.2f} (same run); load "
-          f"average before/after: {rigs['load']['before']} / {rigs['load']['after']}")
+    print(f"  two rigs / one rig frame time: {rigs['time_ratio']:.2f}, plain "
+          f"{rigs['plain_time_ratio']:.2f} (same run); load average before/after: "
+          f"{rigs['load']['before']} / {rigs['load']['after']}")
 
 
 def _print_effect_variants(variants: dict[str, Any]) -> None:

@@ -543,3 +543,7 @@ def test_bench_rigs_reports_both_variants_from_one_run() -> None:
     assert "tof" in result["two_rigs"]["stages_ms"]   # a still wall: no render is timed
     assert result["time_ratio"] == pytest.approx(
         result["two_rigs"]["frame_ms_median"] / result["one_rig"]["frame_ms_median"])
+    assert result["plain_two_rigs"]["sensors"] == 4
+    assert result["plain_time_ratio"] == pytest.approx(
+        result["plain_two_rigs"]["frame_ms_median"]
+        / result["plain_one_rig"]["frame_ms_median"])
