@@ -208,7 +208,7 @@ class FrameView:
     tofs: dict[str, TofView] = field(default_factory=dict)
     radars: dict[str, RadarView] = field(default_factory=dict)
     rgbs: dict[str, NDArray[np.uint8]] = field(default_factory=dict)
-    #: Ground truth of every object from each radar other than the built-in one.
+    #: Ground truth of every object from each radar, by radar name.
     radar_objects: dict[str, ObjectMarks] = field(default_factory=dict)
 
     def for_sensor(self, kind: str, name: str) -> FrameView | None:
@@ -223,7 +223,11 @@ class FrameView:
         if kind not in ("tof", "radar", "rgb"):
             raise ValueError(f"unknown sensor kind {kind!r}")
         table: dict[str, Any] = {"tof": self.tofs, "radar": self.radars, "rgb": self.rgbs}[kind]
-        if name == next(iter(table), kind):
+        current = getattr(self, kind)
+        if table.get(name) is current:
+            return self
+        # A view edited in place (or made without the tables) shows its first sensor.
+        if not any(v is current for v in table.values()) and name == next(iter(table), kind):
             return self
         if name not in table:
             return None
@@ -381,6 +385,8 @@ def build_frame_view(frame: Any, project: Project, *, render_count: int = 0) -> 
     radar = next(iter(radars.values()), None) or _radar_view(frame, project, notes)
     marks = radar_object_marks(frame, project)
     objects = object_marks(getattr(frame, "objects", None), project)  # issue #17
+    if objects is not None:
+        marks = {"radar": objects, **marks}  # every radar's truth, the built-in's too
     first_radar = next(iter(radars), "radar")
     if first_radar != "radar":
         objects = marks.get(first_radar)

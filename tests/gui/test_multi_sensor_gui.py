@@ -298,6 +298,9 @@ def test_second_radar_on_new_rig_shows_its_own_data(make_window, wait_frame, tmp
     assert abs(panel.view.radar.profile_peak_range_m() - 2.0) <= 1.5 * bin_m
     assert panel.view.objects.range_m == pytest.approx([2.0], abs=1e-9)
     assert view.objects.range_m == pytest.approx([np.hypot(2.0, 1.0)], abs=1e-9)
+    panel.set_sensor("radar")  # back to the built-in radar: its own truth again
+    assert panel.view.objects.range_m == pytest.approx([np.hypot(2.0, 1.0)], abs=1e-9)
+    panel.set_sensor("radar_2")
     np.testing.assert_array_equal(panel.view.radar.profile_db, view.radars["radar_2"].profile_db)
     # Rename: the panel stays on it and its next frames.
     rigs.name_edit.setText("side")
