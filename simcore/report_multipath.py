@@ -178,7 +178,7 @@ def tof_multipath_figure(out_dir: str | Path, example: str = "office"
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from simcore.render import RenderRequest, SceneRenderer
+    from simcore.render import RenderRequest, render_once
     from simcore.sensors.tof.camera import simulate_tof
     from simcore.sensors.tof.sensor import diffuse_albedo
 
@@ -186,12 +186,7 @@ def tof_multipath_figure(out_dir: str | Path, example: str = "office"
     out.mkdir(parents=True, exist_ok=True)
     project = load_project(example_path(example))
     cfg = project.rig.tof
-    renderer = SceneRenderer(project)
-    try:
-        buf = renderer.render(take_snapshot(project, 0.0),
-                              RenderRequest("tof", "tof", cfg.render_intrinsics()))
-    finally:
-        renderer.close()
+    buf = render_once(project, RenderRequest("tof", "tof", cfg.render_intrinsics()))
     albedo = diffuse_albedo(project, buf)
     frames, seconds = {}, {}
     for on in (False, True):

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
-from simcore.render import RenderBuffers, RenderRequest, SceneRenderer
+from simcore.render import RenderBuffers, RenderRequest, render_once
 from simcore.resources import example_path
 from simcore.scene import Plane, Pose, Project, SceneObject, load_project
 from simcore.scene.materials import band_response, load_material_library
@@ -37,12 +37,7 @@ R1 = SPEED_OF_LIGHT / (2 * F1)  # 7.4948 m
 
 def render(project: Project) -> RenderBuffers:
     """ToF-band render of ``project`` at t = 0 on the camera's supersampled grid."""
-    renderer = SceneRenderer(project)
-    try:
-        return renderer.render(take_snapshot(project, 0.0),
-                               RenderRequest("tof", "tof", project.rig.tof.render_intrinsics()))
-    finally:
-        renderer.close()
+    return render_once(project, RenderRequest("tof", "tof", project.rig.tof.render_intrinsics()))
 
 
 def ray_norms(cfg: TofCameraConfig) -> np.ndarray:
@@ -386,7 +381,6 @@ def test_motion_artifacts_follow_the_four_sample_formula(make_renderer):
     from scenes import wall_project
 
     from simcore.scene import Motion
-    from simcore.scene.snapshot import take_snapshot
     from simcore.sensors.tof.camera import simulate_tof
 
     v, d0 = 30.0, 2.0                         # fast, so the artefact is centimetres
@@ -427,18 +421,12 @@ def test_auto_exposure_keeps_a_near_grey_wall_valid():
     down to 0.1 m)."""
     from scenes import wall_project
 
-    from simcore.render import RenderRequest, SceneRenderer
     from simcore.sensors.tof.camera import auto_exposure_s
 
     project = wall_project(0.1, material="concrete")
     fixed = project.rig.tof.model_copy(update={"crosstalk_sigma_px": 0.0})
     auto = fixed.model_copy(update={"auto_exposure": True})
-    renderer = SceneRenderer(project)
-    try:
-        buf = renderer.render(take_snapshot(project, 0.0),
-                              RenderRequest("tof", "tof", fixed.render_intrinsics()))
-    finally:
-        renderer.close()
+    buf = render_once(project, RenderRequest("tof", "tof", fixed.render_intrinsics()))
     out_fixed = simulate_tof(buf, fixed, rng=np.random.default_rng(0))
     out_auto = simulate_tof(buf, auto, rng=np.random.default_rng(0))
     assert out_fixed.saturated.mean() > 0.9 and out_fixed.exposure_time_s == 250e-6

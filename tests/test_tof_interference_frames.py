@@ -16,10 +16,9 @@ import numpy as np
 import pytest
 
 from simcore.pipeline import Simulator
-from simcore.render import RenderRequest, SceneRenderer
+from simcore.render import RenderRequest, render_once
 from simcore.scene import Box, Pose, Project, SceneObject
 from simcore.scene.model import NamedTof, Rig, SensorRig, Timeline
-from simcore.scene.snapshot import take_snapshot
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
 from simcore.sensors.tof.camera import simulate_tof
 from simcore.sensors.tof.interference import Illuminator, overlap_fraction
@@ -56,12 +55,7 @@ def optical_pose(position: tuple[float, float, float]) -> np.ndarray:
 
 def ideal_depth(project: Project, lights: list[Illuminator]) -> np.ndarray:
     cfg = project.rig.tof
-    renderer = SceneRenderer(project)
-    try:
-        buf = renderer.render(take_snapshot(project, 0.0),
-                              RenderRequest("tof", "tof", cfg.render_intrinsics()))
-    finally:
-        renderer.close()
+    buf = render_once(project, RenderRequest("tof", "tof", cfg.render_intrinsics()))
     return simulate_tof(buf, cfg, rng=np.random.default_rng(0), noise=False,
                         illuminators=lights).depth_m
 
@@ -157,12 +151,7 @@ def test_facing_cameras_see_the_emitter_at_half_its_distance() -> None:
     pose[:3, 0] *= -1                    # turned round: looks along −x
     pose[:3, 2] *= -1
     p = Project(rig=SensorRig(pose=Pose(position_m=(0.0, 0.0, 1.0)), tof=victim))
-    renderer = SceneRenderer(p)
-    try:
-        buf = renderer.render(take_snapshot(p, 0.0),
-                              RenderRequest("tof", "tof", victim.render_intrinsics()))
-    finally:
-        renderer.close()
+    buf = render_once(p, RenderRequest("tof", "tof", victim.render_intrinsics()))
     out = simulate_tof(buf, victim, rng=np.random.default_rng(0), noise=False,
                        illuminators=[Illuminator(aggressor, pose, 0.0)])
     intensity_w = aggressor.illumination_power_w / aggressor.illumination_solid_angle_sr

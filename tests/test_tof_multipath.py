@@ -12,10 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from simcore.render import RenderBuffers, RenderRequest, SceneRenderer
+from simcore.render import RenderBuffers, RenderRequest, render_once
 from simcore.scene import Box, Pose, Project, SceneObject
 from simcore.scene.model import SensorRig
-from simcore.scene.snapshot import take_snapshot
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
 from simcore.sensors.tof.camera import simulate_tof
 from simcore.sensors.tof.sensor import diffuse_albedo
@@ -48,12 +47,7 @@ def corner_project(*, corner: bool = True) -> Project:
 
 def tof_render(project: Project, cfg: TofCameraConfig) -> RenderBuffers:
     """The ToF render of ``project`` at t = 0 with ``cfg``'s intrinsics."""
-    renderer = SceneRenderer(project)
-    try:
-        return renderer.render(take_snapshot(project, 0.0),
-                               RenderRequest("tof", "tof", cfg.render_intrinsics()))
-    finally:
-        renderer.close()
+    return render_once(project, RenderRequest("tof", "tof", cfg.render_intrinsics()))
 
 
 def simulate(project: Project, *, multipath: bool) -> tuple[np.ndarray, np.ndarray]:

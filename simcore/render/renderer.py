@@ -669,6 +669,22 @@ class SceneRenderer:
         self._passes.clear()
 
 
+def render_once(project: Project, request: RenderRequest, *, time_s: float = 0.0,
+                base_dir: Path | None = None) -> RenderBuffers:
+    """One pass of ``project`` at ``time_s``, with a renderer opened and closed for it.
+
+    For scripts, reports and tests that need a single render; the engine keeps its
+    renderer open across frames instead.
+    """
+    from simcore.scene.snapshot import take_snapshot
+
+    renderer = SceneRenderer(project, base_dir=base_dir)
+    try:
+        return renderer.render(take_snapshot(project, time_s), request)
+    finally:
+        renderer.close()
+
+
 def _shade(raster: Raster, background: tuple[Raster, RenderBuffers] | None = None
            ) -> RenderBuffers:
     """Exact ray–triangle geometry, velocities and band intensity of every pixel.
