@@ -375,6 +375,24 @@ def _pixel_weights(points: F32, normals: F32, seen: NDArray[np.bool_],
 
 
 @kernel
+def _dilate_line(flags: NDArray[np.bool_], reach: int, out: NDArray[np.bool_]) -> None:
+    """Set ``out[i]`` where a flag lies within ``reach`` of ``i`` (a 1-D box dilation)."""
+    n = flags.shape[0]
+    last = -reach - 1
+    for i in range(n):
+        if flags[i]:
+            last = i
+        if i - last <= reach:
+            out[i] = True
+    last = n + reach + 1
+    for i in range(n - 1, -1, -1):
+        if flags[i]:
+            last = i
+        if last - i <= reach:
+            out[i] = True
+
+
+@kernel
 def _update_node_weights(points: F32, normals: F32, seen: NDArray[np.bool_],
                          node_rows: NDArray[np.int64], node_cols: NDArray[np.int64],
                          node_seen: NDArray[np.bool_], cell_y: NDArray[np.int64],
@@ -407,32 +425,10 @@ def _update_node_weights(points: F32, normals: F32, seen: NDArray[np.bool_],
     # Box dilation by ``reach``, one axis at a time.
     rows = np.zeros((h, w), dtype=np.bool_)
     for y in range(h):
-        last = -reach - 1
-        for x in range(w):
-            if changed[y, x]:
-                last = x
-            if x - last <= reach:
-                rows[y, x] = True
-        last = w + reach + 1
-        for x in range(w - 1, -1, -1):
-            if changed[y, x]:
-                last = x
-            if last - x <= reach:
-                rows[y, x] = True
+        _dilate_line(changed[y], reach, rows[y])
     redo = np.zeros((h, w), dtype=np.bool_)
     for x in range(w):
-        last = -reach - 1
-        for y in range(h):
-            if rows[y, x]:
-                last = y
-            if y - last <= reach:
-                redo[y, x] = True
-        last = h + reach + 1
-        for y in range(h - 1, -1, -1):
-            if rows[y, x]:
-                last = y
-            if last - y <= reach:
-                redo[y, x] = True
+        _dilate_line(rows[:, x], reach, redo[:, x])
     g = CREASE_GUARD_PX
     count = 0
     near_crease = np.zeros((h, w), dtype=np.bool_)
