@@ -123,10 +123,11 @@ def interference_section(out_dir: str | Path, *, quick: bool = False
         ax[row, 0].legend(fontsize=7)
         for col, name in ((1, names[1]), (2, names[-1])):
             c = cases[name]
-            ax[row, col].imshow(c["rd"], aspect="auto", origin="lower",
-                                extent=(rng[0], rng[-1], vel[0], vel[-1]),
-                                vmin=float(np.median(cases["clean"]["rd"])) - 5,
-                                vmax=float(cases["clean"]["rd"].max()))
+            image = ax[row, col].imshow(c["rd"], aspect="auto", origin="lower",
+                                        extent=(rng[0], rng[-1], vel[0], vel[-1]),
+                                        vmin=float(np.median(cases["clean"]["rd"])) - 5,
+                                        vmax=float(cases["clean"]["rd"].max()))
+            fig.colorbar(image, ax=ax[row, col], label="range–Doppler power (dB)")
             ax[row, col].set_title(f"{name}: {c['detections']} detections, INR "
                                    f"{c['inr_db']:.1f} dB" if c["inr_db"] is not None
                                    else name, fontsize=9)
