@@ -29,8 +29,10 @@ def test_run_benchmark_reports_the_issue_keys() -> None:
     assert {"render_tof", "render_radar", "tof", "radar_synthesis", "dsp"} <= set(
         result["stages_ms"])
     if os.path.isdir("/proc/self/task"):
-        # The ToF camera and the radar each run on a worker thread of their own.
-        assert {"calling", "sensor-chain-tof", "sensor-chain-radar"} <= set(
+        # The ToF camera model runs on its sensor's post thread, the radar's scatterers and
+        # IF on its chain thread (the ToF chain thread only shades, which over a still
+        # background can stay under the 0.5 ms a frame that thread_cpu reports).
+        assert {"calling", "sensor-post-tof", "sensor-chain-radar"} <= set(
             result["thread_cpu_ms"])
         busiest = max(result["thread_cpu_ms"].values())
         assert result["two_core_floor_ms"] >= busiest
