@@ -244,3 +244,91 @@ def test_moving_objects_box_read_back_equals_one_full_pass(make_renderer, monkey
         assert all(b is not None for b in boxes)
     else:
         assert None in boxes
+
+
+def _ellipsoid_distance(p: np.ndarray, radii) -> np.ndarray:
+    """Distance of points ``p`` (N, 3) to an ellipsoid's surface: the nearest point is
+    ``x_i = r_i² p_i / (t + r_i²)`` with Σ (r_i p_i / (t + r_i²))² = 1, decreasing in
+    t > −min r_i², solved by bisection; where that root is not in the bracket (a point inside,
+    on the plane of its shortest axis) the surface point on the ray from the centre, an
+    upper bound."""
+    r2 = np.asarray(radii, dtype=np.float64) ** 2
+    lo = np.full(len(p), -r2.min())
+    hi = np.full(len(p), np.linalg.norm(p, axis=1) * np.sqrt(r2.max()) + 1e-9)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for _ in range(200):
+            t = 0.5 * (lo + hi)
+            f = np.sum((np.sqrt(r2) * p / (t[:, None] + r2)) ** 2, axis=1) - 1.0
+            lo, hi = np.where(f > 0, t, lo), np.where(f > 0, hi, t)
+        nearest = r2 * p / ((0.5 * (lo + hi))[:, None] + r2)
+    exact = np.linalg.norm(p - nearest, axis=1)
+    rho = np.linalg.norm(p / np.sqrt(r2), axis=1)
+    radial = np.linalg.norm(p, axis=1) * np.abs(1.0 - 1.0 / rho)
+    return np.where(np.isfinite(exact), np.minimum(exact, radial), radial)
+
+
+def _triangle_samples(mesh) -> np.ndarray:
+    """A barycentric grid of points on every triangle of ``mesh``, shape (N, 3)."""
+    steps = np.linspace(0.0, 1.0, 9)
+    bary = np.array([(a, b, 1 - a - b) for a in steps for b in steps if a + b <= 1 + 1e-12])
+    return np.einsum("kc,tcd->tkd", bary, mesh.points[mesh.triangles]).reshape(-1, 3)
+
+
+def test_ellipsoid_distance_helper_against_spheres_and_axes():
+    p = np.array([[0.0, 0.0, 2.0], [0.5, 0.0, 0.0], [0.3, 0.4, 0.0]])
+    np.testing.assert_allclose(_ellipsoid_distance(p, (1.0, 1.0, 1.0)), [1.0, 0.5, 0.5])
+    p = np.array([[3.0, 0.0, 0.0], [0.0, 0.0, 2.5], [0.0, 1.5, 0.0]])
+    np.testing.assert_allclose(_ellipsoid_distance(p, (1.0, 2.0, 3.0)), [2.0, 0.5, 0.5])
+
+
+@pytest.mark.parametrize("radii", [(0.018, 0.047, 0.097), (0.072, 0.072, 0.22),
+                                   (0.112, 0.171, 0.142), (0.3, 0.05, 0.05),
+                                   (0.03, 0.02, 0.35), (1.0, 0.8, 0.5)])
+def test_ellipsoid_triangles_lie_within_the_tolerance_of_the_ellipsoid(radii):
+    """Every point of every triangle (a barycentric grid of each) lies within the
+    tessellation tolerance of the exact ellipsoid, and within the gap bound at other
+    resolutions too; vertices on the surface with its exact normals."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkFiltersSources import vtkSphereSource
+
+    from simcore.render.meshes import (
+        ELLIPSOID_TOLERANCE_M,
+        build_mesh,
+        ellipsoid_gap_bound,
+        ellipsoid_resolution,
+    )
+    from simcore.scene.geometry import Ellipsoid
+
+    r = np.asarray(radii)
+    mesh = build_mesh(Ellipsoid(radii_m=radii))
+    gap = _ellipsoid_distance(_triangle_samples(mesh), r)
+    assert gap.max() <= ELLIPSOID_TOLERANCE_M
+    n_theta, n_phi = ellipsoid_resolution(radii)
+    assert len(mesh.triangles) == 2 * n_theta * (n_phi - 2)           # a UV sphere's
+    np.testing.assert_allclose(np.linalg.norm(mesh.points / r, axis=1), 1.0, atol=1e-9)
+    grad = mesh.points / r**2               # the gradient of (x/a)² + (y/b)² + (z/c)²
+    np.testing.assert_allclose(mesh.normals, grad / np.linalg.norm(grad, axis=1)[:, None],
+                               atol=1e-9)
+    for n_theta, n_phi in ((8, 4), (12, 9), (28, 14)):
+        src = vtkSphereSource()
+        src.SetThetaResolution(n_theta)
+        src.SetPhiResolution(n_phi)
+        src.Update()
+        unit = vtk_to_numpy(src.GetOutput().GetPoints().GetData()).astype(np.float64)
+        tris = vtk_to_numpy(src.GetOutput().GetPolys().GetConnectivityArray()).reshape(-1, 3)
+        coarse = type(mesh)(unit / 0.5 * r, unit, tris.astype(np.int64))   # radius 0.5
+        measured = _ellipsoid_distance(_triangle_samples(coarse), r).max()
+        assert measured <= ellipsoid_gap_bound(radii, n_theta, n_phi)
+
+
+def test_small_ellipsoids_get_fewer_triangles_than_large_ones():
+    """The tessellation follows the size: a hand's ellipsoid is cut coarser than a thigh's,
+    and a 1 m ellipsoid finer than both (the same tolerance on each)."""
+    from simcore.render.meshes import ellipsoid_resolution
+
+    def triangles(radii):
+        n_theta, n_phi = ellipsoid_resolution(radii)
+        return n_theta * (n_phi - 2)
+
+    assert triangles((0.018, 0.047, 0.097)) < triangles((0.072, 0.072, 0.22)) \
+        < triangles((1.0, 0.8, 0.5))

@@ -114,17 +114,71 @@ def _corner_reflector(geom: CornerReflector) -> TriangleMesh:
     return TriangleMesh(np.array(points), np.array(normals), np.array(tris, dtype=np.int64))
 
 
-#: Tessellation of an ellipsoid (body segment): small, since a body has 17 of them.
-ELLIPSOID_THETA_RESOLUTION = 28
-ELLIPSOID_PHI_RESOLUTION = 14
+#: Largest distance (m) between an ellipsoid and its triangles. A body has 17 ellipsoid
+#: segments, drawn by three render passes every frame: each is cut only as finely as this
+#: tolerance needs (a hand into fewer triangles than a chest). 5 mm is below the ToF
+#: camera's depth noise and the radar's range resolution, and far below how closely
+#: ellipsoids follow a body.
+ELLIPSOID_TOLERANCE_M = 5e-3
+#: Bounds of an ellipsoid's tessellation: sectors around its z axis, and rings pole to pole.
+ELLIPSOID_THETA_RANGE = (8, SPHERE_THETA_RESOLUTION)
+ELLIPSOID_PHI_RANGE = (4, SPHERE_PHI_RESOLUTION)
+
+
+def ellipsoid_gap_bound(radii: NDArray[np.float64] | tuple[float, float, float],
+                        n_theta: int, n_phi: int) -> float:
+    """Bound (m) on the distance from a UV-sphere tessellation of an ellipsoid to its surface.
+
+    The surface is ``S(θ, φ) = (a sin φ cos θ, b sin φ sin θ, c cos φ)`` and each triangle
+    interpolates it linearly over a right triangle of parameter steps Δθ = 2π/n_θ and
+    Δφ = π/n_φ. The linear interpolation error is at most ½ Σ λ_i Q(x_i − x) with Q the
+    bound of S's second derivatives, ``|S_θθ|, |S_θφ| ≤ A = max(a, b)`` and
+    ``|S_φφ| ≤ R = max(a, b, c)``; with 2|Δθ Δφ| ≤ Δθ² + Δφ², ``Q(v) ≤ 2A v_θ² + (R + A) v_φ²``,
+    whose largest value of ½ Σ λ_i Q(x_i − x) over a right triangle is an eighth of Q at
+    its hypotenuse: ``(2A Δθ² + (R + A) Δφ²) / 8``. Each point of a triangle then lies
+    within that distance of the point S at its parameters, so of the surface.
+    """
+    r = np.abs(np.asarray(radii, dtype=np.float64))
+    big_a, big_r = float(max(r[0], r[1])), float(r.max())
+    d_theta, d_phi = 2.0 * np.pi / n_theta, np.pi / n_phi
+    return (2.0 * big_a * d_theta**2 + (big_r + big_a) * d_phi**2) / 8.0
+
+
+def ellipsoid_resolution(radii: NDArray[np.float64] | tuple[float, float, float],
+                         tolerance_m: float = ELLIPSOID_TOLERANCE_M) -> tuple[int, int]:
+    """Sectors and rings (θ and φ resolutions of a UV sphere) of an ellipsoid's triangles.
+
+    The pair with the fewest triangles (2 n_θ (n_φ − 2)) whose
+    :func:`ellipsoid_gap_bound` is within ``tolerance_m``, inside
+    :data:`ELLIPSOID_THETA_RANGE` and :data:`ELLIPSOID_PHI_RANGE` (the finest pair when
+    none is fine enough).
+    """
+    r = np.abs(np.asarray(radii, dtype=np.float64))
+    big_a, big_r = float(max(r[0], r[1])), float(r.max())
+    (t_lo, t_hi), (p_lo, p_hi) = ELLIPSOID_THETA_RANGE, ELLIPSOID_PHI_RANGE
+    best: tuple[int, int, int] | None = None
+    for n_theta in range(t_lo, t_hi + 1):
+        left = tolerance_m - 2.0 * big_a * (2.0 * np.pi / n_theta) ** 2 / 8.0
+        if left <= 0.0:
+            continue
+        # The fewest rings whose φ term fits in what the sectors leave.
+        n_phi = p_lo if big_r + big_a == 0.0 else max(
+            p_lo, int(np.ceil(np.pi / np.sqrt(8.0 * left / (big_r + big_a)))))
+        if n_phi > p_hi:
+            continue
+        triangles = 2 * n_theta * (n_phi - 2)
+        if best is None or triangles < best[0]:
+            best = (triangles, n_theta, n_phi)
+    return (t_hi, p_hi) if best is None else (best[1], best[2])
 
 
 def _ellipsoid(radii: NDArray[np.float64]) -> TriangleMesh:
-    """Unit sphere scaled to ``radii``, with the ellipsoid's exact normals."""
+    """Unit sphere scaled to ``radii`` (:func:`ellipsoid_resolution`), exact normals."""
+    n_theta, n_phi = ellipsoid_resolution(radii)
     src = vtkSphereSource()
     src.SetRadius(1.0)
-    src.SetThetaResolution(ELLIPSOID_THETA_RESOLUTION)
-    src.SetPhiResolution(ELLIPSOID_PHI_RESOLUTION)
+    src.SetThetaResolution(n_theta)
+    src.SetPhiResolution(n_phi)
     src.Update()
     unit = _from_polydata(src.GetOutput(), smooth=True)
     points = unit.points * radii

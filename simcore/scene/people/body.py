@@ -51,7 +51,11 @@ def frame_from_bone(bone: NDArray[np.float64], forward: NDArray[np.float64]
     z = -bone / np.linalg.norm(bone)
     x = forward - (forward @ z) * z
     x /= np.linalg.norm(x)
-    return np.column_stack([x, np.cross(z, x), z])
+    # z × x written out: the products and differences of np.cross, without its axis
+    # handling (a body frame has 24 of these, three times per frame).
+    y = np.array([z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2],
+                  z[0] * x[1] - z[1] * x[0]])
+    return np.column_stack([x, y, z])
 
 
 @dataclass(frozen=True)
