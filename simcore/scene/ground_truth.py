@@ -132,10 +132,25 @@ class TruthCache:
     """
 
     _objects: dict[int, _Kept] = field(default_factory=dict)
+    #: Each surface's local box (its points array, lower and upper corners), by object:
+    #: a moving object's points are the same arrays in every frame.
+    _local: dict[int, tuple[NDArray[np.floating], NDArray[np.float64], NDArray[np.float64]]] \
+        = field(default_factory=dict)
 
     def clear(self) -> None:
         """Forget every object."""
         self._objects.clear()
+        self._local.clear()
+
+    def local_box(self, i: int, pts: NDArray[np.floating]
+                  ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Lower and upper corners of object ``i``'s points ``pts`` (kept while the same)."""
+        kept = self._local.get(i)
+        if kept is None or kept[0] is not pts:
+            p = np.asarray(pts, np.float64)
+            kept = (pts, p.min(axis=0), p.max(axis=0))
+            self._local[i] = kept
+        return kept[1], kept[2]
 
 
 def object_ground_truth(project: Project, snapshot: SceneSnapshot,
@@ -201,7 +216,8 @@ def object_ground_truth(project: Project, snapshot: SceneSnapshot,
         world = None
         if kept is None:
             p = np.zeros((1, 3)) if pts is None or len(pts) == 0 else np.asarray(pts, np.float64)
-            lo, hi = p.min(axis=0), p.max(axis=0)
+            lo, hi = (cache.local_box(i, pts) if cache is not None and pts is not None
+                      and len(pts) else (p.min(axis=0), p.max(axis=0)))
             world = p @ t[:3, :3].T + t[:3, 3]
             aabb[i] = world.min(axis=0), world.max(axis=0)
             center[i] = t[:3, :3] @ (0.5 * (lo + hi)) + t[:3, 3]

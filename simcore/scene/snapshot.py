@@ -147,6 +147,10 @@ def _sensor_state(rig: RigidState, mount: NDArray[np.float64]) -> SensorState:
     )
 
 
+#: What a person's segment holds until :meth:`PeopleExpansion.apply` puts its state.
+_STILL_PLACEHOLDER = RigidState(np.eye(4), np.zeros(3), np.zeros(3))
+
+
 def take_snapshot(project: Project, t: float) -> SceneSnapshot:
     """Evaluate every object's, rig's and sensor's pose and velocity at time ``t`` (s)."""
     rigs = {r.name: rigid_state(r.pose, r.motion, t) for r in project.all_rigs()}
@@ -156,9 +160,13 @@ def take_snapshot(project: Project, t: float) -> SceneSnapshot:
         for name, cfg in r.sensor_configs().items():
             sensors[name] = _sensor_state(rigs[r.name], cfg.pose_on_rig.matrix())  # type: ignore[attr-defined]
             owners[name] = r.name
-    objects = [rigid_state(o.pose, o.motion, t) for o in project.objects]
     people = getattr(project, "_people", None)
-    if people is not None:  # segments of people (simcore.scene.people.expand)
+    if people is None:
+        objects = [rigid_state(o.pose, o.motion, t) for o in project.objects]
+    else:  # segments of people (simcore.scene.people.expand): their states from the body
+        still = _STILL_PLACEHOLDER
+        objects = [rigid_state(o.pose, o.motion, t) if part < 0 else still
+                   for o, part in zip(project.objects, people.body_part, strict=True)]
         people.apply(objects, float(t))
     return SceneSnapshot(
         time_s=float(t),
