@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from simcore.jit import kernel
 from simcore.scene.geometry import CornerReflector, PointTarget
 from simcore.scene.model import Project
 from simcore.scene.snapshot import SceneSnapshot
@@ -326,16 +327,75 @@ def nearest_ranges(origin: NDArray[np.floating],
     out[has] = np.minimum.reduceat(d, starts[has])
     if not tris:
         return out
-    t = np.concatenate(tris)
-    owner = np.concatenate(tri_owner)
-    corners = all_p[t]                                          # (T, 3 corners, 3)
-    longest = np.sqrt(np.max(np.sum((corners - np.roll(corners, 1, axis=1)) ** 2, axis=2),
-                             axis=1))
-    near = d[t].max(axis=1) - longest <= out[owner]
-    corners, owner = corners[near], owner[near]
-    closest = _closest_on_triangles(o, corners[:, 0], corners[:, 1], corners[:, 2])
-    np.fmin.at(out, owner, np.sqrt(np.sum((closest - o) ** 2, axis=1)))
+    _nearest_on_triangles(o, all_p, d, np.concatenate(tris), np.concatenate(tri_owner), out)
     return out
+
+
+@kernel
+def _nearest_on_triangles(o: NDArray[np.float64], points: NDArray[np.float64],
+                          dist: NDArray[np.float64], triangles: NDArray[np.int64],
+                          owner: NDArray[np.int64], out: NDArray[np.float64]) -> None:
+    """Lower ``out[owner[k]]`` to the distance from ``o`` to triangle ``k``, for each.
+
+    ``dist`` holds each point's distance from ``o``; ``out`` starts at each surface's
+    nearest vertex. A triangle whose farthest corner minus its longest edge is beyond its
+    surface's nearest distance so far cannot come nearer and is skipped. The closest point
+    is Ericson's (*Real-Time Collision Detection*, 5.1.5), with :func:`_closest_on_triangles`'
+    order of regions: corners a, b, c, then edges ab, ac, bc, then the face; a degenerate
+    (zero-area) triangle's nearest corner.
+    """
+    for k in range(triangles.shape[0]):
+        i, j, m = triangles[k, 0], triangles[k, 1], triangles[k, 2]
+        longest = 0.0
+        for u, v in ((i, j), (j, m), (m, i)):
+            e = ((points[u, 0] - points[v, 0]) ** 2 + (points[u, 1] - points[v, 1]) ** 2
+                 + (points[u, 2] - points[v, 2]) ** 2)
+            longest = max(longest, e)
+        far = max(dist[i], max(dist[j], dist[m]))
+        if far - np.sqrt(longest) > out[owner[k]]:
+            continue
+        a0, a1, a2 = points[i, 0], points[i, 1], points[i, 2]
+        b0, b1, b2 = points[j, 0], points[j, 1], points[j, 2]
+        c0, c1, c2 = points[m, 0], points[m, 1], points[m, 2]
+        ab0, ab1, ab2 = b0 - a0, b1 - a1, b2 - a2
+        ac0, ac1, ac2 = c0 - a0, c1 - a1, c2 - a2
+        ap0, ap1, ap2 = o[0] - a0, o[1] - a1, o[2] - a2
+        bp0, bp1, bp2 = o[0] - b0, o[1] - b1, o[2] - b2
+        cp0, cp1, cp2 = o[0] - c0, o[1] - c1, o[2] - c2
+        d1 = ab0 * ap0 + ab1 * ap1 + ab2 * ap2
+        d2 = ac0 * ap0 + ac1 * ap1 + ac2 * ap2
+        d3 = ab0 * bp0 + ab1 * bp1 + ab2 * bp2
+        d4 = ac0 * bp0 + ac1 * bp1 + ac2 * bp2
+        d5 = ab0 * cp0 + ab1 * cp1 + ab2 * cp2
+        d6 = ac0 * cp0 + ac1 * cp1 + ac2 * cp2
+        va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+        if d1 <= 0 and d2 <= 0:
+            q0, q1, q2 = a0, a1, a2
+        elif d3 >= 0 and d4 <= d3:
+            q0, q1, q2 = b0, b1, b2
+        elif d6 >= 0 and d5 <= d6:
+            q0, q1, q2 = c0, c1, c2
+        elif vc <= 0 and d1 >= 0 and d3 <= 0:
+            t = d1 / (d1 - d3) if d1 != d3 else np.nan
+            q0, q1, q2 = a0 + t * ab0, a1 + t * ab1, a2 + t * ab2
+        elif vb <= 0 and d2 >= 0 and d6 <= 0:
+            t = d2 / (d2 - d6) if d2 != d6 else np.nan
+            q0, q1, q2 = a0 + t * ac0, a1 + t * ac1, a2 + t * ac2
+        elif va <= 0 and d4 - d3 >= 0 and d5 - d6 >= 0:
+            den = (d4 - d3) + (d5 - d6)
+            t = (d4 - d3) / den if den != 0 else np.nan
+            q0, q1, q2 = b0 + t * (c0 - b0), b1 + t * (c1 - b1), b2 + t * (c2 - b2)
+        else:
+            denom = va + vb + vc
+            v, w = (vb / denom, vc / denom) if denom != 0 else (np.nan, np.nan)
+            q0, q1, q2 = a0 + v * ab0 + w * ac0, a1 + v * ab1 + w * ac1, a2 + v * ab2 + w * ac2
+        # A degenerate (zero-area) triangle: 0/0 in the numpy reference, NaN here.
+        if not (np.isfinite(q0) and np.isfinite(q1) and np.isfinite(q2)):
+            near = min(dist[i], min(dist[j], dist[m]))      # degenerate: a corner
+        else:
+            near = np.sqrt((q0 - o[0]) ** 2 + (q1 - o[1]) ** 2 + (q2 - o[2]) ** 2)
+        if near < out[owner[k]]:
+            out[owner[k]] = near
 
 
 def _closest_on_triangles(o: NDArray[np.float64], a: NDArray[np.float64],
