@@ -456,8 +456,60 @@ def _frame_rate(project: Project, base_dir: Path, frames: int) -> tuple[float, f
         return frames / (time.perf_counter() - t0), threads["two_core_floor_ms"]
 
 
+def rigid_stand_ins(project: Project, *, base_dir: Path | None = None,
+                    max_keyframes: int = 2000) -> Project:
+    """The project with each person replaced by a rigid stand-in that goes where it goes.
+
+    The stand-in is a cylinder of the person's height and of the radius of its widest
+    trunk segment (pelvis or chest), in its clothing, centred half its height above the
+    body's placement (the floor point between the feet, :meth:`PersonBody.body_frame`)
+    and carried by keyframes of that placement at the timeline's frame times (at most
+    ``max_keyframes``, evenly spread). It moves through the scene like the person and
+    hides what the person hides, without limbs: the reference that says what
+    articulation costs beyond any moving object of a person's size.
+    """
+    from scipy.spatial.transform import Rotation
+
+    from simcore.scene.geometry import Cylinder
+    from simcore.scene.motion import Keyframe, Motion, Pose
+    from simcore.scene.people import Person
+    from simcore.scene.people.body import PersonBody
+    from simcore.scene.people.skeleton import SEGMENT_INDEX
+
+    timeline = project.timeline
+    n = timeline.n_frames
+    indices = np.unique(np.linspace(0, n - 1, min(n, max_keyframes)).round().astype(int))
+    objects = []
+    for obj in project.objects:
+        geom = obj.geometry
+        if not isinstance(geom, Person):
+            objects.append(obj)
+            continue
+        body = PersonBody(geom, obj.pose, obj.motion, object_id=obj.id, seed=project.seed,
+                          base_dir=base_dir)
+        radii = body.skeleton.radii
+        radius = float(max(radii[SEGMENT_INDEX[s]][:2].max() for s in ("pelvis", "chest")))
+        centre = np.array([0.0, 0.0, 0.5 * geom.height_m, 1.0])
+        keys = []
+        for i in indices:
+            t = timeline.frame_time(int(i))
+            place = body.body_frame(t).placement
+            angles = Rotation.from_matrix(place[:3, :3]).as_euler("xyz", degrees=True)
+            keys.append(Keyframe(time_s=t, position_m=tuple(float(v) for v in
+                                                           (place @ centre)[:3]),
+                                 rotation_deg=tuple(float(a) for a in angles)))
+        objects.append(obj.model_copy(update={
+            "geometry": Cylinder(radius_m=radius, height_m=geom.height_m),
+            "material": geom.clothing, "pose": Pose(),
+            "motion": Motion(keyframes=keys, repeat="hold")}))
+    return project.model_copy(update={"objects": objects})
+
+
 def people_speed(project_path: str | Path, *, frames: int) -> dict[str, Any] | None:
-    """Frame rate of a project with its people and without them, measured in one run.
+    """Frame rate of a project with its people, without them and with rigid stand-ins.
+
+    Each variant runs ``frames`` frames twice, in the order without, stand-ins, with and
+    back; the numbers are the means of the two.
 
     Returns
     -------
@@ -466,8 +518,11 @@ def people_speed(project_path: str | Path, *, frames: int) -> dict[str, Any] | N
         one after the other (A/B, same frames); the same from the two-core floors
         (:func:`thread_cpu`): ``floor_ms_with_people``, ``floor_ms_without_people`` and
         ``floor_ratio`` (without ÷ with: the ratio of frame rates two free cores would
-        allow at best, steadier than ``ratio`` on a loaded machine); None if the project
-        has no people.
+        allow at best, steadier than ``ratio`` on a loaded machine); with each person
+        replaced by its rigid stand-in (:func:`rigid_stand_ins`): ``fps_stand_ins``,
+        ``floor_ms_stand_ins`` and ``ratio_to_stand_ins`` (with people ÷ with stand-ins:
+        what articulation costs beyond a moving object of a person's size). None if the
+        project has no people.
     """
     from simcore.scene.people import Person
 
@@ -477,13 +532,24 @@ def people_speed(project_path: str | Path, *, frames: int) -> dict[str, Any] | N
         return None
     without = project.model_copy(update={"objects": [
         o for o in project.objects if not isinstance(o.geometry, Person)]})
-    fps_without, floor_without = _frame_rate(without, path.parent, frames)
-    fps_with, floor_with = _frame_rate(project, path.parent, frames)
+    stand_ins = rigid_stand_ins(project, base_dir=path.parent)
+    variants = {"without": without, "stand_ins": stand_ins, "with": project}
+    # Twice, in the order A B C then C B A: each variant's mean over the two cancels a
+    # load that drifts linearly through the run.
+    runs: dict[str, list[tuple[float, float]]] = {k: [] for k in variants}
+    for order in (list(variants), list(variants)[::-1]):
+        for key in order:
+            runs[key].append(_frame_rate(variants[key], path.parent, frames))
+    (fps_without, floor_without), (fps_stand, floor_stand), (fps_with, floor_with) = (
+        (float(np.mean([r[0] for r in runs[k]])), float(np.mean([r[1] for r in runs[k]])))
+        for k in variants)
     return {"fps_with_people": fps_with, "fps_without_people": fps_without,
             "ratio": fps_with / fps_without, "floor_ms_with_people": floor_with,
             "floor_ms_without_people": floor_without,
-            "floor_ratio": floor_without / floor_with, "load": _load()}
+            "floor_ratio": floor_without / floor_with, "fps_stand_ins": fps_stand,
+            "floor_ms_stand_ins": floor_stand, "ratio_to_stand_ins": fps_with / fps_stand,
+            "load": _load()}
 
 
 __all__ = ["antenna_edit_latency", "effect_variants", "if_synthesis_accuracy",
-           "people_speed", "run_benchmark", "thread_cpu", "with_effects"]
+           "people_speed", "rigid_stand_ins", "run_benchmark", "thread_cpu", "with_effects"]

@@ -570,6 +570,9 @@ def cmd_bench(args: argparse.Namespace) -> int:
         print(f"  with its people {people['fps_with_people']:.2f} frames/s, without them "
               f"{people['fps_without_people']:.2f} frames/s (ratio {people['ratio']:.2f}, "
               f"same run)")
+        print(f"  with rigid stand-ins (a cylinder of each person's size on its path) "
+              f"{people['fps_stand_ins']:.2f} frames/s: people / stand-ins "
+              f"{people['ratio_to_stand_ins']:.2f}")
         if people["floor_ratio"] == people["floor_ratio"]:     # not NaN
             print(f"  two free cores at best: with its people "
                   f"{people['floor_ms_with_people']:.1f} ms/frame, without them "

@@ -12,6 +12,7 @@ import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 
+import numpy as np
 import pytest
 
 from simcore.bench import run_benchmark, thread_cpu
@@ -86,3 +87,41 @@ def test_bench_json_carries_the_effect_variants(capsys: pytest.CaptureFixture[st
     for name in ("all_effects", "plain"):
         assert effects[name]["fps"] > 0
         assert {"tof", "dsp"} <= set(effects[name]["stages_ms"])
+
+
+def test_rigid_stand_ins_go_where_the_people_go() -> None:
+    """Each person becomes a cylinder of its height and widest trunk radius, in its
+    clothing, whose centre at every frame time is half its height above the body's
+    placement (the body model's own pose, the known answer); other objects unchanged."""
+    from simcore.bench import rigid_stand_ins
+    from simcore.scene.geometry import Cylinder
+    from simcore.scene.motion import rigid_state
+    from simcore.scene.people import Person
+    from simcore.scene.people.body import PersonBody
+    from simcore.scene.people.skeleton import SEGMENT_INDEX
+    from simcore.scene.project_io import load_project
+
+    path = example_path("person_walking")
+    project = load_project(path)
+    out = rigid_stand_ins(project, base_dir=path.parent)
+    assert len(out.objects) == len(project.objects)
+    for before, after in zip(project.objects, out.objects, strict=True):
+        if not isinstance(before.geometry, Person):
+            assert after == before
+            continue
+        person = before.geometry
+        body = PersonBody(person, before.pose, before.motion, object_id=before.id,
+                          seed=project.seed, base_dir=path.parent)
+        radii = body.skeleton.radii
+        assert isinstance(after.geometry, Cylinder)
+        assert after.geometry.height_m == person.height_m
+        assert after.geometry.radius_m == pytest.approx(max(
+            radii[SEGMENT_INDEX["pelvis"]][:2].max(), radii[SEGMENT_INDEX["chest"]][:2].max()))
+        assert after.material == person.clothing
+        for i in (0, 7, project.timeline.n_frames - 1):
+            t = project.timeline.frame_time(i)
+            place = body.body_frame(t).placement
+            state = rigid_state(after.pose, after.motion, t)
+            np.testing.assert_allclose(state.origin, place[:3, :3] @ [0, 0, person.height_m / 2]
+                                       + place[:3, 3], atol=1e-9)
+            np.testing.assert_allclose(state.transform[:3, :3], place[:3, :3], atol=1e-9)
