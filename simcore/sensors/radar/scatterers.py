@@ -16,8 +16,10 @@ front of them.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import dataclasses
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -106,6 +108,45 @@ class Scatterers:
             facet_key=None if self.facet_key is None else self.facet_key[index],
             accelerations_mps2=(None if self.accelerations_mps2 is None
                                 else self.accelerations_mps2[index]),
+        )
+
+    def negated(self) -> Scatterers:
+        """The same scatterers with opposite complex amplitude: phase + π, in [−π, π].
+
+        Synthesising them subtracts what the scatterers add, so a removal and an addition
+        can share one synthesis (:mod:`simcore.sensors.radar.background`).
+        """
+        phase = self.phase_rad
+        return dataclasses.replace(self, phase_rad=np.where(phase > 0.0, phase - np.pi,
+                                                            phase + np.pi))
+
+    @staticmethod
+    def concatenate(parts: Sequence[Scatterers]) -> Scatterers:
+        """The scatterers of ``parts`` (at least one, of one frame) in order, as one set.
+
+        Facet keys are kept when every part has them; accelerations are zeros where a part
+        has none, and None when no part has any.
+        """
+        if not parts:
+            raise ValueError("concatenate needs at least one Scatterers")
+        first = parts[0]
+        if len(parts) == 1:
+            return first
+
+        def cat(name: str) -> NDArray[Any]:
+            return np.concatenate([getattr(p, name) for p in parts])
+
+        keys = [p.facet_key for p in parts]
+        with_acc = any(p.accelerations_mps2 is not None for p in parts)
+        return Scatterers(
+            time_s=first.time_s, wavelength_m=first.wavelength_m,
+            positions_m=cat("positions_m"), velocities_mps=cat("velocities_mps"),
+            rcs_m2=cat("rcs_m2"), phase_rad=cat("phase_rad"),
+            object_index=cat("object_index"), kind=cat("kind"),
+            facet_key=(None if any(k is None for k in keys)
+                       else np.concatenate([k for k in keys if k is not None])),
+            accelerations_mps2=(np.concatenate([p.accelerations for p in parts])
+                                if with_acc else None),
         )
 
     @property

@@ -315,11 +315,11 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
         others = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
                                   pixels=pixels, see_through=ctx.see_through, config=cfg)
         hidden = background.in_cells(cells)
-        out = background_if.copy()
-        if len(hidden):
-            out -= synthesize_if(hidden, cfg)
-        if len(others):
-            out += synthesize_if(others, cfg)
+        # One synthesis of the change: the hidden facets negated (phase + π) with the
+        # frame's own, so their static rows share one transform per pair and the call's
+        # fixed costs are paid once.
+        change = Scatterers.concatenate([hidden.negated(), others])
+        out = background_if + synthesize_if(change, cfg) if len(change) else background_if.copy()
         n = len(background.scatterers) - len(hidden) + len(others)
         parts = [(background_labels, 1.0), (prepare_scatterers(hidden, cfg), -1.0),
                  (prepare_scatterers(others, cfg), 1.0)]
