@@ -33,7 +33,7 @@ from simcore.scene.materials import DualBandMaterial
 from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot
-from simcore.sensors.radar.kinematics import motion_maps
+from simcore.sensors.radar.kinematics import motion_maps_batch
 from simcore.sensors.radar.surfaces import facet_returns, transmission_coefficients
 
 #: A point scatterer is hidden when a rendered surface is nearer than this along its ray (m).
@@ -515,27 +515,16 @@ def _rotation_kinematics(snapshot: SceneSnapshot, pos: NDArray[np.float64],
     if not turning or not len(pos):
         return None
     radar = snapshot.sensors["radar"]
-    # One map per distinct motion: a body that does not rotate moves its points alike
-    # wherever its origin is (every still object under a turning rig shares one).
-    rows: dict[bytes, int] = {}
-    maps: list[NDArray[np.float64]] = []
+    # One map per turning object, all in one batch (a person has a dozen turning segments).
+    bodies = [snapshot.objects[i] for i in turning]
+    m_v, c_v, m_a, c_a = motion_maps_batch(
+        np.array([b.angular_velocity_rps for b in bodies], dtype=np.float64),
+        np.array([b.velocity_mps for b in bodies], dtype=np.float64),
+        np.array([b.origin for b in bodies], dtype=np.float64), snapshot.rig, radar)
     group_of = np.full(len(snapshot.objects) + 1, -1, dtype=np.int32)
-    for i in turning:
-        body = snapshot.objects[i]
-        spin = np.asarray(body.angular_velocity_rps, dtype=np.float64)
-        key = np.concatenate([spin, np.asarray(body.velocity_mps, dtype=np.float64),
-                              np.asarray(body.origin, dtype=np.float64) if spin.any()
-                              else np.zeros(3)]).tobytes()
-        if key not in rows:
-            rows[key] = len(maps)
-            maps.append(np.concatenate([a.ravel()
-                                        for a in motion_maps(body, snapshot.rig, radar)]))
-        group_of[i] = rows[key]
-    table = np.array(maps)                                                # (G, 24)
+    group_of[turning] = np.arange(len(turning), dtype=np.int32)
     acc = np.empty_like(pos)
-    _rigid_rows(pos, np.take(group_of, obj),
-                np.ascontiguousarray(table[:, 0:9]).reshape(-1, 3, 3),
-                np.ascontiguousarray(table[:, 9:12]),
-                np.ascontiguousarray(table[:, 12:21]).reshape(-1, 3, 3),
-                np.ascontiguousarray(table[:, 21:24]), vel, acc)
+    _rigid_rows(pos, np.take(group_of, obj), np.ascontiguousarray(m_v),
+                np.ascontiguousarray(c_v), np.ascontiguousarray(m_a),
+                np.ascontiguousarray(c_a), vel, acc)
     return acc
