@@ -245,7 +245,8 @@ def _interference(ctx: SensorContext, name: str, cfg: RadarConfig,
     """The other radars' signals in this frame (stage ``radar_interference``), or None.
 
     Over the direct paths, and with ``multipath_order`` ≥ 1 also over the frame's
-    scatterers (computed here when the frame's IF was built over the still background).
+    scatterers (over the still background: those :func:`_ideal_over_background` gives;
+    computed here only when the caller has none).
     """
     if not aggressors(ctx.project, name):
         return None
