@@ -23,7 +23,7 @@ from simcore.scene.radar_config import SPEED_OF_LIGHT, CosinePattern, RadarConfi
 from simcore.scene.radar_presets import bgt60tr13c, tdm_mimo_2tx4rx
 from simcore.scene.snapshot import take_snapshot
 from simcore.sensors.radar import synthesis
-from simcore.sensors.radar.kinematics import rigid_point_motion
+from simcore.sensors.radar.kinematics import motion_maps_batch, rigid_point_motion
 from simcore.sensors.radar.scatterers import Scatterers, scatterers_from_render
 from simcore.sensors.radar.synthesis import prepare, synthesize_if, synthesize_if_direct
 
@@ -328,6 +328,41 @@ def test_rigid_point_motion_matches_finite_differences_of_the_exact_motion() -> 
     assert_allclose(pos, x[:, 1], atol=1e-12)
     assert_allclose(vel, (x[:, 2] - x[:, 0]) / (2 * h), atol=1e-7)
     assert_allclose(acc, (x[:, 2] - 2 * x[:, 1] + x[:, 0]) / h**2, atol=1e-4)
+
+
+def test_batched_motion_maps_match_finite_differences_of_spinning_bodies() -> None:
+    """Several bodies spinning about their own moving origins, seen from a turning rig."""
+    project = Project()
+    p0, v_rig, mount = np.array([0.5, -0.2, 1.2]), np.array([0.4, -0.2, 0.1]), np.array(
+        [0.1, -0.05, 0.03])
+    project.rig.pose = Pose(position_m=tuple(p0))
+    project.rig.motion = Motion(velocity_mps=tuple(v_rig), angular_velocity_dps=(0, 0, 40.0))
+    project.rig.radar = RadarConfig(pose_on_rig=Pose(position_m=tuple(mount)))
+    t0, h, omega = 0.8, 1e-4, np.deg2rad(40.0)
+    snap = take_snapshot(project, t0)
+    radar = snap.sensors["radar"]
+    rng = np.random.default_rng(3)
+    spins = rng.normal(0.0, 2.0, (3, 3))                 # rad/s, world frame
+    spins[2] = 0.0                                       # one body only translates
+    vels, origins = rng.normal(0.0, 0.5, (3, 3)), rng.uniform(-1.0, 3.0, (3, 3))
+    m_v, c_v, m_a, c_a = motion_maps_batch(spins, vels, origins, snap.rig, radar)
+    assert m_v.shape == (3, 3, 3) and c_a.shape == (3, 3)
+    dt = np.array([-h, 0.0, h])
+    for g in range(3):
+        points = world_points(project, t0, 10, seed=g)
+        # Exact motion: rotation by |ω| t about ω's axis around the origin moving at v.
+        angle = np.linalg.norm(spins[g])
+        axis = spins[g] / angle if angle else np.zeros(3)
+        k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+        x = []
+        for tau in dt:
+            rot = np.eye(3) + np.sin(angle * tau) * k + (1 - np.cos(angle * tau)) * k @ k
+            moved = origins[g] + vels[g] * tau + (points - origins[g]) @ rot.T
+            x.append(radar_frame(moved, rotation_z(omega * (t0 + tau))[None],
+                                 (p0 + v_rig * (t0 + tau))[None], mount)[:, 0])
+        pos = x[1]
+        assert_allclose(pos @ m_v[g].T + c_v[g], (x[2] - x[0]) / (2 * h), atol=1e-6)
+        assert_allclose(pos @ m_a[g].T + c_a[g], (x[2] - 2 * x[1] + x[0]) / h**2, atol=1e-3)
 
 
 # --------------------------------------------------------------------------- stateless

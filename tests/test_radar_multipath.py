@@ -359,6 +359,35 @@ def test_simulator_adds_the_ghosts_on_the_plain_and_the_background_path() -> Non
     assert np.max(np.abs(cubes["off"] - cubes["plain"])) > 1e-3 * scale
 
 
+def test_the_background_path_hands_the_ghosts_every_scatterer_of_the_frame() -> None:
+    """Over the still background the ghosts' scatterers are the background's facets outside
+    the changed cells plus the frame's own in them: the same set as the full frame's."""
+    from simcore.pipeline import Simulator
+
+    project = scene(render_width=120, render_height=120)
+    mover = SceneObject(id=9, name="mover", geometry=Box(size_m=(0.2, 0.2, 0.2)),
+                        pose=Pose(position_m=(4.5, -1.0, Z)), material="concrete",
+                        motion=Motion(velocity_mps=(0.0, 0.5, 0.0)))
+    project = project.model_copy(update={"objects": [*project.objects, mover]})
+    with Simulator(project, reuse_static=True) as sim:
+        sim.frame(0)
+        frame = sim.frame(1)
+        entries = sim.engine.cache._entries["radar_synthesis"]
+        built = next(reversed(entries.values())).value[4]
+    full = radar_scatterers(sim.engine.project, frame.snapshot, frame.buffers["radar"],
+                            seed=project.seed, see_through=frame.see_through.get("radar"))
+    assert isinstance(built, Scatterers) and len(built) == len(full)
+    assert np.count_nonzero(built.object_index == 0) > 0     # the still objects are there
+    order_b = np.lexsort((built.positions_m[:, 2], built.positions_m[:, 1],
+                          built.positions_m[:, 0], built.object_index))
+    order_f = np.lexsort((full.positions_m[:, 2], full.positions_m[:, 1],
+                          full.positions_m[:, 0], full.object_index))
+    for name in ("positions_m", "velocities_mps", "rcs_m2", "phase_rad", "object_index",
+                 "kind"):
+        np.testing.assert_array_equal(getattr(built, name)[order_b],
+                                      getattr(full, name)[order_f], err_msg=name)
+
+
 def test_detections_of_ghosts_are_labelled_ghost_of_the_object_they_mirror() -> None:
     """Labels: the detections at R (direct), (R+R_m)/2 (order 1) and R_m (order 2, at the
     image's azimuth) carry the corner's id; only the last two are ghosts. Without

@@ -50,9 +50,13 @@ class BackgroundFacets:
 
     def in_cells(self, cells: NDArray[np.bool_]) -> Scatterers:
         """The background facets whose cell is flagged in ``cells`` (flat facet grid)."""
+        return self.scatterers.subset(np.flatnonzero(self.cell_mask(cells)))
+
+    def cell_mask(self, cells: NDArray[np.bool_]) -> NDArray[np.bool_]:
+        """Which background facets have their cell flagged in ``cells``, shape (M,)."""
         key = self.scatterers.facet_key
         assert key is not None
-        return self.scatterers.subset(np.flatnonzero(np.take(cells, key // self.n_objects)))
+        return np.take(cells, key // self.n_objects)
 
 
 def changed_cells(changed: NDArray[np.intp], render: PinholeIntrinsics,

@@ -65,7 +65,7 @@ def motion_maps(body: RigidState, rig: RigidState, radar: SensorState
 
     For points fixed to ``body``, ``ẋ = M_v x + c_v`` and ``ẍ = M_a x + c_a`` with ``x`` in
     the radar optical frame (cross products with the constant angular velocities are 3×3
-    matrices; see the module docstring).
+    matrices; see the module docstring). One body of :func:`motion_maps_batch`.
 
     Returns
     -------
@@ -78,24 +78,62 @@ def motion_maps(body: RigidState, rig: RigidState, radar: SensorState
     c_a : ndarray, shape (3,)
         m/s².
     """
-    w_b = _skew(body.angular_velocity_rps)
+    m_v, c_v, m_a, c_a = motion_maps_batch(
+        np.asarray(body.angular_velocity_rps, dtype=np.float64).reshape(1, 3),
+        np.asarray(body.velocity_mps, dtype=np.float64).reshape(1, 3),
+        np.asarray(body.origin, dtype=np.float64).reshape(1, 3), rig, radar)
+    return m_v[0], c_v[0], m_a[0], c_a[0]
+
+
+def motion_maps_batch(angular_velocity_rps: NDArray[np.float64],
+                      velocity_mps: NDArray[np.float64], origin: NDArray[np.float64],
+                      rig: RigidState, radar: SensorState
+                      ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
+                                 NDArray[np.float64]]:
+    """:func:`motion_maps` of ``G`` bodies at once (an articulated person's segments).
+
+    Parameters
+    ----------
+    angular_velocity_rps, velocity_mps, origin : ndarray, shape (G, 3)
+        Each body's angular velocity (rad/s) about its origin, the origin's velocity (m/s)
+        and the origin (m), world frame.
+    rig, radar : RigidState, SensorState
+        As for :func:`motion_maps`.
+
+    Returns
+    -------
+    m_v, c_v, m_a, c_a : ndarray, shapes (G, 3, 3), (G, 3), (G, 3, 3), (G, 3)
+        The maps of each body (units as for :func:`motion_maps`).
+    """
+    w_b = _skew_batch(angular_velocity_rps)                        # (G, 3, 3)
+    o_b = origin[..., None]                                        # (G, 3, 1)
     w = _skew(rig.angular_velocity_rps)
-    s, o_b = radar.position, body.origin
+    s = radar.position
     arm_s = s - rig.origin
     s_dot = rig.velocity_mps + w @ arm_s
     s_ddot = w @ (w @ arm_s)
     # In world coordinates, as functions of the world point X (D = X − s):
     # Ḋ = W_b (X − o_b) + v_b − ṡ,   D̈ = W_b² (X − o_b) − s̈,
     # ẋ = Rᵀ (Ḋ − W D),   ẍ = Rᵀ (D̈ − 2 W Ḋ + W² D).
-    d_dot_m, d_dot_c = w_b, body.velocity_mps - w_b @ o_b - s_dot
-    d_ddot_m, d_ddot_c = w_b @ w_b, -(w_b @ w_b) @ o_b - s_ddot
-    vel_m, vel_c = d_dot_m - w, d_dot_c + w @ s
-    acc_m = d_ddot_m - 2.0 * w @ d_dot_m + w @ w
-    acc_c = d_ddot_c - 2.0 * w @ d_dot_c - (w @ w) @ s
+    w_b2 = w_b @ w_b
+    d_dot_c = velocity_mps - (w_b @ o_b)[..., 0] - s_dot           # (G, 3)
+    d_ddot_c = -(w_b2 @ o_b)[..., 0] - s_ddot
+    vel_m, vel_c = w_b - w, d_dot_c + w @ s
+    acc_m = w_b2 - 2.0 * (w @ w_b) + w @ w
+    acc_c = d_ddot_c - 2.0 * (d_dot_c @ w.T) - (w @ w) @ s
     # X = R x + s:  M X + c = (M R) x + (M s + c), then into the radar frame with Rᵀ.
     rot = radar.rotation
-    return (rot.T @ vel_m @ rot, rot.T @ (vel_m @ s + vel_c),
-            rot.T @ acc_m @ rot, rot.T @ (acc_m @ s + acc_c))
+    return (rot.T @ vel_m @ rot, (vel_m @ s + vel_c) @ rot,
+            rot.T @ acc_m @ rot, (acc_m @ s + acc_c) @ rot)
+
+
+def _skew_batch(w: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Matrices ``[w]×`` of the rows of ``w`` (G, 3), shape (G, 3, 3)."""
+    out = np.zeros((len(w), 3, 3))
+    out[:, 0, 1], out[:, 0, 2] = -w[:, 2], w[:, 1]
+    out[:, 1, 0], out[:, 1, 2] = w[:, 2], -w[:, 0]
+    out[:, 2, 0], out[:, 2, 1] = -w[:, 1], w[:, 0]
+    return out
 
 
 def _skew(w: NDArray[np.floating]) -> NDArray[np.float64]:
@@ -143,4 +181,5 @@ def radar_frame_trajectory(points_world: NDArray[np.floating],
     return trajectory
 
 
-__all__ = ["Trajectory", "motion_maps", "radar_frame_trajectory", "rigid_point_motion"]
+__all__ = ["Trajectory", "motion_maps", "motion_maps_batch", "radar_frame_trajectory",
+           "rigid_point_motion"]

@@ -16,8 +16,10 @@ front of them.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import dataclasses
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -31,7 +33,7 @@ from simcore.scene.materials import DualBandMaterial
 from simcore.scene.model import Project
 from simcore.scene.project_io import material_table
 from simcore.scene.snapshot import SceneSnapshot
-from simcore.sensors.radar.kinematics import motion_maps
+from simcore.sensors.radar.kinematics import motion_maps_batch
 from simcore.sensors.radar.surfaces import facet_returns, transmission_coefficients
 
 #: A point scatterer is hidden when a rendered surface is nearer than this along its ray (m).
@@ -106,6 +108,45 @@ class Scatterers:
             facet_key=None if self.facet_key is None else self.facet_key[index],
             accelerations_mps2=(None if self.accelerations_mps2 is None
                                 else self.accelerations_mps2[index]),
+        )
+
+    def negated(self) -> Scatterers:
+        """The same scatterers with opposite complex amplitude: phase + π, in [−π, π].
+
+        Synthesising them subtracts what the scatterers add, so a removal and an addition
+        can share one synthesis (:mod:`simcore.sensors.radar.background`).
+        """
+        phase = self.phase_rad
+        return dataclasses.replace(self, phase_rad=np.where(phase > 0.0, phase - np.pi,
+                                                            phase + np.pi))
+
+    @staticmethod
+    def concatenate(parts: Sequence[Scatterers]) -> Scatterers:
+        """The scatterers of ``parts`` (at least one, of one frame) in order, as one set.
+
+        Facet keys are kept when every part has them; accelerations are zeros where a part
+        has none, and None when no part has any.
+        """
+        if not parts:
+            raise ValueError("concatenate needs at least one Scatterers")
+        first = parts[0]
+        if len(parts) == 1:
+            return first
+
+        def cat(name: str) -> NDArray[Any]:
+            return np.concatenate([getattr(p, name) for p in parts])
+
+        keys = [p.facet_key for p in parts]
+        with_acc = any(p.accelerations_mps2 is not None for p in parts)
+        return Scatterers(
+            time_s=first.time_s, wavelength_m=first.wavelength_m,
+            positions_m=cat("positions_m"), velocities_mps=cat("velocities_mps"),
+            rcs_m2=cat("rcs_m2"), phase_rad=cat("phase_rad"),
+            object_index=cat("object_index"), kind=cat("kind"),
+            facet_key=(None if any(k is None for k in keys)
+                       else np.concatenate([k for k in keys if k is not None])),
+            accelerations_mps2=(np.concatenate([p.accelerations for p in parts])
+                                if with_acc else None),
         )
 
     @property
@@ -474,27 +515,16 @@ def _rotation_kinematics(snapshot: SceneSnapshot, pos: NDArray[np.float64],
     if not turning or not len(pos):
         return None
     radar = snapshot.sensors["radar"]
-    # One map per distinct motion: a body that does not rotate moves its points alike
-    # wherever its origin is (every still object under a turning rig shares one).
-    rows: dict[bytes, int] = {}
-    maps: list[NDArray[np.float64]] = []
+    # One map per turning object, all in one batch (a person has a dozen turning segments).
+    bodies = [snapshot.objects[i] for i in turning]
+    m_v, c_v, m_a, c_a = motion_maps_batch(
+        np.array([b.angular_velocity_rps for b in bodies], dtype=np.float64),
+        np.array([b.velocity_mps for b in bodies], dtype=np.float64),
+        np.array([b.origin for b in bodies], dtype=np.float64), snapshot.rig, radar)
     group_of = np.full(len(snapshot.objects) + 1, -1, dtype=np.int32)
-    for i in turning:
-        body = snapshot.objects[i]
-        spin = np.asarray(body.angular_velocity_rps, dtype=np.float64)
-        key = np.concatenate([spin, np.asarray(body.velocity_mps, dtype=np.float64),
-                              np.asarray(body.origin, dtype=np.float64) if spin.any()
-                              else np.zeros(3)]).tobytes()
-        if key not in rows:
-            rows[key] = len(maps)
-            maps.append(np.concatenate([a.ravel()
-                                        for a in motion_maps(body, snapshot.rig, radar)]))
-        group_of[i] = rows[key]
-    table = np.array(maps)                                                # (G, 24)
+    group_of[turning] = np.arange(len(turning), dtype=np.int32)
     acc = np.empty_like(pos)
-    _rigid_rows(pos, np.take(group_of, obj),
-                np.ascontiguousarray(table[:, 0:9]).reshape(-1, 3, 3),
-                np.ascontiguousarray(table[:, 9:12]),
-                np.ascontiguousarray(table[:, 12:21]).reshape(-1, 3, 3),
-                np.ascontiguousarray(table[:, 21:24]), vel, acc)
+    _rigid_rows(pos, np.take(group_of, obj), np.ascontiguousarray(m_v),
+                np.ascontiguousarray(c_v), np.ascontiguousarray(m_a),
+                np.ascontiguousarray(c_a), vel, acc)
     return acc

@@ -137,24 +137,25 @@ class RadarSensor(SensorBase):
             base, ctx.index // base.frame_divider(ctx.project.timeline.frame_rate_hz))
         ctx = dataclasses.replace(ctx, snapshot=ctx.snapshot.seen_by(self.name, "radar"))
         found = _ideal_over_background(ctx, cfg)
-        scatterers = None
+        scatterers: Scatterers | None
         if found is None:
-            scatterers = ctx.stage(
+            plain = ctx.stage(
                 "radar_scatterers",
                 lambda: radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
                                          see_through=ctx.see_through, config=cfg),
                 reads=_scatterer_reads(ctx, cfg), inputs=(ctx.buffers, ctx.see_through))
             # Per-scatterer arrays that do not depend on antennas or waveform: an antenna
             # edit re-uses them with the scatterers.
-            prepared = ctx.stage("radar_prepare", lambda: prepare(scatterers), reads=(),
-                                 inputs=(scatterers,))
+            prepared = ctx.stage("radar_prepare", lambda: prepare(plain), reads=(),
+                                 inputs=(plain,))
             ideal = ctx.stage("radar_synthesis",
-                              lambda: synthesize_if(scatterers, cfg, prepared=prepared),
-                              reads=config_key(cfg), inputs=(scatterers, prepared))
-            n_scatterers = transformed = len(scatterers)
+                              lambda: synthesize_if(plain, cfg, prepared=prepared),
+                              reads=config_key(cfg), inputs=(plain, prepared))
+            n_scatterers = transformed = len(plain)
+            scatterers = plain
             parts = None
         else:
-            ideal, n_scatterers, transformed, parts = found
+            ideal, n_scatterers, transformed, parts, scatterers = found
         ghosts: list[LabelScatterers] = []
         if cfg.multipath_order > 0:
             ideal, ghosts = _with_multipath(ctx, cfg, ideal, scatterers)
@@ -217,8 +218,9 @@ def _with_multipath(ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
     per kind of path, with its bistatic ranges, so a detection of a ghost is labelled
     ``ghost`` with the id of the object it is a ghost of.
 
-    The ghosts come from all the frame's scatterers (computed here when the frame's IF
-    was built over the still background), so both paths add the same ghosts.
+    The ghosts come from all the frame's scatterers (over the still background: the
+    background's facets outside the changed cells and the frame's own in them), so both
+    paths add the same ghosts; computed here only when the caller has none.
     """
     def run() -> tuple[ComplexCube, list[LabelScatterers]]:
         sc = scatterers
@@ -243,7 +245,8 @@ def _interference(ctx: SensorContext, name: str, cfg: RadarConfig,
     """The other radars' signals in this frame (stage ``radar_interference``), or None.
 
     Over the direct paths, and with ``multipath_order`` ≥ 1 also over the frame's
-    scatterers (computed here when the frame's IF was built over the still background).
+    scatterers (over the still background: those :func:`_ideal_over_background` gives;
+    computed here only when the caller has none).
     """
     if not aggressors(ctx.project, name):
         return None
@@ -274,13 +277,16 @@ def _scatterer_reads(ctx: SensorContext, cfg: RadarConfig) -> object:
 
 
 def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
-                           ) -> tuple[ComplexCube, int, int, _LabelParts] | None:
+                           ) -> tuple[ComplexCube, int, int, _LabelParts,
+                                      Scatterers | None] | None:
     """The frame's IF as background IF − changed background facets + the frame's there.
 
     Returns (IF, scatterers in the frame, scatterers transformed, the same sum for the
     detection labels: the background's prepared scatterers (kept across frames) with sign
-    +1, the hidden facets' with −1 and the frame's own there with +1), or None when the
-    engine gave no background or too much of the render changed.
+    +1, the hidden facets' with −1 and the frame's own there with +1; and, when the radar
+    has multipath, all the frame's scatterers: the background's facets outside the changed
+    cells and the frame's own in them, for the ghosts), or None when the engine gave no
+    background or too much of the render changed.
     """
     bg = ctx.background
     if bg is None or bg.buffers.shape != ctx.buffers.shape:
@@ -310,20 +316,25 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
                                   lambda: prepare_scatterers(background.scatterers, cfg),
                                   reads=config_key(cfg), inputs=(background,))
 
-    def frame_if() -> tuple[ComplexCube, int, int, _LabelParts]:
+    def frame_if() -> tuple[ComplexCube, int, int, _LabelParts, Scatterers | None]:
         pixels = cell_pixels(cells, ctx.buffers.intrinsics, facets)
         others = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
                                   pixels=pixels, see_through=ctx.see_through, config=cfg)
-        hidden = background.in_cells(cells)
-        out = background_if.copy()
-        if len(hidden):
-            out -= synthesize_if(hidden, cfg)
-        if len(others):
-            out += synthesize_if(others, cfg)
+        inside = background.cell_mask(cells)
+        hidden = background.scatterers.subset(np.flatnonzero(inside))
+        # One synthesis of the change: the hidden facets negated (phase + π) with the
+        # frame's own, so their static rows share one transform per pair and the call's
+        # fixed costs are paid once.
+        change = Scatterers.concatenate([hidden.negated(), others])
+        out = background_if + synthesize_if(change, cfg) if len(change) else background_if.copy()
         n = len(background.scatterers) - len(hidden) + len(others)
         parts = [(background_labels, 1.0), (prepare_scatterers(hidden, cfg), -1.0),
                  (prepare_scatterers(others, cfg), 1.0)]
-        return out, n, len(hidden) + len(others), parts
+        # Multipath ghosts need every scatterer of the frame: the background's where the
+        # frame did not change, the frame's own where it did (as the IF above).
+        full = (Scatterers.concatenate([background.scatterers.subset(np.flatnonzero(~inside)),
+                                        others]) if cfg.multipath_order > 0 else None)
+        return out, n, len(hidden) + len(others), parts, full
 
     return ctx.stage("radar_synthesis", frame_if, reads=(reads, config_key(cfg)),
                      inputs=(ctx.buffers, bg.buffers, ctx.see_through))
