@@ -650,12 +650,30 @@ class OneBounceCache:
         self._lock = threading.Lock()
         self._last: OrderedDict[Hashable, _Sums] = OrderedDict()
         self._weights: OrderedDict[Hashable, _Weights] = OrderedDict()
+        self._spare: dict[Hashable, NDArray[np.float64]] = {}
+
+    def _buffer(self, camera: Hashable, rows: int, nt: int, nv: int, *,
+                avoid: NDArray[np.float64] | None) -> NDArray[np.float64]:
+        """A tile-sum buffer of at least ``rows`` rows for ``camera``'s frame (lock held).
+
+        The camera's spare (the buffer of its frame before last, no longer read) when it
+        fits and is not ``avoid``'s memory; else a new one with some room to grow. The
+        buffer of the frame now replaced becomes the next spare.
+        """
+        spare = self._spare.pop(camera, None)
+        if avoid is not None and avoid.base is not None and avoid.base.ndim == 3:
+            self._spare[camera] = avoid.base
+        if (spare is None or spare.shape[0] < rows or spare.shape[1:] != (nt, nv)
+                or (avoid is not None and np.may_share_memory(spare, avoid))):
+            spare = np.empty((rows + rows // 8 + 64, nt, nv))
+        return spare
 
     def clear(self) -> None:
         """Forget the last frames (the next ones are summed in full)."""
         with self._lock:
             self._last.clear()
             self._weights.clear()
+            self._spare.clear()
 
     def weights_record(self, key: Hashable) -> _Weights | None:
         """The last receivers and node weights (:func:`_node_weights`) kept for ``key``."""
@@ -719,10 +737,14 @@ class OneBounceCache:
                 fresh = np.zeros((0, len(every), nv))
                 if not same.all():
                     fresh = _tile_sums(pts[~same], nrm[~same], senders, kk, every)
-                # One compiled pass: kept rows with their redone tiles, fresh rows, totals.
-                tiles, total = _merge_tiles(old, old_tiles, np.ascontiguousarray(redo),
-                                            redone, fresh)
-                parts.append((index, pts, nrm, tiles))
+                # One compiled pass: kept rows with their redone tiles, fresh rows, totals,
+                # into the buffer of the frame before last (reused: no fresh pages to
+                # fault in each frame).
+                tiles = self._buffer(camera, len(index), len(every), nv,
+                                     avoid=None if last is None else last.tiles)
+                total = _merge_tiles(old, old_tiles, np.ascontiguousarray(redo), redone,
+                                     fresh, tiles)
+                parts.append((index, pts, nrm, tiles[:len(index)]))
                 return total
 
             self._last.pop(camera, None)           # an exception leaves no half record
@@ -766,16 +788,17 @@ def _kept_rows(index: NDArray[np.int64], points: F32, normals: F32, row: NDArray
 @kernel
 def _merge_tiles(old: NDArray[np.int64], old_tiles: NDArray[np.float64],
                  redo: NDArray[np.int64], redone: NDArray[np.float64],
-                 fresh: NDArray[np.float64]) -> tuple[NDArray[np.float64], F32]:
+                 fresh: NDArray[np.float64], tiles: NDArray[np.float64]) -> F32:
     """A frame's tile sums and receiver totals from the kept, redone and fresh sums.
 
     Receiver ``i`` with ``old[i] ≥ 0`` takes row ``old[i]`` of ``old_tiles`` with the tiles
     ``redo`` replaced by its next row of ``redone``; the others take their next row of
-    ``fresh`` (every tile). Totals as :func:`_total` (tiles added in order, float64).
+    ``fresh`` (every tile). The rows are written to ``tiles[:len(old)]`` (a buffer of at
+    least that many rows, not ``old_tiles``). Totals as :func:`_total` (tiles added in
+    order, float64).
     """
     m = old.shape[0]
-    nt, nv = fresh.shape[1], fresh.shape[2]
-    tiles = np.empty((m, nt, nv))
+    nv = fresh.shape[2]
     total = np.zeros((m, nv), dtype=np.float32)
     kept = 0
     new = 0
@@ -788,25 +811,41 @@ def _merge_tiles(old: NDArray[np.int64], old_tiles: NDArray[np.float64],
         else:
             tiles[i] = fresh[new]
             new += 1
+        _add_tiles(tiles[i], total[i])
+    return total
+
+
+@kernel
+def _add_tiles(tiles: NDArray[np.float64], out: F32) -> None:
+    """``out[v] = Σ_t tiles[t, v]``, the tiles added in order (float64), for every ``v``.
+
+    The values' sums are independent chains: they run side by side (tile outer, value
+    inner), each still adding its tiles in order, so every total is the same number.
+    """
+    nt, nv = tiles.shape
+    if nv == 3:                        # one frequency: three chains held in registers
+        a0 = a1 = a2 = 0.0
+        for t in range(nt):
+            a0 += tiles[t, 0]
+            a1 += tiles[t, 1]
+            a2 += tiles[t, 2]
+        out[0], out[1], out[2] = a0, a1, a2
+        return
+    acc = np.zeros(nv)
+    for t in range(nt):
         for v in range(nv):
-            acc = 0.0
-            for t in range(nt):
-                acc += tiles[i, t, v]
-            total[i, v] = acc
-    return tiles, total
+            acc[v] += tiles[t, v]
+    for v in range(nv):
+        out[v] = acc[v]
 
 
 @kernel
 def _total(tiles: NDArray[np.float64]) -> F32:
     """Receiver sums (M, V) from their tile sums (M, T, V): added in tile order (float64)."""
-    m, nt, nv = tiles.shape
+    m, _nt, nv = tiles.shape
     out = np.zeros((m, nv), dtype=np.float32)
     for i in range(m):
-        for v in range(nv):
-            acc = 0.0
-            for t in range(nt):
-                acc += tiles[i, t, v]
-            out[i, v] = acc
+        _add_tiles(tiles[i], out[i])
     return out
 
 
