@@ -635,9 +635,11 @@ class OneBounceCache:
     the office) changes only a few senders and receivers from frame to frame. The sums
     are kept per receiver and per tile of the sender grid (:data:`TILE`): a receiver whose
     point and normal are bit-identical to the last frame's takes the last frame's tile sums
-    and redoes only the tiles in which a sender changed; new or moved receivers are summed
-    over every tile. The tile sums are then added in tile order, exactly as without the
-    cache, so the result does not depend on which frames came before (bit-identical).
+    and redoes only the tiles in which a sender changed (and only if a changed sender
+    lights it, now or in the last frame: otherwise those tiles add the same terms as
+    before); new or moved receivers are summed over every tile. The tile sums are then
+    added in tile order, exactly as without the cache, so the result does not depend on
+    which frames came before (bit-identical).
     The last frame is kept per camera (up to :attr:`KEEP` cameras, least recently used
     dropped), so the cameras of several rigs do not evict each other's sums.
     Thread-safe: one frame at a time.
@@ -710,11 +712,13 @@ class OneBounceCache:
             last = self._last.get(camera)
             last = last if last is not None and last.key == key else None
             redo = every
+            changed_slots = np.zeros(0, dtype=np.int64)
             if last is not None:
                 changed = ~((slot_pts == last.slot_points).all(axis=1)
                             & (slot_nrm == last.slot_normals).all(axis=1)
                             & (slot_wgt == last.slot_weight))
-                redo = np.unique(_tile_of(np.flatnonzero(changed), senders.grid_shape))
+                changed_slots = np.flatnonzero(changed)
+                redo = np.unique(_tile_of(changed_slots, senders.grid_shape))
                 if len(redo) > len(every) // 2:
                     last = None
             parts: list[tuple[NDArray[np.int64], F32, F32, NDArray[np.float64]]] = []
@@ -732,8 +736,18 @@ class OneBounceCache:
                     old_tiles = np.zeros((0, len(every), nv))
                 same = old >= 0
                 redone = np.zeros((0, len(redo), nv))
+                # A kept receiver that no changed sender lights, in this frame or the last,
+                # adds the very same terms in the same order in every redone tile: it
+                # keeps its tile sums; the others redo the changed tiles.
+                lit = np.zeros(0, dtype=np.bool_)
                 if same.any() and len(redo):
-                    redone = _tile_sums(pts[same], nrm[same], senders, kk, redo)
+                    assert last is not None
+                    lit = _lit_by_changed(pts[same], nrm[same], changed_slots, slot_pts,
+                                          slot_nrm, slot_wgt, last.slot_points,
+                                          last.slot_normals, last.slot_weight)
+                    if lit.any():
+                        idx = np.flatnonzero(same)[lit]
+                        redone = _tile_sums(pts[idx], nrm[idx], senders, kk, redo)
                 fresh = np.zeros((0, len(every), nv))
                 if not same.all():
                     fresh = _tile_sums(pts[~same], nrm[~same], senders, kk, every)
@@ -742,8 +756,8 @@ class OneBounceCache:
                 # fault in each frame).
                 tiles = self._buffer(camera, len(index), len(every), nv,
                                      avoid=None if last is None else last.tiles)
-                total = _merge_tiles(old, old_tiles, np.ascontiguousarray(redo), redone,
-                                     fresh, tiles)
+                total = _merge_tiles(old, lit, old_tiles, np.ascontiguousarray(redo),
+                                     redone, fresh, tiles)
                 parts.append((index, pts, nrm, tiles[:len(index)]))
                 return total
 
@@ -786,13 +800,15 @@ def _kept_rows(index: NDArray[np.int64], points: F32, normals: F32, row: NDArray
 
 
 @kernel
-def _merge_tiles(old: NDArray[np.int64], old_tiles: NDArray[np.float64],
+def _merge_tiles(old: NDArray[np.int64], lit: NDArray[np.bool_],
+                 old_tiles: NDArray[np.float64],
                  redo: NDArray[np.int64], redone: NDArray[np.float64],
                  fresh: NDArray[np.float64], tiles: NDArray[np.float64]) -> F32:
     """A frame's tile sums and receiver totals from the kept, redone and fresh sums.
 
-    Receiver ``i`` with ``old[i] ≥ 0`` takes row ``old[i]`` of ``old_tiles`` with the tiles
-    ``redo`` replaced by its next row of ``redone``; the others take their next row of
+    Receiver ``i`` with ``old[i] ≥ 0`` (the ``j``-th such) takes row ``old[i]`` of
+    ``old_tiles``, with the tiles ``redo`` replaced by its next row of ``redone`` where
+    ``lit[j]`` (an empty ``lit``: none); the others take their next row of
     ``fresh`` (every tile). The rows are written to ``tiles[:len(old)]`` (a buffer of at
     least that many rows, not ``old_tiles``). Totals as :func:`_total` (tiles added in
     order, float64).
@@ -801,18 +817,57 @@ def _merge_tiles(old: NDArray[np.int64], old_tiles: NDArray[np.float64],
     nv = fresh.shape[2]
     total = np.zeros((m, nv), dtype=np.float32)
     kept = 0
+    lit_row = 0
     new = 0
     for i in range(m):
         if old[i] >= 0:
             tiles[i] = old_tiles[old[i]]
-            for u in range(redo.shape[0]):
-                tiles[i, redo[u]] = redone[kept, u]
+            if kept < lit.shape[0] and lit[kept]:
+                for u in range(redo.shape[0]):
+                    tiles[i, redo[u]] = redone[lit_row, u]
+                lit_row += 1
             kept += 1
         else:
             tiles[i] = fresh[new]
             new += 1
         _add_tiles(tiles[i], total[i])
     return total
+
+
+@kernel
+def _lit_by_changed(points: F32, normals: F32, slots: NDArray[np.int64],
+                    q: F32, nq: F32, weight: F32, last_q: F32, last_nq: F32,
+                    last_weight: F32) -> NDArray[np.bool_]:
+    """Which receivers a changed sender lights, in this frame or the last (or may light).
+
+    ``slots`` are the changed sender-grid positions; ``q``, ``nq``, ``weight`` this
+    frame's senders on the grid and ``last_*`` the last frame's (:func:`_slots`; weight 0:
+    no sender). A pair adds a term in :func:`_pair_sums` only if both its cosines are
+    positive; here a pair counts as lighting unless a cosine is below ``−10⁻⁵ |Q − P|``
+    (far beyond float32 rounding), so an unlit receiver is surely unlit. Its redone tiles
+    would add exactly the terms they added before, in the same order.
+    """
+    m = points.shape[0]
+    out = np.zeros(m, dtype=np.bool_)
+    for i in range(m):
+        px, py, pz = points[i, 0], points[i, 1], points[i, 2]
+        nx, ny, nz = normals[i, 0], normals[i, 1], normals[i, 2]
+        for frame in range(2):
+            sq, snq, sw = (q, nq, weight) if frame == 0 else (last_q, last_nq, last_weight)
+            for s in range(slots.shape[0]):
+                j = slots[s]
+                if sw[j] == 0.0:
+                    continue
+                dx, dy, dz = sq[j, 0] - px, sq[j, 1] - py, sq[j, 2] - pz
+                tol = 1e-5 * (abs(dx) + abs(dy) + abs(dz))
+                cos_p = nx * dx + ny * dy + nz * dz
+                cos_q = -(snq[j, 0] * dx + snq[j, 1] * dy + snq[j, 2] * dz)
+                if cos_p > -tol and cos_q > -tol:
+                    out[i] = True
+                    break
+            if out[i]:
+                break
+    return out
 
 
 @kernel
