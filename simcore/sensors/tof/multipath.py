@@ -575,18 +575,23 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
     # Which pixels blend which nodes, and which are summed exactly, before any sum: the
     # nodes and those pixels are then summed in one pass.
     seen = np.ascontiguousarray(seen)
-    reuse = cache.weights_record((camera, h, w, step)) if cache is not None else None
+    # The last record is taken out of the cache and updated in place (an exception leaves
+    # none behind): its weights become this frame's, its receivers are overwritten.
+    reuse = cache.take_weights((camera, h, w, step)) if cache is not None else None
     if reuse is None:
         weights, missing = _node_weights(pts, nrm, seen, rows, cols, node_seen, cy, fy, cx,
                                          fx)
+        record = (pts.copy(), nrm.copy(), seen.copy(), weights, missing)
     else:
         last_pts, last_nrm, last_seen, weights, missing = reuse
-        weights, missing = weights.copy(), missing.copy()
         _update_node_weights(pts, nrm, seen, rows, cols, node_seen, cy, fy, cx, fx, last_pts,
                              last_nrm, last_seen, weights, missing, step + CREASE_GUARD_PX)
+        np.copyto(last_pts, pts)
+        np.copyto(last_nrm, nrm)
+        np.copyto(last_seen, seen)
+        record = reuse
     if cache is not None:
-        cache.keep_weights((camera, h, w, step),
-                          (pts.copy(), nrm.copy(), seen.copy(), weights, missing))
+        cache.keep_weights((camera, h, w, step), record)
     node_index = (rows[:, None] * w + cols[None, :])[node_seen]
     index = np.concatenate([node_index, np.flatnonzero(missing)])
     with (cache or OneBounceCache()).frame(senders, (h, w), k, camera=camera) as exact:
@@ -681,6 +686,14 @@ class OneBounceCache:
         """The last receivers and node weights (:func:`_node_weights`) kept for ``key``."""
         with self._lock:
             return self._weights.get(key)
+
+    def take_weights(self, key: Hashable) -> _Weights | None:
+        """:meth:`weights_record`, taken out of the cache.
+
+        The caller may update it in place and keep it again with :meth:`keep_weights`.
+        """
+        with self._lock:
+            return self._weights.pop(key, None)
 
     def keep_weights(self, key: Hashable, record: _Weights) -> None:
         """Keep this frame's receivers and node weights for ``key``'s next frame."""
