@@ -612,9 +612,9 @@ class _Sums:
     slot_normals: F32                # (S, 3)
     slot_weight: F32                 # (S,), 0 where a grid position sends nothing
     row: NDArray[np.int64]           # (H·W,) each pixel's receiver row, −1 where none
-    points: F32                      # (R, 3)
-    normals: F32                     # (R, 3)
-    tiles: NDArray[np.float64]       # (R, T, 1 + 2F) their sums per sender tile
+    points: F32                      # (C, 3) the rows' points (a pool: rows no pixel
+    normals: F32                     # (C, 3)   holds are unused)
+    tiles: NDArray[np.float64]       # (C, T, 1 + 2F) their sums per sender tile
 
 
 #: A frame's receiver points, normals and seen mask with its node weights and flags.
@@ -657,30 +657,12 @@ class OneBounceCache:
         self._lock = threading.Lock()
         self._last: OrderedDict[Hashable, _Sums] = OrderedDict()
         self._weights: OrderedDict[Hashable, _Weights] = OrderedDict()
-        self._spare: dict[Hashable, NDArray[np.float64]] = {}
-
-    def _buffer(self, camera: Hashable, rows: int, nt: int, nv: int, *,
-                avoid: NDArray[np.float64] | None) -> NDArray[np.float64]:
-        """A tile-sum buffer of at least ``rows`` rows for ``camera``'s frame (lock held).
-
-        The camera's spare (the buffer of its frame before last, no longer read) when it
-        fits and is not ``avoid``'s memory; else a new one with some room to grow. The
-        buffer of the frame now replaced becomes the next spare.
-        """
-        spare = self._spare.pop(camera, None)
-        if avoid is not None and avoid.base is not None and avoid.base.ndim == 3:
-            self._spare[camera] = avoid.base
-        if (spare is None or spare.shape[0] < rows or spare.shape[1:] != (nt, nv)
-                or (avoid is not None and np.may_share_memory(spare, avoid))):
-            spare = np.empty((rows + rows // 8 + 64, nt, nv))
-        return spare
 
     def clear(self) -> None:
         """Forget the last frames (the next ones are summed in full)."""
         with self._lock:
             self._last.clear()
             self._weights.clear()
-            self._spare.clear()
 
     def weights_record(self, key: Hashable) -> _Weights | None:
         """The last receivers and node weights (:func:`_node_weights`) kept for ``key``."""
@@ -722,8 +704,9 @@ class OneBounceCache:
         with self._lock:
             key = (shape, senders.grid_shape, tuple(k))
             slot_pts, slot_nrm, slot_wgt = _slots(senders)
-            last = self._last.get(camera)
-            last = last if last is not None and last.key == key else None
+            # Taken out now: an exception leaves no half record behind.
+            prev = self._last.pop(camera, None)
+            last = prev if prev is not None and prev.key == key else None
             redo = every
             changed_slots = np.zeros(0, dtype=np.int64)
             if last is not None:
@@ -734,19 +717,25 @@ class OneBounceCache:
                 redo = np.unique(_tile_of(changed_slots, senders.grid_shape))
                 if len(redo) > len(every) // 2:
                     last = None
-            parts: list[tuple[NDArray[np.int64], F32, F32, NDArray[np.float64]]] = []
             nv = len(kk) * 2 + 1
+            # The receivers' rows live in a pool kept from frame to frame: a kept receiver
+            # keeps its row (its redone tiles written in place), a new one takes a row no
+            # receiver of the last frame or of this one holds.
+            pool = _Pool.reuse(prev, len(every), nv)
+            taken = np.zeros(len(pool.tiles), dtype=np.bool_)
+            if last is not None:
+                taken[last.row[last.row >= 0]] = True
+            parts: list[tuple[NDArray[np.int64], NDArray[np.int64]]] = []
 
             def exact(index: NDArray[np.int64], pts: F32, nrm: F32) -> F32:
+                nonlocal pool, taken
                 index = np.ascontiguousarray(index, dtype=np.int64)
                 pts = np.ascontiguousarray(pts, dtype=np.float32)
                 nrm = np.ascontiguousarray(nrm, dtype=np.float32)
                 if last is not None:
-                    old = _kept_rows(index, pts, nrm, last.row, last.points, last.normals)
-                    old_tiles = last.tiles
+                    old = _kept_rows(index, pts, nrm, last.row, pool.points, pool.normals)
                 else:
                     old = np.full(len(index), -1, dtype=np.int64)
-                    old_tiles = np.zeros((0, len(every), nv))
                 same = old >= 0
                 redone = np.zeros((0, len(redo), nv))
                 # A kept receiver that no changed sender lights, in this frame or the last,
@@ -762,30 +751,65 @@ class OneBounceCache:
                         idx = np.flatnonzero(same)[lit]
                         redone = _tile_sums(pts[idx], nrm[idx], senders, kk, redo)
                 fresh = np.zeros((0, len(every), nv))
+                new_rows = np.zeros(0, dtype=np.int64)
                 if not same.all():
                     fresh = _tile_sums(pts[~same], nrm[~same], senders, kk, every)
-                # One compiled pass: kept rows with their redone tiles, fresh rows, totals,
-                # into the buffer of the frame before last (reused: no fresh pages to
-                # fault in each frame).
-                tiles = self._buffer(camera, len(index), len(every), nv,
-                                     avoid=None if last is None else last.tiles)
-                total = _merge_tiles(old, lit, old_tiles, np.ascontiguousarray(redo),
-                                     redone, fresh, tiles)
-                parts.append((index, pts, nrm, tiles[:len(index)]))
+                    free = np.flatnonzero(~taken)
+                    if len(free) < len(fresh):
+                        pool, taken = pool.grown(len(fresh) - len(free), taken)
+                        free = np.flatnonzero(~taken)
+                    new_rows = free[:len(fresh)]
+                    taken[new_rows] = True
+                    pool.points[new_rows] = pts[~same]
+                    pool.normals[new_rows] = nrm[~same]
+                rows = np.where(same, old, -1)
+                rows[~same] = new_rows
+                # One compiled pass: redone tiles into kept rows, fresh rows, totals.
+                total = _merge_tiles(old, lit, np.ascontiguousarray(redo), redone, fresh,
+                                     new_rows, pool.tiles)
+                parts.append((index, rows))
                 return total
 
-            self._last.pop(camera, None)           # an exception leaves no half record
             yield exact
             if parts:
-                index, pts, nrm, tiles = (
-                    parts[0] if len(parts) == 1
-                    else tuple(np.concatenate([q[i] for q in parts]) for i in range(4)))
                 row = np.full(shape[0] * shape[1], -1, dtype=np.int64)
-                row[index] = np.arange(len(index))
-                self._last[camera] = _Sums(key, slot_pts, slot_nrm, slot_wgt, row, pts, nrm,
-                                           tiles)
+                for index, rows in parts:
+                    row[index] = rows
+                self._last[camera] = _Sums(key, slot_pts, slot_nrm, slot_wgt, row,
+                                           pool.points, pool.normals, pool.tiles)
                 while len(self._last) > self.KEEP:
                     self._last.popitem(last=False)
+
+
+@dataclass
+class _Pool:
+    """Receiver rows kept from frame to frame: points, normals and tile sums per row."""
+
+    points: F32                      # (C, 3)
+    normals: F32                     # (C, 3)
+    tiles: NDArray[np.float64]       # (C, T, 1 + 2F)
+
+    @staticmethod
+    def reuse(prev: _Sums | None, nt: int, nv: int) -> _Pool:
+        """The last record's pool if its tiles fit ``(T, 1 + 2F)``, else an empty one."""
+        if prev is not None and prev.tiles.shape[1:] == (nt, nv):
+            return _Pool(prev.points, prev.normals, prev.tiles)
+        return _Pool(np.zeros((0, 3), dtype=np.float32), np.zeros((0, 3), dtype=np.float32),
+                     np.zeros((0, nt, nv)))
+
+    def grown(self, more: int, taken: NDArray[np.bool_]
+              ) -> tuple[_Pool, NDArray[np.bool_]]:
+        """A larger pool (at least ``more`` rows more, with room to grow), rows kept."""
+        c = len(self.tiles)
+        size = c + more + c // 4 + 64
+        grown = _Pool(np.zeros((size, 3), dtype=np.float32),
+                      np.zeros((size, 3), dtype=np.float32),
+                      np.empty((size, *self.tiles.shape[1:])))
+        grown.points[:c], grown.normals[:c], grown.tiles[:c] = (self.points, self.normals,
+                                                                self.tiles)
+        wider = np.zeros(size, dtype=np.bool_)
+        wider[:c] = taken
+        return grown, wider
 
 
 @kernel
@@ -813,37 +837,36 @@ def _kept_rows(index: NDArray[np.int64], points: F32, normals: F32, row: NDArray
 
 
 @kernel
-def _merge_tiles(old: NDArray[np.int64], lit: NDArray[np.bool_],
-                 old_tiles: NDArray[np.float64],
-                 redo: NDArray[np.int64], redone: NDArray[np.float64],
-                 fresh: NDArray[np.float64], tiles: NDArray[np.float64]) -> F32:
-    """A frame's tile sums and receiver totals from the kept, redone and fresh sums.
+def _merge_tiles(old: NDArray[np.int64], lit: NDArray[np.bool_], redo: NDArray[np.int64],
+                 redone: NDArray[np.float64], fresh: NDArray[np.float64],
+                 new_rows: NDArray[np.int64], tiles: NDArray[np.float64]) -> F32:
+    """A frame's tile sums, in place in the pool ``tiles``, and its receiver totals.
 
-    Receiver ``i`` with ``old[i] ≥ 0`` (the ``j``-th such) takes row ``old[i]`` of
-    ``old_tiles``, with the tiles ``redo`` replaced by its next row of ``redone`` where
-    ``lit[j]`` (an empty ``lit``: none); the others take their next row of
-    ``fresh`` (every tile). The rows are written to ``tiles[:len(old)]`` (a buffer of at
-    least that many rows, not ``old_tiles``). Totals as :func:`_total` (tiles added in
-    order, float64).
+    Receiver ``i`` with ``old[i] ≥ 0`` (the ``j``-th such) keeps pool row ``old[i]``, with
+    the tiles ``redo`` replaced by its next row of ``redone`` where ``lit[j]`` (an empty
+    ``lit``: none); the others take their next row of ``fresh`` (every tile), written to
+    their next row of ``new_rows``. Totals as :func:`_total` (tiles added in order,
+    float64).
     """
     m = old.shape[0]
-    nv = fresh.shape[2]
+    nv = tiles.shape[2]
     total = np.zeros((m, nv), dtype=np.float32)
     kept = 0
     lit_row = 0
     new = 0
     for i in range(m):
         if old[i] >= 0:
-            tiles[i] = old_tiles[old[i]]
+            r = old[i]
             if kept < lit.shape[0] and lit[kept]:
                 for u in range(redo.shape[0]):
-                    tiles[i, redo[u]] = redone[lit_row, u]
+                    tiles[r, redo[u]] = redone[lit_row, u]
                 lit_row += 1
             kept += 1
         else:
-            tiles[i] = fresh[new]
+            r = new_rows[new]
+            tiles[r] = fresh[new]
             new += 1
-        _add_tiles(tiles[i], total[i])
+        _add_tiles(tiles[r], total[i])
     return total
 
 
