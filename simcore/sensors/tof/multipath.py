@@ -640,9 +640,9 @@ class OneBounceCache:
     the office) changes only a few senders and receivers from frame to frame. The sums
     are kept per receiver and per tile of the sender grid (:data:`TILE`): a receiver whose
     point and normal are bit-identical to the last frame's takes the last frame's tile sums
-    and redoes only the tiles in which a sender changed (and only if a changed sender
-    lights it, now or in the last frame: otherwise those tiles add the same terms as
-    before); new or moved receivers are summed over every tile. The tile sums are then
+    and redoes only the tiles in which a sender changed; new or moved receivers are summed
+    over every tile (the receivers keep their rows of tile sums from frame to frame, in a
+    pool: nothing is copied for a kept receiver). The tile sums are then
     added in tile order, exactly as without the cache, so the result does not depend on
     which frames came before (bit-identical).
     The last frame is kept per camera (up to :attr:`KEEP` cameras, least recently used
@@ -708,13 +708,11 @@ class OneBounceCache:
             prev = self._last.pop(camera, None)
             last = prev if prev is not None and prev.key == key else None
             redo = every
-            changed_slots = np.zeros(0, dtype=np.int64)
             if last is not None:
                 changed = ~((slot_pts == last.slot_points).all(axis=1)
                             & (slot_nrm == last.slot_normals).all(axis=1)
                             & (slot_wgt == last.slot_weight))
-                changed_slots = np.flatnonzero(changed)
-                redo = np.unique(_tile_of(changed_slots, senders.grid_shape))
+                redo = np.unique(_tile_of(np.flatnonzero(changed), senders.grid_shape))
                 if len(redo) > len(every) // 2:
                     last = None
             nv = len(kk) * 2 + 1
@@ -738,18 +736,8 @@ class OneBounceCache:
                     old = np.full(len(index), -1, dtype=np.int64)
                 same = old >= 0
                 redone = np.zeros((0, len(redo), nv))
-                # A kept receiver that no changed sender lights, in this frame or the last,
-                # adds the very same terms in the same order in every redone tile: it
-                # keeps its tile sums; the others redo the changed tiles.
-                lit = np.zeros(0, dtype=np.bool_)
                 if same.any() and len(redo):
-                    assert last is not None
-                    lit = _lit_by_changed(pts[same], nrm[same], changed_slots, slot_pts,
-                                          slot_nrm, slot_wgt, last.slot_points,
-                                          last.slot_normals, last.slot_weight)
-                    if lit.any():
-                        idx = np.flatnonzero(same)[lit]
-                        redone = _tile_sums(pts[idx], nrm[idx], senders, kk, redo)
+                    redone = _tile_sums(pts[same], nrm[same], senders, kk, redo)
                 fresh = np.zeros((0, len(every), nv))
                 new_rows = np.zeros(0, dtype=np.int64)
                 if not same.all():
@@ -765,7 +753,7 @@ class OneBounceCache:
                 rows = np.where(same, old, -1)
                 rows[~same] = new_rows
                 # One compiled pass: redone tiles into kept rows, fresh rows, totals.
-                total = _merge_tiles(old, lit, np.ascontiguousarray(redo), redone, fresh,
+                total = _merge_tiles(old, np.ascontiguousarray(redo), redone, fresh,
                                      new_rows, pool.tiles)
                 parts.append((index, rows))
                 return total
@@ -837,30 +825,27 @@ def _kept_rows(index: NDArray[np.int64], points: F32, normals: F32, row: NDArray
 
 
 @kernel
-def _merge_tiles(old: NDArray[np.int64], lit: NDArray[np.bool_], redo: NDArray[np.int64],
+def _merge_tiles(old: NDArray[np.int64], redo: NDArray[np.int64],
                  redone: NDArray[np.float64], fresh: NDArray[np.float64],
                  new_rows: NDArray[np.int64], tiles: NDArray[np.float64]) -> F32:
     """A frame's tile sums, in place in the pool ``tiles``, and its receiver totals.
 
-    Receiver ``i`` with ``old[i] ≥ 0`` (the ``j``-th such) keeps pool row ``old[i]``, with
-    the tiles ``redo`` replaced by its next row of ``redone`` where ``lit[j]`` (an empty
-    ``lit``: none); the others take their next row of ``fresh`` (every tile), written to
-    their next row of ``new_rows``. Totals as :func:`_total` (tiles added in order,
-    float64).
+    Receiver ``i`` with ``old[i] ≥ 0`` keeps pool row ``old[i]``, with the tiles ``redo``
+    replaced by its next row of ``redone``; the others take their next row of ``fresh``
+    (every tile), written to their next row of ``new_rows``. Totals as :func:`_total`
+    (tiles added in order, float64).
     """
     m = old.shape[0]
     nv = tiles.shape[2]
     total = np.zeros((m, nv), dtype=np.float32)
     kept = 0
-    lit_row = 0
     new = 0
     for i in range(m):
         if old[i] >= 0:
             r = old[i]
-            if kept < lit.shape[0] and lit[kept]:
+            if kept < redone.shape[0]:
                 for u in range(redo.shape[0]):
-                    tiles[r, redo[u]] = redone[lit_row, u]
-                lit_row += 1
+                    tiles[r, redo[u]] = redone[kept, u]
             kept += 1
         else:
             r = new_rows[new]
@@ -868,42 +853,6 @@ def _merge_tiles(old: NDArray[np.int64], lit: NDArray[np.bool_], redo: NDArray[n
             new += 1
         _add_tiles(tiles[r], total[i])
     return total
-
-
-@kernel
-def _lit_by_changed(points: F32, normals: F32, slots: NDArray[np.int64],
-                    q: F32, nq: F32, weight: F32, last_q: F32, last_nq: F32,
-                    last_weight: F32) -> NDArray[np.bool_]:
-    """Which receivers a changed sender lights, in this frame or the last (or may light).
-
-    ``slots`` are the changed sender-grid positions; ``q``, ``nq``, ``weight`` this
-    frame's senders on the grid and ``last_*`` the last frame's (:func:`_slots`; weight 0:
-    no sender). A pair adds a term in :func:`_pair_sums` only if both its cosines are
-    positive; here a pair counts as lighting unless a cosine is below ``−10⁻⁵ |Q − P|``
-    (far beyond float32 rounding), so an unlit receiver is surely unlit. Its redone tiles
-    would add exactly the terms they added before, in the same order.
-    """
-    m = points.shape[0]
-    out = np.zeros(m, dtype=np.bool_)
-    for i in range(m):
-        px, py, pz = points[i, 0], points[i, 1], points[i, 2]
-        nx, ny, nz = normals[i, 0], normals[i, 1], normals[i, 2]
-        for frame in range(2):
-            sq, snq, sw = (q, nq, weight) if frame == 0 else (last_q, last_nq, last_weight)
-            for s in range(slots.shape[0]):
-                j = slots[s]
-                if sw[j] == 0.0:
-                    continue
-                dx, dy, dz = sq[j, 0] - px, sq[j, 1] - py, sq[j, 2] - pz
-                tol = 1e-5 * (abs(dx) + abs(dy) + abs(dz))
-                cos_p = nx * dx + ny * dy + nz * dz
-                cos_q = -(snq[j, 0] * dx + snq[j, 1] * dy + snq[j, 2] * dz)
-                if cos_p > -tol and cos_q > -tol:
-                    out[i] = True
-                    break
-            if out[i]:
-                break
-    return out
 
 
 @kernel
