@@ -334,3 +334,40 @@ def test_office_corners_keep_the_reference_bias() -> None:
         f_med, r_med = np.median(bias[RECEIVER_STEP][seen]), np.median(bias[1][seen])
         print(f"{name}: fast {f_med * 1e3:.1f} mm, reference {r_med * 1e3:.1f} mm")
         assert abs(f_med - r_med) < 0.1 * abs(r_med) + 1e-4, name
+
+
+def test_a_longer_walk_reuses_the_receiver_rows_and_keeps_the_full_sum() -> None:
+    """Over several frames every frame is bit-identical to the full sum with nothing reused,
+    while the receivers' rows of tile sums live in a pool reused from frame to frame (kept
+    receivers keep their row, new ones take rows the frames before freed)."""
+    import simcore.sensors.tof.camera as cam
+    import simcore.sensors.tof.multipath as mp
+
+    base = corner_project()
+    cfg = base.rig.tof.model_copy(update={"multipath": True})
+    frames = []
+    for y in (0.3, 0.2, 0.1, 0.2, 0.25):
+        box = SceneObject(id=9, name="box", geometry=Box(size_m=(0.2, 0.2, 0.2)),
+                          pose=Pose(position_m=(1.2, y, 0.0)), material="white_paint")
+        project = base.model_copy(update={"objects": [*base.objects, box]})
+        buf = tof_render(project, cfg)
+        frames.append((buf, diffuse_albedo(project, buf)))
+    original = cam._ONE_BOUNCE_REUSE
+    reuse = mp.OneBounceCache()
+    try:
+        full = []
+        for buf, albedo in frames:
+            cam._ONE_BOUNCE_REUSE = mp.OneBounceCache()        # nothing to reuse
+            cam._ONE_BOUNCE_CACHE.clear()
+            full.append(cam._multipath_planes(buf, cfg, albedo))
+        cam._ONE_BOUNCE_REUSE = reuse
+        for (buf, albedo), want in zip(frames, full, strict=True):
+            cam._ONE_BOUNCE_CACHE.clear()
+            got = cam._multipath_planes(buf, cfg, albedo)
+            assert np.abs(want).max() > 0
+            np.testing.assert_array_equal(got, want)
+    finally:
+        cam._ONE_BOUNCE_REUSE = original
+        cam._ONE_BOUNCE_CACHE.clear()
+    record = next(iter(reuse._last.values()))           # the receivers' pool stays small
+    assert len(record.tiles) <= 3 * int(np.sum(record.row >= 0)) + 64

@@ -575,18 +575,23 @@ def one_bounce_image(points_m: F32, normals: F32, seen: NDArray[np.bool_], sende
     # Which pixels blend which nodes, and which are summed exactly, before any sum: the
     # nodes and those pixels are then summed in one pass.
     seen = np.ascontiguousarray(seen)
-    reuse = cache.weights_record((camera, h, w, step)) if cache is not None else None
+    # The last record is taken out of the cache and updated in place (an exception leaves
+    # none behind): its weights become this frame's, its receivers are overwritten.
+    reuse = cache.take_weights((camera, h, w, step)) if cache is not None else None
     if reuse is None:
         weights, missing = _node_weights(pts, nrm, seen, rows, cols, node_seen, cy, fy, cx,
                                          fx)
+        record = (pts.copy(), nrm.copy(), seen.copy(), weights, missing)
     else:
         last_pts, last_nrm, last_seen, weights, missing = reuse
-        weights, missing = weights.copy(), missing.copy()
         _update_node_weights(pts, nrm, seen, rows, cols, node_seen, cy, fy, cx, fx, last_pts,
                              last_nrm, last_seen, weights, missing, step + CREASE_GUARD_PX)
+        np.copyto(last_pts, pts)
+        np.copyto(last_nrm, nrm)
+        np.copyto(last_seen, seen)
+        record = reuse
     if cache is not None:
-        cache.keep_weights((camera, h, w, step),
-                          (pts.copy(), nrm.copy(), seen.copy(), weights, missing))
+        cache.keep_weights((camera, h, w, step), record)
     node_index = (rows[:, None] * w + cols[None, :])[node_seen]
     index = np.concatenate([node_index, np.flatnonzero(missing)])
     with (cache or OneBounceCache()).frame(senders, (h, w), k, camera=camera) as exact:
@@ -607,9 +612,9 @@ class _Sums:
     slot_normals: F32                # (S, 3)
     slot_weight: F32                 # (S,), 0 where a grid position sends nothing
     row: NDArray[np.int64]           # (H·W,) each pixel's receiver row, −1 where none
-    points: F32                      # (R, 3)
-    normals: F32                     # (R, 3)
-    tiles: NDArray[np.float64]       # (R, T, 1 + 2F) their sums per sender tile
+    points: F32                      # (C, 3) the rows' points (a pool: rows no pixel
+    normals: F32                     # (C, 3)   holds are unused)
+    tiles: NDArray[np.float64]       # (C, T, 1 + 2F) their sums per sender tile
 
 
 #: A frame's receiver points, normals and seen mask with its node weights and flags.
@@ -636,8 +641,10 @@ class OneBounceCache:
     are kept per receiver and per tile of the sender grid (:data:`TILE`): a receiver whose
     point and normal are bit-identical to the last frame's takes the last frame's tile sums
     and redoes only the tiles in which a sender changed; new or moved receivers are summed
-    over every tile. The tile sums are then added in tile order, exactly as without the
-    cache, so the result does not depend on which frames came before (bit-identical).
+    over every tile (the receivers keep their rows of tile sums from frame to frame, in a
+    pool: nothing is copied for a kept receiver). The tile sums are then
+    added in tile order, exactly as without the cache, so the result does not depend on
+    which frames came before (bit-identical).
     The last frame is kept per camera (up to :attr:`KEEP` cameras, least recently used
     dropped), so the cameras of several rigs do not evict each other's sums.
     Thread-safe: one frame at a time.
@@ -661,6 +668,14 @@ class OneBounceCache:
         """The last receivers and node weights (:func:`_node_weights`) kept for ``key``."""
         with self._lock:
             return self._weights.get(key)
+
+    def take_weights(self, key: Hashable) -> _Weights | None:
+        """:meth:`weights_record`, taken out of the cache.
+
+        The caller may update it in place and keep it again with :meth:`keep_weights`.
+        """
+        with self._lock:
+            return self._weights.pop(key, None)
 
     def keep_weights(self, key: Hashable, record: _Weights) -> None:
         """Keep this frame's receivers and node weights for ``key``'s next frame."""
@@ -689,8 +704,9 @@ class OneBounceCache:
         with self._lock:
             key = (shape, senders.grid_shape, tuple(k))
             slot_pts, slot_nrm, slot_wgt = _slots(senders)
-            last = self._last.get(camera)
-            last = last if last is not None and last.key == key else None
+            # Taken out now: an exception leaves no half record behind.
+            prev = self._last.pop(camera, None)
+            last = prev if prev is not None and prev.key == key else None
             redo = every
             if last is not None:
                 changed = ~((slot_pts == last.slot_points).all(axis=1)
@@ -699,44 +715,89 @@ class OneBounceCache:
                 redo = np.unique(_tile_of(np.flatnonzero(changed), senders.grid_shape))
                 if len(redo) > len(every) // 2:
                     last = None
-            parts: list[tuple[NDArray[np.int64], F32, F32, NDArray[np.float64]]] = []
             nv = len(kk) * 2 + 1
+            # The receivers' rows live in a pool kept from frame to frame: a kept receiver
+            # keeps its row (its redone tiles written in place), a new one takes a row no
+            # receiver of the last frame or of this one holds.
+            pool = _Pool.reuse(prev, len(every), nv)
+            taken = np.zeros(len(pool.tiles), dtype=np.bool_)
+            if last is not None:
+                taken[last.row[last.row >= 0]] = True
+            parts: list[tuple[NDArray[np.int64], NDArray[np.int64]]] = []
 
             def exact(index: NDArray[np.int64], pts: F32, nrm: F32) -> F32:
+                nonlocal pool, taken
                 index = np.ascontiguousarray(index, dtype=np.int64)
                 pts = np.ascontiguousarray(pts, dtype=np.float32)
                 nrm = np.ascontiguousarray(nrm, dtype=np.float32)
                 if last is not None:
-                    old = _kept_rows(index, pts, nrm, last.row, last.points, last.normals)
-                    old_tiles = last.tiles
+                    old = _kept_rows(index, pts, nrm, last.row, pool.points, pool.normals)
                 else:
                     old = np.full(len(index), -1, dtype=np.int64)
-                    old_tiles = np.zeros((0, len(every), nv))
                 same = old >= 0
                 redone = np.zeros((0, len(redo), nv))
                 if same.any() and len(redo):
                     redone = _tile_sums(pts[same], nrm[same], senders, kk, redo)
                 fresh = np.zeros((0, len(every), nv))
+                new_rows = np.zeros(0, dtype=np.int64)
                 if not same.all():
                     fresh = _tile_sums(pts[~same], nrm[~same], senders, kk, every)
-                # One compiled pass: kept rows with their redone tiles, fresh rows, totals.
-                tiles, total = _merge_tiles(old, old_tiles, np.ascontiguousarray(redo),
-                                            redone, fresh)
-                parts.append((index, pts, nrm, tiles))
+                    free = np.flatnonzero(~taken)
+                    if len(free) < len(fresh):
+                        pool, taken = pool.grown(len(fresh) - len(free), taken)
+                        free = np.flatnonzero(~taken)
+                    new_rows = free[:len(fresh)]
+                    taken[new_rows] = True
+                    pool.points[new_rows] = pts[~same]
+                    pool.normals[new_rows] = nrm[~same]
+                rows = np.where(same, old, -1)
+                rows[~same] = new_rows
+                # One compiled pass: redone tiles into kept rows, fresh rows, totals.
+                total = _merge_tiles(old, np.ascontiguousarray(redo), redone, fresh,
+                                     new_rows, pool.tiles)
+                parts.append((index, rows))
                 return total
 
-            self._last.pop(camera, None)           # an exception leaves no half record
             yield exact
             if parts:
-                index, pts, nrm, tiles = (
-                    parts[0] if len(parts) == 1
-                    else tuple(np.concatenate([q[i] for q in parts]) for i in range(4)))
                 row = np.full(shape[0] * shape[1], -1, dtype=np.int64)
-                row[index] = np.arange(len(index))
-                self._last[camera] = _Sums(key, slot_pts, slot_nrm, slot_wgt, row, pts, nrm,
-                                           tiles)
+                for index, rows in parts:
+                    row[index] = rows
+                self._last[camera] = _Sums(key, slot_pts, slot_nrm, slot_wgt, row,
+                                           pool.points, pool.normals, pool.tiles)
                 while len(self._last) > self.KEEP:
                     self._last.popitem(last=False)
+
+
+@dataclass
+class _Pool:
+    """Receiver rows kept from frame to frame: points, normals and tile sums per row."""
+
+    points: F32                      # (C, 3)
+    normals: F32                     # (C, 3)
+    tiles: NDArray[np.float64]       # (C, T, 1 + 2F)
+
+    @staticmethod
+    def reuse(prev: _Sums | None, nt: int, nv: int) -> _Pool:
+        """The last record's pool if its tiles fit ``(T, 1 + 2F)``, else an empty one."""
+        if prev is not None and prev.tiles.shape[1:] == (nt, nv):
+            return _Pool(prev.points, prev.normals, prev.tiles)
+        return _Pool(np.zeros((0, 3), dtype=np.float32), np.zeros((0, 3), dtype=np.float32),
+                     np.zeros((0, nt, nv)))
+
+    def grown(self, more: int, taken: NDArray[np.bool_]
+              ) -> tuple[_Pool, NDArray[np.bool_]]:
+        """A larger pool (at least ``more`` rows more, with room to grow), rows kept."""
+        c = len(self.tiles)
+        size = c + more + c // 4 + 64
+        grown = _Pool(np.zeros((size, 3), dtype=np.float32),
+                      np.zeros((size, 3), dtype=np.float32),
+                      np.empty((size, *self.tiles.shape[1:])))
+        grown.points[:c], grown.normals[:c], grown.tiles[:c] = (self.points, self.normals,
+                                                                self.tiles)
+        wider = np.zeros(size, dtype=np.bool_)
+        wider[:c] = taken
+        return grown, wider
 
 
 @kernel
@@ -764,49 +825,67 @@ def _kept_rows(index: NDArray[np.int64], points: F32, normals: F32, row: NDArray
 
 
 @kernel
-def _merge_tiles(old: NDArray[np.int64], old_tiles: NDArray[np.float64],
-                 redo: NDArray[np.int64], redone: NDArray[np.float64],
-                 fresh: NDArray[np.float64]) -> tuple[NDArray[np.float64], F32]:
-    """A frame's tile sums and receiver totals from the kept, redone and fresh sums.
+def _merge_tiles(old: NDArray[np.int64], redo: NDArray[np.int64],
+                 redone: NDArray[np.float64], fresh: NDArray[np.float64],
+                 new_rows: NDArray[np.int64], tiles: NDArray[np.float64]) -> F32:
+    """A frame's tile sums, in place in the pool ``tiles``, and its receiver totals.
 
-    Receiver ``i`` with ``old[i] ≥ 0`` takes row ``old[i]`` of ``old_tiles`` with the tiles
-    ``redo`` replaced by its next row of ``redone``; the others take their next row of
-    ``fresh`` (every tile). Totals as :func:`_total` (tiles added in order, float64).
+    Receiver ``i`` with ``old[i] ≥ 0`` keeps pool row ``old[i]``, with the tiles ``redo``
+    replaced by its next row of ``redone``; the others take their next row of ``fresh``
+    (every tile), written to their next row of ``new_rows``. Totals as :func:`_total`
+    (tiles added in order, float64).
     """
     m = old.shape[0]
-    nt, nv = fresh.shape[1], fresh.shape[2]
-    tiles = np.empty((m, nt, nv))
+    nv = tiles.shape[2]
     total = np.zeros((m, nv), dtype=np.float32)
     kept = 0
     new = 0
     for i in range(m):
         if old[i] >= 0:
-            tiles[i] = old_tiles[old[i]]
-            for u in range(redo.shape[0]):
-                tiles[i, redo[u]] = redone[kept, u]
+            r = old[i]
+            if kept < redone.shape[0]:
+                for u in range(redo.shape[0]):
+                    tiles[r, redo[u]] = redone[kept, u]
             kept += 1
         else:
-            tiles[i] = fresh[new]
+            r = new_rows[new]
+            tiles[r] = fresh[new]
             new += 1
+        _add_tiles(tiles[r], total[i])
+    return total
+
+
+@kernel
+def _add_tiles(tiles: NDArray[np.float64], out: F32) -> None:
+    """``out[v] = Σ_t tiles[t, v]``, the tiles added in order (float64), for every ``v``.
+
+    The values' sums are independent chains: they run side by side (tile outer, value
+    inner), each still adding its tiles in order, so every total is the same number.
+    """
+    nt, nv = tiles.shape
+    if nv == 3:                        # one frequency: three chains held in registers
+        a0 = a1 = a2 = 0.0
+        for t in range(nt):
+            a0 += tiles[t, 0]
+            a1 += tiles[t, 1]
+            a2 += tiles[t, 2]
+        out[0], out[1], out[2] = a0, a1, a2
+        return
+    acc = np.zeros(nv)
+    for t in range(nt):
         for v in range(nv):
-            acc = 0.0
-            for t in range(nt):
-                acc += tiles[i, t, v]
-            total[i, v] = acc
-    return tiles, total
+            acc[v] += tiles[t, v]
+    for v in range(nv):
+        out[v] = acc[v]
 
 
 @kernel
 def _total(tiles: NDArray[np.float64]) -> F32:
     """Receiver sums (M, V) from their tile sums (M, T, V): added in tile order (float64)."""
-    m, nt, nv = tiles.shape
+    m, _nt, nv = tiles.shape
     out = np.zeros((m, nv), dtype=np.float32)
     for i in range(m):
-        for v in range(nv):
-            acc = 0.0
-            for t in range(nt):
-                acc += tiles[i, t, v]
-            out[i, v] = acc
+        _add_tiles(tiles[i], out[i])
     return out
 
 
