@@ -66,6 +66,7 @@ def test_inspector_edits_the_motion_block(make_window):
 def test_view_draws_the_segments_where_the_simulation_puts_them(make_window):
     """The 3D view animates the body: at any time each segment's ellipsoid is centred
     where the simulation's own snapshot of the expanded scene puts that segment."""
+    from simcore.render.meshes import build_mesh
     from simcore.resources import example_path
     from simcore.scene.people.expand import expand_people, people_of
     from simcore.scene.people.skeleton import SEGMENTS
@@ -76,6 +77,8 @@ def test_view_draws_the_segments_where_the_simulation_puts_them(make_window):
     person = next(o for o in doc.project.objects if o.geometry.kind == "person")
     expanded = expand_people(doc.project, base_dir=doc.base_dir)
     first = people_of(expanded).people[0].first
+    counts = [len(build_mesh(expanded.objects[first + i].geometry).points)
+              for i in range(len(SEGMENTS))]
     centres = []
     for t in (0.7, 1.3):
         view.set_time(t)
@@ -83,8 +86,12 @@ def test_view_draws_the_segments_where_the_simulation_puts_them(make_window):
             QApplication.processEvents()
         actor = view._actors[person.id][1]
         assert np.allclose(np.asarray(actor.user_matrix), np.eye(4))
-        pts = np.asarray(actor.mapper.dataset.points).reshape(len(SEGMENTS), -1, 3)
-        drawn = pts.mean(axis=1)  # an ellipsoid's points are symmetric about its centre
+        pts = np.asarray(actor.mapper.dataset.points)
+        # One ellipsoid per segment, one after the other, each cut to its own size.
+        parts = np.split(pts, np.cumsum(counts)[:-1])
+        assert len(pts) == sum(counts) and len(parts) == len(SEGMENTS)
+        # An ellipsoid's points are symmetric about its centre.
+        drawn = np.array([part.mean(axis=0) for part in parts])
         snap = take_snapshot(expanded, t)
         truth = np.array([snap.objects[first + i].transform[:3, 3]
                           for i in range(len(SEGMENTS))])
