@@ -126,7 +126,7 @@ ELLIPSOID_PHI_RANGE = (4, SPHERE_PHI_RESOLUTION)
 
 
 def ellipsoid_gap_bound(radii: NDArray[np.float64] | tuple[float, float, float],
-                        n_theta: int, n_phi: int) -> float:
+                        n_theta: float, n_phi: float) -> float:
     """Bound (m) on the distance from a UV-sphere tessellation of an ellipsoid to its surface.
 
     The surface is ``S(θ, φ) = (a sin φ cos θ, b sin φ sin θ, c cos φ)`` and each triangle
@@ -158,10 +158,11 @@ def ellipsoid_resolution(radii: NDArray[np.float64] | tuple[float, float, float]
     (t_lo, t_hi), (p_lo, p_hi) = ELLIPSOID_THETA_RANGE, ELLIPSOID_PHI_RANGE
     best: tuple[int, int, int] | None = None
     for n_theta in range(t_lo, t_hi + 1):
-        left = tolerance_m - 2.0 * big_a * (2.0 * np.pi / n_theta) ** 2 / 8.0
+        # The sectors' share of the bound (its φ term vanishes with infinitely many rings).
+        left = tolerance_m - ellipsoid_gap_bound(r, n_theta, np.inf)
         if left <= 0.0:
             continue
-        # The fewest rings whose φ term fits in what the sectors leave.
+        # The fewest rings whose φ term, (R + A) Δφ² / 8, fits in what the sectors leave.
         n_phi = p_lo if big_r + big_a == 0.0 else max(
             p_lo, int(np.ceil(np.pi / np.sqrt(8.0 * left / (big_r + big_a)))))
         if n_phi > p_hi:
