@@ -127,14 +127,10 @@ def export_panel_images(panels: dict[str, QWidget], folder: Path) -> list[Path]:
 
 
 def preview_axes(project: Project) -> Any:
-    """Physical axes of the preview figures, as ``tofradar run --preview`` draws them."""
-    from simcore.dsp.processing import radar_axes
-    from simcore.io.previews import PreviewAxes
+    """What the preview figures of each sensor need, as ``tofradar run --preview`` draws them."""
+    from simcore.io.previews import preview_sensors
 
-    ax = radar_axes(project.rig.radar, project.dsp)
-    tof = project.rig.tof
-    return PreviewAxes(tof_fov_deg=(tof.fov_h_deg, tof.fov_v_deg), range_m=ax.range_m,
-                       velocity_mps=ax.velocity_mps, azimuth_deg=ax.azimuth_deg)
+    return preview_sensors(project)
 
 
 @dataclass(frozen=True)

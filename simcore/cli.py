@@ -21,7 +21,7 @@ from simcore.scene.model import sensor_kind
 from simcore.scene.project_io import ProjectError, load_project, project_to_json
 
 if TYPE_CHECKING:
-    from simcore.io.previews import PreviewAxes
+    from simcore.io.previews import PreviewSensor
     from simcore.preflight import CostEstimate
     from simcore.runner import FrameResult
     from simcore.scene.model import Project
@@ -212,7 +212,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     if not remote:
         _check_disk(Path(args.out.removeprefix("file://")), cost, n_frames, force=args.force)
     _check_time(cost, n_frames, args)
-    preview_axes = _preview_axes(project) if args.preview else None
+    preview_axes = _preview_sensors(project) if args.preview else None
     bar = tqdm(total=n_frames, desc="frames", unit="frame", file=sys.stderr,
                disable=args.quiet)
 
@@ -384,22 +384,19 @@ def _timeline_default(project: Project, args: argparse.Namespace) -> int:
     return int(frames)
 
 
-def _preview_axes(project: Project) -> PreviewAxes:
-    """Physical axes of the preview figures (ToF angles, radar range/velocity/azimuth)."""
-    from simcore.dsp.processing import radar_axes
-    from simcore.io.previews import PreviewAxes
+def _preview_sensors(project: Project) -> dict[str, PreviewSensor]:
+    """What the preview figures of each sensor need (its axes)."""
+    from simcore.io.previews import preview_sensors
 
-    ax = radar_axes(project.rig.radar, project.dsp)
-    tof = project.rig.tof
-    return PreviewAxes(tof_fov_deg=(tof.fov_h_deg, tof.fov_v_deg), range_m=ax.range_m,
-                       velocity_mps=ax.velocity_mps, azimuth_deg=ax.azimuth_deg)
+    return preview_sensors(project)
 
 
-def _write_previews(preview_dir: Path, result: FrameResult, axes: PreviewAxes | None) -> None:
+def _write_previews(preview_dir: Path, result: FrameResult,
+                    sensors: dict[str, PreviewSensor] | None) -> None:
     """Labelled PNG figures of one computed frame (invalid depth pixels grey)."""
     from simcore.io.previews import save_frame_previews
 
-    save_frame_previews(preview_dir, result.index, result.items, axes)
+    save_frame_previews(preview_dir, result.index, result.items, sensors)
 
 
 def _check_scheduler(address: str) -> None:

@@ -146,6 +146,10 @@ class Frame:
             items.update(self.objects.hdf5_items())
         if self.people is not None:
             items.update(self.people.hdf5_items())
+        if self.kinds and self.kinds.get("radar") != "radar":
+            # No built-in radar: its truth fields (``/objects/radar_*``) have no sensor.
+            items = {p: v for p, v in items.items()
+                     if not p.startswith(("/objects/radar_", "/people/segments/radar_"))}
         items.update(self.sensor_truth)
         for name in self.kinds or self.outputs:
             items.update(self.sensor_items(name))

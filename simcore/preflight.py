@@ -113,12 +113,11 @@ class CostEstimate:
                 f"≈ {self.seconds_per_frame:.2g} s per frame")
 
 
-def _radar_sizes(project: Project, rc: RadarConfig | None = None) -> dict[str, int]:
-    """Sizes of a radar's products (default the built-in radar's).
+def _radar_sizes(project: Project, rc: RadarConfig) -> dict[str, int]:
+    """Sizes of a radar's products.
 
     Without building any axis (fields may be huge).
     """
-    rc = project.rig.radar if rc is None else rc
     dc = project.dsp
     n_fft = dc.range_fft_size or 1 << max(0, (rc.samples_per_chirp - 1).bit_length())
     n_bins = n_fft if rc.complex_iq else n_fft // 2
@@ -450,9 +449,9 @@ def _clearance_problems(project: Project, n_frames: int) -> list[str]:
 
     analytic = [i for i, o in enumerate(project.objects)
                 if o.geometry.kind in ("point_target", "corner_reflector")]
-    if not analytic:
-        return []
     radars = project.sensors_of_kind("radar")
+    if not analytic or not radars:
+        return []
     elements = {n: np.concatenate([rc.tx_positions_m(), rc.rx_positions_m()])  # type: ignore[attr-defined]
                 for n, rc in radars.items()}
     frames = np.unique(np.linspace(0, max(n_frames - 1, 0), min(n_frames, 128)).astype(int))

@@ -17,7 +17,7 @@ import json
 import multiprocessing
 import os
 import signal
-from collections.abc import Callable, Generator, Iterator, Sequence
+from collections.abc import Callable, Generator, Iterator, Mapping, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
@@ -31,6 +31,7 @@ from simcore.pipeline import Frame, Simulator
 from simcore.preflight import RunError
 from simcore.scene.project_io import project_from_dict
 from simcore.sensors.base import H5Items
+from simcore.sensors.schema import must_be_finite, nan_allowed
 
 
 @dataclass(frozen=True)
@@ -136,18 +137,17 @@ class NonFiniteOutputError(RunError):
     """A frame produced NaN or infinite values where the dataset promises numbers."""
 
 
-#: Datasets where NaN is a documented value (no surface on the pixel's ray, outside the
-#: field of view).
-NAN_ALLOWED = frozenset({"/tof/gt_range", "/radar/bird_eye"})
-#: Raw sensor data and poses: every value must be finite (except :data:`NAN_ALLOWED`).
-STRICT_PREFIXES = ("/time", "/poses/", "/tof/", "/radar/adc", "/radar/chirp_start_time")
+#: Common datasets whose every value must be finite (the sensors' raw data say so in their
+#: schemas: :attr:`simcore.sensors.schema.Output.finite`).
+STRICT_PREFIXES = ("/time", "/poses/")
 
 
-def check_finite(index: int, items: H5Items) -> None:
+def check_finite(index: int, items: H5Items, kinds: Mapping[str, str]) -> None:
     """Refuse a frame whose outputs are not numbers.
 
-    Raw data and poses must be finite (NaN only where documented); a DSP product (dB maps)
-    may hold −∞ dB and NaN where documented, but not +∞ and not only non-finite values.
+    Raw data and poses must be finite (NaN only where the sensor kind's schema allows it);
+    a DSP product (dB maps) may hold −∞ dB and NaN where allowed, but not +∞ and not only
+    non-finite values. ``kinds``: the kind of each sensor, by name.
     """
     for path, (array, unit) in items.items():
         arr = np.asarray(array)
@@ -159,13 +159,14 @@ def check_finite(index: int, items: H5Items) -> None:
         finite = np.isfinite(values)
         if finite.all():
             continue
-        if path.startswith(STRICT_PREFIXES):
-            bad = ~finite & ~np.isnan(values) if path in NAN_ALLOWED else ~finite
-        elif not finite.any() and path not in NAN_ALLOWED:
+        nan_ok = nan_allowed(path, kinds)
+        if path.startswith(STRICT_PREFIXES) or must_be_finite(path, kinds):
+            bad = ~finite & ~np.isnan(values) if nan_ok else ~finite
+        elif not finite.any() and not nan_ok:
             bad = ~finite
         else:
-            bad = np.isposinf(values) | (np.isnan(values) if path not in NAN_ALLOWED
-                                         and unit != "dB" else np.zeros_like(finite))
+            bad = np.isposinf(values) | (np.isnan(values) if not nan_ok and unit != "dB"
+                                         else np.zeros_like(finite))
         if bad.any():
             raise NonFiniteOutputError(
                 f"frame {index}: {path} has {int(bad.sum())} of {values.size} values NaN or "
@@ -323,7 +324,7 @@ def pad_items(items: H5Items, layout: Sequence[ArraySlot], *, scene: int) -> H5I
 
 def _result(frame: Frame) -> FrameResult:
     items = frame.hdf5_items()
-    check_finite(frame.index, items)
+    check_finite(frame.index, items, frame.kinds or {n: n for n in frame.outputs})
     return FrameResult(frame.index, items, frame.table_rows(), frame.timings_ms)
 
 

@@ -6,11 +6,16 @@ title) and plain colour-mapped images.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+
+from simcore.scene.model import Project, sensor_kind
+from simcore.sensors.schema import Output, schema_of
 
 INVALID_RGB = (0.35, 0.35, 0.35)
 
@@ -49,46 +54,45 @@ def save_previews(out_dir: Path, index: int, images: dict[str, tuple[NDArray[np.
 
 
 @dataclass(frozen=True)
-class PreviewAxes:
-    """Physical axes of the preview figures.
+class PreviewSensor:
+    """What the previews of one sensor need: its kind, configuration and static datasets.
 
     Attributes
     ----------
-    tof_fov_deg : tuple of float
-        Horizontal and vertical field of view of the ToF camera (degrees).
-    range_m : ndarray, shape (range,)
-        Range bin centres (m).
-    velocity_mps : ndarray, shape (doppler,)
-        Doppler bin centres (m/s, positive = moving away).
-    azimuth_deg : ndarray, shape (azimuth,)
-        Azimuth grid (degrees, positive = right).
+    kind : str
+        The sensor's kind (its schema says which outputs have a figure).
+    config : object
+        Its configuration (a figure's axes may come from it: the ToF camera's FoV).
+    statics : dict of str to ndarray
+        Its run-constant datasets by output name (the radar's axes).
     """
 
-    tof_fov_deg: tuple[float, float]
-    range_m: NDArray[np.float64]
-    velocity_mps: NDArray[np.float64]
-    azimuth_deg: NDArray[np.float64]
+    kind: str
+    config: Any
+    statics: Mapping[str, NDArray[np.generic]]
 
 
-#: name → (dataset path, title, colour-bar label, colour map) of the labelled previews.
-FIGURES = {
-    "tof_gt_range": ("/tof/gt_range", "ToF ground-truth range", "range (m)", "viridis"),
-    "tof_depth": ("/tof/depth", "ToF measured depth (grey: invalid)", "depth (m)", "viridis"),
-    "tof_amplitude": ("/tof/amplitude", "ToF amplitude", "amplitude (DN)", "gray"),
-    "radar_range_doppler": ("/radar/range_doppler", "radar range–Doppler", "power (dB)",
-                            "magma"),
-    "radar_range_azimuth": ("/radar/range_azimuth", "radar range–azimuth", "power (dB)",
-                            "magma"),
-}
+def preview_sensors(project: Project,
+                    statics: Mapping[str, tuple[NDArray[np.generic], str]] | None = None
+                    ) -> dict[str, PreviewSensor]:
+    """Every sensor of ``project`` with what its figures need, by name.
 
+    ``statics``: the run's static datasets (path → (array, unit)); by default each
+    sensor's own (:meth:`Sensor.static_items`).
+    """
+    if statics is None:
+        from simcore.sensors import active_sensors
 
-def _edges(centres: NDArray[np.float64]) -> tuple[float, float]:
-    """Outer edges of a regular axis given its bin centres."""
-    if len(centres) < 2:
-        c = float(centres[0]) if len(centres) else 0.0
-        return c - 0.5, c + 0.5
-    step = float(centres[1] - centres[0])
-    return float(centres[0]) - step / 2, float(centres[-1]) + step / 2
+        statics = {}
+        for sensor in active_sensors(project):
+            statics.update(sensor.static_items(project))
+    out: dict[str, PreviewSensor] = {}
+    for name, cfg in project.sensor_configs().items():
+        prefix = f"/{name}/"
+        own = {p[len(prefix):]: np.asarray(v[0]) for p, v in statics.items()
+               if p.startswith(prefix)}
+        out[name] = PreviewSensor(sensor_kind(cfg), cfg, own)
+    return out
 
 
 def save_figure(path: Path, image: NDArray[np.floating], *, title: str, cbar_label: str,
@@ -124,40 +128,48 @@ def save_figure(path: Path, image: NDArray[np.floating], *, title: str, cbar_lab
 
 
 def save_frame_previews(out_dir: Path, index: int,
-                        items: dict[str, tuple[NDArray[np.generic], str]],
-                        axes: PreviewAxes | None) -> list[Path]:
-    """Labelled PNG figures ``frame_NNNNN_<name>.png`` of one frame's products.
+                        items: Mapping[str, tuple[NDArray[np.generic], str]],
+                        sensors: Mapping[str, PreviewSensor] | None) -> list[Path]:
+    """Labelled PNG figures ``frame_NNNNN_<sensor>_<output>.png`` of one frame.
 
-    ToF images have horizontal and vertical angle axes (degrees); the range–Doppler map
-    range (m) × velocity (m/s); the range–azimuth map range (m) × azimuth (degrees).
-    Without ``axes`` the axes are in bins and pixels.
+    Every output that its kind's schema gives a preview (``Output.preview``), of every
+    sensor in ``sensors``: ToF images with horizontal and vertical angle axes (degrees),
+    the range–Doppler map range (m) × velocity (m/s), the range–azimuth map range (m) ×
+    azimuth (degrees). Axes a figure cannot get are in pixels or bins.
     """
     t = float(np.asarray(items["/time"][0])) if "/time" in items else float("nan")
     paths = []
-    for name, (ds_path, what, label, cmap) in FIGURES.items():
-        if ds_path not in items:
-            continue
-        image = np.asarray(items[ds_path][0], dtype=np.float64)
-        if name == "tof_depth" and "/tof/valid" in items:
-            image = np.where(np.asarray(items["/tof/valid"][0], dtype=bool), image, np.nan)
-        extent: tuple[float, float, float, float] | None = None
-        xlabel, ylabel = "column (px)", "row (px)"
-        if axes is not None and name.startswith("tof"):
-            h, v = axes.tof_fov_deg
-            extent = (-h / 2, h / 2, -v / 2, v / 2)
-            xlabel, ylabel = "horizontal angle (deg, right +)", "vertical angle (deg, up +)"
-        elif axes is not None and name == "radar_range_doppler":
-            extent = (*_edges(axes.range_m), *_edges(axes.velocity_mps))
-            image = image[::-1]     # origin upper: first velocity bin at the bottom
-            xlabel, ylabel = "range (m)", "radial velocity (m/s, away +)"
-        elif axes is not None and name == "radar_range_azimuth":
-            extent = (*_edges(axes.range_m), *_edges(axes.azimuth_deg))
-            image = image[::-1]
-            xlabel, ylabel = "range (m)", "azimuth (deg, right +)"
-        elif name.startswith("radar"):
-            xlabel, ylabel = "range bin", "bin"
-        path = out_dir / f"frame_{index:05d}_{name}.png"
-        save_figure(path, image, title=f"{what} — frame {index}, t = {t:.3f} s",
-                    cbar_label=label, cmap=cmap, extent=extent, xlabel=xlabel, ylabel=ylabel)
-        paths.append(path)
+    for name, sensor in (sensors or {}).items():
+        schema = schema_of(sensor.kind)
+        for output in schema.previews():
+            path = _sensor_figure(out_dir, index, t, items, name, sensor, output)
+            if path is not None:
+                paths.append(path)
     return paths
+
+
+def _sensor_figure(out_dir: Path, index: int, t: float,
+                   items: Mapping[str, tuple[NDArray[np.generic], str]], name: str,
+                   sensor: PreviewSensor, output: Output) -> Path | None:
+    """The figure of one output of one sensor (None when the frame does not hold it)."""
+    schema = schema_of(sensor.kind)
+    preview = output.preview
+    ds_path = schema.dataset_path(name, output.name)
+    if preview is None or ds_path not in items:
+        return None
+    image = np.asarray(items[ds_path][0], dtype=np.float64)
+    mask_path = None if preview.mask is None else schema.dataset_path(name, preview.mask)
+    if mask_path is not None and mask_path in items:
+        image = np.where(np.asarray(items[mask_path][0], dtype=bool), image, np.nan)
+    frame = None if preview.axes is None else preview.axes(sensor.config, sensor.statics)
+    extent: tuple[float, float, float, float] | None = None
+    xlabel, ylabel = ("column (px)", "row (px)") if output.dims[-1] == "col" else ("bin", "bin")
+    if frame is not None:
+        extent, xlabel, ylabel, flip = frame
+        if flip:
+            image = image[::-1]     # origin upper: the first bin at the bottom
+    path = out_dir / f"frame_{index:05d}_{name}_{output.name.replace('/', '_')}.png"
+    save_figure(path, image, title=f"{name}: {preview.title} — frame {index}, t = {t:.3f} s",
+                cbar_label=preview.label, cmap=preview.cmap, extent=extent, xlabel=xlabel,
+                ylabel=ylabel)
+    return path

@@ -10,6 +10,7 @@ from pydantic import AfterValidator, Field, PrivateAttr, model_validator
 from simcore.scene.base import Model, Positive
 from simcore.scene.dsp_config import DspConfig
 from simcore.scene.geometry import Geometry
+from simcore.scene.layout import reserved_names, reserved_reason
 from simcore.scene.materials import DualBandMaterial
 from simcore.scene.motion import Motion, Pose
 from simcore.scene.radar_config import RadarConfig
@@ -23,10 +24,8 @@ FORMAT_VERSION = 3
 
 #: Sensor and rig names: they name HDF5/Zarr groups, MCAP topics and TF frames.
 NAME_PATTERN = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,63}")
-#: Top-level dataset groups that a sensor may not be named after.
-RESERVED_SENSOR_NAMES = frozenset(
-    {"meta", "objects", "people", "scene_index", "rig", "rigs", "labels", "frame",
-     "frames", "time", "checksum", "products"})
+#: Names a sensor or rig may not take: dataset groups and names of the layout.
+RESERVED_SENSOR_NAMES = reserved_names()
 
 
 def _check_identifier(name: str) -> str:
@@ -118,15 +117,17 @@ class Rig(Model):
 
 
 class SensorRig(Rig):
-    """The project's first rig, with its built-in ToF camera and radar.
+    """The project's first rig, with its built-in sensor fields (all optional).
 
     Every field with a ``pose_on_rig`` is a sensor, named by the field (``tof``,
-    ``radar``, ``rgb``); ``None`` leaves the optional RGB camera off. More sensors of any
-    kind go in ``sensors``, more rigs in :attr:`Project.rigs`.
+    ``radar``, ``rgb``); ``None`` leaves that sensor off. ``tof`` and ``radar`` default to
+    the pico flexx and the BGT60TR13C (so a file that leaves them out means what it always
+    did); ``"tof": null`` makes a radar-only rig, ``"radar": null`` a ToF-only one. More
+    sensors of any kind go in ``sensors``, more rigs in :attr:`Project.rigs`.
     """
 
-    tof: TofCameraConfig = TofCameraConfig()
-    radar: RadarConfig = RadarConfig()
+    tof: TofCameraConfig | None = TofCameraConfig()
+    radar: RadarConfig | None = RadarConfig()
     rgb: RgbCameraConfig | None = None
 
 
@@ -191,13 +192,17 @@ class Project(Model):
         for rig in self.all_rigs():
             if rig.name in rigs:
                 raise ValueError(f"duplicate rig name {rig.name!r}")
+            if rig.name in RESERVED_SENSOR_NAMES and rig.name != "rig":
+                raise ValueError(f"rig name {rig.name!r} collides with "
+                                 f"{reserved_reason(rig.name)}; choose another name")
             rigs.add(rig.name)
             for name, cfg in rig.sensor_configs().items():
                 if name in owner:
                     raise ValueError(f"duplicate sensor name {name!r} (on rigs "
                                      f"{owner[name]!r} and {rig.name!r})")
                 if name in RESERVED_SENSOR_NAMES:
-                    raise ValueError(f"sensor name {name!r} is reserved for a dataset group")
+                    raise ValueError(f"sensor name {name!r} collides with "
+                                     f"{reserved_reason(name)}; choose another name")
                 owner[name] = rig.name
                 try:
                     n = cfg.frame_divider(self.timeline.frame_rate_hz)  # type: ignore[attr-defined]
@@ -208,6 +213,9 @@ class Project(Model):
                 if offset >= period:
                     raise ValueError(f"sensor {name!r}: trigger_offset_s {offset:g} s is not "
                                      f"shorter than its frame period {period:g} s")
+        if not owner:
+            raise ValueError("the project has no sensor: set rig.tof, rig.radar or rig.rgb, "
+                             "or add one to a rig's sensors table")
         # Rigs and sensors are both TF frames (MCAP, the live stream), beside "world".
         for name in sorted(rigs & set(owner)):
             raise ValueError(f"name {name!r} is both a rig's and a sensor's; each names a TF "

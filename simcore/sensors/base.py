@@ -30,8 +30,10 @@ from numpy.typing import NDArray
 from simcore.render.buffers import RenderBuffers
 from simcore.render.renderer import RenderRequest
 from simcore.scene.base import Model
+from simcore.scene.layout import SensorSchema
 from simcore.scene.model import Project, sensor_kind
 from simcore.scene.snapshot import SceneSnapshot
+from simcore.sensors.schema import declare
 
 #: HDF5 items of a frame: dataset path → (array without the frame axis, unit).
 H5Items = dict[str, tuple[NDArray[np.generic], str]]
@@ -259,6 +261,8 @@ class SensorBase:
     kind: str = ""
     band: str = ""
     on_worker: bool = False
+    #: The kind's outputs (its package's ``schema.SCHEMA``).
+    schema: SensorSchema | None = None
 
     def __init__(self, name: str | None = None, rng_stream: int | None = None):
         self.name = self.kind if name is None else name
@@ -288,6 +292,10 @@ def register(sensor: Sensor | type) -> Any:
         raise ValueError(f"{cls.__name__} has no kind")
     if kind in _REGISTRY:
         raise ValueError(f"a sensor kind {kind!r} is registered already")
+    schema = getattr(cls, "schema", None)
+    if schema is None or schema.kind != kind:
+        raise ValueError(f"{cls.__name__} declares no output schema of kind {kind!r}")
+    declare(schema)
     _REGISTRY[kind] = cls
     return sensor
 

@@ -46,6 +46,7 @@ from simcore.sensors.radar.labels import (
 )
 from simcore.sensors.radar.multipath import ghost_scatterers, synthesize_ghosts
 from simcore.sensors.radar.scatterers import Scatterers
+from simcore.sensors.radar.schema import SCHEMA
 from simcore.sensors.radar.surfaces import transmissive_objects
 from simcore.sensors.radar.synthesis import ComplexCube, prepare, synthesize_if
 from simcore.sensors.radar.transmit import frame_transmit_config
@@ -108,6 +109,7 @@ class RadarSensor(SensorBase):
     """
 
     kind = "radar"
+    schema = SCHEMA
     band = "radar"
     on_worker = True
 

@@ -13,12 +13,14 @@ from simcore.scene.project_io import material_table
 from simcore.scene.rgb_config import RgbCameraConfig
 from simcore.sensors.base import H5Items, SensorBase, SensorContext, config_key
 from simcore.sensors.rgb.camera import BAND, RgbOutput, object_colors, simulate_rgb
+from simcore.sensors.rgb.schema import SCHEMA
 
 
 class RgbSensor(SensorBase):
     """Colour camera (``rig.rgb`` or a named one): the visible band seen from the camera."""
 
     kind = "rgb"
+    schema = SCHEMA
     band = BAND
     on_worker = False
 

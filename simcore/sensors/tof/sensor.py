@@ -23,6 +23,7 @@ from simcore.sensors.tof.interference import (
     light_windows_s,
     overlap_fraction,
 )
+from simcore.sensors.tof.schema import SCHEMA
 from simcore.sensors.tof.specular import is_mirror, material_columns
 
 
@@ -30,6 +31,7 @@ class TofSensor(SensorBase):
     """AMCW ToF camera (``rig.tof`` or a named one): the near-infrared band it sees."""
 
     kind = "tof"
+    schema = SCHEMA
     band = "tof"
     on_worker = True
 
