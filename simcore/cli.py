@@ -540,11 +540,21 @@ def cmd_bench(args: argparse.Namespace) -> int:
         from simcore.bench import rig_variants
 
         rigs = rig_variants(project_path, frames=args.frames)
+    kinds = None
+    if args.sensors:
+        from simcore.bench import sensor_variants
+
+        kinds = sensor_variants(project_path, frames=args.frames)
+        if kinds is None:
+            print("bench --sensors: the project lacks ToF cameras or radars; nothing to "
+                  "leave out", file=sys.stderr)
     if args.json:
         if variants is not None:
             result["effects"] = variants
         if rigs is not None:
             result["rigs"] = rigs
+        if kinds is not None:
+            result["sensor_variants"] = kinds
         print(json.dumps(result))
         return 0
     print(f"{project_path.name}: {args.frames} frames, median {result['frame_ms_median']:.1f} "
@@ -552,10 +562,12 @@ def cmd_bench(args: argparse.Namespace) -> int:
           f"latency {result['latency_ms_median']:.1f} ms (frames overlap)")
     for k, v in result["stages_ms"].items():
         print(f"  {k:<18} {v:8.2f} ms")
-    print(f"  IF synthesis vs direct sum: {result['if_error_db']:.1f} dB on "
-          f"{result['subset']} scatterers, speed-up {result['if_speedup']:.0f}x "
-          f"(NUFFT of all {result['scatterers']} scatterers {result['nufft_full_ms']:.1f} ms)")
-    print(f"  antenna edit -> radar maps: {result['antenna_edit_ms']:.1f} ms")
+    if "if_error_db" in result:
+        print(f"  IF synthesis vs direct sum: {result['if_error_db']:.1f} dB on "
+              f"{result['subset']} scatterers, speed-up {result['if_speedup']:.0f}x "
+              f"(NUFFT of all {result['scatterers']} scatterers "
+              f"{result['nufft_full_ms']:.1f} ms)")
+        print(f"  antenna edit -> radar maps: {result['antenna_edit_ms']:.1f} ms")
     if result["thread_cpu_ms"]:
         threads = ", ".join(f"{k} {v:.1f}" for k, v in result["thread_cpu_ms"].items())
         floor = result["two_core_floor_ms"]
@@ -579,7 +591,23 @@ def cmd_bench(args: argparse.Namespace) -> int:
         _print_effect_variants(variants)
     if rigs is not None:
         _print_rig_variants(rigs)
+    if kinds is not None:
+        _print_sensor_variants(kinds)
     return 0
+
+
+def _print_sensor_variants(kinds: dict[str, Any]) -> None:
+    """``bench --sensors``: all sensors, radars only, ToF cameras only (same run)."""
+    for name in ("all_sensors", "radar_only", "tof_only"):
+        v = kinds[name]
+        stages = ", ".join(f"{k} {t:.1f}" for k, t in v["stages_ms"].items())
+        print(f"{name:<12} {v['frame_ms_median']:7.1f} ms/frame ({v['fps']:.2f} frames/s), "
+              f"CPU {v['cpu_ms_per_frame']:.1f} ms/frame; stages (ms): {stages}")
+    print(f"  radar only is {kinds['radar_only_speedup']:.2f}x, ToF only "
+          f"{kinds['tof_only_speedup']:.2f}x as fast as all sensors (CPU per frame: "
+          f"{kinds['radar_only_cpu_ratio']:.2f}x, {kinds['tof_only_cpu_ratio']:.2f}x; same "
+          f"run); load average before/after: {kinds['load']['before']} / "
+          f"{kinds['load']['after']}")
 
 
 def _print_rig_variants(rigs: dict[str, Any]) -> None:
@@ -823,6 +851,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rigs", action="store_true",
                    help="also time the project with a second rig (a copy of its ToF camera "
                         "and radar placed beside it), in the same run")
+    p.add_argument("--sensors", action="store_true",
+                   help="also time the project with its radars only and with its ToF cameras "
+                        "only (what a frame saves without the other sensor), in the same run")
     p.set_defaults(func=cmd_bench)
 
     p = sub.add_parser("materials", help="list the materials and what each does per band",
@@ -987,6 +1018,9 @@ def cmd_products(args: argparse.Namespace) -> int:
         raise CliError(f"{source}: no such dataset")
     try:
         radars = [args.radar] if args.radar else radars_with_adc(source)
+        if not radars:
+            raise CliError(f"{source}: the dataset has no radar; the products (spectrogram, "
+                           "vital signs) are a radar's")
         summaries = {radar: write_radar_products(source, object_name=args.object, radar=radar)
                      for radar in radars}
     except ProductsError as exc:

@@ -231,7 +231,7 @@ def shared_statics(items: H5Items) -> H5Items:
     All but those along an entity axis: the names and ids of objects, people and segments
     are per scene.
     """
-    from simcore.io.reader import entity_of
+    from simcore.io.layout import entity_of
 
     return {path: value for path, value in items.items() if entity_of(path) is None}
 
@@ -278,7 +278,7 @@ def pad_items(items: H5Items, layout: Sequence[ArraySlot], *, scene: int) -> H5I
     ``<group>/count`` (int32) and ``<group>/valid`` (bool, True for the first ``count``
     slots). An array outside the layout, or of another shape, stops the run.
     """
-    from simcore.io.reader import ENTITY_GROUPS, entity_of
+    from simcore.io.layout import ENTITY_GROUPS, entity_of
 
     known = {slot.path for slot in layout}
     for path in items:
@@ -350,7 +350,7 @@ def _entity_statics(spec: RunSpec) -> H5Items:
     The names and ids of its objects, people and segments, as its simulator's
     ``static_items`` has them.
     """
-    from simcore.io.reader import entity_of
+    from simcore.io.layout import entity_of
     from simcore.scene.people.expand import expand_people, people_of
     from simcore.scene.people.truth import people_static_items
 
@@ -368,7 +368,7 @@ def _entity_statics(spec: RunSpec) -> H5Items:
 
 def _entity_counts(statics: H5Items) -> dict[str, int]:
     """Objects, people and segments of a scene (from its :func:`_entity_statics`)."""
-    from simcore.io.reader import ENTITY_GROUPS
+    from simcore.io.layout import ENTITY_GROUPS
 
     return {entity: len(statics[f"{group}/names"][0]) if f"{group}/names" in statics else 0
             for entity, group in ENTITY_GROUPS.items()}
@@ -389,7 +389,7 @@ def scene_entity_statics(scenes: Sequence[RunSpec]) -> H5Items:
     ``/scenes/objects/names`` (S, largest object count) and so on for every run-constant
     array along an entity axis, padded with "" or −1, and ``/scenes/<group>/count`` (S,).
     """
-    from simcore.io.reader import ENTITY_GROUPS, entity_of
+    from simcore.io.layout import ENTITY_GROUPS, entity_of
 
     statics = [_entity_statics(s) for s in scenes]
     counts = [_entity_counts(s) for s in statics]
@@ -422,7 +422,7 @@ def scenes_layout(scenes: Sequence[RunSpec], statics: Sequence[H5Items], referen
 
     Arrays along an entity axis get the largest scene's count.
     """
-    from simcore.io.reader import entity_of
+    from simcore.io.layout import entity_of
 
     counts = [_entity_counts(s) for s in statics]
     frame = _result(next(_simulator(scenes[reference]).frames([0])))

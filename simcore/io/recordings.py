@@ -432,8 +432,9 @@ def recording_project(recording: RadarRecording, *, name: str | None = None) -> 
     Returns
     -------
     simcore.scene.model.Project
-        ``rig.radar`` = :attr:`RadarRecording.config`; timeline at ``1 /
-        frame_repetition_time_s`` over the recording's frames; no objects.
+        A radar-only rig: ``rig.radar`` = :attr:`RadarRecording.config`, no ToF camera;
+        timeline at ``1 / frame_repetition_time_s`` over the recording's frames; no
+        objects.
     """
     from simcore.scene.model import Project, SensorRig, Timeline
 
@@ -444,7 +445,7 @@ def recording_project(recording: RadarRecording, *, name: str | None = None) -> 
                     f"{recording.folder.parent.name}/{recording.folder.name} "
                     "(tofradar convert --project); the scene is empty",
         timeline=Timeline(frame_rate_hz=1.0 / t_f, duration_s=recording.n_frames * t_f),
-        rig=SensorRig(radar=recording.config))
+        rig=SensorRig(tof=None, radar=recording.config))
 
 
 def convert_recording(source: str | os.PathLike[str], out: str | os.PathLike[str], *,
@@ -472,12 +473,15 @@ def convert_recording(source: str | os.PathLike[str], out: str | os.PathLike[str
     from simcore.dsp import process_frame, static_axes_items
     from simcore.io.hdf5_writer import DatasetExistsError, DatasetWriter
     from simcore.scene.project_io import project_to_json, save_project
+    from simcore.sensors.schema import schema_of
 
     rec = read_recording(source)
     project = recording_project(rec)
     if project_out is not None and Path(project_out).exists() and not overwrite:
         raise DatasetExistsError(f"{project_out} already exists; use --overwrite to replace it")
-    cfg, dsp = project.rig.radar, project.dsp
+    (radar, cfg), = project.sensors_of_kind("radar").items()
+    dsp = project.dsp
+    schema = schema_of("radar")
     meta = {"source": "recording", "recording_path": str(Path(source).resolve()),
             "recording_config": json.dumps({"device_config": {"fmcw_single_shape":
                                                               rec.settings}}),
@@ -489,15 +493,17 @@ def convert_recording(source: str | os.PathLike[str], out: str | os.PathLike[str
     starts = cfg.chirp_start_times_s()
     with DatasetWriter(out, project_json=project_to_json(project), seed=project.seed,
                        overwrite=overwrite, extra_meta=meta) as writer:
-        writer.write_static(static_axes_items(cfg, dsp))
+        writer.write_static(static_axes_items(cfg, dsp, group=radar))
         for k in range(rec.n_frames):
             adc = rec.frame_adc(k)
             products = process_frame(adc, cfg, dsp)
-            writer.append_rows("/radar/detections", products.detection_records(k))
+            writer.append_rows(schema.dataset_path(radar, "detections"),
+                               products.detection_records(k))
             writer.append({"/time": (np.asarray(times[k]), "s"),
-                           "/radar/adc": (adc, "FS"),
-                           "/radar/chirp_start_time": (times[k] + starts, "s"),
-                           **products.hdf5_items()})
+                           schema.dataset_path(radar, "adc"): (adc, "FS"),
+                           schema.dataset_path(radar, "chirp_start_time"): (times[k] + starts,
+                                                                            "s"),
+                           **products.hdf5_items(group=radar)})
     if project_out is not None:
         save_project(project, project_out)
     return ConvertReport(rec.n_frames, Path(out), None if project_out is None

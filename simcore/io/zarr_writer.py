@@ -38,6 +38,7 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import os
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -52,7 +53,7 @@ from simcore.io.hdf5_writer import (
     ResumeError,
     frame_checksum,
 )
-from simcore.io.reader import sensor_kinds
+from simcore.io.layout import sensor_kinds
 
 #: Frames per shard by default (a shard of the office is about 32 MB before compression).
 DEFAULT_SHARD_FRAMES = 16
@@ -76,7 +77,7 @@ def _codecs(dtype: np.dtype[Any]) -> dict[str, Any]:
 
 def _dims(path: str, ndim: int, *, per_frame: bool,
           kinds: dict[str, str] | None = None) -> tuple[str, ...]:
-    from simcore.io.reader import dims_of
+    from simcore.io.layout import dims_of
 
     inner = dims_of(path, kinds) or tuple(
         f"{path.strip('/').replace('/', '_')}_dim{i}" for i in range(ndim))
@@ -90,9 +91,30 @@ def open_group(url: str, *, mode: str, storage_options: dict[str, Any] | None = 
     import zarr
 
     kw: dict[str, Any] = {"mode": mode, "zarr_format": 3}
+    if mode != "w":
+        # Our own reads and appends see the store as it is, not its consolidated
+        # metadata (which is rewritten as frames are committed: :func:`consolidate`).
+        kw["use_consolidated"] = False
     if "://" in url and storage_options:
         kw["storage_options"] = storage_options
     return zarr.open_group(_store_url(url), **kw)
+
+
+def consolidate(url: str, storage_options: dict[str, Any] | None = None) -> None:
+    """Write the store's consolidated metadata (``xarray.open_zarr`` reads it in one go).
+
+    Rewritten whenever the count of complete frames changes, so a reader that trusts it
+    sees every array and the committed ``n_frames``.
+    """
+    import zarr
+
+    kw: dict[str, Any] = {"zarr_format": 3}
+    if "://" in url and storage_options:
+        kw["storage_options"] = storage_options
+    with warnings.catch_warnings():
+        # zarr 3 warns that consolidated metadata is not yet part of the v3 spec.
+        warnings.simplefilter("ignore", UserWarning)
+        zarr.consolidate_metadata(_store_url(url), **kw)
 
 
 def _store_url(url: str) -> str:
@@ -273,6 +295,7 @@ class ZarrWriter:
             n += 1
         if n != int(self.group.attrs.get("n_frames", -1)):
             self.group.attrs["n_frames"] = n
+            consolidate(self.url, self.storage_options)
         self.n_frames = n
 
     def close(self, *, keep: bool = True) -> None:

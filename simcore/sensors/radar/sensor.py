@@ -79,8 +79,8 @@ class RadarFrameOutput:
 
     def hdf5_items(self) -> H5Items:
         """Per-frame datasets of the raw data and the maps (under ``/<group>/``)."""
-        return rename_items({**self.raw.hdf5_items(), **self.dsp.hdf5_items()}, "radar",
-                            self.group)
+        return {**rename_items(self.raw.hdf5_items(), "radar", self.group),
+                **self.dsp.hdf5_items(group=self.group)}
 
     def table_rows(self, index: int) -> dict[str, NDArray[np.void]]:
         """Rows this frame adds to the detections table (with their labels)."""
@@ -207,8 +207,7 @@ class RadarSensor(SensorBase):
 
     def static_items(self, project: Project) -> H5Items:
         """The axes of the radar maps."""
-        return rename_items(static_axes_items(self.config(project), project.dsp), "radar",
-                            self.name)
+        return static_axes_items(self.config(project), project.dsp, group=self.name)
 
 
 def _with_multipath(ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
