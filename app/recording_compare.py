@@ -23,7 +23,9 @@ from PyQt6.QtWidgets import QFileDialog, QMenu, QMessageBox, QWidget
 from app.frame_view import FrameView, TofView, radar_view_from_products
 from simcore.dsp import process_frame
 from simcore.scene import Project
+from simcore.scene.project_io import project_from_dict
 from simcore.scene.radar_config import RadarConfig
+from simcore.sensors.schema import schema_of
 
 
 def recording_adc(path: str | Path, *, frame: int = 0
@@ -41,13 +43,19 @@ def recording_adc(path: str | Path, *, frame: int = 0
         k = min(max(frame, 0), rec.n_frames - 1)
         return rec.frame_adc(k), rec.config, float(rec.frame_times_s()[k])
     with h5py.File(p, "r") as f:
-        if "radar/adc" not in f:
-            raise ValueError(f"{p}: no /radar/adc in this file")
-        radar = json.loads(f["meta"].attrs["project_json"])["rig"]["radar"]
-        k = min(max(frame, 0), f["radar/adc"].shape[0] - 1)
-        adc = np.asarray(f["radar/adc"][k])
+        project_json = f["meta"].attrs.get("project_json", "{}") if "meta" in f else "{}"
+        project = project_from_dict(json.loads(project_json))
+        found = [(name, cfg) for name, cfg in project.sensors_of_kind("radar").items()
+                 if schema_of("radar").dataset_path(name, "adc") in f]
+        if not found:
+            raise ValueError(f"{p}: no radar ADC data in this file")
+        name, radar = found[0]
+        adc_ds = f[schema_of("radar").dataset_path(name, "adc")]
+        k = min(max(frame, 0), adc_ds.shape[0] - 1)
+        adc = np.asarray(adc_ds[k])
         t = float(f["time"][k]) if "time" in f else 0.0
-    return adc, RadarConfig.model_validate(radar), t
+    assert isinstance(radar, RadarConfig)
+    return adc, radar, t
 
 
 def recording_frame_view(path: str | Path, project: Project, *, frame: int = 0) -> FrameView:

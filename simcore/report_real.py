@@ -20,12 +20,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from simcore.io.layout import sensor_kinds
 from simcore.io.recordings import (
     RecordingLevels,
     read_recording,
     recording_levels,
 )
+from simcore.scene.project_io import project_from_dict
 from simcore.scene.radar_config import RadarConfig
+from simcore.sensors.schema import schema_of
 
 #: Environment variable naming a recording to use instead of the shared one.
 RECORDING_ENV = "TOFRADAR_REAL_RECORDING"
@@ -233,10 +236,13 @@ def dataset_vitals(path: Path) -> RecordingVitals:
         raise ValueError(f"{path}: too few frames for the vital signs")
     vs = summary.vitals
     with h5py.File(path, "r") as f:
-        t = np.asarray(f["radar/vitals/time"][:], dtype=np.float64)
-        d = np.asarray(f["radar/vitals/displacement"][:], dtype=np.float64)
-        radar = json.loads(f["meta"].attrs["project_json"])["rig"]["radar"]
-    wavelength = RadarConfig.model_validate(radar).wavelength_m
+        project = project_from_dict(json.loads(f["meta"].attrs["project_json"]))
+        (name, radar), = project.sensors_of_kind("radar").items()
+        schema = schema_of("radar")
+        t = np.asarray(f[schema.dataset_path(name, "vitals/time")][:], dtype=np.float64)
+        d = np.asarray(f[schema.dataset_path(name, "vitals/displacement")][:],
+                       dtype=np.float64)
+    wavelength = radar.wavelength_m  # type: ignore[attr-defined]
     return RecordingVitals(t - t[0], d, float(vs.breathing_rate_hz),
                            float(vs.breathing_amplitude_m), float(vs.heart_rate_hz),
                            float(vs.heart_amplitude_m), float(summary.range_m), wavelength)
@@ -277,7 +283,8 @@ def real_section(out: Path, *, quick: bool) -> tuple[str, str, str, dict[str, An
         dataset = Path(tmp) / "recording.h5"
         convert_recording(source, dataset)
         with h5py.File(dataset, "r") as f:
-            adc = np.asarray(f["radar/adc"][:])
+            (name,) = sensor_kinds(str(f["meta"].attrs["project_json"]))
+            adc = np.asarray(f[schema_of("radar").dataset_path(name, "adc")][:])
         vitals = dataset_vitals(dataset)
     n = 16 if quick else 64
     real = recording_levels(adc, cfg)

@@ -138,7 +138,10 @@ def test_configuration_round_trips_into_the_project_and_dataset(tmp_path):
     src = write_recording(tmp_path, codes, settings)
     out, proj = tmp_path / "real.h5", tmp_path / "real.json"
     assert main(["convert", str(src), "--to", str(out), "--project", str(proj)]) == 0
-    radar = load_project(proj).rig.radar
+    converted = load_project(proj)
+    # A radar recording gives a radar-only project: no ToF camera nobody asked for.
+    assert converted.rig.tof is None and list(converted.sensor_configs()) == ["radar"]
+    radar = converted.rig.radar
     assert radar.device_settings == settings
     assert radar.start_frequency_hz == 58e9 and radar.bandwidth_hz == 5.5e9
     assert radar.chirp_time_s == 128 / 1e6 and radar.sample_rate_hz == 1e6

@@ -46,7 +46,6 @@ DIMS: dict[str, tuple[str, ...]] = {
     **COMMON_DATASETS,
     **{f"/objects/{name}": dims for name, dims in OBJECT_DATASETS.items()},
     **_SENSOR_DIMS,
-    "/radar/detections_count": (),
 }
 
 #: Dimension names of the datasets that only projects with several rigs write.

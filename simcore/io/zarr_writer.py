@@ -61,7 +61,6 @@ DEFAULT_SHARD_FRAMES = 16
 #: shard (no inner chunks): reading one frame of them decodes at most 256 KiB.
 SMALL_VALUES = 4096
 CHECKSUM_PATH = "meta/frame_sha256"
-DETECTIONS_PATH = "/radar/detections"
 #: Attributes of the root group set when the store is created (the rest are extra meta).
 CORE_ATTRS = ("format_version", "project_json", "created", "tofradar_version", "seed",
               "n_frames", "shard_frames", "storage")
@@ -100,21 +99,18 @@ def open_group(url: str, *, mode: str, storage_options: dict[str, Any] | None = 
     return zarr.open_group(_store_url(url), **kw)
 
 
-def consolidate(url: str, storage_options: dict[str, Any] | None = None) -> None:
-    """Write the store's consolidated metadata (``xarray.open_zarr`` reads it in one go).
+def consolidate(group: Any) -> None:
+    """Write the consolidated metadata of ``group``'s store (``xarray.open_zarr`` reads it).
 
     Rewritten whenever the count of complete frames changes, so a reader that trusts it
     sees every array and the committed ``n_frames``.
     """
     import zarr
 
-    kw: dict[str, Any] = {"zarr_format": 3}
-    if "://" in url and storage_options:
-        kw["storage_options"] = storage_options
     with warnings.catch_warnings():
         # zarr 3 warns that consolidated metadata is not yet part of the v3 spec.
         warnings.simplefilter("ignore", UserWarning)
-        zarr.consolidate_metadata(_store_url(url), **kw)
+        zarr.consolidate_metadata(group.store, zarr_format=3)
 
 
 def _store_url(url: str) -> str:
@@ -295,7 +291,7 @@ class ZarrWriter:
             n += 1
         if n != int(self.group.attrs.get("n_frames", -1)):
             self.group.attrs["n_frames"] = n
-            consolidate(self.url, self.storage_options)
+            consolidate(self.group)
         self.n_frames = n
 
     def close(self, *, keep: bool = True) -> None:

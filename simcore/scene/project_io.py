@@ -148,6 +148,14 @@ def format_validation_error(exc: ValidationError) -> list[str]:
     for err in exc.errors():
         loc = _format_loc(tuple(err["loc"]))
         msg = err["msg"].removeprefix("Value error, ")
+        if err["type"] == "union_tag_invalid" and "kind" in str(err.get("ctx", {})):
+            ctx = err.get("ctx", {})
+            problems.append(f"{loc}.kind: unknown sensor kind {ctx.get('tag')!r} (kinds: "
+                            f"{ctx.get('expected_tags')})")
+            continue
+        if loc == "(document)" and msg.startswith("@") and ": " in msg:
+            # A check of the whole document that names its field: "@rigs[0].name: ...".
+            loc, msg = msg[1:].split(": ", 1)
         if err["type"] in ("missing", "model_type", "model_attributes_type") or "input" not in err \
                 or (err["type"] == "value_error" and isinstance(err["input"], (dict, list))):
             problems.append(f"{loc}: {msg}")
