@@ -179,7 +179,7 @@ def if_synthesis_accuracy(simulator: Simulator, index: int, *, subset: int = 100
     frame = simulator.frame(index)
     radar = first_of_kind(simulator.project, "radar")
     assert radar is not None, "the IF accuracy is a radar's"
-    cfg = simulator.project.sensor_config(radar)
+    cfg = simulator.project.radar(radar)
     scatterers = radar_scatterers(simulator.engine.project, frame.snapshot,
                                   frame.buffers[radar],
                                   seed=simulator.seed,
@@ -333,7 +333,7 @@ def _radar_stats(sim: Simulator, frame: Any, index: int, *, subset: int) -> dict
     accuracy = if_synthesis_accuracy(sim, index, subset=subset)
     scatterers = radar_scatterers(sim.engine.project, frame.snapshot, frame.buffers[radar],
                                   seed=sim.seed, see_through=frame.see_through.get(radar),
-                                  config=sim.project.sensor_config(radar))
+                                  config=sim.project.radar(radar))
     moving = int(np.count_nonzero(np.any(scatterers.velocities_mps != 0.0, axis=1)))
     return {**accuracy, "scatterers": len(scatterers), "scatterers_moving": moving}
 
@@ -482,8 +482,9 @@ def with_second_rig(project: Project, *, offset_m: tuple[float, float, float] = 
     rig = Rig(name=name, pose=Pose(position_m=tuple(float(v) for v in position),
                                    rotation_deg=rotation),
               motion=first.motion,
-              sensors={f"{name}_tof": named_sensor(first.tof),
-                       f"{name}_radar": named_sensor(first.radar)})
+              sensors={f"{name}_{kind}": named_sensor(cfg)
+                       for kind, cfg in (("tof", first.tof), ("radar", first.radar))
+                       if cfg is not None})
     doc = project.model_dump()
     doc["rigs"] = [*doc["rigs"], rig.model_dump()]
     return type(project).model_validate(doc)

@@ -666,7 +666,7 @@ def cmd_materials(args: argparse.Namespace) -> int:
     if args.project:
         project = load_project(args.project)
         table = material_table(project)
-        f_radar = SPEED_OF_LIGHT / project.rig.radar.wavelength_m
+        f_radar = SPEED_OF_LIGHT / project.radar().wavelength_m
         own = {m.name for m in project.materials}
         users: dict[str, list[str]] = {}
         for o in project.objects:

@@ -196,7 +196,7 @@ def office_tof(frame: Frame, project: Project, out: Path) -> tuple[Figure, dict[
         f"The near-IR retroreflector saturates the camera: {numbers['retro_invalid_fraction']:.0%}"
         f" of its {numbers['retro_pixels']} pixels are invalid and report depth 0 "
         f"({numbers['retro_depth_zero_fraction']:.0%}), as a real pico flexx does. Cross-talk "
-        f"(Gaussian, σ = {project.rig.tof.crosstalk_sigma_px} px, on the correlation images) "
+        f"(Gaussian, σ = {project.tof().crosstalk_sigma_px} px, on the correlation images) "
         f"bleeds its signal into the {numbers['ring_pixels']} valid pixels around it, "
         f"{numbers['ring_pulled_fraction']:.0%} of which are pulled by more than 1 cm towards "
         f"the reflector's range (median error {numbers['ring_median_abs_error_m'] * 100:.1f} cm"
@@ -236,7 +236,7 @@ def office_radar_profile(frame: Frame, project: Project, out: Path
     band_over = float(10 * np.log10(np.mean(10 ** (integrated[band] / 10))
                                     / np.mean(10 ** (noise_profile[band] / 10))))
     height = float(frame.snapshot.sensors["radar"].position[2])
-    half_fov = project.rig.radar.render_fov_h_deg / 2
+    half_fov = project.radar().render_fov_h_deg / 2
     near = r < 0.1
     numbers = {"corner_range_m": cr["range"], "corner_peak_db": peak_db,
                "nearest_surface_m": nearest_surface, "clutter_start_m": clutter_start,
@@ -417,7 +417,7 @@ def doppler_experiment(project: Project, out: Path, *, frames: int,
                        progress: Callable[[str], None]) -> tuple[Figure, dict[str, Any]]:
     """Figure 4: estimated radial velocity over time against ground truth."""
     plt = _plt()
-    bin_v = project.rig.radar.velocity_resolution_mps
+    bin_v = project.radar().velocity_resolution_mps
     times, est, true = [], [], []
     with Simulator(project) as sim:
         for i in range(frames):
@@ -446,7 +446,7 @@ def doppler_experiment(project: Project, out: Path, *, frames: int,
     axes[0].legend(fontsize=8, loc="upper right")
     axes[0].grid(alpha=0.3)
     axes[0].set_title(f"Doppler experiment — rig moving back and forth, "
-                      f"{project.rig.radar.chirps_per_frame} chirps, Chebyshev "
+                      f"{project.radar().chirps_per_frame} chirps, Chebyshev "
                       f"{project.dsp.doppler_window_sidelobe_db:.0f} dB window, 2× zero padding")
     axes[1].plot(t, err * 1000, ".", color="tab:blue",
                  label=f"estimate − truth (one Doppler bin = {bin_v * 1000:.0f} mm/s)")
@@ -485,11 +485,11 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
     proj = copy.deepcopy(base)
     proj.objects = [proj.objects[1]]
     proj.objects[0].motion = type(proj.objects[0].motion)()
-    proj.rig.radar.noise_variance_adc = 0.0
-    proj.rig.radar.leakage_dbc = None
-    proj.rig.radar.adc_bits = None
-    proj.dsp.range_fft_size = 8 * proj.rig.radar.samples_per_chirp
-    radar_y = proj.rig.pose.position_m[1] + proj.rig.radar.pose_on_rig.position_m[1]
+    proj.radar().noise_variance_adc = 0.0
+    proj.radar().leakage_dbc = None
+    proj.radar().adc_bits = None
+    proj.dsp.range_fft_size = 8 * proj.radar().samples_per_chirp
+    radar_y = proj.rig.pose.position_m[1] + proj.radar().pose_on_rig.position_m[1]
     geometry = proj.objects[0].geometry
     assert isinstance(geometry, CornerReflector)
     edge = geometry.edge_m
@@ -504,7 +504,7 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
         true_r = float(np.linalg.norm(frame.snapshot.objects[0].origin - radar_pos))
         measured.append(float(frame.outputs["radar"].dsp.range_profile_integrated_db.max()))
         expected.append(20 * np.log10(expected_corner_amplitude_fs(
-            variant.rig.radar, edge_m=edge, range_m=true_r)))
+            variant.radar(), edge_m=edge, range_m=true_r)))
     power_err = np.array(measured) - np.array(expected)
     numbers["power_vs_range"] = {"ranges_m": ranges.tolist(), "measured_dbfs": measured,
                                  "expected_dbfs": expected,
@@ -513,8 +513,8 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
 
     # (b) range / velocity / angle errors on point_targets.json.
     rows_out = []
-    bin_r = base.rig.radar.range_resolution_m
-    bin_v = base.rig.radar.velocity_resolution_mps
+    bin_r = base.radar().range_resolution_m
+    bin_v = base.radar().velocity_resolution_mps
     with Simulator(base) as sim:
         for i in range(3 if quick else 10):
             frame = sim.frame(i)
@@ -555,13 +555,13 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
         subset = sc.subset(np.sort(rng.choice(len(sc), size=min(len(sc), 800 if quick
                                                                  else 2000), replace=False)))
         t0 = time.perf_counter()
-        fast = synthesize_if(subset, office.rig.radar)
+        fast = synthesize_if(subset, office.radar())
         t_fast = time.perf_counter() - t0
         t0 = time.perf_counter()
-        ref = synthesize_if_direct(subset, office.rig.radar)
+        ref = synthesize_if_direct(subset, office.radar())
         t_direct = time.perf_counter() - t0
         t0 = time.perf_counter()
-        synthesize_if(sc, office.rig.radar)
+        synthesize_if(sc, office.radar())
         t_full = time.perf_counter() - t0
     if_err = 20 * np.log10(np.linalg.norm(fast - ref) / np.linalg.norm(ref))
     numbers["if_synthesis"] = {
@@ -577,8 +577,8 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
     peaks = {}
     for factor in (1, 2):
         variant = wall.model_copy(deep=True)
-        variant.rig.radar.render_supersampling = factor
-        variant.rig.radar.noise_variance_adc = 0.0
+        variant.radar().render_supersampling = factor
+        variant.radar().noise_variance_adc = 0.0
         with Simulator(variant) as sim:
             peaks[factor] = float(
                 sim.frame(0).outputs["radar"].dsp.range_profile_integrated_db.max())
@@ -642,7 +642,7 @@ def side_by_side(frame: Frame, project: Project, out: Path) -> tuple[Figure, dic
     """Figure 6: ToF and radar point clouds of the same frame in one 3D view."""
     plt = _plt()
     tof = frame.outputs["tof"]
-    intr = project.rig.tof.intrinsics()
+    intr = project.tof().intrinsics()
     rays = intr.ray_directions()
     rays /= np.linalg.norm(rays, axis=-1, keepdims=True)
     pts = (tof.depth_m[..., None] * rays)[tof.valid]
@@ -882,7 +882,7 @@ def _receiver_profile_db(project: Project, scatterers: Any, seed: int) -> NDArra
     Through the project's whole receiver (noise, leakage, IF chain, ADC) and DSP, as the
     frame's own profile.
     """
-    cfg = project.rig.radar
+    cfg = project.radar()
     adc = simulate_radar(scatterers, cfg, rng=np.random.default_rng(seed)).adc
     return np.asarray(process_frame(adc, cfg, project.dsp).range_profile_integrated_db,
                       dtype=np.float64)
@@ -1046,7 +1046,7 @@ def surfaces_office_floor(frame: Frame, project: Project, out: Path
     floor_start = float(r[above[0]]) if len(above) else float("nan")
     radar = frame.snapshot.sensors["radar"]
     height = float(radar.position[2])      # the floor's top is z = 0 in office.json
-    half_fov = project.rig.radar.render_fov_h_deg / 2
+    half_fov = project.radar().render_fov_h_deg / 2
     edge_m = height / np.sin(np.radians(half_fov))
     grazing = np.degrees(np.arcsin(np.minimum(height / np.array([1.5, 2.3]), 1.0)))
     numbers = {"floor_over_noise_db": floor_over, "scene_over_noise_db": scene_over,
@@ -1103,7 +1103,7 @@ def surfaces_moving_rig(out: Path, *, progress: Callable[[str], None]
     radius, distance, step, dt, frames = 0.10, 3.0, 0.02, 0.1, 20
     rig = SensorRig(motion=Motion(velocity_mps=(0.0, step / dt, 0.0)))
     project = _one_object(Sphere(radius_m=radius), distance, rig=rig)
-    cfg = project.rig.radar.model_copy(update=_IDEAL_RECEIVER)
+    cfg = project.radar().model_copy(update=_IDEAL_RECEIVER)
     project.rig.radar = cfg
     pattern = cfg.element_pattern
     assert isinstance(pattern, CosinePattern)     # the default: cos^q in azimuth

@@ -43,7 +43,7 @@ def predicted_ghosts(project: Project, time_s: float = 0.0) -> list[dict[str, An
     """
     snap = take_snapshot(project, time_s)
     radar = snap.sensors["radar"]
-    cfg = project.rig.radar
+    cfg = project.radar()
     out: list[dict[str, Any]] = []
     reflectors = find_reflectors(project, snap, cfg.wavelength_m)
     for i, o in enumerate(project.objects):
@@ -104,15 +104,15 @@ def multipath_section(out_dir: str | Path, *, quick: bool = False
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     project = load_project(example_path(EXAMPLE))
-    order = max(project.rig.radar.multipath_order, 1)
+    order = max(project.radar().multipath_order, 1)
     maps = {}
     for k in (0, order):
         p = project.model_copy(deep=True)
-        p.rig.radar.multipath_order = k
+        p.radar().multipath_order = k
         with Simulator(p) as sim:
             maps[k] = sim.frame(0).outputs["radar"].dsp
     on = project.model_copy(deep=True)
-    on.rig.radar.multipath_order = order
+    on.radar().multipath_order = order
     marks = predicted_ghosts(on)
     numbers: dict[str, Any] = {"multipath_order": order, "marks": []}
     for m in marks:
@@ -185,7 +185,7 @@ def tof_multipath_figure(out_dir: str | Path, example: str = "office"
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     project = load_project(example_path(example))
-    cfg = project.rig.tof
+    cfg = project.tof()
     buf = render_once(project, RenderRequest("tof", "tof", cfg.render_intrinsics()))
     albedo = diffuse_albedo(project, buf)
     frames, seconds = {}, {}

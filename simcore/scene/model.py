@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import re
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, TypeVar
 
 from pydantic import AfterValidator, Field, PrivateAttr, model_validator
 
@@ -16,6 +16,8 @@ from simcore.scene.motion import Motion, Pose
 from simcore.scene.radar_config import RadarConfig
 from simcore.scene.rgb_config import RgbCameraConfig
 from simcore.scene.tof_config import TofCameraConfig
+
+M = TypeVar("M", bound=Model)
 
 #: Version 2: materials hold their parameters per band name (``bands``).
 #: Version 3: named sensors on several rigs (``rig.name``, ``rig.sensors``, ``rigs``) and
@@ -275,6 +277,25 @@ class Project(Model):
             if name in rig.sensor_configs():
                 return f"{where}.{name}"
         raise KeyError(f"no sensor {name!r}")
+
+    def radar(self, name: str | None = None) -> RadarConfig:
+        """Radar ``name``'s configuration, or the first radar's (KeyError when none)."""
+        return self._of_kind(RadarConfig, "radar", name)
+
+    def tof(self, name: str | None = None) -> TofCameraConfig:
+        """ToF camera ``name``'s configuration, or the first camera's (KeyError when none)."""
+        return self._of_kind(TofCameraConfig, "tof", name)
+
+    def _of_kind(self, cls: type[M], kind: str, name: str | None) -> M:
+        configs = self.sensors_of_kind(kind)
+        if name is None:
+            if not configs:
+                raise KeyError(f"the project has no sensor of kind {kind!r}")
+            name = next(iter(configs))
+        cfg = self.sensor_config(name)
+        if not isinstance(cfg, cls):
+            raise KeyError(f"sensor {name!r} is not of kind {kind!r}")
+        return cfg
 
     def sensors_of_kind(self, kind: str) -> dict[str, Model]:
         """The configurations of the sensors of one kind (``"tof"``, ...), by name."""
