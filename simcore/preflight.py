@@ -176,7 +176,8 @@ def estimate_cost(project: Project, *, base_dir: Path | None = None,
     n_point = sum(1 for o in project.objects if o.geometry.kind in ("point_target",
                                                                     "corner_reflector"))
     # Surface facets (at most 10 cm, fixed to the objects): about half face the radar.
-    scatterers = int(0.5 * _surface_facets(project, mesh_triangles, mesh_area_m2)) + n_point
+    scatterers = (int(0.5 * _surface_facets(project, mesh_triangles, mesh_area_m2)) + n_point
+                  if project.sensors_of_kind("radar") else 0)
     parts: dict[str, int] = {}
     render_px = transforms = disk = 0
     seconds = 0.0
