@@ -29,6 +29,7 @@ from simcore.pipeline import Simulator
 from simcore.scene.model import Project
 from simcore.scene.project_io import load_project
 from simcore.sensors.radar import radar_scatterers
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.synthesis import synthesize_if, synthesize_if_direct
 
 
@@ -161,8 +162,9 @@ def if_synthesis_accuracy(simulator: Simulator, index: int, *, subset: int = 100
     """
     frame = simulator.frame(index)
     cfg = simulator.project.rig.radar
-    scatterers = radar_scatterers(simulator.engine.project, frame.snapshot,
-                                  frame.buffers["radar"],
+    scatterers = radar_scatterers(RadarScene.from_project(simulator.engine.project,
+                                                          frame.snapshot),
+                                  frame.buffers["radar"], config=cfg,
                                   seed=simulator.seed,
                                   see_through=frame.see_through.get("radar"))
     n = len(scatterers)
@@ -276,8 +278,10 @@ def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
         latency = antenna_edit_latency(sim, index, edits=antenna_edits) if antenna_edits \
             else float("nan")
         accuracy = if_synthesis_accuracy(sim, index, subset=subset)
-        scatterers = radar_scatterers(sim.engine.project, frame.snapshot, frame.buffers["radar"],
-                                      seed=sim.seed,
+        scatterers = radar_scatterers(RadarScene.from_project(sim.engine.project,
+                                                              frame.snapshot),
+                                      frame.buffers["radar"],
+                                      config=sim.engine.project.rig.radar, seed=sim.seed,
                                       see_through=frame.see_through.get("radar"))
         moving = int(np.count_nonzero(np.any(scatterers.velocities_mps != 0.0, axis=1)))
         triangles = len(sim.engine.renderer.geometry.triangles)
