@@ -66,15 +66,13 @@ def triangle_integral(alpha: NDArray[np.float64], beta: NDArray[np.float64]
     return np.asarray(-((ea - eb) / (a - b) - (ea - 1.0) / a) / b, dtype=np.complex128)
 
 
-def far_field_integral(v: NDArray[np.float64], c: NDArray[np.float64],
-                        dist: NDArray[np.float64], k: float) -> NDArray[np.complex128]:
-    """``∫ e^{j 2k (|r| − |c|)} dA`` over each triangle, linearised about its centroid."""
-    wv = (2.0 * k / dist)[:, None] * c
-    alpha = np.einsum("ij,ij->i", wv, v[:, 1] - v[:, 0])
-    beta = np.einsum("ij,ij->i", wv, v[:, 2] - v[:, 0])
-    rel = np.einsum("ij,ij->i", wv, v[:, 0] - c)
+def far_field_integral(v: NDArray[np.float64], dist: NDArray[np.float64], k: float
+                       ) -> NDArray[np.complex128]:
+    """``∫ e^{j 2k (|r| − dist)} dA`` over each triangle, the phase linear between its corners."""
+    phi = 2.0 * k * (np.linalg.norm(v, axis=2) - dist[:, None])            # (M, 3)
     area2 = np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1)
-    return area2 * triangle_integral(alpha, beta) * np.exp(1j * rel)
+    return (area2 * triangle_integral(phi[:, 1] - phi[:, 0], phi[:, 2] - phi[:, 0])
+            * np.exp(1j * phi[:, 0]))
 
 
 def facet_integral(v: NDArray[np.float64] | Callable[[NDArray[np.intp]], NDArray[np.float64]],
@@ -84,10 +82,9 @@ def facet_integral(v: NDArray[np.float64] | Callable[[NDArray[np.intp]], NDArray
                    ) -> NDArray[np.complex128]:
     """The PO phase integral ``∫ e^{j 2k (|r| − |c|)} dA`` of each facet (m²).
 
-    Gordon's far-field closed form per facet; a facet that is not in its own far field
-    (longest edge L with L² > λR/4: quadratic phase error above π/8) and whose linear phase
-    does not already cancel its integral (less than three cycles across it) is split
-    into n² similar pieces that are, each with its own exact centroid phase.
+    Gordon's closed form per facet with the phase linear between its exact corner values;
+    a facet longer than 0.4 √(λR/4) whose phase changes by less than 60 rad across it is
+    split into n² similar pieces, each with its own exact corner phases.
 
     Parameters
     ----------
@@ -105,14 +102,14 @@ def facet_integral(v: NDArray[np.float64] | Callable[[NDArray[np.intp]], NDArray
     area2, edge : ndarray, shape (M,)
         Twice each facet's area (m²) and its longest edge (m).
     """
-    wv = (2.0 * k / dist)[:, None] * c
-    alpha = np.einsum("ij,ij->i", wv, e1)
-    beta = np.einsum("ij,ij->i", wv, e2)
-    out = area2 * triangle_integral(alpha, beta) * np.exp(1j * np.einsum("ij,ij->i", wv, d0))
-    limit = np.sqrt(np.pi * dist / (2.0 * k))                    # √(λR/4)
+    every = v(np.arange(len(dist))) if callable(v) else v
+    out = far_field_integral(every, dist, k)
+    phi = 2.0 * k * np.linalg.norm(every, axis=2)
+    alpha, beta = phi[:, 1] - phi[:, 0], phi[:, 2] - phi[:, 0]
+    limit = 0.4 * np.sqrt(np.pi * dist / (2.0 * k))              # 0.4 √(λR/4)
     span = np.maximum(np.maximum(np.abs(alpha), np.abs(beta)), np.abs(alpha - beta))
     n = np.ceil(edge / limit).astype(np.int64)
-    refine = (n > 1) & (span < 6.0 * np.pi)
+    refine = (n > 1) & (span < 60.0)
     if not refine.any():
         return out
     for count in np.unique(n[refine]):
@@ -122,10 +119,7 @@ def facet_integral(v: NDArray[np.float64] | Callable[[NDArray[np.intp]], NDArray
         sub = np.einsum("pkj,tjd->tpkd", bary, corners)                # (m, p, 3, 3)
         m, p = sub.shape[:2]
         sub = sub.reshape(-1, 3, 3)
-        sc = sub.mean(axis=1)
-        sd = np.linalg.norm(sc, axis=1)
-        part = far_field_integral(sub, sc, sd, k) * np.exp(
-            2j * k * (sd - np.repeat(dist[sel], p)))
+        part = far_field_integral(sub, np.repeat(dist[sel], p), k)
         out[sel] = part.reshape(m, p).sum(axis=1)
     return out
 
@@ -307,7 +301,7 @@ def amplitudes(mat: _RadarMaterial, obj: NDArray[np.int32], cos_t: NDArray[np.fl
         o = obj[sel]
         g = 4.0 * math.pi * np.take(mat.height_rms, o) * cos_i[sel] / wavelength_m
         rho2[sel] = np.exp(-g * g)
-        amp[sel] = (2.0 * math.sqrt(math.pi) / wavelength_m * np.take(mat.gamma, o)
+        amp[sel] = (2j * math.sqrt(math.pi) / wavelength_m * np.take(mat.gamma, o)
                     * np.sqrt(rho2[sel]) * cos_i[sel]) * coherent(sel)
     # Diffuse part: the band response with the lobe's incoherent fraction.
     cc = np.clip(cos_i, 1e-6, 1.0)

@@ -4,13 +4,15 @@ Every object's triangles are split, once, in the object's own frame, into *surfa
 facets* no longer than :data:`FACET_EDGE_M` (longest-edge bisection; a mesh's small
 triangles stay whole). A facet is one scatterer at its centroid, with two parts:
 
-* **coherent (physical optics)**: the PO integral over the flat facet, in the facet's far
-  field (Gordon's closed form for a triangle),
+* **coherent (physical optics)**: the PO integral over the flat facet (Gordon's closed
+  form for a triangle, with the two-way phase taken exactly at its corners and linear
+  between them; split into pieces near the specular direction),
 
-      a_coh = (2√π / λ) · (−Γ) · √ρ_s · cos θ · ∫_facet e^{j 2k ĉ·(r − c)} dA,
+      a_coh = j · (2√π / λ) · (−Γ) · √ρ_s · cos θ · ∫_facet e^{j 2k (|r| − |c|)} dA,
 
-  so that a plate of area A at normal incidence sums to 4πA²/λ² and a sphere of radius
-  r to πr² (the facets' exact delays do the rest in the IF synthesis). Γ is the
+  so that a plate of area A at normal incidence sums to 4πA²/λ², a sphere of radius
+  r to πr², and an infinite plane to its image, Γ √π R at the image's range (the factor
+  j; the facets' exact delays do the rest in the IF synthesis). Γ is the
   material's reflection coefficient (metal −1, dielectrics from their permittivity,
   :meth:`~simcore.scene.materials.BandMaterial.coefficients`) and ``ρ_s = exp(−(4π h cos θ
   / λ)²)`` the Kirchhoff coherent fraction of a surface with rms height h;
