@@ -30,6 +30,7 @@ from simcore.scene.fieldpath import with_value
 from simcore.scene.model import Project, sensor_kind
 from simcore.scene.project_io import load_project
 from simcore.sensors.radar import radar_scatterers
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.synthesis import synthesize_if, synthesize_if_direct
 
 
@@ -180,11 +181,10 @@ def if_synthesis_accuracy(simulator: Simulator, index: int, *, subset: int = 100
     radar = first_of_kind(simulator.project, "radar")
     assert radar is not None, "the IF accuracy is a radar's"
     cfg = simulator.project.radar(radar)
-    scatterers = radar_scatterers(simulator.engine.project, frame.snapshot,
-                                  frame.buffers[radar],
-                                  seed=simulator.seed,
-                                  see_through=frame.see_through.get(radar),
-                                  config=cfg)
+    scatterers = radar_scatterers(RadarScene.from_project(simulator.engine.project,
+                                                          frame.snapshot, radar),
+                                  frame.buffers[radar], config=cfg, seed=simulator.seed,
+                                  see_through=frame.see_through.get(radar))
     n = len(scatterers)
     rng = np.random.default_rng(seed)
     pick = np.sort(rng.choice(n, size=min(subset, n), replace=False))
@@ -331,9 +331,10 @@ def _radar_stats(sim: Simulator, frame: Any, index: int, *, subset: int) -> dict
     if radar is None:
         return {}
     accuracy = if_synthesis_accuracy(sim, index, subset=subset)
-    scatterers = radar_scatterers(sim.engine.project, frame.snapshot, frame.buffers[radar],
-                                  seed=sim.seed, see_through=frame.see_through.get(radar),
-                                  config=sim.project.radar(radar))
+    scatterers = radar_scatterers(RadarScene.from_project(sim.engine.project, frame.snapshot,
+                                                          radar),
+                                  frame.buffers[radar], config=sim.project.radar(radar),
+                                  seed=sim.seed, see_through=frame.see_through.get(radar))
     moving = int(np.count_nonzero(np.any(scatterers.velocities_mps != 0.0, axis=1)))
     return {**accuracy, "scatterers": len(scatterers), "scatterers_moving": moving}
 

@@ -35,6 +35,7 @@ from simcore.scene.project_io import load_project
 from simcore.scene.radar_config import COVERAGE_LEVEL_DB, SPEED_OF_LIGHT, CosinePattern, RadarConfig
 from simcore.scene.snapshot import take_snapshot
 from simcore.sensors.radar import radar_scatterers, simulate_radar
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.sensor import RadarSensor
 from simcore.sensors.radar.synthesis import synthesize_if, synthesize_if_direct
 
@@ -548,7 +549,8 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
     office = load_project(example_path("office"))
     with Simulator(office) as sim:
         frame = sim.frame(0)
-        sc = radar_scatterers(expand_people(office), frame.snapshot, frame.buffers["radar"],
+        sc = radar_scatterers(RadarScene.from_project(expand_people(office), frame.snapshot),
+                              frame.buffers["radar"], config=office.radar(),
                               seed=sim.seed,
                               see_through=frame.see_through.get("radar"))
         rng = np.random.default_rng(0)
@@ -843,7 +845,8 @@ class _SingleObjectRadar:
         buffers = self._renderer.render(snap, request)
         hide = RadarSensor().see_through(project)
         through = None if hide is None else self._renderer.render(snap, request, hide=hide)
-        return radar_scatterers(project, snap, buffers, config=config, seed=seed,
+        return radar_scatterers(RadarScene.from_project(project, snap), buffers,
+                                config=config, seed=seed,
                                 see_through=through)
 
     def peak_dbfs(self, project: Project, config: RadarConfig, *, seed: int = 0,
@@ -889,7 +892,8 @@ def _receiver_profile_db(project: Project, scatterers: Any, seed: int) -> NDArra
 
 
 def _office_scatterers(frame: Frame, project: Project) -> Any:
-    return radar_scatterers(expand_people(project), frame.snapshot, frame.buffers["radar"],
+    return radar_scatterers(RadarScene.from_project(expand_people(project), frame.snapshot),
+                            frame.buffers["radar"], config=project.radar(),
                             seed=0,
                             see_through=frame.see_through.get("radar"))
 

@@ -27,6 +27,7 @@ from simcore.scene.model import Project
 from simcore.scene.project_io import load_project
 from simcore.scene.snapshot import take_snapshot
 from simcore.sensors.radar.multipath import find_reflectors
+from simcore.sensors.radar.scene import RadarScene
 
 EXAMPLE = "multipath_corridor"
 
@@ -45,7 +46,7 @@ def predicted_ghosts(project: Project, time_s: float = 0.0) -> list[dict[str, An
     radar = snap.sensors["radar"]
     cfg = project.radar()
     out: list[dict[str, Any]] = []
-    reflectors = find_reflectors(project, snap, cfg.wavelength_m)
+    reflectors = find_reflectors(RadarScene.from_project(project, snap), cfg.wavelength_m)
     for i, o in enumerate(project.objects):
         if not isinstance(o.geometry, CornerReflector):
             continue

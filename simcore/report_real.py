@@ -98,6 +98,7 @@ def torso_frames(config: RadarConfig, *, frames: int, seed: int = 0) -> NDArray[
     from simcore.scene.motion import Pose
     from simcore.scene.snapshot import take_snapshot
     from simcore.sensors.radar import radar_scatterers, simulate_radar
+    from simcore.sensors.radar.scene import RadarScene
 
     depth = TORSO_SEMI_AXES_M[0]
     with tempfile.TemporaryDirectory() as tmp:
@@ -112,7 +113,8 @@ def torso_frames(config: RadarConfig, *, frames: int, seed: int = 0) -> NDArray[
             snap = take_snapshot(project, 0.0)
             buffers = renderer.render(snap, RenderRequest(
                 "radar", "radar", config.render_intrinsics(), geometry_only=True))
-            scat = radar_scatterers(project, snap, buffers, config=config, seed=seed)
+            scat = radar_scatterers(RadarScene.from_project(project, snap), buffers,
+                                    config=config, seed=seed)
         finally:
             renderer.close()
     rng = np.random.default_rng(seed)
