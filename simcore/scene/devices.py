@@ -320,3 +320,32 @@ def devices_table() -> list[str]:
         lines.append(f"  {d.name:<30} {f['resolution']:>9}  {f['fov_deg']:>9}  "
                      f"{f['frequencies_mhz']:>11}  {rng:6.2f} m  {d.title}: {d.description}")
     return lines
+
+
+def project_limit_problems(project: Any) -> tuple[list[str], list[str]]:
+    """Device limits a project's sensors break at the project's frame rates.
+
+    Returns
+    -------
+    (problems, notes) : list of str, list of str
+        ``problems``: frame rates outside an enforced device's limits (the configuration
+        classes check everything else when the project loads); ``notes``: any limit of a
+        device whose limits are reported only (``bgt60tr13c``, ``pmd_pico_flexx``).
+    """
+    problems: list[str] = []
+    notes: list[str] = []
+    rate = project.timeline.frame_rate_hz
+    for name, cfg in project.sensor_configs().items():
+        device = DEVICES.get(getattr(cfg, "preset", ""))
+        if device is None or not isinstance(cfg, (RadarConfig, TofCameraConfig)):
+            continue
+        if device.kind != ("radar" if isinstance(cfg, RadarConfig) else "tof"):
+            continue
+        sensor_rate = rate / cfg.frame_divider(rate)
+        found = frame_rate_problems(cfg, device, sensor_rate)
+        if device.enforced:
+            problems += [f"{name}: preset {device.name!r}: {p}" for p in found]
+        else:
+            notes += [f"{name}: outside the {device.title}'s limits (reported, not enforced): "
+                      f"{p}" for p in found + limit_problems(cfg, enforced_only=False)]
+    return problems, notes
