@@ -136,7 +136,7 @@ def pmd_flexx2() -> TofCameraConfig:
     return TofCameraConfig(
         preset="pmd_flexx2", width=224, height=172, fov_h_deg=56.0, fov_v_deg=44.0,
         supersampling=2, modulation_frequencies_hz=[60e6], wavelength_nm=940.0,
-        exposure_time_s=500e-6, exposure_range_s=(1e-6, 2e-3))
+        exposure_time_s=500e-6, exposure_range_s=(1e-6, 1e-3))
 
 
 # ------------------------------------------------------------- pmd pico flexx

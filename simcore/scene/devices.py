@@ -184,36 +184,37 @@ def _radar_problems(cfg: RadarConfig, device: Device) -> list[str]:
     return out
 
 
-def _camera_mode(cfg: TofCameraConfig, lim: cams.CameraLimits) -> cams.CameraMode | None:
-    modes = [m for m in lim.modes if (m.width, m.height) == (cfg.width, cfg.height)
-             and m.n_frequencies >= len(cfg.modulation_frequencies_hz)]
-    return max(modes, key=lambda m: m.max_exposure_s) if modes else None
-
-
-def _camera_problems(cfg: TofCameraConfig, device: Device) -> list[str]:
+def _camera_problems(cfg: TofCameraConfig, device: Device, rate_hz: float | None = None
+                     ) -> list[str]:
+    """Limits of a camera: a mode with this resolution, exposure (and frame rate)."""
     lim: cams.CameraLimits = device.limits
     who = f"the {device.title}"
-    mode = _camera_mode(cfg, lim)
-    if mode is None:
-        listed = "; ".join(f"{m.name}" for m in lim.modes)
-        return [f"width × height = {cfg.width} × {cfg.height} with "
-                f"{len(cfg.modulation_frequencies_hz)} frequencies is none of {who}'s "
-                f"modes ({listed})"]
+    n_freq = len(cfg.modulation_frequencies_hz)
+    modes = [m for m in lim.modes if (m.width, m.height) == (cfg.width, cfg.height)
+             and m.n_frequencies >= n_freq]
+    if not modes:
+        listed = "; ".join(m.name for m in lim.modes)
+        return [f"width × height = {cfg.width} × {cfg.height} with {n_freq} "
+                f"frequencies is none of {who}'s modes ({listed})"]
     out = []
-    lo, hi = lim.exposure_range_s[0], mode.max_exposure_s
-    for field, value in (("exposure_time_s", cfg.exposure_time_s),
-                         ("exposure_range_s", cfg.exposure_range_s[0]),
-                         ("exposure_range_s", cfg.exposure_range_s[1])):
-        if not lo * (1 - 1e-9) <= value <= hi * (1 + 1e-9):
-            out.append(f"{field}: {value:.4g} s is outside {who}'s exposure range "
-                       f"{lo:.4g}–{hi:.4g} s in mode {mode.name}")
+    longest = max(cfg.exposure_time_s, cfg.exposure_range_s[1])
+    shortest = min(cfg.exposure_time_s, cfg.exposure_range_s[0])
+    top = max(m.max_exposure_s for m in modes)
+    if longest > top * (1 + 1e-9) or shortest < lim.exposure_range_s[0] * (1 - 1e-9):
+        out.append(f"exposure_time_s/exposure_range_s: {shortest:.4g}–{longest:.4g} s is "
+                   f"outside {who}'s exposure range {lim.exposure_range_s[0]:.4g}–{top:.4g} s")
+    elif rate_hz is not None:
+        fits = [m for m in modes if longest <= m.max_exposure_s * (1 + 1e-9)]
+        fastest = max(m.max_frame_rate_hz for m in fits)
+        if rate_hz > fastest * (1 + 1e-9):
+            out.append(f"frame rate {rate_hz:g} Hz exceeds {who}'s {fastest:g} frames/s "
+                       f"at {longest * 1e6:.4g} µs exposure (modes: "
+                       + "; ".join(m.name for m in fits) + ")")
     f_lo, f_hi = lim.modulation_range_hz
     for f in cfg.modulation_frequencies_hz:
         if not f_lo <= f <= f_hi:
             out.append(f"modulation_frequencies_hz: {f / 1e6:g} MHz is outside {who}'s "
                        f"{f_lo / 1e6:g}–{f_hi / 1e6:g} MHz")
-    if cfg.frame_rate_hz is not None:
-        out += frame_rate_problems(cfg, device, cfg.frame_rate_hz)
     return out
 
 
@@ -230,11 +231,7 @@ def frame_rate_problems(cfg: RadarConfig | TofCameraConfig, device: Device,
             out.append(f"the chirps take {cfg.frame_duration_s * 1e3:.4g} ms, longer than "
                        f"a frame at {rate_hz:g} Hz")
         return out
-    mode = _camera_mode(cfg, device.limits)
-    if mode is not None and rate_hz > mode.max_frame_rate_hz * (1 + 1e-9):
-        return [f"frame rate {rate_hz:g} Hz exceeds {who}'s {mode.max_frame_rate_hz:g} "
-                f"frames/s in mode {mode.name}"]
-    return []
+    return [p for p in _camera_problems(cfg, device, rate_hz) if p.startswith("frame rate")]
 
 
 def limit_problems(cfg: RadarConfig | TofCameraConfig, *, enforced_only: bool = True
@@ -252,7 +249,7 @@ def limit_problems(cfg: RadarConfig | TofCameraConfig, *, enforced_only: bool = 
         return []
     if isinstance(cfg, RadarConfig):
         return _radar_problems(cfg, device)
-    return _camera_problems(cfg, device)
+    return _camera_problems(cfg, device, cfg.frame_rate_hz)
 
 
 # ------------------------------------------------------------------- figures
