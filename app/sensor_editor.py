@@ -533,10 +533,13 @@ class SensorEditor(QScrollArea):
                  self.refresh, field=field)
 
     def _set_frequencies(self, field: QWidget) -> None:
+        spec = SENSOR_FIELDS["tof_f"]
         shown = [self.tof_f1.value()]
         if self.tof_f2_on.isChecked():
             shown.append(self.tof_f2.value())
-        spec = SENSOR_FIELDS["tof_f"]
+            # A third frequency (Kinect-type devices) has no box of its own: keep it.
+            shown += [spec.to_shown(f)
+                      for f in self.tof_config().modulation_frequencies_hz[2:]]
         commit_path(self.document, spec, shown, field, path=self._path(spec.path),
                     text=f"Set modulation frequencies to {spec.text(spec.to_si(shown))}")
 

@@ -269,8 +269,10 @@ def radar_figures(cfg: RadarConfig, *, device: Device | None = None) -> dict[str
     if_max = cfg.sample_rate_hz * (1.0 if cfg.complex_iq else 0.5)
     if ti:
         if_max *= TI_IF_PASSBAND
-        settings = cfg.device_settings or {}
-        f_ref = float(settings.get("ti_start_freq_ghz", cfg.start_frequency_hz / 1e9)) * 1e9
+        # TI's startFreq: the ramp's start, the ADC start time before the model's chirp.
+        adc_start = (cfg.device_settings or {}).get("ti_adc_start_time_us", 0.0)
+        lead_s = float(adc_start) * 1e-6 if isinstance(adc_start, (int, float)) else 0.0
+        f_ref = cfg.start_frequency_hz - cfg.slope_hz_per_s * lead_s
     else:
         f_ref = cfg.start_frequency_hz + 0.5 * cfg.bandwidth_hz
     if device is not None:
