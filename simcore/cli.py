@@ -168,10 +168,10 @@ def cmd_validate(args: argparse.Namespace) -> int:
     from simcore.scene.devices import project_limit_problems
 
     project = load_project(args.project)
+    cost = _preflight(project, Path(args.project), args)
     device_problems, device_notes = project_limit_problems(project)
     if device_problems:
         raise ProjectError(args.project, device_problems)
-    cost = _preflight(project, Path(args.project), args)
     print(f"OK: {args.project} ({len(project.objects)} objects, format_version "
           f"{project.format_version}); {cost.describe()}")
     for note in device_notes:
@@ -980,6 +980,8 @@ def _convert_ti(source: Path, target: Path, args: argparse.Namespace) -> int:
 
 def _run_ti_capture(args: argparse.Namespace) -> int:
     """``run P.json --out X.bin``: run into a temporary dataset, then write the capture."""
+    import contextlib
+    import io
     import tempfile
 
     from simcore.io.ti_dca1000 import CaptureError, export_capture
@@ -991,7 +993,8 @@ def _run_ti_capture(args: argparse.Namespace) -> int:
         raise CliError("--resume is for datasets; a TI capture is written in one go")
     with tempfile.TemporaryDirectory(dir=out.parent if out.parent.is_dir() else None) as tmp:
         args.out = str(Path(tmp) / f"{out.stem}.h5")
-        status = cmd_run(args)
+        with contextlib.redirect_stdout(io.StringIO()):      # its "wrote …" names the temp file
+            status = cmd_run(args)
         if status != 0:
             return status
         try:

@@ -340,7 +340,10 @@ def project_limit_problems(project: Any) -> tuple[list[str], list[str]]:
             continue
         if device.kind != ("radar" if isinstance(cfg, RadarConfig) else "tof"):
             continue
-        sensor_rate = rate / cfg.frame_divider(rate)
+        try:
+            sensor_rate = rate / cfg.frame_divider(rate)
+        except ValueError:
+            continue                       # preflight names a rate that does not divide
         found = frame_rate_problems(cfg, device, sensor_rate)
         if device.enforced:
             problems += [f"{name}: preset {device.name!r}: {p}" for p in found]
