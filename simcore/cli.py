@@ -954,14 +954,13 @@ def _convert_ti(source: Path, target: Path, args: argparse.Namespace) -> int:
     from simcore.io.hdf5_writer import DatasetExistsError
     from simcore.io.ti_dca1000 import CaptureError, convert_capture, export_capture
 
-    lanes = 2 if args.lanes is None else args.lanes
     try:
         if source.suffix.lower() == ".bin":
             if target.suffix.lower() not in (".h5", ".hdf5"):
                 raise CliError(f"--to {target}: a TI capture converts to an HDF5 dataset (.h5)")
             if args.project is not None and Path(args.project).suffix.lower() != ".json":
                 raise CliError(f"--project {args.project}: a project file ends in .json")
-            n = convert_capture(source, target, cfg=args.cfg, lanes=lanes,
+            n = convert_capture(source, target, cfg=args.cfg, lanes=args.lanes,
                                 project_out=args.project, overwrite=args.overwrite)
             print(f"wrote {n} frames to {target}"
                   + (f" and the project {args.project}" if args.project else ""))
@@ -971,7 +970,8 @@ def _convert_ti(source: Path, target: Path, args: argparse.Namespace) -> int:
                            "OUT.h5); writing one puts its .cfg beside it")
         if not source.is_file():
             raise CliError(f"{source}: no such dataset")
-        n, cfg = export_capture(source, target, lanes=lanes, overwrite=args.overwrite)
+        n, cfg = export_capture(source, target, lanes=2 if args.lanes is None else args.lanes,
+                                overwrite=args.overwrite)
     except (CaptureError, DatasetExistsError) as exc:
         raise CliError(str(exc)) from None
     print(f"wrote {n} frames to {target} and its configuration {cfg}")
@@ -1047,10 +1047,12 @@ def _add_robotics_commands(sub: argparse._SubParsersAction[_Parser],
                         "dataset, HDF5 file (.h5) for a recording or capture")
     p.add_argument("--project", help="recording or TI capture only: also write a project "
                                      "(.json) whose radar reproduces its configuration")
-    p.add_argument("--cfg", help="TI capture (.bin) only: the mmWave SDK .cfg that configured "
-                                 "the radar (default: the .cfg beside the capture)")
+    p.add_argument("--cfg", help="TI capture (.bin) only: the mmWave SDK .cfg or mmWave Studio "
+                                 ".json that configured the radar (default: beside the "
+                                 "capture)")
     p.add_argument("--lanes", type=int, help="TI capture only: LVDS lanes of the DCA1000 "
-                                             "capture, 2 (xWR16/18/68xx, default) or 4")
+                                             "capture, 2 (xWR16/18/68xx) or 4 (default: the "
+                                             "Studio JSON's, else 2)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
     p.set_defaults(func=cmd_convert)
 

@@ -221,3 +221,79 @@ def test_missing_cfg_and_bad_file_size(tmp_path, capsys):
     assert "size mismatch: 11 bytes" in capsys.readouterr().err
     with pytest.raises(CaptureError, match="profileCfg samples 256 at 5209 ksps"):
         parse_cfg(_cfg(" 57.14 ", " 40 "))
+
+
+# ------------------------------------------------------ the published layout, written
+
+
+def test_a_capture_in_the_published_layout_reads_as_the_cube(tmp_path):
+    # Words laid out by hand from the 2-lane description (I0 I1 Q0 Q1 per pair of samples,
+    # Rx after Rx within a chirp, chirps in frameCfg slot order): our reader must agree.
+    s = IWR6843ISK_PROFILE_2D
+    rng = np.random.default_rng(9)
+    chirps = s.loops * s.n_tx
+    i = rng.integers(-2**15, 2**15, size=(chirps, s.n_rx, s.num_adc_samples))
+    q = rng.integers(-2**15, 2**15, size=i.shape)
+    words = np.empty(i.size * 2, dtype="<i2")
+    words[0::4] = i.reshape(-1)[0::2]
+    words[1::4] = i.reshape(-1)[1::2]
+    words[2::4] = q.reshape(-1)[0::2]
+    words[3::4] = q.reshape(-1)[1::2]
+    words.tofile(tmp_path / "hand.bin")
+    (tmp_path / "hand.cfg").write_text(XWR68XX_CFG)
+    cube = read_capture(tmp_path / "hand.bin").adc()[0]       # (loops, tx*rx, samples)
+    # Simulator channel t·n_rx + r of loop l = TI chirp l·n_tx + t, Rx r.
+    for loop, t, r in ((0, 0, 0), (3, 1, 2), (15, 2, 3)):
+        want = (i[loop * 3 + t, r] + 1j * q[loop * 3 + t, r]) / 2**15
+        assert_array_equal(cube[loop, t * 4 + r], want.astype(np.complex64))
+
+
+XWR68XX_CFG = write_cfg(IWR6843ISK_PROFILE_2D)
+
+# An mmWave Studio JSON export of the same configuration (the fields of its rfConfig and
+# rawDataCaptureConfig that the reader uses; mmWave Studio writes hex strings for masks).
+STUDIO_JSON = {
+    "mmWaveDevices": [{
+        "mmWaveDeviceId": 0,
+        "rfConfig": {
+            "waveformType": "legacyFrame", "MIMOScheme": "TDM",
+            "rlChanCfg_t": {"rxChannelEn": "0xF", "txChannelEn": "0x7", "cascading": 0},
+            "rlAdcOutCfg_t": {"fmt": {"b2AdcBits": 2, "b2AdcOutFmt": 1}},
+            "rlProfiles": [{"rlProfileCfg_t": {
+                "profileId": 0, "startFreqConst_GHz": 60.0, "idleTimeConst_usec": 359.0,
+                "adcStartTimeConst_usec": 7.0, "rampEndTime_usec": 57.14,
+                "txOutPowerBackoffCode": "0x0", "txPhaseShifter": "0x0",
+                "freqSlopeConst_MHz_usec": 70.0, "txStartTime_usec": 1.0,
+                "numAdcSamples": 256, "digOutSampleRate": 5209, "hpfCornerFreq1": 0,
+                "hpfCornerFreq2": 0, "rxGain_dB": "0x9E"}}],
+            "rlChirps": [{"rlChirpCfg_t": {
+                "chirpStartIdx": k, "chirpEndIdx": k, "profileId": 0, "startFreqVar_MHz": 0,
+                "freqSlopeVar_KHz_usec": 0, "idleTimeVar_usec": 0, "adcStartTimeVar_usec": 0,
+                "txEnable": hex(1 << k)}} for k in range(3)],
+            "rlFrameCfg_t": {"chirpStartIdx": 0, "chirpEndIdx": 2, "numLoops": 16,
+                             "numFrames": 0, "framePeriodicity_msec": 100.0,
+                             "triggerSelect": 1},
+        },
+        "rawDataCaptureConfig": {"rlDevLaneEnable_t": {"laneEn": "0x3"}},
+    }],
+}
+
+
+def test_mmwave_studio_json_configures_a_capture(tmp_path, capsys):
+    s = IWR6843ISK_PROFILE_2D
+    adc = random_cube(s, 1, seed=7)
+    write_capture(tmp_path / "adc_data.bin", adc, s)
+    (tmp_path / "adc_data.cfg").unlink()
+    (tmp_path / "adc_data.mmwave.json").write_text(json.dumps(STUDIO_JSON))
+    capture = read_capture(tmp_path / "adc_data.bin")        # found beside it, 2 lanes
+    assert capture.settings == s
+    assert_array_equal(capture.adc(), adc)
+    assert main(["convert", str(tmp_path / "adc_data.bin"), "--to", str(tmp_path / "o.h5"),
+                 "--lanes", "4"]) == 2
+    assert "lanes = 4, but" in capsys.readouterr().err
+    broken = json.loads(json.dumps(STUDIO_JSON))
+    del broken["mmWaveDevices"][0]["rfConfig"]["rlFrameCfg_t"]["numLoops"]
+    (tmp_path / "adc_data.mmwave.json").write_text(json.dumps(broken))
+    assert main(["convert", str(tmp_path / "adc_data.bin"), "--to", str(tmp_path / "o.h5")]) == 2
+    assert "no rlFrameCfg_t.numLoops in the mmWave Studio configuration" \
+        in capsys.readouterr().err

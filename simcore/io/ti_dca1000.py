@@ -193,6 +193,75 @@ def parse_cfg(text: str, *, source: str = "cfg") -> TiSettings:
         tx_out_power=int(tx_power), tx_start_time_us=tx_start)
 
 
+def _studio_value(node: Any, path: str, source: str) -> float:
+    """A number of an mmWave Studio JSON field: int, float or a hex string ("0x7")."""
+    d = node
+    for key in path.split("."):
+        if not isinstance(d, dict) or key not in d:
+            raise CaptureError(f"{source}: no {path} in the mmWave Studio configuration")
+        d = d[key]
+    try:
+        value = float(int(d, 0)) if isinstance(d, str) else float(d)
+    except (TypeError, ValueError):
+        raise CaptureError(f"{source}: {path} = {d!r} is not a number") from None
+    if not math.isfinite(value):
+        raise CaptureError(f"{source}: {path} = {d!r} is not finite")
+    return value
+
+
+def parse_studio_json(text: str, *, source: str = "json") -> tuple[TiSettings, int | None]:
+    """The TI settings of an mmWave Studio JSON export, and its LVDS lane count.
+
+    Reads ``mmWaveDevices[0].rfConfig`` (``rlChanCfg_t``, ``rlAdcOutCfg_t``, one
+    ``rlProfiles`` entry, ``rlChirps``, ``rlFrameCfg_t``) and
+    ``rawDataCaptureConfig.rlDevLaneEnable_t.laneEn`` (None when absent); then the same
+    checks as :func:`parse_cfg`, which it converts to.
+    """
+    try:
+        doc = json.loads(text)
+        rf = doc["mmWaveDevices"][0]["rfConfig"]
+    except (ValueError, KeyError, IndexError, TypeError):
+        raise CaptureError(f"{source}: not an mmWave Studio JSON configuration (no "
+                           "mmWaveDevices[0].rfConfig)") from None
+    if rf.get("waveformType", "legacyFrame") != "legacyFrame":
+        raise CaptureError(f"{source}: waveformType {rf.get('waveformType')!r}: advanced "
+                           "frames are not supported; use legacyFrame")
+    profiles = rf.get("rlProfiles") or []
+    chirps = rf.get("rlChirps") or []
+    if len(profiles) != 1 or not chirps:
+        raise CaptureError(f"{source}: {len(profiles)} rlProfiles and {len(chirps)} rlChirps; "
+                           "one profile and its chirps are supported")
+    p = profiles[0]
+    prof = ("rlProfileCfg_t.profileId", "rlProfileCfg_t.startFreqConst_GHz",
+            "rlProfileCfg_t.idleTimeConst_usec", "rlProfileCfg_t.adcStartTimeConst_usec",
+            "rlProfileCfg_t.rampEndTime_usec", "rlProfileCfg_t.txOutPowerBackoffCode",
+            "rlProfileCfg_t.txPhaseShifter", "rlProfileCfg_t.freqSlopeConst_MHz_usec",
+            "rlProfileCfg_t.txStartTime_usec", "rlProfileCfg_t.numAdcSamples",
+            "rlProfileCfg_t.digOutSampleRate", "rlProfileCfg_t.hpfCornerFreq1",
+            "rlProfileCfg_t.hpfCornerFreq2", "rlProfileCfg_t.rxGain_dB")
+    chirp = ("chirpStartIdx", "chirpEndIdx", "profileId", "startFreqVar_MHz",
+             "freqSlopeVar_KHz_usec", "idleTimeVar_usec", "adcStartTimeVar_usec", "txEnable")
+    frame = ("chirpStartIdx", "chirpEndIdx", "numLoops", "numFrames", "framePeriodicity_msec")
+    lines = [
+        "channelCfg " + " ".join(_g(_studio_value(rf, f"rlChanCfg_t.{k}", source))
+                                 for k in ("rxChannelEn", "txChannelEn")) + " 0",
+        "adcCfg " + " ".join(_g(_studio_value(rf, f"rlAdcOutCfg_t.fmt.{k}", source))
+                             for k in ("b2AdcBits", "b2AdcOutFmt")),
+        "profileCfg " + " ".join(_g(_studio_value(p, k, source)) for k in prof),
+        *("chirpCfg " + " ".join(_g(_studio_value(c, f"rlChirpCfg_t.{k}", source))
+                                 for k in chirp) for c in chirps),
+        "frameCfg " + " ".join(_g(_studio_value(rf, f"rlFrameCfg_t.{k}", source))
+                               for k in frame) + " 1 0",
+    ]
+    settings = parse_cfg("\n".join(lines), source=source)
+    lane_mask = doc["mmWaveDevices"][0].get("rawDataCaptureConfig", {}).get(
+        "rlDevLaneEnable_t", {}).get("laneEn")
+    if lane_mask is None:
+        return settings, None
+    mask = int(_studio_value({"laneEn": lane_mask}, "laneEn", source))
+    return settings, bin(mask).count("1")
+
+
 def _g(x: float) -> str:
     """A number as the SDK's .cfg files write it (no trailing zeros)."""
     return f"{x:.10g}"
@@ -348,13 +417,17 @@ class TiCapture:
 
 
 def _cfg_beside(capture: Path) -> Path:
-    """The .cfg next to a capture: same stem, or the only .cfg in its folder."""
+    """The configuration next to a capture.
+
+    Same stem ``.cfg`` (mmWave SDK) or ``.json`` / ``.mmwave.json`` (mmWave Studio), else
+    the only ``.cfg`` in its folder.
+    """
     same = capture.with_suffix(".cfg")
-    if same.is_file():
-        return same
     stem = re.sub(r"_Raw_\d+$", "", capture.stem)        # mmWave Studio's adc_data_Raw_0
-    if (capture.parent / f"{stem}.cfg").is_file():
-        return capture.parent / f"{stem}.cfg"
+    for name in (same.name, f"{stem}.cfg", f"{capture.stem}.mmwave.json",
+                 f"{stem}.mmwave.json", f"{capture.stem}.json", f"{stem}.json"):
+        if (capture.parent / name).is_file():
+            return capture.parent / name
     others = sorted(capture.parent.glob("*.cfg"))
     if len(others) == 1:
         return others[0]
@@ -363,17 +436,18 @@ def _cfg_beside(capture: Path) -> Path:
 
 
 def read_capture(path: str | os.PathLike[str], *, cfg: str | os.PathLike[str] | None = None,
-                 lanes: int = 2) -> TiCapture:
-    """Read a DCA1000 capture (``.bin``) with the ``.cfg`` that configured the radar.
+                 lanes: int | None = None) -> TiCapture:
+    """Read a DCA1000 capture (``.bin``) with the configuration of the radar.
 
     Parameters
     ----------
     path : path-like
         The raw capture.
     cfg : path-like, optional
-        The mmWave SDK configuration; default: beside the capture (:func:`_cfg_beside`).
-    lanes : int
-        LVDS lanes of the capture (2 or 4).
+        The mmWave SDK ``.cfg`` or mmWave Studio ``.json``; default: beside the capture
+        (:func:`_cfg_beside`).
+    lanes : int, optional
+        LVDS lanes of the capture (2 or 4); default: the JSON's ``laneEn``, else 2.
 
     Raises
     ------
@@ -389,7 +463,15 @@ def read_capture(path: str | os.PathLike[str], *, cfg: str | os.PathLike[str] | 
         text = cfg_path.read_text(encoding="utf-8", errors="strict")
     except (OSError, UnicodeDecodeError) as exc:
         raise CaptureError(f"{cfg_path}: cannot read the configuration ({exc})") from None
-    settings = parse_cfg(text, source=str(cfg_path))
+    if cfg_path.suffix.lower() == ".json":
+        settings, json_lanes = parse_studio_json(text, source=str(cfg_path))
+        if json_lanes is not None and lanes is not None and json_lanes != lanes:
+            raise CaptureError(f"lanes = {lanes}, but {cfg_path} enables {json_lanes} LVDS "
+                               "lanes (rlDevLaneEnable_t.laneEn)")
+        lanes = lanes if lanes is not None else json_lanes
+    else:
+        settings = parse_cfg(text, source=str(cfg_path))
+    lanes = 2 if lanes is None else lanes
     _check_lanes(settings, lanes)
     words = read_words(capture, settings)
     return TiCapture(settings, decode_frames(words, settings, lanes=lanes), text)
@@ -477,7 +559,7 @@ def capture_project(capture: TiCapture, *, name: str) -> Any:
 
 
 def convert_capture(source: str | os.PathLike[str], out: str | os.PathLike[str], *,
-                    cfg: str | os.PathLike[str] | None = None, lanes: int = 2,
+                    cfg: str | os.PathLike[str] | None = None, lanes: int | None = None,
                     project_out: str | os.PathLike[str] | None = None,
                     overwrite: bool = False) -> int:
     """Write a DCA1000 capture as a dataset of the simulator's layout; return its frames.
@@ -497,7 +579,7 @@ def convert_capture(source: str | os.PathLike[str], out: str | os.PathLike[str],
         raise DatasetExistsError(f"{project_out} already exists; use --overwrite to replace it")
     radar, dsp = project.rig.radar, project.dsp
     meta = {"source": "ti_dca1000", "capture_path": str(Path(source).resolve()),
-            "capture_cfg": capture.cfg_text, "capture_lanes": str(lanes),
+            "capture_cfg": capture.cfg_text,
             "adc_conversion": f"code / {2 ** (capture.settings.adc_bits - 1)} "
                               f"({capture.settings.adc_bits}-bit signed codes)"}
     adc = capture.adc()
