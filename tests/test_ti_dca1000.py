@@ -197,6 +197,9 @@ def _cfg(old: str, new: str) -> str:
     (lambda p: _capture(p, cfg=_cfg("chirpCfg 2 2 0 0 0 0 0 4", "")), [],
      "no chirpCfg for chirp(s) [2]"),
     (lambda p: _capture(p, cfg="channelCfg 15 7 0\n"), [], "no adcCfg command"),
+    (lambda p: _capture(p, cfg=_cfg("profileCfg 0 60 ", "profileCfg 0 62 ")), [],
+     "c: the configuration cannot be modelled: preset 'ti_iwr6843isk': chirp 62.49–66 GHz "
+     "leaves the TI IWR6843ISK's band 60–64 GHz"),
     (lambda p: _capture(p), ["--lanes", "3"], "lanes = 3: the DCA1000EVM records"),
     (lambda p: _capture(p, cfg=_cfg("channelCfg 15 7 0", "channelCfg 3 7 0")),
      ["--lanes", "4"], "lanes = 4 interleaves 4 Rx (one per lane), but channelCfg enables 2"),

@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from pydantic import ValidationError
 
 from simcore.scene.radar_config import RadarConfig
 from simcore.scene.ti_mmwave import ADC_BITS, TiSettings, radar_from_ti, ti_from_radar
@@ -549,8 +550,11 @@ def capture_project(capture: TiCapture, *, name: str) -> Any:
     period = capture.settings.frame_period_ms * 1e-3
     try:
         radar = capture_radar(capture.settings)
+    except ValidationError as exc:
+        reasons = "; ".join(str(e["msg"]).removeprefix("Value error, ") for e in exc.errors())
+        raise CaptureError(f"{name}: the configuration cannot be modelled: {reasons}") from None
     except ValueError as exc:
-        raise CaptureError(f"the configuration cannot be modelled: {exc}") from None
+        raise CaptureError(f"{name}: the configuration cannot be modelled: {exc}") from None
     return Project(
         name=name, description=f"reproduces the TI radar configuration of the capture {name} "
                                "(tofradar convert --project); the scene is empty",

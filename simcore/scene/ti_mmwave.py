@@ -291,7 +291,7 @@ def ti_from_radar(config: RadarConfig, *, frame_period_s: float, num_frames: int
     return replace(
         base,
         start_freq_ghz=(config.start_frequency_hz - slope * adc_start * 1e-6) / 1e9,
-        idle_time_us=config.chirp_repetition_time_s * 1e6 - ramp_end,
+        idle_time_us=max(0.0, config.chirp_repetition_time_s * 1e6 - ramp_end),
         adc_start_time_us=adc_start, ramp_end_time_us=ramp_end,
         freq_slope_mhz_us=slope / 1e12, num_adc_samples=config.samples_per_chirp,
         sample_rate_ksps=config.sample_rate_hz / 1e3,
