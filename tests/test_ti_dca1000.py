@@ -300,3 +300,8 @@ def test_mmwave_studio_json_configures_a_capture(tmp_path, capsys):
     assert main(["convert", str(tmp_path / "adc_data.bin"), "--to", str(tmp_path / "o.h5")]) == 2
     assert "no rlFrameCfg_t.numLoops in the mmWave Studio configuration" \
         in capsys.readouterr().err
+    swapped = json.loads(json.dumps(STUDIO_JSON))
+    swapped["mmWaveDevices"][0]["rawDataCaptureConfig"]["rlDevDataFmtCfg_t"] = {"iqSwapSel": 1}
+    (tmp_path / "adc_data.mmwave.json").write_text(json.dumps(swapped))
+    assert main(["convert", str(tmp_path / "adc_data.bin"), "--to", str(tmp_path / "o.h5")]) == 2
+    assert "iqSwapSel = 1: only I-before-Q" in capsys.readouterr().err

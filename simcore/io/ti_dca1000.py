@@ -216,7 +216,8 @@ def parse_studio_json(text: str, *, source: str = "json") -> tuple[TiSettings, i
     Reads ``mmWaveDevices[0].rfConfig`` (``rlChanCfg_t``, ``rlAdcOutCfg_t``, one
     ``rlProfiles`` entry, ``rlChirps``, ``rlFrameCfg_t``) and
     ``rawDataCaptureConfig.rlDevLaneEnable_t.laneEn`` (None when absent); then the same
-    checks as :func:`parse_cfg`, which it converts to.
+    checks as :func:`parse_cfg`, which it converts to. ``rlDevDataFmtCfg_t.iqSwapSel``
+    must be 0 (I before Q).
     """
     try:
         doc = json.loads(text)
@@ -255,8 +256,12 @@ def parse_studio_json(text: str, *, source: str = "json") -> tuple[TiSettings, i
                                for k in frame) + " 1 0",
     ]
     settings = parse_cfg("\n".join(lines), source=source)
-    lane_mask = doc["mmWaveDevices"][0].get("rawDataCaptureConfig", {}).get(
-        "rlDevLaneEnable_t", {}).get("laneEn")
+    capture_cfg = doc["mmWaveDevices"][0].get("rawDataCaptureConfig", {})
+    swap = capture_cfg.get("rlDevDataFmtCfg_t", {}).get("iqSwapSel", 0)
+    if swap not in (0, "0x0", "0"):
+        raise CaptureError(f"{source}: rawDataCaptureConfig.rlDevDataFmtCfg_t.iqSwapSel = "
+                           f"{swap!r}: only I-before-Q captures (0) are supported")
+    lane_mask = capture_cfg.get("rlDevLaneEnable_t", {}).get("laneEn")
     if lane_mask is None:
         return settings, None
     mask = int(_studio_value({"laneEn": lane_mask}, "laneEn", source))
