@@ -203,6 +203,24 @@ def test_infineon_presets_against_their_sources():
     assert any("63.5 GHz" in p for p in limit_problems(old, enforced_only=False))
 
 
+@pytest.mark.parametrize("name", ["bgt60tr13c", "infineon_bgt60utr11aip"])
+def test_infineon_figures_follow_the_radar_sdk_metrics(name):
+    # Infineon Radar SDK, Avian metrics ↔ device configuration: range_resolution = c / (2 B),
+    # max_range = range_resolution · N_samples / 2 (real IF), speed_resolution =
+    # λ / (2 N_chirps T_r), max_speed = λ / (4 T_r), λ at the chirp's centre frequency; the
+    # SDK's chirp time is samples / sample rate, so B is the sampled bandwidth.
+    cfg = radar_preset(name)
+    c = 299_792_458.0
+    lam = c / (cfg.start_frequency_hz + cfg.bandwidth_hz / 2)
+    res = c / (2 * cfg.bandwidth_hz)
+    f = radar_figures(cfg, device=DEVICES[name])
+    assert_allclose(f["range_resolution_m"], res, rtol=1e-12)
+    assert_allclose(f["max_range_m"], res * cfg.samples_per_chirp / 2, rtol=1e-12)
+    assert_allclose(f["velocity_resolution_mps"],
+                    lam / (2 * cfg.chirps_per_frame * cfg.chirp_repetition_time_s), rtol=1e-12)
+    assert_allclose(f["max_velocity_mps"], lam / (4 * cfg.chirp_repetition_time_s), rtol=1e-12)
+
+
 def test_model_figures_of_a_real_if_radar():
     cfg = radar_preset("infineon_bgt60utr11aip")
     f = radar_figures(cfg, device=DEVICES["infineon_bgt60utr11aip"])
