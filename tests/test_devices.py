@@ -362,3 +362,17 @@ def test_validate_accepts_the_presets_and_notes_older_limits(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "note: radar: outside the Infineon BGT60TR13C's limits" in out
     assert math.isfinite(device_figures(DEVICES["pmd_flexx2"])["unambiguous_range_m"])
+
+
+def test_named_sensors_take_device_presets_too():
+    from scenes import wall_project
+
+    from simcore.scene.project_io import project_from_dict
+
+    data = json.loads(project_to_json(wall_project()))
+    data["rig"]["sensors"] = {"front": {"kind": "radar", "preset": "ti_awr1843boost"},
+                              "depth": {"kind": "tof", "preset": "kinect_v2"}}
+    configs = project_from_dict(data).sensor_configs()
+    assert configs["front"].start_frequency_hz == radar_preset("ti_awr1843boost").start_frequency_hz
+    assert [a.name for a in configs["front"].tx] == ["tx1", "tx3"]
+    assert configs["depth"].modulation_frequencies_hz == [80e6, 16e6, 120e6]
