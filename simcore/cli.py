@@ -165,10 +165,17 @@ def _check_time(cost: CostEstimate, frames: int, args: argparse.Namespace) -> No
 
 def cmd_validate(args: argparse.Namespace) -> int:
     """Check a project file as ``run`` would; print OK and the cost, or every problem."""
+    from simcore.scene.devices import project_limit_problems
+
     project = load_project(args.project)
     cost = _preflight(project, Path(args.project), args)
+    device_problems, device_notes = project_limit_problems(project)
+    if device_problems:
+        raise ProjectError(args.project, device_problems)
     print(f"OK: {args.project} ({len(project.objects)} objects, format_version "
           f"{project.format_version}); {cost.describe()}")
+    for note in device_notes:
+        print(f"  note: {note}")
     rigs = project.all_rigs()
     if len(rigs) > 1 or project.rig.sensors:
         # Several sensors: each with its kind, rig and timing.
@@ -191,6 +198,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     project_path = Path(args.project)
     if project_path.is_dir():
         return _run_scenes(args)
+    if args.out.lower().endswith(".bin"):
+        return _run_ti_capture(args)
     project = load_project(project_path)
     seed = project.seed if args.seed is None else args.seed
     try:
@@ -756,8 +765,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("project", help="project JSON file, or a folder of projects (one dataset "
                                    "of every scene, a scene index per frame)")
     p.add_argument("--out", required=True,
-                   help="output file: HDF5 (.h5, default), an MCAP recording (.mcap), or a "
-                        "Zarr store (.zarr, or a URL such as s3://bucket/run)")
+                   help="output file: HDF5 (.h5, default), an MCAP recording (.mcap), a "
+                        "Zarr store (.zarr, or a URL such as s3://bucket/run), or a TI "
+                        "DCA1000 capture (.bin, with its mmWave SDK .cfg beside it)")
     p.add_argument("--frames", type=_frames_int, help="number of frames (default: timeline)")
     p.add_argument("--duration", type=_positive_float, metavar="S",
                    help="simulated seconds (frames = S × frame rate)")
@@ -836,6 +846,10 @@ def build_parser() -> argparse.ArgumentParser:
     _add_robotics_commands(sub, common)
     _add_products_command(sub, common)
     _add_asset_commands(sub, common)
+
+    p = sub.add_parser("devices", help="list the device library (radars and ToF cameras) "
+                       "with their key figures", parents=common)
+    p.set_defaults(func=cmd_devices)
 
     p = sub.add_parser("validate", help="check a project file as 'run' would", parents=common)
     p.add_argument("project", help="project JSON file")
@@ -925,6 +939,11 @@ def cmd_convert(args: argparse.Namespace) -> int:
     source, target = Path(args.source), Path(args.to)
     if source.is_dir():
         return _convert_recording(source, target, args)
+    if source.suffix.lower() == ".bin" or target.suffix.lower() == ".bin":
+        return _convert_ti(source, target, args)
+    if args.cfg is not None or args.lanes is not None:
+        raise CliError("--cfg and --lanes are for TI captures (CAPTURE.bin --to OUT.h5, or "
+                       "DATASET.h5 --to OUT.bin)")
     if args.project is not None:
         raise CliError("--project is for a recording folder (RECORDING_DIR --to OUT.h5)")
     if not source.is_file():
@@ -958,6 +977,70 @@ def _convert_recording(source: Path, target: Path, args: argparse.Namespace) -> 
     return 0
 
 
+def _convert_ti(source: Path, target: Path, args: argparse.Namespace) -> int:
+    """A TI DCA1000 capture ↔ a dataset (docs/devices.md, "TI DCA1000 captures")."""
+    from simcore.io.hdf5_writer import DatasetExistsError
+    from simcore.io.ti_dca1000 import CaptureError, convert_capture, export_capture
+
+    try:
+        if source.suffix.lower() == ".bin":
+            if target.suffix.lower() not in (".h5", ".hdf5"):
+                raise CliError(f"--to {target}: a TI capture converts to an HDF5 dataset (.h5)")
+            if args.project is not None and Path(args.project).suffix.lower() != ".json":
+                raise CliError(f"--project {args.project}: a project file ends in .json")
+            n = convert_capture(source, target, cfg=args.cfg, lanes=args.lanes,
+                                project_out=args.project, overwrite=args.overwrite)
+            print(f"wrote {n} frames to {target}"
+                  + (f" and the project {args.project}" if args.project else ""))
+            return 0
+        if args.project is not None or args.cfg is not None:
+            raise CliError("--project and --cfg are for reading a capture (CAPTURE.bin --to "
+                           "OUT.h5); writing one puts its .cfg beside it")
+        if not source.is_file():
+            raise CliError(f"{source}: no such dataset")
+        n, cfg = export_capture(source, target, lanes=2 if args.lanes is None else args.lanes,
+                                overwrite=args.overwrite)
+    except (CaptureError, DatasetExistsError) as exc:
+        raise CliError(str(exc)) from None
+    print(f"wrote {n} frames to {target} and its configuration {cfg}")
+    return 0
+
+
+def _run_ti_capture(args: argparse.Namespace) -> int:
+    """``run P.json --out X.bin``: run into a temporary dataset, then write the capture."""
+    import contextlib
+    import io
+    import tempfile
+
+    from simcore.io.ti_dca1000 import CaptureError, export_capture
+
+    out = Path(args.out)
+    if (out.exists() or out.with_suffix(".cfg").exists()) and not args.overwrite:
+        raise CliError(f"{out} or its .cfg already exists; use --overwrite to replace it")
+    if args.resume:
+        raise CliError("--resume is for datasets; a TI capture is written in one go")
+    with tempfile.TemporaryDirectory(dir=out.parent if out.parent.is_dir() else None) as tmp:
+        args.out = str(Path(tmp) / f"{out.stem}.h5")
+        with contextlib.redirect_stdout(io.StringIO()):      # its "wrote …" names the temp file
+            status = cmd_run(args)
+        if status != 0:
+            return status
+        try:
+            n, cfg = export_capture(args.out, out, overwrite=True)
+        except CaptureError as exc:
+            raise CliError(str(exc)) from None
+    print(f"wrote {n} frames to {out} and its configuration {cfg}")
+    return 0
+
+
+def cmd_devices(args: argparse.Namespace) -> int:
+    """List the device library's radars and cameras with their key figures."""
+    from simcore.scene.devices import devices_table
+
+    print("\n".join(devices_table()))
+    return 0
+
+
 def cmd_serve(args: argparse.Namespace) -> int:
     """Publish frames live over the Foxglove WebSocket protocol."""
     from simcore.io.live import serve
@@ -981,15 +1064,23 @@ def cmd_serve(args: argparse.Namespace) -> int:
 def _add_robotics_commands(sub: argparse._SubParsersAction[_Parser],
                            common: list[_Parser]) -> None:
     """The ``convert`` and ``serve`` subcommands (docs/robotics.md)."""
-    p = sub.add_parser("convert", help="convert an HDF5 dataset into an MCAP recording, or "
-                       "a real radar recording (Radar Fusion GUI folder) into a dataset",
+    p = sub.add_parser("convert", help="convert an HDF5 dataset into an MCAP recording or a "
+                       "TI DCA1000 capture (.bin), or a real radar recording (Radar Fusion GUI "
+                       "folder, TI capture .bin + .cfg) into a dataset",
                        parents=common)
-    p.add_argument("source", help="HDF5 dataset, or a recording folder (RadarIfxAvian_*)")
+    p.add_argument("source", help="HDF5 dataset, a recording folder (RadarIfxAvian_*), or a "
+                                  "TI DCA1000 capture (.bin)")
     p.add_argument("--to", required=True,
-                   help="output MCAP file (.mcap) for a dataset, HDF5 file (.h5) for a "
-                        "recording")
-    p.add_argument("--project", help="recording only: also write a project (.json) whose "
-                                     "radar reproduces the recording's configuration")
+                   help="output MCAP file (.mcap) or TI capture (.bin, .cfg beside it) for a "
+                        "dataset, HDF5 file (.h5) for a recording or capture")
+    p.add_argument("--project", help="recording or TI capture only: also write a project "
+                                     "(.json) whose radar reproduces its configuration")
+    p.add_argument("--cfg", help="TI capture (.bin) only: the mmWave SDK .cfg or mmWave Studio "
+                                 ".json that configured the radar (default: beside the "
+                                 "capture)")
+    p.add_argument("--lanes", type=int, help="TI capture only: LVDS lanes of the DCA1000 "
+                                             "capture, 2 (xWR16/18/68xx) or 4 (default: the "
+                                             "Studio JSON's, else 2)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
     p.set_defaults(func=cmd_convert)
 

@@ -13,7 +13,7 @@ antenna gains, conversion gain and leakage are representative values, not measur
 
 from __future__ import annotations
 
-from typing import Annotated, Literal, Union
+from typing import Annotated, Any, Literal, Union
 
 import numpy as np
 from numpy.typing import NDArray
@@ -289,6 +289,28 @@ class RadarConfig(SensorTiming):
     #: One frame's chirp start jitter, (chirps × tx,) in TDM order (s); set only on the
     #: per-frame copies of :func:`simcore.sensors.radar.transmit.frame_transmit_config`.
     _chirp_delays_s: NDArray[np.float64] | None = PrivateAttr(default=None)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _device_defaults(cls, data: Any) -> Any:
+        """A device preset named in a project gives the fields the project leaves out."""
+        if isinstance(data, dict) and isinstance(data.get("preset"), str):
+            from simcore.scene.devices import preset_defaults  # the library builds configs
+
+            defaults = preset_defaults("radar", data["preset"])
+            if defaults is not None:
+                return {**defaults, **data}
+        return data
+
+    @model_validator(mode="after")
+    def _device_limits(self) -> RadarConfig:
+        """A device preset's limits (:mod:`simcore.scene.devices`) hold."""
+        from simcore.scene.devices import limit_problems
+
+        problems = limit_problems(self)
+        if problems:
+            raise ValueError(f"preset {self.preset!r}: " + "; ".join(problems))
+        return self
 
     @model_validator(mode="after")
     def _check(self) -> RadarConfig:
