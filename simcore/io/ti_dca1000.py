@@ -564,7 +564,7 @@ def capture_project(capture: TiCapture, *, name: str) -> Any:
         name=name, description=f"reproduces the TI radar configuration of the capture {name} "
                                "(tofradar convert --project); the scene is empty",
         timeline=Timeline(frame_rate_hz=1.0 / period, duration_s=capture.n_frames * period),
-        rig=SensorRig(radar=radar))
+        rig=SensorRig(tof=None, radar=radar))
 
 
 def convert_capture(source: str | os.PathLike[str], out: str | os.PathLike[str], *,
@@ -581,12 +581,16 @@ def convert_capture(source: str | os.PathLike[str], out: str | os.PathLike[str],
     from simcore.dsp import process_frame, static_axes_items
     from simcore.io.hdf5_writer import DatasetExistsError, DatasetWriter
     from simcore.scene.project_io import project_to_json, save_project
+    from simcore.sensors.schema import schema_of
 
     capture = read_capture(source, cfg=cfg, lanes=lanes)
     project = capture_project(capture, name=Path(source).stem)
     if project_out is not None and Path(project_out).exists() and not overwrite:
         raise DatasetExistsError(f"{project_out} already exists; use --overwrite to replace it")
-    radar, dsp = project.rig.radar, project.dsp
+    (name, radar), = project.sensors_of_kind("radar").items()
+    assert isinstance(radar, RadarConfig)
+    dsp = project.dsp
+    schema = schema_of("radar")
     meta = {"source": "ti_dca1000", "capture_path": str(Path(source).resolve()),
             "capture_cfg": capture.cfg_text,
             "adc_conversion": f"code / {2 ** (capture.settings.adc_bits - 1)} "
@@ -596,14 +600,16 @@ def convert_capture(source: str | os.PathLike[str], out: str | os.PathLike[str],
     starts = radar.chirp_start_times_s()
     with DatasetWriter(out, project_json=project_to_json(project), seed=project.seed,
                        overwrite=overwrite, extra_meta=meta) as writer:
-        writer.write_static(static_axes_items(radar, dsp))
+        writer.write_static(static_axes_items(radar, dsp, group=name))
         for k in range(capture.n_frames):
             products = process_frame(adc[k], radar, dsp)
-            writer.append_rows("/radar/detections", products.detection_records(k))
+            writer.append_rows(schema.dataset_path(name, "detections"),
+                               products.detection_records(k))
             writer.append({"/time": (np.asarray(k * period), "s"),
-                           "/radar/adc": (adc[k], "FS"),
-                           "/radar/chirp_start_time": (k * period + starts, "s"),
-                           **products.hdf5_items()})
+                           schema.dataset_path(name, "adc"): (adc[k], "FS"),
+                           schema.dataset_path(name, "chirp_start_time"): (k * period + starts,
+                                                                           "s"),
+                           **products.hdf5_items(group=name)})
     if project_out is not None:
         save_project(project, project_out)
     return capture.n_frames
