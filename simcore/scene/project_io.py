@@ -243,12 +243,25 @@ def _person_problems(where: str, person: Person, materials: dict[str, Any],
                 for field, name in (("skin", person.skin), ("clothing", person.clothing))
                 if name not in materials]
     clip = person.motion.bvh
-    if clip is not None:
+    # A clip outside the project's folder is read only by the pre-run checks, under the
+    # path policy (--allow-outside-paths), never while the project loads.
+    if clip is not None and is_inside_folder(resolve_mesh_path(base_dir, clip.path), base_dir):
         try:
             map_joints(load_bvh(resolve_mesh_path(base_dir, clip.path)))
         except BvhError as exc:
             problems.append(f"{where}.motion.bvh.path: {exc}")
     return problems
+
+
+def is_inside_folder(path: Path, folder: Path) -> bool:
+    """Whether ``path`` (resolved, symlinks followed) lies inside ``folder``."""
+    from simcore.scene.files import is_inside
+
+    try:
+        real = path.resolve()
+    except (OSError, RuntimeError):
+        return False
+    return is_inside(real, folder)
 
 
 def _exists(path: Path) -> bool:
