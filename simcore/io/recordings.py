@@ -226,6 +226,11 @@ def check_settings(settings: Any, source: Path) -> dict[str, Any]:
     if not MIN_RECORDING_FRAME_TIME_S <= t_f <= MAX_RECORDING_FRAME_TIME_S:
         raise RecordingError(f"{source}: frame_repetition_time_s = {t_f:g} s; allowed "
                              f"{MIN_RECORDING_FRAME_TIME_S:g}–{MAX_RECORDING_FRAME_TIME_S:g} s")
+    chirps_s = settings["num_chirps_per_frame"] * settings["chirp_repetition_time_s"]
+    if chirps_s > t_f:
+        raise RecordingError(f"{source}: frame_repetition_time_s = {t_f:g} s is shorter than "
+                             f"its {settings['num_chirps_per_frame']} chirps of "
+                             f"{settings['chirp_repetition_time_s']:g} s ({chirps_s:g} s)")
     return dict(settings)
 
 

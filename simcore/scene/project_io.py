@@ -125,9 +125,16 @@ def document_limits(data: Any) -> list[str]:
 
 
 def _format_loc(loc: tuple[int | str, ...]) -> str:
+    from simcore.scene.model import SENSOR_KINDS
+
     out = ""
-    for part in loc:
+    for i, part in enumerate(loc):
         if isinstance(part, int):
+            out += f"[{part}]"
+        elif i >= 2 and loc[i - 2] == "sensors" and part in SENSOR_KINDS:
+            # pydantic's tag of the sensor's kind, not a key of the file
+            out += f"({part})"
+        elif isinstance(part, int):
             out += f"[{part}]"
         elif part in ("box", "sphere", "cylinder", "plane", "corner_reflector", "point_target",
                       "mesh"):
