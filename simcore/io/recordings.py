@@ -146,7 +146,7 @@ def _read_json(path: Path, root: Path | None = None, *,
     try:
         data = read_json_file(path, max_bytes=MAX_RECORDING_JSON_BYTES, label=str(path))
     except InputFileError as exc:
-        if exc.problem == "file not found":
+        if exc.missing:
             raise RecordingError(f"{path}: missing") from None
         raise RecordingError(str(exc)) from None
     if not isinstance(data, dict):
@@ -239,7 +239,7 @@ def _npy_header(path: Path) -> tuple[tuple[int, ...], np.dtype[Any], bool, int]:
     try:
         real, _ = check_regular_file(path, max_bytes=MAX_RECORDING_ARRAY_BYTES, label=str(path))
     except InputFileError as exc:
-        if exc.problem == "file not found":
+        if exc.missing:
             raise RecordingError(f"{path}: missing") from None
         raise RecordingError(str(exc)) from None
     fd = os.open(real, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))

@@ -133,7 +133,7 @@ def load_spec(path: str | Path) -> tuple[ScenarioSpec, Path]:
     try:
         text = read_text_file(path, max_bytes=MAX_SPEC_BYTES, label=str(path))
     except InputFileError as exc:
-        if exc.problem == "file not found":
+        if exc.missing:
             raise ScenarioError(f"{path}: no such spec file") from None
         raise ScenarioError(str(exc)) from None
     try:

@@ -30,11 +30,15 @@ class InputFileError(ValueError):
         The file as given.
     problem : str
         What is wrong, without the file's name.
+    missing : bool
+        The file does not exist.
     """
 
-    def __init__(self, path: Path, problem: str, *, label: str | None = None) -> None:
+    def __init__(self, path: Path, problem: str, *, label: str | None = None,
+                 missing: bool = False) -> None:
         self.path = Path(path)
         self.problem = problem
+        self.missing = missing
         super().__init__(f"{label if label is not None else self.path.name}: {problem}")
 
 
@@ -46,9 +50,8 @@ def _resolve(path: Path, label: str | None) -> Path:
     except OSError as exc:
         if exc.errno == errno.ELOOP:
             raise InputFileError(path, f"symlink loop: {exc.strerror}", label=label) from None
-        if exc.errno == errno.ENOENT:
-            raise InputFileError(path, "file not found", label=label) from None
-        raise InputFileError(path, f"cannot open: {exc.strerror}", label=label) from None
+        raise InputFileError(path, f"cannot open: {exc.strerror}", label=label,
+                             missing=exc.errno == errno.ENOENT) from None
 
 
 def check_regular_file(path: str | os.PathLike[str], *, max_bytes: int,
