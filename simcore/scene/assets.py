@@ -37,6 +37,14 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
+from simcore.scene.limits import (
+    MAX_ASSET_BYTES,
+    MAX_ASSET_JSON_BYTES,
+    MAX_ASSET_NODE_DEPTH,
+    MAX_ASSET_NODES,
+    MAX_ASSET_OBJECTS,
+    MAX_DATA_URI_CHARS,
+)
 from simcore.scene.mesh_files import (
     MAX_MESH_COORDINATE,
     MAX_MESH_TRIANGLES,
@@ -47,18 +55,14 @@ from simcore.scene.mesh_files import (
 )
 from simcore.scene.motion import Pose
 
-#: Largest asset file and largest external buffer (bytes).
-MAX_ASSET_BYTES = 256 * 2**20
-#: Largest ``data:`` URI (characters of base64 text).
-MAX_DATA_URI_CHARS = 64 * 2**20
-#: Most nodes in a glTF document, deepest node hierarchy, most mesh objects imported.
-MAX_NODES = 100_000
-MAX_NODE_DEPTH = 256
-MAX_ASSET_OBJECTS = 4096
+#: Largest asset file and external buffer (bytes), ``data:`` URI (characters of base64
+#: text), most nodes, deepest node hierarchy, most mesh objects imported, largest JSON part
+#: (bytes): :mod:`simcore.scene.limits`.
+MAX_NODES = MAX_ASSET_NODES
+MAX_NODE_DEPTH = MAX_ASSET_NODE_DEPTH
+MAX_JSON_BYTES = MAX_ASSET_JSON_BYTES
 #: Most triangles of the whole imported scene (instances counted once each).
 MAX_SCENE_TRIANGLES = MAX_MESH_TRIANGLES
-#: Largest JSON part of a glTF (bytes).
-MAX_JSON_BYTES = 64 * 2**20
 #: Longest object or material name kept from an asset (characters).
 MAX_ASSET_NAME = 200
 #: Name of the material of primitives that have none.
