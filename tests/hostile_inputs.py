@@ -244,6 +244,8 @@ def spec_cases() -> dict[str, Case]:
                                   expect="spec.json"),
         "uniform_huge": _spec(_set("objects[0].pose.position_m[0]", {"uniform": [1e300, 1e300]}),
                               expect="scene 0"),
+        "uniform_overflows": _spec(_set("objects[0].pose.position_m[0]", {"uniform": [
+            -1.7e308, 1.7e308]}), expect="overflows"),
         "uniform_strings": _spec(_set("objects[0].pose.position_m[0]", {"uniform": ["a", "b"]}),
                                  expect="vary.objects[0].pose.position_m[0]"),
         "uniform_three": _spec(_set("objects[0].pose.position_m[0]", {"uniform": [1, 2, 3]}),
@@ -683,8 +685,8 @@ def rig_cases() -> dict[str, Case]:
         "samples_float": _rig(_sensor("samples_per_chirp", 64.5), expect="radar_b"),
         "tof_width_huge": _rig(_at("rigs", 0, "sensors", "tof_b", "width", value=10**7),
                                expect="tof_b"),
-        "memory_over_budget": _rig(_at("rigs", 0, "sensors", "tof_b", "width", value=8192),
-                                   expect="tof_b"),
+        "memory_over_budget": _rig(lambda d: d["rigs"][0]["sensors"]["tof_b"].update(
+            width=4096, height=4096, supersampling=4), expect="memory: a frame would need"),
         "timeline_frames_huge": _rig(_at("timeline", "duration_s", value=1e9),
                                      expect="timeline"),
         "timeline_rate_tiny": _rig(_at("timeline", "frame_rate_hz", value=1e-300),

@@ -25,6 +25,9 @@ class Uniform(Strict):
     def _ordered(cls, v: tuple[float, float]) -> tuple[float, float]:
         if not all(math.isfinite(x) for x in v) or v[0] > v[1]:
             raise ValueError(f"needs finite low <= high, got [{v[0]:g}, {v[1]:g}]")
+        if not math.isfinite(v[1] - v[0]):
+            raise ValueError(f"high - low of [{v[0]:g}, {v[1]:g}] overflows; give a range "
+                             "narrower than 1e308")
         return v
 
     def draw(self, rng: np.random.Generator) -> float:
