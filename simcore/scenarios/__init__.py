@@ -182,9 +182,9 @@ def _first_error(exc: ValidationError, vary: Any) -> str:
             if loc[2] != names.get(kind):
                 continue
             loc = (loc[0], loc[1], *loc[3:])
-        return f"{'.'.join(str(p) for p in loc)}: {_message(err)}"
+        return f"{'.'.join(str(p) for p in loc) or '(spec)'}: {_message(err)}"
     err = errors[0]
-    return f"{'.'.join(str(p) for p in err['loc'])}: {_message(err)}"
+    return f"{'.'.join(str(p) for p in err['loc']) or '(spec)'}: {_message(err)}"
 
 
 def _message(err: Any) -> str:
@@ -203,6 +203,9 @@ def _base_path(spec: ScenarioSpec, spec_path: Path) -> Path:
     candidate = (spec_path.parent / spec.base)
     if candidate.is_file():
         return candidate
+    if candidate.exists() or candidate.is_symlink():
+        raise ScenarioError(f"{spec_path}: base {spec.base!r} is not a regular file (device, "
+                            "FIFO, socket, directory or dangling symlink)")
     bundled = example_path(spec.base)
     if bundled.is_file():
         return bundled
@@ -383,8 +386,11 @@ def _preflight_scene(text: str, folder: Path, *, index: int, n_frames: int | Non
         project = project_from_dict(json.loads(text), base_dir=folder,
                                     source=f"scene {index}")
     except ProjectError as exc:
+        hint = ("; the scenes refer to files relative to --out: put the base project's "
+                "mesh and clip files there" if any("not found" in p for p in exc.problems)
+                else "")
         raise ScenarioError(f"scene {index} is not a valid project in {folder}: "
-                            f"{'; '.join(exc.problems)[:300]}") from None
+                            f"{'; '.join(exc.problems)[:300]}{hint}") from None
     problems = check(project, base_dir=folder, n_frames=n_frames,
                      allow_outside_paths=allow_outside_paths,
                      memory_budget_bytes=memory_budget_bytes)
