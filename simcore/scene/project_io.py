@@ -332,30 +332,21 @@ def load_project(path: str | os.PathLike[str]) -> Project:
 
 def _read_text(path: Path, source: str) -> str:
     """The file's text: a regular file of at most :data:`MAX_PROJECT_BYTES`, UTF-8."""
+    from simcore.scene.files import InputFileError, read_text_file
+
     try:
-        st = path.stat()
-    except FileNotFoundError:
-        raise ProjectError(source, ["file not found"]) from None
-    except (OSError, RuntimeError) as exc:
-        raise ProjectError(source, [cap_line(f"cannot read file: {exc}")]) from None
-    if not stat.S_ISREG(st.st_mode):
-        raise ProjectError(source, ["not a regular file (a device, FIFO, socket or directory)"])
-    if st.st_size > MAX_PROJECT_BYTES:
-        raise ProjectError(source, [f"file has {st.st_size} bytes; a project file may have at "
-                                    f"most {MAX_PROJECT_BYTES}"])
-    try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-        with os.fdopen(fd, "rb") as fh:
-            raw = fh.read(MAX_PROJECT_BYTES + 1)
-    except OSError as exc:
-        raise ProjectError(source, [cap_line(f"cannot read file: {exc}")]) from None
-    if len(raw) > MAX_PROJECT_BYTES:
-        raise ProjectError(source, [f"file has more than {MAX_PROJECT_BYTES} bytes"])
-    try:
-        return raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise ProjectError(source, [f"cannot read file: not UTF-8 text ({exc.reason} at "
-                                    f"byte {exc.start})"]) from None
+        return read_text_file(path, max_bytes=MAX_PROJECT_BYTES)
+    except InputFileError as exc:
+        if exc.missing:
+            raise ProjectError(source, ["file not found"]) from None
+        problem = exc.problem
+        if problem.startswith("not a regular file"):
+            problem = "not a regular file (a device, FIFO, socket or directory)"
+        elif problem.startswith("file has"):
+            problem = problem.replace("; at most", "; a project file may have at most")
+        elif problem.startswith("not UTF-8"):
+            problem = f"cannot read file: {problem}"
+        raise ProjectError(source, [cap_line(problem)]) from None
 
 
 def project_to_json(project: Project) -> str:
