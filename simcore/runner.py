@@ -805,7 +805,7 @@ def run_scenes(scenes: Sequence[tuple[str, Path]], out: Path | str, *, frames_pe
 
 def _sensor_key(project: Project) -> str:
     """The sensors' configurations and the DSP of a scene: equal keys give equal axes."""
-    return json.dumps({"sensors": {name: cfg.model_dump(mode="json")  # type: ignore[attr-defined]
+    return json.dumps({"sensors": {name: cfg.model_dump(mode="json")
                                    for name, cfg in project.sensor_configs().items()},
                        "dsp": project.dsp.model_dump(mode="json")}, sort_keys=True)
 
