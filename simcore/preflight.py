@@ -421,7 +421,8 @@ def _clearance_problems(project: Project, n_frames: int) -> list[str]:
     keeps surfaces away), so one at an antenna would divide by a zero distance. Checked at
     up to 128 frame times spread over the run.
     """
-    from simcore.scene.snapshot import take_snapshot
+    from simcore.scene.motion import rigid_state
+    from simcore.scene.snapshot import _sensor_state
 
     analytic = [i for i, o in enumerate(project.objects)
                 if o.geometry.kind in ("point_target", "corner_reflector")]
@@ -434,12 +435,17 @@ def _clearance_problems(project: Project, n_frames: int) -> list[str]:
     worst: dict[int, tuple[float, float]] = {}
     for k in frames:
         t = project.timeline.frame_time(int(k))
-        snap = take_snapshot(project, t)
-        ants = np.concatenate([
-            elements[n] @ snap.sensor(n).transform[:3, :3].T + snap.sensor(n).transform[:3, 3]
-            for n in radars])
+        # Only the radars and the analytic objects (as take_snapshot places them).
+        placed = []
+        for n, rc in radars.items():
+            rig = project.sensor_rig(n)
+            pose = _sensor_state(rigid_state(rig.pose, rig.motion, t),
+                                 rc.pose_on_rig.matrix()).transform  # type: ignore[attr-defined]
+            placed.append(elements[n] @ pose[:3, :3].T + pose[:3, 3])
+        ants = np.concatenate(placed)
         for i in analytic:
-            origin = snap.objects[i].transform[:3, 3]
+            obj = project.objects[i]
+            origin = rigid_state(obj.pose, obj.motion, t).transform[:3, 3]
             d = float(np.linalg.norm(ants - origin, axis=1).min())
             if d < worst.get(i, (math.inf, 0.0))[0]:
                 worst[i] = (d, t)
