@@ -509,6 +509,10 @@ def recording_cases() -> dict[str, Case]:
                                                expect="chirps of 0.000591 s"),
         "chirps_huge": _rec(edit=_key("num_chirps_per_frame", 10**8), expect="config.json"),
         "samples_huge": _rec(edit=_key("num_samples_per_chirp", 10**9), expect="config.json"),
+        "frame_memory_over_budget": _rec(edit=lambda s: s.update(
+            num_chirps_per_frame=1024, num_samples_per_chirp=8192, sample_rate_Hz=4000000,
+            chirp_repetition_time_s=0.003, frame_repetition_time_s=4.0),
+            expect="the budget is 2 GiB"),
         "chirps_zero": _rec(edit=_key("num_chirps_per_frame", 0), expect="num_chirps_per_frame"),
         "chirps_bool": _rec(edit=_key("num_chirps_per_frame", True),
                             expect="num_chirps_per_frame"),
