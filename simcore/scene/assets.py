@@ -37,6 +37,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
+from simcore.scene.base import MAX_COORDINATE_M
 from simcore.scene.limits import (
     MAX_ASSET_BYTES,
     MAX_ASSET_JSON_BYTES,
@@ -370,9 +371,9 @@ class _Checked:
     blob: bytearray = field(default_factory=bytearray)
 
     def buffer(self, i: int) -> bytes:
+        bufs = _list(self.path, self.doc, "buffers")
+        i = _index(self.path, i, len(bufs), "bufferView.buffer")    # before it keys a dict
         if i not in self.buffers:
-            bufs = _list(self.path, self.doc, "buffers")
-            _index(self.path, i, len(bufs), "bufferView.buffer")
             self.buffers[i] = _load_buffer(self.path, bufs[i], i, self.bin_chunk)
         return self.buffers[i]
 
@@ -739,6 +740,9 @@ def _make_object(path: Path, name: str, material: str, matrix: NDArray[np.float6
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")   # gimbal lock: the matrix check below decides
         euler = Rotation.from_matrix(rot).as_euler("xyz", degrees=True)
+    if not np.all(np.abs(t) <= MAX_COORDINATE_M):
+        raise _fail(path, f"node {name!r}: position {np.abs(t).max():.6g} m from the origin "
+                          f"(after the node transforms); a project allows ±{MAX_COORDINATE_M:g} m")
     pose = Pose(position_m=tuple(float(v) for v in t), rotation_deg=tuple(
         float(v) for v in euler))
     back = pose.rotation_matrix()
