@@ -254,7 +254,8 @@ def _person_problems(where: str, person: Person, materials: dict[str, Any],
     # path policy (--allow-outside-paths), never while the project loads.
     if clip is not None and is_inside_folder(resolve_mesh_path(base_dir, clip.path), base_dir):
         try:
-            map_joints(load_bvh(resolve_mesh_path(base_dir, clip.path)))
+            path = resolve_mesh_path(base_dir, clip.path)
+            map_joints(load_bvh(path), source=path.name)
         except BvhError as exc:
             problems.append(f"{where}.motion.bvh.path: {exc}")
     return problems

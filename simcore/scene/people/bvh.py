@@ -209,7 +209,10 @@ def _check_motion(path: Path, lines: list[str], start: int, channels: int,
                                      f"({MAX_BVH_READER_BYTES // BVH_BYTES_PER_JOINT_FRAME} "
                                      "joint-frames): cut the clip or its joints")
     dt_text = text(start + 2, "Frame Time:")
-    dt = _number(path, start + 3, dt_text or "x")
+    try:
+        dt = float(dt_text)
+    except ValueError:
+        raise _fail(path, start + 3, f"frame time {dt_text[:20]!r} is not a number") from None
     if not MIN_BVH_FRAME_TIME_S <= dt <= MAX_BVH_FRAME_TIME_S:
         raise _fail(path, start + 3, f"frame time {dt_text[:20]} s; allowed "
                                      f"{MIN_BVH_FRAME_TIME_S:g}–{MAX_BVH_FRAME_TIME_S:g} s")
@@ -269,7 +272,8 @@ def _read_checked(path: Path) -> BvhMotion:
         joints = list(container.Root.layout())
         frame_time = float(container.FrameTime)
     except Exception as exc:  # noqa: BLE001 - bvhio raises many kinds; report one
-        raise _fail(path, None, f"bvhio could not read it ({type(exc).__name__})") from None
+        said = " ".join(str(exc).split())[:160] or "no reason given"
+        raise _fail(path, None, f"the hierarchy does not parse: {said}") from None
     index = {id(j[0]): k for k, j in enumerate(joints)}
     parents = tuple(-1 if j[0] is container.Root else
                     index[id(_parent_of(joints, j[0]))] for j in joints)
@@ -315,8 +319,11 @@ def load_bvh(path: Path) -> BvhMotion:
     return _load_cached(str(path), st.st_mtime_ns, st.st_size)
 
 
-def map_joints(motion: BvhMotion) -> dict[str, int]:
-    """Segment name → BVH joint index for the segments :data:`JOINT_MAP` finds."""
+def map_joints(motion: BvhMotion, *, source: str | None = None) -> dict[str, int]:
+    """Segment name → BVH joint index for the segments :data:`JOINT_MAP` finds.
+
+    ``source`` (the file's name) is named in the error of a clip without legs.
+    """
     lower = {n.lower(): k for k, n in enumerate(motion.names)}
     out: dict[str, int] = {}
     for segment, candidates in JOINT_MAP.items():
@@ -326,7 +333,8 @@ def map_joints(motion: BvhMotion) -> dict[str, int]:
                 break
     missing = [s for s in ("pelvis", "thigh_l", "shin_l", "thigh_r", "shin_r") if s not in out]
     if missing:
-        raise BvhError(f"BVH joints for {', '.join(missing)} not found (known names: "
+        raise BvhError(f"{f'BVH file {source}: ' if source else ''}BVH joints for "
+                       f"{', '.join(missing)} not found (known names: "
                        f"{', '.join(JOINT_MAP[missing[0]])})")
     return out
 
@@ -392,7 +400,7 @@ def clip_motion_problems(motion: BvhMotion, *, source: str, leg_length_m: float,
         Empty when the leg has a length, the root stays within ±``MAX_COORDINATE_M`` of
         the origin and moves at most ``MAX_BVH_ROOT_SPEED_MPS`` between frames.
     """
-    mapping = map_joints(motion)
+    mapping = map_joints(motion, source=source)
     leg = leg_length(motion, mapping)
     longest = float(max(np.linalg.norm(motion.offsets, axis=1).max(),
                         np.linalg.norm(motion.end_sites, axis=1).max()))
