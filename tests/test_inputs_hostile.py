@@ -116,8 +116,9 @@ def test_hostile_spec(name, tmp_path, capsys):
 
 
 def test_generate_writes_nothing_when_a_late_scene_fails(tmp_path, capsys):
-    # Scene 5 of 6 draws a timeline of 10⁶ s: frames beyond the limit. Nothing is written,
-    # and an earlier run's scenes in the folder stay as they were.
+    # A late scene (34 of 60 with seed 0) draws a timeline of 10⁶ s, which takes the
+    # corner reflector out of the world. Nothing is written, and an earlier run's scenes in
+    # the folder stay as they were.
     spec = spec_doc()
     spec["vary"]["timeline.duration_s"] = {"choice": [1.0] * 40 + [1e6]}
     (tmp_path / "s.json").write_text(json.dumps(spec))
@@ -128,6 +129,7 @@ def test_generate_writes_nothing_when_a_late_scene_fails(tmp_path, capsys):
             "--overwrite", "--quiet"]
     err = outcome(argv, "would not run", capsys)
     assert "nothing was written" in err
+    assert int(re.search(r"scene (\d+) would not run", err).group(1)) > 0     # a late one
     assert sorted(p.name for p in out.iterdir()) == ["scene_00000.json"]
     assert (out / "scene_00000.json").read_text() == "earlier"
 
