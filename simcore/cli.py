@@ -1046,7 +1046,8 @@ def cmd_import(args: argparse.Namespace) -> int:
                        "write --out into the same folder")
     try:
         overrides = parse_map_options(args.map)
-        scene = read_asset(Path(args.scene), up=args.up)
+        scene = read_asset(Path(args.scene), up=args.up,
+                           allow_outside_paths=args.allow_outside_paths)
         result = build_project(scene, out, base=base, overrides=overrides)
     except AssetError as exc:
         raise CliError(str(exc)) from None

@@ -330,7 +330,7 @@ def asset_cases() -> dict[str, Case]:
         return build
 
     def gltf_file(uri: str, *, prepare: Callable[[Path], None] | None = None,
-                  expect: str) -> Case:
+                  expect: str, extra: list[str] | None = None) -> Case:
         def build(d: Path) -> tuple[list[str], str]:
             doc, blob = good_gltf()
             (d / "sub").mkdir()
@@ -340,7 +340,8 @@ def asset_cases() -> dict[str, Case]:
                 prepare(d)
             doc["buffers"] = [{"byteLength": len(blob), "uri": uri}]
             (d / "sub" / "a.gltf").write_text(json.dumps(doc))
-            return ["import", str(d / "sub" / "a.gltf"), "--out", str(d / "p.json")], expect
+            return ["import", str(d / "sub" / "a.gltf"), "--out", str(d / "p.json"),
+                    *(extra or [])], expect
         return build
 
     def obj(text: str | bytes, *, expect: str, special: str | None = None) -> Case:
@@ -405,6 +406,11 @@ def asset_cases() -> dict[str, Case]:
         "scene_index_bad": glb(setp("scene", value=7), expect="a.glb"),
         "many_nodes": glb(setp("nodes", value=[{}] * 100_001), expect="a.glb"),
         "uri_parent_escape": gltf_file("../outside.bin", expect="outside the asset's folder"),
+        "uri_parent_escape_allowed": gltf_file("../outside.bin", extra=["--allow-outside-paths"],
+                                               expect=OK),
+        "uri_dev_zero_allowed": gltf_file(
+            "z.bin", prepare=lambda d: (d / "sub" / "z.bin").symlink_to("/dev/zero"),
+            extra=["--allow-outside-paths"], expect="not a regular file"),
         "uri_absolute": gltf_file("/etc/hostname", expect="not a relative path"),
         "uri_url": gltf_file("http://example.com/x.bin", expect="not a relative path"),
         "uri_fifo": gltf_file("fifo.bin", prepare=lambda d: os.mkfifo(d / "sub" / "fifo.bin"),

@@ -29,6 +29,7 @@ import re
 import struct
 import urllib.parse
 import warnings
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -168,7 +169,12 @@ def _fail(path: Path, message: str) -> AssetError:
 
 
 # --------------------------------------------------------------------------- reading
-def read_asset(path: str | Path, *, up: str = "y") -> AssetScene:
+#: ``read_asset``'s ``allow_outside_paths`` while it reads (the buffer loader is deep).
+_ALLOW_OUTSIDE: ContextVar[bool] = ContextVar("allow_outside_paths", default=False)
+
+
+def read_asset(path: str | Path, *, up: str = "y",
+               allow_outside_paths: bool = False) -> AssetScene:
     """Read a glTF, GLB or OBJ asset into objects in project coordinates.
 
     Parameters
@@ -177,6 +183,8 @@ def read_asset(path: str | Path, *, up: str = "y") -> AssetScene:
         The asset file (``.gltf``, ``.glb`` or ``.obj``).
     up : {"y", "z"}
         Up axis of an OBJ file (glTF is always Y up).
+    allow_outside_paths : bool
+        Accept external buffers outside the asset's folder (``--allow-outside-paths``).
 
     Returns
     -------
@@ -201,7 +209,11 @@ def read_asset(path: str | Path, *, up: str = "y") -> AssetScene:
         doc, bin_chunk = _split_glb(path, data)
     else:
         doc, bin_chunk = _parse_json(path, data), None
-    return _read_gltf(path, doc, bin_chunk)
+    token = _ALLOW_OUTSIDE.set(allow_outside_paths)
+    try:
+        return _read_gltf(path, doc, bin_chunk)
+    finally:
+        _ALLOW_OUTSIDE.reset(token)
 
 
 def _split_glb(path: Path, data: bytes) -> tuple[dict[str, Any], bytes | None]:
@@ -337,19 +349,27 @@ def _data_uri(path: Path, uri: str, i: int) -> bytes:
 
 
 def _external_buffer(path: Path, uri: str, i: int) -> bytes:
+    """A buffer file, under the path policy of every referenced file.
+
+    Beside the asset unless ``--allow-outside-paths``, then a regular file of at most the
+    asset limit.
+    """
     rel = urllib.parse.unquote(uri)
-    if re.match(r"^[A-Za-z][A-Za-z0-9+.-]*:", rel) or rel.startswith(("/", "\\")) \
-            or "\x00" in rel:
+    outside_ok = _ALLOW_OUTSIDE.get()
+    if re.match(r"^[A-Za-z][A-Za-z0-9+.-]*:", rel) or "\x00" in rel or (
+            rel.startswith(("/", "\\")) and not outside_ok):
         raise _fail(path, f"buffers[{i}].uri {uri[:80]!r} is not a relative path beside the "
-                          "asset (absolute paths and URLs are refused)")
+                          "asset (absolute paths need --allow-outside-paths; URLs are "
+                          "refused)")
     folder = path.resolve().parent
     target = folder / rel
     try:
         inside = target.resolve().is_relative_to(folder)
     except (OSError, RuntimeError):
         inside = False
-    if not inside:
-        raise _fail(path, f"buffers[{i}].uri {uri[:80]!r} points outside the asset's folder")
+    if not inside and not outside_ok:
+        raise _fail(path, f"buffers[{i}].uri {uri[:80]!r} points outside the asset's folder "
+                          "(pass --allow-outside-paths to accept it)")
     try:
         return open_regular_file(target, max_bytes=MAX_ASSET_BYTES)
     except MeshError as exc:
