@@ -698,7 +698,9 @@ def _common(*, debug_only: bool = False) -> _Parser:
                         help="print the traceback of an error instead of one line")
     if not debug_only:
         common.add_argument("--allow-outside-paths", action="store_true",
-                            help="accept mesh files outside the project's folder")
+                            help="accept referenced files (meshes, BVH clips, an asset's "
+                                 "buffers, a recording's parts) outside the folder that "
+                                 "refers to them")
     return common
 
 
