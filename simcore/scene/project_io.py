@@ -298,13 +298,41 @@ def project_from_dict(data: Any, *, source: str = "project", base_dir: Path | No
     try:
         project = Project.model_validate(data)
     except ValidationError as exc:
-        raise ProjectError(source, format_validation_error(exc)) from None
+        raise ProjectError(source, [_sensor_located(p, data)
+                                    for p in format_validation_error(exc)]) from None
     except RecursionError:
         raise ProjectError(source, ["(document): nested too deeply"]) from None
     problems = check_references(project, base_dir or Path.cwd())
     if problems:
         raise ProjectError(source, problems)
     return project
+
+
+def _sensor_located(problem: str, data: dict[str, Any]) -> str:
+    """A project-wide problem of one sensor, at the sensor's field path in the document.
+
+    ``(document): sensor 'x': field: …`` becomes ``rigs[0].sensors.x.field: …``.
+    """
+    import re
+
+    match = re.match(r"\(document\): sensor '(\w+)': (\w+)[: ]", problem)
+    if match is None:
+        return problem
+    name, field = match.groups()
+    rigs = [data.get("rig"), *(data.get("rigs") or [])]
+    for i, rig in enumerate(rigs):
+        if not isinstance(rig, dict):
+            continue
+        where = "rig" if i == 0 else f"rigs[{i - 1}]"
+        sensors = rig.get("sensors")
+        if isinstance(sensors, dict) and name in sensors:
+            where += f".sensors.{name}"
+        elif i == 0 and name in ("tof", "radar", "rgb"):
+            where += f".{name}"
+        else:
+            continue
+        return f"{where}.{field}: {problem[match.end(2):].lstrip(': ')}"
+    return problem
 
 
 def _reject_constant(name: str) -> float:
