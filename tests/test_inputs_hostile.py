@@ -61,10 +61,6 @@ def outcome(argv: list[str], expect: str, capsys: pytest.CaptureFixture[str]) ->
     return err
 
 
-def count(cases: dict[str, object]) -> int:
-    return len(cases)
-
-
 @pytest.mark.parametrize("kind", [bvh_cases, spec_cases, asset_cases, recording_cases,
                                   rig_cases], ids=lambda f: f.__name__)
 def test_at_least_thirty_cases_per_kind(kind):
