@@ -433,7 +433,10 @@ def cmd_generate(args: argparse.Namespace) -> int:
 
     try:
         written = generate(args.spec, args.out, count=args.count, seed=args.seed,
-                           overwrite=args.overwrite, on_project=progress)
+                           overwrite=args.overwrite, on_project=progress,
+                           n_frames=args.frames if args.run is not None else None,
+                           allow_outside_paths=args.allow_outside_paths,
+                           memory_budget_bytes=2**63 if args.force else None)
     finally:
         for bar in bars:
             bar.close()
@@ -729,7 +732,9 @@ def _common(*, debug_only: bool = False) -> _Parser:
                         help="print the traceback of an error instead of one line")
     if not debug_only:
         common.add_argument("--allow-outside-paths", action="store_true",
-                            help="accept mesh files outside the project's folder")
+                            help="accept referenced files (meshes, BVH clips, an asset's "
+                                 "buffers, a recording's parts) outside the folder that "
+                                 "refers to them")
     return common
 
 
@@ -967,11 +972,20 @@ def _convert_recording(source: Path, target: Path, args: argparse.Namespace) -> 
         raise CliError(f"--to {target}: a recording converts to an HDF5 dataset (.h5)")
     if args.project is not None and Path(args.project).suffix.lower() != ".json":
         raise CliError(f"--project {args.project}: a project file ends in .json")
+    existed = target.exists()
     try:
         report = convert_recording(source, target, project_out=args.project,
-                                   overwrite=args.overwrite)
-    except (RecordingError, DatasetExistsError) as exc:
-        raise CliError(str(exc)) from None
+                                   overwrite=args.overwrite,
+                                   allow_outside_paths=args.allow_outside_paths)
+    except BaseException as exc:
+        # No complete-looking dataset of a conversion that did not finish.
+        if not existed:
+            target.unlink(missing_ok=True)
+        if isinstance(exc, (RecordingError, DatasetExistsError)):
+            raise CliError(str(exc)) from None
+        if isinstance(exc, OSError) and not isinstance(exc, DatasetExistsError):
+            raise CliError(f"{exc.filename or target}: {exc.strerror or exc}") from None
+        raise
     print(f"wrote {report.n_frames} frames to {target}"
           + (f" and the project {report.project}" if report.project else ""))
     return 0
@@ -1156,7 +1170,8 @@ def cmd_import(args: argparse.Namespace) -> int:
                        "write --out into the same folder")
     try:
         overrides = parse_map_options(args.map)
-        scene = read_asset(Path(args.scene), up=args.up)
+        scene = read_asset(Path(args.scene), up=args.up,
+                           allow_outside_paths=args.allow_outside_paths)
         result = build_project(scene, out, base=base, overrides=overrides)
     except AssetError as exc:
         raise CliError(str(exc)) from None

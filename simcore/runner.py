@@ -22,7 +22,7 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,6 +32,9 @@ from simcore.preflight import RunError
 from simcore.scene.project_io import project_from_dict
 from simcore.sensors.base import H5Items
 from simcore.sensors.schema import must_be_finite, nan_allowed
+
+if TYPE_CHECKING:
+    from simcore.scene.model import Project
 
 
 @dataclass(frozen=True)
@@ -758,6 +761,7 @@ def run_scenes(scenes: Sequence[tuple[str, Path]], out: Path | str, *, frames_pe
     if is_mcap(out):
         raise RunError(f"--out {out}: a run over scenes writes HDF5 or Zarr, not MCAP")
     specs = []
+    sensors: list[str] = []
     limit = None
     for i, (project_json, base_dir) in enumerate(scenes):
         project = project_from_dict(json.loads(project_json), base_dir=Path(base_dir))
@@ -773,12 +777,18 @@ def run_scenes(scenes: Sequence[tuple[str, Path]], out: Path | str, *, frames_pe
                            f"differs from scene 0's {limit}; one dataset holds scenes of "
                            "one layout")
         specs.append(RunSpec(project_json, str(base_dir), project.seed))
+        sensors.append(_sensor_key(project))
     statics = [_entity_statics(s) for s in specs]
     reference = _reference_scene(statics)
     try:
         digests = static_digests(_simulator(specs[reference]).static_items())
-        if reference != 0:
-            check_shared_statics(0, _simulator(specs[0]).static_items(), digests)
+        # Every scene of another sensor configuration than the reference's is checked
+        # here, before the first frame (one simulator per distinct configuration).
+        seen = {sensors[reference]}
+        for i, key in enumerate(sensors):
+            if key not in seen:
+                check_shared_statics(i, _simulator(specs[i]).static_items(), digests)
+                seen.add(key)
         layout = scenes_layout(specs, statics, reference)
     finally:
         close_simulators()
@@ -792,6 +802,13 @@ def run_scenes(scenes: Sequence[tuple[str, Path]], out: Path | str, *, frames_pe
                 workers=workers, scheduler=scheduler, extra_meta=meta, on_frame=on_frame,
                 task_timeout_s=task_timeout_s, connect_timeout_s=connect_timeout_s,
                 storage_options=storage_options, shard_frames=shard_frames)
+
+
+def _sensor_key(project: Project) -> str:
+    """The sensors' configurations and the DSP of a scene: equal keys give equal axes."""
+    return json.dumps({"sensors": {name: cfg.model_dump(mode="json")
+                                   for name, cfg in project.sensor_configs().items()},
+                       "dsp": project.dsp.model_dump(mode="json")}, sort_keys=True)
 
 
 def is_mcap(out: Path | str) -> bool:

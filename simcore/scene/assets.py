@@ -29,6 +29,7 @@ import re
 import struct
 import urllib.parse
 import warnings
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -37,6 +38,15 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
+from simcore.scene.base import MAX_COORDINATE_M
+from simcore.scene.limits import (
+    MAX_ASSET_BYTES,
+    MAX_ASSET_JSON_BYTES,
+    MAX_ASSET_NODE_DEPTH,
+    MAX_ASSET_NODES,
+    MAX_ASSET_OBJECTS,
+    MAX_DATA_URI_CHARS,
+)
 from simcore.scene.mesh_files import (
     MAX_MESH_COORDINATE,
     MAX_MESH_TRIANGLES,
@@ -47,18 +57,14 @@ from simcore.scene.mesh_files import (
 )
 from simcore.scene.motion import Pose
 
-#: Largest asset file and largest external buffer (bytes).
-MAX_ASSET_BYTES = 256 * 2**20
-#: Largest ``data:`` URI (characters of base64 text).
-MAX_DATA_URI_CHARS = 64 * 2**20
-#: Most nodes in a glTF document, deepest node hierarchy, most mesh objects imported.
-MAX_NODES = 100_000
-MAX_NODE_DEPTH = 256
-MAX_ASSET_OBJECTS = 4096
+#: Largest asset file and external buffer (bytes), ``data:`` URI (characters of base64
+#: text), most nodes, deepest node hierarchy, most mesh objects imported, largest JSON part
+#: (bytes): :mod:`simcore.scene.limits`.
+MAX_NODES = MAX_ASSET_NODES
+MAX_NODE_DEPTH = MAX_ASSET_NODE_DEPTH
+MAX_JSON_BYTES = MAX_ASSET_JSON_BYTES
 #: Most triangles of the whole imported scene (instances counted once each).
 MAX_SCENE_TRIANGLES = MAX_MESH_TRIANGLES
-#: Largest JSON part of a glTF (bytes).
-MAX_JSON_BYTES = 64 * 2**20
 #: Longest object or material name kept from an asset (characters).
 MAX_ASSET_NAME = 200
 #: Name of the material of primitives that have none.
@@ -163,7 +169,12 @@ def _fail(path: Path, message: str) -> AssetError:
 
 
 # --------------------------------------------------------------------------- reading
-def read_asset(path: str | Path, *, up: str = "y") -> AssetScene:
+#: ``read_asset``'s ``allow_outside_paths`` while it reads (the buffer loader is deep).
+_ALLOW_OUTSIDE: ContextVar[bool] = ContextVar("allow_outside_paths", default=False)
+
+
+def read_asset(path: str | Path, *, up: str = "y",
+               allow_outside_paths: bool = False) -> AssetScene:
     """Read a glTF, GLB or OBJ asset into objects in project coordinates.
 
     Parameters
@@ -172,6 +183,8 @@ def read_asset(path: str | Path, *, up: str = "y") -> AssetScene:
         The asset file (``.gltf``, ``.glb`` or ``.obj``).
     up : {"y", "z"}
         Up axis of an OBJ file (glTF is always Y up).
+    allow_outside_paths : bool
+        Accept external buffers outside the asset's folder (``--allow-outside-paths``).
 
     Returns
     -------
@@ -196,7 +209,11 @@ def read_asset(path: str | Path, *, up: str = "y") -> AssetScene:
         doc, bin_chunk = _split_glb(path, data)
     else:
         doc, bin_chunk = _parse_json(path, data), None
-    return _read_gltf(path, doc, bin_chunk)
+    token = _ALLOW_OUTSIDE.set(allow_outside_paths)
+    try:
+        return _read_gltf(path, doc, bin_chunk)
+    finally:
+        _ALLOW_OUTSIDE.reset(token)
 
 
 def _split_glb(path: Path, data: bytes) -> tuple[dict[str, Any], bytes | None]:
@@ -332,19 +349,27 @@ def _data_uri(path: Path, uri: str, i: int) -> bytes:
 
 
 def _external_buffer(path: Path, uri: str, i: int) -> bytes:
+    """A buffer file, under the path policy of every referenced file.
+
+    Beside the asset unless ``--allow-outside-paths``, then a regular file of at most the
+    asset limit.
+    """
     rel = urllib.parse.unquote(uri)
-    if re.match(r"^[A-Za-z][A-Za-z0-9+.-]*:", rel) or rel.startswith(("/", "\\")) \
-            or "\x00" in rel:
+    outside_ok = _ALLOW_OUTSIDE.get()
+    if re.match(r"^[A-Za-z][A-Za-z0-9+.-]*:", rel) or "\x00" in rel or (
+            rel.startswith(("/", "\\")) and not outside_ok):
         raise _fail(path, f"buffers[{i}].uri {uri[:80]!r} is not a relative path beside the "
-                          "asset (absolute paths and URLs are refused)")
+                          "asset (absolute paths need --allow-outside-paths; URLs are "
+                          "refused)")
     folder = path.resolve().parent
     target = folder / rel
     try:
         inside = target.resolve().is_relative_to(folder)
     except (OSError, RuntimeError):
         inside = False
-    if not inside:
-        raise _fail(path, f"buffers[{i}].uri {uri[:80]!r} points outside the asset's folder")
+    if not inside and not outside_ok:
+        raise _fail(path, f"buffers[{i}].uri {uri[:80]!r} points outside the asset's folder "
+                          "(pass --allow-outside-paths to accept it)")
     try:
         return open_regular_file(target, max_bytes=MAX_ASSET_BYTES)
     except MeshError as exc:
@@ -366,9 +391,9 @@ class _Checked:
     blob: bytearray = field(default_factory=bytearray)
 
     def buffer(self, i: int) -> bytes:
+        bufs = _list(self.path, self.doc, "buffers")
+        i = _index(self.path, i, len(bufs), "bufferView.buffer")    # before it keys a dict
         if i not in self.buffers:
-            bufs = _list(self.path, self.doc, "buffers")
-            _index(self.path, i, len(bufs), "bufferView.buffer")
             self.buffers[i] = _load_buffer(self.path, bufs[i], i, self.bin_chunk)
         return self.buffers[i]
 
@@ -735,6 +760,9 @@ def _make_object(path: Path, name: str, material: str, matrix: NDArray[np.float6
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")   # gimbal lock: the matrix check below decides
         euler = Rotation.from_matrix(rot).as_euler("xyz", degrees=True)
+    if not np.all(np.abs(t) <= MAX_COORDINATE_M):
+        raise _fail(path, f"node {name!r}: position {np.abs(t).max():.6g} m from the origin "
+                          f"(after the node transforms); a project allows ±{MAX_COORDINATE_M:g} m")
     pose = Pose(position_m=tuple(float(v) for v in t), rotation_deg=tuple(
         float(v) for v in euler))
     back = pose.rotation_matrix()
