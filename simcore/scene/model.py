@@ -236,7 +236,8 @@ class Project(Model):
         try:
             n = cfg.frame_divider(self.timeline.frame_rate_hz)  # type: ignore[attr-defined]
         except ValueError as exc:
-            raise ValueError(f"@{path}.frame_rate_hz: {exc}") from None
+            # The message starts with the field: "frame_rate_hz: 3 Hz is not ...".
+            raise ValueError(f"@{path}.{exc}") from None
         period = n / self.timeline.frame_rate_hz
         offset = cfg.trigger_offset_s  # type: ignore[attr-defined]
         if offset >= period:
