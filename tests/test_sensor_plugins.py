@@ -302,3 +302,17 @@ def _config_type(kind: str) -> type:
     from simcore.scene.model import SENSOR_KINDS
 
     return SENSOR_KINDS[kind][0]
+
+
+def test_a_named_tof_camera_that_sees_empty_pixels_is_written(tmp_path):
+    """NaN is gt_range's documented value for no surface, whatever the camera's name."""
+    doc = renamed(json.loads(example_path("wall").read_text()), "side_cam", "side_radar")
+    # Turn the rig 60° away from the wall: part of the camera's view is empty.
+    doc["rig"]["pose"] = {"position_m": [0.0, 0.0, 0.0], "rotation_deg": [0.0, 0.0, 60.0]}
+    path = write(tmp_path, "empty", doc)
+    out = tmp_path / "empty.h5"
+    assert main(["run", str(path), "--out", str(out), "--frames", "1", "--quiet"]) == 0
+    with h5py.File(out, "r") as f:
+        gt = f["side_cam/gt_range"][0]
+        assert np.isnan(gt).any() and np.isfinite(gt).any()
+        assert np.isfinite(f["side_cam/depth"][0]).all()
