@@ -26,6 +26,7 @@ from functools import cache
 from typing import Any, Literal
 
 from simcore.scene import device_cameras as cams
+from simcore.scene import device_hooks
 from simcore.scene import device_radars as rads
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.scene.radar_presets import bgt60tr13c
@@ -351,3 +352,8 @@ def project_limit_problems(project: Any) -> tuple[list[str], list[str]]:
             notes += [f"{name}: outside the {device.title}'s limits (reported, not enforced): "
                       f"{p}" for p in found + limit_problems(cfg, enforced_only=False)]
     return problems, notes
+
+
+device_hooks.install(defaults=preset_defaults,  # type: ignore[arg-type]
+                     limits=limit_problems,
+                     cameras=cams.CAMERA_PRESETS)

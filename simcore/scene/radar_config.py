@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field, PrivateAttr, field_validator, model_validator
 
+from simcore.scene import device_hooks
 from simcore.scene.base import Finite, Model, check_name
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.motion import Pose
@@ -295,9 +296,7 @@ class RadarConfig(SensorTiming):
     def _device_defaults(cls, data: Any) -> Any:
         """A device preset named in a project gives the fields the project leaves out."""
         if isinstance(data, dict) and isinstance(data.get("preset"), str):
-            from simcore.scene.devices import preset_defaults  # the library builds configs
-
-            defaults = preset_defaults("radar", data["preset"])
+            defaults = device_hooks.preset_defaults("radar", data["preset"])
             if defaults is not None:
                 return {**defaults, **data}
         return data
@@ -305,9 +304,7 @@ class RadarConfig(SensorTiming):
     @model_validator(mode="after")
     def _device_limits(self) -> RadarConfig:
         """A device preset's limits (:mod:`simcore.scene.devices`) hold."""
-        from simcore.scene.devices import limit_problems
-
-        problems = limit_problems(self)
+        problems = device_hooks.limit_problems(self)
         if problems:
             raise ValueError(f"preset {self.preset!r}: " + "; ".join(problems))
         return self

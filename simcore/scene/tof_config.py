@@ -24,6 +24,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
+from simcore.scene import device_hooks
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.motion import Pose
 from simcore.scene.sensor_timing import SensorTiming
@@ -180,9 +181,7 @@ class TofCameraConfig(SensorTiming):
     def _device_defaults(cls, data: Any) -> Any:
         """A device preset named in a project gives the fields the project leaves out."""
         if isinstance(data, dict) and isinstance(data.get("preset"), str):
-            from simcore.scene.devices import preset_defaults  # the library builds configs
-
-            defaults = preset_defaults("tof", data["preset"])
+            defaults = device_hooks.preset_defaults("tof", data["preset"])
             if defaults is not None:
                 return {**defaults, **data}
         return data
@@ -190,9 +189,7 @@ class TofCameraConfig(SensorTiming):
     @model_validator(mode="after")
     def _device_limits(self) -> TofCameraConfig:
         """A device preset's limits (:mod:`simcore.scene.devices`) hold."""
-        from simcore.scene.devices import limit_problems
-
-        problems = limit_problems(self)
+        problems = device_hooks.limit_problems(self)
         if problems:
             raise ValueError(f"preset {self.preset!r}: " + "; ".join(problems))
         return self
@@ -335,9 +332,7 @@ def tof_preset(name: str) -> TofCameraConfig:
 
     The device library's cameras (:mod:`simcore.scene.device_cameras`) are presets too.
     """
-    from simcore.scene.device_cameras import CAMERA_PRESETS  # it builds TofCameraConfigs
-
-    TOF_PRESETS.update(CAMERA_PRESETS)
+    TOF_PRESETS.update(device_hooks.camera_presets())
     try:
         return TOF_PRESETS[name]()
     except KeyError:
