@@ -36,9 +36,19 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.spatial.transform import Rotation
 
-from simcore.scene.base import MAX_COORDINATE_M
+from simcore.scene.asset_model import (
+    NO_MATERIAL,
+    Y_UP_TO_Z_UP,
+    AssetError,
+    AssetMaterial,
+    AssetObject,
+    AssetScene,
+    _fail,
+    _make_object,
+    _safe_name,
+    unique_name,
+)
 from simcore.scene.limits import (
     MAX_ASSET_BYTES,
     MAX_ASSET_JSON_BYTES,
@@ -48,14 +58,11 @@ from simcore.scene.limits import (
     MAX_DATA_URI_CHARS,
 )
 from simcore.scene.mesh_files import (
-    MAX_MESH_COORDINATE,
     MAX_MESH_TRIANGLES,
     MAX_MESH_VERTICES,
     MeshError,
-    check_mesh_arrays,
     open_regular_file,
 )
-from simcore.scene.motion import Pose
 
 #: Largest asset file and external buffer (bytes), ``data:`` URI (characters of base64
 #: text), most nodes, deepest node hierarchy, most mesh objects imported, largest JSON part
@@ -65,18 +72,12 @@ MAX_NODE_DEPTH = MAX_ASSET_NODE_DEPTH
 MAX_JSON_BYTES = MAX_ASSET_JSON_BYTES
 #: Most triangles of the whole imported scene (instances counted once each).
 MAX_SCENE_TRIANGLES = MAX_MESH_TRIANGLES
-#: Longest object or material name kept from an asset (characters).
-MAX_ASSET_NAME = 200
-#: Name of the material of primitives that have none.
-NO_MATERIAL = "(no material)"
 #: Prefix of the project materials made for asset materials.
 ASSET_MATERIAL_PREFIX = "asset:"
 #: Material given to asset materials no rule maps (reported, never silent).
 FALLBACK_MATERIAL = "concrete"
 ASSET_SUFFIXES = (".gltf", ".glb", ".obj")
 
-#: glTF (Y up) → project (Z up): (x, y, z) → (x, −z, y).
-Y_UP_TO_Z_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
 
 _GLB_MAGIC = 0x46546C67
 _CHUNK_JSON = 0x4E4F534A
@@ -84,88 +85,6 @@ _CHUNK_BIN = 0x004E4942
 _COMPONENT_SIZE = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
 _TYPE_SIZE = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 _TRIANGLES = 4
-
-
-class AssetError(ValueError):
-    """An asset file cannot be imported: unreadable, malformed or over a limit."""
-
-
-@dataclass(frozen=True)
-class AssetMaterial:
-    """A material of an asset: its name and the PBR factors the file sets explicitly.
-
-    Attributes
-    ----------
-    name : str
-        Material name in the asset (:data:`NO_MATERIAL` for primitives without one).
-    metallic : float or None
-        glTF ``metallicFactor`` when the file sets it, else ``None``.
-    roughness : float or None
-        glTF ``roughnessFactor`` (perceptual roughness, 0…1) when set, else ``None``.
-    color_rgb : tuple of float or None
-        Linear base colour factor (RGB) when set.
-    """
-
-    name: str
-    metallic: float | None = None
-    roughness: float | None = None
-    color_rgb: tuple[float, float, float] | None = None
-
-
-@dataclass(frozen=True)
-class AssetObject:
-    """One mesh node of an asset, in project coordinates.
-
-    Attributes
-    ----------
-    name : str
-        Unique object name (the node name, made unique).
-    material : str
-        Asset material name.
-    pose : Pose
-        Rigid world pose of the node (m, degrees), z up.
-    points : ndarray, shape (points, 3)
-        Vertices in the object's local frame (m): the node's scale and shear baked in, so
-        that ``pose.matrix() @ [p, 1]`` is the world position.
-    triangles : ndarray, shape (triangles, 3), int64
-        Vertex indices, counter-clockwise seen from outside.
-    """
-
-    name: str
-    material: str
-    pose: Pose
-    points: NDArray[np.float64]
-    triangles: NDArray[np.int64]
-
-    def world_points(self) -> NDArray[np.float64]:
-        """Vertices in world coordinates, shape (points, 3) (m)."""
-        m = self.pose.matrix()
-        return np.asarray(self.points @ m[:3, :3].T + m[:3, 3], dtype=np.float64)
-
-
-@dataclass
-class AssetScene:
-    """Objects and materials read from one asset file."""
-
-    source: Path
-    objects: list[AssetObject] = field(default_factory=list)
-    materials: dict[str, AssetMaterial] = field(default_factory=dict)
-    skipped: list[str] = field(default_factory=list)
-
-    @property
-    def n_triangles(self) -> int:
-        """Total triangle count of the objects."""
-        return int(sum(len(o.triangles) for o in self.objects))
-
-    def bounds(self) -> NDArray[np.float64]:
-        """World bounding box, shape (2, 3): min and max corner (m)."""
-        pts = np.concatenate([o.world_points() for o in self.objects]) if self.objects \
-            else np.zeros((1, 3))
-        return np.stack([pts.min(axis=0), pts.max(axis=0)])
-
-
-def _fail(path: Path, message: str) -> AssetError:
-    return AssetError(f"{path.name}: {message}")
 
 
 # --------------------------------------------------------------------------- reading
@@ -304,13 +223,6 @@ def _numbers(path: Path, value: Any, n: int, what: str, *, limit: float = 1e6
     if not np.isfinite(arr).all() or np.abs(arr).max() > limit:
         raise _fail(path, f"{what} has a non-finite or huge value (at most ±{limit:g})")
     return arr
-
-
-def _safe_name(value: Any, fallback: str) -> str:
-    if not isinstance(value, str) or not value.strip():
-        return fallback
-    name = "".join(c if ord(c) >= 32 and ord(c) != 127 else "_" for c in value).strip()
-    return name[:MAX_ASSET_NAME] or fallback
 
 
 def _load_buffer(path: Path, buf: Any, i: int, bin_chunk: bytes | None) -> bytes:
@@ -726,57 +638,6 @@ def _object_name(graph: Any, node: str, geom: Any) -> str:
         mat = getattr(getattr(geom, "visual", None), "material", None)
         return f"{parent}.{getattr(mat, 'name', None) or 'part'}"
     return str(node)
-
-
-def unique_name(name: str, taken: set[str]) -> str:
-    """``name``, or ``name_2``, ``name_3``… the first not in ``taken`` (which gains it)."""
-    out, k = name, 2
-    while out in taken:
-        out, k = f"{name}_{k}", k + 1
-    taken.add(out)
-    return out
-
-
-def _make_object(path: Path, name: str, material: str, matrix: NDArray[np.float64],
-                 points: NDArray[Any], triangles: NDArray[Any], notes: list[str],
-                 *, convert: bool = True) -> AssetObject | None:
-    """An object of a node: world matrix (glTF frame) split into a pose and baked scale."""
-    try:
-        points, triangles = check_mesh_arrays(Path("mesh"), points, triangles)
-    except MeshError as exc:
-        raise _fail(path, f"node {name!r}: {str(exc).removeprefix('mesh: ')}") from None
-    conv = np.eye(4)
-    if convert:
-        conv[:3, :3] = Y_UP_TO_Z_UP
-    world = conv @ matrix
-    lin, t = world[:3, :3], world[:3, 3]
-    u, s, vt = np.linalg.svd(lin)
-    if s.min() <= 1e-9 * max(s.max(), 1e-300):
-        notes.append(f"{name}: zero scale (degenerate transform), skipped")
-        return None
-    rot = u @ vt
-    if np.linalg.det(rot) < 0:           # mirrored node: proper rotation, mirror baked in
-        rot = u @ np.diag([1.0, 1.0, -1.0]) @ vt
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")   # gimbal lock: the matrix check below decides
-        euler = Rotation.from_matrix(rot).as_euler("xyz", degrees=True)
-    if not np.all(np.abs(t) <= MAX_COORDINATE_M):
-        raise _fail(path, f"node {name!r}: position {np.abs(t).max():.6g} m from the origin "
-                          f"(after the node transforms); a project allows ±{MAX_COORDINATE_M:g} m")
-    pose = Pose(position_m=tuple(float(v) for v in t), rotation_deg=tuple(
-        float(v) for v in euler))
-    back = pose.rotation_matrix()
-    if np.abs(back - rot).max() > 1e-12:
-        rot = np.eye(3)
-        pose = Pose(position_m=pose.position_m)
-    local = points @ (rot.T @ lin).T
-    if np.linalg.det(lin) < 0:
-        triangles = triangles[:, ::-1]
-    world_pts = local @ pose.rotation_matrix().T + t
-    if not np.isfinite(local).all() or np.abs(world_pts).max() > MAX_MESH_COORDINATE:
-        raise _fail(path, f"node {name!r}: world coordinates exceed ±{MAX_MESH_COORDINATE:g} m")
-    return AssetObject(name, material, pose, np.ascontiguousarray(local),
-                       np.ascontiguousarray(triangles, dtype=np.int64))
 
 
 __all__ = [
