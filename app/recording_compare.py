@@ -44,7 +44,7 @@ def recording_adc(path: str | Path, *, frame: int = 0
         return rec.frame_adc(k), rec.config, float(rec.frame_times_s()[k])
     with h5py.File(p, "r") as f:
         project_json = f["meta"].attrs.get("project_json", "{}") if "meta" in f else "{}"
-        project = project_from_dict(json.loads(project_json))
+        project = project_from_dict(json.loads(project_json), check_files=False)
         found = [(name, cfg) for name, cfg in project.sensors_of_kind("radar").items()
                  if schema_of("radar").dataset_path(name, "adc") in f]
         if not found:

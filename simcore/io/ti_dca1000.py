@@ -640,7 +640,7 @@ def export_capture(source: str | os.PathLike[str], out: str | os.PathLike[str], 
     with h5py.File(source, "r") as f:
         raw = f["meta"].attrs.get("project_json", "")
         project = project_from_dict(json.loads(raw.decode() if isinstance(raw, bytes) else raw),
-                                    source=str(source))
+                                    source=str(source), check_files=False)
         radars = [(n, c) for n, c in project.sensor_configs().items()
                   if isinstance(c, RadarConfig)]
         if not radars:

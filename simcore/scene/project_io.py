@@ -293,9 +293,13 @@ def resolve_mesh_path(base_dir: Path, mesh_path: str) -> Path:
     return path if path.is_absolute() else (base_dir / path)
 
 
-def project_from_dict(data: Any, *, source: str = "project", base_dir: Path | None = None
-                      ) -> Project:
-    """Validate, migrate and check a parsed project document."""
+def project_from_dict(data: Any, *, source: str = "project", base_dir: Path | None = None,
+                      check_files: bool = True) -> Project:
+    """Validate, migrate and check a parsed project document.
+
+    ``check_files`` False skips the check that referenced files (meshes) exist under
+    ``base_dir``: for a project stored in a dataset, read for its configuration.
+    """
     if not isinstance(data, dict):
         kind = type(data).__name__
         raise ProjectError(source, [f"(document): expected a JSON object, got {kind}"])
@@ -310,7 +314,7 @@ def project_from_dict(data: Any, *, source: str = "project", base_dir: Path | No
                                     for p in format_validation_error(exc)]) from None
     except RecursionError:
         raise ProjectError(source, ["(document): nested too deeply"]) from None
-    problems = check_references(project, base_dir or Path.cwd())
+    problems = check_references(project, base_dir or Path.cwd()) if check_files else []
     if problems:
         raise ProjectError(source, problems)
     return project
