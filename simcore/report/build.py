@@ -24,8 +24,8 @@ from scipy import ndimage
 from simcore.dsp import process_frame
 from simcore.pipeline import Frame, Simulator
 from simcore.render import RenderRequest, SceneRenderer
-from simcore.report_multipath import multipath_section, tof_multipath_figure
-from simcore.report_products import products_section
+from simcore.report.multipath import multipath_section, tof_multipath_figure
+from simcore.report.products import products_section
 from simcore.resources import example_path
 from simcore.scene.geometry import Box, CornerReflector, Cylinder, Plane, Sphere
 from simcore.scene.model import Project, SceneObject, SensorRig
@@ -737,7 +737,7 @@ def generate_report(out_dir: str | Path, *, quick: bool = False,
     result.figures.append(Figure(*fig_tof, section="Multipath"))
     result.numbers["multipath"] = {"radar": nums, "tof": nums_tof}
     say("multipath done")
-    from simcore.report_interference import interference_section
+    from simcore.report.interference import interference_section
 
     figures, nums = interference_section(out, quick=quick)
     for file, title, text in figures:
@@ -757,11 +757,11 @@ def generate_report(out_dir: str | Path, *, quick: bool = False,
 
 
 def real_bgt60tr13c(result: ReportResult, out: Path, *, quick: bool) -> None:
-    """Section "simulation and a real BGT60TR13C" (:mod:`simcore.report_real`).
+    """Section "simulation and a real BGT60TR13C" (:mod:`simcore.report.real`).
 
     Uses the shared real recording when present; otherwise the section says it is absent.
     """
-    from simcore.report_real import real_section
+    from simcore.report.real import real_section
 
     file, title, text, numbers = real_section(out, quick=quick)
     result.figures.append(Figure(file, title, text))

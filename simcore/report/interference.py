@@ -153,7 +153,7 @@ def interference_section(out_dir: str | Path, *, quick: bool = False
     text = (
         f"A victim BGT60TR13C with a weak corner reflector ({TARGET_EDGE_M * 1e3:.0f} mm) "
         f"at {np.hypot(TARGET_M, 0.3):.2f} m, and an aggressor radar "
-        f"{np.hypot(AGGRESSOR_M, 0.4):.2f} m away facing it (`simcore/report_interference.py`). "
+        f"{np.hypot(AGGRESSOR_M, 0.4):.2f} m away facing it (`simcore/report/interference.py`). "
         "Top: another slope (4.5 GHz from 60.75 GHz): a burst in every chirp raises the "
         f"range profile's floor (median) from {n['clean']['floor_db']:.1f} dB to "
         f"{n['bursts, off']['floor_db']:.1f} dB (INR {inr('bursts, off')}), target "
