@@ -23,10 +23,10 @@ from simcore.scene.project_io import ProjectError, load_project, project_to_json
 if TYPE_CHECKING:
     from simcore.io.previews import PreviewSensor
     from simcore.preflight import CostEstimate
-    from simcore.runner import FrameResult
+    from simcore.runs.runner import FrameResult
     from simcore.scene.model import Project
 
-#: Defaults of the Dask timeouts (kept equal to simcore.runner's, without importing it).
+#: Defaults of the Dask timeouts (kept equal to simcore.runs.runner's, without importing it).
 CONNECT_TIMEOUT_S = 10.0
 TASK_TIMEOUT_S = 600.0
 
@@ -193,7 +193,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     """Render frames of a project headlessly into an HDF5 dataset."""
     from tqdm import tqdm
 
-    from simcore.runner import frame_count, run_dataset
+    from simcore.runs.runner import frame_count, run_dataset
 
     project_path = Path(args.project)
     if project_path.is_dir():
@@ -277,7 +277,7 @@ def _run_scenes(args: argparse.Namespace) -> int:
     """``tofradar run DIR``: every project of a folder into one dataset, a scene index per frame."""
     from tqdm import tqdm
 
-    from simcore.runner import frame_count, run_scenes
+    from simcore.runs.runner import frame_count, run_scenes
 
     folder = Path(args.project)
     files = sorted(p for p in folder.glob("*.json") if p.is_file())
@@ -409,7 +409,7 @@ def _write_previews(preview_dir: Path, result: FrameResult,
 
 
 def _check_scheduler(address: str) -> None:
-    from simcore.runner import SchedulerError, check_scheduler_address
+    from simcore.runs.runner import SchedulerError, check_scheduler_address
 
     try:
         check_scheduler_address(address)
@@ -455,8 +455,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from simcore.io.hdf5_writer import DatasetExistsError, DiskFullError, ResumeError
     from simcore.preflight import check as check_project
     from simcore.preflight import estimate_cost
-    from simcore.runner import frame_count, run_dataset
-    from simcore.sweep import SweepError, expand, parameters_json, parse_vary
+    from simcore.runs.runner import frame_count, run_dataset
+    from simcore.runs.sweep import SweepError, expand, parameters_json, parse_vary
 
     project_path = Path(args.project)
     project = load_project(project_path)
