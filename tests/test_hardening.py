@@ -434,7 +434,7 @@ def test_unanswering_and_wrong_dask_services_fail_within_the_timeout(tmp_path, c
 def test_internal_errors_are_one_line_and_debug_shows_the_traceback(tmp_path, capsys,
                                                                     monkeypatch):
     import simcore.cli as cli
-    import simcore.cli.parser as command
+    import simcore.cli.validate as command
 
     def boom(args):
         raise ZeroDivisionError("x" * 5000)
