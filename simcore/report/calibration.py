@@ -21,6 +21,7 @@ from simcore.report._common import (
 )
 from simcore.resources import example_path
 from simcore.scene.geometry import CornerReflector
+from simcore.scene.model import Project
 from simcore.scene.people.expand import expand_people
 from simcore.scene.project_io import load_project
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
@@ -58,11 +59,25 @@ def expected_corner_amplitude_fs(config: RadarConfig, *, edge_m: float, range_m:
 def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
                 ) -> tuple[Figure, dict[str, Any]]:
     """Figure 5: power vs range against the radar equation; error tables; IF error; grid."""
-    plt = _plt()
     base = load_project(example_path("point_targets"))
     numbers: dict[str, Any] = {}
+    numbers["power_vs_range"], edge = _power_vs_range(base, quick=quick)
+    progress("calibration: power vs range done")
+    _point_target_errors(base, numbers, quick=quick)
+    progress("calibration: point targets done")
+    numbers["if_synthesis"] = _if_synthesis_error(quick=quick)
+    progress("calibration: IF synthesis error done")
+    numbers["resolution"] = _resolution_change()
+    name = _calibration_figure(numbers, out, edge_m=edge)
+    return Figure(name, "Calibration", _calibration_text(numbers, edge_m=edge)), numbers
 
-    # (a) received power of one boresight corner vs range, noise off, zero-padded range FFT.
+
+def _power_vs_range(base: Project, *, quick: bool) -> tuple[dict[str, Any], float]:
+    """(a) Received power of one boresight corner vs range against the radar equation.
+
+    Returns the numbers and the corner's edge (m).
+    """
+    # Noise off, zero-padded range FFT.
     ranges = np.linspace(1.0, 6.0, 6 if quick else 11)
     measured, expected = [], []
     proj = copy.deepcopy(base)
@@ -89,12 +104,13 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
         expected.append(20 * np.log10(expected_corner_amplitude_fs(
             variant.radar(), edge_m=edge, range_m=true_r)))
     power_err = np.array(measured) - np.array(expected)
-    numbers["power_vs_range"] = {"ranges_m": ranges.tolist(), "measured_dbfs": measured,
-                                 "expected_dbfs": expected,
-                                 "max_abs_error_db": float(np.max(np.abs(power_err)))}
-    progress("calibration: power vs range done")
+    return {"ranges_m": ranges.tolist(), "measured_dbfs": measured,
+            "expected_dbfs": expected,
+            "max_abs_error_db": float(np.max(np.abs(power_err)))}, edge
 
-    # (b) range / velocity / angle errors on point_targets.json.
+
+def _point_target_errors(base: Project, numbers: dict[str, Any], *, quick: bool) -> None:
+    """(b) Range, velocity and angle errors on point_targets.json (into ``numbers``)."""
     rows_out = []
     bin_r = base.radar().range_resolution_m
     bin_v = base.radar().velocity_resolution_mps
@@ -125,9 +141,10 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
                               for k in ("range_err_bins", "velocity_err_bins", "azimuth_err_deg")}
                        for name in sorted({r["target"] for r in found})},
     }
-    progress("calibration: point targets done")
 
-    # (c) IF synthesis error against the exact direct sum on a subset of the office scene.
+
+def _if_synthesis_error(*, quick: bool) -> dict[str, Any]:
+    """(c) IF synthesis error against the exact direct sum on a subset of the office scene."""
     office = load_project(example_path("office"))
     with Simulator(office) as sim:
         frame = sim.frame(0)
@@ -148,15 +165,16 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
         synthesize_if(sc, office.radar())
         t_full = time.perf_counter() - t0
     if_err = 20 * np.log10(np.linalg.norm(fast - ref) / np.linalg.norm(ref))
-    numbers["if_synthesis"] = {
+    return {
         "subset_scatterers": len(subset), "scene_scatterers": len(sc),
         "error_db": float(if_err),
         "direct_s_extrapolated": t_direct * len(sc) / len(subset), "nufft_s": t_full,
         "speedup": t_direct * len(sc) / len(subset) / t_full, "subset_nufft_s": t_fast,
     }
-    progress("calibration: IF synthesis error done")
 
-    # (d) extended-surface return vs render resolution (wall.json, 1× and 2× grid).
+
+def _resolution_change() -> dict[str, Any]:
+    """(d) Extended-surface return vs render resolution (wall.json, 1× and 2× grid)."""
     wall = load_project(example_path("wall"))
     peaks = {}
     for factor in (1, 2):
@@ -166,9 +184,17 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
         with Simulator(variant) as sim:
             peaks[factor] = float(
                 sim.frame(0).outputs["radar"].dsp.range_profile_integrated_db.max())
-    numbers["resolution"] = {"peak_db_1x": peaks[1], "peak_db_2x": peaks[2],
+    return {"peak_db_1x": peaks[1], "peak_db_2x": peaks[2],
                              "change_db": peaks[2] - peaks[1]}
 
+
+def _calibration_figure(numbers: dict[str, Any], out: Path, *, edge_m: float) -> str:
+    """Power vs range against the equation (left), the accuracy table (right); the file name."""
+    plt = _plt()
+    power = numbers["power_vs_range"]
+    ranges, expected, measured = power["ranges_m"], power["expected_dbfs"], power["measured_dbfs"]
+    edge = edge_m
+    power_err = np.array(measured) - np.array(expected)
     fig = plt.figure(figsize=(13, 5.2), constrained_layout=True)
     grid = fig.add_gridspec(1, 2, width_ratios=[1.1, 1])
     ax = fig.add_subplot(grid[0])
@@ -206,7 +232,15 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
     ax.set_title("Calibration and accuracy (worst case over targets and frames)")
     name = "fig5_calibration.png"
     _save(fig, out / name)
-    text = (
+    return name
+
+
+def _calibration_text(numbers: dict[str, Any], *, edge_m: float) -> str:
+    """The section's paragraph, from its numbers."""
+    edge = edge_m
+    pt = numbers["point_targets"]
+    ifs = numbers["if_synthesis"]
+    return (
         f"Left: the peak of the simulated range spectrum of a {edge * 100:.0f} cm trihedral on "
         f"boresight follows the radar equation (P_t G_t G_r λ² σ/((4π)³R⁴), the documented "
         f"receiver gain and the IF high-pass, computed independently here) within "
@@ -219,4 +253,3 @@ def calibration(out: Path, *, quick: bool, progress: Callable[[str], None]
         f"whole scene ({ifs['scene_scatterers']} scatterers); doubling the render grid changes "
         f"the wall's peak by {numbers['resolution']['change_db']:+.3f} dB."
     )
-    return Figure(name, "Calibration", text), numbers

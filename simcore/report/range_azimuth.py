@@ -49,6 +49,19 @@ def office_range_azimuth(frame: Frame, project: Project, out: Path
                          ) -> tuple[Figure, dict[str, Any]]:
     """Figure 3: range–azimuth map with OS-CFAR detections; point cloud on a top view."""
     plt = _plt()
+    numbers, cr = _range_azimuth_numbers(frame, project)
+    fig, axes = plt.subplots(1, 2, figsize=(14, 5.4), constrained_layout=True)
+    _fan_panel(fig, axes[0], frame, project)
+    _top_view_panel(fig, axes[1], frame, project, cr)
+    name = "fig3_office_range_azimuth.png"
+    _save(fig, out / name)
+    return (Figure(name, "Office scene, range–azimuth and point cloud",
+                   _range_azimuth_text(numbers, project)), numbers)
+
+
+def _range_azimuth_numbers(frame: Frame, project: Project
+                           ) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The detections' numbers (corner error, floor clutter) and the corner's truth."""
     dsp = frame.outputs["radar"].dsp
     det = dsp.detections
     cr = corner_truth(project, frame.time_s)[0]
@@ -73,8 +86,13 @@ def office_range_azimuth(frame: Frame, project: Project, out: Path
         numbers["floor_detection_ranges_m"] = [float(det.range_m[floor_det].min()),
                                                float(det.range_m[floor_det].max())]
         numbers["floor_detection_depression_deg"] = [float(below.min()), float(below.max())]
-    fig, axes = plt.subplots(1, 2, figsize=(14, 5.4), constrained_layout=True)
-    ax = axes[0]
+    return numbers, cr
+
+
+def _fan_panel(fig: Any, ax: Any, frame: Frame, project: Project) -> None:
+    """The range–azimuth map as a fan with the CFAR detections."""
+    dsp = frame.outputs["radar"].dsp
+    det = dsp.detections
     ra = dsp.range_azimuth_db
     top = float(np.max(ra))
     az = np.deg2rad(dsp.axes.azimuth_deg)
@@ -93,7 +111,12 @@ def office_range_azimuth(frame: Frame, project: Project, out: Path
     ax.set_ylim(0, dsp.axes.range_m[-1])
     ax.set_title("Range–azimuth map as a fan (Bartlett, actual antenna positions)")
     ax.legend(loc="upper right", fontsize=8)
-    ax = axes[1]
+
+
+def _top_view_panel(fig: Any, ax: Any, frame: Frame, project: Project,
+                    cr: dict[str, Any]) -> None:
+    """The point cloud on a top view of the office's objects."""
+    det = frame.outputs["radar"].dsp.detections
     snap = frame.snapshot
     # The project's objects' poses (a person's placement; the snapshot holds its segments).
     for obj, pose in zip(project.objects, frame.object_poses, strict=True):
@@ -120,9 +143,12 @@ def office_range_azimuth(frame: Frame, project: Project, out: Path
     ax.set_ylabel("world y (m)")
     ax.set_title("Radar point cloud on a top view of the office")
     ax.legend(loc="lower right", fontsize=8)
-    name = "fig3_office_range_azimuth.png"
-    _save(fig, out / name)
-    text = (
+
+
+def _range_azimuth_text(numbers: dict[str, Any], project: Project) -> str:
+    """The section's paragraph, from its numbers."""
+    cr_err = numbers["corner_detected_error_m"]
+    return (
         f"{project.dsp.cfar_method.upper()}-CFAR on the range–Doppler map gives "
         f"{numbers['detections']} detections in this frame; each one's azimuth comes from "
         f"the angle spectrum of its cell and its world position from the radar pose. The "
@@ -141,4 +167,3 @@ def office_range_azimuth(frame: Frame, project: Project, out: Path
            f"(section 7.2): the floor now inside the rendered field of view."
            if numbers["floor_detections"] else "No detection comes from the floor.")
     )
-    return Figure(name, "Office scene, range–azimuth and point cloud", text), numbers

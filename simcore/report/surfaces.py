@@ -115,69 +115,97 @@ def surfaces_plate_sphere(out: Path, *, progress: Callable[[str], None]
 
     A few dozen small renders (about two seconds): the same in quick mode.
     """
-    plt = _plt()
     cfg = RadarConfig().model_copy(update=_IDEAL_RECEIVER)
-    lam = cfg.wavelength_m
-    k = 2 * np.pi / lam
-    side, distance = 0.05, 3.0
-    null_deg = float(np.degrees(np.arcsin(lam / (2 * side))))
+    distance = 3.0
     radar = _SingleObjectRadar()
     numbers: dict[str, Any] = {}
     try:
-        # (a) plate: power vs yaw, normalised to normal incidence, against PO.
-        angles = np.linspace(0.0, 2.2 * null_deg, 34)
-        plate = Box(size_m=(0.002, side, side))
-        peaks = np.array([radar.peak_dbfs(_one_object(plate, distance,
-                                                      rotation_deg=(0.0, 0.0, float(a))), cfg)
-                          for a in angles])
-        r_front, _ = _radar_to_origin(_one_object(plate, distance), 0.0)
-        r_front -= 0.001
-        sigma0 = 4 * np.pi * side**4 / lam**2
-        expected0 = 20 * np.log10(radar_equation_amplitude(cfg, sigma0, r_front))
-
-        def po_db(theta_deg: NDArray[np.float64]) -> NDArray[np.float64]:
-            th = np.radians(theta_deg)
-            x = k * side * np.sin(th)
-            pattern = np.cos(th) * np.sinc(x / np.pi)
-            return np.asarray(20 * np.log10(np.maximum(np.abs(pattern), 1e-6)))
-
-        rel = peaks - peaks[0]
-        po = po_db(angles)
-        lobe = po >= -10.0                      # the main lobe down to −10 dB
-        numbers["plate"] = {
-            "side_m": side, "range_m": r_front, "first_null_deg": null_deg,
-            "angles_deg": angles.tolist(), "relative_db": rel.tolist(), "po_db": po.tolist(),
-            "normal_incidence_error_db": float(peaks[0] - expected0),
-            "rcs_normal_dbsm": float(10 * np.log10(sigma0) + peaks[0] - expected0),
-            "po_rcs_normal_dbsm": float(10 * np.log10(sigma0)),
-            "main_lobe_max_abs_error_db": float(np.max(np.abs(rel[lobe] - po[lobe]))),
-            "main_lobe_to_deg": float(angles[lobe].max()),
-            "at_first_null_db": float(np.interp(null_deg, angles, rel)),
-        }
+        numbers["plate"] = _plate_pattern(radar, cfg, distance=distance)
         progress("surfaces: plate pattern done")
-
-        # (b) sphere: RCS over aspect angles (the object turned) and speckle seeds.
-        radius = 0.10
-        sphere = Sphere(radius_m=radius)
-        aspects = [(0.0, 0.0, 0.0), (0.0, 20.0, 35.0), (0.0, -30.0, 80.0), (10.0, 45.0, 10.0),
-                   (0.0, 0.0, 135.0), (30.0, 60.0, 200.0), (0.0, -70.0, 290.0)]
-        seeds = (0, 1, 2)
-        r_sphere = _radar_to_origin(_one_object(sphere, distance), 0.0)[0] - radius
-        sigma_opt = np.pi * radius**2
-        ref_db = 20 * np.log10(radar_equation_amplitude(cfg, sigma_opt, r_sphere))
-        rcs = np.array([[10 * np.log10(sigma_opt) + radar.peak_dbfs(
-            _one_object(sphere, distance, rotation_deg=rot), cfg, seed=s) - ref_db
-            for s in seeds] for rot in aspects])
-        numbers["sphere"] = {
-            "radius_m": radius, "range_m": r_sphere, "optics_rcs_dbsm": float(
-                10 * np.log10(sigma_opt)), "aspects_deg": [list(a) for a in aspects],
-            "seeds": list(seeds), "rcs_dbsm": rcs.tolist(),
-            "max_abs_error_db": float(np.max(np.abs(rcs - 10 * np.log10(sigma_opt)))),
-            "spread_db": float(rcs.max() - rcs.min()),
-        }
+        numbers["sphere"] = _sphere_rcs(radar, cfg, distance=distance)
         progress("surfaces: sphere done")
     finally:
         radar.close()
+    name = _plate_sphere_figure(numbers, out, wavenumber=2 * np.pi / cfg.wavelength_m,
+                                distance=distance)
+    return Figure(name, "Surfaces: plate and sphere against physical optics",
+                  _plate_sphere_text(numbers, distance=distance), section="Surfaces"), numbers
+
+
+def _po_db(theta_deg: NDArray[np.float64], *, k: float, side: float) -> NDArray[np.float64]:
+    """Physical-optics pattern of a square plate of side ``side`` (m), turned by θ (dB)."""
+    th = np.radians(theta_deg)
+    x = k * side * np.sin(th)
+    pattern = np.cos(th) * np.sinc(x / np.pi)
+    return np.asarray(20 * np.log10(np.maximum(np.abs(pattern), 1e-6)))
+
+
+def _plate_pattern(radar: _SingleObjectRadar, cfg: RadarConfig, *, distance: float
+                   ) -> dict[str, Any]:
+    """(a) A plate's power vs yaw, normalised to normal incidence, against PO."""
+    lam = cfg.wavelength_m
+    k = 2 * np.pi / lam
+    side = 0.05
+    null_deg = float(np.degrees(np.arcsin(lam / (2 * side))))
+    angles = np.linspace(0.0, 2.2 * null_deg, 34)
+    plate = Box(size_m=(0.002, side, side))
+    peaks = np.array([radar.peak_dbfs(_one_object(plate, distance,
+                                                  rotation_deg=(0.0, 0.0, float(a))), cfg)
+                      for a in angles])
+    r_front, _ = _radar_to_origin(_one_object(plate, distance), 0.0)
+    r_front -= 0.001
+    sigma0 = 4 * np.pi * side**4 / lam**2
+    expected0 = 20 * np.log10(radar_equation_amplitude(cfg, sigma0, r_front))
+    rel = peaks - peaks[0]
+    po = _po_db(angles, k=k, side=side)
+    lobe = po >= -10.0                      # the main lobe down to −10 dB
+    return {
+        "side_m": side, "range_m": r_front, "first_null_deg": null_deg,
+        "angles_deg": angles.tolist(), "relative_db": rel.tolist(), "po_db": po.tolist(),
+        "normal_incidence_error_db": float(peaks[0] - expected0),
+        "rcs_normal_dbsm": float(10 * np.log10(sigma0) + peaks[0] - expected0),
+        "po_rcs_normal_dbsm": float(10 * np.log10(sigma0)),
+        "main_lobe_max_abs_error_db": float(np.max(np.abs(rel[lobe] - po[lobe]))),
+        "main_lobe_to_deg": float(angles[lobe].max()),
+        "at_first_null_db": float(np.interp(null_deg, angles, rel)),
+    }
+
+
+def _sphere_rcs(radar: _SingleObjectRadar, cfg: RadarConfig, *, distance: float
+                ) -> dict[str, Any]:
+    """(b) A sphere's RCS over aspect angles (the object turned) and speckle seeds."""
+    radius = 0.10
+    sphere = Sphere(radius_m=radius)
+    aspects = [(0.0, 0.0, 0.0), (0.0, 20.0, 35.0), (0.0, -30.0, 80.0), (10.0, 45.0, 10.0),
+               (0.0, 0.0, 135.0), (30.0, 60.0, 200.0), (0.0, -70.0, 290.0)]
+    seeds = (0, 1, 2)
+    r_sphere = _radar_to_origin(_one_object(sphere, distance), 0.0)[0] - radius
+    sigma_opt = np.pi * radius**2
+    ref_db = 20 * np.log10(radar_equation_amplitude(cfg, sigma_opt, r_sphere))
+    rcs = np.array([[10 * np.log10(sigma_opt) + radar.peak_dbfs(
+        _one_object(sphere, distance, rotation_deg=rot), cfg, seed=s) - ref_db
+        for s in seeds] for rot in aspects])
+    return {
+        "radius_m": radius, "range_m": r_sphere, "optics_rcs_dbsm": float(
+            10 * np.log10(sigma_opt)), "aspects_deg": [list(a) for a in aspects],
+        "seeds": list(seeds), "rcs_dbsm": rcs.tolist(),
+        "max_abs_error_db": float(np.max(np.abs(rcs - 10 * np.log10(sigma_opt)))),
+        "spread_db": float(rcs.max() - rcs.min()),
+    }
+
+
+def _plate_sphere_figure(numbers: dict[str, Any], out: Path, *, wavenumber: float,
+                         distance: float) -> str:
+    """The plate's pattern (left) and the sphere's RCS (right); the file name."""
+    plt = _plt()
+    pl, sp = numbers["plate"], numbers["sphere"]
+    side, null_deg, k = pl["side_m"], pl["first_null_deg"], wavenumber
+    angles, rel = np.asarray(pl["angles_deg"]), np.asarray(pl["relative_db"])
+    aspects, seeds, radius = sp["aspects_deg"], sp["seeds"], sp["radius_m"]
+    rcs = np.asarray(sp["rcs_dbsm"])
+
+    def po_db(theta_deg: NDArray[np.float64]) -> NDArray[np.float64]:
+        return _po_db(theta_deg, k=k, side=side)
 
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), constrained_layout=True)
     ax = axes[0]
@@ -189,14 +217,12 @@ def surfaces_plate_sphere(out: Path, *, progress: Callable[[str], None]
     ax.set_ylim(-45, 3)
     ax.set_xlabel("aspect angle θ, plate turned about the vertical axis (°)")
     ax.set_ylabel("power relative to normal incidence (dB)")
-    pl = numbers["plate"]
     ax.set_title(f"{side * 100:.0f}×{side * 100:.0f} cm aluminium plate at {distance:.0f} m: "
                  f"normal incidence {pl['normal_incidence_error_db']:+.2f} dB from 4πA²/λ²",
                  fontsize=10)
     ax.legend(fontsize=8, loc="lower left")
     ax.grid(alpha=0.3)
     ax = axes[1]
-    sp = numbers["sphere"]
     labels = [f"({a[0]:.0f}, {a[1]:.0f}, {a[2]:.0f})" for a in aspects]
     xs = np.arange(len(aspects))
     for j, s in enumerate(seeds):
@@ -215,7 +241,16 @@ def surfaces_plate_sphere(out: Path, *, progress: Callable[[str], None]
     ax.grid(alpha=0.3)
     name = "fig7_surfaces_rcs.png"
     _save(fig, out / name)
-    text = (
+    return name
+
+
+def _plate_sphere_text(numbers: dict[str, Any], *, distance: float) -> str:
+    """The section's paragraph, from its numbers."""
+    pl, sp = numbers["plate"], numbers["sphere"]
+    side, null_deg = pl["side_m"], pl["first_null_deg"]
+    aspects, seeds, radius = sp["aspects_deg"], sp["seeds"], sp["radius_m"]
+    rcs = np.asarray(sp["rcs_dbsm"])
+    return (
         f"Surfaces are physical-optics facets fixed to the objects (docs/physics_radar.md §1); "
         f"here each object is alone in front of the radar, with an ideal receiver, and its "
         f"range-FFT peak is converted to RCS with the radar equation written out in this "
@@ -234,8 +269,6 @@ def surfaces_plate_sphere(out: Path, *, progress: Callable[[str], None]
         f"{sp['optics_rcs_dbsm']:.2f} dBsm (worst {sp['max_abs_error_db']:.2f} dB): its return "
         f"is the coherent sum of the facets around the specular point, not of random phases."
     )
-    return Figure(name, "Surfaces: plate and sphere against physical optics", text,
-                  section="Surfaces"), numbers
 
 
 def surfaces_office_floor(frame: Frame, project: Project, out: Path
