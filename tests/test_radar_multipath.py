@@ -461,7 +461,7 @@ def test_bistatic_label_terms_reduce_to_the_monostatic_ones_and_follow_the_image
 def test_report_section_marks_the_ghost_where_the_map_shows_it(tmp_path) -> None:
     """multipath_section on the bundled corridor: the figure is written, and the map's power
     at each predicted order-1 ghost rises by more than 20 dB when multipath is on."""
-    from simcore.report_multipath import multipath_section
+    from simcore.report.multipath import multipath_section
 
     figures, numbers = multipath_section(tmp_path, quick=True)
     assert (tmp_path / figures[0][0]).stat().st_size > 10_000

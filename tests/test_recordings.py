@@ -324,7 +324,7 @@ def test_convert_refuses_to_overwrite_and_misplaced_options(tmp_path, capsys):
 
 
 def test_the_report_section_says_when_the_recording_is_absent(tmp_path, monkeypatch):
-    from simcore.report_real import RECORDING_ENV, real_section, shared_recording
+    from simcore.report.real import RECORDING_ENV, real_section, shared_recording
 
     monkeypatch.setenv(RECORDING_ENV, str(tmp_path / "nowhere"))
     assert shared_recording() is None
@@ -336,7 +336,7 @@ def test_the_report_section_says_when_the_recording_is_absent(tmp_path, monkeypa
 
 
 def test_ellipsoid_mesh_encloses_the_ellipsoid_volume():
-    from simcore.report_real import ellipsoid_obj
+    from simcore.report.real import ellipsoid_obj
 
     text = ellipsoid_obj((0.1, 0.2, 0.3), n_lat=96, n_lon=192)
     v = np.array([[float(t) for t in ln.split()[1:]] for ln in text.splitlines()

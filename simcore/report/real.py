@@ -56,7 +56,7 @@ def shared_recording() -> Path | None:
     env = os.environ.get(RECORDING_ENV)
     if env:
         return Path(env) if Path(env).is_dir() else None
-    root = Path(__file__).resolve().parents[1] / ".." / "shared" / "real" / "bgt60tr13c_breathing"
+    root = Path(__file__).resolve().parents[2] / ".." / "shared" / "real" / "bgt60tr13c_breathing"
     if not root.is_dir():
         return None
     found = sorted(p.parent.parent for p in root.glob("*/RadarIfxAvian_*/radar.npy"))
