@@ -180,14 +180,14 @@ def tof_multipath_figure(out_dir: str | Path, example: str = "office"
 
     from simcore.render import RenderRequest, render_once
     from simcore.sensors.tof.camera import simulate_tof
-    from simcore.sensors.tof.sensor import diffuse_albedo
+    from simcore.sensors.tof.sensor import diffuse_albedo, tof_bands
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     project = load_project(example_path(example))
     cfg = project.rig.tof
     buf = render_once(project, RenderRequest("tof", "tof", cfg.render_intrinsics()))
-    albedo = diffuse_albedo(project, buf)
+    albedo = diffuse_albedo(tof_bands(project), buf)
     frames, seconds = {}, {}
     for on in (False, True):
         # Multipath alone: the other optics (wiggling, distortion, …) off, for a clean figure.
