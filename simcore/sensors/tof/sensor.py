@@ -10,7 +10,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simcore.render.buffers import RenderBuffers, downsample_labels
+from simcore.render.meshes import TriangleMesh, build_mesh
 from simcore.render.renderer import RenderRequest
+from simcore.scene.geometry import Box, Cylinder, Ellipsoid, Sphere
 from simcore.scene.materials import BandMaterial
 from simcore.scene.model import Project, Rig
 from simcore.scene.people.expand import body_part_table
@@ -25,6 +27,7 @@ from simcore.sensors.tof.interference import (
     light_windows_s,
     overlap_fraction,
 )
+from simcore.sensors.tof.radiosity import Room, room_from_meshes
 from simcore.sensors.tof.specular import is_mirror, material_columns
 
 
@@ -90,14 +93,21 @@ class TofSensor(SensorBase):
         through = ctx.see_through
         trans = None if through is None else transmittance(bands, cfg)
         mirrors = mirror_table(bands) if cfg.specular else None
+        room = None
+        if cfg.multipath and cfg.multipath_model == "room":
+            room = room_from_scene(_object_meshes(ctx.project, ctx.buffers),
+                                   [state.transform for state in ctx.snapshot.objects], bands,
+                                   closed=[isinstance(o.geometry, CLOSED) for o in
+                                           ctx.project.objects])
         out: TofOutput = ctx.stage(
             "tof", lambda: simulate_tof(ctx.buffers, cfg, rng=ctx.rng, sample_buffers=samples,
                                         albedo=albedo, exposure_reference=previous,
                                         see_through=through, transmittance=trans,
-                                        mirrors=mirrors, illuminators=lights),
+                                        mirrors=mirrors, illuminators=lights, room=room),
             reads=(config_key(cfg), ctx.seed, ctx.index, self.rng_stream,
                    None if trans is None else trans.tobytes(),
-                   b"".join(light.key() for light in lights)),
+                   b"".join(light.key() for light in lights),
+                   None if room is None else room.key()),
             inputs=(ctx.buffers, *ctx.sample_buffers, through))
         parts = body_part_table(ctx.project)
         if np.any(parts >= 0):  # people: per-pixel body part beside the object id
@@ -200,6 +210,53 @@ def illuminators(own: TofCameraConfig, others: Sequence[tuple[Rig, TofCameraConf
             pose = sensor_state(rig, cfg, start).transform
             out.append(Illuminator(frame_cfg, pose, start - time_s))
     return out
+
+
+#: Geometries whose meshes are closed, outward normals: their triangles reflect on one side.
+CLOSED = (Box, Sphere, Cylinder, Ellipsoid)
+
+
+def room_from_scene(meshes: Sequence[TriangleMesh | None],
+                    transforms: Sequence[NDArray[np.float64]],
+                    bands: Sequence[BandMaterial | None], *, closed: Sequence[bool]) -> Room:
+    """Every surface the near-IR light can bounce off, in the world frame (:class:`Room`).
+
+    Parameters
+    ----------
+    meshes : sequence of TriangleMesh or None, length N
+        Each object's mesh in its own frame (None: no surface).
+    transforms : sequence of ndarray, shape (4, 4), length N
+        Each object's local → world transform at the frame's time.
+    bands : sequence of BandMaterial or None, length N
+        Each object's ToF-band material (:func:`tof_bands`); objects the band does not see
+        (opacity 0) are left out.
+    closed : sequence of bool, keyword-only
+        Objects whose meshes are closed with outward normals (boxes, spheres, …): their
+        triangles reflect on their outer side only; the others on both sides.
+    """
+    parts, albedo, two_sided = [], [], []
+    for mesh, t, band, shut in zip(meshes, transforms, bands, closed, strict=True):
+        if mesh is None or band is None or band.opacity <= 0 or len(mesh.triangles) == 0:
+            continue
+        points = mesh.points @ t[:3, :3].T + t[:3, 3]
+        parts.append((points, mesh.triangles, mesh.normals @ t[:3, :3].T))
+        albedo.append((1.0 - band.metallic) * band.reflectance)
+        two_sided.append(not shut)
+    return room_from_meshes(parts, albedo, two_sided=two_sided)
+
+
+def _object_meshes(project: Project, buffers: RenderBuffers
+                   ) -> tuple[TriangleMesh | None, ...]:
+    """Each object's mesh in its frame: the render's, else built here."""
+    if len(buffers.meshes) == len(project.objects):
+        return buffers.meshes
+    out: list[TriangleMesh | None] = []
+    for o in project.objects:
+        try:
+            out.append(build_mesh(o.geometry))
+        except (OSError, ValueError):
+            out.append(None)
+    return tuple(out)
 
 
 def other_cameras(project: Project, name: str) -> list[tuple[Rig, TofCameraConfig]]:
