@@ -672,11 +672,19 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     seen = coverage > 0
     h, w = seen.shape
     if room is not None:     # every bounce from the whole scene (surfel radiosity)
-        magnitude, phasors = room_indirect(
-            room, camera=buffers.sensor.transform, intrinsics=buffers.intrinsics,
-            range_m=buffers.range_m, points_m=pts, normals=nrm, seen=seen,
-            frequencies_hz=list(config.modulation_frequencies_hz),
-            patch_m=config.multipath_surfel_m, bounces=config.multipath_bounces)
+        # A still camera in a still scene reuses the last frame's result (same bytes in).
+        range_m = np.ascontiguousarray(buffers.range_m, dtype=np.float32)
+        transform = np.ascontiguousarray(buffers.sensor.transform, dtype=np.float64)
+        magnitude, phasors = _cached_one_bounce(
+            (pts, nrm, seen, range_m, transform),
+            (h, w, tuple(config.modulation_frequencies_hz), receiver_step, room.key(),
+             config.multipath_surfel_m, config.multipath_bounces),
+            lambda: room_indirect(
+                room, camera=transform, intrinsics=buffers.intrinsics, range_m=range_m,
+                points_m=pts, normals=nrm, seen=seen,
+                frequencies_hz=list(config.modulation_frequencies_hz),
+                patch_m=config.multipath_surfel_m, bounces=config.multipath_bounces,
+                step=receiver_step))
     else:
         senders = senders_from_render(
             buffers.points_m, buffers.normals, lit_albedo,

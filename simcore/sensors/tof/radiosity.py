@@ -49,6 +49,13 @@ from numpy.typing import NDArray
 from simcore.jit import kernel
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.tof_config import SPEED_OF_LIGHT
+from simcore.sensors.tof.multipath import (
+    RECEIVER_STEP,
+    _blend_nodes,
+    _cell_of,
+    _node_axis,
+    _node_weights,
+)
 
 F64 = NDArray[np.float64]
 #: Surfels are displaced this far along their normal before a visibility test (m), so a
@@ -580,7 +587,8 @@ def _room_transfer(room: Room, patch_m: float
 def room_indirect(room: Room, *, camera: F64, intrinsics: PinholeIntrinsics,
                   range_m: NDArray[np.floating], points_m: NDArray[np.floating],
                   normals: NDArray[np.floating], seen: NDArray[np.bool_],
-                  frequencies_hz: list[float], patch_m: float, bounces: int = 0
+                  frequencies_hz: list[float], patch_m: float, bounces: int = 0,
+                  step: int = RECEIVER_STEP
                   ) -> tuple[NDArray[np.float32], list[tuple[NDArray[np.float32],
                                                             NDArray[np.float32]]]]:
     """Indirect light at the camera's pixels from the whole room, as :func:`one_bounce_image`.
@@ -600,6 +608,11 @@ def room_indirect(room: Room, *, camera: F64, intrinsics: PinholeIntrinsics,
         Surfel size.
     bounces : int, keyword-only
         Indirect bounces (1: one bounce); 0: all (to convergence).
+    step : int, keyword-only
+        Receiver node spacing (pixels): the sum is exact on every ``step``-th row and
+        column and at the pixels without a node on their surface or next to a concave
+        crease, and blended in between (the node scheme of
+        :func:`simcore.sensors.tof.multipath.one_bounce_image`); 1: every pixel.
 
     Returns
     -------
@@ -614,22 +627,38 @@ def room_indirect(room: Room, *, camera: F64, intrinsics: PinholeIntrinsics,
     ks = [0.0] + [2.0 * np.pi * f / SPEED_OF_LIGHT for f in frequencies_hz]
     emitted = first_exitance(surfels, camera, intrinsics, range_m, ks)
     total = radiosity(factor, distance, surfels.albedo, emitted, ks, bounces=bounces)
-    rot, origin = camera[:3, :3], camera[:3, 3]
-    pts = np.asarray(points_m, dtype=np.float64)[seen]
-    world = pts @ rot.T + origin
-    nrm = np.asarray(normals, dtype=np.float64)[seen] @ rot.T
-    irradiance = gather(world, nrm, surfels, room, total, ks)
-    r_p = np.linalg.norm(pts, axis=1)
+    pts = np.ascontiguousarray(points_m, dtype=np.float32)
+    nrm = np.ascontiguousarray(normals, dtype=np.float32)
+    seen = np.ascontiguousarray(seen)
     h, w = seen.shape
-    magnitude = np.zeros((h, w), dtype=np.float32)
-    magnitude[seen] = irradiance[0].real
-    phasors = []
-    for q in range(1, len(ks)):
-        value = irradiance[q] * np.exp(1j * ks[q] * r_p)
-        re, im = np.zeros((h, w), dtype=np.float32), np.zeros((h, w), dtype=np.float32)
-        re[seen], im[seen] = value.real, value.imag
-        phasors.append((re, im))
-    return magnitude, phasors
+    rows, cols = _node_axis(h, step), _node_axis(w, step)
+    node_seen = np.ascontiguousarray(seen[np.ix_(rows, cols)])
+    cy, fy = _cell_of(h, rows)
+    cx, fx = _cell_of(w, cols)
+    weights, missing = _node_weights(pts, nrm, seen, rows, cols, node_seen, cy, fy, cx, fx)
+    node_index = (rows[:, None] * w + cols[None, :])[node_seen]
+    index = np.concatenate([node_index, np.flatnonzero(missing & ~_on_nodes(seen, rows, cols))])
+    rot, origin = camera[:3, :3], camera[:3, 3]
+    world = pts.reshape(-1, 3)[index].astype(np.float64) @ rot.T + origin
+    nrm_world = nrm.reshape(-1, 3)[index].astype(np.float64) @ rot.T
+    irradiance = gather(world, nrm_world, surfels, room, total, ks)       # (1 + F, M)
+    sums = np.empty((len(index), 2 * len(ks) - 1), dtype=np.float32)
+    sums[:, 0] = irradiance[0].real
+    sums[:, 1::2] = irradiance[1:].real.T
+    sums[:, 2::2] = irradiance[1:].imag.T
+    values = np.zeros((len(rows), len(cols), sums.shape[1]), dtype=np.float32)
+    values[node_seen] = sums[:len(node_index)]
+    out = _blend_nodes(seen, weights, missing, values, cy, cx, index, sums, pts,
+                       np.asarray(ks[1:], dtype=np.float32))
+    return out[0], [(out[1 + 2 * j], out[2 + 2 * j]) for j in range(len(frequencies_hz))]
+
+
+def _on_nodes(seen: NDArray[np.bool_], rows: NDArray[np.int64], cols: NDArray[np.int64]
+              ) -> NDArray[np.bool_]:
+    """The pixels of the node grid (already summed as nodes)."""
+    grid = np.zeros(seen.shape, dtype=bool)
+    grid[np.ix_(rows, cols)] = True
+    return grid & seen
 
 
 __all__ = ["Room", "Surfels", "first_exitance", "gather", "radiosity", "room_from_meshes",

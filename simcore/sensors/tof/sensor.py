@@ -15,6 +15,7 @@ from simcore.render.renderer import RenderRequest
 from simcore.scene.geometry import Box, Cylinder, Ellipsoid, Sphere
 from simcore.scene.materials import BandMaterial
 from simcore.scene.model import Project, Rig
+from simcore.scene.people.config import Person
 from simcore.scene.people.expand import body_part_table
 from simcore.scene.project_io import material_table
 from simcore.scene.tof_config import TofCameraConfig
@@ -213,7 +214,7 @@ def illuminators(own: TofCameraConfig, others: Sequence[tuple[Rig, TofCameraConf
 
 
 #: Geometries whose meshes are closed, outward normals: their triangles reflect on one side.
-CLOSED = (Box, Sphere, Cylinder, Ellipsoid)
+CLOSED = (Box, Sphere, Cylinder, Ellipsoid, Person)
 
 
 def room_from_scene(meshes: Sequence[TriangleMesh | None],
