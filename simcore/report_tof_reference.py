@@ -138,7 +138,8 @@ def simulate(name: str, *, multipath: bool, bounces: int = 0, surfel_m: float = 
     normals = buf.normals.reshape(h, k, w, k, 3).mean(axis=(1, 3))
     points = buf.points_m.reshape(h, k, w, k, 3).mean(axis=(1, 3))
     return {"depth": out.depth_m, "valid": out.valid, "object": out.gt_object_id,
-            "normals": normals, "points": points}
+            "normals": normals, "points": points,
+            "pure": pure_pixels(buf.object_index, buf.normals, k)}
 
 
 def phasor_depth(phasor: NDArray[np.complexfloating], frequency_hz: float
@@ -148,12 +149,14 @@ def phasor_depth(phasor: NDArray[np.complexfloating], frequency_hz: float
 
 
 def crease_mask(normals: NDArray[np.floating], points: NDArray[np.floating],
-                valid: NDArray[np.bool_], *, reach_px: int = CREASE_PX) -> NDArray[np.bool_]:
+                valid: NDArray[np.bool_], *, seen: NDArray[np.bool_],
+                reach_px: int = CREASE_PX) -> NDArray[np.bool_]:
     """Pixels within ``reach_px`` of a crease: neighbours whose surfaces meet at an angle.
 
     Two neighbouring pixels straddle a crease when their normals differ by more than 30°
     while their surface points lie close (within 3 cm plus 3 % of the range: not a depth
-    edge).
+    edge); ``seen``: pixels that see a surface (a crease is found among them, the result
+    is limited to ``valid``).
     """
     crease = np.zeros(valid.shape, dtype=bool)
     for axis in (0, 1):
@@ -165,26 +168,26 @@ def crease_mask(normals: NDArray[np.floating], points: NDArray[np.floating],
         cos = np.einsum("...i,...i->...", na, nb) / np.maximum(
             np.linalg.norm(na, axis=-1) * np.linalg.norm(nb, axis=-1), 1e-12)
         near = np.linalg.norm(pa - pb, axis=-1) < 0.03 + 0.03 * np.linalg.norm(pa, axis=-1)
-        hit = (cos < math.cos(math.radians(30))) & near & valid[tuple(a)] & valid[tuple(b)]
+        hit = (cos < math.cos(math.radians(30))) & near
         crease[tuple(a)] |= hit
         crease[tuple(b)] |= hit
-    return binary_dilation(crease, iterations=reach_px) & valid
+    return binary_dilation(crease & seen, iterations=reach_px) & valid
 
 
-def depth_edges(depth: NDArray[np.floating], valid: NDArray[np.bool_]) -> NDArray[np.bool_]:
-    """Pixels next to a jump in depth of more than 5 cm (mixed pixels: left out)."""
-    d = np.where(valid, depth, np.nan)
-    edge = np.zeros(valid.shape, dtype=bool)
-    for axis in (0, 1):
-        jump = np.abs(np.diff(d, axis=axis)) > 0.05
-        jump |= np.isnan(np.diff(d, axis=axis))
-        if axis == 0:
-            edge[:-1] |= jump
-            edge[1:] |= jump
-        else:
-            edge[:, :-1] |= jump
-            edge[:, 1:] |= jump
-    return binary_dilation(edge, iterations=1)
+def pure_pixels(object_index: NDArray[np.integer], normals: NDArray[np.floating], k: int
+                ) -> NDArray[np.bool_]:
+    """Sensor pixels whose ``k × k`` sub-pixels all see one flat surface (not mixed pixels).
+
+    A pixel across a depth edge or a crease mixes two surfaces' phasors (flying pixels),
+    whose weights depend on how each renderer samples the pixel: such pixels are left out
+    of the comparison.
+    """
+    h, w = object_index.shape[0] // k, object_index.shape[1] // k
+    ids = object_index.reshape(h, k, w, k)
+    same = (ids == ids[:, :1, :, :1]).all(axis=(1, 3)) & (ids[:, 0, :, 0] >= 0)
+    n = normals.reshape(h, k, w, k, 3)
+    flat = (np.einsum("ykxlc,yxc->ykxl", n, n[:, 0, :, 0]) > 0.999).all(axis=(1, 3))
+    return same & flat
 
 
 def compare(name: str, *, bounces: int = 0, surfel_m: float = 0.25) -> dict[str, Any]:
@@ -202,14 +205,14 @@ def compare(name: str, *, bounces: int = 0, surfel_m: float = 0.25) -> dict[str,
     ref = reference_phasors(name)
     off = simulate(name, multipath=False)
     on = simulate(name, multipath=True, bounces=bounces, surfel_m=surfel_m)
-    valid = off["valid"] & on["valid"] & (np.abs(ref["direct"]) > 0)
-    valid &= ~depth_edges(off["depth"], valid)
+    valid = off["valid"] & on["valid"] & (np.abs(ref["direct"]) > 0) & off["pure"]
     ref_direct = phasor_depth(ref["direct"], freq)
     ref_bias = phasor_depth(ref["all"] / ref["direct"], freq)
     ref_bias = np.where(ref_bias > SPEED_OF_LIGHT / (4 * freq), ref_bias
                         - SPEED_OF_LIGHT / (2 * freq), ref_bias)
     ours = on["depth"].astype(np.float64) - off["depth"]
-    near = crease_mask(off["normals"], off["points"], valid)
+    near = crease_mask(off["normals"], off["points"], valid,
+                       seen=np.isfinite(off["points"]).all(axis=-1))
     result: dict[str, Any] = {}
     direct_err = np.abs(off["depth"] - ref_direct)[valid] * 1e3
     result["direct_error_mm"] = {"median": float(np.median(direct_err)),
@@ -260,5 +263,5 @@ def tof_reference_section(out_dir: str | Path) -> tuple[list[tuple[str, str, str
     return figures, numbers
 
 
-__all__ = ["compare", "crease_mask", "phasor_depth", "reference_phasors", "reference_project",
-           "scenes", "simulate", "tof_reference_section"]
+__all__ = ["compare", "crease_mask", "phasor_depth", "pure_pixels", "reference_phasors",
+           "reference_project", "scenes", "simulate", "tof_reference_section"]
