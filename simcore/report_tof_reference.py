@@ -72,7 +72,8 @@ def camera_config(*, multipath: bool, bounces: int = 0, surfel_m: float = 0.25
 def reference_project(name: str, tof: TofCameraConfig) -> Project:
     """Scene ``name`` as a tofradar project with camera ``tof`` (Lambertian materials)."""
     spec = scenes()["scenes"][name]
-    objects, materials = [], {}
+    objects: list[dict[str, Any]] = []
+    materials: dict[str, DualBandMaterial] = {}
     for i, panel in enumerate(spec["panels"]):
         objects.append(_panel(f"panel{i}", panel, _material(materials, panel["reflectance"])))
     for box in spec["boxes"]:
