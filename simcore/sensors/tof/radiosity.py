@@ -430,10 +430,15 @@ def radiosity(factor: NDArray[np.float32], distance: NDArray[np.float32], albedo
         ``Σ_n M⁽ⁿ⁾``.
     """
     total = np.array(emitted, dtype=np.complex128)
+    weighted = factor * albedo[:, None].astype(np.float32)           # ρ_i F_ij V_ij
     for row, k in enumerate(wavenumbers):
-        kernel_k = (factor * np.exp(1j * np.float32(k) * distance)) * albedo[:, None].astype(
-            np.float32)
-        term = total[row].astype(np.complex64)
+        if k == 0.0 and not np.any(total[row].imag):                  # the intensity: real
+            kernel_k = weighted
+            term = total[row].real.astype(np.float32)
+        else:
+            phase = np.float32(k) * distance
+            kernel_k = weighted * (np.cos(phase) + 1j * np.sin(phase)).astype(np.complex64)
+            term = total[row].astype(np.complex64)
         order = 1
         scale = max(float(np.abs(term).sum()), 1e-300)
         while bounces == 0 or order < bounces:
