@@ -118,8 +118,8 @@ def simulate(name: str, *, multipath: bool, bounces: int = 0, surfel_m: float = 
     from simcore.sensors.tof.camera import simulate_tof
     from simcore.sensors.tof.sensor import (
         CLOSED,
-        _object_meshes,
         diffuse_albedo,
+        object_meshes,
         room_from_scene,
         tof_bands,
     )
@@ -129,7 +129,7 @@ def simulate(name: str, *, multipath: bool, bounces: int = 0, surfel_m: float = 
     buf = render_once(project, RenderRequest("tof", "tof", cfg.render_intrinsics()))
     bands = tof_bands(project)
     snap = take_snapshot(project, 0.0)
-    room = room_from_scene(_object_meshes(project, buf), [s.transform for s in snap.objects],
+    room = room_from_scene(object_meshes(project, buf), [s.transform for s in snap.objects],
                            bands, closed=[isinstance(o.geometry, CLOSED)
                                           for o in project.objects])
     out = simulate_tof(buf, cfg, rng=np.random.default_rng(0),

@@ -56,3 +56,16 @@ def test_furnished_room_mpi_bias_matches_the_path_tracer():
     surfaces): senders outside the view and occlusion are needed to match."""
     _check(compare("furnished"))
     _check_one_bounce("furnished")
+
+
+def test_the_sensor_plugin_builds_the_room_from_the_snapshot():
+    """The engine's ToF sensor (``multipath_model = "room"``) gives the frame of the
+    comparison above: the room comes from the frame's snapshot and the render's meshes."""
+    from simcore.pipeline import Simulator
+    from simcore.report_tof_reference import camera_config, reference_project, simulate
+
+    project = reference_project("corner", camera_config(multipath=True))
+    with Simulator(project) as sim:
+        frame = sim.frame(0)
+    tof = next(out for out in frame.outputs.values() if hasattr(out, "depth_m"))
+    np.testing.assert_array_equal(tof.depth_m, simulate("corner", multipath=True)["depth"])

@@ -96,7 +96,7 @@ class TofSensor(SensorBase):
         mirrors = mirror_table(bands) if cfg.specular else None
         room = None
         if cfg.multipath and cfg.multipath_model == "room":
-            room = room_from_scene(_object_meshes(ctx.project, ctx.buffers),
+            room = room_from_scene(object_meshes(ctx.project, ctx.buffers),
                                    [state.transform for state in ctx.snapshot.objects], bands,
                                    closed=[isinstance(o.geometry, CLOSED) for o in
                                            ctx.project.objects])
@@ -246,7 +246,7 @@ def room_from_scene(meshes: Sequence[TriangleMesh | None],
     return room_from_meshes(parts, albedo, two_sided=two_sided)
 
 
-def _object_meshes(project: Project, buffers: RenderBuffers
+def object_meshes(project: Project, buffers: RenderBuffers
                    ) -> tuple[TriangleMesh | None, ...]:
     """Each object's mesh in its frame: the render's, else built here."""
     if len(buffers.meshes) == len(project.objects):
