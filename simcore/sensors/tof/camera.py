@@ -648,12 +648,14 @@ def _receivers(points: NDArray[np.float32], normals: NDArray[np.float32],
 
 def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
                       albedo: NDArray[np.float32], *, receiver_step: int = RECEIVER_STEP,
-                      room: Room | None = None) -> NDArray[np.float32]:
+                      room: Room | None = None, shadow_map: RenderBuffers | None = None
+                      ) -> NDArray[np.float32]:
     """Indirect diffuse light per sensor pixel: offset and phasor planes (electrons).
 
     One bounce from the surfaces the camera sees (:func:`one_bounce_image`;
     ``receiver_step`` is its node spacing, 1: the exact sum at every pixel), or, given the
-    scene's ``room``, every bounce from every surface (:func:`room_indirect`).
+    scene's ``room``, every bounce from every surface (:func:`room_indirect`; the light
+    reaches what the pinhole render ``shadow_map`` sees, default ``buffers``).
 
     Returns
     -------
@@ -673,14 +675,15 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     h, w = seen.shape
     if room is not None:     # every bounce from the whole scene (surfel radiosity)
         # A still camera in a still scene reuses the last frame's result (same bytes in).
-        range_m = np.ascontiguousarray(buffers.range_m, dtype=np.float32)
+        light = buffers if shadow_map is None else shadow_map
+        range_m = np.ascontiguousarray(light.range_m, dtype=np.float32)
         transform = np.ascontiguousarray(buffers.sensor.transform, dtype=np.float64)
         magnitude, phasors = _cached_one_bounce(
             (pts, nrm, seen, range_m, transform),
             (h, w, tuple(config.modulation_frequencies_hz), receiver_step, room.key(),
              config.multipath_surfel_m, config.multipath_bounces),
             lambda: room_indirect(
-                room, camera=transform, intrinsics=buffers.intrinsics, range_m=range_m,
+                room, camera=transform, intrinsics=light.intrinsics, range_m=range_m,
                 points_m=pts, normals=nrm, seen=seen,
                 frequencies_hz=list(config.modulation_frequencies_hz),
                 patch_m=config.multipath_surfel_m, bounces=config.multipath_bounces,
@@ -994,6 +997,7 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         raise ValueError(f"sample_buffers needs the 4 correlation samples' renders, "
                          f"got {len(sample_buffers)}")
 
+    pinhole = buffers      # the light's shadow map for room multipath: the undistorted render
     if config.distortion:
         # The albedo is per render pixel like the buffers: it follows the lens with them.
         albedo = None if albedo is None else np.asarray(distort_image(
@@ -1041,7 +1045,7 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
             raise ValueError("multipath needs the diffuse albedo of the render (albedo=...)")
         if config.multipath_model == "room" and room is None:
             raise ValueError("'room' multipath needs the scene's surfaces (room=...)")
-        indirect = _multipath_planes(buffers, config, albedo,
+        indirect = _multipath_planes(buffers, config, albedo, shadow_map=pinhole,
                                      room=room if config.multipath_model == "room" else None)
     if spec is not None:
         mirrored = _specular_planes(spec[0], spec[1], config)
