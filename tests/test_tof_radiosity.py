@@ -188,3 +188,12 @@ def test_surfels_tile_the_triangles():
     s = surfels_from_room(room2, patch_m=0.1)
     assert_allclose(s.area.sum(), 2.0 * 0.3 + 1.0)
     assert s.size.max() <= 0.1 * math.sqrt(2) + 1e-12
+
+
+def test_too_many_surfels_is_one_clear_error(monkeypatch):
+    from simcore.sensors.tof import radiosity as module
+
+    room, _ = _plates(1.0)
+    monkeypatch.setattr(module, "MAX_TRANSFER_BYTES", 1000)
+    with pytest.raises(ValueError, match=r"multipath_surfel_m = 0.05 m .* use larger surfels"):
+        module._room_transfer(room, 0.05)

@@ -568,7 +568,9 @@ def first_exitance(surfels: Surfels, camera: F64, intrinsics: PinholeIntrinsics,
 #: Surfel-to-surfel transfer of the last rooms (the geometry of a still scene is reused).
 _TRANSFER: OrderedDict[bytes, tuple[Surfels, NDArray[np.float32], NDArray[np.float32]]] = \
     OrderedDict()
-_TRANSFER_KEEP = 2
+_TRANSFER_KEEP = 1
+#: Largest surfel-to-surfel matrices built (bytes, both of them together).
+MAX_TRANSFER_BYTES = 4 * 2**30
 _TRANSFER_LOCK = threading.Lock()
 
 
@@ -581,6 +583,12 @@ def _room_transfer(room: Room, patch_m: float
             _TRANSFER.move_to_end(key)
             return _TRANSFER[key]
     surfels = surfels_from_room(room, patch_m=patch_m)
+    need = 2 * 4 * len(surfels.area) ** 2
+    if need > MAX_TRANSFER_BYTES:
+        raise ValueError(
+            f"rig.tof.multipath_surfel_m = {patch_m} m cuts the scene into "
+            f"{len(surfels.area)} surfels, whose exchange needs {need / 2**30:.1f} GiB "
+            f"(at most {MAX_TRANSFER_BYTES / 2**30:.0f}): use larger surfels")
     factor, distance = transfer(surfels, room)
     with _TRANSFER_LOCK:
         _TRANSFER[key] = (surfels, factor, distance)
