@@ -25,9 +25,8 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
-
 import mitsuba as mi
+import numpy as np
 
 mi.set_variant("llvm_ad_mono")
 import mitransient  # noqa: E402,F401  (registers the transient plug-ins)
@@ -52,10 +51,6 @@ def box_quads(centre, size):
             corner[b] -= h[b]
             if sign < 0:            # u × v must point along −axis: swap the edges
                 eu, ev = ev, eu
-                corner = c.copy()
-                corner[axis] -= h[axis]
-                corner[a] -= h[a]
-                corner[b] -= h[b]
             quads.append((corner, eu, ev))
     return quads
 
@@ -65,19 +60,11 @@ def write_obj(path, quads):
     lines = []
     for i, (c, u, v) in enumerate(quads):
         for p in (c, c + u, c + u + v, c + v):
-            lines.append("v %.9f %.9f %.9f" % tuple(p))
+            lines.append(f"v {p[0]:.9f} {p[1]:.9f} {p[2]:.9f}")
         b = 4 * i + 1
         lines.append(f"f {b} {b + 1} {b + 2}")
         lines.append(f"f {b} {b + 2} {b + 3}")
     path.write_text("\n".join(lines) + "\n")
-
-
-def projector_profile(width, height):
-    """Image-plane irradiance giving uniform radiant intensity: cos³ of the ray angle."""
-    aspect = width / height
-    x = (np.arange(width * 4) + 0.5) / (width * 4) * 2 - 1
-    y = (np.arange(height * 4) + 0.5) / (height * 4) * 2 - 1
-    return x, y, aspect
 
 
 def scene_dict(spec, camera, tmp, *, max_depth, spp):
@@ -148,6 +135,7 @@ def render_phasor(spec, camera, *, max_depth, spp, seed=0):
 
 
 def main():
+    """Render the scenes named (default: all) and write their phasors."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("scenes", nargs="*")
     parser.add_argument("--spp", type=int, default=4096)
