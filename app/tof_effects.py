@@ -38,6 +38,9 @@ TOF_EFFECTS: tuple[tuple[str, str, str], ...] = (
      "Sunlight/lamps at the illumination wavelength: offset, shot noise and saturation"),
     ("background_suppression", "background suppression (SBI)",
      "The pixel drains the ambient charge before saturation; its shot noise remains"),
+    ("ideal", "ideal sensor (no noise)",
+     "Validation and ground truth: no shot or read noise and no ADC quantisation "
+     "(the optics and the other effects stay as set)"),
 )
 
 

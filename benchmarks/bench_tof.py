@@ -13,7 +13,7 @@ from simcore.resources import example_path
 from simcore.scene import load_project
 from simcore.scene.snapshot import take_snapshot
 from simcore.sensors.tof.camera import simulate_tof
-from simcore.sensors.tof.sensor import diffuse_albedo, mirror_table
+from simcore.sensors.tof.sensor import diffuse_albedo, mirror_table, tof_bands
 
 
 def main() -> None:
@@ -32,7 +32,7 @@ def main() -> None:
     grid = cfg.render_intrinsics()
     buffers = renderer.render(take_snapshot(project, 0.0), RenderRequest("tof", "tof", grid))
     renderer.close()
-    albedo, mirrors = diffuse_albedo(project, buffers), mirror_table(project)
+    albedo, mirrors = diffuse_albedo(tof_bands(project), buffers), mirror_table(tof_bands(project))
     print(f"{args.project}: ToF {cfg.width}x{cfg.height}, supersampling {cfg.supersampling} "
           f"(render {grid.width}x{grid.height}), f_mod {cfg.modulation_frequencies_hz} Hz")
     for noise in (True, False):

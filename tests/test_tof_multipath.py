@@ -17,7 +17,7 @@ from simcore.scene import Box, Pose, Project, SceneObject
 from simcore.scene.model import SensorRig
 from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
 from simcore.sensors.tof.camera import simulate_tof
-from simcore.sensors.tof.sensor import diffuse_albedo
+from simcore.sensors.tof.sensor import diffuse_albedo, tof_bands
 
 CORNER_M = 2.0
 LENGTH_M = 3.0
@@ -54,7 +54,7 @@ def simulate(project: Project, *, multipath: bool) -> tuple[np.ndarray, np.ndarr
     cfg = project.rig.tof.model_copy(update={"multipath": multipath})
     buf = tof_render(project, cfg)
     out = simulate_tof(buf, cfg, rng=np.random.default_rng(0), noise=False,
-                       albedo=diffuse_albedo(project, buf))
+                       albedo=diffuse_albedo(tof_bands(project), buf))
     return out.depth_m, out.gt_range
 
 
@@ -145,7 +145,7 @@ def _corner_depths(step: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     project = corner_project()
     cfg = project.rig.tof.model_copy(update={"multipath": True})
     buf = tof_render(project, cfg)
-    albedo = diffuse_albedo(project, buf)
+    albedo = diffuse_albedo(tof_bands(project), buf)
     depths = []
     for s in (step, 1):
         planes = cam._multipath_planes(buf, cfg, albedo, receiver_step=s)
@@ -215,7 +215,7 @@ def test_still_scene_reuses_the_one_bounce_sums_exactly() -> None:
     project = corner_project()
     cfg = project.rig.tof.model_copy(update={"multipath": True})
     buf = tof_render(project, cfg)
-    albedo = diffuse_albedo(project, buf)
+    albedo = diffuse_albedo(tof_bands(project), buf)
     cam._ONE_BOUNCE_CACHE.clear()
     first = cam._multipath_planes(buf, cfg, albedo)
     calls = []
@@ -253,7 +253,7 @@ def test_a_moving_object_updates_the_sums_to_the_full_sum() -> None:
                           pose=Pose(position_m=(1.2, y, 0.0)), material="white_paint")
         project = base.model_copy(update={"objects": [*base.objects, box]})
         buf = tof_render(project, cfg)
-        frames.append((buf, diffuse_albedo(project, buf)))
+        frames.append((buf, diffuse_albedo(tof_bands(project), buf)))
     pairs: list[int] = []
     counted = mp._tile_sums
 
@@ -301,7 +301,7 @@ def test_office_corners_keep_the_reference_bias() -> None:
     cfg = project.rig.tof
     assert cfg.multipath, "office.json ships with ToF multipath on"
     buf = tof_render(project, cfg)
-    albedo = diffuse_albedo(project, buf)
+    albedo = diffuse_albedo(tof_bands(project), buf)
     cam._ONE_BOUNCE_CACHE.clear()
     cam._ONE_BOUNCE_REUSE.clear()
     off = _depth_with(buf, cfg, np.zeros((3, cfg.height, cfg.width), dtype=np.float32))
@@ -351,7 +351,7 @@ def test_a_longer_walk_reuses_the_receiver_rows_and_keeps_the_full_sum() -> None
                           pose=Pose(position_m=(1.2, y, 0.0)), material="white_paint")
         project = base.model_copy(update={"objects": [*base.objects, box]})
         buf = tof_render(project, cfg)
-        frames.append((buf, diffuse_albedo(project, buf)))
+        frames.append((buf, diffuse_albedo(tof_bands(project), buf)))
     original = cam._ONE_BOUNCE_REUSE
     reuse = mp.OneBounceCache()
     try:

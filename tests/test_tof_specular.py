@@ -18,7 +18,7 @@ from simcore.scene.model import SensorRig
 from simcore.scene.snapshot import take_snapshot
 from simcore.scene.tof_config import TofCameraConfig
 from simcore.sensors.tof.camera import simulate_tof, specular_factor
-from simcore.sensors.tof.sensor import mirror_table
+from simcore.sensors.tof.sensor import mirror_table, tof_bands
 
 APEX_M = 1.5
 EDGE_M = 0.1
@@ -46,7 +46,7 @@ def test_metal_trihedral_returns_its_apex_range_with_auto_exposure() -> None:
     project, cfg = trihedral(auto_exposure=True)
     buf = _render(project, cfg)
     out = simulate_tof(buf, cfg, rng=np.random.default_rng(0), noise=True,
-                       mirrors=mirror_table(project))
+                       mirrors=mirror_table(tof_bands(project)))
     # Fully covered sensor pixels of the reflector.
     k = cfg.supersampling
     cover = (buf.object_index >= 0).reshape(cfg.height, k, cfg.width, k).all(axis=(1, 3))
@@ -59,7 +59,7 @@ def test_metal_trihedral_returns_its_apex_range_with_auto_exposure() -> None:
     u = rays / np.linalg.norm(rays, axis=-1, keepdims=True)
     expected = u[..., 2] * APEX_M       # apex on the optical axis: A = (0, 0, 1.5) optical
     ideal = simulate_tof(buf, cfg, rng=np.random.default_rng(0), noise=False,
-                         mirrors=mirror_table(project))
+                         mirrors=mirror_table(tof_bands(project)))
     valid = valid & ideal.valid
     err = ideal.depth_m[valid] - expected[valid]
     print("depth error median/max (mm)", np.median(np.abs(err)) * 1e3, np.abs(err).max() * 1e3)
@@ -82,8 +82,8 @@ def test_trihedral_saturates_at_fixed_exposure_where_its_signal_exceeds_the_full
     project, cfg = trihedral(auto_exposure=False, exposure_time_s=1e-3)
     buf = _render(project, cfg)
     out = simulate_tof(buf, cfg, rng=np.random.default_rng(0), noise=False,
-                       mirrors=mirror_table(project))
-    factor, _ = specular_factor(buf, mirror_table(project), step=cfg.supersampling)
+                       mirrors=mirror_table(tof_bands(project)))
+    factor, _ = specular_factor(buf, mirror_table(tof_bands(project)), step=cfg.supersampling)
     # Computed irradiance → electrons of the brightest sample, per sensor pixel.
     k = cfg.supersampling
     direct = buf.intensity / np.maximum(buf.range_m, 1e-3) ** 2
@@ -109,7 +109,7 @@ def test_metal_plate_is_dark_except_near_normal_incidence() -> None:
         project = Project(objects=[plate], rig=SensorRig(tof=cfg))
         buf = _render(project, cfg)
         out = simulate_tof(buf, cfg, rng=np.random.default_rng(0), noise=False,
-                           mirrors=mirror_table(project))
+                           mirrors=mirror_table(tof_bands(project)))
         seen = out.gt_object_id == 1
         valid_fraction[yaw] = out.valid[seen].mean()
     print(valid_fraction)

@@ -22,7 +22,7 @@ from simcore.scene.tof_config import SPEED_OF_LIGHT, TofCameraConfig
 from simcore.sensors.radar.sensor import RadarSensor
 from simcore.sensors.radar.surfaces import transmission_coefficients
 from simcore.sensors.tof.camera import TofOutput, simulate_tof
-from simcore.sensors.tof.sensor import TofSensor, transmittance
+from simcore.sensors.tof.sensor import TofSensor, tof_bands, transmittance
 
 RIG_HEIGHT_M = 1.0
 WALL_M, PANE_M = 2.0, 1.0
@@ -66,9 +66,10 @@ def run(project: Project) -> tuple[TofOutput, RenderBuffers]:
         through = None if hide is None else renderer.render(snap, request, hide=hide)
     finally:
         renderer.close()
-    out = simulate_tof(buffers, project.rig.tof, rng=np.random.default_rng(0), noise=False,
-                       see_through=through,
-                       transmittance=None if through is None else transmittance(project))
+    cfg = project.rig.tof
+    trans = None if through is None else transmittance(tof_bands(project), cfg)
+    out = simulate_tof(buffers, cfg, rng=np.random.default_rng(0), noise=False,
+                       see_through=through, transmittance=trans)
     return out, buffers
 
 

@@ -84,6 +84,12 @@ def generate_report(out_dir: str | Path, *, quick: bool = False,
     fig_tof, nums_tof = tof_multipath_figure(out)
     result.figures.append(Figure(*fig_tof, section="Multipath"))
     result.numbers["multipath"] = {"radar": nums, "tof": nums_tof}
+    from simcore.report.tof_reference import tof_reference_section
+
+    figures, nums = tof_reference_section(out)
+    for file, title, text in figures:
+        result.figures.append(Figure(file, title, text, section="Multipath"))
+    result.numbers["multipath"]["tof_mitransient"] = nums
     say("multipath done")
     from simcore.report.interference import interference_section
 

@@ -199,11 +199,11 @@ def _mpi_frames(project: Project) -> tuple[dict[bool, Any], dict[bool, float]]:
 
     from simcore.render import RenderRequest, render_once
     from simcore.sensors.tof.camera import simulate_tof
-    from simcore.sensors.tof.sensor import diffuse_albedo
+    from simcore.sensors.tof.sensor import diffuse_albedo, tof_bands
 
     cfg = project.tof()
     buf = render_once(project, RenderRequest("tof", "tof", cfg.render_intrinsics()))
-    albedo = diffuse_albedo(project, buf)
+    albedo = diffuse_albedo(tof_bands(project), buf)
     frames, seconds = {}, {}
     for on in (False, True):
         # Multipath alone: the other optics (wiggling, distortion, …) off, for a clean figure.

@@ -125,6 +125,22 @@ class TofCameraConfig(SensorTiming):
         8, ge=1, le=64,
         description="the secondary surfaces are sampled every this many sensor pixels "
                     "(smaller: finer and slower)")
+    multipath_model: Literal["screen", "room"] = Field(
+        "screen",
+        description="multipath model: 'screen' one bounce from the surfaces the camera sees; "
+                    "'room' every bounce from every surface of the scene, with occlusion "
+                    "(surfel radiosity, simcore.sensors.tof.radiosity)")
+    multipath_surfel_m: float = Field(
+        0.25, ge=0.005, le=5.0, allow_inf_nan=False,
+        description="'room' multipath: the scene's surfaces are cut into triangles of at "
+                    "most this edge (m; smaller: finer and slower)")
+    multipath_bounces: int = Field(
+        0, ge=0, le=1000,
+        description="'room' multipath: indirect bounces summed (1: one bounce); 0: all, "
+                    "until the series converges")
+    ideal: bool = Field(
+        False, description="ideal sensor for validation and ground truth: no shot or read "
+                           "noise and no ADC quantisation")
 
     specular: bool = Field(
         False, description="specular near-IR inter-reflections: light reaching a pixel via "

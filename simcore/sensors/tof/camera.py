@@ -65,6 +65,7 @@ from simcore.sensors.tof.optics import (
     vignetting,
     wiggling_planes,
 )
+from simcore.sensors.tof.radiosity import Room, room_indirect
 from simcore.sensors.tof.specular import specular_paths
 
 #: Float dtype of every sensor-resolution ToF image.
@@ -709,12 +710,15 @@ def _receivers(points: NDArray[np.float32], normals: NDArray[np.float32],
 
 
 def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
-                      albedo: NDArray[np.float32], *, receiver_step: int = RECEIVER_STEP
-                     ) -> NDArray[np.float32]:
-    """One-bounce indirect light per sensor pixel: offset and phasor planes (electrons).
+                      albedo: NDArray[np.float32], *, receiver_step: int = RECEIVER_STEP,
+                      room: Room | None = None, shadow_map: RenderBuffers | None = None
+                      ) -> NDArray[np.float32]:
+    """Indirect diffuse light per sensor pixel: offset and phasor planes (electrons).
 
-    ``receiver_step`` is the node spacing of :func:`one_bounce_image` (1: the exact sum at
-    every pixel, the reference).
+    One bounce from the surfaces the camera sees (:func:`one_bounce_image`;
+    ``receiver_step`` is its node spacing, 1: the exact sum at every pixel), or, given the
+    scene's ``room``, every bounce from every surface (:func:`room_indirect`; the light
+    reaches what the pinhole render ``shadow_map`` sees, default ``buffers``).
 
     Returns
     -------
@@ -725,10 +729,6 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
     k = config.supersampling
     hit = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
     lit_albedo = np.where(hit, albedo, FLOAT(0.0))
-    senders = senders_from_render(
-        buffers.points_m, buffers.normals, lit_albedo,
-        _solid_angle(buffers.intrinsics), hit,
-        stride=config.multipath_patch_px * k)
     # Receivers: each sensor pixel's mean surface point, normal and albedo.
     pts, nrm, rho, coverage = _receivers(
         np.ascontiguousarray(buffers.points_m, dtype=np.float32),
@@ -736,15 +736,35 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
         np.ascontiguousarray(lit_albedo, dtype=np.float32), k)
     seen = coverage > 0
     h, w = seen.shape
-    # Keyed by what the sums read (sensor-resolution receivers and the senders): a quarter
-    # of the render's bytes to digest.
-    magnitude, phasors = _cached_one_bounce(
-        (pts, nrm, seen, senders.points_m, senders.normals, senders.weight),
-        (h, w, tuple(config.modulation_frequencies_hz), receiver_step),
-        lambda: one_bounce_image(pts, nrm, seen, senders,
-                                 list(config.modulation_frequencies_hz), step=receiver_step,
-                                 cache=_ONE_BOUNCE_REUSE,
-                                 camera=np.ascontiguousarray(buffers.sensor.transform).tobytes()))
+    if room is not None:     # every bounce from the whole scene (surfel radiosity)
+        # A still camera in a still scene reuses the last frame's result (same bytes in).
+        light = buffers if shadow_map is None else shadow_map
+        range_m = np.ascontiguousarray(light.range_m, dtype=np.float32)
+        transform = np.ascontiguousarray(buffers.sensor.transform, dtype=np.float64)
+        magnitude, phasors = _cached_one_bounce(
+            (pts, nrm, seen, range_m, transform),
+            (h, w, tuple(config.modulation_frequencies_hz), receiver_step, room.key(),
+             config.multipath_surfel_m, config.multipath_bounces),
+            lambda: room_indirect(
+                room, camera=transform, intrinsics=light.intrinsics, range_m=range_m,
+                points_m=pts, normals=nrm, seen=seen,
+                frequencies_hz=list(config.modulation_frequencies_hz),
+                patch_m=config.multipath_surfel_m, bounces=config.multipath_bounces,
+                step=receiver_step))
+    else:
+        senders = senders_from_render(
+            buffers.points_m, buffers.normals, lit_albedo,
+            _solid_angle(buffers.intrinsics), hit,
+            stride=config.multipath_patch_px * k)
+        # Keyed by what the sums read (sensor-resolution receivers and the senders): a
+        # quarter of the render's bytes to digest.
+        magnitude, phasors = _cached_one_bounce(
+            (pts, nrm, seen, senders.points_m, senders.normals, senders.weight),
+            (h, w, tuple(config.modulation_frequencies_hz), receiver_step),
+            lambda: one_bounce_image(
+                pts, nrm, seen, senders, list(config.modulation_frequencies_hz),
+                step=receiver_step, cache=_ONE_BOUNCE_REUSE,
+                camera=np.ascontiguousarray(buffers.sensor.transform).tobytes()))
     scale = as_float(rho * FLOAT(config.signal_electrons_at_1m) * coverage)
     scale[~seen] = 0.0
     planes = np.zeros((1 + 2 * len(phasors), h, w), dtype=np.float32)
@@ -965,7 +985,8 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                  see_through: RenderBuffers | None = None,
                  transmittance: NDArray[np.floating] | None = None,
                  mirrors: tuple[NDArray[np.float32], NDArray[np.bool_]] | None = None,
-                 illuminators: Sequence[Illuminator] = ()) -> TofOutput:
+                 illuminators: Sequence[Illuminator] = (),
+                 room: Room | None = None) -> TofOutput:
     """Simulate one AMCW ToF frame from the ToF band's supersampled render.
 
     Parameters
@@ -980,7 +1001,7 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         Source of the shot and read noise (seed it for reproducible frames).
     noise : bool, optional
         False gives the ideal camera: no shot/read noise and no ADC quantisation
-        (saturation, cross-talk and ambient offset remain).
+        (saturation, cross-talk and ambient offset remain); so does ``config.ideal``.
     sample_buffers : sequence of 4 RenderBuffers, optional
         Renders at the four correlation samples' own exposure times (motion artefacts):
         sample ``i`` is taken from ``sample_buffers[i]``; ``buffers`` still gives the ground
@@ -1007,6 +1028,9 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         Other cameras whose modulated light falls on the scene (and into the lens)
         during the frame: ToF–ToF interference
         (:func:`simcore.sensors.tof.interference.interference_planes`).
+    room : Room, optional
+        Every surface of the scene (:mod:`simcore.sensors.tof.radiosity`); needed when
+        ``config.multipath_model`` is ``"room"``.
 
     Returns
     -------
@@ -1020,6 +1044,7 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         If the render's shape is not the supersampled sensor grid.
     """
     k = config.supersampling
+    noise = noise and not config.ideal
     expected = (config.height * k, config.width * k)
     if buffers.shape != expected:
         raise ValueError(
@@ -1031,6 +1056,7 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         raise ValueError(f"sample_buffers needs the 4 correlation samples' renders, "
                          f"got {len(sample_buffers)}")
 
+    pinhole = buffers      # the light's shadow map for room multipath: the undistorted render
     if config.distortion:
         # The albedo is per render pixel like the buffers: it follows the lens with them.
         albedo = None if albedo is None else np.asarray(distort_image(
@@ -1076,7 +1102,10 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
     if config.multipath:
         if albedo is None:
             raise ValueError("multipath needs the diffuse albedo of the render (albedo=...)")
-        indirect = _multipath_planes(buffers, config, albedo)
+        if config.multipath_model == "room" and room is None:
+            raise ValueError("'room' multipath needs the scene's surfaces (room=...)")
+        indirect = _multipath_planes(buffers, config, albedo, shadow_map=pinhole,
+                                     room=room if config.multipath_model == "room" else None)
     if spec is not None:
         mirrored = _specular_planes(spec[0], spec[1], config)
         indirect = mirrored if indirect is None else indirect + mirrored
