@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -179,70 +179,90 @@ def estimate_cost(project: Project, *, base_dir: Path | None = None,
     # Surface facets (at most 10 cm, fixed to the objects): about half face the radar.
     scatterers = (int(0.5 * _surface_facets(project, mesh_triangles, mesh_area_m2)) + n_point
                   if project.sensors_of_kind("radar") else 0)
-    parts: dict[str, int] = {}
-    render_px = transforms = disk = 0
-    seconds = 0.0
+    tally = _Tally()
     rate = project.timeline.frame_rate_hz
     # Every sensor: memory while it runs, disk and time per frame scaled by the share of
     # frames it captures in.
     for name, tof in project.sensors_of_kind("tof").items():
         assert isinstance(tof, TofCameraConfig)
-        share = 1.0 / tof.frame_divider(rate)
-        where = project.sensor_path(name)
-        tof_px = tof.width * tof.height * tof.supersampling**2
-        tof_bytes = tof_px * BYTES_PER_RENDER_PIXEL
-        if tof.motion_artifacts and tof.motion_sampling == "renders":
-            tof_px *= 4                     # four renders at the samples' times
-            tof_bytes *= 4
-        elif tof.motion_artifacts:          # reprojection: the four samples' range and points
-            tof_bytes += tof_px * 4 * 16
-        parts[f"{where} render (width × height × supersampling²)"] = tof_bytes
-        render_px += tof_px
-        seconds += share * SECONDS_PER_RENDER_PIXEL * tof_px
-        disk += int(share * tof.height * tof.width * 37)
-    ffts_all = angle_all = 0
+        _add_tof_cost(tally, project.sensor_path(name), tof, rate)
     for name, rc in project.sensors_of_kind("radar").items():
         assert isinstance(rc, RadarConfig)
-        share = 1.0 / rc.frame_divider(rate)
-        where = project.sensor_path(name)
-        radar_px = rc.render_width * rc.render_height * rc.render_supersampling**2
-        n_ch = len(rc.tx) * len(rc.rx)
-        n_nufft = rc.chirps_per_frame * n_ch
-        s = _radar_sizes(project, rc)
-        cube = rc.chirps_per_frame * n_ch * rc.samples_per_chirp * 16 * 4
-        ffts_all += (rc.chirps_per_frame * n_ch * s["n_fft"]
-                     + s["n_dop"] * n_ch * s["n_bins"]) * 8 * 3
-        el = s["n_el"] if any(a.position_mm[1] for a in (*rc.tx, *rc.rx)) else 1
-        angle_all += (s["n_bins"] * s["n_az"] * el * 8 + s["n_az"] * el * n_ch * 32
-                      + s["bev_pixels"] * 4 * 3)
-        parts[f"{where} render (render_width × render_height × render_supersampling²)"] = (
-            radar_px * BYTES_PER_RENDER_PIXEL)
-        parts[f"{where} scatterers (surface facets of the objects)"] = (
-            scatterers * BYTES_PER_SCATTERER * 2)
-        parts[f"{where} ADC cube (chirps_per_frame × tx × rx × samples_per_chirp)"] = cube
-        render_px += radar_px
-        transforms += n_nufft
-        sample = 8 if rc.complex_iq else 4
-        disk += int(share * (n_ch * rc.chirps_per_frame * rc.samples_per_chirp * sample
-                             + rc.chirps_per_frame * len(rc.tx) * 8
-                             + (n_ch + 1) * s["n_bins"] * 4 + s["n_dop"] * s["n_bins"] * 4
-                             + s["n_az"] * s["n_bins"] * 4 + s["bev_pixels"] * 4
-                             + project.dsp.max_detections * 36))
-        seconds += share * (SECONDS_PER_RENDER_PIXEL * radar_px
-                            + SECONDS_PER_NUFFT_POINT * n_nufft
-                            * (scatterers + rc.samples_per_chirp)
-                            + SECONDS_PER_DSP_CELL * (n_ch * s["n_dop"] * s["n_bins"]
-                                                      + s["n_bins"] * s["n_az"] * el))
-    parts["dsp FFTs (range_fft_size, doppler_fft_size)"] = ffts_all
-    parts["dsp angle maps (azimuth/elevation steps, bev_resolution_m)"] = angle_all
+        _add_radar_cost(tally, project, project.sensor_path(name), rc, rate, scatterers)
+    parts = tally.parts
+    parts["dsp FFTs (range_fft_size, doppler_fft_size)"] = tally.ffts
+    parts["dsp angle maps (azimuth/elevation steps, bev_resolution_m)"] = tally.angle
     parts["mesh triangles"] = mesh_triangles * BYTES_PER_TRIANGLE
     memory = BASE_MEMORY_BYTES + sum(parts.values())
-    disk += 8 + 128 * (1 + len(project.objects))
+    disk = tally.disk + 8 + 128 * (1 + len(project.objects))
     ordered = tuple(sorted(parts.items(), key=lambda kv: -kv[1]))
-    return CostEstimate(render_pixels=render_px, scatterers=scatterers,
-                        transforms=transforms, memory_bytes=int(memory),
-                        disk_bytes_per_frame=int(disk), seconds_per_frame=float(seconds),
+    return CostEstimate(render_pixels=tally.render_px, scatterers=scatterers,
+                        transforms=tally.transforms, memory_bytes=int(memory),
+                        disk_bytes_per_frame=int(disk), seconds_per_frame=float(tally.seconds),
                         mesh_triangles=int(mesh_triangles), memory_parts=ordered)
+
+
+@dataclass
+class _Tally:
+    """What the sensors of a project add up to per frame (:func:`estimate_cost`)."""
+
+    parts: dict[str, int] = field(default_factory=dict)
+    render_px: int = 0
+    transforms: int = 0
+    disk: int = 0
+    seconds: float = 0.0
+    ffts: int = 0
+    angle: int = 0
+
+
+def _add_tof_cost(tally: _Tally, where: str, tof: TofCameraConfig, rate: float) -> None:
+    """A ToF camera's render memory, render pixels, disk and time per frame."""
+    share = 1.0 / tof.frame_divider(rate)
+    tof_px = tof.width * tof.height * tof.supersampling**2
+    tof_bytes = tof_px * BYTES_PER_RENDER_PIXEL
+    if tof.motion_artifacts and tof.motion_sampling == "renders":
+        tof_px *= 4                     # four renders at the samples' times
+        tof_bytes *= 4
+    elif tof.motion_artifacts:          # reprojection: the four samples' range and points
+        tof_bytes += tof_px * 4 * 16
+    tally.parts[f"{where} render (width × height × supersampling²)"] = tof_bytes
+    tally.render_px += tof_px
+    tally.seconds += share * SECONDS_PER_RENDER_PIXEL * tof_px
+    tally.disk += int(share * tof.height * tof.width * 37)
+
+
+def _add_radar_cost(tally: _Tally, project: Project, where: str, rc: RadarConfig, rate: float,
+                    scatterers: int) -> None:
+    """A radar's render, scatterers, cube and DSP memory, transforms, disk and time."""
+    share = 1.0 / rc.frame_divider(rate)
+    radar_px = rc.render_width * rc.render_height * rc.render_supersampling**2
+    n_ch = len(rc.tx) * len(rc.rx)
+    n_nufft = rc.chirps_per_frame * n_ch
+    s = _radar_sizes(project, rc)
+    cube = rc.chirps_per_frame * n_ch * rc.samples_per_chirp * 16 * 4
+    tally.ffts += (rc.chirps_per_frame * n_ch * s["n_fft"]
+                   + s["n_dop"] * n_ch * s["n_bins"]) * 8 * 3
+    el = s["n_el"] if any(a.position_mm[1] for a in (*rc.tx, *rc.rx)) else 1
+    tally.angle += (s["n_bins"] * s["n_az"] * el * 8 + s["n_az"] * el * n_ch * 32
+                    + s["bev_pixels"] * 4 * 3)
+    tally.parts[f"{where} render (render_width × render_height × render_supersampling²)"] = (
+        radar_px * BYTES_PER_RENDER_PIXEL)
+    tally.parts[f"{where} scatterers (surface facets of the objects)"] = (
+        scatterers * BYTES_PER_SCATTERER * 2)
+    tally.parts[f"{where} ADC cube (chirps_per_frame × tx × rx × samples_per_chirp)"] = cube
+    tally.render_px += radar_px
+    tally.transforms += n_nufft
+    sample = 8 if rc.complex_iq else 4
+    tally.disk += int(share * (n_ch * rc.chirps_per_frame * rc.samples_per_chirp * sample
+                               + rc.chirps_per_frame * len(rc.tx) * 8
+                               + (n_ch + 1) * s["n_bins"] * 4 + s["n_dop"] * s["n_bins"] * 4
+                               + s["n_az"] * s["n_bins"] * 4 + s["bev_pixels"] * 4
+                               + project.dsp.max_detections * 36))
+    tally.seconds += share * (SECONDS_PER_RENDER_PIXEL * radar_px
+                              + SECONDS_PER_NUFFT_POINT * n_nufft
+                              * (scatterers + rc.samples_per_chirp)
+                              + SECONDS_PER_DSP_CELL * (n_ch * s["n_dop"] * s["n_bins"]
+                                                        + s["n_bins"] * s["n_az"] * el))
 
 
 def _surface_facets(project: Project, mesh_triangles: int, mesh_area_m2: float) -> float:
@@ -496,10 +516,10 @@ def check(project: Project, *, base_dir: Path | None = None,
             check_name(mat.name)
         except ValueError as exc:
             out.append(f"materials[{i}].name: {exc}")
-    for field in ("name", "description"):
-        text = getattr(project, field)
+    for attr in ("name", "description"):
+        text = getattr(project, attr)
         if "\x00" in text or len(text) > 100_000:
-            out.append(f"{field}: must have no NUL character and at most 100000 characters")
+            out.append(f"{attr}: must have no NUL character and at most 100000 characters")
     run_seed = project.seed if seed is None else seed
     if not 0 <= run_seed <= MAX_SEED:
         out.append(f"seed: {run_seed} is out of range; allowed [0, {MAX_SEED}]")

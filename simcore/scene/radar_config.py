@@ -311,6 +311,16 @@ class RadarConfig(SensorTiming):
 
     @model_validator(mode="after")
     def _check(self) -> RadarConfig:
+        """The fields together: band, sizes, chirp timing, IF filters, antenna names."""
+        self._check_band()
+        self._check_sizes()
+        self._check_chirp_timing()
+        self._check_filters()
+        self._check_antenna_names()
+        return self
+
+    def _check_band(self) -> None:
+        """Sample rate, carrier band, fractional bandwidth, unambiguous range."""
         if self.sample_rate_hz < MIN_SAMPLE_RATE_HZ:
             raise ValueError(f"sample_rate_hz = {self.sample_rate_hz:.4g} Hz; allowed "
                              f"[{MIN_SAMPLE_RATE_HZ:g}, {MAX_SAMPLE_RATE_HZ:g}] Hz")
@@ -333,6 +343,9 @@ class RadarConfig(SensorTiming):
                 f"{self.chirp_time_s:.4g} s puts the ADC's largest beat frequency "
                 f"({f_max:.4g} Hz) at {self.max_range_m:.3g} m; allowed bandwidth_hz <= "
                 f"{b_max:.4g} Hz (unambiguous range >= {MIN_UNAMBIGUOUS_RANGE_M} m)")
+
+    def _check_sizes(self) -> None:
+        """Virtual channels and render size."""
         if len(self.tx) * len(self.rx) > MAX_CHANNELS:
             raise ValueError(
                 f"{len(self.tx)} tx × {len(self.rx)} rx = {len(self.tx) * len(self.rx)} "
@@ -344,6 +357,9 @@ class RadarConfig(SensorTiming):
                     f"{axis} × render_supersampling = {size} × {self.render_supersampling} = "
                     f"{size * self.render_supersampling} render pixels; at most "
                     f"{MAX_RENDER_AXIS} per axis")
+
+    def _check_chirp_timing(self) -> None:
+        """Sampling within the chirp, jitter and repetition, hopping within the band."""
         sampling_time = self.samples_per_chirp / self.sample_rate_hz
         if sampling_time > self.chirp_time_s * (1 + 1e-9):
             raise ValueError(
@@ -358,6 +374,7 @@ class RadarConfig(SensorTiming):
                     "chirp_repetition_time_s "
                     f"({self.chirp_repetition_time_s * 1e6:.1f} µs): a jittered chirp would "
                     "overlap the next")
+        top = self.start_frequency_hz + self.bandwidth_hz
         hop_top = top + (self.hop_channels - 1) * self.hop_step_hz
         if hop_top > MAX_CARRIER_FREQUENCY_HZ:
             raise ValueError(
@@ -368,6 +385,9 @@ class RadarConfig(SensorTiming):
                 f"chirp_repetition_time_s ({self.chirp_repetition_time_s * 1e6:.1f} µs) is "
                 f"shorter than chirp_time_s ({self.chirp_time_s * 1e6:.1f} µs)"
             )
+
+    def _check_filters(self) -> None:
+        """IF high-pass and anti-aliasing low-pass cutoffs against the IF bandwidth."""
         nyquist = self.sample_rate_hz if self.complex_iq else 0.5 * self.sample_rate_hz
         if 0 < self.if_highpass_hz < MIN_HIGHPASS_HZ:
             raise ValueError(
@@ -382,6 +402,9 @@ class RadarConfig(SensorTiming):
             raise ValueError(
                 f"if_lowpass_hz ({self.if_lowpass_hz:g} Hz) must be above the high-pass "
                 f"cutoff ({self.if_highpass_hz:g} Hz), or 0 for no anti-aliasing filter")
+
+    def _check_antenna_names(self) -> None:
+        """Antenna names unique among the Tx and among the Rx."""
         for role, antennas in (("tx", self.tx), ("rx", self.rx)):
             seen: set[str] = set()
             dup_set: set[str] = set()
@@ -392,7 +415,6 @@ class RadarConfig(SensorTiming):
             dup = sorted(dup_set)
             if dup:
                 raise ValueError(f"{role}: duplicate antenna names {dup}")
-        return self
 
     # ----------------------------------------------------------------- derived values
     @property
