@@ -44,7 +44,7 @@ from app.scene_edits import (
     import_mesh,
     rename_object,
 )
-from app.sensors import is_rig_key, rig_key, rig_of_key, rig_path
+from app.sensors import is_rig_key, radar_wavelength_m, rig_key, rig_of_key, rig_path
 from app.widgets import BIG, VectorEdit, set_quietly, spin, try_edit
 from simcore.scene import Project, fieldpath
 
@@ -525,7 +525,7 @@ class ObjectInspector(QScrollArea):
                 set_quietly(w, float(value))
         note = ""
         if kind == "corner_reflector":
-            lam = self.document.project.rig.radar.wavelength_m
+            lam = radar_wavelength_m(self.document.project)
             note = (f"peak RCS at {lam * 1e3:.2f} mm: {geometry.rcs_m2(lam):.2f} m² "
                     f"(4πa⁴/3λ²); opening along local +z")
         elif kind == "mesh":

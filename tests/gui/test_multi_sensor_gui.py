@@ -141,9 +141,9 @@ def test_copy_tof_camera_and_remove_sensors(make_window, wait_frame, qtbot):
     doc, rigs, tof_panel = window.document, window.sensor_editor.rigs, window.tof_panel
     original = doc.project
     rigs.select("sensor", "tof")
-    # The built-in ToF camera and radar cannot be removed: the button says why.
-    assert not rigs.remove_button.isEnabled()
-    assert "cannot be removed" in rigs.remove_button.toolTip()
+    # The built-in ToF camera can be removed (issue 40: a radar-only project is ordinary).
+    assert rigs.remove_button.isEnabled()
+    assert rigs.remove_button.toolTip() == "Remove ToF camera tof from rig rig"
     rigs.copy_selected()
     copy = doc.project.rig.sensors["tof_copy"]
     assert copy.kind == "tof"
@@ -266,8 +266,11 @@ def test_document_follows_the_current_sensor_without_a_window():
     assert doc.current_sensor("radar") == name
     sensors.remove_sensor(doc, name)
     assert doc.current_sensor("radar") == "radar"
-    with pytest.raises(Exception, match="cannot be removed"):
-        sensors.remove_sensor(doc, "radar")
+    # The built-in radar can go too (issue 40); then the ToF camera is the last sensor.
+    sensors.remove_sensor(doc, "radar")
+    assert doc.current_sensor("radar") is None and doc.project.rig.radar is None
+    with pytest.raises(Exception, match="only sensor and cannot be removed"):
+        sensors.remove_sensor(doc, "tof")
 
 
 def test_second_radar_on_new_rig_shows_its_own_data(make_window, wait_frame, tmp_path):
