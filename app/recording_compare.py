@@ -20,9 +20,10 @@ import numpy as np
 from PyQt6.QtGui import QAction
 from PyQt6.QtWidgets import QFileDialog, QMenu, QMessageBox, QWidget
 
-from app.frame_view import FrameView, TofView, radar_view_from_products
+from app.frame_view import FrameView, radar_view_from_products
 from simcore.dsp import process_frame
 from simcore.scene import Project
+from simcore.scene.project_io import ProjectError, project_from_dict
 from simcore.scene.radar_config import RadarConfig
 
 
@@ -30,7 +31,8 @@ def recording_adc(path: str | Path, *, frame: int = 0
                   ) -> tuple[np.ndarray, RadarConfig, float]:
     """ADC cube (chirps, channels, samples) in FS, its radar and its time (s).
 
-    ``path``: a converted recording (``.h5``, any tofradar dataset with ``/radar/adc``) or a
+    ``path``: a converted recording (``.h5``, any tofradar dataset with a radar: the
+    first radar of the project it was made from, ``/radar/adc`` or ``/<name>/adc``) or a
     Radar Fusion GUI recording folder.
     """
     p = Path(path)
@@ -41,23 +43,28 @@ def recording_adc(path: str | Path, *, frame: int = 0
         k = min(max(frame, 0), rec.n_frames - 1)
         return rec.frame_adc(k), rec.config, float(rec.frame_times_s()[k])
     with h5py.File(p, "r") as f:
-        if "radar/adc" not in f:
-            raise ValueError(f"{p}: no /radar/adc in this file")
-        radar = json.loads(f["meta"].attrs["project_json"])["rig"]["radar"]
-        k = min(max(frame, 0), f["radar/adc"].shape[0] - 1)
-        adc = np.asarray(f["radar/adc"][k])
+        made_from = project_from_dict(json.loads(f["meta"].attrs["project_json"]),
+                                      source=str(p))
+        radars = made_from.sensors_of_kind("radar")
+        name = next((n for n in radars if f"{n}/adc" in f), None)
+        if name is None:
+            raise ValueError(f"{p}: no radar ADC data in this file")
+        radar = radars[name]
+        k = min(max(frame, 0), f[f"{name}/adc"].shape[0] - 1)
+        adc = np.asarray(f[f"{name}/adc"][k])
         t = float(f["time"][k]) if "time" in f else 0.0
-    return adc, RadarConfig.model_validate(radar), t
+    return adc, RadarConfig.model_validate(radar.model_dump(exclude={"kind"})), t
 
 
 def recording_frame_view(path: str | Path, project: Project, *, frame: int = 0) -> FrameView:
     """A frame of a recording as the panels draw it, through ``project.dsp``."""
     adc, config, t = recording_adc(path, frame=frame)
     products = process_frame(adc, config, project.dsp)
-    radar = radar_view_from_products(products, project, np.eye(4))
-    empty = np.zeros((0, 0), dtype=np.float32)
-    tof = TofView(empty, empty, np.zeros((0, 0), dtype=bool), 0.0)
-    return FrameView(index=frame, time_s=t, tof=tof, radar=radar,
+    name = next(iter(project.sensors_of_kind("radar")), None)
+    if name is None:
+        raise ValueError("the project has no radar to compare the recording with")
+    radar = radar_view_from_products(products, project, np.eye(4), name=name)
+    return FrameView(index=frame, time_s=t, tof=None, radar=radar,
                      object_poses=np.zeros((0, 4, 4)), rig_pose=np.eye(4),
                      notes=[f"recording {Path(path).name}"])
 
@@ -90,7 +97,7 @@ def add_compare_recording_action(window: QWidget, menu: QMenu) -> QAction:
         target = Path(path).parent.parent if Path(path).name == "config.json" else Path(path)
         try:
             set_recording_reference(window, target)
-        except (OSError, ValueError, KeyError) as exc:
+        except (OSError, ValueError, KeyError, ProjectError) as exc:
             QMessageBox.warning(window, "Compare with recording", str(exc))
 
     action.triggered.connect(choose)
