@@ -318,7 +318,8 @@ class MainWindow(QMainWindow):
             "ToF camera": ("tof", self.tof_panel), "Range profile": ("profile", self.profile_panel),
             "Range-Doppler": ("rd", self.rd_panel), "Range-azimuth": ("ra", self.ra_panel),
             "RGB camera": ("rgb", self.rgb_panel)}
-        #: Whether each sensor-kind dock was last shown (None: follow the project again).
+        #: Whether the project had each dock's sensor kind when last followed (a dock is
+        #: shown or hidden when that changes; a missing key: follow the project again).
         self._kind_shown: dict[str, bool] = {}
         self._dock_titles: dict[str, str] = {}
         for _key, panel in self.all_panels.values():
@@ -1102,7 +1103,11 @@ class MainWindow(QMainWindow):
             self.restoreGeometry(geometry)
         if state is not None:
             self.restoreState(state)
-            self._kind_shown.clear()  # the saved layout may show them: follow the project
+            # The saved layout keeps the user's choice for the kinds the project has (a
+            # closed Range–azimuth dock stays closed); the docks of the others are hidden.
+            project = self.document.project
+            self._kind_shown = {key: True for key, kind in self.DOCK_KINDS.items()
+                                if project.sensors_of_kind(kind)}
             self._follow_rig_sensors()
         self.hide_stale_tab_bars()
 

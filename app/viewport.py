@@ -369,6 +369,15 @@ class SceneViewport(QWidget):
         self._camera_set = False
         self._remove_gizmo()
         self.set_detections(None)
+        # A radar-only project opens in the radar's view, a ToF-only one in the ToF view.
+        kinds = {sensor_kind(c) for c in self.document.project.sensor_configs().values()}
+        if self._band in ("tof", "radar") and self._band not in kinds \
+                and kinds & {"tof", "radar"}:
+            self._band = "radar" if "radar" in kinds else "tof"
+            self.band_buttons[self._band].setChecked(True)
+            if self._band_text is not None:
+                self._band_text.SetText(2, BAND_VIEWS[self._band][1])
+            self.bandChanged.emit(self._band)
         self._sync(self.document.project)
 
     def _on_project_changed(self, project: Project) -> None:

@@ -94,9 +94,10 @@ def test_radar_only_office_shows_radar_panels_only(make_window, wait_frame, tmp_
     assert not editor.tabs.isTabEnabled(tof_page)
     assert "no ToF camera" in editor.tabs.tabToolTip(tof_page)
     assert editor.tabs.isTabEnabled(editor.tabs.indexOf(editor.kind_pages["radar"][0]))
-    # The 3D view draws the radar's frustum and no camera's.
+    # The 3D view draws the radar's frustum and no camera's, and shows the radar's band.
     actors = window.viewport._rig_actors
     assert "radar_fov" in actors and "tof_fov" not in actors
+    assert window.viewport.band == "radar"
 
 
 def test_tof_only_office_shows_tof_panels_only(make_window, wait_frame, tmp_path):
@@ -222,3 +223,17 @@ def test_every_example_opens_with_the_panels_of_its_sensors(make_window, wait_fr
         for title, panel in window.panels.items():
             assert panel.error is None, f"{example.name}: {title}: {panel.error}"
         assert window.last_error_dialog is None, example.name
+
+
+def test_saved_layout_keeps_a_closed_radar_dock_closed(make_window, tmp_path):
+    """A dock the user closed stays closed at the next start; another kind's follows."""
+    first = make_window(OFFICE)
+    first.docks["ra"].close()
+    first.close()  # saves the layout
+    window = make_window(office_variant(tmp_path, "radar_only", radar_only))
+    shown = _shown_docks(window)
+    assert "ra" not in shown and {"profile", "rd"} <= shown and "tof" not in shown
+    assert window.docks["ra"].toggleViewAction().isEnabled(), "the user may open it again"
+    # A project with an RGB camera shows its panel though the last layout had none.
+    assert window.open_project(EXAMPLES_DIR / "office_rgb.json", ask=False)
+    assert {"tof", "rgb"} <= _shown_docks(window)
