@@ -28,6 +28,7 @@ from simcore.scene.model import (
     sensor_kind,
 )
 from simcore.scene.motion import RigidState, make_transform, rigid_state
+from simcore.scene.radar_config import RadarConfig
 from simcore.scene.snapshot import BODY_FROM_OPTICAL, SensorState
 
 #: The sensor kinds, in the order the editor offers them, with their words.
@@ -200,8 +201,6 @@ def radar_wavelength_m(project: Project) -> float:
     What the material editor, the corner reflector's RCS and the scene import quote
     radar-band values at.
     """
-    from simcore.scene.radar_config import RadarConfig
-
     radar = next(iter(project.sensors_of_kind("radar").values()), None) or RadarConfig()
     return float(radar.wavelength_m)  # type: ignore[attr-defined]
 
