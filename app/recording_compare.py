@@ -23,16 +23,16 @@ from PyQt6.QtWidgets import QFileDialog, QMenu, QMessageBox, QWidget
 from app.frame_view import FrameView, radar_view_from_products
 from simcore.dsp import process_frame
 from simcore.scene import Project
-from simcore.scene.project_io import ProjectError, project_from_dict
+from simcore.scene.project_io import project_from_dict
 from simcore.scene.radar_config import RadarConfig
+from simcore.sensors.schema import schema_of
 
 
 def recording_adc(path: str | Path, *, frame: int = 0
                   ) -> tuple[np.ndarray, RadarConfig, float]:
     """ADC cube (chirps, channels, samples) in FS, its radar and its time (s).
 
-    ``path``: a converted recording (``.h5``, any tofradar dataset with a radar: the
-    first radar of the project it was made from, ``/radar/adc`` or ``/<name>/adc``) or a
+    ``path``: a converted recording (``.h5``, any tofradar dataset with ``/radar/adc``) or a
     Radar Fusion GUI recording folder.
     """
     p = Path(path)
@@ -43,17 +43,19 @@ def recording_adc(path: str | Path, *, frame: int = 0
         k = min(max(frame, 0), rec.n_frames - 1)
         return rec.frame_adc(k), rec.config, float(rec.frame_times_s()[k])
     with h5py.File(p, "r") as f:
-        made_from = project_from_dict(json.loads(f["meta"].attrs["project_json"]),
-                                      source=str(p))
-        radars = made_from.sensors_of_kind("radar")
-        name = next((n for n in radars if f"{n}/adc" in f), None)
-        if name is None:
+        project_json = f["meta"].attrs.get("project_json", "{}") if "meta" in f else "{}"
+        project = project_from_dict(json.loads(project_json), check_files=False)
+        found = [(name, cfg) for name, cfg in project.sensors_of_kind("radar").items()
+                 if schema_of("radar").dataset_path(name, "adc") in f]
+        if not found:
             raise ValueError(f"{p}: no radar ADC data in this file")
-        radar = radars[name]
-        k = min(max(frame, 0), f[f"{name}/adc"].shape[0] - 1)
-        adc = np.asarray(f[f"{name}/adc"][k])
+        name, radar = found[0]
+        adc_ds = f[schema_of("radar").dataset_path(name, "adc")]
+        k = min(max(frame, 0), adc_ds.shape[0] - 1)
+        adc = np.asarray(adc_ds[k])
         t = float(f["time"][k]) if "time" in f else 0.0
-    return adc, RadarConfig.model_validate(radar.model_dump(exclude={"kind"})), t
+    assert isinstance(radar, RadarConfig)
+    return adc, radar, t
 
 
 def recording_frame_view(path: str | Path, project: Project, *, frame: int = 0) -> FrameView:
@@ -97,7 +99,7 @@ def add_compare_recording_action(window: QWidget, menu: QMenu) -> QAction:
         target = Path(path).parent.parent if Path(path).name == "config.json" else Path(path)
         try:
             set_recording_reference(window, target)
-        except (OSError, ValueError, KeyError, ProjectError) as exc:
+        except (OSError, ValueError, KeyError) as exc:
             QMessageBox.warning(window, "Compare with recording", str(exc))
 
     action.triggered.connect(choose)

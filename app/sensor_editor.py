@@ -12,7 +12,7 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-from PyQt6.QtCore import QSignalBlocker, pyqtSignal
+from PyQt6.QtCore import QSignalBlocker, Qt, pyqtSignal
 from PyQt6.QtGui import QValidator
 from PyQt6.QtWidgets import (
     QCheckBox,
@@ -66,10 +66,28 @@ def radar_presets() -> dict[str, Callable[..., RadarConfig]]:
 
 
 def tof_presets() -> dict[str, Callable[[], Any]]:
-    """Named ToF camera presets."""
+    """Named ToF camera presets, the device library's cameras included."""
+    from simcore.scene.device_cameras import CAMERA_PRESETS
     from simcore.scene.tof_config import TOF_PRESETS
 
-    return dict(TOF_PRESETS)
+    return {**TOF_PRESETS, **CAMERA_PRESETS}
+
+
+def device_description(name: str) -> str:
+    """'Vendor model: one line' of a device preset (docs/devices.md), '' for other presets."""
+    from simcore.scene.devices import DEVICES
+
+    device = DEVICES.get(name)
+    return f"{device.title}: {device.description}" if device is not None else ""
+
+
+def describe_presets(combo: QComboBox, label: QLabel) -> None:
+    """Give each device in a preset list its description as tooltip; show the current one."""
+    for i in range(combo.count()):
+        text = device_description(combo.itemText(i))
+        if text:
+            combo.setItemData(i, text, Qt.ItemDataRole.ToolTipRole)
+    label.setText(device_description(combo.currentText()))
 
 
 def angle_resolution_deg(config: RadarConfig) -> tuple[float | None, float | None]:
@@ -269,6 +287,9 @@ class SensorEditor(QScrollArea):
         self.tof_preset.activated.connect(lambda _i: self.apply_tof_preset(
             self.tof_preset.currentText()))
         form.addRow("preset", self.tof_preset)
+        self.tof_device = QLabel("")
+        self.tof_device.setWordWrap(True)
+        form.addRow("device", self.tof_device)
         # Widget ranges are wide on purpose: the model decides and says why at the field.
         self.tof_width = int_spin(minimum=-INT_MAX, maximum=INT_MAX, suffix="px",
                                   tooltip="sensor columns")
@@ -334,6 +355,9 @@ class SensorEditor(QScrollArea):
         self.radar_preset.activated.connect(lambda _i: self.apply_radar_preset(
             self.radar_preset.currentText()))
         form.addRow("preset", self.radar_preset)
+        self.radar_device = QLabel("")
+        self.radar_device.setWordWrap(True)
+        form.addRow("device", self.radar_device)
         self.radar_widgets: dict[str, Any] = {}
         for spec in RADAR_FIELDS:
             w = spin(minimum=-BIG, maximum=BIG, decimals=spec.decimals, step=1.0,
@@ -529,10 +553,13 @@ class SensorEditor(QScrollArea):
                  self.refresh, field=field)
 
     def _set_frequencies(self, field: QWidget) -> None:
+        spec = SENSOR_FIELDS["tof_f"]
         shown = [self.tof_f1.value()]
         if self.tof_f2_on.isChecked():
             shown.append(self.tof_f2.value())
-        spec = SENSOR_FIELDS["tof_f"]
+            # A third frequency (Kinect-type devices) has no box of its own: keep it.
+            shown += [spec.to_shown(f)
+                      for f in self.tof_config().modulation_frequencies_hz[2:]]
         commit_path(self.document, spec, shown, field, path=self._path(spec.path),
                     text=f"Set modulation frequencies to {spec.text(spec.to_si(shown))}")
 
@@ -599,6 +626,7 @@ class SensorEditor(QScrollArea):
         """Show the settings of the ToF camera edited now."""
         with QSignalBlocker(self.tof_preset):
             self.tof_preset.setCurrentText(tof.preset)
+        describe_presets(self.tof_preset, self.tof_device)
         set_quietly(self.tof_width, tof.width)
         set_quietly(self.tof_height, tof.height)
         for name, w in self.tof_widgets.items():
@@ -621,6 +649,7 @@ class SensorEditor(QScrollArea):
         """Show the settings of the radar edited now."""
         with QSignalBlocker(self.radar_preset):
             self.radar_preset.setCurrentText(radar.preset)
+        describe_presets(self.radar_preset, self.radar_device)
         for spec in RADAR_FIELDS:
             set_quietly(self.radar_widgets[spec.name], spec.to_shown(getattr(radar, spec.name)))
         set_quietly(self.samples, radar.samples_per_chirp)

@@ -23,6 +23,7 @@ from simcore.resources import example_path
 from simcore.scene import load_project
 from simcore.scene.snapshot import take_snapshot
 from simcore.sensors.radar import radar_scatterers
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.synthesis import receiver_chain, synthesize_if, synthesize_if_direct
 
 
@@ -56,8 +57,9 @@ def main() -> None:
     renderer = SceneRenderer(project)
     snap = take_snapshot(project, 0.0)
     buffers = renderer.render(snap, RenderRequest("radar", "radar", cfg.render_intrinsics()))
-    t_scat, _ = best_of(lambda: radar_scatterers(project, snap, buffers), args.repeat)
-    scatterers = radar_scatterers(project, snap, buffers)
+    scene = RadarScene.from_project(project, snap)
+    t_scat, _ = best_of(lambda: radar_scatterers(scene, buffers, config=cfg), args.repeat)
+    scatterers = radar_scatterers(scene, buffers, config=cfg)
     if args.all_moving:
         scatterers = dataclasses.replace(
             scatterers, velocities_mps=scatterers.velocities_mps + np.array([0.0, 0.0, -0.3]))

@@ -40,7 +40,7 @@ def _engine(n: int) -> float:
 
 def _run(n: int, out: str, workers: int) -> float:
     """Seconds for ``run_dataset`` of ``n`` frames into ``out`` (as ``tofradar run``)."""
-    from simcore.runner import run_dataset
+    from simcore.runs.runner import run_dataset
     from simcore.scene.project_io import load_project, project_to_json
 
     project = load_project(PROJECT)

@@ -35,6 +35,7 @@ from simcore.scene.model import Project
 from simcore.scene.radar_arrays import ula
 from simcore.scene.radar_config import SPEED_OF_LIGHT
 from simcore.sensors.radar import radar_scatterers
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.synthesis import synthesize_if
 
 
@@ -96,7 +97,8 @@ def measure(project: Project, frames: int) -> dict[str, Any]:
             for k, v in frame.timings_ms.items():
                 stages.setdefault(k, []).append(v)
         assert frame is not None
-        scatterers = radar_scatterers(project, frame.snapshot, frame.buffers["radar"],
+        scatterers = radar_scatterers(RadarScene.from_project(project, frame.snapshot),
+                                      frame.buffers["radar"], config=project.rig.radar,
                                       seed=sim.seed,
                                       see_through=frame.see_through.get("radar"))
         cfg = project.rig.radar

@@ -26,9 +26,11 @@ from typing import Any
 import numpy as np
 
 from simcore.pipeline import Simulator
-from simcore.scene.model import Project
+from simcore.scene.fieldpath import with_value
+from simcore.scene.model import Project, sensor_kind
 from simcore.scene.project_io import load_project
 from simcore.sensors.radar import radar_scatterers
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.synthesis import synthesize_if, synthesize_if_direct
 
 
@@ -122,13 +124,29 @@ def thread_cpu(frames: int) -> Iterator[dict[str, Any]]:
     out["two_core_floor_ms"] = max(max(per.values()), 0.5 * cpu) if per else float("nan")
 
 
-def _moved_antennas(project: Project, shift_mm: float) -> Project:
-    """The project with every Rx antenna moved by ``shift_mm`` along the board's x."""
-    radar = project.rig.radar
+def first_of_kind(project: Project, kind: str) -> str | None:
+    """Name of the project's first sensor of ``kind`` (None when it has none)."""
+    return next(iter(project.sensors_of_kind(kind)), None)
+
+
+def _moved_antennas(project: Project, shift_mm: float, radar: str) -> Project:
+    """The project with every Rx antenna of ``radar`` moved by ``shift_mm`` along x."""
+    cfg = project.sensor_config(radar)
     rx = [a.model_copy(update={"position_mm": (a.position_mm[0] + shift_mm, a.position_mm[1])})
-          for a in radar.rx]
-    rig = project.rig.model_copy(update={"radar": radar.model_copy(update={"rx": rx})})
-    return project.model_copy(update={"rig": rig})
+          for a in cfg.rx]  # type: ignore[attr-defined]
+    return with_value(project, f"{project.sensor_path(radar)}.rx", rx)
+
+
+def without_kind(project: Project, kind: str) -> Project:
+    """The project without its sensors of ``kind`` (every rig's)."""
+    rigs = []
+    for rig in project.all_rigs():
+        update: dict[str, Any] = {"sensors": {n: c for n, c in rig.sensors.items()
+                                              if sensor_kind(c) != kind}}
+        if getattr(rig, kind, None) is not None:
+            update[kind] = None
+        rigs.append(rig.model_copy(update=update))
+    return project.model_copy(update={"rig": rigs[0], "rigs": rigs[1:]})
 
 
 def if_synthesis_accuracy(simulator: Simulator, index: int, *, subset: int = 1000,
@@ -160,11 +178,13 @@ def if_synthesis_accuracy(simulator: Simulator, index: int, *, subset: int = 100
         ``subset`` (scatterers compared).
     """
     frame = simulator.frame(index)
-    cfg = simulator.project.rig.radar
-    scatterers = radar_scatterers(simulator.engine.project, frame.snapshot,
-                                  frame.buffers["radar"],
-                                  seed=simulator.seed,
-                                  see_through=frame.see_through.get("radar"))
+    radar = first_of_kind(simulator.project, "radar")
+    assert radar is not None, "the IF accuracy is a radar's"
+    cfg = simulator.project.radar(radar)
+    scatterers = radar_scatterers(RadarScene.from_project(simulator.engine.project,
+                                                          frame.snapshot, radar),
+                                  frame.buffers[radar], config=cfg, seed=simulator.seed,
+                                  see_through=frame.see_through.get(radar))
     n = len(scatterers)
     rng = np.random.default_rng(seed)
     pick = np.sort(rng.choice(n, size=min(subset, n), replace=False))
@@ -198,11 +218,14 @@ def if_synthesis_accuracy(simulator: Simulator, index: int, *, subset: int = 100
 def antenna_edit_latency(simulator: Simulator, index: int, *, edits: int = 5) -> float:
     """Median wall time (ms) of a frame after moving the Rx antennas (no re-render)."""
     base = simulator.project
+    radar = first_of_kind(base, "radar")
+    if radar is None:
+        return float("nan")
     times = []
     renders = simulator.render_count
     try:
         for k in range(edits):
-            simulator.set_project(_moved_antennas(base, 0.25 * (1 + k % 2)))
+            simulator.set_project(_moved_antennas(base, 0.25 * (1 + k % 2), radar))
             t0 = time.perf_counter()
             simulator.frame(index)
             times.append((time.perf_counter() - t0) * 1e3)
@@ -251,6 +274,7 @@ def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
     """
     path = Path(project_path)
     project = load_project(path)
+    radar = first_of_kind(project, "radar")
     load_before = _load()
     with Simulator(project, base_dir=path.parent) as sim:
         n_frames = max(sim.n_frames, 1)
@@ -268,21 +292,17 @@ def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
                 cpus.append((c1 - c0) * 1e3)
                 c0, t0 = c1, t1
                 latencies.append(frame.timings_ms["total"])
-                transformed.append(frame.outputs["radar"].raw.transformed_scatterers)
+                if radar in frame.outputs:
+                    transformed.append(frame.outputs[radar].raw.transformed_scatterers)
                 for name, value in frame.timings_ms.items():
                     if name != "total":
                         stage_times.setdefault(name, []).append(value)
         load_after = _load()
         latency = antenna_edit_latency(sim, index, edits=antenna_edits) if antenna_edits \
             else float("nan")
-        accuracy = if_synthesis_accuracy(sim, index, subset=subset)
-        scatterers = radar_scatterers(sim.engine.project, frame.snapshot, frame.buffers["radar"],
-                                      seed=sim.seed,
-                                      see_through=frame.see_through.get("radar"))
-        moving = int(np.count_nonzero(np.any(scatterers.velocities_mps != 0.0, axis=1)))
+        radar_stats = _radar_stats(sim, frame, index, subset=subset)
         triangles = len(sim.engine.renderer.geometry.triangles)
     frame_ms = _median(walls)
-    rc, tc = project.rig.radar, project.rig.tof
     return {
         "project": str(path),
         "frames": frames,
@@ -294,23 +314,81 @@ def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
         "two_core_floor_ms": threads["two_core_floor_ms"],
         "latency_ms_median": _median(latencies),
         "stages_ms": {name: _median(values) for name, values in stage_times.items()},
-        **accuracy,
+        **radar_stats,
         "antenna_edit_ms": latency,
-        "scatterers": len(scatterers),
-        "scatterers_moving": moving,
-        "scatterers_transformed": _median([float(x) for x in transformed]),
+        "scatterers_transformed": (_median([float(x) for x in transformed]) if transformed
+                                   else float("nan")),
         "triangles": triangles,
-        "config": {
-            "tof_render": [tc.width * tc.supersampling, tc.height * tc.supersampling],
-            "radar_render": [rc.render_width * rc.render_supersampling,
-                             rc.render_height * rc.render_supersampling],
-            "chirps": rc.chirps_per_frame,
-            "channels": rc.n_channels,
-            "samples": rc.samples_per_chirp,
-            "nufft_tolerance": rc.nufft_tolerance,
-        },
+        "sensors": {name: sensor_kind(cfg) for name, cfg in project.sensor_configs().items()},
+        "config": _bench_config(project),
         "machine": {**_machine(), "load_before": load_before, "load_after": load_after},
     }
+
+
+def _radar_stats(sim: Simulator, frame: Any, index: int, *, subset: int) -> dict[str, Any]:
+    """IF accuracy and scatterer counts of the project's first radar (empty without one)."""
+    radar = first_of_kind(sim.project, "radar")
+    if radar is None:
+        return {}
+    accuracy = if_synthesis_accuracy(sim, index, subset=subset)
+    scatterers = radar_scatterers(RadarScene.from_project(sim.engine.project, frame.snapshot,
+                                                          radar),
+                                  frame.buffers[radar], config=sim.project.radar(radar),
+                                  seed=sim.seed, see_through=frame.see_through.get(radar))
+    moving = int(np.count_nonzero(np.any(scatterers.velocities_mps != 0.0, axis=1)))
+    return {**accuracy, "scatterers": len(scatterers), "scatterers_moving": moving}
+
+
+def _bench_config(project: Project) -> dict[str, Any]:
+    """Sizes of the first ToF camera's and radar's renders and cubes (those it has)."""
+    out: dict[str, Any] = {}
+    tof, radar = first_of_kind(project, "tof"), first_of_kind(project, "radar")
+    if tof is not None:
+        tc = project.sensor_config(tof)
+        out["tof_render"] = [tc.width * tc.supersampling,  # type: ignore[attr-defined]
+                             tc.height * tc.supersampling]  # type: ignore[attr-defined]
+    if radar is not None:
+        rc: Any = project.sensor_config(radar)
+        out.update({"radar_render": [rc.render_width * rc.render_supersampling,
+                                     rc.render_height * rc.render_supersampling],
+                    "chirps": rc.chirps_per_frame, "channels": rc.n_channels,
+                    "samples": rc.samples_per_chirp, "nufft_tolerance": rc.nufft_tolerance})
+    return out
+
+
+def sensor_variants(project_path: str | Path, *, frames: int) -> dict[str, Any] | None:
+    """The project with all its sensors, with its radars only and with its ToF cameras only.
+
+    What a frame saves when it does only the work of the sensors a project has. None when
+    the project lacks ToF cameras or radars (there is nothing to leave out).
+
+    Returns
+    -------
+    dict or None
+        ``all_sensors``, ``radar_only``, ``tof_only``: each ``fps``, ``frame_ms_median``,
+        ``cpu_ms_per_frame`` (process CPU time, all threads), ``stages_ms``;
+        ``radar_only_speedup`` and ``tof_only_speedup`` (frame time of all over that of
+        the variant, same run), ``radar_only_cpu_ratio`` and ``tof_only_cpu_ratio`` (the
+        same of CPU time per frame) and ``load``.
+    """
+    path = Path(project_path)
+    project = load_project(path)
+    if not project.sensors_of_kind("tof") or not project.sensors_of_kind("radar"):
+        return None
+    load_before = _load()
+    out: dict[str, Any] = {
+        "all_sensors": _time_variant(project, path.parent, frames),
+        "radar_only": _time_variant(without_kind(project, "tof"), path.parent, frames),
+        "tof_only": _time_variant(without_kind(project, "radar"), path.parent, frames),
+    }
+    full = out["all_sensors"]["frame_ms_median"]
+    full_cpu = out["all_sensors"]["cpu_ms_per_frame"]
+    for name in ("radar_only", "tof_only"):
+        t, c = out[name]["frame_ms_median"], out[name]["cpu_ms_per_frame"]
+        out[f"{name}_speedup"] = full / t if t > 0 else float("inf")
+        out[f"{name}_cpu_ratio"] = full_cpu / c if c > 0 else float("inf")
+    out["load"] = {"before": load_before, "after": _load()}
+    return out
 
 
 #: The ToF switches of :func:`effect_variants` (all on / all off).
@@ -325,10 +403,14 @@ def with_effects(project: Project, *, on: bool, person: bool = True) -> Project:
 
     ``person`` False also removes the objects named ``person`` (today's plain office).
     """
-    tof = project.rig.tof.model_copy(update={**dict.fromkeys(TOF_EFFECTS, on),
-                                             "motion_sampling": "reprojection"})
-    radar = project.rig.radar.model_copy(update={"multipath_order": 1 if on else 0})
-    rig = project.rig.model_copy(update={"tof": tof, "radar": radar})
+    update: dict[str, Any] = {}
+    if project.rig.tof is not None:
+        update["tof"] = project.rig.tof.model_copy(
+            update={**dict.fromkeys(TOF_EFFECTS, on), "motion_sampling": "reprojection"})
+    if project.rig.radar is not None:
+        update["radar"] = project.rig.radar.model_copy(
+            update={"multipath_order": 1 if on else 0})
+    rig = project.rig.model_copy(update=update)
     objects = [o for o in project.objects if person or o.name != "person"]
     return project.model_copy(update={"rig": rig, "objects": objects})
 
@@ -340,7 +422,7 @@ def _time_variant(project: Project, base_dir: Path, frames: int) -> dict[str, An
         sim.frame(0)
         walls: list[float] = []
         stages: dict[str, list[float]] = {}
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         for frame in sim.frames([(i + 1) % n_frames for i in range(frames)]):
             t1 = time.perf_counter()
             walls.append((t1 - t0) * 1e3)
@@ -348,9 +430,10 @@ def _time_variant(project: Project, base_dir: Path, frames: int) -> dict[str, An
             for name, value in frame.timings_ms.items():
                 if name != "total":
                     stages.setdefault(name, []).append(value)
+        cpu_ms = (time.process_time() - c0) * 1e3 / max(frames, 1)
     frame_ms = _median(walls)
     return {"fps": 1e3 / frame_ms if frame_ms > 0 else float("inf"),
-            "frame_ms_median": frame_ms,
+            "frame_ms_median": frame_ms, "cpu_ms_per_frame": cpu_ms,
             "stages_ms": {name: _median(v) for name, v in stages.items()}}
 
 
@@ -400,8 +483,9 @@ def with_second_rig(project: Project, *, offset_m: tuple[float, float, float] = 
     rig = Rig(name=name, pose=Pose(position_m=tuple(float(v) for v in position),
                                    rotation_deg=rotation),
               motion=first.motion,
-              sensors={f"{name}_tof": named_sensor(first.tof),
-                       f"{name}_radar": named_sensor(first.radar)})
+              sensors={f"{name}_{kind}": named_sensor(cfg)
+                       for kind, cfg in (("tof", first.tof), ("radar", first.radar))
+                       if cfg is not None})
     doc = project.model_dump()
     doc["rigs"] = [*doc["rigs"], rig.model_dump()]
     return type(project).model_validate(doc)
@@ -552,4 +636,5 @@ def people_speed(project_path: str | Path, *, frames: int) -> dict[str, Any] | N
 
 
 __all__ = ["antenna_edit_latency", "effect_variants", "if_synthesis_accuracy",
-           "people_speed", "rigid_stand_ins", "run_benchmark", "thread_cpu", "with_effects"]
+           "people_speed", "rigid_stand_ins", "run_benchmark", "sensor_variants", "thread_cpu",
+           "with_effects", "without_kind"]

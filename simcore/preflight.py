@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from simcore.scene.base import MAX_COORDINATE_M, MAX_SPEED_MPS, MAX_TIME_S, check_name
+from simcore.scene.files import reference_path, reference_problem
 from simcore.scene.geometry import Box, Cylinder, Mesh, Plane, Sphere
 from simcore.scene.mesh_files import (
     MAX_MESH_FILE_BYTES,
@@ -176,7 +177,8 @@ def estimate_cost(project: Project, *, base_dir: Path | None = None,
     n_point = sum(1 for o in project.objects if o.geometry.kind in ("point_target",
                                                                     "corner_reflector"))
     # Surface facets (at most 10 cm, fixed to the objects): about half face the radar.
-    scatterers = int(0.5 * _surface_facets(project, mesh_triangles, mesh_area_m2)) + n_point
+    scatterers = (int(0.5 * _surface_facets(project, mesh_triangles, mesh_area_m2)) + n_point
+                  if project.sensors_of_kind("radar") else 0)
     parts: dict[str, int] = {}
     render_px = transforms = disk = 0
     seconds = 0.0
@@ -285,8 +287,7 @@ def default_memory_budget() -> int:
 
 
 def _mesh_path(base_dir: Path | None, mesh_path: str) -> Path:
-    path = Path(mesh_path)
-    return path if path.is_absolute() else (base_dir or Path.cwd()) / path
+    return reference_path(base_dir, mesh_path)
 
 
 def mesh_path_problem(base_dir: Path | None, mesh_path: str, *,
@@ -295,36 +296,11 @@ def mesh_path_problem(base_dir: Path | None, mesh_path: str, *,
 
     Inside the project folder (after resolving ``..`` and symlinks) unless
     ``allow_outside_paths``; a regular file with a mesh suffix, not a device, FIFO,
-    socket, directory or symlink loop.
+    socket, directory or symlink loop (:func:`simcore.scene.files.reference_problem`).
     """
-    base = (base_dir or Path.cwd())
-    path = _mesh_path(base, mesh_path)
-    if path.suffix.lower() not in MESH_SUFFIXES:
-        return f"unsupported mesh format {path.suffix!r} (use {', '.join(MESH_SUFFIXES)})"
-    try:
-        real = path.resolve(strict=True)
-    except RuntimeError:
-        return f"symlink loop at {mesh_path!r}"
-    except OSError as exc:
-        if exc.errno == 40:
-            return f"symlink loop at {mesh_path!r}"
-        return f"mesh file not found: {path}"
-    if not allow_outside_paths:
-        try:
-            real.relative_to(base.resolve())
-        except ValueError:
-            return (f"{mesh_path!r} is outside the project folder (move it there or pass "
-                    f"--allow-outside-paths); it resolves to {real}")
-    try:
-        import stat as _stat
-        st = real.stat()
-    except OSError as exc:
-        return f"cannot open {mesh_path!r}: {exc.strerror}"
-    if not _stat.S_ISREG(st.st_mode):
-        return f"{mesh_path!r} is not a regular file (device, FIFO, socket or directory)"
-    if st.st_size > MAX_MESH_FILE_BYTES:
-        return f"{mesh_path!r} has {st.st_size} bytes; allowed at most {MAX_MESH_FILE_BYTES}"
-    return None
+    return reference_problem(base_dir, mesh_path, what="mesh", suffixes=MESH_SUFFIXES,
+                             max_bytes=MAX_MESH_FILE_BYTES,
+                             allow_outside_paths=allow_outside_paths)
 
 
 def _reach(pose: Pose, motion: Motion, t_end: float) -> tuple[float, float]:
@@ -445,7 +421,8 @@ def _clearance_problems(project: Project, n_frames: int) -> list[str]:
     keeps surfaces away), so one at an antenna would divide by a zero distance. Checked at
     up to 128 frame times spread over the run.
     """
-    from simcore.scene.snapshot import take_snapshot
+    from simcore.scene.motion import rigid_state
+    from simcore.scene.snapshot import _sensor_state
 
     analytic = [i for i, o in enumerate(project.objects)
                 if o.geometry.kind in ("point_target", "corner_reflector")]
@@ -458,12 +435,17 @@ def _clearance_problems(project: Project, n_frames: int) -> list[str]:
     worst: dict[int, tuple[float, float]] = {}
     for k in frames:
         t = project.timeline.frame_time(int(k))
-        snap = take_snapshot(project, t)
-        ants = np.concatenate([
-            elements[n] @ snap.sensor(n).transform[:3, :3].T + snap.sensor(n).transform[:3, 3]
-            for n in radars])
+        # Only the radars and the analytic objects (as take_snapshot places them).
+        placed = []
+        for n, rc in radars.items():
+            rig = project.sensor_rig(n)
+            pose = _sensor_state(rigid_state(rig.pose, rig.motion, t),
+                                 rc.pose_on_rig.matrix()).transform  # type: ignore[attr-defined]
+            placed.append(elements[n] @ pose[:3, :3].T + pose[:3, 3])
+        ants = np.concatenate(placed)
         for i in analytic:
-            origin = snap.objects[i].transform[:3, 3]
+            obj = project.objects[i]
+            origin = rigid_state(obj.pose, obj.motion, t).transform[:3, 3]
             d = float(np.linalg.norm(ants - origin, axis=1).min())
             if d < worst.get(i, (math.inf, 0.0))[0]:
                 worst[i] = (d, t)
@@ -533,6 +515,7 @@ def check(project: Project, *, base_dir: Path | None = None,
                    f"time; allowed at most {MAX_TIME_S:g} s")
         return out
     out += _physics_problems(project, int(frames))
+    out += _clip_problems(project, base_dir, allow_outside_paths=allow_outside_paths)
     # Meshes: path policy and file type first (cheap), then the cost, then parsing.
     mesh_ok: list[tuple[int, Path, Mesh]] = []
     for i, obj in enumerate(project.objects):
@@ -550,6 +533,38 @@ def check(project: Project, *, base_dir: Path | None = None,
         return out   # parsing huge meshes would only take long
     if parse_meshes:
         out += _mesh_problems(project, mesh_ok, base_dir, budget)
+    return out
+
+
+def _clip_problems(project: Project, base_dir: Path | None, *,
+                   allow_outside_paths: bool) -> list[str]:
+    """Every person's BVH clip: the path policy of meshes, then what it does to the person."""
+    from simcore.scene.limits import MAX_BVH_BYTES
+    from simcore.scene.people.bvh import BvhError, clip_motion_problems, load_bvh
+    from simcore.scene.people.config import Person
+    from simcore.scene.people.skeleton import build_skeleton
+
+    out: list[str] = []
+    for i, obj in enumerate(project.objects):
+        geom = obj.geometry
+        if not isinstance(geom, Person) or geom.motion.bvh is None:
+            continue
+        clip, where = geom.motion.bvh, f"objects[{i}].geometry.motion.bvh.path"
+        problem = reference_problem(base_dir, clip.path, what="BVH clip",
+                                    max_bytes=MAX_BVH_BYTES,
+                                    allow_outside_paths=allow_outside_paths)
+        if problem:
+            out.append(f"{where}: {problem}")
+            continue
+        path = reference_path(base_dir, clip.path)
+        try:
+            motion = load_bvh(path)
+            out += [f"{where}: {p}" for p in clip_motion_problems(
+                motion, source=path.name, play_rate=clip.play_rate,
+                leg_length_m=build_skeleton(geom.height_m, geom.build).leg_length_m,
+                origin_m=float(np.linalg.norm(obj.pose.position_m)))]
+        except BvhError as exc:
+            out.append(f"{where}: {exc}")
     return out
 
 

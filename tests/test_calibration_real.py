@@ -12,7 +12,7 @@ import pytest
 from simcore.cli import main
 from simcore.io.recordings import read_recording, recording_levels
 from simcore.pipeline import Simulator
-from simcore.report_real import empty_scene_frames, shared_recording
+from simcore.report.real import empty_scene_frames, shared_recording
 from simcore.scene import load_project
 
 RECORDING = shared_recording()
@@ -70,7 +70,7 @@ def test_the_report_section_on_the_real_recording(real, tmp_path):
     """The section's numbers: the calibrated rows within 3 dB, the README's target, the
     breathing through the vital-sign estimator at the README's ≈ 0.24 Hz near 0.33 m, and
     the torso and the person simulated there (their levels beside the real one)."""
-    from simcore.report_real import real_section
+    from simcore.report.real import real_section
 
     file, title, text, nums = real_section(tmp_path, quick=True)
     assert (tmp_path / file).stat().st_size > 20_000 and title.endswith("BGT60TR13C")

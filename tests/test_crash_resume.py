@@ -22,7 +22,7 @@ from hostile import base_project_dict, write_project
 
 from simcore.cli import main
 from simcore.io.hdf5_writer import CHECKSUM_PATH, frame_checksum, temporary_path
-from simcore.runner import run_dataset
+from simcore.runs.runner import run_dataset
 from simcore.scene import load_project
 from simcore.scene.project_io import project_to_json
 
@@ -308,7 +308,7 @@ def test_a_worker_dying_mid_result_breaks_the_pool_instead_of_hanging():
     from concurrent.futures import ProcessPoolExecutor
     from concurrent.futures.process import BrokenProcessPool
 
-    from simcore.runner import _pool_result
+    from simcore.runs.runner import _pool_result
 
     pool = ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("spawn"))
     try:

@@ -13,7 +13,7 @@ from h5data import assert_same_data, datasets
 
 from simcore.cli import main
 from simcore.resources import example_path
-from simcore.runner import run_dataset
+from simcore.runs.runner import run_dataset
 from simcore.scene import load_project, save_project
 from simcore.scene.project_io import project_to_json
 

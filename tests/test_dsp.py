@@ -389,7 +389,7 @@ def test_products_shapes_axes_and_hdf5_items() -> None:
     n_r, n_d, n_az = ax.range_m.size, ax.velocity_mps.size, ax.azimuth_deg.size
     assert ax.range_m[-1] <= 5.0 and n_r == 201
     assert n_d == 32 and n_az == 161
-    items = prod.hdf5_items()
+    items = prod.hdf5_items(group="radar")
     assert items["/radar/range_doppler"][0].shape == (n_d, n_r)
     assert items["/radar/range_azimuth"][0].shape == (n_az, n_r)
     assert items["/radar/range_profile"][0].shape == (3, n_r)
@@ -397,7 +397,7 @@ def test_products_shapes_axes_and_hdf5_items() -> None:
     assert items["/radar/bird_eye"][0].shape == (ax.bev_z_m.size, ax.bev_x_m.size)
     for arr, unit in items.values():
         assert arr.dtype == np.float32 and unit == "dB"
-    static = static_axes_items(rc, dc)
+    static = static_axes_items(rc, dc, group="radar")
     assert_array_equal(static["/radar/range_axis"][0], prod.axes.range_m)
     assert_array_equal(static["/radar/velocity_axis"][0], prod.axes.velocity_mps)
     assert_array_equal(static["/radar/azimuth_axis"][0], prod.axes.azimuth_deg)

@@ -21,6 +21,7 @@ from simcore.scene import Project, load_project
 from simcore.sensors import registered
 from simcore.sensors.base import DeferredOutput
 from simcore.sensors.radar import radar_scatterers
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.sensor import RadarSensor
 from simcore.sensors.radar.synthesis import synthesize_if
 
@@ -199,14 +200,18 @@ def test_still_background_transforms_only_what_moves() -> None:
     # The engine's project: the person expanded into its segments ("person/<segment>").
     engine_project = sim.engine.project
     names = [o.name for o in engine_project.objects]
-    scat_all = radar_scatterers(engine_project, frame.snapshot, frame.buffers["radar"],
-                                seed=project.seed, see_through=frame.see_through["radar"])
+    scat_all = radar_scatterers(RadarScene.from_project(engine_project, frame.snapshot),
+                                frame.buffers["radar"],
+                                seed=project.seed, see_through=frame.see_through["radar"],
+                                config=engine_project.rig.radar)
     segments = [i for i, n in enumerate(names) if n.startswith("person/")]
     assert len(segments) == 17
     person = int(np.count_nonzero(np.isin(scat_all.object_index, segments)))
     assert person <= raw.transformed_scatterers < 0.2 * raw.n_scatterers
-    scatterers = radar_scatterers(engine_project, frame.snapshot, frame.buffers["radar"],
-                                  seed=project.seed, see_through=frame.see_through["radar"])
+    scatterers = radar_scatterers(RadarScene.from_project(engine_project, frame.snapshot),
+                                  frame.buffers["radar"],
+                                  seed=project.seed, see_through=frame.see_through["radar"],
+                                  config=engine_project.rig.radar)
     assert raw.n_scatterers == len(scatterers)
 
 
@@ -220,8 +225,10 @@ def test_over_background_if_equals_the_full_synthesis() -> None:
         frame = sim.frame(7)
         ideal = next(v for k, v in _cached(sim, "radar_synthesis"))
     # The engine's project: people expanded into the segments the snapshot holds.
-    scatterers = radar_scatterers(sim.engine.project, frame.snapshot, frame.buffers["radar"],
-                                  seed=project.seed, see_through=frame.see_through["radar"])
+    scatterers = radar_scatterers(RadarScene.from_project(sim.engine.project, frame.snapshot),
+                                  frame.buffers["radar"],
+                                  seed=project.seed, see_through=frame.see_through["radar"],
+                                  config=sim.engine.project.rig.radar)
     full = synthesize_if(scatterers, cfg)
     err = np.linalg.norm(ideal[0] - full) / np.linalg.norm(full)
     assert 20 * np.log10(err) < -120.0

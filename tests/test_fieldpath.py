@@ -6,9 +6,9 @@ import pytest
 from pydantic import ValidationError
 
 from simcore.resources import example_path
+from simcore.runs.sweep import SweepError, expand, parse_vary
 from simcore.scene import Project, load_project
 from simcore.scene.fieldpath import FieldPathError, format_path, get, parse, set_in, with_value
-from simcore.sweep import SweepError, expand, parse_vary
 
 
 @pytest.mark.parametrize(("path", "parts"), [

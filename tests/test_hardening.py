@@ -434,12 +434,13 @@ def test_unanswering_and_wrong_dask_services_fail_within_the_timeout(tmp_path, c
 def test_internal_errors_are_one_line_and_debug_shows_the_traceback(tmp_path, capsys,
                                                                     monkeypatch):
     import simcore.cli as cli
+    import simcore.cli.validate as command
 
     def boom(args):
         raise ZeroDivisionError("x" * 5000)
 
     project = project_with(tmp_path, lambda d: None)
-    monkeypatch.setattr(cli, "cmd_validate", boom)
+    monkeypatch.setattr(command, "cmd_validate", boom)
     rc = cli.main(["validate", str(project)])
     err = capsys.readouterr().err
     assert rc == 1 and err.count("\n") == 1 and len(err) <= 620

@@ -11,6 +11,10 @@ GUI_MODULES = ("PyQt6", "pyvistaqt", "pyqtgraph", "app")
 def test_import_simcore_loads_no_qt():
     code = (
         "import sys, simcore, simcore.pipeline, simcore.cli, simcore.io.hdf5_writer\n"
+        "import simcore.report, simcore.runs.runner, simcore.runs.sweep\n"
+        # The command modules are imported when the parser is built.
+        "simcore.cli.build_parser()\n"
+        "assert 'simcore.cli.run' in sys.modules and 'simcore.cli.report' in sys.modules\n"
         f"bad = [m for m in sys.modules if m.split('.')[0] in {GUI_MODULES!r}]\n"
         "print(','.join(bad))\n"
     )

@@ -125,7 +125,7 @@ def sensor_data(project: Project, name: str, k: int) -> dict[str, Any]:
         return {"depth": (depth, "m"),
                 "amplitude": (rng.uniform(0, 100, depth.shape).astype(np.float32), "DN")}
     assert isinstance(cfg, RadarConfig)
-    axes = static_axes_items(cfg, project.dsp)
+    axes = static_axes_items(cfg, project.dsp, group="radar")
     n_r = len(next(v for p, v in axes.items() if p.endswith("range_axis"))[0])
     n_v = len(next(v for p, v in axes.items() if p.endswith("velocity_axis"))[0])
     channels = len(cfg.tx) * len(cfg.rx)
@@ -203,7 +203,7 @@ def write_mcap(path: Path, *, flags: bool) -> Project:
         for name in ("radar", "b_radar"):
             cfg = project.sensor_config(name)
             assert isinstance(cfg, RadarConfig)
-            for p, v in static_axes_items(cfg, project.dsp).items():
+            for p, v in static_axes_items(cfg, project.dsp, group="radar").items():
                 static[f"/{name}/{p.rsplit('/', 1)[-1]}"] = v
         writer.write_static(static)
         for k in range(N_FRAMES):
@@ -331,7 +331,7 @@ def write_hdf5(path: Path, project: Project, *, per_capture: bool) -> None:
         for name in ("radar", "b_radar"):
             cfg = project.sensor_config(name)
             assert isinstance(cfg, RadarConfig)
-            for p, (v, unit) in static_axes_items(cfg, project.dsp).items():
+            for p, (v, unit) in static_axes_items(cfg, project.dsp, group="radar").items():
                 f.create_dataset(f"/{name}/{p.rsplit('/', 1)[-1]}", data=v).attrs["unit"] = unit
             table = np.concatenate([detections(name, k) for k in range(N_FRAMES)
                                     if capture_time(name, k) is not None])

@@ -134,7 +134,7 @@ def test_memory_stays_flat_over_a_1000_frame_run_of_50_scenes(tmp_path):
     full after the first 20 scenes (measured: +55 MiB over those, +4 MiB after)."""
     import resource
 
-    from simcore.runner import run_scenes
+    from simcore.runs.runner import run_scenes
     from simcore.scene import load_project
     from simcore.scene.project_io import project_to_json
 
@@ -256,7 +256,7 @@ def test_scenes_of_2_5_and_3_objects_run_into_one_padded_dataset(tmp_path, suffi
 
 @pytest.mark.parametrize("suffix", ["h5", "zarr"])
 def test_a_padded_run_stopped_in_scene_1_resumes_to_the_same_dataset(tmp_path, suffix):
-    from simcore.runner import run_scenes
+    from simcore.runs.runner import run_scenes
     from simcore.scene import load_project
     from simcore.scene.project_io import project_to_json
 

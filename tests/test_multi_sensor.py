@@ -518,21 +518,22 @@ def test_people_truth_per_radar_is_the_segments_geometry() -> None:
     assert not np.allclose(items["/people/segments/radar_range"][0], expected[:, 0])
 
 
-def test_a_sensor_view_of_the_snapshot_keeps_the_whole_scene() -> None:
+def test_a_radar_scene_is_the_named_radar_and_its_own_rig() -> None:
     from simcore.scene.snapshot import take_snapshot
+    from simcore.sensors.radar.scene import RadarScene
 
     base = load_project(example_path("point_targets"))
     project = with_rigs(base, Rig(name="cart", pose=SIDE_POSE,
                                   sensors={"side": named_sensor(base.rig.radar)}))
     snap = take_snapshot(project, 0.3)
     assert snap.sensor_rigs == {"tof": "rig", "radar": "rig", "side": "cart"}
-    assert snap.seen_by("radar", "radar") is snap and snap.scene is snap
-    view = snap.seen_by("side", "radar")
-    assert view.sensors["radar"] is snap.sensors["side"]
-    assert view.rig is snap.rigs["cart"] and view.rig_of("side") is snap.rigs["cart"]
-    assert view.scene is snap and view.scene.sensors["radar"] is snap.sensors["radar"]
-    assert view.seen_by("tof", "tof").scene is snap
-    np.testing.assert_array_equal(view.object_transforms(), snap.object_transforms())
+    side = RadarScene.from_project(project, snap, "side")
+    assert side.radar is snap.sensors["side"] and side.rig is snap.rigs["cart"]
+    assert side.snapshot is snap and side.objects is project.objects
+    builtin = RadarScene.from_project(project, snap)
+    assert builtin.radar is snap.sensors["radar"] and builtin.rig is snap.rigs["rig"]
+    with pytest.raises(KeyError, match="no sensor 'nothing'"):
+        RadarScene.from_project(project, snap, "nothing")
 
 
 def test_bench_rigs_reports_both_variants_from_one_run() -> None:

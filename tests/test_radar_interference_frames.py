@@ -258,7 +258,7 @@ def test_dsp_mitigation_in_frames_lowers_the_floor_10_db_and_recovers_the_weak_t
     """The report's scene: a 5 mm corner reflector at 2.5 m, found alone; an aggressor of
     another slope 0.7 m away buries it under its bursts; burst interpolation lowers the
     range profile's floor by ≥ 10 dB and the target is detected again."""
-    from simcore.report_interference import _project, _run
+    from simcore.report.interference import _project, _run
     from simcore.scene.dsp_config import DspConfig
 
     victim = bgt60tr13c()

@@ -25,6 +25,7 @@ from simcore.scene.snapshot import take_snapshot
 from simcore.sensors.radar import synthesis
 from simcore.sensors.radar.kinematics import motion_maps_batch, rigid_point_motion
 from simcore.sensors.radar.scatterers import Scatterers, scatterers_from_render
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.synthesis import prepare, synthesize_if, synthesize_if_direct
 
 IDEAL = {"noise_variance_adc": 0.0, "leakage_dbc": None, "adc_bits": None,
@@ -400,7 +401,8 @@ def test_rendered_scatterers_of_a_turning_rig_carry_its_rotation(
     snap = take_snapshot(project, t0)
     buffers = make_renderer(project).render(
         snap, RenderRequest("radar", "radar", cfg.render_intrinsics()))
-    sc = scatterers_from_render(project, snap, buffers, wavelength_m=cfg.wavelength_m)
+    sc = scatterers_from_render(RadarScene.from_project(project, snap), buffers,
+                                wavelength_m=cfg.wavelength_m)
     assert len(sc) > 1000 and sc.accelerations_mps2 is not None
     world = sc.positions_m @ snap.sensors["radar"].rotation.T + snap.sensors["radar"].position
     t = t0 + np.array([-h, 0.0, h])

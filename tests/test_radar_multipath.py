@@ -25,6 +25,7 @@ from simcore.scene.snapshot import take_snapshot
 from simcore.sensors.radar import radar_scatterers
 from simcore.sensors.radar.multipath import find_reflectors, ghost_scatterers, multipath_if
 from simcore.sensors.radar.scatterers import Scatterers
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.synthesis import synthesize_if, synthesize_if_direct
 
 Renderer = Callable[..., SceneRenderer]
@@ -71,8 +72,8 @@ def frame(make_renderer: Renderer, project: Project
     renderer = make_renderer(project)
     snap = take_snapshot(project, 0.0)
     buf = renderer.render(snap, RenderRequest("radar", "radar", cfg.render_intrinsics()))
-    sc = radar_scatterers(project, snap, buf)
-    ghost = multipath_if(project, snap, sc, cfg, buffers=buf)
+    sc = radar_scatterers(RadarScene.from_project(project, snap), buf, config=project.rig.radar)
+    ghost = multipath_if(RadarScene.from_project(project, snap), sc, cfg, buffers=buf)
     return sc, synthesize_if(sc, cfg), ghost
 
 
@@ -179,7 +180,8 @@ def test_absorber_and_occluder_remove_the_ghosts(make_renderer: Renderer) -> Non
     _, a_metal = peak(cfg, direct + ghost, az_img, r_m)
 
     absorber = scene("radar_absorber")
-    assert find_reflectors(absorber, take_snapshot(absorber, 0.0), cfg.wavelength_m) == []
+    assert find_reflectors(RadarScene.from_project(absorber, take_snapshot(absorber, 0.0)),
+                           cfg.wavelength_m) == []
     _, direct_a, ghost_a = frame(make_renderer, absorber)
     assert not np.any(ghost_a)
     _, a_abs = peak(cfg, direct_a + ghost_a, az_img, r_m)
@@ -210,9 +212,9 @@ def test_a_block_on_the_leg_from_the_wall_to_the_target_removes_its_ghosts(
         renderer = make_renderer(project)
         snap = take_snapshot(project, 0.0)
         buf = renderer.render(snap, RenderRequest("radar", "radar", cfg.render_intrinsics()))
-        sc = radar_scatterers(project, snap, buf)
+        sc = radar_scatterers(RadarScene.from_project(project, snap), buf, config=project.rig.radar)
         assert np.any(sc.object_index == 0)                      # the corner is seen
-        sets = ghost_scatterers(project, snap, sc, cfg, buffers=buf)
+        sets = ghost_scatterers(RadarScene.from_project(project, snap), sc, cfg, buffers=buf)
         return sum(int(np.sum(g.scatterers.object_index == 0)) for g in sets)
 
     on_leg = (0.75 * R, 0.5 * H)          # midpoint of (R/2, H) → (R, 0); world y = left
@@ -272,10 +274,11 @@ def test_order_one_has_no_second_bounce(make_renderer: Renderer) -> None:
     renderer = make_renderer(project)
     snap = take_snapshot(project, 0.0)
     buf = renderer.render(snap, RenderRequest("radar", "radar", cfg.render_intrinsics()))
-    sc = radar_scatterers(project, snap, buf)
-    sets = ghost_scatterers(project, snap, sc, cfg, buffers=buf)
+    sc = radar_scatterers(RadarScene.from_project(project, snap), buf, config=project.rig.radar)
+    sets = ghost_scatterers(RadarScene.from_project(project, snap), sc, cfg, buffers=buf)
     assert sorted(g.order for g in sets) == [1, 1]
-    assert ghost_scatterers(project, snap, sc, cfg, buffers=buf, order=0) == []
+    assert ghost_scatterers(RadarScene.from_project(project, snap), sc, cfg, buffers=buf,
+                            order=0) == []
 
 
 def test_synthesis_antenna_override_matches_the_direct_sum() -> None:
@@ -374,8 +377,10 @@ def test_the_background_path_hands_the_ghosts_every_scatterer_of_the_frame() -> 
         frame = sim.frame(1)
         entries = sim.engine.cache._entries["radar_synthesis"]
         built = next(reversed(entries.values())).value[4]
-    full = radar_scatterers(sim.engine.project, frame.snapshot, frame.buffers["radar"],
-                            seed=project.seed, see_through=frame.see_through.get("radar"))
+    full = radar_scatterers(RadarScene.from_project(sim.engine.project, frame.snapshot),
+                            frame.buffers["radar"],
+                            seed=project.seed, see_through=frame.see_through.get("radar"),
+                            config=sim.engine.project.rig.radar)
     assert isinstance(built, Scatterers) and len(built) == len(full)
     assert np.count_nonzero(built.object_index == 0) > 0     # the still objects are there
     order_b = np.lexsort((built.positions_m[:, 2], built.positions_m[:, 1],
@@ -456,7 +461,7 @@ def test_bistatic_label_terms_reduce_to_the_monostatic_ones_and_follow_the_image
 def test_report_section_marks_the_ghost_where_the_map_shows_it(tmp_path) -> None:
     """multipath_section on the bundled corridor: the figure is written, and the map's power
     at each predicted order-1 ghost rises by more than 20 dB when multipath is on."""
-    from simcore.report_multipath import multipath_section
+    from simcore.report.multipath import multipath_section
 
     figures, numbers = multipath_section(tmp_path, quick=True)
     assert (tmp_path / figures[0][0]).stat().st_size > 10_000

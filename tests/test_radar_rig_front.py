@@ -29,6 +29,7 @@ from simcore.sensors.radar import radar_scatterers
 from simcore.sensors.radar.equation import if_amplitude_fs
 from simcore.sensors.radar.multipath import GhostSet, ghost_scatterers, synthesize_ghosts
 from simcore.sensors.radar.scatterers import KIND_POINT_TARGET
+from simcore.sensors.radar.scene import RadarScene
 
 Renderer = Callable[..., SceneRenderer]
 
@@ -73,8 +74,8 @@ def rig_front_sets(make_renderer: Renderer, project: Project) -> list[GhostSet]:
     snap = take_snapshot(project, 0.0)
     buf = make_renderer(project).render(
         snap, RenderRequest("radar", "radar", cfg.render_intrinsics()))
-    sc = radar_scatterers(project, snap, buf)
-    sets = ghost_scatterers(project, snap, sc, cfg, buffers=buf)
+    sc = radar_scatterers(RadarScene.from_project(project, snap), buf, config=project.rig.radar)
+    sets = ghost_scatterers(RadarScene.from_project(project, snap), sc, cfg, buffers=buf)
     return [g for g in sets if g.order == 2 and np.all(g.scatterers.kind == KIND_POINT_TARGET)]
 
 

@@ -17,6 +17,7 @@ from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.scene.snapshot import SceneSnapshot, take_snapshot
 from simcore.sensors.radar import radar_scatterers, simulate_radar
 from simcore.sensors.radar.scatterers import KIND_CORNER_REFLECTOR, KIND_POINT_TARGET
+from simcore.sensors.radar.scene import RadarScene
 
 IDEAL = {"noise_variance_adc": 0.0, "leakage_dbc": None, "adc_bits": None,
          "if_highpass_hz": 0.0, "if_lowpass_hz": 0.0}
@@ -76,7 +77,7 @@ def test_point_targets_range_and_power(make_renderer: Renderer) -> None:
     cfg = project.rig.radar.model_copy(update=IDEAL)
     renderer = make_renderer(project)
     snap, buffers = radar_render(renderer, project, cfg)
-    scat = radar_scatterers(project, snap, buffers, config=cfg)
+    scat = radar_scatterers(RadarScene.from_project(project, snap), buffers, config=cfg)
     assert (scat.kind == KIND_CORNER_REFLECTOR).sum() == 3 and len(scat) == 3
     out = simulate_radar(scat, cfg, rng=np.random.default_rng(0))
     # Channel 1 is the Rx at the Tx position: the round trip is exactly 2R.
@@ -119,7 +120,8 @@ def test_wall_peak_power_does_not_depend_on_render_supersampling(make_renderer: 
     assert fine_buf.shape == (2 * coarse_buf.shape[0], 2 * coarse_buf.shape[1])
     peaks = []
     for cfg, buf in ((base, coarse_buf), (fine, fine_buf)):
-        out = simulate_radar(radar_scatterers(project, snap, buf, config=cfg), cfg,
+        out = simulate_radar(radar_scatterers(RadarScene.from_project(project, snap), buf,
+                                              config=cfg), cfg,
                              rng=np.random.default_rng(0))
         spec = range_spectrum(out.adc[0, 1].astype(np.float64), pad=1)
         peaks.append(20 * np.log10(np.abs(spec).max()))
@@ -153,9 +155,11 @@ def test_corner_reflector_behind_paper_box_appears_in_radar_data(make_renderer: 
     hide = tuple(i == box for i in range(len(names)))
     through = renderer.render(snap, RenderRequest("radar", "radar", cfg.render_intrinsics()),
                               hide=hide)
-    alone = radar_scatterers(project, snap, buffers)
+    alone = radar_scatterers(RadarScene.from_project(project, snap), buffers,
+                             config=project.rig.radar)
     assert not np.any(alone.kind == KIND_CORNER_REFLECTOR)      # opaque without the pass
-    scat = radar_scatterers(project, snap, buffers, see_through=through)
+    scat = radar_scatterers(RadarScene.from_project(project, snap), buffers, see_through=through,
+                            config=project.rig.radar)
     is_cr = scat.kind == KIND_CORNER_REFLECTOR
     assert is_cr.sum() == 1 and scat.object_index[is_cr][0] == cr
     r_cr = float(np.linalg.norm(scat.positions_m[is_cr][0]))
@@ -165,7 +169,8 @@ def test_corner_reflector_behind_paper_box_appears_in_radar_data(make_renderer: 
                                           paper.thickness_m, SPEED_OF_LIGHT / cfg.wavelength_m)
     # The same reflector with nothing in front (the pass without the box, used as the
     # frame's render) has the unattenuated RCS.
-    open_view = radar_scatterers(project, snap, through)
+    open_view = radar_scatterers(RadarScene.from_project(project, snap), through,
+                                 config=project.rig.radar)
     sigma_open = open_view.rcs_m2[open_view.kind == KIND_CORNER_REFLECTOR][0]
     print(f"paper |T|² = {abs(t_slab) ** 2:.4f}; reflector RCS {sigma_open:.4g} m² open, "
           f"{scat.rcs_m2[is_cr][0]:.4g} m² behind the box")
@@ -203,7 +208,8 @@ def test_point_target_is_hidden_by_a_wall_in_front(make_renderer: Renderer) -> N
         renderer = make_renderer(project)
         cfg = project.rig.radar
         snap, buffers = radar_render(renderer, project, cfg)
-        scat = radar_scatterers(project, snap, buffers)
+        scat = radar_scatterers(RadarScene.from_project(project, snap), buffers,
+                                config=project.rig.radar)
         found = scat.kind == KIND_POINT_TARGET
         assert found.sum() == int(visible)
         if visible:
@@ -218,4 +224,4 @@ def test_scatterers_need_the_radar_band(make_renderer: Renderer, band: str) -> N
     buf = renderer.render(snap, RenderRequest(band, band,
                                              PinholeIntrinsics.from_fov(64, 48, 60.0)))
     with pytest.raises(ValueError, match="radar render"):
-        radar_scatterers(project, snap, buf)
+        radar_scatterers(RadarScene.from_project(project, snap), buf, config=project.rig.radar)

@@ -31,6 +31,7 @@ from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.scene.snapshot import take_snapshot
 from simcore.sensors.radar import radar_scatterers, simulate_radar
 from simcore.sensors.radar.scatterers import KIND_CORNER_REFLECTOR
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.sensor import RadarSensor
 
 Renderer = Callable[..., SceneRenderer]
@@ -54,7 +55,8 @@ def peak_dbfs(make_renderer: Renderer, project: Project, cfg: RadarConfig, *, se
     buffers = renderer.render(snap, request)
     hide = sensor.see_through(project)
     through = None if hide is None else renderer.render(snap, request, hide=hide)
-    scat = radar_scatterers(project, snap, buffers, config=cfg, seed=seed, see_through=through)
+    scat = radar_scatterers(RadarScene.from_project(project, snap), buffers, config=cfg, seed=seed,
+                            see_through=through)
     out = simulate_radar(scat, cfg, rng=np.random.default_rng(0))
     spec = range_spectrum(out.adc[0, 1].astype(np.float64), 16)
     return float(20 * np.log10(np.abs(spec).max()))
@@ -165,7 +167,8 @@ def test_office_floor_clutter_stands_above_the_noise(make_renderer: Renderer) ->
     buffers = renderer.render(snap, request)
     through = renderer.render(snap, request, hide=RadarSensor().see_through(project))
     names = [o.name for o in project.objects]
-    scat = radar_scatterers(project, snap, buffers, see_through=through)
+    scat = radar_scatterers(RadarScene.from_project(project, snap), buffers, see_through=through,
+                            config=project.rig.radar)
     floor = scat.subset(scat.object_index == names.index("floor"))
     with_floor = simulate_radar(floor, cfg, rng=np.random.default_rng(1))
     noise_only = simulate_radar(floor.subset(np.zeros(len(floor), bool)), cfg,
@@ -203,7 +206,8 @@ def test_pane_in_front_of_a_corner_reflector(make_renderer: Renderer, material: 
         buffers = renderer.render(snap, request)
         hide = RadarSensor().see_through(project)
         through = None if hide is None else renderer.render(snap, request, hide=hide)
-        scat = radar_scatterers(project, snap, buffers, config=cfg, see_through=through)
+        scat = radar_scatterers(RadarScene.from_project(project, snap), buffers, config=cfg,
+                                see_through=through)
         return float(scat.rcs_m2[scat.kind == KIND_CORNER_REFLECTOR].sum())
 
     open_rcs = reflector_power(open_project)

@@ -22,6 +22,7 @@ from simcore.scene.model import SensorRig
 from simcore.scene.radar_presets import tdm_mimo_2tx4rx
 from simcore.scene.snapshot import take_snapshot
 from simcore.sensors.radar import radar_scatterers, simulate_radar
+from simcore.sensors.radar.scene import RadarScene
 
 RANGE_M, BEARING_DEG = 2.0, 10.0
 
@@ -38,7 +39,8 @@ def test_two_targets_in_one_cell_both_detected_without_spurious(
     renderer = make_renderer(project)
     snap = take_snapshot(project, 0.0)
     buffers = renderer.render(snap, RenderRequest("radar", "radar", cfg.render_intrinsics()))
-    out = simulate_radar(radar_scatterers(project, snap, buffers, config=cfg), cfg,
+    out = simulate_radar(radar_scatterers(RadarScene.from_project(project, snap), buffers,
+                                          config=cfg), cfg,
                          rng=np.random.default_rng(3))
     det = process_frame(out.adc, cfg, DspConfig()).detections
     for i in range(len(det)):

@@ -138,7 +138,10 @@ def test_configuration_round_trips_into_the_project_and_dataset(tmp_path):
     src = write_recording(tmp_path, codes, settings)
     out, proj = tmp_path / "real.h5", tmp_path / "real.json"
     assert main(["convert", str(src), "--to", str(out), "--project", str(proj)]) == 0
-    radar = load_project(proj).rig.radar
+    converted = load_project(proj)
+    # A radar recording gives a radar-only project: no ToF camera nobody asked for.
+    assert converted.rig.tof is None and list(converted.sensor_configs()) == ["radar"]
+    radar = converted.rig.radar
     assert radar.device_settings == settings
     assert radar.start_frequency_hz == 58e9 and radar.bandwidth_hz == 5.5e9
     assert radar.chirp_time_s == 128 / 1e6 and radar.sample_rate_hz == 1e6
@@ -321,7 +324,7 @@ def test_convert_refuses_to_overwrite_and_misplaced_options(tmp_path, capsys):
 
 
 def test_the_report_section_says_when_the_recording_is_absent(tmp_path, monkeypatch):
-    from simcore.report_real import RECORDING_ENV, real_section, shared_recording
+    from simcore.report.real import RECORDING_ENV, real_section, shared_recording
 
     monkeypatch.setenv(RECORDING_ENV, str(tmp_path / "nowhere"))
     assert shared_recording() is None
@@ -333,7 +336,7 @@ def test_the_report_section_says_when_the_recording_is_absent(tmp_path, monkeypa
 
 
 def test_ellipsoid_mesh_encloses_the_ellipsoid_volume():
-    from simcore.report_real import ellipsoid_obj
+    from simcore.report.real import ellipsoid_obj
 
     text = ellipsoid_obj((0.1, 0.2, 0.3), n_lat=96, n_lon=192)
     v = np.array([[float(t) for t in ln.split()[1:]] for ln in text.splitlines()

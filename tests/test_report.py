@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 
 from simcore.cli import main
-from simcore.report_real import shared_recording
+from simcore.report.real import shared_recording
 
 
 def test_quick_report_figures_and_numbers(tmp_path):

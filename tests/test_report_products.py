@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from simcore.report_products import (
+from simcore.report.products import (
     BREATHING,
     HEARTBEAT,
     chest_vital_signs,

@@ -8,7 +8,7 @@ import pytest
 
 from simcore.pipeline import Simulator
 from simcore.resources import example_path
-from simcore.runner import run_dataset
+from simcore.runs.runner import run_dataset
 from simcore.scene import Box, DualBandMaterial, Pose, Project, SceneObject, load_project
 from simcore.scene.materials import BandMaterial
 from simcore.scene.model import SensorRig

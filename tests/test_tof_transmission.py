@@ -165,8 +165,8 @@ def test_the_radar_band_is_unchanged(material: str) -> None:
                                                       if b != "tof"}})
                 for name, m in table.items()}
     wavelength = project.rig.radar.wavelength_m
-    np.testing.assert_array_equal(transmission_coefficients(project, table, wavelength),
-                                  transmission_coefficients(project, stripped, wavelength))
+    np.testing.assert_array_equal(transmission_coefficients(project.objects, table, wavelength),
+                                  transmission_coefficients(project.objects, stripped, wavelength))
     expected = (False, True) if material == "glass" else None
     assert RadarSensor().see_through(project) == expected
 

@@ -22,7 +22,7 @@ from hostile import base_project_dict, write_project
 from simcore.cli import main
 from simcore.io import open_dataset
 from simcore.io.zarr_writer import ZarrWriter, create_arrays, open_group, write_shard
-from simcore.runner import run_dataset
+from simcore.runs.runner import run_dataset
 from simcore.scene import load_project
 from simcore.scene.project_io import project_to_json
 

@@ -117,7 +117,8 @@ def radar_axes(radar_config: RadarConfig, dsp_config: DspConfig) -> RadarAxes:
     return RadarAxes(r, v, az, el, bx, bz, n_fft, n_dop)
 
 
-def static_axes_items(radar_config: RadarConfig, dsp_config: DspConfig) -> H5Items:
+def static_axes_items(radar_config: RadarConfig, dsp_config: DspConfig, *,
+                      group: str) -> H5Items:
     """Run-constant HDF5 datasets of the radar products: path → (array, unit).
 
     Parameters
@@ -130,18 +131,18 @@ def static_axes_items(radar_config: RadarConfig, dsp_config: DspConfig) -> H5Ite
     Returns
     -------
     dict
-        ``/radar/range_axis`` (n_range,) m, ``/radar/velocity_axis`` (n_doppler,) m/s,
-        ``/radar/azimuth_axis`` (n_az,) deg, ``/radar/bird_eye_x_axis`` (nx,) m and
-        ``/radar/bird_eye_z_axis`` (nz,) m, all float64; they label the axes of the
+        ``/<group>/range_axis`` (n_range,) m, ``velocity_axis`` (n_doppler,) m/s,
+        ``azimuth_axis`` (n_az,) deg, ``bird_eye_x_axis`` (nx,) m and
+        ``bird_eye_z_axis`` (nz,) m, all float64; they label the axes of the
         per-frame items of :meth:`RadarProducts.hdf5_items`.
     """
     ax = radar_axes(radar_config, dsp_config)
     return {
-        "/radar/range_axis": (ax.range_m, "m"),
-        "/radar/velocity_axis": (ax.velocity_mps, "m/s"),
-        "/radar/azimuth_axis": (ax.azimuth_deg, "deg"),
-        "/radar/bird_eye_x_axis": (ax.bev_x_m, "m"),
-        "/radar/bird_eye_z_axis": (ax.bev_z_m, "m"),
+        f"/{group}/range_axis": (ax.range_m, "m"),
+        f"/{group}/velocity_axis": (ax.velocity_mps, "m/s"),
+        f"/{group}/azimuth_axis": (ax.azimuth_deg, "deg"),
+        f"/{group}/bird_eye_x_axis": (ax.bev_x_m, "m"),
+        f"/{group}/bird_eye_z_axis": (ax.bev_z_m, "m"),
     }
 
 
@@ -189,23 +190,29 @@ class RadarProducts:
     peaks: NDArray[np.bool_]
     detections: Detections
 
-    def hdf5_items(self) -> H5Items:
+    def hdf5_items(self, *, group: str) -> H5Items:
         """Per-frame HDF5 datasets: path → (array without the frame axis, unit).
+
+        Parameters
+        ----------
+        group : str
+            The radar's dataset group (its name).
 
         Returns
         -------
         dict
-            ``/radar/range_profile`` (channels, range), ``/radar/range_profile_integrated``
-            (range,), ``/radar/range_doppler`` (doppler, range), ``/radar/range_azimuth``
-            (azimuth, range), ``/radar/bird_eye`` (nz, nx); all float32 dB. The detections
-            go to the ``/radar/detections`` table via :meth:`detection_records`.
+            ``/<group>/range_profile`` (channels, range), ``range_profile_integrated``
+            (range,), ``range_doppler`` (doppler, range), ``range_azimuth``
+            (azimuth, range), ``bird_eye`` (nz, nx); all float32 dB, under the radar's
+            group (its name). The detections go to its ``detections`` table via
+            :meth:`detection_records`.
         """
         return {
-            "/radar/range_profile": (self.range_profile_db, "dB"),
-            "/radar/range_profile_integrated": (self.range_profile_integrated_db, "dB"),
-            "/radar/range_doppler": (self.range_doppler_db, "dB"),
-            "/radar/range_azimuth": (self.range_azimuth_db, "dB"),
-            "/radar/bird_eye": (self.bird_eye_db, "dB"),
+            f"/{group}/range_profile": (self.range_profile_db, "dB"),
+            f"/{group}/range_profile_integrated": (self.range_profile_integrated_db, "dB"),
+            f"/{group}/range_doppler": (self.range_doppler_db, "dB"),
+            f"/{group}/range_azimuth": (self.range_azimuth_db, "dB"),
+            f"/{group}/bird_eye": (self.bird_eye_db, "dB"),
         }
 
     def detection_records(self, frame: int) -> NDArray[np.void]:

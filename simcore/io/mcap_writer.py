@@ -60,7 +60,7 @@ class McapWriter:
         if self.path.exists() and not overwrite:
             raise DatasetExistsError(f"{self.path} already exists; use --overwrite to replace it")
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self.project = project_from_dict(json.loads(project_json))
+        self.project = project_from_dict(json.loads(project_json), check_files=False)
         # Written beside the target and renamed into place when finished (as HDF5 runs).
         self.tmp = temporary_path(self.path)
         self._stream: IO[bytes] = open(self.tmp, "wb")  # noqa: SIM115 (closed in close())
@@ -163,7 +163,7 @@ def convert_hdf5_to_mcap(source: str | os.PathLike[str], target: str | os.PathLi
     with h5py.File(source, "r") as f:
         meta = f["meta"].attrs
         n = int(meta["n_frames"])
-        project = project_from_dict(json.loads(str(meta["project_json"])))
+        project = project_from_dict(json.loads(str(meta["project_json"])), check_files=False)
         radars = list(project.sensors_of_kind("radar"))
         static_prefixes = ("/objects/", "/people/", *(f"/{r}/" for r in radars))
         per_frame, static = [], {}

@@ -179,15 +179,17 @@ def _put(group: h5py.Group, name: str, data: NDArray[Any], unit: str) -> None:
 def radars_with_adc(path: str | os.PathLike[str]) -> list[str]:
     """Names of the dataset's radars that have ADC data (``/<name>/adc``), project order.
 
-    ``["radar"]`` (the built-in radar) when it has none, so asking for its products names
-    what is missing.
+    ``["radar"]`` (the built-in radar) when none of its radars has, so asking for its
+    products names what is missing; ``[]`` when the project has no radar.
     """
     with h5py.File(path, "r") as f:
         if "meta" not in f or "project_json" not in f["meta"].attrs:
             return ["radar"]
-        project = project_from_dict(json.loads(f["meta"].attrs["project_json"]))
-        found = [n for n in project.sensors_of_kind("radar") if f"/{n}/adc" in f]
-    return found or ["radar"]
+        project = project_from_dict(json.loads(f["meta"].attrs["project_json"]),
+                                    check_files=False)
+        radars = project.sensors_of_kind("radar")
+        found = [n for n in radars if f"/{n}/adc" in f]
+    return found or (["radar"] if radars else [])
 
 
 def write_all_radar_products(path: str | os.PathLike[str], *,
@@ -232,7 +234,8 @@ def write_radar_products(path: str | os.PathLike[str], *,
     with h5py.File(path, "r+") as f:
         adc = _require(f, f"/{radar}/adc")
         chirp_ds = _require(f, f"/{radar}/chirp_start_time")
-        project = project_from_dict(json.loads(f["meta"].attrs["project_json"]))
+        project = project_from_dict(json.loads(f["meta"].attrs["project_json"]),
+                                    check_files=False)
         try:
             rc = project.sensor_config(radar)
         except KeyError as exc:

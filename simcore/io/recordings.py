@@ -26,6 +26,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from simcore.preflight import MAX_FRAMES
+from simcore.scene.files import InputFileError, check_regular_file, is_inside, read_json_file
+from simcore.scene.limits import (
+    MAX_RECORDING_ARRAY_BYTES,
+    MAX_RECORDING_FRAME_BYTES,
+    MAX_RECORDING_FRAME_TIME_S,
+    MAX_RECORDING_JSON_BYTES,
+    MIN_RECORDING_FRAME_TIME_S,
+)
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 
 #: Keys of ``device_config.fmcw_single_shape`` and their types (all required).
@@ -130,21 +139,35 @@ def fs_to_codes(adc_fs: NDArray[np.floating], bits: int) -> NDArray[np.uint16]:
     return codes.astype(np.uint16)
 
 
-def _read_json(path: Path) -> dict[str, Any]:
+def _read_json(path: Path, root: Path | None = None, *,
+               allow_outside_paths: bool = False) -> dict[str, Any]:
+    """A recording's JSON part: a regular file inside ``root``, at most 1 MiB, an object."""
+    _check_part(path, root, allow_outside_paths=allow_outside_paths)
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise RecordingError(f"{path}: missing") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise RecordingError(f"{path}: cannot be read ({exc})") from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise RecordingError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno})"
-                             ) from None
+        data = read_json_file(path, max_bytes=MAX_RECORDING_JSON_BYTES, label=str(path))
+    except InputFileError as exc:
+        if exc.missing:
+            raise RecordingError(f"{path}: missing") from None
+        raise RecordingError(str(exc)) from None
     if not isinstance(data, dict):
         raise RecordingError(f"{path}: expected a JSON object, got {type(data).__name__}")
     return data
+
+
+def _check_part(path: Path, root: Path | None, *, allow_outside_paths: bool) -> None:
+    """Refuse a part that leads outside the recording's folder (symlinks resolved).
+
+    Unless ``allow_outside_paths``: the path policy of every referenced file.
+    """
+    if root is None or allow_outside_paths:
+        return
+    try:
+        real = path.resolve()
+    except (OSError, RuntimeError):
+        raise RecordingError(f"{path}: symlink loop") from None
+    if real.exists() and not is_inside(real, root):
+        raise RecordingError(f"{path}: resolves to {real}, outside the recording folder "
+                             f"{root} (pass --allow-outside-paths to accept it)")
 
 
 def stream_folder(path: str | os.PathLike[str]) -> Path:
@@ -199,41 +222,99 @@ def check_settings(settings: Any, source: Path) -> dict[str, Any]:
     for key in ("frame_repetition_time_s", "chirp_repetition_time_s", "sample_rate_Hz"):
         if settings[key] <= 0:
             raise RecordingError(f"{source}: {key} = {settings[key]} must be positive")
+    t_f = settings["frame_repetition_time_s"]
+    if not MIN_RECORDING_FRAME_TIME_S <= t_f <= MAX_RECORDING_FRAME_TIME_S:
+        raise RecordingError(f"{source}: frame_repetition_time_s = {t_f:g} s; allowed "
+                             f"{MIN_RECORDING_FRAME_TIME_S:g}–{MAX_RECORDING_FRAME_TIME_S:g} s")
+    chirps_s = settings["num_chirps_per_frame"] * settings["chirp_repetition_time_s"]
+    if chirps_s > t_f:
+        raise RecordingError(f"{source}: frame_repetition_time_s = {t_f:g} s is shorter than "
+                             f"its {settings['num_chirps_per_frame']} chirps of "
+                             f"{settings['chirp_repetition_time_s']:g} s ({chirps_s:g} s)")
     return dict(settings)
 
 
-def _load_codes(path: Path, settings: dict[str, Any], bits: int) -> NDArray[np.uint16]:
-    """``radar.npy`` memory-mapped, its dtype, shape and code range checked."""
+def _npy_header(path: Path) -> tuple[tuple[int, ...], np.dtype[Any], bool, int]:
+    """Shape, dtype, Fortran order and data offset of a ``.npy`` file (a regular file)."""
     try:
-        codes = np.load(path, mmap_mode="r", allow_pickle=False)
-    except FileNotFoundError:
-        raise RecordingError(f"{path}: missing") from None
-    except (ValueError, OSError, EOFError) as exc:
-        raise RecordingError(f"{path}: not a complete .npy array ({exc}); truncated or "
-                             "damaged") from None
-    if codes.dtype != np.uint16:
-        raise RecordingError(f"{path}: dtype {codes.dtype}; expected uint16 ADC codes")
+        real, _ = check_regular_file(path, max_bytes=MAX_RECORDING_ARRAY_BYTES, label=str(path))
+    except InputFileError as exc:
+        if exc.missing:
+            raise RecordingError(f"{path}: missing") from None
+        raise RecordingError(str(exc)) from None
+    fd = os.open(real, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    with os.fdopen(fd, "rb") as fh:
+        try:
+            version = np.lib.format.read_magic(fh)
+            if version == (1, 0):
+                shape, fortran, dtype = np.lib.format.read_array_header_1_0(fh)
+            elif version in ((2, 0), (3, 0)):
+                shape, fortran, dtype = np.lib.format.read_array_header_2_0(fh)
+            else:
+                raise ValueError(f"unsupported .npy version {version}")
+        except (ValueError, OSError, EOFError, SyntaxError) as exc:
+            raise RecordingError(f"{path}: not a .npy array ({' '.join(str(exc).split())[:160]})"
+                                 "; truncated or damaged") from None
+        return tuple(shape), np.dtype(dtype), bool(fortran), fh.tell()
+
+
+def _load_codes(path: Path, settings: dict[str, Any], bits: int) -> NDArray[np.uint16]:
+    """``radar.npy`` memory-mapped, its header, size and code range checked first."""
+    shape, dtype, fortran, offset = _npy_header(path)
+    if dtype.hasobject:
+        raise RecordingError(f"{path}: holds Python objects (pickled); expected uint16 ADC "
+                             "codes")
+    if dtype != np.uint16:
+        raise RecordingError(f"{path}: dtype {dtype}; expected uint16 ADC codes")
     n_ch = len(settings["rx_antennas"]) * (len(settings["tx_antennas"])
                                             if settings["mimo_mode"] == "tdm" else 1)
     expect = (n_ch, settings["num_chirps_per_frame"], settings["num_samples_per_chirp"])
-    if codes.ndim != 4 or tuple(codes.shape[1:]) != expect or codes.shape[0] < 1:
+    if len(shape) != 4 or tuple(shape[1:]) != expect or shape[0] < 1 or fortran:
         raise RecordingError(
-            f"{path}: shape {tuple(codes.shape)}; config.json describes (frames, channels, "
-            f"chirps, samples) = (N, {expect[0]}, {expect[1]}, {expect[2]})")
-    top = int(codes.max())
+            f"{path}: shape {tuple(shape)}{' (Fortran order)' if fortran else ''}; "
+            f"config.json describes (frames, channels, chirps, samples) = "
+            f"(N, {expect[0]}, {expect[1]}, {expect[2]}) in C order")
+    if shape[0] > MAX_FRAMES:
+        raise RecordingError(f"{path}: {shape[0]} frames; allowed at most {MAX_FRAMES}")
+    need = offset + math.prod(shape) * dtype.itemsize
+    size = path.stat().st_size
+    if size < need:
+        raise RecordingError(f"{path}: {size} bytes, but its header describes {need} "
+                             f"({shape[0]} frames); truncated or damaged")
+    codes = np.memmap(path, dtype=dtype, mode="r", offset=offset, shape=shape)
+    top = max(int(codes[k].max()) for k in range(shape[0]))
     if top >= 2**bits:
         raise RecordingError(f"{path}: code {top} outside the {bits}-bit ADC range "
                              f"0…{2**bits - 1}")
     return codes
 
 
-def read_recording(path: str | os.PathLike[str]) -> RadarRecording:
+def _check_cost(config: RadarConfig, cfg_path: Path) -> None:
+    """Refuse a recording whose one frame would not fit the conversion's memory budget."""
+    from simcore.preflight import estimate_cost
+    from simcore.scene.model import Project, SensorRig
+
+    cost = estimate_cost(Project(rig=SensorRig(radar=config)))
+    if cost.memory_bytes > MAX_RECORDING_FRAME_BYTES:
+        field, part = cost.memory_parts[0]
+        raise RecordingError(
+            f"{cfg_path}: converting one frame of {config.chirps_per_frame} chirps × "
+            f"{config.samples_per_chirp} samples would need ≈ {cost.memory_bytes / 2**30:.2f} "
+            f"GiB ({part / 2**30:.2f} GiB for {field}); the budget is "
+            f"{MAX_RECORDING_FRAME_BYTES / 2**30:g} GiB")
+
+
+def read_recording(path: str | os.PathLike[str], *,
+                   allow_outside_paths: bool = False) -> RadarRecording:
     """Read and check a Radar Fusion GUI / ifxdaq recording.
 
     Parameters
     ----------
     path : path-like
         The recording folder (holding ``RadarIfxAvian_<nn>/``) or the stream folder.
+    allow_outside_paths : bool
+        Accept parts (``radar.npy``, ``config.json``, ``meta.json``) that are symlinks to
+        files outside the recording folder.
 
     Returns
     -------
@@ -253,8 +334,10 @@ def read_recording(path: str | os.PathLike[str]) -> RadarRecording:
     from simcore.scene.radar_presets import bgt60tr13c_from_device
 
     folder = stream_folder(path)
+    root = Path(path).resolve()
+    policy = {"allow_outside_paths": allow_outside_paths}
     cfg_path = folder / "config.json"
-    doc = _read_json(cfg_path)
+    doc = _read_json(cfg_path, root, **policy)
     unknown = sorted(set(doc) - {"device_config"})
     if unknown or not isinstance(doc.get("device_config"), dict):
         raise RecordingError(f"{cfg_path}: expected {{'device_config': "
@@ -264,13 +347,15 @@ def read_recording(path: str | os.PathLike[str]) -> RadarRecording:
         raise RecordingError(f"{cfg_path}: device_config holds {shapes}; only "
                              "fmcw_single_shape is supported")
     settings = check_settings(doc["device_config"]["fmcw_single_shape"], cfg_path)
-    device_meta = _read_json(folder / "meta.json") if (folder / "meta.json").exists() else {}
+    device_meta = (_read_json(folder / "meta.json", root, **policy)
+                   if _present(folder / "meta.json") else {})
     bits = device_meta.get("adc_resolution", DEFAULT_ADC_BITS)
     if isinstance(bits, bool) or not isinstance(bits, int) or not 1 <= bits <= 16:
         raise RecordingError(f"{folder / 'meta.json'}: adc_resolution = {bits!r}; expected "
                              "1…16 bits")
     capture = folder.parent / "meta.json"
-    capture_meta = _read_json(capture) if capture.exists() else {}
+    capture_meta = (_read_json(capture, root if capture.parent == root else capture.parent,
+                               **policy) if _present(capture) else {})
     try:
         config = bgt60tr13c_from_device(settings, adc_bits=bits)
     except ValidationError as exc:
@@ -278,8 +363,15 @@ def read_recording(path: str | os.PathLike[str]) -> RadarRecording:
                              f"{'; '.join(format_validation_error(exc))}") from None
     except ValueError as exc:
         raise RecordingError(f"{cfg_path}: {' '.join(str(exc).split())}") from None
+    _check_cost(config, cfg_path)
+    _check_part(folder / "radar.npy", root, **policy)
     codes = _load_codes(folder / "radar.npy", settings, bits)
     return RadarRecording(folder, settings, device_meta, capture_meta, bits, codes, config)
+
+
+def _present(path: Path) -> bool:
+    """Whether ``path`` exists as anything (a dangling symlink counts: it is reported)."""
+    return path.is_symlink() or path.exists()
 
 
 # ----------------------------------------------------------------------- measurement
@@ -432,8 +524,9 @@ def recording_project(recording: RadarRecording, *, name: str | None = None) -> 
     Returns
     -------
     simcore.scene.model.Project
-        ``rig.radar`` = :attr:`RadarRecording.config`; timeline at ``1 /
-        frame_repetition_time_s`` over the recording's frames; no objects.
+        A radar-only rig: ``rig.radar`` = :attr:`RadarRecording.config`, no ToF camera;
+        timeline at ``1 / frame_repetition_time_s`` over the recording's frames; no
+        objects.
     """
     from simcore.scene.model import Project, SensorRig, Timeline
 
@@ -444,12 +537,13 @@ def recording_project(recording: RadarRecording, *, name: str | None = None) -> 
                     f"{recording.folder.parent.name}/{recording.folder.name} "
                     "(tofradar convert --project); the scene is empty",
         timeline=Timeline(frame_rate_hz=1.0 / t_f, duration_s=recording.n_frames * t_f),
-        rig=SensorRig(radar=recording.config))
+        rig=SensorRig(tof=None, radar=recording.config))
 
 
 def convert_recording(source: str | os.PathLike[str], out: str | os.PathLike[str], *,
                       project_out: str | os.PathLike[str] | None = None,
-                      overwrite: bool = False) -> ConvertReport:
+                      overwrite: bool = False,
+                      allow_outside_paths: bool = False) -> ConvertReport:
     """Write a recording as a dataset of the simulator's layout (``docs/dataset.md``).
 
     Per frame: ``/time`` (``k · frame_repetition_time_s``), ``/radar/adc`` (FS, float32,
@@ -468,16 +562,27 @@ def convert_recording(source: str | os.PathLike[str], out: str | os.PathLike[str
         Also save the project there (JSON).
     overwrite : bool
         Replace existing output files.
+    allow_outside_paths : bool
+        Accept recording parts that lead outside the recording folder.
+
+    The recording, the project it gives (its timeline passes the pre-run checks) and the
+    folders the outputs go to are checked before the dataset is started (``tofradar
+    convert`` also removes a dataset it began when a later step fails).
     """
     from simcore.dsp import process_frame, static_axes_items
     from simcore.io.hdf5_writer import DatasetExistsError, DatasetWriter
     from simcore.scene.project_io import project_to_json, save_project
+    from simcore.sensors.schema import schema_of
 
-    rec = read_recording(source)
-    project = recording_project(rec)
+    rec = read_recording(source, allow_outside_paths=allow_outside_paths)
+    project = _checked_project(rec)
     if project_out is not None and Path(project_out).exists() and not overwrite:
         raise DatasetExistsError(f"{project_out} already exists; use --overwrite to replace it")
-    cfg, dsp = project.rig.radar, project.dsp
+    for target, what in ((Path(out), "--to"), (Path(project_out or out), "--project")):
+        _check_writable(target, what)
+    (radar, cfg), = project.sensors_of_kind("radar").items()
+    dsp = project.dsp
+    schema = schema_of("radar")
     meta = {"source": "recording", "recording_path": str(Path(source).resolve()),
             "recording_config": json.dumps({"device_config": {"fmcw_single_shape":
                                                               rec.settings}}),
@@ -489,19 +594,61 @@ def convert_recording(source: str | os.PathLike[str], out: str | os.PathLike[str
     starts = cfg.chirp_start_times_s()
     with DatasetWriter(out, project_json=project_to_json(project), seed=project.seed,
                        overwrite=overwrite, extra_meta=meta) as writer:
-        writer.write_static(static_axes_items(cfg, dsp))
+        writer.write_static(static_axes_items(cfg, dsp, group=radar))
         for k in range(rec.n_frames):
             adc = rec.frame_adc(k)
             products = process_frame(adc, cfg, dsp)
-            writer.append_rows("/radar/detections", products.detection_records(k))
+            writer.append_rows(schema.dataset_path(radar, "detections"),
+                               products.detection_records(k))
             writer.append({"/time": (np.asarray(times[k]), "s"),
-                           "/radar/adc": (adc, "FS"),
-                           "/radar/chirp_start_time": (times[k] + starts, "s"),
-                           **products.hdf5_items()})
+                           schema.dataset_path(radar, "adc"): (adc, "FS"),
+                           schema.dataset_path(radar, "chirp_start_time"): (times[k] + starts,
+                                                                            "s"),
+                           **products.hdf5_items(group=radar)})
     if project_out is not None:
         save_project(project, project_out)
     return ConvertReport(rec.n_frames, Path(out), None if project_out is None
                          else Path(project_out))
+
+
+def _checked_project(rec: RadarRecording) -> Any:
+    """The recording's project, refused unless its timeline passes the pre-run checks."""
+    from pydantic import ValidationError
+
+    from simcore.preflight import check
+    from simcore.scene.project_io import format_validation_error
+
+    where = rec.folder / "config.json"
+    try:
+        project = recording_project(rec)
+    except ValidationError as exc:
+        raise RecordingError(f"{where}: the project it gives is not valid: "
+                             f"{'; '.join(format_validation_error(exc))}") from None
+    # The converted scene is empty by design; every other pre-run check applies.
+    problems = [p for p in check(project, n_frames=rec.n_frames, parse_meshes=False,
+                                 memory_budget_bytes=2**63)
+                if not p.startswith("objects:")]
+    if problems:
+        raise RecordingError(f"{where}: the project it gives would not run: {problems[0]}")
+    return project
+
+
+def _check_writable(target: Path, what: str) -> None:
+    """Refuse an output whose folder is missing or not writable, before anything is written."""
+    folder = target.parent if str(target.parent) else Path(".")
+    if target.is_dir():
+        raise RecordingError(f"{what} {target}: is a folder; give a file name")
+    if not folder.is_dir():
+        raise RecordingError(f"{what} {target}: the folder {folder} does not exist")
+    import tempfile
+
+    try:    # a file made and removed: permissions, ACLs and read-only mounts alike
+        fd, probe = tempfile.mkstemp(dir=folder, prefix=".tofradar-probe-")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise RecordingError(f"{what} {target}: cannot write into {folder} "
+                             f"({exc.strerror})") from None
 
 
 __all__ = ["ConvertReport", "RadarRecording", "RecordingError", "RecordingLevels",

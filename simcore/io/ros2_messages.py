@@ -49,6 +49,7 @@ from simcore.scene.project_io import ProjectError
 from simcore.scene.radar_config import RadarConfig
 from simcore.scene.snapshot import BODY_FROM_OPTICAL
 from simcore.sensors.radar.interference import INR_NONE_DB
+from simcore.sensors.schema import schemas
 
 Items = Mapping[str, tuple[NDArray[Any], str]]
 
@@ -83,16 +84,10 @@ _STANDARD = {
     "tf2_msgs/TFMessage": "geometry_msgs/TransformStamped[] transforms\n",
 }
 
-#: Topics of each sensor kind: a sensor named ``N`` publishes ``/N/<suffix>``.
+#: Topics of each sensor kind (from its schema): a sensor named ``N`` publishes
+#: ``/N/<suffix>``.
 SENSOR_TOPICS: dict[str, dict[str, str]] = {
-    "tof": {"depth": "sensor_msgs/msg/Image", "amplitude": "sensor_msgs/msg/Image",
-            "camera_info": "sensor_msgs/msg/CameraInfo",
-            "points": "sensor_msgs/msg/PointCloud2"},
-    "rgb": {"image": "sensor_msgs/msg/Image", "camera_info": "sensor_msgs/msg/CameraInfo"},
-    "radar": {"detections": "sensor_msgs/msg/PointCloud2",
-              "adc": "tofradar_msgs/msg/RadarCube",
-              "range_doppler": "tofradar_msgs/msg/RangeDopplerMap"},
-}
+    kind: schema.topics() for kind, schema in schemas().items()}
 TF_TOPIC = "/tf"
 TF_TYPE = "tf2_msgs/msg/TFMessage"
 
@@ -102,10 +97,11 @@ def sensor_topics(name: str, kind: str) -> dict[str, str]:
     return {f"/{name}/{suffix}": datatype for suffix, datatype in SENSOR_TOPICS[kind].items()}
 
 
-#: ROS 2 type of every topic of the built-in rig (``tof``, ``rgb``, ``radar``); a project's
+#: ROS 2 type of every topic of the built-in sensors (one of each kind, named after it); a
+#: project's
 #: own topics are :meth:`RigDescription.topics`.
-TOPIC_TYPES = {TF_TOPIC: TF_TYPE, **sensor_topics("tof", "tof"), **sensor_topics("rgb", "rgb"),
-               **sensor_topics("radar", "radar")}
+TOPIC_TYPES = {TF_TOPIC: TF_TYPE, **{topic: datatype for kind in SENSOR_TOPICS
+                                     for topic, datatype in sensor_topics(kind, kind).items()}}
 
 _FLOAT32, _INT32 = 7, 5
 #: Point layout of ``/radar/detections`` (little-endian, 28 bytes per point).
@@ -370,7 +366,7 @@ class RigDescription:
                         "bandwidth_hz": cfg.bandwidth_hz, "sample_rate_hz": cfg.sample_rate_hz,
                         "chirp_repetition_time_s": cfg.chirp_repetition_time_s}
                     axes = {k.rsplit("/", 1)[-1]: v for k, v in
-                            static_axes_items(cfg, project.dsp).items()}
+                            static_axes_items(cfg, project.dsp, group=name).items()}
                     for key, attr in (("range_axis", "range_axis_m"),
                                       ("velocity_axis", "velocity_axis_mps")):
                         value = static_items.get(f"/{name}/{key}", axes.get(key))

@@ -1,6 +1,6 @@
 """The one interface every dataset writer has, and the thread that takes writing off the engine.
 
-:class:`FrameWriter` is what :func:`simcore.runner.run_dataset` drives: HDF5
+:class:`FrameWriter` is what :func:`simcore.runs.runner.run_dataset` drives: HDF5
 (:class:`simcore.io.hdf5_writer.DatasetWriter`), MCAP
 (:class:`simcore.io.mcap_writer.McapWriter`) and Zarr v3
 (:class:`simcore.io.zarr_writer.ZarrWriter`). :func:`open_writer` picks one from the

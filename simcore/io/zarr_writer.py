@@ -38,6 +38,7 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import os
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -52,7 +53,7 @@ from simcore.io.hdf5_writer import (
     ResumeError,
     frame_checksum,
 )
-from simcore.io.reader import sensor_kinds
+from simcore.io.layout import sensor_kinds
 
 #: Frames per shard by default (a shard of the office is about 32 MB before compression).
 DEFAULT_SHARD_FRAMES = 16
@@ -60,7 +61,6 @@ DEFAULT_SHARD_FRAMES = 16
 #: shard (no inner chunks): reading one frame of them decodes at most 256 KiB.
 SMALL_VALUES = 4096
 CHECKSUM_PATH = "meta/frame_sha256"
-DETECTIONS_PATH = "/radar/detections"
 #: Attributes of the root group set when the store is created (the rest are extra meta).
 CORE_ATTRS = ("format_version", "project_json", "created", "tofradar_version", "seed",
               "n_frames", "shard_frames", "storage")
@@ -76,7 +76,7 @@ def _codecs(dtype: np.dtype[Any]) -> dict[str, Any]:
 
 def _dims(path: str, ndim: int, *, per_frame: bool,
           kinds: dict[str, str] | None = None) -> tuple[str, ...]:
-    from simcore.io.reader import dims_of
+    from simcore.io.layout import dims_of
 
     inner = dims_of(path, kinds) or tuple(
         f"{path.strip('/').replace('/', '_')}_dim{i}" for i in range(ndim))
@@ -90,9 +90,27 @@ def open_group(url: str, *, mode: str, storage_options: dict[str, Any] | None = 
     import zarr
 
     kw: dict[str, Any] = {"mode": mode, "zarr_format": 3}
+    if mode != "w":
+        # Our own reads and appends see the store as it is, not its consolidated
+        # metadata (which is rewritten as frames are committed: :func:`consolidate`).
+        kw["use_consolidated"] = False
     if "://" in url and storage_options:
         kw["storage_options"] = storage_options
     return zarr.open_group(_store_url(url), **kw)
+
+
+def consolidate(group: Any) -> None:
+    """Write the consolidated metadata of ``group``'s store (``xarray.open_zarr`` reads it).
+
+    Rewritten whenever the count of complete frames changes, so a reader that trusts it
+    sees every array and the committed ``n_frames``.
+    """
+    import zarr
+
+    with warnings.catch_warnings():
+        # zarr 3 warns that consolidated metadata is not yet part of the v3 spec.
+        warnings.simplefilter("ignore", UserWarning)
+        zarr.consolidate_metadata(group.store, zarr_format=3)
 
 
 def _store_url(url: str) -> str:
@@ -273,6 +291,7 @@ class ZarrWriter:
             n += 1
         if n != int(self.group.attrs.get("n_frames", -1)):
             self.group.attrs["n_frames"] = n
+            consolidate(self.group)
         self.n_frames = n
 
     def close(self, *, keep: bool = True) -> None:

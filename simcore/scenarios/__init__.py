@@ -13,6 +13,7 @@ seed and its index in its ``description`` and gets its own noise seed.
 from __future__ import annotations
 
 import json
+import os
 import shutil
 from collections.abc import Callable
 from pathlib import Path
@@ -25,6 +26,13 @@ from simcore.preflight import MAX_SEED, RunError
 from simcore.resources import RESOURCES_DIR
 from simcore.scene import fieldpath
 from simcore.scene.geometry import Mesh
+from simcore.scene.limits import (
+    MAX_SCENARIO_COUNT,
+    MAX_SPEC_BYTES,
+    MAX_SPEC_DEPTH,
+    MAX_SPEC_FIELDS,
+    MAX_SPEC_VALUES,
+)
 from simcore.scene.project_io import ProjectError, project_from_dict, project_to_json
 
 from ._dists import MAX_CHOICES, Choice, Normal, Strict, Uniform
@@ -41,12 +49,11 @@ from .furnish import (
     furnish,
 )
 
-#: Most projects of one ``generate`` run, fields varied by one spec, values of a choice.
-MAX_COUNT = 100_000
-MAX_FIELDS = 256
-#: Largest spec file (bytes) and nesting depth.
-MAX_SPEC_BYTES = 1 << 20
-MAX_DEPTH = 32
+#: Most projects of one ``generate`` run, fields varied by one spec, values of a choice;
+#: largest spec file (bytes) and nesting depth (:mod:`simcore.scene.limits`).
+MAX_COUNT = MAX_SCENARIO_COUNT
+MAX_FIELDS = MAX_SPEC_FIELDS
+MAX_DEPTH = MAX_SPEC_DEPTH
 SPEC_FORMAT = "tofradar-scenario/1"
 
 
@@ -94,7 +101,7 @@ class ScenarioSpec(Strict):
 
 #: Most values (numbers, strings, lists, objects) of one spec, aliases counted as often as
 #: they are used (a YAML "billion laughs" of nested aliases stops here).
-MAX_VALUES = 200_000
+MAX_VALUES = MAX_SPEC_VALUES
 
 
 def _depth(doc: Any, limit: int = MAX_DEPTH) -> int:
@@ -120,15 +127,15 @@ def load_spec(path: str | Path) -> tuple[ScenarioSpec, Path]:
 
     Raises :class:`ScenarioError` with one line naming what is wrong.
     """
+    from simcore.scene.files import InputFileError, read_text_file
+
     path = Path(path)
     try:
-        if not path.is_file():
-            raise ScenarioError(f"{path}: no such spec file")
-        if path.stat().st_size > MAX_SPEC_BYTES:
-            raise ScenarioError(f"{path}: larger than {MAX_SPEC_BYTES} bytes")
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ScenarioError(f"{path}: cannot read it ({exc})") from None
+        text = read_text_file(path, max_bytes=MAX_SPEC_BYTES, label=str(path))
+    except InputFileError as exc:
+        if exc.missing:
+            raise ScenarioError(f"{path}: no such spec file") from None
+        raise ScenarioError(str(exc)) from None
     try:
         if path.suffix.lower() in (".yaml", ".yml"):
             import yaml
@@ -175,9 +182,19 @@ def _first_error(exc: ValidationError, vary: Any) -> str:
             if loc[2] != names.get(kind):
                 continue
             loc = (loc[0], loc[1], *loc[3:])
-        return f"{'.'.join(str(p) for p in loc)}: {err['msg']}"
+        return f"{'.'.join(str(p) for p in loc) or '(spec)'}: {_message(err)}"
     err = errors[0]
-    return f"{'.'.join(str(p) for p in err['loc'])}: {err['msg']}"
+    return f"{'.'.join(str(p) for p in err['loc']) or '(spec)'}: {_message(err)}"
+
+
+def _message(err: Any) -> str:
+    """A pydantic error's message and the value it refused, without pydantic's prefixes."""
+    msg = str(err["msg"]).removeprefix("Value error, ")
+    value = err.get("input")
+    if isinstance(value, (int, float, str, bool)) or value is None:
+        shown = repr(value)
+        msg += f" (got {shown[:60]})"
+    return msg
 
 
 def _base_path(spec: ScenarioSpec, spec_path: Path) -> Path:
@@ -186,6 +203,9 @@ def _base_path(spec: ScenarioSpec, spec_path: Path) -> Path:
     candidate = (spec_path.parent / spec.base)
     if candidate.is_file():
         return candidate
+    if candidate.exists() or candidate.is_symlink():
+        raise ScenarioError(f"{spec_path}: base {spec.base!r} is not a regular file (device, "
+                            "FIFO, socket, directory or dangling symlink)")
     bundled = example_path(spec.base)
     if bundled.is_file():
         return bundled
@@ -266,38 +286,118 @@ def _material_library(doc: dict[str, Any]) -> dict[str, dict[str, Any]]:
 
 def generate(spec_path: str | Path, out: str | Path, *, count: int, seed: int = 0,
              overwrite: bool = False,
-             on_project: Callable[[int, int], None] | None = None) -> list[Path]:
+             on_project: Callable[[int, int], None] | None = None,
+             n_frames: int | None = None, allow_outside_paths: bool = False,
+             memory_budget_bytes: int | None = None) -> list[Path]:
     """Write ``count`` projects of the spec into ``out`` (``scene_00000.json``, …).
 
+    All or nothing: every scene is validated and passes the pre-run checks of
+    :func:`simcore.preflight.check` (positions, speeds, rates, frame counts, mesh and clip
+    files in ``out``, memory) as ``tofradar validate`` would run them there, each written
+    to a hidden temporary file; only when all have passed do they replace the folder's
+    scenes. A failure removes what this call wrote and leaves the folder as it was.
     ``on_project(done, count)`` is called after each project (progress).
 
+    Parameters
+    ----------
+    n_frames : int, optional
+        Frames each scene will run (``--frames`` of ``generate --run``); default: the
+        scene's timeline.
+    allow_outside_paths : bool
+        Accept mesh and clip files outside ``out``.
+    memory_budget_bytes : int, optional
+        Memory budget of a frame (default: as ``tofradar run``).
+
     Returns the files written. Raises :class:`ScenarioError` for a bad spec, a count out
-    of 1..MAX_COUNT, a negative seed, or existing scene files without ``overwrite``.
+    of 1..MAX_COUNT, a negative seed, existing scene files without ``overwrite``, or a
+    scene that is not valid or does not pass the pre-run checks.
     """
     if not 1 <= count <= MAX_COUNT:
         raise ScenarioError(f"--count {count}: allowed 1..{MAX_COUNT}")
     if not 0 <= seed <= MAX_SEED:
         raise ScenarioError(f"--seed {seed}: allowed 0..{MAX_SEED}")
     spec, base = load_spec(spec_path)
-    base_doc = json.loads(base.read_text(encoding="utf-8"))
+    base_doc = _read_base(base)
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise ScenarioError(f"--out {out} exists and is not a folder")
     if out.is_dir() and any(out.glob("scene_*.json")) and not overwrite:
         raise ScenarioError(f"--out {out} already holds scenes; use --overwrite")
-    out.mkdir(parents=True, exist_ok=True)
+    made_out = not out.exists()
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ScenarioError(f"--out {out}: cannot create the folder ({exc.strerror})") from None
+    furniture = out / FURNITURE_DIR
+    made_furniture = not furniture.exists()
+    staged: list[Path] = []
+    try:
+        copy_furniture_meshes(spec, out)
+        for i in range(count):
+            text = scene(spec, base_doc, seed=seed, index=i, base_dir=base.parent)
+            _preflight_scene(text, out, index=i, n_frames=n_frames,
+                             allow_outside_paths=allow_outside_paths,
+                             memory_budget_bytes=memory_budget_bytes)
+            tmp = out / f".scene_{i:05d}.json.tmp"
+            staged.append(tmp)
+            tmp.write_text(text, encoding="utf-8")
+            if on_project is not None:
+                on_project(i + 1, count)
+    except BaseException as exc:
+        for tmp in staged:
+            tmp.unlink(missing_ok=True)
+        if made_furniture:
+            shutil.rmtree(furniture, ignore_errors=True)
+        if made_out:
+            shutil.rmtree(out, ignore_errors=True)
+        if isinstance(exc, OSError):
+            raise ScenarioError(f"--out {out}: cannot write the scenes ({exc})") from None
+        raise
     for old in out.glob("scene_*.json"):       # --overwrite: no stale scene of a larger run
         old.unlink()
-    copy_furniture_meshes(spec, out)
     written = []
-    for i in range(count):
+    for i, tmp in enumerate(staged):
         target = out / f"scene_{i:05d}.json"
-        target.write_text(scene(spec, base_doc, seed=seed, index=i, base_dir=base.parent),
-                          encoding="utf-8")
+        os.replace(tmp, target)
         written.append(target)
-        if on_project is not None:
-            on_project(i + 1, count)
     return written
+
+
+def _read_base(base: Path) -> dict[str, Any]:
+    """The base project's document (a regular file of at most a project's size)."""
+    from simcore.scene.files import InputFileError, read_json_file
+    from simcore.scene.project_io import MAX_PROJECT_BYTES
+
+    try:
+        doc = read_json_file(base, max_bytes=MAX_PROJECT_BYTES, label=f"base {base}")
+    except InputFileError as exc:
+        raise ScenarioError(str(exc)) from None
+    if not isinstance(doc, dict):
+        raise ScenarioError(f"base {base}: a project file holds a JSON object")
+    return doc
+
+
+def _preflight_scene(text: str, folder: Path, *, index: int, n_frames: int | None,
+                     allow_outside_paths: bool, memory_budget_bytes: int | None) -> None:
+    """Scene ``index`` as ``tofradar validate`` would check it in ``folder``."""
+    from simcore.preflight import check
+
+    try:
+        project = project_from_dict(json.loads(text), base_dir=folder,
+                                    source=f"scene {index}")
+    except ProjectError as exc:
+        hint = ("; the scenes refer to files relative to --out: put the base project's "
+                "mesh and clip files there" if any("not found" in p for p in exc.problems)
+                else "")
+        raise ScenarioError(f"scene {index} is not a valid project in {folder}: "
+                            f"{'; '.join(exc.problems)[:300]}{hint}") from None
+    problems = check(project, base_dir=folder, n_frames=n_frames,
+                     allow_outside_paths=allow_outside_paths,
+                     memory_budget_bytes=memory_budget_bytes)
+    if problems:
+        more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
+        raise ScenarioError(f"scene {index} would not run: {problems[0]}{more}; nothing "
+                            "was written")
 
 
 #: Objects larger than this (m, any side) are the room's structure: a spec made from a

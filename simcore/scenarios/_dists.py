@@ -6,10 +6,9 @@ import math
 from typing import Any
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-#: Most values of a choice.
-MAX_CHOICES = 1000
+from simcore.scene.limits import MAX_CHOICES
 
 
 class Strict(BaseModel):
@@ -25,7 +24,10 @@ class Uniform(Strict):
     @classmethod
     def _ordered(cls, v: tuple[float, float]) -> tuple[float, float]:
         if not all(math.isfinite(x) for x in v) or v[0] > v[1]:
-            raise ValueError("needs finite low <= high")
+            raise ValueError(f"needs finite low <= high, got [{v[0]:g}, {v[1]:g}]")
+        if not math.isfinite(v[1] - v[0]):
+            raise ValueError(f"high - low of [{v[0]:g}, {v[1]:g}] overflows; give a range "
+                             "narrower than 1e308")
         return v
 
     def draw(self, rng: np.random.Generator) -> float:
@@ -40,6 +42,13 @@ class NormalParams(Strict):
     std: float = Field(ge=0.0, allow_inf_nan=False)
     min: float | None = Field(None, allow_inf_nan=False)
     max: float | None = Field(None, allow_inf_nan=False)
+
+    @model_validator(mode="after")
+    def _bounds(self) -> NormalParams:
+        if self.min is not None and self.max is not None and self.min > self.max:
+            raise ValueError(f"min {self.min:g} is above max {self.max:g}: every draw would "
+                             "be one constant; give min <= max")
+        return self
 
 
 class Normal(Strict):

@@ -6,6 +6,8 @@ no rendering or physics.
 
 from __future__ import annotations
 
+# The device library installs its preset hooks (simcore.scene.device_hooks) on import.
+from simcore.scene import devices as _devices  # noqa: F401
 from simcore.scene.geometry import (
     Box,
     CornerReflector,

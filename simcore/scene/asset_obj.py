@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from simcore.scene.assets import (
+from simcore.scene.asset_model import (
     MAX_ASSET_OBJECTS,
     NO_MATERIAL,
     AssetError,

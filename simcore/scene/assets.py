@@ -29,48 +29,55 @@ import re
 import struct
 import urllib.parse
 import warnings
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.spatial.transform import Rotation
 
+from simcore.scene.asset_model import (
+    NO_MATERIAL,
+    Y_UP_TO_Z_UP,
+    AssetError,
+    AssetMaterial,
+    AssetObject,
+    AssetScene,
+    _fail,
+    _make_object,
+    _safe_name,
+    unique_name,
+)
+from simcore.scene.limits import (
+    MAX_ASSET_BYTES,
+    MAX_ASSET_JSON_BYTES,
+    MAX_ASSET_NODE_DEPTH,
+    MAX_ASSET_NODES,
+    MAX_ASSET_OBJECTS,
+    MAX_DATA_URI_CHARS,
+)
 from simcore.scene.mesh_files import (
-    MAX_MESH_COORDINATE,
     MAX_MESH_TRIANGLES,
     MAX_MESH_VERTICES,
     MeshError,
-    check_mesh_arrays,
     open_regular_file,
 )
-from simcore.scene.motion import Pose
 
-#: Largest asset file and largest external buffer (bytes).
-MAX_ASSET_BYTES = 256 * 2**20
-#: Largest ``data:`` URI (characters of base64 text).
-MAX_DATA_URI_CHARS = 64 * 2**20
-#: Most nodes in a glTF document, deepest node hierarchy, most mesh objects imported.
-MAX_NODES = 100_000
-MAX_NODE_DEPTH = 256
-MAX_ASSET_OBJECTS = 4096
+#: Largest asset file and external buffer (bytes), ``data:`` URI (characters of base64
+#: text), most nodes, deepest node hierarchy, most mesh objects imported, largest JSON part
+#: (bytes): :mod:`simcore.scene.limits`.
+MAX_NODES = MAX_ASSET_NODES
+MAX_NODE_DEPTH = MAX_ASSET_NODE_DEPTH
+MAX_JSON_BYTES = MAX_ASSET_JSON_BYTES
 #: Most triangles of the whole imported scene (instances counted once each).
 MAX_SCENE_TRIANGLES = MAX_MESH_TRIANGLES
-#: Largest JSON part of a glTF (bytes).
-MAX_JSON_BYTES = 64 * 2**20
-#: Longest object or material name kept from an asset (characters).
-MAX_ASSET_NAME = 200
-#: Name of the material of primitives that have none.
-NO_MATERIAL = "(no material)"
 #: Prefix of the project materials made for asset materials.
 ASSET_MATERIAL_PREFIX = "asset:"
 #: Material given to asset materials no rule maps (reported, never silent).
 FALLBACK_MATERIAL = "concrete"
 ASSET_SUFFIXES = (".gltf", ".glb", ".obj")
 
-#: glTF (Y up) → project (Z up): (x, y, z) → (x, −z, y).
-Y_UP_TO_Z_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
 
 _GLB_MAGIC = 0x46546C67
 _CHUNK_JSON = 0x4E4F534A
@@ -80,90 +87,13 @@ _TYPE_SIZE = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9
 _TRIANGLES = 4
 
 
-class AssetError(ValueError):
-    """An asset file cannot be imported: unreadable, malformed or over a limit."""
-
-
-@dataclass(frozen=True)
-class AssetMaterial:
-    """A material of an asset: its name and the PBR factors the file sets explicitly.
-
-    Attributes
-    ----------
-    name : str
-        Material name in the asset (:data:`NO_MATERIAL` for primitives without one).
-    metallic : float or None
-        glTF ``metallicFactor`` when the file sets it, else ``None``.
-    roughness : float or None
-        glTF ``roughnessFactor`` (perceptual roughness, 0…1) when set, else ``None``.
-    color_rgb : tuple of float or None
-        Linear base colour factor (RGB) when set.
-    """
-
-    name: str
-    metallic: float | None = None
-    roughness: float | None = None
-    color_rgb: tuple[float, float, float] | None = None
-
-
-@dataclass(frozen=True)
-class AssetObject:
-    """One mesh node of an asset, in project coordinates.
-
-    Attributes
-    ----------
-    name : str
-        Unique object name (the node name, made unique).
-    material : str
-        Asset material name.
-    pose : Pose
-        Rigid world pose of the node (m, degrees), z up.
-    points : ndarray, shape (points, 3)
-        Vertices in the object's local frame (m): the node's scale and shear baked in, so
-        that ``pose.matrix() @ [p, 1]`` is the world position.
-    triangles : ndarray, shape (triangles, 3), int64
-        Vertex indices, counter-clockwise seen from outside.
-    """
-
-    name: str
-    material: str
-    pose: Pose
-    points: NDArray[np.float64]
-    triangles: NDArray[np.int64]
-
-    def world_points(self) -> NDArray[np.float64]:
-        """Vertices in world coordinates, shape (points, 3) (m)."""
-        m = self.pose.matrix()
-        return np.asarray(self.points @ m[:3, :3].T + m[:3, 3], dtype=np.float64)
-
-
-@dataclass
-class AssetScene:
-    """Objects and materials read from one asset file."""
-
-    source: Path
-    objects: list[AssetObject] = field(default_factory=list)
-    materials: dict[str, AssetMaterial] = field(default_factory=dict)
-    skipped: list[str] = field(default_factory=list)
-
-    @property
-    def n_triangles(self) -> int:
-        """Total triangle count of the objects."""
-        return int(sum(len(o.triangles) for o in self.objects))
-
-    def bounds(self) -> NDArray[np.float64]:
-        """World bounding box, shape (2, 3): min and max corner (m)."""
-        pts = np.concatenate([o.world_points() for o in self.objects]) if self.objects \
-            else np.zeros((1, 3))
-        return np.stack([pts.min(axis=0), pts.max(axis=0)])
-
-
-def _fail(path: Path, message: str) -> AssetError:
-    return AssetError(f"{path.name}: {message}")
-
-
 # --------------------------------------------------------------------------- reading
-def read_asset(path: str | Path, *, up: str = "y") -> AssetScene:
+#: ``read_asset``'s ``allow_outside_paths`` while it reads (the buffer loader is deep).
+_ALLOW_OUTSIDE: ContextVar[bool] = ContextVar("allow_outside_paths", default=False)
+
+
+def read_asset(path: str | Path, *, up: str = "y",
+               allow_outside_paths: bool = False) -> AssetScene:
     """Read a glTF, GLB or OBJ asset into objects in project coordinates.
 
     Parameters
@@ -172,6 +102,8 @@ def read_asset(path: str | Path, *, up: str = "y") -> AssetScene:
         The asset file (``.gltf``, ``.glb`` or ``.obj``).
     up : {"y", "z"}
         Up axis of an OBJ file (glTF is always Y up).
+    allow_outside_paths : bool
+        Accept external buffers outside the asset's folder (``--allow-outside-paths``).
 
     Returns
     -------
@@ -196,7 +128,11 @@ def read_asset(path: str | Path, *, up: str = "y") -> AssetScene:
         doc, bin_chunk = _split_glb(path, data)
     else:
         doc, bin_chunk = _parse_json(path, data), None
-    return _read_gltf(path, doc, bin_chunk)
+    token = _ALLOW_OUTSIDE.set(allow_outside_paths)
+    try:
+        return _read_gltf(path, doc, bin_chunk)
+    finally:
+        _ALLOW_OUTSIDE.reset(token)
 
 
 def _split_glb(path: Path, data: bytes) -> tuple[dict[str, Any], bytes | None]:
@@ -289,13 +225,6 @@ def _numbers(path: Path, value: Any, n: int, what: str, *, limit: float = 1e6
     return arr
 
 
-def _safe_name(value: Any, fallback: str) -> str:
-    if not isinstance(value, str) or not value.strip():
-        return fallback
-    name = "".join(c if ord(c) >= 32 and ord(c) != 127 else "_" for c in value).strip()
-    return name[:MAX_ASSET_NAME] or fallback
-
-
 def _load_buffer(path: Path, buf: Any, i: int, bin_chunk: bytes | None) -> bytes:
     """Bytes of buffer ``i``: the GLB chunk, a data URI or a file beside the asset."""
     if not isinstance(buf, dict):
@@ -332,19 +261,27 @@ def _data_uri(path: Path, uri: str, i: int) -> bytes:
 
 
 def _external_buffer(path: Path, uri: str, i: int) -> bytes:
+    """A buffer file, under the path policy of every referenced file.
+
+    Beside the asset unless ``--allow-outside-paths``, then a regular file of at most the
+    asset limit.
+    """
     rel = urllib.parse.unquote(uri)
-    if re.match(r"^[A-Za-z][A-Za-z0-9+.-]*:", rel) or rel.startswith(("/", "\\")) \
-            or "\x00" in rel:
+    outside_ok = _ALLOW_OUTSIDE.get()
+    if re.match(r"^[A-Za-z][A-Za-z0-9+.-]*:", rel) or "\x00" in rel or (
+            rel.startswith(("/", "\\")) and not outside_ok):
         raise _fail(path, f"buffers[{i}].uri {uri[:80]!r} is not a relative path beside the "
-                          "asset (absolute paths and URLs are refused)")
+                          "asset (absolute paths need --allow-outside-paths; URLs are "
+                          "refused)")
     folder = path.resolve().parent
     target = folder / rel
     try:
         inside = target.resolve().is_relative_to(folder)
     except (OSError, RuntimeError):
         inside = False
-    if not inside:
-        raise _fail(path, f"buffers[{i}].uri {uri[:80]!r} points outside the asset's folder")
+    if not inside and not outside_ok:
+        raise _fail(path, f"buffers[{i}].uri {uri[:80]!r} points outside the asset's folder "
+                          "(pass --allow-outside-paths to accept it)")
     try:
         return open_regular_file(target, max_bytes=MAX_ASSET_BYTES)
     except MeshError as exc:
@@ -366,9 +303,9 @@ class _Checked:
     blob: bytearray = field(default_factory=bytearray)
 
     def buffer(self, i: int) -> bytes:
+        bufs = _list(self.path, self.doc, "buffers")
+        i = _index(self.path, i, len(bufs), "bufferView.buffer")    # before it keys a dict
         if i not in self.buffers:
-            bufs = _list(self.path, self.doc, "buffers")
-            _index(self.path, i, len(bufs), "bufferView.buffer")
             self.buffers[i] = _load_buffer(self.path, bufs[i], i, self.bin_chunk)
         return self.buffers[i]
 
@@ -701,54 +638,6 @@ def _object_name(graph: Any, node: str, geom: Any) -> str:
         mat = getattr(getattr(geom, "visual", None), "material", None)
         return f"{parent}.{getattr(mat, 'name', None) or 'part'}"
     return str(node)
-
-
-def unique_name(name: str, taken: set[str]) -> str:
-    """``name``, or ``name_2``, ``name_3``… the first not in ``taken`` (which gains it)."""
-    out, k = name, 2
-    while out in taken:
-        out, k = f"{name}_{k}", k + 1
-    taken.add(out)
-    return out
-
-
-def _make_object(path: Path, name: str, material: str, matrix: NDArray[np.float64],
-                 points: NDArray[Any], triangles: NDArray[Any], notes: list[str],
-                 *, convert: bool = True) -> AssetObject | None:
-    """An object of a node: world matrix (glTF frame) split into a pose and baked scale."""
-    try:
-        points, triangles = check_mesh_arrays(Path("mesh"), points, triangles)
-    except MeshError as exc:
-        raise _fail(path, f"node {name!r}: {str(exc).removeprefix('mesh: ')}") from None
-    conv = np.eye(4)
-    if convert:
-        conv[:3, :3] = Y_UP_TO_Z_UP
-    world = conv @ matrix
-    lin, t = world[:3, :3], world[:3, 3]
-    u, s, vt = np.linalg.svd(lin)
-    if s.min() <= 1e-9 * max(s.max(), 1e-300):
-        notes.append(f"{name}: zero scale (degenerate transform), skipped")
-        return None
-    rot = u @ vt
-    if np.linalg.det(rot) < 0:           # mirrored node: proper rotation, mirror baked in
-        rot = u @ np.diag([1.0, 1.0, -1.0]) @ vt
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")   # gimbal lock: the matrix check below decides
-        euler = Rotation.from_matrix(rot).as_euler("xyz", degrees=True)
-    pose = Pose(position_m=tuple(float(v) for v in t), rotation_deg=tuple(
-        float(v) for v in euler))
-    back = pose.rotation_matrix()
-    if np.abs(back - rot).max() > 1e-12:
-        rot = np.eye(3)
-        pose = Pose(position_m=pose.position_m)
-    local = points @ (rot.T @ lin).T
-    if np.linalg.det(lin) < 0:
-        triangles = triangles[:, ::-1]
-    world_pts = local @ pose.rotation_matrix().T + t
-    if not np.isfinite(local).all() or np.abs(world_pts).max() > MAX_MESH_COORDINATE:
-        raise _fail(path, f"node {name!r}: world coordinates exceed ±{MAX_MESH_COORDINATE:g} m")
-    return AssetObject(name, material, pose, np.ascontiguousarray(local),
-                       np.ascontiguousarray(triangles, dtype=np.int64))
 
 
 __all__ = [

@@ -126,12 +126,16 @@ class SensorSchema:
     truth : tuple of Output
         Per-object truth the kind adds under ``/objects/<sensor>/`` (the built-in sensor's
         under ``/objects/<kind>_<name>``, as datasets always had it).
+    derived_topics : dict of str to str
+        MCAP / live-stream topics made from several outputs (a camera's ``camera_info``
+        and ``points``): topic suffix → ROS 2 message type.
     """
 
     kind: str
     outputs: tuple[Output, ...]
     tables: tuple[str, ...] = ()
     truth: tuple[Output, ...] = ()
+    derived_topics: Mapping[str, str] = field(default_factory=dict)
     _by_name: dict[str, Output] = field(default_factory=dict, init=False, repr=False,
                                         compare=False)
 
@@ -168,6 +172,11 @@ class SensorSchema:
         if output.coord is None or sensor == self.kind:
             return output.coord
         return f"{sensor}_{output.coord}"
+
+    def topics(self) -> dict[str, str]:
+        """Every topic suffix of a sensor of this kind → its ROS 2 message type."""
+        own = {o.topic: o.message for o in self.outputs if o.topic and o.message}
+        return {**own, **self.derived_topics}
 
     def previews(self) -> Iterator[Output]:
         """The outputs that have a preview figure."""

@@ -9,13 +9,13 @@ checked arrays. Every problem is a :class:`MeshError` naming the file and what i
 
 from __future__ import annotations
 
-import os
 import re
-import stat
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
+
+from simcore.scene.files import InputFileError, read_regular_file
 
 #: Largest mesh file read (bytes), most vertices and most triangles of one mesh.
 MAX_MESH_FILE_BYTES = 256 * 2**20
@@ -35,34 +35,14 @@ def _fail(path: Path, message: str) -> MeshError:
 
 
 def open_regular_file(path: Path, *, max_bytes: int = MAX_MESH_FILE_BYTES) -> bytes:
-    """Read a regular file of at most ``max_bytes``; refuse devices, FIFOs, loops, dirs."""
+    """Read a regular file of at most ``max_bytes``; refuse devices, FIFOs, loops, dirs.
+
+    :func:`simcore.scene.files.read_regular_file` with its problem as a :class:`MeshError`.
+    """
     try:
-        real = path.resolve(strict=True)
-    except (OSError, RuntimeError) as exc:
-        kind = "symlink loop" if isinstance(exc, RuntimeError) or getattr(
-            exc, "errno", None) == 40 else "cannot open"
-        raise _fail(path, f"{kind}: {exc.strerror if isinstance(exc, OSError) else exc}"
-                    ) from None
-    try:
-        st = os.stat(real)
-    except OSError as exc:
-        raise _fail(path, f"cannot open: {exc.strerror}") from None
-    if not stat.S_ISREG(st.st_mode):
-        raise _fail(path, "not a regular file (device, FIFO, socket or directory)")
-    if st.st_size > max_bytes:
-        raise _fail(path, f"file has {st.st_size} bytes; at most {max_bytes}")
-    # O_NONBLOCK: should the file be swapped for a FIFO in between, open does not block.
-    try:
-        fd = os.open(real, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    except OSError as exc:
-        raise _fail(path, f"cannot open: {exc.strerror}") from None
-    with os.fdopen(fd, "rb") as fh:
-        if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
-            raise _fail(path, "not a regular file")
-        data = fh.read(max_bytes + 1)
-    if len(data) > max_bytes:
-        raise _fail(path, f"file is larger than {max_bytes} bytes")
-    return data
+        return read_regular_file(path, max_bytes=max_bytes)
+    except InputFileError as exc:
+        raise _fail(path, exc.problem) from None
 
 
 def read_mesh_arrays(path: Path) -> tuple[NDArray[np.float64], NDArray[np.int64]]:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import re
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, TypeVar
 
 from pydantic import AfterValidator, Field, PrivateAttr, model_validator
 
@@ -16,6 +16,8 @@ from simcore.scene.motion import Motion, Pose
 from simcore.scene.radar_config import RadarConfig
 from simcore.scene.rgb_config import RgbCameraConfig
 from simcore.scene.tof_config import TofCameraConfig
+
+M = TypeVar("M", bound=Model)
 
 #: Version 2: materials hold their parameters per band name (``bands``).
 #: Version 3: named sensors on several rigs (``rig.name``, ``rig.sensors``, ``rigs``) and
@@ -187,41 +189,60 @@ class Project(Model):
         return self
 
     def _check_sensors(self) -> None:
-        rigs: set[str] = set()
+        """Names unique and free, timing consistent, at least one sensor.
+
+        A failed check raises ``ValueError("@<field path>: message")``: the loader reports
+        it against that field.
+        """
+        rigs: dict[str, str] = {}
         owner: dict[str, str] = {}
-        for rig in self.all_rigs():
+        for i, rig in enumerate(self.all_rigs()):
+            where = "rig" if i == 0 else f"rigs[{i - 1}]"
             if rig.name in rigs:
-                raise ValueError(f"duplicate rig name {rig.name!r}")
+                raise ValueError(f"@{where}.name: duplicate rig name {rig.name!r} (also "
+                                 f"{rigs[rig.name]})")
             if rig.name in RESERVED_SENSOR_NAMES and rig.name != "rig":
-                raise ValueError(f"rig name {rig.name!r} collides with "
+                raise ValueError(f"@{where}.name: rig name {rig.name!r} collides with "
                                  f"{reserved_reason(rig.name)}; choose another name")
-            rigs.add(rig.name)
+            rigs[rig.name] = f"{where}.name"
+            for name in rig.sensors:
+                if getattr(rig, name, None) is not None and name in type(rig).model_fields:
+                    raise ValueError(f"@{where}.sensors.{name}: duplicate sensor name {name!r} "
+                                     f"(also {where}.{name})")
             for name, cfg in rig.sensor_configs().items():
-                if name in owner:
-                    raise ValueError(f"duplicate sensor name {name!r} (on rigs "
-                                     f"{owner[name]!r} and {rig.name!r})")
-                if name in RESERVED_SENSOR_NAMES:
-                    raise ValueError(f"sensor name {name!r} collides with "
-                                     f"{reserved_reason(name)}; choose another name")
-                owner[name] = rig.name
-                try:
-                    n = cfg.frame_divider(self.timeline.frame_rate_hz)  # type: ignore[attr-defined]
-                except ValueError as exc:
-                    raise ValueError(f"sensor {name!r}: {exc}") from None
-                period = n / self.timeline.frame_rate_hz
-                offset = cfg.trigger_offset_s  # type: ignore[attr-defined]
-                if offset >= period:
-                    raise ValueError(f"sensor {name!r}: trigger_offset_s {offset:g} s is not "
-                                     f"shorter than its frame period {period:g} s")
+                path = f"{where}.sensors.{name}" if name in rig.sensors else f"{where}.{name}"
+                self._check_sensor(name, cfg, path, owner)
+                owner[name] = path
         if not owner:
-            raise ValueError("the project has no sensor: set rig.tof, rig.radar or rig.rgb, "
-                             "or add one to a rig's sensors table")
+            raise ValueError("@rig: the project has no sensor: set rig.tof, rig.radar or "
+                             "rig.rgb, or add one to a rig's sensors table")
         # Rigs and sensors are both TF frames (MCAP, the live stream), beside "world".
-        for name in sorted(rigs & set(owner)):
-            raise ValueError(f"name {name!r} is both a rig's and a sensor's; each names a TF "
-                             "frame, so they must differ")
-        if "world" in rigs | set(owner):
-            raise ValueError("'world' names the world frame; choose another rig or sensor name")
+        for name in sorted(set(rigs) & set(owner)):
+            raise ValueError(f"@{owner[name]}: name {name!r} is both a rig's "
+                             f"({rigs[name]}) and a sensor's; each names a TF frame, so they "
+                             "must differ")
+        for name, path in {**rigs, **owner}.items():
+            if name == "world":
+                raise ValueError(f"@{path}: 'world' names the world frame; choose another "
+                                 "rig or sensor name")
+
+    def _check_sensor(self, name: str, cfg: Model, path: str, owner: dict[str, str]) -> None:
+        """One sensor's name and timing (``owner``: the sensors seen so far, by name)."""
+        if name in owner:
+            raise ValueError(f"@{path}: duplicate sensor name {name!r} (also {owner[name]})")
+        if name in RESERVED_SENSOR_NAMES:
+            raise ValueError(f"@{path}: sensor name {name!r} collides with "
+                             f"{reserved_reason(name)}; choose another name")
+        try:
+            n = cfg.frame_divider(self.timeline.frame_rate_hz)  # type: ignore[attr-defined]
+        except ValueError as exc:
+            # The message starts with the field: "frame_rate_hz: 3 Hz is not ...".
+            raise ValueError(f"@{path}.{exc}") from None
+        period = n / self.timeline.frame_rate_hz
+        offset = cfg.trigger_offset_s  # type: ignore[attr-defined]
+        if offset >= period:
+            raise ValueError(f"@{path}.trigger_offset_s: {offset:g} s is not shorter than "
+                             f"the sensor's frame period {period:g} s")
 
     def all_rigs(self) -> list[Rig]:
         """Every rig: :attr:`rig` first, then :attr:`rigs`."""
@@ -257,6 +278,25 @@ class Project(Model):
             if name in rig.sensor_configs():
                 return f"{where}.{name}"
         raise KeyError(f"no sensor {name!r}")
+
+    def radar(self, name: str | None = None) -> RadarConfig:
+        """Radar ``name``'s configuration, or the first radar's (KeyError when none)."""
+        return self._of_kind(RadarConfig, "radar", name)
+
+    def tof(self, name: str | None = None) -> TofCameraConfig:
+        """ToF camera ``name``'s configuration, or the first camera's (KeyError when none)."""
+        return self._of_kind(TofCameraConfig, "tof", name)
+
+    def _of_kind(self, cls: type[M], kind: str, name: str | None) -> M:
+        configs = self.sensors_of_kind(kind)
+        if name is None:
+            if not configs:
+                raise KeyError(f"the project has no sensor of kind {kind!r}")
+            name = next(iter(configs))
+        cfg = self.sensor_config(name)
+        if not isinstance(cfg, cls):
+            raise KeyError(f"sensor {name!r} is not of kind {kind!r}")
+        return cfg
 
     def sensors_of_kind(self, kind: str) -> dict[str, Model]:
         """The configurations of the sensors of one kind (``"tof"``, ...), by name."""

@@ -125,9 +125,16 @@ def document_limits(data: Any) -> list[str]:
 
 
 def _format_loc(loc: tuple[int | str, ...]) -> str:
+    from simcore.scene.model import SENSOR_KINDS
+
     out = ""
-    for part in loc:
+    for i, part in enumerate(loc):
         if isinstance(part, int):
+            out += f"[{part}]"
+        elif i >= 2 and loc[i - 2] == "sensors" and part in SENSOR_KINDS:
+            # pydantic's tag of the sensor's kind, not a key of the file
+            out += f"({part})"
+        elif isinstance(part, int):
             out += f"[{part}]"
         elif part in ("box", "sphere", "cylinder", "plane", "corner_reflector", "point_target",
                       "mesh"):
@@ -148,6 +155,14 @@ def format_validation_error(exc: ValidationError) -> list[str]:
     for err in exc.errors():
         loc = _format_loc(tuple(err["loc"]))
         msg = err["msg"].removeprefix("Value error, ")
+        if err["type"] == "union_tag_invalid" and "kind" in str(err.get("ctx", {})):
+            ctx = err.get("ctx", {})
+            problems.append(f"{loc}.kind: unknown sensor kind {ctx.get('tag')!r} (kinds: "
+                            f"{ctx.get('expected_tags')})")
+            continue
+        if loc == "(document)" and msg.startswith("@") and ": " in msg:
+            # A check of the whole document that names its field: "@rigs[0].name: ...".
+            loc, msg = msg[1:].split(": ", 1)
         if err["type"] in ("missing", "model_type", "model_attributes_type") or "input" not in err \
                 or (err["type"] == "value_error" and isinstance(err["input"], (dict, list))):
             problems.append(f"{loc}: {msg}")
@@ -243,12 +258,26 @@ def _person_problems(where: str, person: Person, materials: dict[str, Any],
                 for field, name in (("skin", person.skin), ("clothing", person.clothing))
                 if name not in materials]
     clip = person.motion.bvh
-    if clip is not None:
+    # A clip outside the project's folder is read only by the pre-run checks, under the
+    # path policy (--allow-outside-paths), never while the project loads.
+    if clip is not None and is_inside_folder(resolve_mesh_path(base_dir, clip.path), base_dir):
         try:
-            map_joints(load_bvh(resolve_mesh_path(base_dir, clip.path)))
+            path = resolve_mesh_path(base_dir, clip.path)
+            map_joints(load_bvh(path), source=path.name)
         except BvhError as exc:
             problems.append(f"{where}.motion.bvh.path: {exc}")
     return problems
+
+
+def is_inside_folder(path: Path, folder: Path) -> bool:
+    """Whether ``path`` (resolved, symlinks followed) lies inside ``folder``."""
+    from simcore.scene.files import is_inside
+
+    try:
+        real = path.resolve()
+    except (OSError, RuntimeError):
+        return False
+    return is_inside(real, folder)
 
 
 def _exists(path: Path) -> bool:
@@ -264,9 +293,13 @@ def resolve_mesh_path(base_dir: Path, mesh_path: str) -> Path:
     return path if path.is_absolute() else (base_dir / path)
 
 
-def project_from_dict(data: Any, *, source: str = "project", base_dir: Path | None = None
-                      ) -> Project:
-    """Validate, migrate and check a parsed project document."""
+def project_from_dict(data: Any, *, source: str = "project", base_dir: Path | None = None,
+                      check_files: bool = True) -> Project:
+    """Validate, migrate and check a parsed project document.
+
+    ``check_files`` False skips the check that referenced files (meshes) exist under
+    ``base_dir``: for a project stored in a dataset, read for its configuration.
+    """
     if not isinstance(data, dict):
         kind = type(data).__name__
         raise ProjectError(source, [f"(document): expected a JSON object, got {kind}"])
@@ -277,13 +310,41 @@ def project_from_dict(data: Any, *, source: str = "project", base_dir: Path | No
     try:
         project = Project.model_validate(data)
     except ValidationError as exc:
-        raise ProjectError(source, format_validation_error(exc)) from None
+        raise ProjectError(source, [_sensor_located(p, data)
+                                    for p in format_validation_error(exc)]) from None
     except RecursionError:
         raise ProjectError(source, ["(document): nested too deeply"]) from None
-    problems = check_references(project, base_dir or Path.cwd())
+    problems = check_references(project, base_dir or Path.cwd()) if check_files else []
     if problems:
         raise ProjectError(source, problems)
     return project
+
+
+def _sensor_located(problem: str, data: dict[str, Any]) -> str:
+    """A project-wide problem of one sensor, at the sensor's field path in the document.
+
+    ``(document): sensor 'x': field: …`` becomes ``rigs[0].sensors.x.field: …``.
+    """
+    import re
+
+    match = re.match(r"\(document\): sensor '(\w+)': (\w+)[: ]", problem)
+    if match is None:
+        return problem
+    name, field = match.groups()
+    rigs = [data.get("rig"), *(data.get("rigs") or [])]
+    for i, rig in enumerate(rigs):
+        if not isinstance(rig, dict):
+            continue
+        where = "rig" if i == 0 else f"rigs[{i - 1}]"
+        sensors = rig.get("sensors")
+        if isinstance(sensors, dict) and name in sensors:
+            where += f".sensors.{name}"
+        elif i == 0 and name in ("tof", "radar", "rgb"):
+            where += f".{name}"
+        else:
+            continue
+        return f"{where}.{field}: {problem[match.end(2):].lstrip(': ')}"
+    return problem
 
 
 def _reject_constant(name: str) -> float:
@@ -312,30 +373,21 @@ def load_project(path: str | os.PathLike[str]) -> Project:
 
 def _read_text(path: Path, source: str) -> str:
     """The file's text: a regular file of at most :data:`MAX_PROJECT_BYTES`, UTF-8."""
+    from simcore.scene.files import InputFileError, read_text_file
+
     try:
-        st = path.stat()
-    except FileNotFoundError:
-        raise ProjectError(source, ["file not found"]) from None
-    except (OSError, RuntimeError) as exc:
-        raise ProjectError(source, [cap_line(f"cannot read file: {exc}")]) from None
-    if not stat.S_ISREG(st.st_mode):
-        raise ProjectError(source, ["not a regular file (a device, FIFO, socket or directory)"])
-    if st.st_size > MAX_PROJECT_BYTES:
-        raise ProjectError(source, [f"file has {st.st_size} bytes; a project file may have at "
-                                    f"most {MAX_PROJECT_BYTES}"])
-    try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-        with os.fdopen(fd, "rb") as fh:
-            raw = fh.read(MAX_PROJECT_BYTES + 1)
-    except OSError as exc:
-        raise ProjectError(source, [cap_line(f"cannot read file: {exc}")]) from None
-    if len(raw) > MAX_PROJECT_BYTES:
-        raise ProjectError(source, [f"file has more than {MAX_PROJECT_BYTES} bytes"])
-    try:
-        return raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise ProjectError(source, [f"cannot read file: not UTF-8 text ({exc.reason} at "
-                                    f"byte {exc.start})"]) from None
+        return read_text_file(path, max_bytes=MAX_PROJECT_BYTES)
+    except InputFileError as exc:
+        if exc.missing:
+            raise ProjectError(source, ["file not found"]) from None
+        problem = exc.problem
+        if problem.startswith("not a regular file"):
+            problem = "not a regular file (a device, FIFO, socket or directory)"
+        elif problem.startswith("file has"):
+            problem = problem.replace("; at most", "; a project file may have at most")
+        elif problem.startswith("not UTF-8"):
+            problem = f"cannot read file: {problem}"
+        raise ProjectError(source, [cap_line(problem)]) from None
 
 
 def project_to_json(project: Project) -> str:

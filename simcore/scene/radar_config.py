@@ -13,12 +13,13 @@ antenna gains, conversion gain and leakage are representative values, not measur
 
 from __future__ import annotations
 
-from typing import Annotated, Literal, Union
+from typing import Annotated, Any, Literal, Union
 
 import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field, PrivateAttr, field_validator, model_validator
 
+from simcore.scene import device_hooks
 from simcore.scene.base import Finite, Model, check_name
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.motion import Pose
@@ -289,6 +290,24 @@ class RadarConfig(SensorTiming):
     #: One frame's chirp start jitter, (chirps × tx,) in TDM order (s); set only on the
     #: per-frame copies of :func:`simcore.sensors.radar.transmit.frame_transmit_config`.
     _chirp_delays_s: NDArray[np.float64] | None = PrivateAttr(default=None)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _device_defaults(cls, data: Any) -> Any:
+        """A device preset named in a project gives the fields the project leaves out."""
+        if isinstance(data, dict) and isinstance(data.get("preset"), str):
+            defaults = device_hooks.preset_defaults("radar", data["preset"])
+            if defaults is not None:
+                return {**defaults, **data}
+        return data
+
+    @model_validator(mode="after")
+    def _device_limits(self) -> RadarConfig:
+        """A device preset's limits (:mod:`simcore.scene.devices`) hold."""
+        problems = device_hooks.limit_problems(self)
+        if problems:
+            raise ValueError(f"preset {self.preset!r}: " + "; ".join(problems))
+        return self
 
     @model_validator(mode="after")
     def _check(self) -> RadarConfig:

@@ -1,4 +1,7 @@
-"""Named radar configurations: ``bgt60tr13c`` and a 2-Tx × 4-Rx TDM-MIMO radar.
+"""Named radar configurations: ``bgt60tr13c``, a 2-Tx × 4-Rx TDM-MIMO radar, and the devices.
+
+The device library's radars (TI IWR6843ISK, AWR1843BOOST, Infineon BGT60UTR11AIP) live in
+:mod:`simcore.scene.device_radars`, with their sources and limits.
 
 The BGT60TR13C's levels (transmit power, IF gain chain, noise, leakage) come from its vendor
 settings through :func:`bgt60tr13c_levels`, calibrated against a real recording
@@ -11,6 +14,11 @@ import math
 from collections.abc import Callable, Mapping
 from typing import Any
 
+from simcore.scene.device_radars import (
+    infineon_bgt60utr11aip,
+    ti_awr1843boost,
+    ti_iwr6843isk,
+)
 from simcore.scene.radar_arrays import l_shape, ula
 from simcore.scene.radar_config import (
     SPEED_OF_LIGHT,
@@ -227,6 +235,10 @@ def tdm_mimo_2tx4rx(**overrides: Any) -> RadarConfig:
 RADAR_PRESETS: dict[str, Callable[..., RadarConfig]] = {
     "bgt60tr13c": bgt60tr13c,
     "tdm_mimo_2tx4rx": tdm_mimo_2tx4rx,
+    # The device library's radars (simcore.scene.devices, docs/devices.md).
+    "ti_iwr6843isk": ti_iwr6843isk,
+    "ti_awr1843boost": ti_awr1843boost,
+    "infineon_bgt60utr11aip": infineon_bgt60utr11aip,
 }
 
 

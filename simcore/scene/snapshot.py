@@ -6,7 +6,7 @@ computed from the snapshot taken at the frame's timestamp.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -93,33 +93,6 @@ class SceneSnapshot:
         """The body frame of the rig that carries sensor ``sensor`` (the first rig's if unknown)."""
         rig = self.sensor_rigs.get(sensor)
         return self.rig if rig is None else self.rigs[rig]
-
-    def seen_by(self, sensor: str, as_name: str) -> SceneSnapshot:
-        """The snapshot as sensor ``sensor``'s models read it: it is ``sensors[as_name]``.
-
-        A sensor model written for the built-in sensor of its kind (the radar's scatterers
-        and multipath read ``sensors["radar"]`` and ``rig``) computes any other sensor of
-        that kind from this view: ``sensors[as_name]`` is ``sensor``'s state and ``rig``
-        its rig's. The same snapshot when ``sensor == as_name`` and it is on the first rig.
-        In a view, ``sensors[as_name]`` no longer is the sensor of that name: read other
-        sensors' states from :attr:`scene`, the snapshot the view was made from.
-        """
-        if sensor == as_name and self.sensor_rigs.get(sensor) in (None, self._first_rig()):
-            return self
-        view = replace(self, sensors={**self.sensors, as_name: self.sensor(sensor)},
-                       rig=self.rig_of(sensor))
-        if "_transforms" in self.__dict__:
-            view.__dict__["_transforms"] = self.__dict__["_transforms"]
-        view.__dict__["_scene"] = self.scene
-        return view
-
-    @property
-    def scene(self) -> SceneSnapshot:
-        """The whole snapshot, every sensor under its own name (itself unless a view)."""
-        return self.__dict__.get("_scene", self)
-
-    def _first_rig(self) -> str | None:
-        return next(iter(self.rigs), None)
 
     def object_transforms(self) -> NDArray[np.float64]:
         """World transforms of all objects, shape (objects, 4, 4) (a new array each call).

@@ -18,19 +18,24 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from functools import reduce
 from math import gcd
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
+from simcore.scene import device_hooks
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.motion import Pose
 from simcore.scene.sensor_timing import SensorTiming
 
 SPEED_OF_LIGHT = 299_792_458.0
 PLANCK = 6.626_070_15e-34
-#: Largest f / gcd(f1, f2) accepted for two-frequency unwrapping (number of wrap candidates).
+#: Largest f / gcd(f1, f2, …) accepted for multi-frequency unwrapping (number of wrap
+#: candidates).
 MAX_UNWRAP_RATIO = 256
+#: Most modulation frequencies per depth frame (three: Kinect v2, Azure Kinect).
+MAX_FREQUENCIES = 3
 #: Modulation frequencies of AMCW cameras (Hz): 1 kHz to 1 GHz.
 MIN_MODULATION_HZ = 1e3
 MAX_MODULATION_HZ = 1e9
@@ -55,7 +60,7 @@ class TofCameraConfig(SensorTiming):
     supersampling: int = Field(2, ge=1, le=8, description="sub-pixels per axis (2 → 2×2)")
     modulation_frequencies_hz: list[
         Annotated[float, Field(ge=MIN_MODULATION_HZ, le=MAX_MODULATION_HZ, allow_inf_nan=False)]
-    ] = Field(default_factory=lambda: [20e6], min_length=1, max_length=2)
+    ] = Field(default_factory=lambda: [20e6], min_length=1, max_length=MAX_FREQUENCIES)
     wavelength_nm: float = Field(850.0, ge=200, le=20_000, allow_inf_nan=False,
                                  description="illumination wavelength (nm): UV to thermal IR")
 
@@ -171,6 +176,24 @@ class TofCameraConfig(SensorTiming):
         description="seed of this camera's hopping sequence; cameras with equal seeds "
                     "and settings hop in step")
 
+    @model_validator(mode="before")
+    @classmethod
+    def _device_defaults(cls, data: Any) -> Any:
+        """A device preset named in a project gives the fields the project leaves out."""
+        if isinstance(data, dict) and isinstance(data.get("preset"), str):
+            defaults = device_hooks.preset_defaults("tof", data["preset"])
+            if defaults is not None:
+                return {**defaults, **data}
+        return data
+
+    @model_validator(mode="after")
+    def _device_limits(self) -> TofCameraConfig:
+        """A device preset's limits (:mod:`simcore.scene.devices`) hold."""
+        problems = device_hooks.limit_problems(self)
+        if problems:
+            raise ValueError(f"preset {self.preset!r}: " + "; ".join(problems))
+        return self
+
     @model_validator(mode="after")
     def _check_exposure_range(self) -> TofCameraConfig:
         low, high = self.exposure_range_s
@@ -194,12 +217,14 @@ class TofCameraConfig(SensorTiming):
                              f"{MAX_MODULATION_HZ:g} Hz")
         if any(not (f > 0 and math.isfinite(f)) for f in freqs):
             raise ValueError("modulation_frequencies_hz must be positive and finite")
-        if len(freqs) == 2:
-            if round(freqs[0]) == round(freqs[1]):
-                raise ValueError("the two modulation frequencies must differ")
-            if round(freqs[0]) < 1 or round(freqs[1]) < 1:
+        if len(freqs) >= 2:
+            whole = [round(f) for f in freqs]
+            if len(set(whole)) != len(whole):
+                raise ValueError(f"modulation_frequencies_hz {freqs}: the frequencies must "
+                                 "differ")
+            if min(whole) < 1:
                 raise ValueError("modulation frequencies must be at least 1 Hz")
-            common = gcd(round(freqs[0]), round(freqs[1]))
+            common = reduce(gcd, whole)
             if max(freqs) / common > MAX_UNWRAP_RATIO:
                 raise ValueError(
                     f"modulation_frequencies_hz {freqs}: their greatest common divisor "
@@ -265,14 +290,14 @@ class TofCameraConfig(SensorTiming):
 
     @property
     def combined_unambiguous_range_m(self) -> float:
-        """Unambiguous range after unwrapping: c / (2 gcd(f1, f2)) (m; frequencies in Hz).
+        """Unambiguous range after unwrapping: c / (2 gcd(f1, f2, …)) (m; frequencies in Hz).
 
         Equals :attr:`unambiguous_range_m` with one frequency.
         """
         freqs = self.modulation_frequencies_hz
         if len(freqs) == 1:
             return self.unambiguous_range_m
-        return SPEED_OF_LIGHT / (2.0 * gcd(round(freqs[0]), round(freqs[1])))
+        return SPEED_OF_LIGHT / (2.0 * reduce(gcd, [round(f) for f in freqs]))
 
 
 def pmd_pico_flexx() -> TofCameraConfig:
@@ -303,7 +328,11 @@ TOF_PRESETS: dict[str, Callable[[], TofCameraConfig]] = {"pmd_pico_flexx": pmd_p
 
 
 def tof_preset(name: str) -> TofCameraConfig:
-    """Return a fresh config of the preset called ``name`` (ValueError if unknown)."""
+    """Return a fresh config of the preset called ``name`` (ValueError if unknown).
+
+    The device library's cameras (:mod:`simcore.scene.device_cameras`) are presets too.
+    """
+    TOF_PRESETS.update(device_hooks.camera_presets())
     try:
         return TOF_PRESETS[name]()
     except KeyError:

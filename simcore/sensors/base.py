@@ -161,15 +161,6 @@ class SensorContext:
         return self.project.sensor_config(self.name)
 
     @property
-    def scene(self) -> SceneSnapshot:
-        """The whole snapshot at the capture time, every sensor under its own name.
-
-        Equal to :attr:`snapshot` except inside a model that runs on a sensor view of it
-        (:meth:`SceneSnapshot.seen_by`: the radar chain of a named radar).
-        """
-        return self.snapshot.scene
-
-    @property
     def time_s(self) -> float:
         """Capture time of the sensor in this frame (s)."""
         return float(self.snapshot.time_s)

@@ -9,7 +9,7 @@ import pytest
 from app.recording_compare import recording_frame_view, set_recording_reference
 from simcore.dsp import process_frame
 from simcore.io.recordings import read_recording
-from simcore.report_real import shared_recording
+from simcore.report.real import shared_recording
 
 pytestmark = pytest.mark.gui
 

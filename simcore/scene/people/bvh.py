@@ -27,15 +27,23 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from simcore.scene.mesh_files import MeshError, open_regular_file
+from simcore.scene.base import MAX_COORDINATE_M
+from simcore.scene.files import InputFileError, read_regular_file
+from simcore.scene.limits import (
+    BVH_BYTES_PER_JOINT_FRAME,
+    MAX_BVH_BYTES,
+    MAX_BVH_DEPTH,
+    MAX_BVH_FRAME_TIME_S,
+    MAX_BVH_FRAMES,
+    MAX_BVH_JOINTS,
+    MAX_BVH_READER_BYTES,
+    MAX_BVH_ROOT_SPEED_MPS,
+    MAX_BVH_VALUE,
+    MIN_BVH_FRAME_TIME_S,
+    MIN_BVH_LEG_FRACTION,
+)
 from simcore.scene.people.skeleton import SEGMENT_INDEX
 
-#: Limits of an accepted BVH file.
-MAX_BVH_BYTES = 64 * 2**20
-MAX_BVH_JOINTS = 256
-MAX_BVH_DEPTH = 64
-MAX_BVH_FRAMES = 1_000_000
-MAX_BVH_VALUE = 1e5
 CHANNEL_NAMES = frozenset({"Xposition", "Yposition", "Zposition",
                            "Xrotation", "Yrotation", "Zrotation"})
 
@@ -123,8 +131,8 @@ def _number(path: Path, line: int, token: str) -> float:
     return value
 
 
-def _check_hierarchy(path: Path, lines: list[str]) -> tuple[int, int]:
-    """Check the HIERARCHY part; return (line index of MOTION, total channel count)."""
+def _check_hierarchy(path: Path, lines: list[str]) -> tuple[int, int, int]:
+    """Check the HIERARCHY part; return (line index of MOTION, channel count, joint count)."""
     if not lines or lines[0].strip() != "HIERARCHY":
         raise _fail(path, 1, "does not start with HIERARCHY")
     depth, joints, channels, roots = 0, 0, 0, 0
@@ -139,7 +147,7 @@ def _check_hierarchy(path: Path, lines: list[str]) -> tuple[int, int]:
                 raise _fail(path, i, "MOTION inside an open joint (unbalanced braces)")
             if joints == 0:
                 raise _fail(path, i, "no joints before MOTION")
-            return i - 1, channels
+            return i - 1, channels, joints
         if head in ("ROOT", "JOINT"):
             roots += head == "ROOT"
             joints += 1
@@ -177,25 +185,42 @@ def _check_hierarchy(path: Path, lines: list[str]) -> tuple[int, int]:
     raise _fail(path, None, "no MOTION section (truncated file?)")
 
 
-def _check_motion(path: Path, lines: list[str], start: int, channels: int) -> None:
+def _check_motion(path: Path, lines: list[str], start: int, channels: int,
+                  joints: int) -> None:
     """Check the MOTION part from line index ``start``."""
-    def field(index: int, key: str) -> float:
-        text = lines[index].strip() if index < len(lines) else ""
-        if not text.startswith(key):
+    def text(index: int, key: str) -> str:
+        line = lines[index].strip() if index < len(lines) else ""
+        if not line.startswith(key):
             raise _fail(path, index + 1, f"expected {key!r} (truncated file?)")
-        return _number(path, index + 1, text[len(key):].strip() or "x")
+        return line[len(key):].strip()
 
-    frames = field(start + 1, "Frames:")
-    if frames != int(frames) or not 1 <= frames <= MAX_BVH_FRAMES:
-        raise _fail(path, start + 2, f"frame count must be 1–{MAX_BVH_FRAMES}")
-    dt = field(start + 2, "Frame Time:")
-    if not 1e-5 <= dt <= 10.0:
-        raise _fail(path, start + 3, "frame time must be 1e-5–10 s")
+    count = text(start + 1, "Frames:")
+    if not re.fullmatch(r"[0-9]{1,12}", count):
+        raise _fail(path, start + 2, f"frame count {count[:20]!r} is not a whole number "
+                                     f"1–{MAX_BVH_FRAMES}")
+    frames = int(count)
+    if not 1 <= frames <= MAX_BVH_FRAMES:
+        raise _fail(path, start + 2, f"frame count {frames}; allowed 1–{MAX_BVH_FRAMES}")
+    need = joints * frames * BVH_BYTES_PER_JOINT_FRAME
+    if need > MAX_BVH_READER_BYTES:
+        raise _fail(path, start + 2, f"{joints} joints × {frames} frames need about "
+                                     f"{need / 2**30:.1f} GiB to read; the budget is "
+                                     f"{MAX_BVH_READER_BYTES / 2**30:g} GiB "
+                                     f"({MAX_BVH_READER_BYTES // BVH_BYTES_PER_JOINT_FRAME} "
+                                     "joint-frames): cut the clip or its joints")
+    dt_text = text(start + 2, "Frame Time:")
+    try:
+        dt = float(dt_text)
+    except ValueError:
+        raise _fail(path, start + 3, f"frame time {dt_text[:20]!r} is not a number") from None
+    if not MIN_BVH_FRAME_TIME_S <= dt <= MAX_BVH_FRAME_TIME_S:
+        raise _fail(path, start + 3, f"frame time {dt_text[:20]} s; allowed "
+                                     f"{MIN_BVH_FRAME_TIME_S:g}–{MAX_BVH_FRAME_TIME_S:g} s")
     body = [ln for ln in lines[start + 3:] if ln.strip()]
-    if len(body) < int(frames):
-        raise _fail(path, None, f"declares {int(frames)} frames but has {len(body)} "
+    if len(body) < frames:
+        raise _fail(path, None, f"declares {frames} frames but has {len(body)} "
                                 f"(truncated file?)")
-    for k, line in enumerate(body[: int(frames)]):
+    for k, line in enumerate(body[:frames]):
         values = line.split()
         if len(values) != channels:
             raise _fail(path, start + 4 + k, f"frame {k} has {len(values)} values; the "
@@ -213,8 +238,8 @@ def _check_motion(path: Path, lines: list[str], start: int, channels: int) -> No
 def check_bvh_text(path: Path) -> None:
     """Check a BVH file's text against the limits (module docstring); BvhError if not."""
     try:
-        data = open_regular_file(path, max_bytes=MAX_BVH_BYTES)
-    except MeshError as exc:
+        data = read_regular_file(path, max_bytes=MAX_BVH_BYTES)
+    except InputFileError as exc:
         raise BvhError(f"BVH file {exc}") from None
     try:
         text = data.decode("utf-8")
@@ -223,8 +248,8 @@ def check_bvh_text(path: Path) -> None:
     if "\0" in text:
         raise _fail(path, None, "contains NUL bytes")
     lines = re.split(r"\r\n|\r|\n", text)
-    start, channels = _check_hierarchy(path, lines)
-    _check_motion(path, lines, start, channels)
+    start, channels, joints = _check_hierarchy(path, lines)
+    _check_motion(path, lines, start, channels, joints)
 
 
 def _quat_matrices(quats: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -247,7 +272,8 @@ def _read_checked(path: Path) -> BvhMotion:
         joints = list(container.Root.layout())
         frame_time = float(container.FrameTime)
     except Exception as exc:  # noqa: BLE001 - bvhio raises many kinds; report one
-        raise _fail(path, None, f"bvhio could not read it ({type(exc).__name__})") from None
+        said = " ".join(str(exc).split())[:160] or "no reason given"
+        raise _fail(path, None, f"the hierarchy does not parse: {said}") from None
     index = {id(j[0]): k for k, j in enumerate(joints)}
     parents = tuple(-1 if j[0] is container.Root else
                     index[id(_parent_of(joints, j[0]))] for j in joints)
@@ -293,8 +319,11 @@ def load_bvh(path: Path) -> BvhMotion:
     return _load_cached(str(path), st.st_mtime_ns, st.st_size)
 
 
-def map_joints(motion: BvhMotion) -> dict[str, int]:
-    """Segment name → BVH joint index for the segments :data:`JOINT_MAP` finds."""
+def map_joints(motion: BvhMotion, *, source: str | None = None) -> dict[str, int]:
+    """Segment name → BVH joint index for the segments :data:`JOINT_MAP` finds.
+
+    ``source`` (the file's name) is named in the error of a clip without legs.
+    """
     lower = {n.lower(): k for k, n in enumerate(motion.names)}
     out: dict[str, int] = {}
     for segment, candidates in JOINT_MAP.items():
@@ -304,7 +333,8 @@ def map_joints(motion: BvhMotion) -> dict[str, int]:
                 break
     missing = [s for s in ("pelvis", "thigh_l", "shin_l", "thigh_r", "shin_r") if s not in out]
     if missing:
-        raise BvhError(f"BVH joints for {', '.join(missing)} not found (known names: "
+        raise BvhError(f"{f'BVH file {source}: ' if source else ''}BVH joints for "
+                       f"{', '.join(missing)} not found (known names: "
                        f"{', '.join(JOINT_MAP[missing[0]])})")
     return out
 
@@ -323,10 +353,88 @@ def bone_offset(motion: BvhMotion, joint: int, towards: int | None) -> NDArray[n
     return motion.offsets[children[0]] if children else motion.end_sites[joint]
 
 
+def leg_length(motion: BvhMotion, mapping: dict[str, int]) -> float:
+    """The clip's left leg, thigh + shin (BVH units): what root motion is scaled by."""
+    thigh = float(np.linalg.norm(bone_offset(motion, mapping["thigh_l"], mapping["shin_l"])))
+    shin = float(np.linalg.norm(bone_offset(motion, mapping["shin_l"], mapping.get("foot_l"))))
+    return thigh + shin
+
+
+def root_motion_m(motion: BvhMotion, mapping: dict[str, int], leg_length_m: float
+                  ) -> NDArray[np.float64]:
+    """The root's displacement from its horizontal start, scaled to the person (m).
+
+    Body axes (x forward, y left, z up), shape (F, 3): the translation the clip gives the
+    person's pelvis, as :class:`~simcore.scene.people.body.PersonBody` plays it.
+    """
+    start = motion.root_positions[0]
+    rel = motion.root_positions - np.array([start[0], 0.0, start[2]])
+    scale = leg_length_m / leg_length(motion, mapping)
+    return np.asarray(scale * rel @ BODY_FROM_BVH.T, dtype=np.float64)
+
+
+def clip_motion_problems(motion: BvhMotion, *, source: str, leg_length_m: float,
+                         play_rate: float = 1.0, origin_m: float = 0.0) -> list[str]:
+    """What the clip would make of a person that no run accepts, one line each.
+
+    The root's translation is scaled by the person's leg over the clip's: a clip whose
+    legs have (almost) no length, or whose skeleton is far smaller than its root motion,
+    throws the person out of the world or moves it faster than anyone runs.
+
+    Parameters
+    ----------
+    motion : BvhMotion
+        The clip.
+    source : str
+        The file's name, for messages.
+    leg_length_m : float
+        The person's leg length (m).
+    play_rate : float
+        Playback speed factor.
+    origin_m : float
+        Distance of the person's object from the world origin (m).
+
+    Returns
+    -------
+    list of str
+        Empty when the leg has a length, the root stays within ±``MAX_COORDINATE_M`` of
+        the origin and moves at most ``MAX_BVH_ROOT_SPEED_MPS`` between frames.
+    """
+    mapping = map_joints(motion, source=source)
+    leg = leg_length(motion, mapping)
+    longest = float(max(np.linalg.norm(motion.offsets, axis=1).max(),
+                        np.linalg.norm(motion.end_sites, axis=1).max()))
+    legs = " → ".join(motion.names[mapping[s]] for s in ("thigh_l", "shin_l"))
+    if not leg > MIN_BVH_LEG_FRACTION * longest:
+        return [f"BVH file {source}: the leg {legs} is {leg:.3g} units long, under "
+                f"{MIN_BVH_LEG_FRACTION:g} of the clip's longest bone ({longest:.3g}); its "
+                "root motion cannot be scaled to the person (bones of zero length?)"]
+    root = motion.names[0]
+    disp = root_motion_m(motion, mapping, leg_length_m)
+    reach = np.linalg.norm(disp, axis=1) + origin_m
+    far = int(np.argmax(reach))
+    out = []
+    if reach[far] > MAX_COORDINATE_M:
+        out.append(f"BVH file {source}: joint {root!r} at frame {far} puts the person "
+                   f"{reach[far]:.3g} m from the origin (its leg {legs} is {leg:.3g} units, "
+                   f"scaled to {leg_length_m:.3g} m); allowed at most {MAX_COORDINATE_M:g} m")
+    if len(disp) > 1:
+        speed = np.linalg.norm(np.diff(disp, axis=0), axis=1) / motion.frame_time_s * play_rate
+        fast = int(np.argmax(speed))
+        if speed[fast] > MAX_BVH_ROOT_SPEED_MPS:
+            out.append(f"BVH file {source}: joint {root!r} moves {speed[fast]:.3g} m/s between "
+                       f"frames {fast} and {fast + 1} (play_rate {play_rate:g}, leg {legs} "
+                       f"{leg:.3g} units scaled to {leg_length_m:.3g} m); allowed at most "
+                       f"{MAX_BVH_ROOT_SPEED_MPS:g} m/s")
+    return out
+
+
 def segment_index(name: str) -> int:
     """Index of a segment name (KeyError if unknown)."""
     return SEGMENT_INDEX[name]
 
 
-__all__ = ["BODY_FROM_BVH", "BvhError", "BvhMotion", "JOINT_MAP", "bone_offset",
-           "check_bvh_text", "load_bvh", "map_joints"]
+__all__ = ["BODY_FROM_BVH", "MAX_BVH_BYTES", "MAX_BVH_DEPTH", "MAX_BVH_FRAMES",
+           "MAX_BVH_JOINTS", "MAX_BVH_VALUE", "BvhError", "BvhMotion", "JOINT_MAP",
+           "bone_offset", "check_bvh_text", "clip_motion_problems", "leg_length",
+           "load_bvh", "map_joints", "root_motion_m"]

@@ -22,6 +22,14 @@ from simcore.render.shading_kernels import band_response_one
 
 #: Near-singular guard of the triangle integral's divided differences (rad).
 SMALL = 1e-3
+#: A facet whose two-way phase changes by less than this across it (rad, ≈ 9.5 cycles) and
+#: that is longer than :data:`PIECE_FRESNEL` × √(λR/4) is integrated in n² pieces; beyond
+#: it, the linear phase between its exact corner values is close enough (measured against
+#: the exact PO integral of plates at 1–4 m: ``tests/test_radar_po_plate.py``).
+SPLIT_SPAN_RAD = 60.0
+#: Largest piece of a split facet, as a fraction of √(λR/4): the phase's deviation from
+#: linear within a piece stays below ≈ 0.06 rad.
+PIECE_FRESNEL = 0.4
 
 
 @kernel
@@ -47,24 +55,38 @@ def triangle_integral_1(alpha: float, beta: float) -> complex:
 @kernel
 def _far_field_piece(v0: NDArray[np.float64], v1: NDArray[np.float64],
                      v2: NDArray[np.float64], k: float, dist_ref: float) -> complex:
-    """One radar-frame triangle's ``∫ e^{j 2k (|r| − dist_ref)} dA``, linearised at its centroid."""
-    c0 = (v0[0] + v1[0] + v2[0]) / 3.0
-    c1 = (v0[1] + v1[1] + v2[1]) / 3.0
-    c2 = (v0[2] + v1[2] + v2[2]) / 3.0
-    sd = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
-    s = 2.0 * k / sd
-    w0, w1, w2 = s * c0, s * c1, s * c2
+    """One radar-frame triangle's ``∫ e^{j 2k (|r| − dist_ref)} dA``.
+
+    The phase is interpolated linearly between its exact values at the corners
+    (:func:`vertex_phase_integral`).
+    """
     e1x, e1y, e1z = v1[0] - v0[0], v1[1] - v0[1], v1[2] - v0[2]
     e2x, e2y, e2z = v2[0] - v0[0], v2[1] - v0[1], v2[2] - v0[2]
-    alpha = w0 * e1x + w1 * e1y + w2 * e1z
-    beta = w0 * e2x + w1 * e2y + w2 * e2z
-    rel = w0 * (v0[0] - c0) + w1 * (v0[1] - c1) + w2 * (v0[2] - c2)
     nx = e1y * e2z - e1z * e2y
     ny = e1z * e2x - e1x * e2z
     nz = e1x * e2y - e1y * e2x
     area2 = math.sqrt(nx * nx + ny * ny + nz * nz)
-    ph = rel + 2.0 * k * (sd - dist_ref)
-    return area2 * triangle_integral_1(alpha, beta) * complex(math.cos(ph), math.sin(ph))
+    return area2 * vertex_phase_integral(
+        2.0 * k * (math.sqrt(v0[0] * v0[0] + v0[1] * v0[1] + v0[2] * v0[2]) - dist_ref),
+        2.0 * k * (math.sqrt(v1[0] * v1[0] + v1[1] * v1[1] + v1[2] * v1[2]) - dist_ref),
+        2.0 * k * (math.sqrt(v2[0] * v2[0] + v2[1] * v2[1] + v2[2] * v2[2]) - dist_ref))
+
+
+@kernel
+def vertex_phase_integral(phi0: float, phi1: float, phi2: float) -> complex:
+    """``∫∫ e^{jφ} ds dt`` over the unit simplex, φ linear through its corner values.
+
+    The phase of the PO integrand (two-way path, ``2k |r|``) is taken exactly at the
+    facet's corners and interpolated linearly between them. Neighbouring facets then
+    share the phase along their common edge (a continuous, piecewise-linear phase over a
+    surface), so the contributions of interior edges cancel between them as they do in
+    the exact integral of a flat plate; a phase linearised about each facet's own centroid
+    jumps by up to ``k L²/(4R)`` across edges and leaves spurious edge terms that sum to
+    decibels over a plate in the near field. Equals ``e^{jφ}/2`` at φ constant (times
+    twice the facet's area: its area).
+    """
+    ph = complex(math.cos(phi0), math.sin(phi0))
+    return triangle_integral_1(phi1 - phi0, phi2 - phi0) * ph
 
 
 @kernel
@@ -176,28 +198,28 @@ def object_facet_returns(
         amp = 0j
         rho2 = 1.0
         if smooth:
-            # Coherent PO part: the direction into the object's frame (c_obj = Rᵀ c).
-            scale = 2.0 * k / dist
-            for d in range(3):
-                w[d] = scale * (rot[0, d] * c[0] + rot[1, d] * c[1] + rot[2, d] * c[2])
-            alpha = w[0] * edges[f, 0, 0] + w[1] * edges[f, 0, 1] + w[2] * edges[f, 0, 2]
-            beta = w[0] * edges[f, 1, 0] + w[1] * edges[f, 1, 1] + w[2] * edges[f, 1, 2]
-            rel = w[0] * edges[f, 2, 0] + w[1] * edges[f, 2, 1] + w[2] * edges[f, 2, 2]
-            integral = (area2[f] * triangle_integral_1(alpha, beta)
-                        * complex(math.cos(rel), math.sin(rel)))
-            limit = math.sqrt(math.pi * dist / (2.0 * k))           # √(λR/4)
+            # Coherent PO part: the two-way phase at the corners (radar frame), relative to
+            # the centroid's, interpolated linearly over the facet.
+            for q in range(3):
+                for r in range(3):
+                    corners[q, r] = (rot[r, 0] * vertices[f, q, 0]
+                                     + rot[r, 1] * vertices[f, q, 1]
+                                     + rot[r, 2] * vertices[f, q, 2] + off[r])
+                w[q] = 2.0 * k * (math.sqrt(corners[q, 0] * corners[q, 0]
+                                            + corners[q, 1] * corners[q, 1]
+                                            + corners[q, 2] * corners[q, 2]) - dist)
+            alpha, beta = w[1] - w[0], w[2] - w[0]
+            integral = area2[f] * vertex_phase_integral(w[0], w[1], w[2])
+            limit = PIECE_FRESNEL * math.sqrt(math.pi * dist / (2.0 * k))   # × √(λR/4)
             span = max(max(abs(alpha), abs(beta)), abs(alpha - beta))
             pieces = math.ceil(longest[f] / limit)
-            if pieces > 1 and span < 6.0 * math.pi:
-                for q in range(3):
-                    for r in range(3):
-                        corners[q, r] = (rot[r, 0] * vertices[f, q, 0]
-                                         + rot[r, 1] * vertices[f, q, 1]
-                                         + rot[r, 2] * vertices[f, q, 2] + off[r])
+            if pieces > 1 and span < SPLIT_SPAN_RAD:
                 integral = _split_integral(corners, min(pieces, 16), k, dist)
             g = 4.0 * math.pi * height_rms * cos_i / wavelength
             rho2 = math.exp(-g * g)
-            amp = (sqrt_pi2 * gamma * math.sqrt(rho2) * cos_i) * integral
+            # j: the PO field of a surface seen at its stationary point is the image's
+            # (an infinite plane reduces to Γ of the image, Γ √π R), not 90° off it.
+            amp = (1j * sqrt_pi2 * gamma * math.sqrt(rho2) * cos_i) * integral
         # Diffuse part: the band response with the lobe's incoherent fraction.
         incoherent = 1.0 - rho2 if smooth else 1.0
         sigma0 = band_response_one(cos_i, reflectance, specular * incoherent, roughness,
@@ -220,4 +242,4 @@ def object_facet_returns(
     return count
 
 
-__all__ = ["object_facet_returns", "triangle_integral_1"]
+__all__ = ["object_facet_returns", "triangle_integral_1", "vertex_phase_integral"]

@@ -22,11 +22,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simcore.render.buffers import RenderBuffers
-from simcore.scene.model import Project
-from simcore.scene.project_io import material_table
 from simcore.scene.radar_config import RadarConfig, aliasing_warnings
-from simcore.scene.snapshot import SceneSnapshot
 from simcore.sensors.radar.scatterers import Scatterers, scatterers_from_render
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.synthesis import (
     ComplexCube,
     SynthesisMethod,
@@ -97,36 +95,32 @@ class RadarOutput:
         return items
 
 
-def radar_scatterers(project: Project, snapshot: SceneSnapshot, buffers: RenderBuffers, *,
-                     config: RadarConfig | None = None, seed: int | None = None,
-                     pixels: NDArray[np.bool_] | None = None,
+def radar_scatterers(scene: RadarScene, buffers: RenderBuffers, *, config: RadarConfig,
+                     seed: int | None = None, pixels: NDArray[np.bool_] | None = None,
                      see_through: RenderBuffers | None = None) -> Scatterers:
     """Point scatterers of a frame (independent of antennas, waveform timing, receiver).
 
     Parameters
     ----------
-    project : Project
-        The project (objects, materials; ``rig.radar`` unless ``config`` is given).
-    snapshot : SceneSnapshot
-        The frame's snapshot.
+    scene : RadarScene
+        The radar's slice of the frame (objects, materials, snapshot, its own pose):
+        ``RadarScene.from_project(project, snapshot, name)``.
     buffers : RenderBuffers
-        The radar render of ``snapshot``.
-    config : RadarConfig, optional
-        Radar configuration (wavelength, speckle, facet grid); default the project's.
+        The radar render of ``scene.snapshot``.
+    config : RadarConfig
+        Radar configuration (wavelength, speckle, facet grid).
     seed : int, optional
-        Speckle realisation (default: the project's seed).
+        Speckle realisation (default: ``scene.seed``).
     pixels : ndarray of bool, shape (H, W), optional
         Only the facets covering these render pixels (plus the analytic targets).
     see_through : RenderBuffers, optional
         The radar render without its partially transparent objects
         (:meth:`RadarSensor.see_through`): what lies behind them, attenuated.
     """
-    cfg = project.rig.radar if config is None else config
     return scatterers_from_render(
-        project, snapshot, buffers, wavelength_m=cfg.wavelength_m,
-        facets=cfg.facet_intrinsics(), speckle=cfg.speckle,
-        seed=project.seed if seed is None else seed, materials=material_table(project, copy=False),
-        pixels=pixels, see_through=see_through)
+        scene, buffers, wavelength_m=config.wavelength_m,
+        facets=config.facet_intrinsics(), speckle=config.speckle,
+        seed=scene.seed if seed is None else seed, pixels=pixels, see_through=see_through)
 
 
 def radar_output(ideal: ComplexCube, config: RadarConfig, *, rng: np.random.Generator,

@@ -14,14 +14,15 @@ chain (:func:`simcore.sensors.radar.interference.mix_paths`).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
-from simcore.scene.model import Project, Rig
+from simcore.scene.model import Rig
 from simcore.scene.radar_config import RadarConfig
-from simcore.sensors.placement import other_sensors, sensor_state
+from simcore.sensors.placement import sensor_state
 from simcore.sensors.radar.interference import (
     PathSet,
     direct_paths,
@@ -31,12 +32,6 @@ from simcore.sensors.radar.interference import (
 )
 from simcore.sensors.radar.scatterers import Scatterers
 from simcore.sensors.radar.transmit import frame_period_s, frame_transmit_config
-
-
-def aggressors(project: Project, victim: str) -> list[tuple[str, Rig, RadarConfig]]:
-    """Every radar of the project but ``victim``: (name, rig, configuration)."""
-    return [(n, r, c) for n, r, c in other_sensors(project, victim, RadarConfig)
-            if isinstance(c, RadarConfig)]
 
 
 @dataclass(frozen=True)
@@ -58,32 +53,34 @@ class FrameInterference:
     aggressor_frames: int
 
 
-def frame_interference(project: Project, victim: str, victim_config: RadarConfig,
-                       victim_start_s: float, *, scatterers: Scatterers | None = None
+def frame_interference(others: Sequence[tuple[str, Rig, RadarConfig]], victim_rig: Rig,
+                       victim_config: RadarConfig, victim_start_s: float, *,
+                       frame_rate_hz: float, scatterers: Scatterers | None = None
                        ) -> FrameInterference | None:
-    """The other radars' signals in a frame of radar ``victim``; None without other radars.
+    """The other radars' signals in a frame of a victim radar; None without other radars.
 
     Parameters
     ----------
-    project : Project
-        All rigs and their radars.
-    victim : str
-        The victim radar's name.
+    others : sequence of (str, Rig, RadarConfig)
+        The aggressors: every other radar with the rig that carries it
+        (:func:`simcore.sensors.radar.sensor.aggressors`).
+    victim_rig : Rig
+        The rig that carries the victim radar (its pose and motion).
     victim_config : RadarConfig
         Its configuration as it transmits in this frame
         (:func:`~simcore.sensors.radar.transmit.frame_transmit_config`).
     victim_start_s : float
         Start of the victim's first chirp (s, timeline clock).
+    frame_rate_hz : float
+        The timeline's frame rate (each radar's frame period is a multiple of its period).
     scatterers : Scatterers, optional
         The victim's scatterers of the frame: with ``multipath_order`` ≥ 1 the aggressors
         also reach the victim over them.
     """
-    others = aggressors(project, victim)
     if not others:
         return None
-    rate = project.timeline.frame_rate_hz
-    v_rig = project.sensor_rig(victim)
-    v_state = sensor_state(v_rig, victim_config, victim_start_s)
+    rate = frame_rate_hz
+    v_state = sensor_state(victim_rig, victim_config, victim_start_s)
     v_end = victim_start_s + victim_config.frame_duration_s
     cube = np.zeros((victim_config.chirps_per_frame,
                      len(victim_config.tx) * len(victim_config.rx),
@@ -118,4 +115,4 @@ def frame_interference(project: Project, victim: str, victim_config: RadarConfig
     return FrameInterference(cube, interference_to_noise_db(cube, victim_config), n_frames)
 
 
-__all__ = ["FrameInterference", "aggressors", "frame_interference"]
+__all__ = ["FrameInterference", "frame_interference"]

@@ -63,10 +63,7 @@ from simcore.render.buffers import RenderBuffers
 from simcore.scene.base import Model
 from simcore.scene.geometry import Box, CornerReflector, Plane, corner_reflector_axes
 from simcore.scene.materials import DualBandMaterial
-from simcore.scene.model import Project
-from simcore.scene.project_io import material_table
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
-from simcore.scene.snapshot import SceneSnapshot
 from simcore.sensors.radar.equation import element_gain
 from simcore.sensors.radar.scatterers import (
     KIND_CORNER_REFLECTOR,
@@ -75,6 +72,7 @@ from simcore.sensors.radar.scatterers import (
     Scatterers,
     trihedral_effective_area,
 )
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.synthesis import ComplexCube, synthesize_if
 
 #: Smallest normal-incidence |Γ| of a reflector's material (metal 1, concrete ≈ 0.4).
@@ -94,7 +92,7 @@ class Reflector:
     Attributes
     ----------
     object_index : int
-        Index of its object in ``project.objects``.
+        Index of its object in the scene's objects.
     center_m : ndarray, shape (3,)
         Rectangle centre (m).
     axes : ndarray, shape (2, 3)
@@ -152,29 +150,26 @@ def _faces(geometry: Box | Plane) -> list[tuple[NDArray[np.float64], NDArray[np.
     return out
 
 
-def find_reflectors(project: Project, snapshot: SceneSnapshot, wavelength_m: float, *,
-                    materials: Mapping[str, DualBandMaterial] | None = None,
+def find_reflectors(scene: RadarScene, wavelength_m: float, *,
                     min_reflection: float = MIN_REFLECTION, min_area_m2: float = MIN_AREA_M2
                     ) -> list[Reflector]:
     """The significant planar specular reflectors of a frame, in the radar optical frame.
 
     Parameters
     ----------
-    project, snapshot : Project, SceneSnapshot
-        The scene and its state at the frame.
+    scene : RadarScene
+        The objects, their materials and states at the frame, and the radar's state.
     wavelength_m : float
         Radar wavelength (Γ is evaluated at ``c / λ``), m.
-    materials : mapping, optional
-        The project's material table, if the caller has it.
     min_reflection, min_area_m2 : float
         Thresholds on the normal-incidence |Γ| and on the face area (m²).
     """
-    table = material_table(project, copy=False) if materials is None else materials
-    radar = snapshot.sensors["radar"]
+    table = scene.materials
+    radar = scene.radar
     r_rad, p_rad = radar.rotation, radar.position
     freq = SPEED_OF_LIGHT / wavelength_m
     out: list[Reflector] = []
-    for i, o in enumerate(project.objects):
+    for i, o in enumerate(scene.objects):
         if not isinstance(o.geometry, (Box, Plane)):
             continue
         mat = table.get(o.material)
@@ -186,7 +181,7 @@ def find_reflectors(project: Project, snapshot: SceneSnapshot, wavelength_m: flo
         gamma = complex(band.coefficients(freq)[0])
         if abs(gamma) < min_reflection:
             continue
-        state = snapshot.objects[i]
+        state = scene.snapshot.objects[i]
         t = state.transform
         rel_v = (np.asarray(state.velocity_mps) - radar.velocity_mps) @ r_rad
         for c, axes, half, n, two in _faces(o.geometry):
@@ -427,10 +422,8 @@ def _segments_hit_triangles(a: NDArray[np.float64], b: NDArray[np.float64],
     return hit
 
 
-def second_leg_clear(project: Project, snapshot: SceneSnapshot, paths: ImagePaths,
-                     scatterers: Scatterers, wavelength_m: float, *,
-                     materials: Mapping[str, DualBandMaterial] | None = None
-                     ) -> NDArray[np.bool_]:
+def second_leg_clear(scene: RadarScene, paths: ImagePaths, scatterers: Scatterers,
+                     wavelength_m: float) -> NDArray[np.bool_]:
     """Whether the leg from each path's reflection point to its target is unobstructed.
 
     The first leg (radar → reflection point) is tested against the radar render
@@ -446,9 +439,8 @@ def second_leg_clear(project: Project, snapshot: SceneSnapshot, paths: ImagePath
     ndarray of bool, shape (K,)
         One flag per row of ``paths``.
     """
-    table = material_table(project, copy=False) if materials is None else materials
-    radar = snapshot.sensors["radar"]
-    world_to_radar = np.linalg.inv(radar.transform)
+    table = scene.materials
+    world_to_radar = np.linalg.inv(scene.radar.transform)
     freq = SPEED_OF_LIGHT / wavelength_m
     a = paths.crossing_m
     p = scatterers.positions_m[paths.rows]
@@ -458,7 +450,7 @@ def second_leg_clear(project: Project, snapshot: SceneSnapshot, paths: ImagePath
     own = scatterers.object_index[paths.rows]
     own_ok = scatterers.kind[paths.rows] != KIND_FACET
     clear = np.ones(len(a), dtype=bool)
-    for i, o in enumerate(project.objects):
+    for i, o in enumerate(scene.objects):
         if i == paths.reflector.object_index:
             continue
         mat = table.get(o.material)
@@ -472,7 +464,7 @@ def second_leg_clear(project: Project, snapshot: SceneSnapshot, paths: ImagePath
             continue
         tri, box = local
         # Radar frame → the object's local frame (its transform may scale).
-        m = np.linalg.inv(world_to_radar @ snapshot.objects[i].transform)
+        m = np.linalg.inv(world_to_radar @ scene.snapshot.objects[i].transform)
         sel = clear & ~((own == i) & own_ok)
         if not np.any(sel):
             continue
@@ -486,7 +478,7 @@ def second_leg_clear(project: Project, snapshot: SceneSnapshot, paths: ImagePath
     return clear
 
 
-def _corner_aspect(project: Project, snapshot: SceneSnapshot, scatterers: Scatterers,
+def _corner_aspect(scene: RadarScene, scatterers: Scatterers,
                    rows: NDArray[np.intp], towards: NDArray[np.float64]
                    ) -> NDArray[np.float64]:
     """RCS ratio σ(towards) / σ(radar) of the corner reflectors among ``rows`` (1 elsewhere).
@@ -499,14 +491,14 @@ def _corner_aspect(project: Project, snapshot: SceneSnapshot, scatterers: Scatte
     sel = np.flatnonzero(kinds == KIND_CORNER_REFLECTOR)
     if not len(sel):
         return out
-    r_rad = snapshot.sensors["radar"].rotation
+    r_rad = scene.radar.rotation
     edges = corner_reflector_axes()
     for k in sel:
         i = int(scatterers.object_index[rows[k]])
-        geom = project.objects[i].geometry
+        geom = scene.objects[i].geometry
         if not isinstance(geom, CornerReflector):
             continue
-        r_obj = snapshot.objects[i].transform[:3, :3]
+        r_obj = scene.snapshot.objects[i].transform[:3, :3]
         apex = scatterers.positions_m[rows[k]]
         areas = []
         for target in (np.zeros(3), towards[k]):
@@ -546,7 +538,7 @@ class GhostSet:
     rx_positions_m: NDArray[np.float64] | None = None
 
 
-def ghost_scatterers(project: Project, snapshot: SceneSnapshot, scatterers: Scatterers,
+def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
                      config: RadarConfig, *, buffers: RenderBuffers | None = None,
                      order: int | None = None,
                      reflectors: list[Reflector] | None = None) -> list[GhostSet]:
@@ -554,8 +546,9 @@ def ghost_scatterers(project: Project, snapshot: SceneSnapshot, scatterers: Scat
 
     Parameters
     ----------
-    project, snapshot : Project, SceneSnapshot
-        Scene and state (reflector geometry, corner reflectors' orientation).
+    scene : RadarScene
+        Objects, materials and states (reflector geometry, corner reflectors'
+        orientation) and the radar's state.
     scatterers : Scatterers
         The frame's primary (single-bounce) scatterers, radar frame.
     config : RadarConfig
@@ -577,9 +570,8 @@ def ghost_scatterers(project: Project, snapshot: SceneSnapshot, scatterers: Scat
     if order <= 0 or len(scatterers) == 0:
         return []
     lam = config.wavelength_m
-    table = material_table(project, copy=False)
     if reflectors is None:
-        reflectors = find_reflectors(project, snapshot, lam, materials=table)
+        reflectors = find_reflectors(scene, lam)
     p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()
     pat_t = config.tx[0].pattern or config.element_pattern
     pat_r = config.rx[0].pattern or config.element_pattern
@@ -588,7 +580,7 @@ def ghost_scatterers(project: Project, snapshot: SceneSnapshot, scatterers: Scat
         paths = image_paths(refl, scatterers, buffers, lam)
         if paths is None:
             continue
-        clear = second_leg_clear(project, snapshot, paths, scatterers, lam, materials=table)
+        clear = second_leg_clear(scene, paths, scatterers, lam)
         if not np.any(clear):
             continue
         rows, images, gamma, r = (paths.rows[clear], paths.images_m[clear],
@@ -598,7 +590,7 @@ def ghost_scatterers(project: Project, snapshot: SceneSnapshot, scatterers: Scat
         acc = (None if scatterers.accelerations_mps2 is None
                else scatterers.accelerations_mps2[rows])
         origin_image = r.mirror(np.zeros(3))
-        aspect2 = _corner_aspect(project, snapshot, scatterers, rows,
+        aspect2 = _corner_aspect(scene, scatterers, rows,
                                  np.broadcast_to(origin_image, images.shape).copy())
         # Order 1: real positions, one mirrored antenna set; pattern ratio on that leg.
         g_direct_t = np.maximum(element_gain(pat_t, pos), MIN_GAIN)
@@ -619,8 +611,8 @@ def ghost_scatterers(project: Project, snapshot: SceneSnapshot, scatterers: Scat
                 _ghosts(scatterers, rows, images, v_img, a_img, gamma**2 * np.sqrt(aspect2)),
                 2, r.object_index))
     # The rig's own front returns every reflector's echo to it once more (from order 1).
-    out += rig_front_ghosts(project, snapshot, config, reflectors, time_s=scatterers.time_s,
-                            buffers=buffers, materials=table)
+    out += rig_front_ghosts(scene.materials, config, reflectors, time_s=scatterers.time_s,
+                            buffers=buffers)
     return out
 
 
@@ -646,12 +638,12 @@ def flat_plate_rcs(width_m: float, height_m: float, wavelength_m: float,
                  * cos_t**2 * pattern**2)
 
 
-def rig_front_ghosts(project: Project, snapshot: SceneSnapshot, config: RadarConfig,
+def rig_front_ghosts(materials: Mapping[str, DualBandMaterial], config: RadarConfig,
                      reflectors: Sequence[Reflector], *, time_s: float,
-                     buffers: RenderBuffers | None = None,
-                     materials: Mapping[str, DualBandMaterial] | None = None
-                     ) -> list[GhostSet]:
+                     buffers: RenderBuffers | None = None) -> list[GhostSet]:
     """The double bounce between the scene's planar reflectors and the rig's own front.
+
+    ``materials`` is the material table (the rig front's material is looked up in it).
 
     Path radar → reflector → rig front → reflector → radar: by the image method, the real
     array sees the reflector's mirror image of the rig front (a flat plate
@@ -676,8 +668,7 @@ def rig_front_ghosts(project: Project, snapshot: SceneSnapshot, config: RadarCon
     width, height = config.rig_front_width_m, config.rig_front_height_m
     if width <= 0 or height <= 0 or not reflectors:
         return []
-    table = material_table(project, copy=False) if materials is None else materials
-    mat = table.get(config.rig_front_material)
+    mat = materials.get(config.rig_front_material)
     if mat is None:
         return []
     band = mat.band("radar")
@@ -722,7 +713,7 @@ def rig_front_ghosts(project: Project, snapshot: SceneSnapshot, config: RadarCon
         for p, v, a, ph, i in zip(positions, velocities, rcs, phase, owner, strict=True)]
 
 
-def multipath_if(project: Project, snapshot: SceneSnapshot, scatterers: Scatterers,
+def multipath_if(scene: RadarScene, scatterers: Scatterers,
                  config: RadarConfig, *, buffers: RenderBuffers | None = None,
                  order: int | None = None, threads: int | None = None) -> ComplexCube:
     """Ideal IF of all the multipath ghosts of a frame (to add to the direct IF).
@@ -734,8 +725,7 @@ def multipath_if(project: Project, snapshot: SceneSnapshot, scatterers: Scattere
     ndarray, shape (chirps, tx*rx, samples), complex128
         Zeros when there are no ghosts.
     """
-    sets = ghost_scatterers(project, snapshot, scatterers, config, buffers=buffers,
-                            order=order)
+    sets = ghost_scatterers(scene, scatterers, config, buffers=buffers, order=order)
     return synthesize_ghosts(sets, config, threads=threads)
 
 

@@ -17,7 +17,7 @@ front of them.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -29,11 +29,10 @@ from simcore.render.buffers import RenderBuffers
 from simcore.render.meshes import TriangleMesh, build_mesh
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.geometry import CornerReflector, PointTarget, corner_reflector_axes
-from simcore.scene.materials import DualBandMaterial
-from simcore.scene.model import Project
-from simcore.scene.project_io import material_table
-from simcore.scene.snapshot import SceneSnapshot
+from simcore.scene.model import SceneObject
+from simcore.scene.snapshot import SensorState
 from simcore.sensors.radar.kinematics import motion_maps_batch
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.surfaces import facet_returns, transmission_coefficients
 
 #: A point scatterer is hidden when a rendered surface is nearer than this along its ray (m).
@@ -66,7 +65,7 @@ class Scatterers:
     phase_rad : ndarray, shape (M,), float64
         Extra scattering phase (speckle; 0 for analytic targets), rad.
     object_index : ndarray, shape (M,), int32
-        Index of the source object in ``project.objects``.
+        Index of the source object in the scene's objects.
     kind : ndarray, shape (M,), int8
         ``KIND_FACET``, ``KIND_CORNER_REFLECTOR`` or ``KIND_POINT_TARGET``.
     facet_key : ndarray, shape (M,), int64, or None
@@ -247,13 +246,13 @@ def trihedral_effective_area(directions: NDArray[np.floating], edge_m: float
     return np.where(lo > 0, np.maximum(area, 0.0), 0.0) * edge_m**2
 
 
-def _object_meshes(project: Project, buffers: RenderBuffers
+def _object_meshes(objects: Sequence[SceneObject], buffers: RenderBuffers
                    ) -> tuple[TriangleMesh | None, ...]:
     """Each object's mesh in its frame: the render's, else built here (no mesh files)."""
-    if len(buffers.meshes) == len(project.objects):
+    if len(buffers.meshes) == len(objects):
         return buffers.meshes
     out: list[TriangleMesh | None] = []
-    for o in project.objects:
+    for o in objects:
         try:
             out.append(build_mesh(o.geometry))
         except (OSError, ValueError):
@@ -261,10 +260,9 @@ def _object_meshes(project: Project, buffers: RenderBuffers
     return tuple(out)
 
 
-def _facet_scatterers(project: Project, snapshot: SceneSnapshot, buffers: RenderBuffers,
+def _facet_scatterers(scene: RadarScene, buffers: RenderBuffers,
                       facets: PinholeIntrinsics | None, exclude: NDArray[np.bool_], *,
-                      wavelength_m: float, materials: Mapping[str, DualBandMaterial],
-                      speckle: bool, seed: int, extra: int = 0,
+                      wavelength_m: float, speckle: bool, seed: int, extra: int = 0,
                       pixels: NDArray[np.bool_] | None = None,
                       see_through: RenderBuffers | None = None
                       ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
@@ -276,18 +274,18 @@ def _facet_scatterers(project: Project, snapshot: SceneSnapshot, buffers: Render
     facet-grid cell (of its centroid) times the number of objects plus its object. Every
     array has ``extra`` more rows at the end, left for the caller to fill.
     """
-    found = facet_returns(project, snapshot, buffers, _object_meshes(project, buffers),
-                          wavelength_m=wavelength_m, materials=materials, speckle=speckle,
+    found = facet_returns(scene, buffers, _object_meshes(scene.objects, buffers),
+                          wavelength_m=wavelength_m, speckle=speckle,
                           seed=seed, exclude=exclude, pixels=pixels,
                           see_through=see_through)
     n = len(found.object_index)
     pos = np.empty((n + extra, 3))
     pos[:n] = found.positions_m
     vel = np.zeros((n + extra, 3))
-    radar = snapshot.sensors["radar"]
+    radar = scene.radar
     # Translation of each object relative to the radar (rotation: _rotation_kinematics).
     rel = np.array([(s.velocity_mps - radar.velocity_mps) @ radar.rotation
-                    for s in snapshot.objects]).reshape(-1, 3)
+                    for s in scene.snapshot.objects]).reshape(-1, 3)
     if n and np.any(rel):
         vel[:n] = rel[found.object_index]
     rcs = np.zeros(n + extra)
@@ -302,21 +300,21 @@ def _facet_scatterers(project: Project, snapshot: SceneSnapshot, buffers: Render
     rows, cols = np.divmod(found.pixel, render.width)
     f_rows = np.minimum(rows * grid.height // render.height, grid.height - 1)
     f_cols = np.minimum(cols * grid.width // render.width, grid.width - 1)
-    key[:n] = (f_rows * grid.width + f_cols) * max(len(project.objects), 1) + found.object_index
+    key[:n] = (f_rows * grid.width + f_cols) * max(len(scene.objects), 1) + found.object_index
     return pos, vel, rcs, phase, obj, key
 
 
-def _radar_frame(snapshot: SceneSnapshot, world_points: NDArray[np.float64]
+def _radar_frame(radar: SensorState, world_points: NDArray[np.float64]
                  ) -> NDArray[np.float64]:
-    t = snapshot.sensors["radar"].transform
+    t = radar.transform
     return (world_points - t[:3, 3]) @ t[:3, :3]
 
 
-def _relative_velocity(snapshot: SceneSnapshot, index: int, world_point: NDArray[np.float64]
+def _relative_velocity(scene: RadarScene, index: int, world_point: NDArray[np.float64]
                        ) -> NDArray[np.float64]:
-    state = snapshot.objects[index]
-    v_world = state.point_velocity(world_point) - snapshot.sensors["radar"].velocity_mps
-    return v_world @ snapshot.sensors["radar"].rotation
+    state = scene.snapshot.objects[index]
+    v_world = state.point_velocity(world_point) - scene.radar.velocity_mps
+    return v_world @ scene.radar.rotation
 
 
 def _unoccluded(buffers: RenderBuffers, point_radar: NDArray[np.float64], object_index: int
@@ -354,22 +352,20 @@ def _path_factor(buffers: RenderBuffers, see_through: RenderBuffers | None,
     return 1.0 if front < 0 else complex(trans[front]) ** 2
 
 
-def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: RenderBuffers,
+def scatterers_from_render(scene: RadarScene, buffers: RenderBuffers,
                            *, wavelength_m: float, facets: PinholeIntrinsics | None = None,
                            speckle: bool = True, seed: int = 0,
-                           materials: Mapping[str, DualBandMaterial] | None = None,
                            pixels: NDArray[np.bool_] | None = None,
                            see_through: RenderBuffers | None = None) -> Scatterers:
     """All radar scatterers of a frame from its snapshot and radar render.
 
     Parameters
     ----------
-    project : Project
-        The project (objects' geometry and materials).
-    snapshot : SceneSnapshot
-        The frame's snapshot (poses and velocities).
+    scene : RadarScene
+        The objects (geometry, materials), the frame's snapshot (poses and velocities)
+        and the radar's state.
     buffers : RenderBuffers
-        The radar-band render of ``snapshot`` (``band == "radar"``).
+        The radar-band render of ``scene.snapshot`` (``band == "radar"``).
     wavelength_m : float
         Radar wavelength for the corner reflectors' RCS (m).
     facets : PinholeIntrinsics, optional
@@ -380,9 +376,6 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
         Give facet scatterers their random phase (else 0).
     seed : int
         Speckle realisation.
-    materials : mapping, optional
-        The project's material table (:func:`~simcore.scene.project_io.material_table`),
-        if the caller has it; read only when the scene has corner reflectors.
     pixels : ndarray of bool, shape (H, W), optional
         Use only these render pixels for the facets (whole facets when the render is
         supersampled); the facets they cover come out as from the whole render. Analytic
@@ -400,15 +393,13 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
     """
     if buffers.band != "radar":
         raise ValueError(f"radar scatterers need the radar render, got band {buffers.band!r}")
-    objects = project.objects
-    if len(snapshot.objects) != len(objects):
-        raise ValueError("snapshot and project have different numbers of objects")
+    objects, snapshot = scene.objects, scene.snapshot
     analytic = np.array([isinstance(o.geometry, (CornerReflector, PointTarget))
                          for o in objects], dtype=bool)
 
     # ---------------------------------------------------------------- analytic targets
-    table = materials if materials is not None else material_table(project, copy=False)
-    trans = transmission_coefficients(project, table, wavelength_m)
+    table = scene.materials
+    trans = transmission_coefficients(objects, table, wavelength_m)
     extra_pos, extra_vel, extra_rcs, extra_obj, extra_kind = [], [], [], [], []
     extra_phase: list[float] = []
     edge_axes = corner_reflector_axes()
@@ -418,7 +409,7 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
             continue
         state = snapshot.objects[i]
         apex_world = state.origin
-        apex = _radar_frame(snapshot, apex_world[None, :])[0]
+        apex = _radar_frame(scene.radar, apex_world[None, :])[0]
         if isinstance(geom, CornerReflector):
             material = table.get(o.material)
             if material is not None and material.band("radar").opacity <= 0:
@@ -426,7 +417,7 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
             path = _path_factor(buffers, see_through, trans, apex, i)
             if path == 0:
                 continue
-            to_radar_world = snapshot.sensors["radar"].position - apex_world
+            to_radar_world = scene.radar.position - apex_world
             to_radar_world /= max(float(np.linalg.norm(to_radar_world)), 1e-300)
             local_dir = state.transform[:3, :3].T @ to_radar_world
             area = trihedral_effective_area(edge_axes @ local_dir, geom.edge_m)
@@ -441,7 +432,7 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
         if sigma <= 0:
             continue
         extra_pos.append(apex)
-        extra_vel.append(_relative_velocity(snapshot, i, apex_world))
+        extra_vel.append(_relative_velocity(scene, i, apex_world))
         extra_rcs.append(sigma * abs(path) ** 2)
         extra_phase.append(float(np.angle(path)))
         extra_obj.append(i)
@@ -450,8 +441,8 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
     # ---------------------------------------------------------------- facets, then those
     n_extra = len(extra_rcs)
     pos, vel, rcs, phase, obj, key = _facet_scatterers(
-        project, snapshot, buffers, facets, analytic, wavelength_m=wavelength_m,
-        materials=table, speckle=speckle, seed=seed, extra=n_extra, pixels=pixels,
+        scene, buffers, facets, analytic, wavelength_m=wavelength_m,
+        speckle=speckle, seed=seed, extra=n_extra, pixels=pixels,
         see_through=see_through)
     n = len(pos) - n_extra
     kinds = np.full(n + n_extra, KIND_FACET, dtype=np.int8)
@@ -462,7 +453,7 @@ def scatterers_from_render(project: Project, snapshot: SceneSnapshot, buffers: R
         phase[n:] = extra_phase
         obj[n:] = extra_obj
         kinds[n:] = extra_kind
-    acc = _rotation_kinematics(snapshot, pos, vel, obj)
+    acc = _rotation_kinematics(scene, pos, vel, obj)
     return Scatterers(
         time_s=float(snapshot.time_s),
         wavelength_m=float(wavelength_m),
@@ -498,7 +489,7 @@ def _rigid_rows(pos: NDArray[np.float64], group: NDArray[np.int32],
             acc[i, r] = m_a[g, r, 0] * x0 + m_a[g, r, 1] * x1 + m_a[g, r, 2] * x2 + c_a[g, r]
 
 
-def _rotation_kinematics(snapshot: SceneSnapshot, pos: NDArray[np.float64],
+def _rotation_kinematics(scene: RadarScene, pos: NDArray[np.float64],
                          vel: NDArray[np.float64], obj: NDArray[np.int32]
                          ) -> NDArray[np.float64] | None:
     """Exact relative velocities (in place) and accelerations where something rotates.
@@ -509,18 +500,19 @@ def _rotation_kinematics(snapshot: SceneSnapshot, pos: NDArray[np.float64],
     :func:`~simcore.sensors.radar.kinematics.rigid_point_motion`. None when nothing rotates
     (all accelerations zero).
     """
-    rig_turns = bool(np.any(snapshot.rig.angular_velocity_rps))
+    snapshot = scene.snapshot
+    rig_turns = bool(np.any(scene.rig.angular_velocity_rps))
     turning = [i for i, o in enumerate(snapshot.objects)
                if rig_turns or np.any(o.angular_velocity_rps)]
     if not turning or not len(pos):
         return None
-    radar = snapshot.sensors["radar"]
+    radar = scene.radar
     # One map per turning object, all in one batch (a person has a dozen turning segments).
     bodies = [snapshot.objects[i] for i in turning]
     m_v, c_v, m_a, c_a = motion_maps_batch(
         np.array([b.angular_velocity_rps for b in bodies], dtype=np.float64),
         np.array([b.velocity_mps for b in bodies], dtype=np.float64),
-        np.array([b.origin for b in bodies], dtype=np.float64), snapshot.rig, radar)
+        np.array([b.origin for b in bodies], dtype=np.float64), scene.rig, radar)
     group_of = np.full(len(snapshot.objects) + 1, -1, dtype=np.int32)
     group_of[turning] = np.arange(len(turning), dtype=np.int32)
     acc = np.empty_like(pos)

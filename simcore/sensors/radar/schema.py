@@ -77,6 +77,7 @@ SCHEMA = SensorSchema(
         Output("range_doppler", ("velocity", "range"), "dB", "float32",
                preview=Preview("range–Doppler", "power (dB)", cmap="magma",
                                axes=range_velocity_axes),
+               topic="range_doppler", message="tofradar_msgs/msg/RangeDopplerMap",
                description="range–Doppler map"),
         Output("range_azimuth", ("azimuth", "range"), "dB", "float32",
                preview=Preview("range–azimuth", "power (dB)", cmap="magma",

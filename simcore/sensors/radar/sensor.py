@@ -7,7 +7,6 @@ scatterers, a DSP edit re-uses the ADC cube, and a ToF edit re-uses the whole ra
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 from dataclasses import dataclass
 
@@ -16,8 +15,9 @@ from numpy.typing import NDArray
 
 from simcore.dsp import RadarProducts, process_frame, static_axes_items
 from simcore.render.renderer import RenderRequest
-from simcore.scene.model import Project
+from simcore.scene.model import Project, Rig
 from simcore.scene.people.expand import body_part_table
+from simcore.scene.project_io import material_table
 from simcore.scene.radar_config import RadarConfig
 from simcore.sensors.base import (
     DeferredOutput,
@@ -27,17 +27,14 @@ from simcore.sensors.base import (
     config_key,
     rename_items,
 )
+from simcore.sensors.placement import other_sensors
 from simcore.sensors.radar.background import (
     BackgroundFacets,
     cell_pixels,
     changed_cells,
 )
 from simcore.sensors.radar.frontend import RadarOutput, radar_output, radar_scatterers
-from simcore.sensors.radar.interference_frame import (
-    FrameInterference,
-    aggressors,
-    frame_interference,
-)
+from simcore.sensors.radar.interference_frame import FrameInterference, frame_interference
 from simcore.sensors.radar.labels import (
     DetectionLabels,
     LabelScatterers,
@@ -46,6 +43,7 @@ from simcore.sensors.radar.labels import (
 )
 from simcore.sensors.radar.multipath import ghost_scatterers, synthesize_ghosts
 from simcore.sensors.radar.scatterers import Scatterers
+from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.schema import SCHEMA
 from simcore.sensors.radar.surfaces import transmissive_objects
 from simcore.sensors.radar.synthesis import ComplexCube, prepare, synthesize_if
@@ -79,8 +77,8 @@ class RadarFrameOutput:
 
     def hdf5_items(self) -> H5Items:
         """Per-frame datasets of the raw data and the maps (under ``/<group>/``)."""
-        return rename_items({**self.raw.hdf5_items(), **self.dsp.hdf5_items()}, "radar",
-                            self.group)
+        return {**rename_items(self.raw.hdf5_items(), "radar", self.group),
+                **self.dsp.hdf5_items(group=self.group)}
 
     def table_rows(self, index: int) -> dict[str, NDArray[np.void]]:
         """Rows this frame adds to the detections table (with their labels)."""
@@ -102,10 +100,10 @@ _LabelParts = list[tuple[LabelScatterers, float]]
 class RadarSensor(SensorBase):
     """FMCW radar (``rig.radar`` or a named one): the 60 GHz band seen from its board.
 
-    The radar models read the radar's state as ``snapshot.sensors["radar"]``: a radar
-    with another name runs them on a :meth:`SceneSnapshot.seen_by` view of its snapshot
-    (``ctx.snapshot`` in its chain); ``ctx.scene`` is the whole snapshot, in which every
-    radar (the built-in one too) is under its own name.
+    The adapter between the project and the radar physics: it takes the radar's slice of
+    each frame (:meth:`RadarScene.from_project`: the objects, the material table, the
+    snapshot and this radar's own state, by its name) and its configuration, and hands
+    those to the physics, which never reads the project.
     """
 
     kind = "radar"
@@ -124,7 +122,8 @@ class RadarSensor(SensorBase):
 
     def see_through(self, project: Project) -> tuple[bool, ...] | None:
         """The objects that transmit part of the radar wave (slabs: glass, paper, wood)."""
-        return transmissive_objects(project, self.config(project).wavelength_m)
+        return transmissive_objects(project.objects, material_table(project, copy=False),
+                                    self.config(project).wavelength_m)
 
     def simulate(self, ctx: SensorContext) -> RadarFrameOutput | DeferredOutput:
         """Scatterers, IF synthesis, receiver and DSP of one frame.
@@ -137,13 +136,13 @@ class RadarSensor(SensorBase):
         base = self.config(ctx.project)
         cfg = frame_transmit_config(
             base, ctx.index // base.frame_divider(ctx.project.timeline.frame_rate_hz))
-        ctx = dataclasses.replace(ctx, snapshot=ctx.snapshot.seen_by(self.name, "radar"))
-        found = _ideal_over_background(ctx, cfg)
+        scene = RadarScene.from_project(ctx.project, ctx.snapshot, self.name)
+        found = _ideal_over_background(ctx, scene, cfg)
         scatterers: Scatterers | None
         if found is None:
             plain = ctx.stage(
                 "radar_scatterers",
-                lambda: radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
+                lambda: radar_scatterers(scene, ctx.buffers, seed=ctx.seed,
                                          see_through=ctx.see_through, config=cfg),
                 reads=_scatterer_reads(ctx, cfg), inputs=(ctx.buffers, ctx.see_through))
             # Per-scatterer arrays that do not depend on antennas or waveform: an antenna
@@ -160,9 +159,9 @@ class RadarSensor(SensorBase):
             ideal, n_scatterers, transformed, parts, scatterers = found
         ghosts: list[LabelScatterers] = []
         if cfg.multipath_order > 0:
-            ideal, ghosts = _with_multipath(ctx, cfg, ideal, scatterers)
+            ideal, ghosts = _with_multipath(ctx, scene, cfg, ideal, scatterers)
         inr_db = None
-        interference = _interference(ctx, self.name, cfg, scatterers)
+        interference = _interference(ctx, scene, self.name, cfg, scatterers)
         if interference is not None:
             ideal = ideal + interference.cube
             inr_db = interference.inr_db
@@ -189,7 +188,7 @@ class RadarSensor(SensorBase):
                                  inr_db=inr_db),
             reads=(config_key(cfg), ctx.seed, ctx.index, ctx.time_s, self.rng_stream),
             inputs=(ideal,))
-        to_world = ctx.snapshot.sensor("radar").transform
+        to_world = ctx.snapshot.sensor(self.name).transform
         dsp = ctx.stage(
             "dsp", lambda: process_frame(raw.adc, cfg, ctx.project.dsp, radar_to_world=to_world),
             reads=(config_key(cfg, ctx.project.dsp), to_world.tobytes()), inputs=(raw,))
@@ -207,11 +206,11 @@ class RadarSensor(SensorBase):
 
     def static_items(self, project: Project) -> H5Items:
         """The axes of the radar maps."""
-        return rename_items(static_axes_items(self.config(project), project.dsp), "radar",
-                            self.name)
+        return static_axes_items(self.config(project), project.dsp, group=self.name)
 
 
-def _with_multipath(ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
+def _with_multipath(ctx: SensorContext, scene: RadarScene, cfg: RadarConfig,
+                    ideal: ComplexCube,
                     scatterers: Scatterers | None
                     ) -> tuple[ComplexCube, list[LabelScatterers]]:
     """``ideal`` plus the IF of the frame's multipath ghosts, and the ghosts for the labels.
@@ -227,22 +226,31 @@ def _with_multipath(ctx: SensorContext, cfg: RadarConfig, ideal: ComplexCube,
     def run() -> tuple[ComplexCube, list[LabelScatterers]]:
         sc = scatterers
         if sc is None:
-            sc = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
+            sc = radar_scatterers(scene, ctx.buffers, seed=ctx.seed,
                                   see_through=ctx.see_through, config=cfg)
-        sets = ghost_scatterers(ctx.project, ctx.snapshot, sc, cfg, buffers=ctx.buffers)
+        sets = ghost_scatterers(scene, sc, cfg, buffers=ctx.buffers)
         labels = [prepare_scatterers(g.scatterers, cfg, tx_positions_m=g.tx_positions_m,
                                      rx_positions_m=g.rx_positions_m)
                   for g in sets if len(g.scatterers)]
         return ideal + synthesize_ghosts(sets, cfg), labels
 
-    to_world = ctx.snapshot.sensor("radar").transform
+    to_world = scene.radar.transform
     return ctx.stage("radar_multipath", run,
                      reads=(_scatterer_reads(ctx, cfg), config_key(cfg), ctx.time_s,
                             to_world.tobytes()),
                      inputs=(ideal, ctx.buffers, ctx.see_through))
 
 
-def _interference(ctx: SensorContext, name: str, cfg: RadarConfig,
+def aggressors(project: Project, victim: str) -> list[tuple[str, Rig, RadarConfig]]:
+    """Every radar of the project but ``victim``: (name, rig, configuration).
+
+    What :func:`~simcore.sensors.radar.interference_frame.frame_interference` reads.
+    """
+    return [(n, r, c) for n, r, c in other_sensors(project, victim, RadarConfig)
+            if isinstance(c, RadarConfig)]
+
+
+def _interference(ctx: SensorContext, scene: RadarScene, name: str, cfg: RadarConfig,
                   scatterers: Scatterers | None) -> FrameInterference | None:
     """The other radars' signals in this frame (stage ``radar_interference``), or None.
 
@@ -250,17 +258,18 @@ def _interference(ctx: SensorContext, name: str, cfg: RadarConfig,
     scatterers (over the still background: those :func:`_ideal_over_background` gives;
     computed here only when the caller has none).
     """
-    if not aggressors(ctx.project, name):
+    others = aggressors(ctx.project, name)
+    if not others:
         return None
     reflect = cfg.multipath_order > 0
 
     def run() -> FrameInterference | None:
         sc = scatterers
         if reflect and sc is None:
-            sc = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers,
-                                         config=cfg, seed=ctx.seed,
+            sc = radar_scatterers(scene, ctx.buffers, config=cfg, seed=ctx.seed,
                                   see_through=ctx.see_through)
-        return frame_interference(ctx.project, name, cfg, ctx.time_s,
+        return frame_interference(others, ctx.project.sensor_rig(name), cfg, ctx.time_s,
+                                  frame_rate_hz=ctx.project.timeline.frame_rate_hz,
                                   scatterers=sc if reflect else None)
 
     rigs = ctx.project.all_rigs()
@@ -278,7 +287,7 @@ def _scatterer_reads(ctx: SensorContext, cfg: RadarConfig) -> object:
             config_key(*ctx.project.materials), config_key(*ctx.project.objects))
 
 
-def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
+def _ideal_over_background(ctx: SensorContext, scene: RadarScene, cfg: RadarConfig
                            ) -> tuple[ComplexCube, int, int, _LabelParts,
                                       Scatterers | None] | None:
     """The frame's IF as background IF − changed background facets + the frame's there.
@@ -303,7 +312,7 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
     background = ctx.stage(
         "radar_background_scatterers",
         lambda: BackgroundFacets.of(
-            radar_scatterers(ctx.project, ctx.snapshot, bg.buffers, seed=ctx.seed,
+            radar_scatterers(scene, bg.buffers, seed=ctx.seed,
                              see_through=bg.see_through, config=cfg),
             len(ctx.project.objects)),
         reads=reads, inputs=(bg.buffers, bg.see_through))
@@ -320,7 +329,7 @@ def _ideal_over_background(ctx: SensorContext, cfg: RadarConfig
 
     def frame_if() -> tuple[ComplexCube, int, int, _LabelParts, Scatterers | None]:
         pixels = cell_pixels(cells, ctx.buffers.intrinsics, facets)
-        others = radar_scatterers(ctx.project, ctx.snapshot, ctx.buffers, seed=ctx.seed,
+        others = radar_scatterers(scene, ctx.buffers, seed=ctx.seed,
                                   pixels=pixels, see_through=ctx.see_through, config=cfg)
         inside = background.cell_mask(cells)
         hidden = background.scatterers.subset(np.flatnonzero(inside))

@@ -4,13 +4,15 @@ Every object's triangles are split, once, in the object's own frame, into *surfa
 facets* no longer than :data:`FACET_EDGE_M` (longest-edge bisection; a mesh's small
 triangles stay whole). A facet is one scatterer at its centroid, with two parts:
 
-* **coherent (physical optics)**: the PO integral over the flat facet, in the facet's far
-  field (Gordon's closed form for a triangle),
+* **coherent (physical optics)**: the PO integral over the flat facet (Gordon's closed
+  form for a triangle, with the two-way phase taken exactly at its corners and linear
+  between them; split into pieces near the specular direction),
 
-      a_coh = (2√π / λ) · (−Γ) · √ρ_s · cos θ · ∫_facet e^{j 2k ĉ·(r − c)} dA,
+      a_coh = j · (2√π / λ) · (−Γ) · √ρ_s · cos θ · ∫_facet e^{j 2k (|r| − |c|)} dA,
 
-  so that a plate of area A at normal incidence sums to 4πA²/λ² and a sphere of radius
-  r to πr² (the facets' exact delays do the rest in the IF synthesis). Γ is the
+  so that a plate of area A at normal incidence sums to 4πA²/λ², a sphere of radius
+  r to πr², and an infinite plane to its image, Γ √π R at the image's range (the factor
+  j; the facets' exact delays do the rest in the IF synthesis). Γ is the
   material's reflection coefficient (metal −1, dielectrics from their permittivity,
   :meth:`~simcore.scene.materials.BandMaterial.coefficients`) and ``ρ_s = exp(−(4π h cos θ
   / λ)²)`` the Kirchhoff coherent fraction of a surface with rms height h;
@@ -45,10 +47,9 @@ from numpy.typing import NDArray
 from simcore.render.buffers import RenderBuffers
 from simcore.render.meshes import TriangleMesh
 from simcore.scene.materials import BandMaterial, DualBandMaterial
-from simcore.scene.model import Project
-from simcore.scene.project_io import material_table
-from simcore.scene.snapshot import SceneSnapshot
+from simcore.scene.model import SceneObject
 from simcore.sensors.radar.facet_kernel import object_facet_returns
+from simcore.sensors.radar.scene import RadarScene
 
 #: Longest edge of a surface facet (m): far-field PO per facet from ≈ 4 L²/λ = 0.5 m.
 FACET_EDGE_M = 0.10
@@ -238,7 +239,8 @@ class _RadarMaterial:
     transmission: NDArray[np.complex128]   # one-way T (0: opaque), objects + 1 'none'
 
 
-def _distinct_radar_bands(project: Project, table: Mapping[str, DualBandMaterial]
+def _distinct_radar_bands(objects: Sequence[SceneObject],
+                          table: Mapping[str, DualBandMaterial]
                           ) -> tuple[list[BandMaterial], NDArray[np.intp]]:
     """The radar bands of the objects' distinct materials, and each object's index.
 
@@ -247,8 +249,8 @@ def _distinct_radar_bands(project: Project, table: Mapping[str, DualBandMaterial
     """
     first: dict[str, int] = {}
     bands: list[BandMaterial] = []
-    index = np.zeros(len(project.objects), dtype=np.intp)
-    for i, o in enumerate(project.objects):
+    index = np.zeros(len(objects), dtype=np.intp)
+    for i, o in enumerate(objects):
         k = first.get(o.material)
         if k is None:
             k = first[o.material] = len(bands)
@@ -258,14 +260,14 @@ def _distinct_radar_bands(project: Project, table: Mapping[str, DualBandMaterial
     return bands, index
 
 
-def _radar_materials(project: Project, table: Mapping[str, DualBandMaterial],
+def _radar_materials(objects: Sequence[SceneObject], table: Mapping[str, DualBandMaterial],
                      wavelength_m: float) -> _RadarMaterial:
-    bands, index = _distinct_radar_bands(project, table)
+    bands, index = _distinct_radar_bands(objects, table)
     frequency_hz = 299_792_458.0 / wavelength_m
     gam = np.array([-b.coefficients(frequency_hz)[0] if b.is_smooth_interface() else 0.0
                     for b in bands], dtype=np.complex128)
     return _RadarMaterial(
-        transmission=transmission_coefficients(project, table, wavelength_m),
+        transmission=transmission_coefficients(objects, table, wavelength_m),
         gamma=gam[index],
         height_rms=np.array([b.height_rms_m for b in bands], dtype=np.float64)[index],
         smooth=np.array([b.is_smooth_interface() for b in bands], dtype=bool)[index],
@@ -278,28 +280,32 @@ def _radar_materials(project: Project, table: Mapping[str, DualBandMaterial],
     )
 
 
-def transmission_coefficients(project: Project, table: Mapping[str, DualBandMaterial],
+def transmission_coefficients(objects: Sequence[SceneObject],
+                              table: Mapping[str, DualBandMaterial],
                               wavelength_m: float) -> NDArray[np.complex128]:
     """One-way radar transmission T of every object (0: opaque; objects + 1 'none' row).
+
+    ``objects`` are the scene's objects, ``table`` the material table.
 
     Objects not drawn in the radar pass (opacity 0) are not in the table's sense
     transmissive: the pass does not see them at all.
     """
     freq = 299_792_458.0 / wavelength_m
-    bands, index = _distinct_radar_bands(project, table)
+    bands, index = _distinct_radar_bands(objects, table)
     per_band = np.zeros(len(bands), dtype=np.complex128)
     for k, band in enumerate(bands):
         if band.opacity > 0:
             per_band[k] = band.coefficients(freq)[1]
-    out = np.zeros(len(project.objects) + 1, dtype=np.complex128)
+    out = np.zeros(len(objects) + 1, dtype=np.complex128)
     out[:-1] = per_band[index]
     out[np.abs(out) <= TRANSMISSIVE_MIN] = 0.0
     return out
 
 
-def transmissive_objects(project: Project, wavelength_m: float) -> tuple[bool, ...] | None:
+def transmissive_objects(objects: Sequence[SceneObject], table: Mapping[str, DualBandMaterial],
+                         wavelength_m: float) -> tuple[bool, ...] | None:
     """Which objects partly transmit the radar wave; None when none does."""
-    trans = transmission_coefficients(project, material_table(project, copy=False), wavelength_m)
+    trans = transmission_coefficients(objects, table, wavelength_m)
     mask = tuple(bool(t != 0) for t in trans[:-1])
     return mask if any(mask) else None
 
@@ -315,7 +321,7 @@ class FacetReturns:
     amplitude : ndarray, shape (M,), complex128
         √RCS with phase (m): coherent PO part plus diffuse part.
     object_index : ndarray, shape (M,), int32
-        Source object (index in ``project.objects``).
+        Source object (index in the scene's objects).
     pixel : ndarray, shape (M,), int64
         Flat render pixel of each centroid.
     """
@@ -366,9 +372,9 @@ def release_phase_caches() -> None:
     _phases.cache_clear()
 
 
-def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuffers,
+def facet_returns(scene: RadarScene, buffers: RenderBuffers,
                   meshes: Sequence[TriangleMesh | None], *, wavelength_m: float,
-                  materials: Mapping[str, DualBandMaterial], speckle: bool = True,
+                  speckle: bool = True,
                   seed: int = 0, exclude: NDArray[np.bool_] | None = None,
                   pixels: NDArray[np.bool_] | None = None,
                   see_through: RenderBuffers | None = None) -> FacetReturns:
@@ -376,16 +382,14 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
 
     Parameters
     ----------
-    project, snapshot : Project, SceneSnapshot
-        Objects, materials and the frame's poses.
+    scene : RadarScene
+        Objects, materials, the frame's poses and the radar's.
     buffers : RenderBuffers
-        The radar render of ``snapshot`` (visibility only).
+        The radar render of ``scene.snapshot`` (visibility only).
     meshes : sequence of TriangleMesh or None
         Each object's mesh in its own frame (None: no surface).
     wavelength_m : float
         Radar wavelength (m).
-    materials : mapping
-        Material table of the project.
     speckle : bool
         Give the diffuse parts their surface-attached random phase (else 0).
     seed : int
@@ -401,9 +405,8 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
         Without it, every object is opaque.
     """
     k = 2.0 * math.pi / wavelength_m
-    mat = _radar_materials(project, materials, wavelength_m)
-    radar = snapshot.sensors["radar"]
-    world_to_radar = np.linalg.inv(radar.transform)
+    mat = _radar_materials(scene.objects, scene.materials, wavelength_m)
+    world_to_radar = np.linalg.inv(scene.radar.transform)
     intr = buffers.intrinsics
     h, w = intr.height, intr.width
     # Flat images in the kernel's dtypes (no copy when they already are).
@@ -415,7 +418,7 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
     through_rng = (None if see_through is None else
                    np.ascontiguousarray(see_through.range_m.ravel(), dtype=np.float32))
     pix_angle = 1.0 / min(intr.fx, intr.fy)
-    n_obj = len(project.objects)
+    n_obj = len(scene.objects)
     wanted = None if pixels is None else pixels.ravel()
     # Objects shown at all (in the wanted pixels): the others' facets are not looked at.
     shown = np.bincount((full_obj if wanted is None else full_obj[wanted]) + 1,
@@ -428,7 +431,7 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
     wanted_arr = np.zeros(1, dtype=np.bool_) if wanted is None else wanted
     no_phase = np.ones(1, dtype=np.complex128)
     positions, amplitudes, objects, pixel_list = [], [], [], []
-    for i, (o, mesh) in enumerate(zip(project.objects, meshes, strict=True)):
+    for i, (o, mesh) in enumerate(zip(scene.objects, meshes, strict=True)):
         if mesh is None or not shown[i] or (exclude is not None and exclude[i]):
             continue
         facets = surface_facets(mesh)
@@ -437,7 +440,7 @@ def facet_returns(project: Project, snapshot: SceneSnapshot, buffers: RenderBuff
         obj_img = through_obj if behind else full_obj
         rng_img = through_rng if behind else full_rng
         assert obj_img is not None and rng_img is not None
-        m = world_to_radar @ snapshot.objects[i].transform
+        m = world_to_radar @ scene.snapshot.objects[i].transform
         rot, off = np.ascontiguousarray(m[:3, :3]), np.ascontiguousarray(m[:3, 3])
         n_f = len(facets)
         pos = np.empty((n_f, 3))

@@ -15,7 +15,7 @@ no noise, blur, exposure control or lens effects.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from simcore.render.buffers import RenderBuffers
 from simcore.scene.materials import DualBandMaterial
-from simcore.scene.model import Project
+from simcore.scene.model import SceneObject
 from simcore.scene.rgb_config import RgbCameraConfig
 
 BAND = "visible"
@@ -72,12 +72,12 @@ def srgb_encode(linear: NDArray[np.floating]) -> NDArray[np.uint8]:
     return np.asarray(np.rint(encoded * 255.0), dtype=np.uint8)
 
 
-def object_colors(project: Project, materials: Mapping[str, DualBandMaterial]
+def object_colors(objects: Sequence[SceneObject], materials: Mapping[str, DualBandMaterial]
                   ) -> NDArray[np.float64]:
     """Linear RGB albedo and visible reflectance per object, shape (objects + 1, 4).
 
-    Row ``i`` is object ``i``'s ``(r, g, b, reflectance)``; the extra last row (index −1)
-    is zeros, for pixels with no object.
+    Row ``i`` is object ``objects[i]``'s ``(r, g, b, reflectance)`` from its material in
+    ``materials``; the extra last row (index −1) is zeros, for pixels with no object.
 
     Examples
     --------
@@ -85,11 +85,11 @@ def object_colors(project: Project, materials: Mapping[str, DualBandMaterial]
     >>> from simcore.scene.project_io import material_table
     >>> project = Project(objects=[SceneObject(id=1, name="wall", geometry=Box(),
     ...                                        material="white_paint")])
-    >>> object_colors(project, material_table(project)).tolist()
+    >>> object_colors(project.objects, material_table(project)).tolist()
     [[0.9, 0.9, 0.88, 1.0], [0.0, 0.0, 0.0, 0.0]]
     """
     rows = []
-    for obj in project.objects:
+    for obj in objects:
         mat = materials[obj.material]
         rows.append((*mat.color_rgb, mat.band(BAND).reflectance))
     rows.append((0.0, 0.0, 0.0, 0.0))

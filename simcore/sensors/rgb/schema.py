@@ -17,4 +17,5 @@ SCHEMA = SensorSchema(
                description="body part seen in each pixel (projects with people), −1 = none"),
         *TIMING_OUTPUTS,
     ),
+    derived_topics={"camera_info": "sensor_msgs/msg/CameraInfo"},
 )

@@ -49,7 +49,7 @@ class RgbSensor(SensorBase):
         cfg = self._config(ctx.project)
         out: RgbOutput = ctx.stage(
             "rgb", lambda: simulate_rgb(ctx.buffers, cfg,
-                                        object_colors(ctx.project,
+                                        object_colors(ctx.project.objects,
                                                       material_table(ctx.project, copy=False))),
             reads=(config_key(cfg), config_key(*ctx.project.materials),
                    config_key(*ctx.project.objects)),

@@ -18,8 +18,8 @@ The chain, per frame (equations and limits in ``docs/physics_tof.md``):
 6. ``φ̂ = atan2(C3 − C1, C0 − C2)``, ``d̂ = c φ̂ / (4π f_mod)`` in ``[0, c/(2 f_mod))``,
    amplitude ``√((C3 − C1)² + (C0 − C2)²)``; too dark (amplitude below
    ``min_amplitude_dn``) or saturated → invalid, depth 0.
-7. With two modulation frequencies, the two wrapped depths are unwrapped jointly
-   (:func:`unwrap_two_frequencies`).
+7. With two or three modulation frequencies, the wrapped depths are unwrapped jointly
+   (:func:`unwrap_two_frequencies`, :func:`unwrap_frequencies`).
 
 Partial transmission (optional, a ``see_through`` render): where the first surface of a
 sub-pixel transmits (a glass pane, :func:`slab_transmittance`), the surface the
@@ -278,6 +278,69 @@ def unwrap_two_frequencies(depth1_m: NDArray[np.floating], depth2_m: NDArray[np.
         better = err < best_err
         best_err = np.where(better, err, best_err)
         best = np.where(better, w1 * cand1 + w2 * cand2, best)
+    return as_float(np.mod(best, r_max))
+
+
+def unwrap_frequencies(depths_m: Sequence[NDArray[np.floating]],
+                       frequencies_hz: Sequence[float]) -> NDArray[np.float32]:
+    """Unwrap wrapped depth images measured at several modulation frequencies.
+
+    The generalisation of :func:`unwrap_two_frequencies` to any number of frequencies
+    (Kinect v2: 80, 16 and 120 MHz). The true distance ``d`` satisfies
+    ``d = d_k + n_k R_k`` for every frequency (``R_k = c / (2 f_k)``). Over the combined
+    unambiguous range ``R = c / (2 g)``, ``g = gcd(f_1, …, f_K)`` (frequencies rounded to
+    whole Hz), each of the ``f_1 / g`` candidates ``n_1`` of the first frequency fixes
+    every other ``n_k`` as the nearest integer making ``d_k + n_k R_k`` agree with it; the
+    candidate with the smallest sum of squared disagreements wins (a maximum-likelihood
+    search over the wrap counts, as the Kinect v2 decoders do with a table of the allowed
+    ``(n_1, n_2, n_3)``), and its estimates are averaged with inverse-variance weights
+    ``f_k²``. The result is wrapped into ``[0, R)``.
+
+    Failure mode: with phase noise σ_φ at each frequency the depth errors are
+    ``e_k ≈ σ_φ R_k / (2π)``; once two estimates differ by half the smallest distance
+    between candidates the search picks a wrong ``n``, an error of a whole wrap (metres,
+    not millimetres). The rate of such errors rises steeply as the amplitude SNR falls
+    (``docs/devices.md``, "Multi-frequency unwrapping").
+
+    Parameters
+    ----------
+    depths_m : sequence of ndarray, shape (H, W)
+        Wrapped depth ``d_k`` in ``[0, R_k)`` per frequency (m).
+    frequencies_hz : sequence of float
+        The modulation frequencies (Hz), same order.
+
+    Returns
+    -------
+    ndarray, shape (H, W), float32
+        Unwrapped depth in ``[0, c / (2 gcd(f_1, …)))`` (m).
+    """
+    if len(depths_m) == 1:
+        return as_float(np.asarray(depths_m[0]))
+    if len(depths_m) == 2:
+        return unwrap_two_frequencies(depths_m[0], depths_m[1], frequencies_hz[0],
+                                      frequencies_hz[1])
+    whole = [round(f) for f in frequencies_hz]
+    common = whole[0]
+    for f in whole[1:]:
+        common = gcd(common, f)
+    ranges = [unambiguous_range_m(f) for f in frequencies_hz]
+    r_max = SPEED_OF_LIGHT / (2.0 * common)
+    depths = [np.asarray(d, dtype=np.float64) for d in depths_m]
+    weights = np.array([f**2 for f in whole], dtype=np.float64)
+    weights /= weights.sum()
+    best_err = np.full(depths[0].shape, np.inf)
+    best = np.zeros(depths[0].shape)
+    for n1 in range(whole[0] // common):
+        cand1 = depths[0] + n1 * ranges[0]
+        err = np.zeros_like(cand1)
+        mean = weights[0] * cand1
+        for d, r, w in zip(depths[1:], ranges[1:], weights[1:], strict=True):
+            cand = d + np.round((cand1 - d) / r) * r
+            err += (cand1 - cand) ** 2
+            mean += w * cand
+        better = err < best_err
+        best_err = np.where(better, err, best_err)
+        best = np.where(better, mean, best)
     return as_float(np.mod(best, r_max))
 
 
@@ -888,12 +951,8 @@ def _read_and_demodulate(mixed: NDArray[np.float32] | None, indirect: NDArray[np
             amplitude, correlation = amp, corr_dn
             intensity = as_float(corr_dn.mean(axis=0))
     assert amplitude is not None and correlation is not None and intensity is not None
-    # 7. Two-frequency unwrapping.
-    if len(depths) == 2:
-        f1, f2 = config.modulation_frequencies_hz
-        depth_m = unwrap_two_frequencies(depths[0], depths[1], f1, f2)
-    else:
-        depth_m = depths[0]
+    # 7. Multi-frequency unwrapping.
+    depth_m = unwrap_frequencies(depths, config.modulation_frequencies_hz)
     depth_m = as_float(np.where(valid, depth_m, 0.0))
     return depth_m, (amplitude, intensity, valid, saturated, correlation)
 

@@ -50,4 +50,6 @@ SCHEMA = SensorSchema(
                description="body part seen in each pixel (projects with people), −1 = none"),
         *TIMING_OUTPUTS,
     ),
+    derived_topics={"camera_info": "sensor_msgs/msg/CameraInfo",
+                    "points": "sensor_msgs/msg/PointCloud2"},
 )

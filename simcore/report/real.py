@@ -20,12 +20,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from simcore.io.layout import sensor_kinds
 from simcore.io.recordings import (
     RecordingLevels,
     read_recording,
     recording_levels,
 )
+from simcore.scene.project_io import project_from_dict
 from simcore.scene.radar_config import RadarConfig
+from simcore.sensors.schema import schema_of
 
 #: Environment variable naming a recording to use instead of the shared one.
 RECORDING_ENV = "TOFRADAR_REAL_RECORDING"
@@ -53,7 +56,7 @@ def shared_recording() -> Path | None:
     env = os.environ.get(RECORDING_ENV)
     if env:
         return Path(env) if Path(env).is_dir() else None
-    root = Path(__file__).resolve().parents[1] / ".." / "shared" / "real" / "bgt60tr13c_breathing"
+    root = Path(__file__).resolve().parents[2] / ".." / "shared" / "real" / "bgt60tr13c_breathing"
     if not root.is_dir():
         return None
     found = sorted(p.parent.parent for p in root.glob("*/RadarIfxAvian_*/radar.npy"))
@@ -95,6 +98,7 @@ def torso_frames(config: RadarConfig, *, frames: int, seed: int = 0) -> NDArray[
     from simcore.scene.motion import Pose
     from simcore.scene.snapshot import take_snapshot
     from simcore.sensors.radar import radar_scatterers, simulate_radar
+    from simcore.sensors.radar.scene import RadarScene
 
     depth = TORSO_SEMI_AXES_M[0]
     with tempfile.TemporaryDirectory() as tmp:
@@ -109,7 +113,8 @@ def torso_frames(config: RadarConfig, *, frames: int, seed: int = 0) -> NDArray[
             snap = take_snapshot(project, 0.0)
             buffers = renderer.render(snap, RenderRequest(
                 "radar", "radar", config.render_intrinsics(), geometry_only=True))
-            scat = radar_scatterers(project, snap, buffers, config=config, seed=seed)
+            scat = radar_scatterers(RadarScene.from_project(project, snap), buffers,
+                                    config=config, seed=seed)
         finally:
             renderer.close()
     rng = np.random.default_rng(seed)
@@ -233,10 +238,14 @@ def dataset_vitals(path: Path) -> RecordingVitals:
         raise ValueError(f"{path}: too few frames for the vital signs")
     vs = summary.vitals
     with h5py.File(path, "r") as f:
-        t = np.asarray(f["radar/vitals/time"][:], dtype=np.float64)
-        d = np.asarray(f["radar/vitals/displacement"][:], dtype=np.float64)
-        radar = json.loads(f["meta"].attrs["project_json"])["rig"]["radar"]
-    wavelength = RadarConfig.model_validate(radar).wavelength_m
+        project = project_from_dict(json.loads(f["meta"].attrs["project_json"]),
+                                    check_files=False)
+        (name, radar), = project.sensors_of_kind("radar").items()
+        schema = schema_of("radar")
+        t = np.asarray(f[schema.dataset_path(name, "vitals/time")][:], dtype=np.float64)
+        d = np.asarray(f[schema.dataset_path(name, "vitals/displacement")][:],
+                       dtype=np.float64)
+    wavelength = radar.wavelength_m  # type: ignore[attr-defined]
     return RecordingVitals(t - t[0], d, float(vs.breathing_rate_hz),
                            float(vs.breathing_amplitude_m), float(vs.heart_rate_hz),
                            float(vs.heart_amplitude_m), float(summary.range_m), wavelength)
@@ -277,7 +286,8 @@ def real_section(out: Path, *, quick: bool) -> tuple[str, str, str, dict[str, An
         dataset = Path(tmp) / "recording.h5"
         convert_recording(source, dataset)
         with h5py.File(dataset, "r") as f:
-            adc = np.asarray(f["radar/adc"][:])
+            (name,) = sensor_kinds(str(f["meta"].attrs["project_json"]))
+            adc = np.asarray(f[schema_of("radar").dataset_path(name, "adc")][:])
         vitals = dataset_vitals(dataset)
     n = 16 if quick else 64
     real = recording_levels(adc, cfg)

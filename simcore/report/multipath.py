@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from simcore.pipeline import Simulator
 from simcore.resources import example_path
@@ -27,6 +28,7 @@ from simcore.scene.model import Project
 from simcore.scene.project_io import load_project
 from simcore.scene.snapshot import take_snapshot
 from simcore.sensors.radar.multipath import find_reflectors
+from simcore.sensors.radar.scene import RadarScene
 
 EXAMPLE = "multipath_corridor"
 
@@ -43,9 +45,9 @@ def predicted_ghosts(project: Project, time_s: float = 0.0) -> list[dict[str, An
     """
     snap = take_snapshot(project, time_s)
     radar = snap.sensors["radar"]
-    cfg = project.rig.radar
+    cfg = project.radar()
     out: list[dict[str, Any]] = []
-    reflectors = find_reflectors(project, snap, cfg.wavelength_m)
+    reflectors = find_reflectors(RadarScene.from_project(project, snap), cfg.wavelength_m)
     for i, o in enumerate(project.objects):
         if not isinstance(o.geometry, CornerReflector):
             continue
@@ -104,15 +106,15 @@ def multipath_section(out_dir: str | Path, *, quick: bool = False
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     project = load_project(example_path(EXAMPLE))
-    order = max(project.rig.radar.multipath_order, 1)
+    order = max(project.radar().multipath_order, 1)
     maps = {}
     for k in (0, order):
         p = project.model_copy(deep=True)
-        p.rig.radar.multipath_order = k
+        p.radar().multipath_order = k
         with Simulator(p) as sim:
             maps[k] = sim.frame(0).outputs["radar"].dsp
     on = project.model_copy(deep=True)
-    on.rig.radar.multipath_order = order
+    on.radar().multipath_order = order
     marks = predicted_ghosts(on)
     numbers: dict[str, Any] = {"multipath_order": order, "marks": []}
     for m in marks:
@@ -171,21 +173,35 @@ def tof_multipath_figure(out_dir: str | Path, example: str = "office"
         95th percentile of the MPI depth shift (on − off, mm), and the same over all valid
         pixels; the time of the one-bounce sum.
     """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    project = load_project(example_path(example))
+    cfg = project.tof()
+    frames, seconds = _mpi_frames(project)
+    numbers, err = _mpi_numbers(project, frames, seconds, example=example)
+    name = _mpi_figure(err, numbers["per_object"], out)
+    text = (f"Ideal ToF camera (no noise) on frame 0 of the {example} example with multipath "
+            "interference off and on (one diffuse bounce, "
+            f"{cfg.multipath_patch_px}-px senders). Off, the error is zero except the mixed "
+            "pixels at depth edges (grey: no valid depth); on, every surface lit by its "
+            "neighbours reads long, most "
+            "where the direct light is weak and the neighbours bright: the floor seen at a "
+            "grazing angle, the concave wall–floor and wall–wall corners. Median shift "
+            f"{numbers['median_shift_mm']:.0f} mm, 95th percentile "
+            f"{numbers['p95_shift_mm']:.0f} mm. The model is checked against a brute-force "
+            "one-bounce integral on a concave corner in tests/test_tof_multipath.py.")
+    return (name, "ToF multipath interference: depth error in the office", text), numbers
+
+
+def _mpi_frames(project: Project) -> tuple[dict[bool, Any], dict[bool, float]]:
+    """The ideal ToF frame 0 with multipath off and on, and the time of each (s)."""
     import time
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
     from simcore.render import RenderRequest, render_once
     from simcore.sensors.tof.camera import simulate_tof
     from simcore.sensors.tof.sensor import diffuse_albedo
 
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    project = load_project(example_path(example))
-    cfg = project.rig.tof
+    cfg = project.tof()
     buf = render_once(project, RenderRequest("tof", "tof", cfg.render_intrinsics()))
     albedo = diffuse_albedo(project, buf)
     frames, seconds = {}, {}
@@ -198,6 +214,13 @@ def tof_multipath_figure(out_dir: str | Path, example: str = "office"
         frames[on] = simulate_tof(buf, c, rng=np.random.default_rng(0), noise=False,
                                   albedo=albedo)
         seconds[on] = time.perf_counter() - t0
+    return frames, seconds
+
+
+def _mpi_numbers(project: Project, frames: dict[bool, Any], seconds: dict[bool, float], *,
+                 example: str) -> tuple[dict[str, Any], dict[bool, NDArray[np.float64]]]:
+    """The MPI depth shift per object and overall; the depth error images (mm)."""
+    cfg = project.tof()
     gt = frames[False].gt_range
     valid = frames[False].valid & frames[True].valid & (gt > 0)
     err = {on: np.where(valid, frames[on].depth_m - gt, np.nan) * 1e3 for on in frames}
@@ -217,6 +240,17 @@ def tof_multipath_figure(out_dir: str | Path, example: str = "office"
                "median_abs_error_on_mm": float(np.nanmedian(np.abs(err[True]))),
                "tof_ms_off": 1e3 * seconds[False], "tof_ms_on": 1e3 * seconds[True],
                "per_object": per_object}
+    return numbers, err
+
+
+def _mpi_figure(err: dict[bool, NDArray[np.float64]], per_object: dict[str, Any],
+                out: Path) -> str:
+    """Depth error images off and on, and the shift per object; the file name."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.3), constrained_layout=True)
     lim = 150.0
     for ax, img, title in ((axes[0], err[False], "depth error, multipath off"),
@@ -240,17 +274,7 @@ def tof_multipath_figure(out_dir: str | Path, example: str = "office"
     name = "fig11_tof_multipath_depth_error.png"
     fig.savefig(out / name, dpi=100)
     plt.close(fig)
-    text = (f"Ideal ToF camera (no noise) on frame 0 of the {example} example with multipath "
-            "interference off and on (one diffuse bounce, "
-            f"{cfg.multipath_patch_px}-px senders). Off, the error is zero except the mixed "
-            "pixels at depth edges (grey: no valid depth); on, every surface lit by its "
-            "neighbours reads long, most "
-            "where the direct light is weak and the neighbours bright: the floor seen at a "
-            "grazing angle, the concave wall–floor and wall–wall corners. Median shift "
-            f"{numbers['median_shift_mm']:.0f} mm, 95th percentile "
-            f"{numbers['p95_shift_mm']:.0f} mm. The model is checked against a brute-force "
-            "one-bounce integral on a concave corner in tests/test_tof_multipath.py.")
-    return (name, "ToF multipath interference: depth error in the office", text), numbers
+    return name
 
 
 __all__ = ["multipath_section", "predicted_ghosts", "tof_multipath_figure"]

@@ -77,13 +77,20 @@ def interference_section(out_dir: str | Path, *, quick: bool = False
         One figure and, per case, the noise floor (median of the integrated range
         profile, dB), the detections, whether the weak target is detected, and the INR.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
+    cases = _cases()
+    ghost_m = SPEED_OF_LIGHT * (4e-9 + np.hypot(AGGRESSOR_M, 0.4) / SPEED_OF_LIGHT) / 2
+    _figure(cases, out, ghost_m=ghost_m)
+    keys = ("floor_db", "detections", "target_found", "inr_db")
+    numbers: dict[str, Any] = {name: {k: c[k] for k in keys} for name, c in cases.items()}
+    numbers["ghost_range_m"] = float(ghost_m)
+    text = _text(numbers, ghost_m=ghost_m)
+    return [(FIGURE, "Interference: radar–radar, before and after mitigation", text)], numbers
+
+
+def _cases() -> dict[str, dict[str, Any]]:
+    """The victim's frame in each case: clean, bursts (another slope), ghost (the same)."""
     victim = bgt60tr13c()
     other_slope = bgt60tr13c(bandwidth_hz=4.5e9, start_frequency_hz=60.75e9, transmit_seed=5)
     same_slope = bgt60tr13c(trigger_offset_s=4e-9, transmit_seed=5)
@@ -93,7 +100,7 @@ def interference_section(out_dir: str | Path, *, quick: bool = False
     jitter = {"chirp_jitter_s": 20e-6, "chirp_repetition_time_s": 300e-6}
     hop = {"hop_step_hz": 250e6, "hop_channels": 8}
     # Frame 1: the hopping draws of seeds 0 and 5 differ in it.
-    cases = {
+    return {
         "clean": _run(_project(None, victim, off)),
         "bursts, off": _run(_project(other_slope, victim, off)),
         "bursts, zeroing": _run(_project(other_slope, victim, zero)),
@@ -104,7 +111,15 @@ def interference_section(out_dir: str | Path, *, quick: bool = False
         "ghost, hopping": _run(_project(same_slope.model_copy(update=hop),
                                         victim.model_copy(update=hop), off), frame=1),
     }
-    ghost_m = SPEED_OF_LIGHT * (4e-9 + np.hypot(AGGRESSOR_M, 0.4) / SPEED_OF_LIGHT) / 2
+
+
+def _figure(cases: dict[str, dict[str, Any]], out: Path, *, ghost_m: float) -> None:
+    """Range profiles and range–Doppler maps of the bursts (top) and ghost (bottom) cases."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     fig, ax = plt.subplots(2, 3, figsize=(15, 8.5))
     rng = cases["clean"]["axes"].range_m
     vel = cases["clean"]["axes"].velocity_mps
@@ -139,10 +154,12 @@ def interference_section(out_dir: str | Path, *, quick: bool = False
     fig.tight_layout()
     fig.savefig(out / FIGURE, dpi=80)
     plt.close(fig)
-    keys = ("floor_db", "detections", "target_found", "inr_db")
-    numbers: dict[str, Any] = {name: {k: c[k] for k in keys} for name, c in cases.items()}
-    numbers["ghost_range_m"] = float(ghost_m)
+
+
+def _text(numbers: dict[str, Any], *, ghost_m: float) -> str:
+    """The section's paragraph, from its numbers."""
     n = numbers
+
     def inr(name: str) -> str:
         value = n[name]["inr_db"]
         return "none in the passband" if value <= INR_NONE_DB else f"{value:.1f} dB"
@@ -150,10 +167,10 @@ def interference_section(out_dir: str | Path, *, quick: bool = False
     def found(name: str) -> str:
         return "found" if n[name]["target_found"] else "missed"
 
-    text = (
+    return (
         f"A victim BGT60TR13C with a weak corner reflector ({TARGET_EDGE_M * 1e3:.0f} mm) "
         f"at {np.hypot(TARGET_M, 0.3):.2f} m, and an aggressor radar "
-        f"{np.hypot(AGGRESSOR_M, 0.4):.2f} m away facing it (`simcore/report_interference.py`). "
+        f"{np.hypot(AGGRESSOR_M, 0.4):.2f} m away facing it (`simcore/report/interference.py`). "
         "Top: another slope (4.5 GHz from 60.75 GHz): a burst in every chirp raises the "
         f"range profile's floor (median) from {n['clean']['floor_db']:.1f} dB to "
         f"{n['bursts, off']['floor_db']:.1f} dB (INR {inr('bursts, off')}), target "
@@ -168,7 +185,6 @@ def interference_section(out_dir: str | Path, *, quick: bool = False
         f"{inr('ghost, chirp jitter')}, per-frame frequency hopping (8 channels of "
         "250 MHz, both radars, a frame where their channels differ) "
         f"{inr('ghost, hopping')}.")
-    return [(FIGURE, "Interference: radar–radar, before and after mitigation", text)], numbers
 
 
 __all__ = ["interference_section"]

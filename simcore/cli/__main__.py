@@ -1,0 +1,7 @@
+"""``python -m simcore.cli``: the ``tofradar`` command line."""
+
+import sys
+
+from simcore.cli import main
+
+sys.exit(main())
