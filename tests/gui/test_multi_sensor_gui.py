@@ -203,7 +203,9 @@ def test_sensor_timing_fields_validate_with_units(make_window):
     offset.setValue(50.0)  # ms: half of the 200 ms frame period at 5 Hz
     assert doc.project.rig.radar.trigger_offset_s == pytest.approx(0.05)
     offset.setValue(250.0)
-    assert "not shorter than its frame period" in (field_error(offset) or "")
+    message = field_error(offset) or ""
+    assert "not shorter than the sensor's frame period" in message
+    assert not message.startswith("@"), "the field path is shown as words, not as a marker"
     assert doc.project.rig.radar.trigger_offset_s == pytest.approx(0.05)
     item = rigs.tree.topLevelItem(0).child(1)
     assert (item.text(0), item.text(2), item.text(3)) == ("radar", "5 Hz", "50 ms")
