@@ -48,7 +48,7 @@ from PyQt6.QtWidgets import (
 from app.antenna_table import AntennaTable
 from app.array_analysis import VIRTUAL_COLOUR, ArrayAnalysisView, virtual_positions_mm
 from app.document import EditError, ProjectDocument
-from app.sensors import current_radar, current_radar_path
+from app.sensors import current_radar, current_radar_path, has_kind
 from app.widgets import int_spin, spin
 from simcore.scene import fieldpath
 from simcore.scene import radar_arrays as arrays
@@ -562,6 +562,11 @@ class AntennaEditor(QWidget):
 
     def refresh(self, *_: object) -> None:
         """Show the project's antennas, the snap grid and the layout's warnings."""
+        if not has_kind(self.document.project, "radar"):
+            self.setEnabled(False)  # a ToF-only project: nothing to edit here
+            self._key = None
+            return
+        self.setEnabled(True)
         radar = current_radar(self.document)
         key = (radar.tx, radar.rx, radar.start_frequency_hz, radar.bandwidth_hz,
                radar.render_fov_h_deg, radar.render_width, radar.render_height,

@@ -29,7 +29,7 @@ from PyQt6.QtWidgets import (
 )
 
 from app.document import EditError, ProjectDocument
-from app.sensors import current_radar, current_radar_path
+from app.sensors import current_radar, current_radar_path, has_kind
 from app.widgets import clear_field_error, show_field_error
 from simcore.scene import fieldpath
 from simcore.scene.radar_config import CosinePattern, RadarConfig
@@ -138,6 +138,10 @@ class AntennaTable(QWidget):
     # --- showing ------------------------------------------------------------------------
     def refresh(self, *_: object) -> None:
         """Show the project's elements (a cell being edited is left alone)."""
+        if not has_kind(self.document.project, "radar"):
+            self.setEnabled(False)  # a ToF-only project: nothing to edit here
+            return
+        self.setEnabled(True)
         radar = current_radar(self.document)
         rows = [("tx", i) for i in range(len(radar.tx))] + [("rx", i) for i in range(len(radar.rx))]
         with QSignalBlocker(self.table):

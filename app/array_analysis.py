@@ -22,7 +22,7 @@ from PyQt6.QtCore import Qt
 from PyQt6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
 
 from app.document import ProjectDocument
-from app.sensors import current_radar
+from app.sensors import current_radar, has_kind
 from app.widgets import spin
 from simcore.scene.radar_config import RadarConfig
 
@@ -275,6 +275,11 @@ class ArrayAnalysisView(QWidget):
 
     def refresh(self, *_: object) -> None:
         """Recompute the virtual array and the pattern from the document's radar."""
+        if not has_kind(self.document.project, "radar"):
+            self.setEnabled(False)  # a ToF-only project: nothing to edit here
+            self._key = None
+            return
+        self.setEnabled(True)
         radar = current_radar(self.document)
         key = (tuple(a.position_mm for a in radar.tx), tuple(a.position_mm for a in radar.rx),
                radar.wavelength_m, radar.render_fov_h_deg, self.steer_az.value(),

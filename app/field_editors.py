@@ -21,6 +21,7 @@ model's own constraints, so GUI and core never disagree.
 
 from __future__ import annotations
 
+import typing
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from decimal import Decimal
@@ -304,12 +305,36 @@ def model_bounds(model: type[BaseModel], name: str) -> tuple[float | None, float
     return lo, hi
 
 
-def _owner(project: Project, path: str) -> BaseModel:
-    if "." not in path:
-        return project
-    parent = path.rsplit(".", 1)[0]
-    owner = fieldpath.get(project, parent)
-    assert isinstance(owner, BaseModel)
+def _model_in(annotation: Any) -> type[BaseModel] | None:
+    """The model class an annotation holds: ``X``, ``X | None``, ``list[X]``, ``dict[k, X]``."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in reversed(typing.get_args(annotation)):  # dict[str, X]: the value type
+        found = _model_in(arg)
+        if found is not None:
+            return found
+    return None
+
+
+def _owner(project: Project, path: str) -> type[BaseModel]:
+    """The model class that holds the field ``path`` names.
+
+    Read from the model's field types, not from the project: the owner of
+    ``rig.tof.frame_rate_hz`` is :class:`TofCameraConfig` also in a project whose first
+    rig has no ToF camera (``rig.tof`` null).
+    """
+    parts = fieldpath.parse(path)
+    owner: type[BaseModel] = type(project)
+    for part in parts[:-1]:
+        if isinstance(part, int):
+            continue  # a list's items: the list field's annotation gave their class
+        field = owner.model_fields.get(part)
+        found = None if field is None else _model_in(field.annotation)
+        if found is None:
+            node = fieldpath.get(project, fieldpath.format_path(parts[:-1]))
+            assert isinstance(node, BaseModel)
+            return type(node)
+        owner = found
     return owner
 
 
@@ -357,7 +382,7 @@ class FieldForm(QWidget):
         self.refresh()
 
     def _make(self, spec: FieldSpec, project: Project) -> QWidget:
-        owner = type(_owner(project, spec.path))
+        owner = _owner(project, spec.path)
         lo, hi = model_bounds(owner, spec.name)
         bounds = (spec.minimum if spec.minimum is not None else lo,
                   spec.maximum if spec.maximum is not None else hi)
@@ -412,10 +437,18 @@ class FieldForm(QWidget):
         return fieldpath.get(self.document.project, path)
 
     def refresh(self, *_: object) -> None:
-        """Show the project's values."""
+        """Show the project's values; a row whose field the project lacks is disabled.
+
+        (The ToF rows of a project without a ToF camera, the radar rows without a radar.)
+        """
         for spec in self.specs:
             w = self.widgets[spec.path]
-            v = self.value(self.path_of(spec))
+            try:
+                v = self.value(self.path_of(spec))
+            except (fieldpath.FieldPathError, KeyError):
+                w.setEnabled(False)
+                continue
+            w.setEnabled(True)
             if spec.kind == "choice":
                 with QSignalBlocker(w):
                     w.setCurrentText(str(v))

@@ -190,7 +190,8 @@ class FrameView:
 
     index: int
     time_s: float
-    tof: TofView
+    #: The first ToF camera's images (None: the project has no ToF camera).
+    tof: TofView | None
     radar: RadarView | None
     object_poses: F64
     rig_pose: F64
@@ -323,8 +324,9 @@ def radar_view_from_products(dsp: Any, project: Project, radar_transform: F64, *
 
 def _radar_view(frame: Any, project: Project, notes: list[str]) -> RadarView | None:
     radar = frame.outputs.get("radar")
-    if radar is None:
-        notes.append("the rig carries no radar")
+    if radar is None or "radar" not in frame.buffers:
+        if project.sensors_of_kind("radar"):
+            notes.append("no radar captured in this frame")
         return None
     return radar_view_from_products(radar.dsp, project, frame.buffers["radar"].sensor.transform,
                                     labels=getattr(radar, "labels", None))
@@ -347,9 +349,14 @@ def radar_object_marks(frame: Any, project: Project) -> dict[str, ObjectMarks]:
     return out
 
 
-def _no_tof(project: Project, notes: list[str]) -> TofView:
-    """An all-invalid image of the built-in camera's size: no ToF camera captured."""
-    cfg = project.rig.tof
+def _no_tof(project: Project, notes: list[str]) -> TofView | None:
+    """An all-invalid image of the first camera's size: no ToF camera captured.
+
+    None when the project has no ToF camera (a radar-only project).
+    """
+    cfg: Any = next(iter(project.sensors_of_kind("tof").values()), None)
+    if cfg is None:
+        return None
     notes.append("no ToF camera captured in this frame")
     shape = (cfg.height, cfg.width)
     return TofView(np.full(shape, np.nan, np.float32), np.zeros(shape, np.float32),

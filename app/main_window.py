@@ -74,6 +74,7 @@ from app.viewport import SceneViewport
 from simcore import preflight
 from simcore.resources import EXAMPLES_DIR
 from simcore.scene import Project
+from simcore.scene.model import sensor_kind
 
 MAX_RECENT = 8
 #: An edit whose frame would need more than this (bytes, s) is applied only when confirmed.
@@ -169,6 +170,19 @@ class SpaceGoesToWidgets(QObject):
                 and isinstance(obj, self.TAKERS)):
             event.accept()
         return False
+
+
+def _without_antennas(project: Project) -> tuple[Any, ...]:
+    """What the cost check reads of a project's rigs, DSP and timeline, antennas left out.
+
+    Every rig's pose and motion and every sensor's settings, each radar's Tx/Rx layout
+    blanked (an antenna drag is checked by the model alone, like an object's).
+    """
+    sensors = {name: cfg.model_copy(update={"tx": (), "rx": ()})
+               if sensor_kind(cfg) == "radar" else cfg
+               for name, cfg in project.sensor_configs().items()}
+    rigs = [(r.name, r.pose, r.motion) for r in project.all_rigs()]
+    return rigs, sensors, project.dsp, project.timeline
 
 
 def stage_label(key: str) -> str:
@@ -296,10 +310,20 @@ class MainWindow(QMainWindow):
         self.resizeDocks([self.docks["scene"], self.docks["inspector"]], [300, 600],
                          Qt.Orientation.Vertical)
         self.resizeDocks([self.docks["antennas"]], [300], Qt.Orientation.Vertical)
-        self.panels: dict[str, LivePanel] = {
-            "ToF camera": self.tof_panel, "Range profile": self.profile_panel,
-            "Range-Doppler": self.rd_panel, "Range-azimuth": self.ra_panel}
-        self._rgb_shown: bool | None = None
+        #: The live panels of the project's sensors (drawn, exported), by title: those of a
+        #: kind the project has no sensor of are left out (_follow_rig_sensors).
+        self.panels: dict[str, LivePanel] = {}
+        #: Every live panel by title, with its dock's key (in the order they are listed).
+        self.all_panels: dict[str, tuple[str, LivePanel]] = {
+            "ToF camera": ("tof", self.tof_panel), "Range profile": ("profile", self.profile_panel),
+            "Range-Doppler": ("rd", self.rd_panel), "Range-azimuth": ("ra", self.ra_panel),
+            "RGB camera": ("rgb", self.rgb_panel)}
+        #: Whether the project had each dock's sensor kind when last followed (a dock is
+        #: shown or hidden when that changes; a missing key: follow the project again).
+        self._kind_shown: dict[str, bool] = {}
+        self._dock_titles: dict[str, str] = {}
+        for _key, panel in self.all_panels.values():
+            panel.sensorChanged.connect(lambda _name: self._title_docks())
         self._follow_rig_sensors()
 
     def _build_spectrogram_dock(self) -> None:
@@ -315,6 +339,8 @@ class MainWindow(QMainWindow):
             "dock_spectrogram")
         self.tabifyDockWidget(self.docks["timeline"], self.docks["spectrogram"])
         self.docks["antennas"].raise_()
+        self._kind_shown.pop("spectrogram", None)
+        self._follow_rig_sensors()
         self.sim.frameReady.connect(self.spectrogram_panel.show_frame)
         doc = self.document
         doc.projectChanged.connect(lambda *_: self.spectrogram_panel.set_project(doc.project))
@@ -639,18 +665,40 @@ class MainWindow(QMainWindow):
         if oid >= 0:
             self.document.select(oid)
 
+    #: The sensor kind whose data (or settings) each dock shows: a dock is shown only
+    #: while the project has a sensor of its kind (issue 40: radar-only, ToF-only).
+    DOCK_KINDS = {"tof": "tof", "rgb": "rgb", "profile": "radar", "rd": "radar",
+                  "ra": "radar", "spectrogram": "radar", "antennas": "radar"}
+
     def _follow_rig_sensors(self, *_: object) -> None:
-        """Show the RGB camera's dock when the rig gains one, hide it when it has none."""
-        has_rgb = bool(self.document.project.sensors_of_kind("rgb"))
-        if has_rgb != self._rgb_shown:
-            self._rgb_shown = has_rgb
-            # A live panel (drawn, exported) only while the rig carries the camera.
-            if has_rgb:
-                self.panels["RGB camera"] = self.rgb_panel
-            else:
-                self.panels.pop("RGB camera", None)
-            self.docks["rgb"].toggleViewAction().setEnabled(has_rgb)
-            self.docks["rgb"].setVisible(has_rgb)
+        """Show the panels of the kinds of sensor the project has; hide the others.
+
+        A dock is shown when the project gains a sensor of its kind and hidden when it has
+        none left (its View-menu entry disabled); while it has one, the user's choice to
+        close it stands. Only the shown panels are drawn and exported.
+        """
+        project = self.document.project
+        has = {kind: bool(project.sensors_of_kind(kind)) for kind in ("tof", "radar", "rgb")}
+        self.panels.clear()
+        self.panels.update((title, panel) for title, (key, panel) in self.all_panels.items()
+                           if has[self.DOCK_KINDS[key]])
+        for key, kind in self.DOCK_KINDS.items():
+            dock = self.docks.get(key)
+            if dock is None or self._kind_shown.get(key) == has[kind]:
+                continue
+            self._kind_shown[key] = has[kind]
+            dock.toggleViewAction().setEnabled(has[kind])
+            dock.setVisible(has[kind])
+        self._title_docks()
+
+    def _title_docks(self) -> None:
+        """Name the sensor each live panel shows in its dock's title (when not built in)."""
+        for key, panel in self.all_panels.values():
+            base = self._dock_titles.setdefault(key, self.docks[key].windowTitle())
+            name = panel.sensor
+            shown = base if name in (None, panel.sensor_kind) else f"{base} · {name}"
+            if self.docks[key].windowTitle() != shown:
+                self.docks[key].setWindowTitle(shown)
 
     # --- simulation -------------------------------------------------------------------
     def _on_sim_failed(self, message: str) -> None:
@@ -749,11 +797,7 @@ class MainWindow(QMainWindow):
         if like is not None:
             before = like[0]
             # Antenna positions (a drag) are checked by the model alone, like objects.
-            radar = project.rig.radar.model_copy(
-                update={"tx": before.rig.radar.tx, "rx": before.rig.radar.rx})
-            rig = project.rig.model_copy(update={"radar": radar})
-            if (before.rig, before.rigs, before.dsp, before.timeline) == (
-                    rig, project.rigs, project.dsp, project.timeline):
+            if _without_antennas(before) == _without_antennas(project):
                 return cost, like[1]
         # Meshes come from the user's own file dialog (any folder); an empty scene is where
         # every new project starts: neither is refused while editing.
@@ -1059,7 +1103,11 @@ class MainWindow(QMainWindow):
             self.restoreGeometry(geometry)
         if state is not None:
             self.restoreState(state)
-            self._rgb_shown = None  # the saved layout may show it: follow the project again
+            # The saved layout keeps the user's choice for the kinds the project has (a
+            # closed Range–azimuth dock stays closed); the docks of the others are hidden.
+            project = self.document.project
+            self._kind_shown = {key: True for key, kind in self.DOCK_KINDS.items()
+                                if project.sensors_of_kind(kind)}
             self._follow_rig_sensors()
         self.hide_stale_tab_bars()
 
@@ -1067,7 +1115,7 @@ class MainWindow(QMainWindow):
         """Put every dock back where a first start puts it, sized to the screen."""
         self.restoreState(self._default_state)
         self.resize(initial_window_size(self.screen()))
-        self._rgb_shown = None
+        self._kind_shown.clear()
         self._follow_rig_sensors()
         self.hide_stale_tab_bars()
 

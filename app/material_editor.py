@@ -39,6 +39,7 @@ from PyQt6.QtWidgets import (
 
 from app.document import EditError, ProjectDocument, library_material, library_names
 from app.field_editors import FieldSpec, bind_number_box, commit_value
+from app.sensors import radar_wavelength_m
 from app.widgets import BIG, set_quietly, spin, try_edit
 from app.wrap_row import WrapRow
 from simcore.scene.materials import BandMaterial, DualBandMaterial, summarize_material
@@ -414,7 +415,7 @@ class MaterialEditor(QWidget):
         mat = table.get(self.current)
         if mat is None:
             return
-        f_radar = SPEED_OF_LIGHT / self.document.project.rig.radar.wavelength_m
+        f_radar = SPEED_OF_LIGHT / radar_wavelength_m(self.document.project)
         self.description.setText(self._description(mat, f_radar))
         self.radar_editor.frequency_hz = f_radar
         self.tof_editor.show_values(mat.band("tof"))

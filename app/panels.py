@@ -179,11 +179,15 @@ class LivePanel(QWidget):
         The user clicked the marker of this index in ``view.radar.detections``.
     objectClicked(int)
         The user clicked the ground-truth mark of the object with this id.
+    sensorChanged(str)
+        The panel shows another sensor now (picked, renamed, or the one shown was removed;
+        "" when none of its kind is left).
     """
 
     title = "panel"
     detectionClicked = pyqtSignal(int)
     objectClicked = pyqtSignal(int)
+    sensorChanged = pyqtSignal(str)
     #: Whether the panel has an A/B comparison (freeze a reference, show the difference).
     comparable = False
     #: The kind of sensor the panel shows (``"tof"``, ``"radar"``, ``"rgb"``): a combo box
@@ -322,6 +326,7 @@ class LivePanel(QWidget):
         with QSignalBlocker(self.sensor_combo):
             self.sensor_combo.setCurrentText(name)
         if changed:
+            self.sensorChanged.emit(name)
             if self._project is not None:
                 self.set_project(self._project)
             if self.comparable and self.reference is not None:
@@ -344,10 +349,13 @@ class LivePanel(QWidget):
         if kind is None:
             return
         names = list(project.sensors_of_kind(kind))
+        was = self.sensor
         if self.sensor is not None:
             self.sensor = follow_sensor(self._project, project, self.sensor, kind)
         if self.sensor is None and names:
             self.sensor = names[0]
+        if self.sensor != was:
+            self.sensorChanged.emit(self.sensor or "")
         with QSignalBlocker(self.sensor_combo):
             if [self.sensor_combo.itemText(i) for i in range(self.sensor_combo.count())] \
                     != names:
@@ -557,6 +565,9 @@ class TofPanel(LivePanel):
 
     def draw(self, view: FrameView) -> None:  # noqa: D102
         tof = view.tof
+        if tof is None:
+            _set_text(self.info, "no ToF camera in this project")
+            return
         depth = np.nan_to_num(tof.depth_m, nan=0.0)
         self.depth_image.setImage(depth, autoLevels=False)
         _set_bar_levels(self.depth_bar, (0.0, float(tof.max_range_m)))
@@ -601,7 +612,7 @@ class TofPanel(LivePanel):
             item.setVisible(True)
 
     def _on_hover(self, pos: QPointF) -> None:
-        if self.view is None:
+        if self.view is None or self.view.tof is None:
             return
         tof = self.view.tof
         for plot in (self.depth_plot, self.amp_plot):
@@ -704,7 +715,8 @@ class RangeProfilePanel(LivePanel):
         super().set_project(project)
         radar = self.shown_sensor_config(project)
         self.dsp = project.dsp
-        self.looks = max(1, len(radar.tx) * len(radar.rx) * radar.chirps_per_frame)
+        if radar is not None:  # (a ToF-only project: the panel is hidden and draws nothing)
+            self.looks = max(1, len(radar.tx) * len(radar.rx) * radar.chirps_per_frame)
 
     def set_show_raw(self, on: bool) -> None:  # noqa: FBT001 - Qt slot
         """Show the raw per-channel spectra beside the processed profile."""

@@ -20,7 +20,7 @@ import numpy as np
 from PyQt6.QtGui import QAction
 from PyQt6.QtWidgets import QFileDialog, QMenu, QMessageBox, QWidget
 
-from app.frame_view import FrameView, TofView, radar_view_from_products
+from app.frame_view import FrameView, radar_view_from_products
 from simcore.dsp import process_frame
 from simcore.scene import Project
 from simcore.scene.project_io import project_from_dict
@@ -62,10 +62,11 @@ def recording_frame_view(path: str | Path, project: Project, *, frame: int = 0) 
     """A frame of a recording as the panels draw it, through ``project.dsp``."""
     adc, config, t = recording_adc(path, frame=frame)
     products = process_frame(adc, config, project.dsp)
-    radar = radar_view_from_products(products, project, np.eye(4))
-    empty = np.zeros((0, 0), dtype=np.float32)
-    tof = TofView(empty, empty, np.zeros((0, 0), dtype=bool), 0.0)
-    return FrameView(index=frame, time_s=t, tof=tof, radar=radar,
+    name = next(iter(project.sensors_of_kind("radar")), None)
+    if name is None:
+        raise ValueError("the project has no radar to compare the recording with")
+    radar = radar_view_from_products(products, project, np.eye(4), name=name)
+    return FrameView(index=frame, time_s=t, tof=None, radar=radar,
                      object_poses=np.zeros((0, 4, 4)), rig_pose=np.eye(4),
                      notes=[f"recording {Path(path).name}"])
 

@@ -1,12 +1,13 @@
 """The Sensors dock's first page: every rig and every sensor of the project (issue #30).
 
 A tree lists each rig with its sensors (kind, frame rate, trigger offset). Buttons add a
-rig, add a ToF camera, radar or RGB camera to the selected rig, copy a sensor under a new
-name and remove a sensor or rig; the name box renames the selection (a valid identifier,
-unique); the timing boxes set the selected sensor's frame rate and trigger offset. Each
-edit is one undo step. Picking a sensor makes it the one the other Sensors pages, the
-antenna editor and the array analysis edit; picking a rig selects it in the scene, where
-the Inspector edits its pose and motion like the first rig's.
+rig, add a ToF camera, radar or RGB camera to the selected rig (on the first rig, into its
+empty built-in ``tof``/``radar``/``rgb`` field first), copy a sensor under a new name and
+remove a sensor or rig (any sensor but the project's last); the name box renames the
+selection (a valid identifier, unique); the timing boxes set the selected sensor's frame
+rate and trigger offset. Each edit is one undo step. Picking a sensor makes it the one the
+other Sensors pages, the antenna editor and the array analysis edit; picking a rig selects
+it in the scene, where the Inspector edits its pose and motion like the first rig's.
 """
 
 from __future__ import annotations
@@ -316,8 +317,10 @@ class RigSensorList(QWidget):
                     item.setData(0, Qt.ItemDataRole.UserRole, ("sensor", name))
                     tip = f"{KIND_WORDS[sk]} {name} on rig {rig.name}"
                     if is_built_in(project, name):
-                        tip += " (built in: " + (removal_refusal(project, name)
-                                                 or "the optional RGB camera") + ")"
+                        tip += f" (the first rig's built-in field “{name}”)"
+                    refusal = removal_refusal(project, name)
+                    if refusal:
+                        tip += f"; {refusal}"
                     item.setToolTip(0, tip)
                     top.addChild(item)
                     if self.selected == ("sensor", name):
@@ -360,8 +363,9 @@ class RigSensorList(QWidget):
                 "motion are in the Inspector (and the 3D view's gizmo)")
             self.remove_button.setEnabled(index > 0)
             self.remove_button.setToolTip(
-                "The first rig cannot be removed: it carries the built-in ToF camera and "
-                "radar" if index == 0 else f"Remove rig {name} with its sensors")
+                "The first rig cannot be removed: it is the project's “rig” (its sensors "
+                "can be removed one by one)" if index == 0
+                else f"Remove rig {name} with its sensors")
             self.name_edit.setReadOnly(False)
             self.name_edit.setToolTip("Rename the rig: a letter, then letters, digits or "
                                       "underscores, unique; press Enter")

@@ -44,11 +44,24 @@ from app.scene_edits import (
     import_mesh,
     rename_object,
 )
-from app.sensors import is_rig_key, rig_key, rig_of_key, rig_path
+from app.sensors import is_rig_key, radar_wavelength_m, rig_key, rig_of_key, rig_path
 from app.widgets import BIG, VectorEdit, set_quietly, spin, try_edit
 from simcore.scene import Project, fieldpath
+from simcore.scene.model import sensor_kind
 
-RIG_LABEL = "Sensor rig (ToF + radar)"
+#: How the scene list names each kind of sensor on the first rig.
+RIG_KIND_WORDS = {"tof": "ToF", "radar": "radar", "rgb": "RGB"}
+
+
+def rig_label(project: Project) -> str:
+    """The first rig's entry in the scene list: the kinds of sensor it carries.
+
+    ``Sensor rig (ToF + radar)`` for the office, ``Sensor rig (radar)`` for a radar-only
+    one, ``Sensor rig (no sensors)`` when its sensors sit on the other rigs.
+    """
+    kinds = [sensor_kind(c) for c in project.rig.sensor_configs().values()]
+    words = [w for k, w in RIG_KIND_WORDS.items() if k in kinds]
+    return f"Sensor rig ({' + '.join(words) if words else 'no sensors'})"
 
 
 class ObjectListPanel(QWidget):
@@ -99,18 +112,21 @@ class ObjectListPanel(QWidget):
     def _rebuild(self, project: Project) -> None:
         listed = [(o.id, o.name, o.geometry.kind, o.material) for o in project.objects]
         listed.append([r.name for r in project.rigs])
+        listed.append(rig_label(project))
         if listed == self._listed:
             return
         self._listed = listed
         with QSignalBlocker(self.list):
             self.list.clear()
-            rig = QListWidgetItem(RIG_LABEL)
+            rig = QListWidgetItem(rig_label(project))
             rig.setIcon(self.style().standardIcon(QStyle.StandardPixmap.SP_ComputerIcon))
             font = rig.font()
             font.setBold(True)
             rig.setFont(font)
             rig.setData(Qt.ItemDataRole.UserRole, RIG)
-            rig.setToolTip("The rig carrying both sensors: move it like an object")
+            rig.setToolTip("The first rig, carrying "
+                           f"{', '.join(project.rig.sensor_configs()) or 'no sensors'}: "
+                           "move it like an object")
             self.list.addItem(rig)
             for i, other in enumerate(project.rigs, start=1):  # issue #30: further rigs
                 item = QListWidgetItem(f"Rig {other.name}")
@@ -525,7 +541,7 @@ class ObjectInspector(QScrollArea):
                 set_quietly(w, float(value))
         note = ""
         if kind == "corner_reflector":
-            lam = self.document.project.rig.radar.wavelength_m
+            lam = radar_wavelength_m(self.document.project)
             note = (f"peak RCS at {lam * 1e3:.2f} mm: {geometry.rcs_m2(lam):.2f} m² "
                     f"(4πa⁴/3λ²); opening along local +z")
         elif kind == "mesh":

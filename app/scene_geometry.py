@@ -93,9 +93,9 @@ def frustum_edges(fov_h_deg: float, fov_v_deg: float, depth_m: float) -> pv.Poly
 def radar_fov_v_deg(project: Project, radar: Any = None) -> float:
     """Vertical field of view of a radar's render grid (square pixels) (degrees).
 
-    ``radar``: the radar's configuration (default the first rig's radar).
+    ``radar``: the radar's configuration (default the project's first radar).
     """
-    r = project.rig.radar if radar is None else radar
+    r = next(iter(project.sensors_of_kind("radar").values())) if radar is None else radar
     return float(np.rad2deg(2 * np.arctan(np.tan(np.deg2rad(r.render_fov_h_deg) / 2)
                                           * r.render_height / r.render_width)))
 

@@ -28,6 +28,7 @@ from PyQt6.QtWidgets import (
 )
 
 from app.document import ProjectDocument
+from app.sensors import radar_wavelength_m
 from simcore.scene.asset_import import build_project, default_mapping
 from simcore.scene.assets import AssetScene, read_asset
 from simcore.scene.materials import DualBandMaterial, summarize_material
@@ -140,7 +141,7 @@ def open_import_dialog(parent: QWidget | None, document: ProjectDocument, path: 
     except Exception as exc:  # noqa: BLE001 - any unreadable asset: say why, in one line
         report(f"cannot import {path.name}: {exc}")
         return None
-    frequency = SPEED_OF_LIGHT / document.project.rig.radar.wavelength_m
+    frequency = SPEED_OF_LIGHT / radar_wavelength_m(document.project)
     dialog = SceneImportDialog(scene, document.material_table(), frequency, parent)
     if execute and dialog.exec() == QDialog.DialogCode.Accepted:
         try:

@@ -40,7 +40,7 @@ from app.field_editors import (
     commit_path,
 )
 from app.rig_editor import RigSensorList
-from app.sensors import sensor_path, sensor_states
+from app.sensors import KIND_WORDS, sensor_path, sensor_states
 from app.tof_effects import TofEffectsBox
 from app.widgets import (
     BIG,
@@ -259,6 +259,9 @@ class SensorEditor(QScrollArea):
         self.tabs.addTab(self._build_link_budget(), "Link budget")
         self.tabs.addTab(self._build_dsp_page(), "Radar processing")
         self.tabs.addTab(self._build_tof(), "ToF camera")
+        #: The pages of each sensor kind: disabled while the project has no such sensor.
+        self.kind_pages = {"radar": [radar_page, *(self.tabs.widget(i) for i in (2, 3))],
+                           "tof": [self.tabs.widget(4)]}
         self.tabs.setCurrentIndex(1)  # the Radar page first, as before issue #30
         self._extent_key: tuple[Any, ...] | None = None
         self._extent: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
@@ -268,8 +271,10 @@ class SensorEditor(QScrollArea):
 
     # --- construction -----------------------------------------------------------------
     def _which(self, kind: str) -> str:
-        """“radar_b on rig2”: the sensor of ``kind`` edited now."""
-        name = self.document.current_sensor(kind) or kind
+        """“radar_b on rig2”: the sensor of ``kind`` edited now ("none": the project has none)."""
+        name = self.document.current_sensor(kind)
+        if name is None:
+            return "none"
         return f"{name} on {self.document.project.sensor_rig(name).name}"
 
     def _build_tof(self) -> QWidget:
@@ -334,7 +339,8 @@ class SensorEditor(QScrollArea):
         form.addRow(self.tof_derived)
         self.tof_effects = TofEffectsBox(self._set)
         form.addRow(self.tof_effects)
-        self.tof_interference_form = FieldForm(self.document, TOF_INTERFERENCE)
+        self.tof_interference_form = FieldForm(self.document, TOF_INTERFERENCE,
+                                               path_map=self._path)
         self.tof_interference_form.editFailed.connect(self.editFailed)
         form.addRow(self.tof_interference_form)
         return box
@@ -517,13 +523,27 @@ class SensorEditor(QScrollArea):
         return path
 
     def tof_config(self) -> Any:
-        """The configuration of the ToF camera edited now."""
-        return self.document.project.sensor_config(self.document.current_sensor("tof") or "tof")
+        """The configuration of the ToF camera edited now (None: the project has none)."""
+        name = self.document.current_sensor("tof")
+        return None if name is None else self.document.project.sensor_config(name)
 
     def radar_config(self) -> Any:
-        """The configuration of the radar edited now."""
-        return self.document.project.sensor_config(
-            self.document.current_sensor("radar") or "radar")
+        """The configuration of the radar edited now (None: the project has none)."""
+        name = self.document.current_sensor("radar")
+        return None if name is None else self.document.project.sensor_config(name)
+
+    def _enable_pages(self, tof: Any, radar: Any) -> None:
+        """Disable the pages of a kind the project has no sensor of (issue 40)."""
+        for kind, config in (("tof", tof), ("radar", radar)):
+            words = KIND_WORDS[kind]
+            for page in self.kind_pages[kind]:
+                i = self.tabs.indexOf(page)
+                self.tabs.setTabEnabled(i, config is not None)
+                self.tabs.setTabToolTip(i, "" if config is not None else
+                                        f"The project has no {words}: add one on the "
+                                        "Rigs and sensors page")
+        if not self.tabs.isTabEnabled(self.tabs.currentIndex()):
+            self.tabs.setCurrentIndex(0)
 
     def _set(self, path: str, value: Any, field: QWidget | None = None, *,
              text: str) -> None:
@@ -581,9 +601,29 @@ class SensorEditor(QScrollArea):
         """Show the project's sensor settings and the derived quantities."""
         project = self.document.project
         tof, radar = self.tof_config(), self.radar_config()
+        self._enable_pages(tof, radar)
         self.tof_box.setTitle(f"ToF camera (AMCW) — {self._which('tof')}")
         self.radar_box.setTitle(f"Radar (FMCW) — {self._which('radar')}")
         self.link_form.refresh()
+        self.tof_interference_form.refresh()
+        if tof is not None:
+            self._show_tof(tof)
+        if radar is not None:
+            self._show_radar(radar)
+        dsp = getattr(project, "dsp", None)
+        if dsp is not None:
+            for field, combo in self.dsp_combos.items():
+                with QSignalBlocker(combo):
+                    combo.setCurrentText(str(getattr(dsp, field)))
+            with QSignalBlocker(self.cfar_dims):
+                self.cfar_dims.setCurrentIndex(0 if dsp.cfar_dimensions == 2 else 1)
+            set_quietly(self.pfa, -np.log10(dsp.cfar_pfa))
+            set_quietly(self.clutter, dsp.static_clutter_removal)
+            set_quietly(self.min_range, dsp.min_range_m)
+        self.refresh_derived()
+
+    def _show_tof(self, tof: Any) -> None:
+        """Show the settings of the ToF camera edited now."""
         with QSignalBlocker(self.tof_preset):
             self.tof_preset.setCurrentText(tof.preset)
         describe_presets(self.tof_preset, self.tof_device)
@@ -604,6 +644,9 @@ class SensorEditor(QScrollArea):
         self.tof_derived.setText(
             f"unambiguous range {tof.combined_unambiguous_range_m:.2f} m\n"
             f"render {tof.width * tof.supersampling}×{tof.height * tof.supersampling} px")
+
+    def _show_radar(self, radar: Any) -> None:
+        """Show the settings of the radar edited now."""
         with QSignalBlocker(self.radar_preset):
             self.radar_preset.setCurrentText(radar.preset)
         describe_presets(self.radar_preset, self.radar_device)
@@ -617,23 +660,16 @@ class SensorEditor(QScrollArea):
         set_quietly(self.render_h, radar.render_height)
         self.radar_pos.set_value(radar.pose_on_rig.position_m)
         self.radar_rot.set_value(radar.pose_on_rig.rotation_deg)
-        dsp = getattr(project, "dsp", None)
-        if dsp is not None:
-            for field, combo in self.dsp_combos.items():
-                with QSignalBlocker(combo):
-                    combo.setCurrentText(str(getattr(dsp, field)))
-            with QSignalBlocker(self.cfar_dims):
-                self.cfar_dims.setCurrentIndex(0 if dsp.cfar_dimensions == 2 else 1)
-            set_quietly(self.pfa, -np.log10(dsp.cfar_pfa))
-            set_quietly(self.clutter, dsp.static_clutter_removal)
-            set_quietly(self.min_range, dsp.min_range_m)
-        self.refresh_derived()
 
     def refresh_derived(self) -> None:
         """Recompute the derived radar quantities and warnings."""
         project = self.document.project
         radar = self.radar_config()
-        name = self.document.current_sensor("radar") or "radar"
+        name = self.document.current_sensor("radar")
+        if radar is None or name is None:
+            self.derived.setText("no radar")
+            self.warnings.setVisible(False)
+            return
         az, el = angle_resolution_deg(radar)
         lam = radar.wavelength_m
         rows = [

@@ -28,6 +28,7 @@ from simcore.scene.model import (
     sensor_kind,
 )
 from simcore.scene.motion import RigidState, make_transform, rigid_state
+from simcore.scene.radar_config import RadarConfig
 from simcore.scene.snapshot import BODY_FROM_OPTICAL, SensorState
 
 #: The sensor kinds, in the order the editor offers them, with their words.
@@ -95,11 +96,16 @@ def rig_of_key(project: Project, key: object) -> int | None:
 
 
 def removal_refusal(project: Project, name: str) -> str | None:
-    """Why sensor ``name`` cannot be removed, or None when it can."""
-    if name in ("tof", "radar") and is_built_in(project, name):
-        return (f"The first rig's built-in {KIND_WORDS[name]} “{name}” cannot be removed: "
-                "projects with one ToF camera and one radar keep their names and dataset "
-                "paths; add sensors beside it instead")
+    """Why sensor ``name`` cannot be removed, or None when it can.
+
+    Any sensor can go, the first rig's built-in ToF camera and radar too (issue 40: a
+    radar-only or ToF-only project is an ordinary one), except the project's last sensor.
+    """
+    configs = project.sensor_configs()
+    if name in configs and len(configs) == 1:
+        words = KIND_WORDS[sensor_kind(configs[name])]
+        return (f"The {words} “{name}” is the project's only sensor and cannot be removed: "
+                "a project needs at least one sensor; add another sensor first")
     return None
 
 
@@ -164,14 +170,39 @@ def _same_sensor(a: Any, b: Any) -> bool:
     return bool(named_sensor(a).model_dump() == named_sensor(b).model_dump())
 
 
+def has_kind(project: Project, kind: str) -> bool:
+    """Whether the project has a sensor of ``kind`` (``"tof"``, ``"radar"``, ``"rgb"``)."""
+    return bool(project.sensors_of_kind(kind))
+
+
+def _current(document: ProjectDocument, kind: str) -> str:
+    name = document.current_sensor(kind)
+    if name is None:
+        raise KeyError(f"the project has no {KIND_WORDS[kind]}")
+    return name
+
+
 def current_radar_path(document: ProjectDocument) -> str:
-    """Field path of the radar the editors edit (:meth:`ProjectDocument.current_sensor`)."""
-    return sensor_path(document.project, document.current_sensor("radar") or "radar")
+    """Field path of the radar the editors edit (:meth:`ProjectDocument.current_sensor`).
+
+    KeyError when the project has no radar (the radar editors are disabled then).
+    """
+    return sensor_path(document.project, _current(document, "radar"))
 
 
 def current_radar(document: ProjectDocument) -> Any:
-    """Configuration of the radar the editors edit."""
-    return document.project.sensor_config(document.current_sensor("radar") or "radar")
+    """Configuration of the radar the editors edit (KeyError: the project has none)."""
+    return document.project.sensor_config(_current(document, "radar"))
+
+
+def radar_wavelength_m(project: Project) -> float:
+    """Wavelength (m) of the first radar; the default radar's in a project without one.
+
+    What the material editor, the corner reflector's RCS and the scene import quote
+    radar-band values at.
+    """
+    radar = next(iter(project.sensors_of_kind("radar").values()), None) or RadarConfig()
+    return float(radar.wavelength_m)  # type: ignore[attr-defined]
 
 
 # --- where things are at a time ---------------------------------------------------------
@@ -218,15 +249,37 @@ def new_sensor_config(kind: str) -> dict[str, Any]:
     return dict(SENSOR_KINDS[kind][1]().model_dump())
 
 
+def free_built_in(project: Project, rig: int, kind: str) -> bool:
+    """Whether a new ``kind`` sensor on rig ``rig`` goes into the first rig's empty field.
+
+    The first rig's ``tof``, ``radar`` or ``rgb`` field when it is empty (removed, or a
+    radar-only / ToF-only project) and no other sensor is called so: the sensor added back
+    gets its built-in name and dataset paths.
+    """
+    return (rig == 0 and kind in BUILT_IN and getattr(project.rig, kind, None) is None
+            and kind not in project.sensor_configs())
+
+
 def add_sensor(document: ProjectDocument, rig: int, kind: str, name: str | None = None) -> str:
-    """Add a ``kind`` sensor with default settings to rig ``rig``; its name."""
+    """Add a ``kind`` sensor with default settings to rig ``rig``; its name.
+
+    On the first rig, a ToF camera, radar or RGB camera whose built-in field is empty
+    fills that field (named ``tof``, ``radar``, ``rgb``) unless another ``name`` is asked.
+    """
     project = document.project
+    if kind not in SENSOR_KINDS:
+        raise EditError(f"unknown sensor kind {kind!r}; known: {', '.join(SENSOR_KINDS)}")
+    rig_name = project.all_rigs()[rig].name
+    if name in (None, kind) and free_built_in(project, rig, kind):
+        field = dict(SENSOR_KINDS[kind][0]().model_dump())
+        document.edit(f"Add {KIND_WORDS[kind]} {kind} to {rig_name}",
+                      lambda d: d["rig"].__setitem__(kind, field))
+        return kind
     name = name or unique_name(project, kind if kind not in BUILT_IN else f"{kind}_2")
     problem = name_problem(project, name)
     if problem:
         raise EditError(problem)
     config = new_sensor_config(kind)
-    rig_name = project.all_rigs()[rig].name
     document.edit(f"Add {KIND_WORDS[kind]} {name} to {rig_name}",
                   lambda d: _rig_doc(d, rig)["sensors"].__setitem__(name, config))
     return name
@@ -248,7 +301,10 @@ def copy_sensor(document: ProjectDocument, name: str, new_name: str | None = Non
 
 
 def remove_sensor(document: ProjectDocument, name: str) -> None:
-    """Remove sensor ``name`` (the first rig's built-in ToF camera and radar are refused)."""
+    """Remove sensor ``name`` (one undo step; the project's last sensor is refused).
+
+    A built-in sensor of the first rig (``tof``, ``radar``, ``rgb``) is set to null there.
+    """
     project = document.project
     problem = removal_refusal(project, name)
     if problem:
@@ -258,7 +314,7 @@ def remove_sensor(document: ProjectDocument, name: str) -> None:
     def mutate(d: dict[str, Any]) -> None:
         holder, key = _sensor_entry(d, project, name)
         if holder is d["rig"] and key in BUILT_IN:
-            holder[key] = None  # the optional RGB camera: off
+            holder[key] = None  # the first rig's built-in field: off
         else:
             del holder[key]
 
@@ -302,8 +358,8 @@ def remove_rig(document: ProjectDocument, index: int) -> None:
     """Remove rig ``index`` (≥ 1) with its sensors; the first rig stays."""
     project = document.project
     if index == 0:
-        raise EditError("The first rig cannot be removed: it carries the built-in ToF camera "
-                        "and radar")
+        raise EditError("The first rig cannot be removed: it is the project's “rig” (its "
+                        "sensors can be removed one by one)")
     rig = project.all_rigs()[index]
     document.edit(f"Remove rig {rig.name}", lambda d: d["rigs"].pop(index - 1))
 
@@ -321,8 +377,8 @@ def rename_rig(document: ProjectDocument, index: int, new_name: str) -> None:
 
 
 __all__ = ["BUILT_IN", "KIND_WORDS", "RIG_KEY_PREFIX", "add_rig", "add_sensor", "copy_sensor",
-           "current_radar", "current_radar_path",
-           "follow_sensor", "is_built_in", "is_rig_key", "name_problem", "remove_rig",
+           "current_radar", "current_radar_path", "follow_sensor", "free_built_in", "has_kind",
+           "is_built_in", "is_rig_key", "name_problem", "radar_wavelength_m", "remove_rig",
            "remove_sensor", "removal_refusal", "rename_refusal", "rename_rig", "rename_sensor",
            "rig_index", "rig_key", "rig_of_key", "rig_path", "rig_states", "sensor_names",
            "sensor_path", "sensor_states", "unique_name"]

@@ -77,10 +77,16 @@ class TimelineEditor(QWidget):
         self.derived.setText(
             f"{tl.n_frames} frames, one every {period * 1e3:.4g} ms; last frame at "
             f"t = {tl.frame_time(tl.n_frames - 1):.4g} s")
-        radar_s = project.rig.radar.frame_duration_s
-        if radar_s > period:
+        # Every radar's chirps must fit into the frame period (none in a ToF-only project).
+        long = [(name, cfg.frame_duration_s)  # type: ignore[attr-defined]
+                for name, cfg in project.sensors_of_kind("radar").items()
+                if cfg.frame_duration_s > period]  # type: ignore[attr-defined]
+        if long:
+            name, radar_s = long[0]
+            which = "the radar's" if len(project.sensors_of_kind("radar")) == 1 else \
+                f"radar {name}'s"
             self.warning.setText(
-                f"⚠ the radar's frame ({radar_s * 1e3:.3g} ms of chirps) is longer than the "
+                f"⚠ {which} frame ({radar_s * 1e3:.3g} ms of chirps) is longer than the "
                 f"frame period ({period * 1e3:.3g} ms): lower the frame rate or the chirp "
                 "count")
         else:

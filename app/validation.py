@@ -175,7 +175,10 @@ def describe_error(err: dict[str, Any]) -> str:
     got = f" (got {value})" if value else ""
     message = str(err.get("msg", "")).removeprefix("Value error, ")
     if isinstance(err.get("input"), (dict, list)):
-        # A rule across fields (a model validator): its message names the fields.
+        # A rule across fields (a model validator): its message names the fields, the
+        # project's checks as "@<field path>: …" (simcore.scene.model.Project).
+        if message.startswith("@") and ": " in message:
+            message = message[1:]
         return in_words(message)
     return f"{words}: {in_words(message)}{got}" if words else in_words(message) + got
 

@@ -369,6 +369,15 @@ class SceneViewport(QWidget):
         self._camera_set = False
         self._remove_gizmo()
         self.set_detections(None)
+        # A radar-only project opens in the radar's view, a ToF-only one in the ToF view.
+        kinds = {sensor_kind(c) for c in self.document.project.sensor_configs().values()}
+        if self._band in ("tof", "radar") and self._band not in kinds \
+                and kinds & {"tof", "radar"}:
+            self._band = "radar" if "radar" in kinds else "tof"
+            self.band_buttons[self._band].setChecked(True)
+            if self._band_text is not None:
+                self._band_text.SetText(2, BAND_VIEWS[self._band][1])
+            self.bandChanged.emit(self._band)
         self._sync(self.document.project)
 
     def _on_project_changed(self, project: Project) -> None:
@@ -379,15 +388,18 @@ class SceneViewport(QWidget):
             return
         self._sync(project)
 
-    @staticmethod
-    def _scene_key(project: Project) -> tuple[Any, ...]:
-        """Everything of a project that the 3D view draws (compared with ==)."""
-        rig = project.rig
-        return (project.objects, project.materials, rig.pose, rig.motion,
-                rig.tof.pose_on_rig, rig.radar.pose_on_rig, rig.tof.fov_h_deg,
-                rig.tof.fov_v_deg, rig.tof.unambiguous_range_m, rig.radar.render_fov_h_deg,
-                radar_fov_v_deg(project), rig.radar.max_range_m, rig.sensors, project.rigs,
-                rig.rgb)
+    @classmethod
+    def _scene_key(cls, project: Project) -> tuple[Any, ...]:
+        """Everything of a project that the 3D view draws (compared with ==).
+
+        Every rig's pose and motion and every sensor's mount and frustum, whatever sensors
+        the rigs carry (a radar-only or ToF-only project too); not their antennas or
+        waveforms beyond what the frustums show.
+        """
+        rigs = tuple((r.name, r.pose, r.motion) for r in project.all_rigs())
+        sensors = tuple((name, cfg.pose_on_rig, cls._sensor_look(project, cfg))  # type: ignore[attr-defined]
+                        for name, cfg in project.sensor_configs().items())
+        return project.objects, project.materials, rigs, sensors
 
     def _sync(self, project: Project) -> None:
         if self._closed:
@@ -454,8 +466,9 @@ class SceneViewport(QWidget):
         state = (
             tuple((o.id, self._actors[o.id][0], o.material, s.transform.tobytes())
                   for o, s in zip(project.objects, snap.objects, strict=True)),
-            snap.rig.transform.tobytes(), snap.sensors["tof"].transform.tobytes(),
-            snap.sensors["radar"].transform.tobytes(), self._sensor_key, self.document.selection,
+            snap.rig.transform.tobytes(),
+            tuple((n, s.transform.tobytes()) for n, s in snap.sensors.items()),
+            self._sensor_key, self.document.selection,
             self._time_s if self._posers else None,  # people move their limbs in time
             tuple((m.name, m.band(self._band).opacity) for m in project.materials), self._band)
         self._sync_grid(project, snap)
@@ -747,8 +760,9 @@ class SceneViewport(QWidget):
 
     def _framed_bounds(self, *, with_objects: bool) -> NDArray[np.float64]:
         """(xmin, xmax, ymin, ymax, zmin, zmax) of what :meth:`reset_camera` frames."""
-        names = ["body"] if with_objects else ["body", "tof_fov", "radar_fov"]
-        actors = [self._rig_actors[n] for n in names if n in self._rig_actors]
+        # Without objects: the rig and every sensor's field of view (whatever its name).
+        actors = [a for n, a in self._rig_actors.items() if n == "body" or (
+            not with_objects and (n.endswith("_fov") or n.startswith("fov:")))]
         if with_objects:
             actors += [a for _, a in self._actors.values()]
         boxes = np.array([a.GetBounds() for a in actors])
@@ -791,7 +805,11 @@ class SceneViewport(QWidget):
         else:
             xyz = np.asarray(det.xyz_world_m, dtype=float)
             velocity = np.asarray(det.velocity_mps, dtype=float)
-            vmax = float(self.document.project.rig.radar.max_velocity_mps)
+            radars = self.document.project.sensors_of_kind("radar")
+            # The radar whose detections these are (the frame's first), else the first.
+            name = next((n for n, r in view.radars.items() if r is view.radar), "")  # type: ignore[union-attr]
+            radar = radars.get(name) or next(iter(radars.values()), None)
+            vmax = float(radar.max_velocity_mps) if radar is not None else 1.0  # type: ignore[attr-defined]
             key = (xyz.tobytes(), velocity.tobytes(), vmax)
         if key == self._cloud_key:
             return  # the same points: no render

@@ -141,9 +141,9 @@ def test_copy_tof_camera_and_remove_sensors(make_window, wait_frame, qtbot):
     doc, rigs, tof_panel = window.document, window.sensor_editor.rigs, window.tof_panel
     original = doc.project
     rigs.select("sensor", "tof")
-    # The built-in ToF camera and radar cannot be removed: the button says why.
-    assert not rigs.remove_button.isEnabled()
-    assert "cannot be removed" in rigs.remove_button.toolTip()
+    # The built-in ToF camera can be removed (issue 40: a radar-only project is ordinary).
+    assert rigs.remove_button.isEnabled()
+    assert rigs.remove_button.toolTip() == "Remove ToF camera tof from rig rig"
     rigs.copy_selected()
     copy = doc.project.rig.sensors["tof_copy"]
     assert copy.kind == "tof"
@@ -203,7 +203,9 @@ def test_sensor_timing_fields_validate_with_units(make_window):
     offset.setValue(50.0)  # ms: half of the 200 ms frame period at 5 Hz
     assert doc.project.rig.radar.trigger_offset_s == pytest.approx(0.05)
     offset.setValue(250.0)
-    assert "not shorter than its frame period" in (field_error(offset) or "")
+    message = field_error(offset) or ""
+    assert "not shorter than the sensor's frame period" in message
+    assert not message.startswith("@"), "the field path is shown as words, not as a marker"
     assert doc.project.rig.radar.trigger_offset_s == pytest.approx(0.05)
     item = rigs.tree.topLevelItem(0).child(1)
     assert (item.text(0), item.text(2), item.text(3)) == ("radar", "5 Hz", "50 ms")
@@ -266,8 +268,11 @@ def test_document_follows_the_current_sensor_without_a_window():
     assert doc.current_sensor("radar") == name
     sensors.remove_sensor(doc, name)
     assert doc.current_sensor("radar") == "radar"
-    with pytest.raises(Exception, match="cannot be removed"):
-        sensors.remove_sensor(doc, "radar")
+    # The built-in radar can go too (issue 40); then the ToF camera is the last sensor.
+    sensors.remove_sensor(doc, "radar")
+    assert doc.current_sensor("radar") is None and doc.project.rig.radar is None
+    with pytest.raises(Exception, match="only sensor and cannot be removed"):
+        sensors.remove_sensor(doc, "tof")
 
 
 def test_second_radar_on_new_rig_shows_its_own_data(make_window, wait_frame, tmp_path):
