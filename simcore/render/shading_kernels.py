@@ -233,9 +233,10 @@ def _smooth_normal(tri: int, t: float, r0: float, r1: float,
 
 # A named exception to the 80-line rule (issue 41): the per-pixel loop stays one body.
 # Moving its hit refinement (smooth normal, sphere) into a helper kernel, with or without
-# numba's inline="always", made the kernel 10-12 % slower on the office and walking-person
-# renders (sum of per-call minima 8.5-8.8 ms against 7.5-7.9 ms, 60 interleaved repeats);
-# the steps that split at no measurable cost (7.6 ms against 7.6 ms) are helpers below.
+# numba's inline="always", made the kernel 11 % slower (thread CPU time of the 7 shading
+# passes of office, walking-person and glTF office frames, median of 60 interleaved
+# repeats: 9.5 ms against 8.5 ms); the steps that split at no measurable cost (8.5 ms
+# against 8.5 ms) are the helper kernels below.
 @kernel
 def shade_surface(labels: NDArray[np.uint32], pixels: NDArray[np.int64], subset: bool,
                   width: int, camera: NDArray[np.float64], u: NDArray[np.float32],
