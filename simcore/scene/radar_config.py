@@ -267,6 +267,11 @@ class RadarConfig(SensorTiming):
                     "target → reflector → radar (× Γ²). Reflectors are large planar faces "
                     "of smooth, strongly reflecting materials (metal); off by default for "
                     "its cost (docs/physics_radar.md)")
+    ideal: bool = Field(
+        False,
+        description="ideal sensor for validation and ground truth: no receiver noise and "
+                    "no ADC quantisation (nor clipping); the IF filters, leakage and every "
+                    "path stay")
     polarization: Literal["V", "H"] = Field(
         "V",
         description="linear polarisation of the Tx and Rx antennas in the board frame: "
