@@ -470,7 +470,52 @@ def _segments_hit_box(a: NDArray[np.float64], b: NDArray[np.float64],
 
 def _segments_hit_triangles(a: NDArray[np.float64], b: NDArray[np.float64],
                             tri: NDArray[np.float64]) -> NDArray[np.bool_]:
-    """Whether segments a → b (n, 3) cross any of the triangles (T, 3, 3) (Möller–Trumbore)."""
+    """Whether segments a → b (n, 3) cross any of the triangles (T, 3, 3) (Möller–Trumbore).
+
+    One compiled pass (:func:`_hit_kernel`), each segment stopping at its first hit;
+    :func:`_segments_hit_triangles_numpy` is the same test in numpy.
+    """
+    hit = np.zeros(len(a), dtype=np.bool_)
+    if len(a) and len(tri):
+        _hit_kernel(np.ascontiguousarray(a, dtype=np.float64),
+                    np.ascontiguousarray(b, dtype=np.float64),
+                    np.ascontiguousarray(tri, dtype=np.float64), hit)
+    return hit
+
+
+@kernel
+def _hit_kernel(a: NDArray[np.float64], b: NDArray[np.float64], tri: NDArray[np.float64],
+                hit: NDArray[np.bool_]) -> None:
+    """``hit[i]`` = segment ``a[i] → b[i]`` crosses a triangle (0 < t < 1, inclusive edges)."""
+    for i in range(a.shape[0]):
+        dx, dy, dz = b[i, 0] - a[i, 0], b[i, 1] - a[i, 1], b[i, 2] - a[i, 2]
+        for t in range(tri.shape[0]):
+            e1x, e1y, e1z = tri[t, 1, 0] - tri[t, 0, 0], tri[t, 1, 1] - tri[t, 0, 1], \
+                tri[t, 1, 2] - tri[t, 0, 2]
+            e2x, e2y, e2z = tri[t, 2, 0] - tri[t, 0, 0], tri[t, 2, 1] - tri[t, 0, 1], \
+                tri[t, 2, 2] - tri[t, 0, 2]
+            px, py, pz = dy * e2z - dz * e2y, dz * e2x - dx * e2z, dx * e2y - dy * e2x
+            det = px * e1x + py * e1y + pz * e1z
+            if abs(det) <= 1e-12:
+                continue
+            inv = 1.0 / det
+            sx, sy, sz = a[i, 0] - tri[t, 0, 0], a[i, 1] - tri[t, 0, 1], a[i, 2] - tri[t, 0, 2]
+            u = (sx * px + sy * py + sz * pz) * inv
+            if u < 0.0 or u > 1.0:
+                continue
+            qx, qy, qz = sy * e1z - sz * e1y, sz * e1x - sx * e1z, sx * e1y - sy * e1x
+            v = (dx * qx + dy * qy + dz * qz) * inv
+            if v < 0.0 or u + v > 1.0:
+                continue
+            tt = (qx * e2x + qy * e2y + qz * e2z) * inv
+            if 0.0 < tt < 1.0:
+                hit[i] = True
+                break
+
+
+def _segments_hit_triangles_numpy(a: NDArray[np.float64], b: NDArray[np.float64],
+                                  tri: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """:func:`_segments_hit_triangles` in numpy (the reference of the compiled pass)."""
     hit = np.zeros(len(a), dtype=bool)
     e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
     step = max(1, 200_000 // max(len(tri), 1))
