@@ -651,6 +651,58 @@ def image_ghost_rows(scene: RadarScene, scatterers: Scatterers) -> NDArray[np.bo
     return ~((scatterers.kind == KIND_FACET) & planar[scatterers.object_index])
 
 
+def ghost_sources(scatterers: Scatterers, eligible: NDArray[np.bool_]) -> Scatterers:
+    """The scatterers whose ghosts are drawn: each curved object's facets as one scatterer.
+
+    The eligible facets (:func:`image_ghost_rows`) of one object are summed coherently
+    into one point scatterer at their power-weighted centroid: its amplitude is the
+    object's monostatic return (the phasors ``√σ e^{j(2k r + φ)}`` summed, referred to the
+    centroid's range), its velocity and acceleration the power-weighted means. A curved
+    object's specular return is about the same on a bistatic path as on the monostatic one
+    (a sphere's is πr² either way, geometric optics), which its facets, each with its
+    monostatic amplitude on the bistatic path, do not reproduce; and a person's thousands
+    of facets become a dozen ghost sources. Corner reflectors and point targets stay as
+    they are.
+
+    Returns
+    -------
+    Scatterers
+        The eligible non-facet rows, then one row per object with eligible facets
+        (kind point target: it scatters from its centroid, not from a facet's face).
+    """
+    keep = np.flatnonzero(eligible & (scatterers.kind != KIND_FACET))
+    facets = np.flatnonzero(eligible & (scatterers.kind == KIND_FACET))
+    if not len(facets):
+        return scatterers.subset(keep)
+    k = 2.0 * np.pi / scatterers.wavelength_m
+    obj = scatterers.object_index[facets]
+    owners, group = np.unique(obj, return_inverse=True)
+    pos = scatterers.positions_m[facets]
+    power = scatterers.rcs_m2[facets]
+    weight = np.bincount(group, power, minlength=len(owners))
+    weight = np.where(weight > 0, weight, 1.0)
+
+    def mean(values: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.stack([np.bincount(group, power * values[:, c], minlength=len(owners))
+                         for c in range(3)], axis=1) / weight[:, None]
+
+    centroid = mean(pos)
+    r = np.linalg.norm(pos, axis=1)
+    phasor = np.sqrt(power) * np.exp(1j * (2.0 * k * r + scatterers.phase_rad[facets]))
+    total = (np.bincount(group, phasor.real, minlength=len(owners))
+             + 1j * np.bincount(group, phasor.imag, minlength=len(owners)))
+    total *= np.exp(-2j * k * np.linalg.norm(centroid, axis=1))
+    acc = scatterers.accelerations_mps2
+    merged = Scatterers(
+        time_s=scatterers.time_s, wavelength_m=scatterers.wavelength_m,
+        positions_m=centroid, velocities_mps=mean(scatterers.velocities_mps[facets]),
+        rcs_m2=np.abs(total) ** 2, phase_rad=np.angle(total),
+        object_index=owners.astype(np.int32),
+        kind=np.full(len(owners), KIND_POINT_TARGET, dtype=np.int8),
+        accelerations_mps2=None if acc is None else mean(acc[facets]))
+    return _concat([scatterers.subset(keep), merged])
+
+
 def _subset_paths(paths: ImagePaths, keep: NDArray[np.bool_]) -> ImagePaths:
     return ImagePaths(paths.reflector, paths.rows[keep], paths.images_m[keep],
                       paths.gamma[keep], paths.crossing_m[keep])
@@ -739,7 +791,8 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
     p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()
     pat_t = config.tx[0].pattern or config.element_pattern
     pat_r = config.rx[0].pattern or config.element_pattern
-    eligible = image_ghost_rows(scene, scatterers)
+    scatterers = ghost_sources(scatterers, image_ghost_rows(scene, scatterers))
+    eligible = None
     out: list[GhostSet] = []
     valid: list[ImagePaths] = []
     for refl in reflectors:
