@@ -145,3 +145,52 @@ def test_a_ghost_over_two_surfaces_has_the_image_methods_length_and_level() -> N
                                    + np.linalg.norm(p[0] - rx_image), abs=1e-12)
     assert first.scatterers.rcs_m2[0] == pytest.approx(abs(ga[0] * gb[0]) ** 2)
     assert first.scatterers.phase_rad[0] == pytest.approx(np.angle(ga[0] * gb[0]))
+
+
+def test_no_ghost_where_no_geometric_path_exists() -> None:
+    """A concrete front wall 3 m ahead and a metal side wall 1 m to the left (the issue's
+    case): before, the front wall's facets mirrored in the metal wall made ghosts at
+    5.42 m and 5.83 m. Every multipath return must now be a geometric path: the front
+    wall–side wall edge (the double image at the edge's distance √10 m, both orders) and
+    the rig front's image in the front wall (at twice its distance, 6 m; in the side wall
+    it is edge-on)."""
+    from simcore.render import RenderRequest, SceneRenderer
+    from simcore.scene import Box, Pose, Project, SceneObject
+    from simcore.scene.model import SensorRig
+    from simcore.scene.snapshot import take_snapshot
+    from simcore.sensors.radar import radar_scatterers
+    from simcore.sensors.radar.multipath import ghost_scatterers
+    from simcore.sensors.radar.scene import RadarScene
+
+    cfg = RadarConfig(multipath_order=2, speckle=False)
+    front = SceneObject(id=1, name="front", geometry=Box(size_m=(0.2, 6.0, 3.0)),
+                        material="concrete", pose=Pose(position_m=(3.1, 0.0, 1.0)))
+    side = SceneObject(id=2, name="side", geometry=Box(size_m=(8.0, 0.2, 3.0)),
+                       material="aluminium", pose=Pose(position_m=(1.0, 1.1, 1.0)))
+    project = Project(objects=[front, side],
+                      rig=SensorRig(pose=Pose(position_m=(0.0, 0.0, 1.0)), radar=cfg))
+    snap = take_snapshot(project, 0.0)
+    renderer = SceneRenderer(project)
+    try:
+        buf = renderer.render(snap, RenderRequest("radar", "radar", cfg.render_intrinsics(),
+                                                  geometry_only=True))
+    finally:
+        renderer.close()
+    scene = RadarScene.from_project(project, snap)
+    sc = radar_scatterers(scene, buf, config=cfg)
+    sets = ghost_scatterers(scene, sc, cfg, buffers=buf)
+    ranges = []
+    for g in sets:
+        pos = g.scatterers.positions_m
+        if g.tx_positions_m is None and g.rx_positions_m is None:
+            ranges += list(np.linalg.norm(pos, axis=1))
+        else:                                     # half the unfolded bistatic path
+            tx = cfg.tx_positions_m() if g.tx_positions_m is None else g.tx_positions_m
+            rx = cfg.rx_positions_m() if g.rx_positions_m is None else g.rx_positions_m
+            ranges += list(0.5 * (np.linalg.norm(pos - tx[0], axis=1)
+                                  + np.linalg.norm(pos - rx[0], axis=1)))
+    assert ranges, "the edge and the rig-front images are there"
+    geometric = np.array([np.sqrt(10.0), 6.0])
+    off = [r for r in ranges if np.min(np.abs(geometric - r)) > 0.01]
+    assert off == [], f"multipath returns without a geometric path at {off} m"
+    assert np.sum(np.abs(np.array(ranges) - np.sqrt(10.0)) < 0.01) == 2

@@ -92,11 +92,14 @@ def room_returns(scene: RadarScene, config: RadarConfig, reflectors: Sequence[Re
     paths = _room_paths(_key(reflectors), lam, config.polarization, min(order + 1, MAX_FACES))
     out: list[GhostSet] = []
     for seq, first, last, position, amplitude in paths:
-        if buffers is not None:
-            if not _reflector_seen(buffers, first[None], reflectors[seq[0]].object_index)[0]:
-                continue
-            if not _reflector_seen(buffers, last[None], reflectors[seq[-1]].object_index)[0]:
-                continue
+        # The first and last reflection points seen in the render as one of the path's
+        # faces (at an edge or a corner the points are on every face's border).
+        objects = {reflectors[i].object_index for i in seq}
+        if buffers is not None and not (any(_reflector_seen(buffers, first[None], o)[0]
+                                            for o in objects)
+                                        and any(_reflector_seen(buffers, last[None], o)[0]
+                                                for o in objects)):
+            continue
         out.append(GhostSet(Scatterers(
             time_s=time_s, wavelength_m=lam, positions_m=position[None],
             velocities_mps=np.zeros((1, 3)), rcs_m2=np.array([abs(amplitude) ** 2]),
