@@ -212,7 +212,8 @@ def _trace(faces: Sequence[Reflector], seq: tuple[int, ...], wavelength_m: float
     # parts by Fresnel), received by the antenna's polarisation. The ray's direction on
     # each face is the unfolded path's, mirrored in the faces before it (defined also where
     # two reflection points meet at an edge).
-    direction = images[-1] / float(np.linalg.norm(images[-1]))
+    unfolded = images[-1] / float(np.linalg.norm(images[-1]))
+    direction = unfolded
     field = _transverse(pol.astype(np.complex128), direction)
     for face in oriented:
         field = reflect_field(face, direction, field, wavelength_m)
@@ -220,18 +221,47 @@ def _trace(faces: Sequence[Reflector], seq: tuple[int, ...], wavelength_m: float
     amplitude = complex(field @ _transverse(pol.astype(np.complex128), direction))
     half = 0.5 * float(np.linalg.norm(images[-1]))
     near = math.sqrt(math.pi) * half
-    far = 2.0 * math.sqrt(math.pi) * _aperture(oriented, images[-1]) / wavelength_m
+    if float(np.linalg.norm(direction + unfolded)) < 1e-6:
+        # A retro-directive sequence (a plane wave comes back on itself: dihedral across its
+        # edge, trihedral): its far-field return is the GO aperture's.
+        size = min(near, 2.0 * math.sqrt(math.pi) * _aperture(oriented, images[-1])
+                   / wavelength_m)
+    else:
+        # Otherwise only the image exists (no far-field return): full where the first
+        # Fresnel zone around each reflection point lies on its face.
+        size = near * _fresnel_fit(oriented, points, math.sqrt(wavelength_m * half / 2.0))
     last = points[-1]
     position = half * last / max(float(np.linalg.norm(last)), 1e-300)
-    return seq, points[0], last, position, amplitude * min(near, far)
+    return seq, points[0], last, position, amplitude * size
+
+
+def _fresnel_fit(faces: Sequence[Reflector], points: Sequence[NDArray[np.float64]],
+                 radius_m: float) -> float:
+    """Product over the reflection points of min(1, distance to the face's border / radius)."""
+    out = 1.0
+    for face, x in zip(faces, points, strict=True):
+        local = np.abs((x - face.center_m) @ face.axes.T)
+        border = float(np.min(face.half_size_m - local))
+        out *= min(1.0, max(border, 0.0) / radius_m)
+    return out
 
 
 def _transverse(vector: NDArray[np.complex128], direction: NDArray[np.float64]
                 ) -> NDArray[np.complex128]:
-    """``vector`` without its part along ``direction``, normalised (a wave's E)."""
+    """``vector`` without its part along ``direction``, normalised (a wave's E).
+
+    Along the polarisation itself (a V antenna's leg straight down) the antenna's
+    spherical unit vector θ̂ at the pole is taken, as ray tracers' isotropic antennas do:
+    the boresight direction made transverse (the element pattern, not this, decides
+    whether anything is sent there).
+    """
     d = direction / max(float(np.linalg.norm(direction)), 1e-300)
     out = vector - (vector @ d) * d
-    return np.asarray(out / max(float(np.linalg.norm(out)), 1e-300))
+    norm = float(np.linalg.norm(out))
+    if norm < 1e-9:
+        out = np.array([0.0, 0.0, 1.0]) - d[2] * d
+        norm = float(np.linalg.norm(out))
+    return np.asarray(out / max(norm, 1e-300))
 
 
 def reflect_field(face: Reflector, leg: NDArray[np.float64], field: NDArray[np.complex128],
