@@ -58,15 +58,15 @@ EDGE_TOLERANCE_M = 0.02
 MAX_FACES = 3
 
 
-def room_returns(scene: RadarScene, config: RadarConfig, reflectors: Sequence[Reflector], *,
+def room_returns(scene: RadarScene | None, config: RadarConfig, reflectors: Sequence[Reflector], *,
                  buffers: RenderBuffers | None, order: int, time_s: float) -> list[GhostSet]:
     """The room's multiple-bounce returns (module docstring) as ghost sets of order ≥ 2.
 
     Parameters
     ----------
-    scene : RadarScene
-        The radar's slice of the frame (unused beyond the reflectors; kept for symmetry
-        with the other path functions).
+    scene : RadarScene or None
+        The radar's slice of the frame (not read: the faces are ``reflectors``; kept for
+        symmetry with the other path functions).
     config : RadarConfig
         Wavelength and polarisation.
     reflectors : sequence of Reflector

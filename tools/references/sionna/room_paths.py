@@ -11,7 +11,8 @@ only, ITU-R P.2040 concrete and metal at 60 GHz, isotropic V-polarised antennas)
 path from a radar back to itself in a 6 × 4 × 3 m concrete room (the radar 1 m above the
 floor, 2.5 m from the front wall, facing it), with and without a metal wall on its left,
 and writes each path's length (m), complex coefficient ``a`` (Sionna's, V → V) and
-number of bounces to ``tests/data/sionna_room_paths.npz``. The test
+number of bounces to ``resources/references/sionna_room_paths.npz`` (shipped: the
+validation report reads it too, :mod:`simcore.report_sionna`). The test
 ``tests/test_radar_sionna_reference.py`` reads that file: the room's own returns of
 tofradar (:func:`simcore.sensors.radar.room.room_returns`) must match them.
 
@@ -29,7 +30,7 @@ import numpy as np
 ROOM = (6.0, 4.0, 3.0)
 RADAR = (3.5, 2.0, 1.0)          # 2.5 m from the front wall (x = 6), 1 m above the floor
 FREQUENCY_HZ = 60e9
-OUT = Path(__file__).resolve().parents[3] / "tests" / "data" / "sionna_room_paths.npz"
+OUT = Path(__file__).resolve().parents[3] / "resources" / "references" / "sionna_room_paths.npz"
 
 _XML = """<scene version="2.1.0">
   <bsdf type="itu-radio-material" id="concrete">
