@@ -144,7 +144,7 @@ def sionna_section(out_dir: str | Path) -> tuple[list[tuple[str, str, str]], dic
     axes[0].set_ylabel("level re the front wall (dB)")
     axes[0].legend()
     fig.tight_layout()
-    name = "multipath_sionna.png"
+    name = "fig10_multipath_sionna.png"
     fig.savefig(out / name, dpi=110)
     plt.close(fig)
     c, m = numbers["concrete"], numbers["metal_left"]
