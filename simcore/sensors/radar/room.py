@@ -133,10 +133,22 @@ def _room_paths(key: tuple[object, ...], wavelength_m: float, polarization: str,
     faces = [_face_of(k) for k in key]
     pol = polarization_vector(polarization)
     out: list[_Path] = []
+    # Which face can follow which: the next reflection point lies in front of the face
+    # just left, so some corner of the next face must (a necessary condition; prunes the
+    # faces of furniture behind one another).
+    corners = np.array([[f.center_m + sa * f.half_size_m[0] * f.axes[0]
+                         + sb * f.half_size_m[1] * f.axes[1]
+                         for sa, sb in ((-1, -1), (1, -1), (1, 1), (-1, 1))] for f in faces])
+    signed = np.einsum("jcd,id->ijc", corners, np.array([f.normal for f in faces])) \
+        - np.einsum("id,id->i", np.array([f.center_m for f in faces]),
+                    np.array([f.normal for f in faces]))[:, None, None]
+    front = np.any(signed > -EDGE_TOLERANCE_M, axis=2)      # corner of j before plane i
+    back = np.any(signed < EDGE_TOLERANCE_M, axis=2)        # … or behind (two-sided)
+    follows = front | (np.array([f.two_sided for f in faces])[:, None] & back)
 
     def extend(seq: tuple[int, ...], image: NDArray[np.float64]) -> None:
         for i, face in enumerate(faces):
-            if seq and i == seq[-1]:
+            if seq and (i == seq[-1] or not follows[seq[-1], i]):
                 continue
             oriented = _oriented(face, image)
             if oriented is None:
