@@ -1,13 +1,16 @@
-"""Fixtures of the GUI tests: a main window with its own settings, frame waiting, leak checks.
+"""Fixtures of the GUI tests: a main window with its own settings, frame waiting, leak checks,
+and a simulation process frozen on demand (a frame that cannot end, on any machine).
 
 Run under Xvfb: ``xvfb-run -a -s "-screen 0 1920x1080x24" python -m pytest -m gui tests/gui``.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -98,3 +101,28 @@ def non_blank(image, *, min_std: float = 4.0) -> bool:
     arr = np.frombuffer(ptr, dtype=np.uint8).reshape(img.height(), img.bytesPerLine())
     arr = arr[:, : img.width() * 4].reshape(img.height(), img.width(), 4)[..., :3]
     return float(arr.std()) > min_std and len(np.unique(arr.reshape(-1, 3), axis=0)) > 16
+
+
+@pytest.fixture
+def frozen_simulation() -> Callable[..., contextlib.AbstractContextManager[int]]:
+    """``with frozen_simulation(window) as pid:`` the window's simulation process is stopped
+    (SIGSTOP) for the block and continued after it.
+
+    A frame in flight then cannot end, however fast or loaded the machine: a test shows
+    that the GUI goes on without a frame (input, cancel, newer requests) by what happens
+    while it is frozen, not by wall-clock thresholds (issue 41: no test's outcome may
+    depend on the machine's load; timings are in ``benchmarks/bench_gui.py``).
+    """
+
+    @contextlib.contextmanager
+    def freeze(window: MainWindow) -> Iterator[int]:
+        pid = window.sim.process_id
+        assert pid is not None, "no simulation process to freeze"
+        os.kill(pid, signal.SIGSTOP)
+        try:
+            yield pid
+        finally:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGCONT)
+
+    return freeze

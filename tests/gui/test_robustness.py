@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import time
 
 import numpy as np
 import pytest
@@ -189,21 +188,23 @@ def test_a_radar_with_a_tiny_range_still_draws(make_window, wait_frame, qtbot):
     _assert_playback_goes_on(window, qtbot)
 
 
-def test_cancelling_a_long_frame_returns_control_at_once(make_window, wait_frame, qtbot):
+def test_cancelling_a_long_frame_returns_control_at_once(make_window, wait_frame, qtbot,
+                                                         frozen_simulation):
+    """A costly frame (1024 chirps) whose simulation process is frozen cannot end at all:
+    cancelling it gives control back (the event loop runs the next timer) without it, and
+    the simulation process is a new one. Was: control back within 1 s of wall time, and a
+    wait for the frame to have run 0.5 s (both depend on the machine's load)."""
     window = make_window()
     wait_frame(window)
     doc = window.document
     doc.set_value("rig.radar.chirps_per_frame", 1024)  # seconds per frame
-    qtbot.waitUntil(lambda: window.sim.busy_for_s > 0.5, timeout=10_000)
-    pid = window.sim.process_id
-    t0 = time.perf_counter()
-    assert window.cancel_frame()
-    ticked: list[float] = []
-    QTimer.singleShot(0, lambda: ticked.append(time.perf_counter()))
-    qtbot.waitUntil(lambda: bool(ticked), timeout=1000)
-    elapsed = ticked[0] - t0
-    assert elapsed < 1.0, f"control came back after {elapsed:.2f} s"
-    assert not window.sim.busy and window.sim.process_id != pid
+    qtbot.waitUntil(lambda: window.sim.busy, timeout=10_000)
+    with frozen_simulation(window) as pid:
+        assert window.cancel_frame()
+        ticked: list[bool] = []
+        QTimer.singleShot(0, lambda: ticked.append(True))
+        qtbot.waitUntil(lambda: bool(ticked), timeout=10_000)
+        assert not window.sim.busy and window.sim.process_id != pid
     assert all(p.error and "stopped" in p.error for p in window.panels.values()
                if p.isVisible())
     assert not window.time.playing
@@ -214,27 +215,37 @@ def test_cancelling_a_long_frame_returns_control_at_once(make_window, wait_frame
     _assert_panels_current(window, wait_frame)
 
 
-def test_window_handles_input_while_playing(make_window, wait_frame, qtbot):
+def test_window_handles_input_while_playing(make_window, wait_frame, qtbot, frozen_simulation):
+    """While playing, the GUI thread never waits for a frame: with the simulation process
+    frozen mid-playback (its frame cannot end), posted events are still answered and the
+    time can still be moved; once the process goes on,
+    playback goes on. Input delays while frames are drawn are timings, measured by
+    ``benchmarks/bench_gui.py`` (was: median < 0.5 s and worst < 3 s here)."""
     window = make_window()
     wait_frame(window)
-    delays: list[float] = []
+    answered: list[bool] = []
 
     def probe():
-        sent = time.perf_counter()
-        QTimer.singleShot(0, lambda: delays.append(time.perf_counter() - sent))
+        QTimer.singleShot(0, lambda: answered.append(True))
 
     timer = QTimer()
     timer.timeout.connect(probe)
     timer.start(50)
-    _assert_playback_goes_on(window, qtbot, frames=6)
-    timer.stop()
-    assert len(delays) > 10
-    ordered = sorted(delays)
-    median, worst = ordered[len(ordered) // 2], ordered[-1]
-    # Generous margins: the machine is shared (the X server and software OpenGL compete
-    # with other jobs for 2 cores); benchmarks/bench_gui.py measures the real figure.
-    assert median < 0.5 and worst < 3.0, (
-        f"input delay while playing: median {median * 1e3:.0f} ms, max {worst * 1e3:.0f} ms")
+    try:
+        _assert_playback_goes_on(window, qtbot, frames=2)
+        window.time.set_playing(True)
+        qtbot.waitUntil(lambda: window.sim.busy, timeout=10_000)
+        with frozen_simulation(window):
+            answered.clear()
+            qtbot.waitUntil(lambda: len(answered) > 10, timeout=30_000)
+            assert window.sim.busy, "the frozen frame cannot have ended"
+            window.time.set_playing(False)
+            target = 0 if window.time.index else 1
+            window.time.set_index(target)
+            assert window.time.index == target
+        _assert_playback_goes_on(window, qtbot, frames=3)
+    finally:
+        timer.stop()
 
 
 def test_a_crashed_simulation_process_is_restarted(make_window, wait_frame, qtbot):
