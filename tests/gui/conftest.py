@@ -6,15 +6,46 @@ Run under Xvfb: ``xvfb-run -a -s "-screen 0 1920x1080x24" python -m pytest -m gu
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import os
+import shutil
 import signal
+import subprocess
 import threading
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
 import pytest
+
+
+def _own_display_per_xdist_worker() -> None:
+    """Under pytest-xdist (``make pytest-gui``), each worker gets an Xvfb of its own.
+
+    Two workers' windows on one X server take the keyboard focus and the active window
+    from each other, and several tests wait for their window to be active or a field to
+    have the focus. Only where a display was given (the worker then needs one) and Xvfb is
+    installed; the server ends with the worker.
+    """
+    if not (os.environ.get("PYTEST_XDIST_WORKER") and os.environ.get("DISPLAY")
+            and shutil.which("Xvfb")):
+        return
+    read, write = os.pipe()
+    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0",
+                               "1920x1080x24", "-nolisten", "tcp"], pass_fds=(write,),
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(write)
+    with os.fdopen(read) as fh:
+        number = fh.readline().strip()
+    if not number:
+        server.kill()
+        raise RuntimeError("the xdist worker's own Xvfb did not start")
+    atexit.register(server.terminate)
+    os.environ["DISPLAY"] = f":{number}"
+
+
+_own_display_per_xdist_worker()
 
 if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
     pytest.skip("GUI tests need a display (run them under xvfb-run)", allow_module_level=True)
@@ -27,7 +58,14 @@ from app.theme import apply_dark_theme  # noqa: E402
 from simcore.resources import EXAMPLES_DIR  # noqa: E402
 
 OFFICE = EXAMPLES_DIR / "office.json"
-FRAME_TIMEOUT_MS = 60_000
+#: The least time any wait of a GUI test allows (``qtbot.waitUntil``, ``waitExposed``, and
+#: so ``wait_frame``). A wait is for something that must happen, never a timing check: on a
+#: loaded 2-core machine (the test suite on both cores, Xvfb and software OpenGL beside it)
+#: a new window's first frame took over 60 s, and a 2-5 s wait for a click's effect failed
+#: for the same reason. A wait that is met returns at once; only a real failure waits
+#: this long (and pytest-timeout's 15 min stops a hang).
+WAIT_FLOOR_MS = 300_000
+FRAME_TIMEOUT_MS = WAIT_FLOOR_MS
 
 
 @pytest.fixture(autouse=True)
@@ -45,6 +83,22 @@ def no_leaked_windows(qapp: QApplication) -> Iterator[None]:
     extra = [t for t in threading.enumerate() if t.ident not in threads_before and t.is_alive()
              and not t.daemon]
     assert not extra, f"threads left running: {extra}"
+
+
+@pytest.fixture(autouse=True)
+def patient_waits(qtbot, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every ``qtbot.waitUntil`` and ``qtbot.waitExposed`` allows at least
+    :data:`WAIT_FLOOR_MS`, whatever timeout its test wrote."""
+    wait_until, wait_exposed = qtbot.waitUntil, qtbot.waitExposed
+
+    def until(callback, *, timeout: int = 5000) -> None:
+        wait_until(callback, timeout=max(timeout, WAIT_FLOOR_MS))
+
+    def exposed(widget, *, timeout: int = 5000):
+        return wait_exposed(widget, timeout=max(timeout, WAIT_FLOOR_MS))
+
+    monkeypatch.setattr(qtbot, "waitUntil", until)
+    monkeypatch.setattr(qtbot, "waitExposed", exposed)
 
 
 @pytest.fixture
