@@ -523,8 +523,7 @@ def radiosity(factor: NDArray[np.float32], distance: NDArray[np.float32], albedo
             kernel_k = weighted
             term = total[row].real.astype(np.float32)
         else:
-            phase = np.float32(k) * distance
-            kernel_k = weighted * (np.cos(phase) + 1j * np.sin(phase)).astype(np.complex64)
+            kernel_k = _phase_kernel(weighted, distance, k)
             term = total[row].astype(np.complex64)
         order = 1
         scale = max(float(np.abs(term).sum()), 1e-300)
@@ -536,6 +535,21 @@ def radiosity(factor: NDArray[np.float32], distance: NDArray[np.float32], albedo
                                  or order > 10_000):
                 break
     return total
+
+
+@kernel
+def _phase_kernel(weighted: NDArray[np.float32], distance: NDArray[np.float32], k: float
+                  ) -> NDArray[np.complex64]:
+    """``weighted · e^{i k distance}`` (complex64) in one pass, zero where ``weighted`` is."""
+    n, m = weighted.shape
+    out = np.zeros((n, m), dtype=np.complex64)
+    for i in range(n):
+        for j in range(m):
+            w = weighted[i, j]
+            if w != 0.0:
+                phase = k * distance[i, j]
+                out[i, j] = complex(w * math.cos(phase), w * math.sin(phase))
+    return out
 
 
 @kernel
