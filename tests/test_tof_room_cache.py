@@ -125,6 +125,15 @@ def test_the_kept_gather_equals_the_full_gather(monkeypatch):
                               np.full(40, 1e-3)])
     normals = np.repeat([[0.0, 0.0, 1.0]], 40, axis=0)
     ks = [0.0, 2 * math.pi * 20e6 / 299_792_458.0]
+    taken_off = []
+    blocked = room_cache._blocked
+
+    def spy(*args):
+        out = blocked(*args)
+        taken_off.append(float(np.abs(out).max()))
+        return out
+
+    monkeypatch.setattr(room_cache, "_blocked", spy)
     for at in [(1.0, 0.8, 0.0), (1.3, 0.6, 0.0), (0.6, 1.2, 0.0)]:
         room = _room(at)
         surfels, _, _ = room_cache.room_transfer(room, patch)
@@ -134,3 +143,4 @@ def test_the_kept_gather_equals_the_full_gather(monkeypatch):
                                      patch_m=patch)
         full = gather(points, normals, surfels, room, exitance, ks)
         assert_allclose(got, full, rtol=1e-5, atol=1e-7 * np.abs(full).max())
+    assert max(taken_off) > 0                   # the mover's shadow on kept receivers

@@ -427,8 +427,12 @@ def room_gather(points: F64, normals: F64, surfels: Surfels, room: Room,
     hit = rows >= 0
     out = np.zeros((len(wavenumbers), len(points)), dtype=np.complex128)
     still = exitance[:, :ns]
-    for q in range(len(wavenumbers)):
-        out[q, hit] = (kept.kernels[q] @ still[q].astype(np.complex64))[rows[hit]]
+    for q, k in enumerate(wavenumbers):
+        if k == 0.0:          # the intensity: the factors themselves (no phase)
+            out[q, hit] = (kept.factor @ still[q].real.astype(np.float32)
+                           + 1j * (kept.factor @ still[q].imag.astype(np.float32)))[rows[hit]]
+        else:
+            out[q, hit] = (kept.kernels[q] @ still[q].astype(np.complex64))[rows[hit]]
     movers = sub_room(room, [g for g in range(len(room.occluder_start) - 1)
                              if not _in_block(room, g, block)])
     ks = np.asarray(wavenumbers, dtype=np.float64)
@@ -465,10 +469,8 @@ def _keep_receivers(points: F64, normals: F64, keys: list[bytes], block: StillBl
     arrays = _surfel_arrays(block.surfels)
     factor, distance = _receiver_rows(points, normals, *arrays, len(block.surfels.area),
                                       block.room.triangles, block.room.occluder_start, lo, hi)
-    kernels = []
-    for k in wavenumbers:
-        phase = np.float32(k) * distance
-        kernels.append((factor * (np.cos(phase) + 1j * np.sin(phase))).astype(np.complex64))
+    kernels = [_radiosity._phase_kernel(factor, distance, k) if k != 0.0
+               else np.zeros((0, 0), dtype=np.complex64) for k in wavenumbers]
     return _Receivers(block.digests, {key: i for i, key in enumerate(keys)}, factor, distance,
                       tuple(kernels), tuple(wavenumbers))
 
