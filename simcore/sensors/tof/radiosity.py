@@ -519,6 +519,7 @@ def radiosity(factor: NDArray[np.float32], distance: NDArray[np.float32], albedo
     total = np.array(emitted, dtype=np.complex128)
     weighted = factor * albedo[:, None].astype(np.float32)           # ρ_i F_ij V_ij
     for row, k in enumerate(wavenumbers):
+        kernel_k: NDArray[np.float32] | NDArray[np.complex64]
         if k == 0.0 and not np.any(total[row].imag):                  # the intensity: real
             kernel_k = weighted
             term = total[row].real.astype(np.float32)

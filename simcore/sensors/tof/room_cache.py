@@ -303,8 +303,7 @@ def _with_moving(room: Room, block: StillBlock, moving: list[int], patch_m: floa
     ordered = sub_room(room, [g for g in range(len(room.occluder_start) - 1)
                               if g not in set(moving)] + moving)
     first_tri = int(block.room.occluder_start[-1])
-    facing = facing_any(ordered.triangles, ordered.normals)
-    facing[:first_tri] = facing_any(block.room.triangles, block.room.normals)
+    facing = facing_any(ordered.triangles, ordered.normals)        # movers' against all
     mover_room = sub_room(room, moving)
     movers = surfels_from_room(mover_room, patch_m=patch_m, facing=facing[first_tri:])
     surfels = join(block.surfels, movers)
