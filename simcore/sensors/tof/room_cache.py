@@ -31,7 +31,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simcore.jit import kernel
+from simcore.scene.camera import PinholeIntrinsics
+from simcore.scene.tof_config import SPEED_OF_LIGHT
 from simcore.sensors.tof import radiosity as _radiosity
+from simcore.sensors.tof.multipath import (
+    RECEIVER_STEP,
+    _blend_nodes,
+    _cell_of,
+    _node_axis,
+    _node_weights,
+)
 from simcore.sensors.tof.radiosity import (
     LIFT_M,
     Room,
@@ -39,7 +48,9 @@ from simcore.sensors.tof.radiosity import (
     _exchange,
     _segment_clear,
     facing_any,
+    first_exitance,
     occluder_boxes,
+    radiosity,
     surfels_from_room,
 )
 
@@ -474,4 +485,91 @@ def _keep_receivers(points: F64, normals: F64, keys: list[bytes], block: StillBl
                       tuple(kernels), tuple(wavenumbers))
 
 
-__all__ = ["StillBlock", "group_digests", "room_gather", "room_transfer"]
+__all__ = ["StillBlock", "group_digests", "room_gather", "room_indirect", "room_transfer"]
+
+
+def _room_transfer(room: Room, patch_m: float
+                   ) -> tuple[Surfels, NDArray[np.float32], NDArray[np.float32]]:
+    """:func:`surfels_from_room` and :func:`transfer`, the still objects' part kept.
+
+    Kept in this module (:func:`room_transfer`).
+    """
+    return room_transfer(room, patch_m)
+
+
+def room_indirect(room: Room, *, camera: F64, intrinsics: PinholeIntrinsics,
+                  range_m: NDArray[np.floating], points_m: NDArray[np.floating],
+                  normals: NDArray[np.floating], seen: NDArray[np.bool_],
+                  frequencies_hz: list[float], patch_m: float, bounces: int = 0,
+                  step: int = RECEIVER_STEP
+                  ) -> tuple[NDArray[np.float32], list[tuple[NDArray[np.float32],
+                                                            NDArray[np.float32]]]]:
+    """Indirect light at the camera's pixels from the whole room, as :func:`one_bounce_image`.
+
+    Parameters
+    ----------
+    room : Room
+    camera : ndarray, shape (4, 4)
+        Optical frame → world.
+    intrinsics, range_m
+        The render's grid and range (the light's shadow map, :func:`first_exitance`).
+    points_m, normals : ndarray, shape (H, W, 3)
+        Receivers: each pixel's surface point and unit normal (optical frame).
+    seen : ndarray of bool, shape (H, W)
+    frequencies_hz : list of float
+    patch_m : float, keyword-only
+        Surfel size.
+    bounces : int, keyword-only
+        Indirect bounces (1: one bounce); 0: all (to convergence).
+    step : int, keyword-only
+        Receiver node spacing (pixels): the sum is exact on every ``step``-th row and
+        column and at the pixels without a node on their surface or next to a concave
+        crease, and blended in between (the node scheme of
+        :func:`simcore.sensors.tof.multipath.one_bounce_image`); 1: every pixel.
+
+    Returns
+    -------
+    magnitude : ndarray, shape (H, W), float32
+        Indirect irradiance at each pixel's surface in units of the illumination's
+        ``cos θ / R²`` (multiply by ``k ρ_P`` for electrons).
+    phasors : list of (re, im), each ndarray of shape (H, W), float32
+        Per frequency, the same with each path's phase ``e^{i 2π f L / c}`` (``L`` the whole
+        optical path, camera leg included).
+    """
+    surfels, factor, distance = _room_transfer(room, patch_m)
+    ks = [0.0] + [2.0 * np.pi * f / SPEED_OF_LIGHT for f in frequencies_hz]
+    emitted = first_exitance(surfels, camera, intrinsics, range_m, ks)
+    total = radiosity(factor, distance, surfels.albedo, emitted, ks, bounces=bounces)
+    pts = np.ascontiguousarray(points_m, dtype=np.float32)
+    nrm = np.ascontiguousarray(normals, dtype=np.float32)
+    seen = np.ascontiguousarray(seen)
+    h, w = seen.shape
+    rows, cols = _node_axis(h, step), _node_axis(w, step)
+    node_seen = np.ascontiguousarray(seen[np.ix_(rows, cols)])
+    cy, fy = _cell_of(h, rows)
+    cx, fx = _cell_of(w, cols)
+    weights, missing = _node_weights(pts, nrm, seen, rows, cols, node_seen, cy, fy, cx, fx)
+    node_index = (rows[:, None] * w + cols[None, :])[node_seen]
+    index = np.concatenate([node_index, np.flatnonzero(missing & ~_on_nodes(seen, rows, cols))])
+    rot, origin = camera[:3, :3], camera[:3, 3]
+    world = pts.reshape(-1, 3)[index].astype(np.float64) @ rot.T + origin
+    nrm_world = nrm.reshape(-1, 3)[index].astype(np.float64) @ rot.T
+    irradiance = room_gather(world, nrm_world, surfels, room, total, ks,
+                             patch_m=patch_m)                               # (1 + F, M)
+    sums = np.empty((len(index), 2 * len(ks) - 1), dtype=np.float32)
+    sums[:, 0] = irradiance[0].real
+    sums[:, 1::2] = irradiance[1:].real.T
+    sums[:, 2::2] = irradiance[1:].imag.T
+    values = np.zeros((len(rows), len(cols), sums.shape[1]), dtype=np.float32)
+    values[node_seen] = sums[:len(node_index)]
+    out = _blend_nodes(seen, weights, missing, values, cy, cx, index, sums, pts,
+                       np.asarray(ks[1:], dtype=np.float32))
+    return out[0], [(out[1 + 2 * j], out[2 + 2 * j]) for j in range(len(frequencies_hz))]
+
+
+def _on_nodes(seen: NDArray[np.bool_], rows: NDArray[np.int64], cols: NDArray[np.int64]
+              ) -> NDArray[np.bool_]:
+    """The pixels of the node grid (already summed as nodes)."""
+    grid = np.zeros(seen.shape, dtype=bool)
+    grid[np.ix_(rows, cols)] = True
+    return grid & seen
