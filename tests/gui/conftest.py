@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import gc
 import os
 import shutil
 import signal
@@ -50,7 +51,7 @@ _own_display_per_xdist_worker()
 if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
     pytest.skip("GUI tests need a display (run them under xvfb-run)", allow_module_level=True)
 
-from PyQt6.QtCore import QSettings  # noqa: E402
+from PyQt6.QtCore import QEvent, QSettings  # noqa: E402
 from PyQt6.QtWidgets import QApplication, QMessageBox  # noqa: E402
 
 from app.main_window import MainWindow  # noqa: E402
@@ -77,6 +78,13 @@ def no_leaked_windows(qapp: QApplication) -> Iterator[None]:
     for w in qapp.topLevelWidgets():
         if w.isVisible():
             w.close()
+    qapp.processEvents()
+    # Delete what this test closed now, not at some later test's event processing: a
+    # pyqtgraph item whose Python wrapper the garbage collector frees while its scene is
+    # still painted crashes the process (seen once in ~190 tests: AxisItem "has been
+    # deleted" in GraphicsView.paintEvent, then a segfault).
+    QApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete.value)
+    gc.collect()
     qapp.processEvents()
     leaked = [w for w in qapp.topLevelWidgets() if w.isVisible()]
     assert not leaked, f"top-level widgets left open: {leaked}"
