@@ -36,7 +36,7 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.widgets import INT_MAX, clear_field_error, show_field_error
+from app.widgets.inputs import INT_MAX, clear_field_error, show_field_error
 from simcore.scene import Project
 from simcore.scene.project_io import project_to_json
 

@@ -27,8 +27,8 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.document import ProjectDocument
-from app.sensors import radar_wavelength_m
+from app.document.document import ProjectDocument
+from app.document.sensors import radar_wavelength_m
 from simcore.scene.asset_import import build_project, default_mapping
 from simcore.scene.assets import AssetScene, read_asset
 from simcore.scene.materials import DualBandMaterial, summarize_material

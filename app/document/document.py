@@ -18,7 +18,8 @@ from pydantic import ValidationError
 from PyQt6.QtCore import QObject, QStandardPaths, pyqtSignal
 from PyQt6.QtGui import QUndoCommand, QUndoStack
 
-from app.validation import FIELD_WORDS, describe_validation_error, plain_name
+from app.document.identity import follow_sensor
+from app.document.validation import FIELD_WORDS, describe_validation_error, plain_name
 from simcore.resources import EXAMPLES_DIR
 from simcore.scene import (
     DualBandMaterial,
@@ -104,7 +105,7 @@ class EditError(ValueError):
 
     ``errors`` holds the model's errors (pydantic's dicts: ``loc``, ``type``, ``ctx``,
     ``input``, in SI), so that the field that was edited can say what is wrong in its own
-    label and unit (:func:`app.field_editors.commit_value`).
+    label and unit (:func:`app.editors.field_editors.commit_value`).
     """
 
     def __init__(self, message: str, *, errors: list[dict[str, Any]] | None = None):
@@ -394,8 +395,6 @@ class ProjectDocument(QObject):
         _MERGE_IDS.clear()
 
     def _set_project(self, project: Project) -> None:
-        from app.sensors import follow_sensor  # app.sensors edits documents: imported late
-
         before, self._project = self._project, project
         moved = []
         for kind, name in list(self._current.items()):

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from app.document import ProjectDocument
+from app.document.document import ProjectDocument
 from simcore.scene.snapshot import take_snapshot
 
 #: Geometry and default material of each kind the "Add" menu offers.

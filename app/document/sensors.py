@@ -5,10 +5,11 @@ optional ``rgb`` field, more sensors in ``rig.sensors``) and further rigs (``rig
 with its ``sensors`` table). This module names where each sensor and rig sits in the project
 document (its field path), checks new names, and applies the sensor editor's structural
 edits (add, copy, rename, remove sensors and rigs) to a project document, each as one undo
-step of :class:`~app.document.ProjectDocument`.
+step of :class:`~app.document.document.ProjectDocument`.
 
-It also follows a sensor through an edit: a panel that shows sensor ``radar_b`` keeps
-showing it when the sensor is renamed (and when the rename is undone).
+How a sensor is followed through an edit lives one level lower, in
+:mod:`app.document.identity` (the document itself needs it); ``follow_sensor`` is
+re-exported here for the editors and panels.
 """
 
 from __future__ import annotations
@@ -17,7 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from app.document import RIG, RIG_KEY_PREFIX, EditError, ProjectDocument
+from app.document.document import RIG, RIG_KEY_PREFIX, EditError, ProjectDocument
+from app.document.identity import follow_sensor
 from simcore.scene import Project
 from simcore.scene.model import (
     NAME_PATTERN,
@@ -144,30 +146,6 @@ def unique_name(project: Project, base: str, *, what: str = "sensor") -> str:
     while name_problem(project, f"{base}_{n}", what=what) is not None:
         n += 1
     return f"{base}_{n}"
-
-
-def follow_sensor(before: Project | None, after: Project, name: str, kind: str) -> str | None:
-    """The name in ``after`` of the sensor called ``name`` in ``before``.
-
-    ``name`` itself while ``after`` has a sensor of ``kind`` by that name; after a rename
-    (the sensor gone, one new sensor with the same configuration on the same rig), the new
-    name; else the first sensor of ``kind`` (None when ``after`` has none).
-    """
-    now = after.sensors_of_kind(kind)
-    if name in now:
-        return name
-    if before is not None:
-        old = before.sensor_configs().get(name)
-        if old is not None:
-            was = before.sensor_configs()
-            new = [n for n, c in now.items() if n not in was and _same_sensor(c, old)]
-            if len(new) == 1:
-                return new[0]
-    return next(iter(now), None)
-
-
-def _same_sensor(a: Any, b: Any) -> bool:
-    return bool(named_sensor(a).model_dump() == named_sensor(b).model_dump())
 
 
 def has_kind(project: Project, kind: str) -> bool:

@@ -8,7 +8,7 @@ those errors into short sentences with the GUI's own names for the fields and qu
 in units with SI prefixes — "chirps / frame must be at least 1 (got 0)", "bandwidth = 150
 GHz is more than 0.5 × start frequency (60 GHz)" — never ``3e+11`` or a whole configuration.
 A field that knows its label and unit words its own errors
-(:meth:`app.field_editors.FieldSpec.explain`).
+(:meth:`app.editors.field_editors.FieldSpec.explain`).
 """
 
 from __future__ import annotations

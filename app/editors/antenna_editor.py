@@ -1,8 +1,8 @@
 """Antenna-array editor: the radar board in millimetres with draggable Tx and Rx elements.
 
-Beside the board, :class:`~app.antenna_table.AntennaTable` lists every element with its
+Beside the board, :class:`~app.editors.antenna_table.AntennaTable` lists every element with its
 name, x and y in millimetres and its pattern, for typing exact values (one undo step per
-cell), and :class:`~app.array_analysis.ArrayAnalysisView` shows the virtual array and its
+cell), and :class:`~app.editors.array_analysis.ArrayAnalysisView` shows the virtual array and its
 beam pattern; all three follow every step of a drag.
 
 * **Nothing is hidden.** Tx are drawn as large squares under the smaller Rx circles, so a Tx
@@ -45,11 +45,11 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.antenna_table import AntennaTable
-from app.array_analysis import VIRTUAL_COLOUR, ArrayAnalysisView, virtual_positions_mm
-from app.document import EditError, ProjectDocument
-from app.sensors import current_radar, current_radar_path, has_kind
-from app.widgets import int_spin, spin
+from app.document.document import EditError, ProjectDocument
+from app.document.sensors import current_radar, current_radar_path, has_kind
+from app.editors.antenna_table import AntennaTable
+from app.editors.array_analysis import VIRTUAL_COLOUR, ArrayAnalysisView, virtual_positions_mm
+from app.widgets.inputs import int_spin, spin
 from simcore.scene import fieldpath
 from simcore.scene import radar_arrays as arrays
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig, aliasing_warnings

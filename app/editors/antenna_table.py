@@ -4,7 +4,7 @@ One row per element (Tx first, then Rx). A committed cell is one edit of the pro
 undo step named in the user's words ("Set x of rx2 to 1.25 mm") — so the board and the
 table always show the same project. A cell that cannot be read, or a value the model
 refuses, is not committed: the table gets the field's red frame with the reason under it
-(:func:`app.widgets.show_field_error`, as every editor of the GUI) and the cell keeps what
+(:func:`app.widgets.inputs.show_field_error`, as every editor of the GUI) and the cell keeps what
 was typed, marked red, for the user to correct.
 
 The pattern column reads ``default`` (the configuration's element pattern), ``cos A×B``
@@ -28,9 +28,9 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.document import EditError, ProjectDocument
-from app.sensors import current_radar, current_radar_path, has_kind
-from app.widgets import clear_field_error, show_field_error
+from app.document.document import EditError, ProjectDocument
+from app.document.sensors import current_radar, current_radar_path, has_kind
+from app.widgets.inputs import clear_field_error, show_field_error
 from simcore.scene import fieldpath
 from simcore.scene.radar_config import CosinePattern, RadarConfig
 

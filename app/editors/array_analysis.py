@@ -21,9 +21,9 @@ from numpy.typing import NDArray
 from PyQt6.QtCore import Qt
 from PyQt6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
 
-from app.document import ProjectDocument
-from app.sensors import current_radar, has_kind
-from app.widgets import spin
+from app.document.document import ProjectDocument
+from app.document.sensors import current_radar, has_kind
+from app.widgets.inputs import spin
 from simcore.scene.radar_config import RadarConfig
 
 #: Angles of the pattern cuts (degrees).
@@ -206,7 +206,7 @@ def array_pattern(config: RadarConfig, *, steer_az_deg: float = 0.0, steer_el_de
 class ArrayAnalysisView(QWidget):
     """The azimuth/elevation beam pattern of the virtual array, updated live.
 
-    (The board, :class:`~app.antenna_editor.AntennaBoardView`, draws the virtual array.)
+    (The board, :class:`~app.editors.antenna_editor.AntennaBoardView`, draws the virtual array.)
     Listens to the document: every antenna edit (each step of a drag included) redraws
     the pattern. The steering direction is a setting of this view, not of the project.
     """

@@ -32,9 +32,9 @@ from pydantic import BaseModel
 from PyQt6.QtCore import QSignalBlocker, pyqtSignal
 from PyQt6.QtWidgets import QCheckBox, QComboBox, QFormLayout, QWidget
 
-from app.document import EditError, ProjectDocument
-from app.validation import BOUND_WORDS, format_number, in_words
-from app.widgets import (
+from app.document.document import EditError, ProjectDocument
+from app.document.validation import BOUND_WORDS, format_number, in_words
+from app.widgets.inputs import (
     BIG,
     INT_MAX,
     IntBox,
@@ -217,7 +217,7 @@ class FieldSpec:
 
     def refusal(self, text: str, box: QWidget, index: int | None = None) -> str:
         """Why typed ``text`` is no value for ``box`` (not a number, or beyond the box)."""
-        from app.widgets import parse_number
+        from app.widgets.inputs import parse_number
 
         value = parse_number(text)
         whole = isinstance(box, IntBox)

@@ -37,11 +37,11 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.document import EditError, ProjectDocument, library_material, library_names
-from app.field_editors import FieldSpec, bind_number_box, commit_value
-from app.sensors import radar_wavelength_m
-from app.widgets import BIG, set_quietly, spin, try_edit
-from app.wrap_row import WrapRow
+from app.document.document import EditError, ProjectDocument, library_material, library_names
+from app.document.sensors import radar_wavelength_m
+from app.editors.field_editors import FieldSpec, bind_number_box, commit_value
+from app.widgets.inputs import BIG, set_quietly, spin, try_edit
+from app.widgets.wrap_row import WrapRow
 from simcore.scene.materials import BandMaterial, DualBandMaterial, summarize_material
 from simcore.scene.radar_config import SPEED_OF_LIGHT
 

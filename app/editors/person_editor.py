@@ -13,7 +13,7 @@ from typing import Any
 from PyQt6.QtCore import QSignalBlocker
 from PyQt6.QtWidgets import QComboBox, QFormLayout, QLineEdit, QSpinBox, QWidget
 
-from app.widgets import set_quietly, spin
+from app.widgets.inputs import set_quietly, spin
 
 GESTURES = ("none", "wave", "swipe_left", "swipe_right", "push", "pull", "circle")
 Setter = Callable[[str, Any, str, QWidget | None], None]

@@ -31,14 +31,13 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.document import EditError, ProjectDocument
-from app.field_editors import FieldForm, FieldSpec
-from app.sensors import (
+from app.document.document import EditError, ProjectDocument
+from app.document.identity import follow_sensor
+from app.document.sensors import (
     KIND_WORDS,
     add_rig,
     add_sensor,
     copy_sensor,
-    follow_sensor,
     is_built_in,
     removal_refusal,
     remove_rig,
@@ -50,8 +49,9 @@ from app.sensors import (
     rig_key,
     sensor_path,
 )
-from app.widgets import clear_field_error, try_edit
-from app.wrap_row import WrapRow
+from app.editors.field_editors import FieldForm, FieldSpec
+from app.widgets.inputs import clear_field_error, try_edit
+from app.widgets.wrap_row import WrapRow
 from simcore.scene import Project
 from simcore.scene.model import sensor_kind
 

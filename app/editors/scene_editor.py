@@ -31,11 +31,9 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.document import RIG, EditError, ProjectDocument
-from app.field_editors import FieldSpec, bind_number_box, commit_path
-from app.mesh_import import MeshImportDialog
-from app.person_editor import PersonMotionRows
-from app.scene_edits import (
+from app.dialogs.mesh_import import MeshImportDialog
+from app.document.document import RIG, EditError, ProjectDocument
+from app.document.scene_edits import (
     KIND_LABELS,
     NEW_OBJECTS,
     add_object,
@@ -44,8 +42,10 @@ from app.scene_edits import (
     import_mesh,
     rename_object,
 )
-from app.sensors import is_rig_key, radar_wavelength_m, rig_key, rig_of_key, rig_path
-from app.widgets import BIG, VectorEdit, set_quietly, spin, try_edit
+from app.document.sensors import is_rig_key, radar_wavelength_m, rig_key, rig_of_key, rig_path
+from app.editors.field_editors import FieldSpec, bind_number_box, commit_path
+from app.editors.person_editor import PersonMotionRows
+from app.widgets.inputs import BIG, VectorEdit, set_quietly, spin, try_edit
 from simcore.scene import Project, fieldpath
 from simcore.scene.model import sensor_kind
 

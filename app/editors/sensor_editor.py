@@ -27,8 +27,9 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.document import ProjectDocument
-from app.field_editors import (
+from app.document.document import ProjectDocument
+from app.document.sensors import KIND_WORDS, sensor_path, sensor_states
+from app.editors.field_editors import (
     DETECTION,
     LINK_BUDGET,
     PROCESSING,
@@ -39,10 +40,9 @@ from app.field_editors import (
     bind_number_box,
     commit_path,
 )
-from app.rig_editor import RigSensorList
-from app.sensors import KIND_WORDS, sensor_path, sensor_states
-from app.tof_effects import TofEffectsBox
-from app.widgets import (
+from app.editors.rig_editor import RigSensorList
+from app.editors.tof_effects import TofEffectsBox
+from app.widgets.inputs import (
     BIG,
     INT_MAX,
     NumberBox,
@@ -53,7 +53,7 @@ from app.widgets import (
     spin,
     try_edit,
 )
-from app.wrap_row import WrapRow
+from app.widgets.wrap_row import WrapRow
 from simcore.scene import Project, fieldpath
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig, aliasing_warnings
 from simcore.scene.radar_presets import RADAR_PRESETS
@@ -231,7 +231,7 @@ SENSOR_FIELDS: dict[str, FieldSpec] = {
 class SensorEditor(QScrollArea):
     """Edit the rigs and sensors, and the ToF camera and radar picked; derived quantities.
 
-    The first page lists every rig and sensor (:class:`app.rig_editor.RigSensorList`); the
+    The first page lists every rig and sensor (:class:`app.editors.rig_editor.RigSensorList`); the
     Radar, Link budget and ToF camera pages edit the radar and ToF camera picked there
     (:meth:`ProjectDocument.current_sensor`), the built-in ones until another is picked.
     """

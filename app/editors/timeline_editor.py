@@ -2,7 +2,7 @@
 
 Edits go through the document (one undo step each) and are saved with the project
 (``timeline.duration_s``, ``timeline.frame_rate_hz``, ``seed``). The fields take the one
-validation path of every editor (:func:`app.field_editors.commit_value`): −1 s, a frame
+validation path of every editor (:func:`app.editors.field_editors.commit_value`): −1 s, a frame
 rate of 0 or a seed of −3 are refused at the field with the reason, never clamped.
 """
 
@@ -11,8 +11,8 @@ from __future__ import annotations
 from PyQt6.QtCore import pyqtSignal
 from PyQt6.QtWidgets import QGroupBox, QLabel, QVBoxLayout, QWidget
 
-from app.document import ProjectDocument
-from app.field_editors import FieldForm, FieldSpec
+from app.document.document import ProjectDocument
+from app.editors.field_editors import FieldForm, FieldSpec
 
 #: Limits of the GUI beyond the model's (which only asks for positive values).
 MAX_DURATION_S = 3600.0

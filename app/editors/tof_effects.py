@@ -11,7 +11,7 @@ from typing import Any
 
 from PyQt6.QtWidgets import QCheckBox, QGridLayout, QGroupBox, QWidget
 
-from app.widgets import set_quietly
+from app.widgets.inputs import set_quietly
 
 #: (field, label, tooltip) of every ToF effect switch.
 TOF_EFFECTS: tuple[tuple[str, str, str], ...] = (

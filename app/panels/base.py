@@ -36,8 +36,8 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
+from app.document.identity import follow_sensor
 from app.frame_view import FrameView, ObjectMarks
-from app.sensors import follow_sensor
 from simcore.dsp.profile import range_profile_cfar
 from simcore.scene import Project
 from simcore.scene.dsp_config import DspConfig

@@ -9,7 +9,7 @@ from PyQt6.QtCore import QPointF
 from PyQt6.QtWidgets import QWidget
 
 from app.frame_view import FrameView
-from app.panels import LivePanel, _set_text
+from app.panels.base import LivePanel, _set_text
 
 
 class RgbPanel(LivePanel):

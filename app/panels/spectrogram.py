@@ -24,7 +24,7 @@ from PyQt6.QtCore import QPointF, QRectF, Qt
 from PyQt6.QtWidgets import QWidget
 
 from app.frame_view import FrameView
-from app.panels import (
+from app.panels.base import (
     LivePanel,
     _colour_bar,
     _image_plot,

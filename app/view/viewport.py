@@ -1,6 +1,6 @@
 """The central 3D viewport: scene, sensor rig, fields of view, radar point cloud, gizmo.
 
-The viewport listens to the :class:`~app.document.ProjectDocument`: it draws every object
+The viewport listens to the :class:`~app.document.document.ProjectDocument`: it draws every object
 at the current time, highlights the selection, and attaches a transform gizmo (arrows to
 move along the world axes, rings to rotate about them) to the selected object or to the
 rig. Clicking an object selects it. Gizmo drags go through :meth:`SceneViewport.drag_to`,
@@ -21,10 +21,11 @@ from PyQt6.QtWidgets import QButtonGroup, QHBoxLayout, QLabel, QToolButton, QVBo
 from pyvista.plotting.affine_widget import AffineWidget3D
 from vtkmodules.vtkRenderingCore import vtkBillboardTextActor3D, vtkPropPicker
 
-from app.document import EditError, ProjectDocument
+from app.document.document import EditError, ProjectDocument
+from app.document.sensors import rig_key, rig_of_key, rig_path, rig_states, sensor_states
 from app.frame_view import FrameView
-from app.offscreen_view import OffscreenCanvas
-from app.scene_geometry import (
+from app.view.offscreen_view import OffscreenCanvas
+from app.view.scene_geometry import (
     RADAR_COLOUR,
     RGB_COLOUR,
     SELECTION_COLOUR,
@@ -37,7 +38,6 @@ from app.scene_geometry import (
     material_colour,
     radar_fov_v_deg,
 )
-from app.sensors import rig_key, rig_of_key, rig_path, rig_states, sensor_states
 from simcore.scene import Project
 from simcore.scene.materials import BandMaterial
 from simcore.scene.model import sensor_kind

@@ -23,7 +23,7 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.document import EditError
+from app.document.document import EditError
 
 BIG = 1e9
 #: Widest range of integer spin boxes (Qt's are 32-bit).
@@ -45,7 +45,7 @@ class _TextRefusal:
 
     Qt's spin boxes swallow keys they cannot parse and put back the previous value when a
     typed one is out of their range, without a word. Once something listens to
-    ``textRefused`` (:func:`app.field_editors.bind_number_box` does), a box accepts any
+    ``textRefused`` (:func:`app.editors.field_editors.bind_number_box` does), a box accepts any
     text while typing, and on Enter or when focus leaves with text that is not a value in
     its range, it emits ``textRefused(text)`` and keeps the text, so the field can say why.
     Nothing is committed. Unbound boxes behave as Qt's.
@@ -246,7 +246,7 @@ class VectorEdit(QWidget):
         unit off (``x 0.00 °/``) or pushes them past the dock's edge; with it the boxes
         that do not fit beside the others wrap onto a second line (issue #34).
         """
-        from app.wrap_row import WrapRow
+        from app.widgets.wrap_row import WrapRow
 
         layout = self.layout()
         assert layout is not None
