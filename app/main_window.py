@@ -58,16 +58,13 @@ from app.editors.scene_editor import ObjectInspector, ObjectListPanel, build_add
 from app.editors.sensor_editor import SensorEditor
 from app.editors.timeline_editor import TimelineEditor
 from app.frame_view import FrameView
-from app.panels.base import (
-    LivePanel,
-    RangeAzimuthPanel,
-    RangeDopplerPanel,
-    RangeProfilePanel,
-    TofPanel,
-    cache_axes,
-)
+from app.panels.base import LivePanel, cache_axes
+from app.panels.range_azimuth import RangeAzimuthPanel
+from app.panels.range_doppler import RangeDopplerPanel
+from app.panels.range_profile import RangeProfilePanel
 from app.panels.rgb import RgbPanel
 from app.panels.spectrogram import SpectrogramPanel
+from app.panels.tof import TofPanel
 from app.simulation import SimulationController
 from app.view.viewport import SceneViewport
 from app.widgets.time_controls import TimeBar, TimeController
