@@ -1,6 +1,6 @@
 """Exports: the headless dataset job in a thread, its dialog, and PNG images of the panels.
 
-The dataset job is :func:`simcore.runner.run_dataset`, the same one ``tofradar run`` uses; the
+The dataset job is :func:`simcore.runs.runner.run_dataset`, the same one ``tofradar run`` uses; the
 GUI shows its progress in a dialog whose Cancel button stops it after the current frame.
 :class:`ExportDialog` asks for what ``tofradar run`` takes (issue #34): destination and
 format (HDF5 ``.h5``, a Zarr store ``.zarr`` or MCAP ``.mcap``), frames or duration, seed,
@@ -48,7 +48,7 @@ SUFFIX_WORDS = ", ".join(list(FORMATS.values())[:-1]) + f" or {list(FORMATS.valu
 
 
 class DatasetExportJob(QThread):
-    """Runs :func:`simcore.runner.run_dataset` (the CLI's ``tofradar run``) off the GUI thread.
+    """Runs :func:`simcore.runs.runner.run_dataset` (the CLI's ``tofradar run``) off the GUI thread.
 
     Signals
     -------
@@ -84,7 +84,7 @@ class DatasetExportJob(QThread):
         self._cancel.set()
 
     def run(self) -> None:  # noqa: D102 - QThread API
-        from simcore.runner import run_dataset
+        from simcore.runs.runner import run_dataset
 
         def on_frame(done: int, total: int, result: Any) -> bool:
             if self.preview_dir is not None:
@@ -228,7 +228,7 @@ class ExportDialog(QDialog):
 
     def n_frames(self) -> int:
         """Frames the export writes (from frames, or duration × frame rate)."""
-        from simcore.runner import frame_count
+        from simcore.runs.runner import frame_count
 
         if self.by_frames.isChecked():
             return frame_count(self.frames.value(), None, self.frame_rate_hz, 0)
