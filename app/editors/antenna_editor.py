@@ -442,6 +442,25 @@ class AntennaEditor(QWidget):
         side_widget = QWidget()
         side = QVBoxLayout(side_widget)
         side.setContentsMargins(2, 0, 2, 0)
+        self._build_view_options(side)
+        side.addWidget(self._build_presets())
+        side.addLayout(self._build_element_buttons())
+        side.addStretch(1)
+        scroll = QScrollArea()
+        scroll.setWidgetResizable(True)
+        scroll.setWidget(side_widget)
+        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        for combo in (self.snap_mode, self.layout_combo):
+            combo.setSizeAdjustPolicy(
+                QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+            combo.setMinimumContentsLength(8)
+        self.side_widget = side_widget
+        scroll.setMinimumWidth(side_widget.minimumSizeHint().width()
+                               + scroll.verticalScrollBar().sizeHint().width() + 4)
+        return scroll
+
+    def _build_view_options(self, side: QVBoxLayout) -> None:
+        """Snap mode, the virtual-array switch, and the info, warning and note lines."""
         row = QHBoxLayout()
         row.addWidget(QLabel("snap"))
         self.snap_mode = QComboBox()
@@ -473,6 +492,9 @@ class AntennaEditor(QWidget):
         self.notes.setWordWrap(True)
         self.notes.setToolTip("Elements drawn at one spot: all of them can still be picked")
         side.addWidget(self.notes)
+
+    def _build_presets(self) -> QGroupBox:
+        """The layout preset box: layout, element count, URA grid, spacing, Apply."""
         presets = QGroupBox("Layout preset (Rx)")
         form = QFormLayout(presets)
         self.layout_combo = QComboBox()
@@ -502,7 +524,10 @@ class AntennaEditor(QWidget):
         apply.setToolTip("Replace the Rx elements (and for MIMO the Tx) by this layout")
         apply.clicked.connect(lambda: self.apply_layout(self.layout_combo.currentText()))
         form.addRow(apply)
-        side.addWidget(presets)
+        return presets
+
+    def _build_element_buttons(self) -> QGridLayout:
+        """+ Rx, − Rx, + Tx, − Tx."""
         buttons = QGridLayout()
         self.add_rx_button = QPushButton("+ Rx")
         self.add_rx_button.setToolTip("Add a receive element one pitch right of the longest "
@@ -519,20 +544,7 @@ class AntennaEditor(QWidget):
         for k, b in enumerate((self.add_rx_button, self.remove_rx_button, self.add_tx_button,
                                self.remove_tx_button)):
             buttons.addWidget(b, k // 2, k % 2)
-        side.addLayout(buttons)
-        side.addStretch(1)
-        scroll = QScrollArea()
-        scroll.setWidgetResizable(True)
-        scroll.setWidget(side_widget)
-        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
-        for combo in (self.snap_mode, self.layout_combo):
-            combo.setSizeAdjustPolicy(
-                QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
-            combo.setMinimumContentsLength(8)
-        self.side_widget = side_widget
-        scroll.setMinimumWidth(side_widget.minimumSizeHint().width()
-                               + scroll.verticalScrollBar().sizeHint().width() + 4)
-        return scroll
+        return buttons
 
     def _refit(self) -> None:
         """A new project: fit the board to it on the next refresh."""

@@ -283,6 +283,28 @@ class MaterialEditor(QWidget):
         self._library = library_names()
         layout = QVBoxLayout(self)
         layout.setContentsMargins(4, 4, 4, 4)
+        self._build_picker(layout)
+        #: Material picked here (list, Edit…, Save as) rather than the selected object's;
+        #: dropped when the selection or the selected object's material changes.
+        self._pinned: str | None = None
+        #: (selected object id, its material) when last shown: a change unpins.
+        self._followed: tuple[int | None, str | None] = (None, None)
+        #: Shared-material edits already agreed to: (material, object id, users).
+        self._agreed: set[tuple[str, int, tuple[str, ...]]] = set()
+        #: ``ask_shared_edit(material, users, object)`` → "all", "unique" or "cancel":
+        #: asked before the first edit of a material the selected object shares.
+        self.ask_shared_edit: Callable[[str, list[str], str], str] = self._ask_shared_edit
+        self._build_notes(layout)
+        self._build_bands(layout)
+        self._build_buttons(layout)
+        layout.addStretch(1)
+        self.setStyleSheet(STYLE_SHEET)
+        document.projectChanged.connect(self.refresh)
+        document.selectionChanged.connect(self._follow_selection)
+        self.refresh()
+
+    def _build_picker(self, layout: QVBoxLayout) -> None:
+        """The top row: material list, Assign to selected, and the colour button."""
         top = QHBoxLayout()
         self.combo = QComboBox()
         self.combo.setToolTip("Materials of the library and of the project (• = saved in the "
@@ -300,16 +322,9 @@ class MaterialEditor(QWidget):
                                      "and the 3D view show")
         self.color_button.clicked.connect(self._pick_color)
         top.insertWidget(2, self.color_button)
-        #: Material picked here (list, Edit…, Save as) rather than the selected object's;
-        #: dropped when the selection or the selected object's material changes.
-        self._pinned: str | None = None
-        #: (selected object id, its material) when last shown: a change unpins.
-        self._followed: tuple[int | None, str | None] = (None, None)
-        #: Shared-material edits already agreed to: (material, object id, users).
-        self._agreed: set[tuple[str, int, tuple[str, ...]]] = set()
-        #: ``ask_shared_edit(material, users, object)`` → "all", "unique" or "cancel":
-        #: asked before the first edit of a material the selected object shares.
-        self.ask_shared_edit: Callable[[str, list[str], str], str] = self._ask_shared_edit
+
+    def _build_notes(self, layout: QVBoxLayout) -> None:
+        """Whose material is shown, its description, its users and Make unique."""
         self.selection_note = QLabel("")
         self.selection_note.setWordWrap(True)
         self.selection_note.setToolTip("Whose material the editor shows")
@@ -329,6 +344,9 @@ class MaterialEditor(QWidget):
         self.unique_button.clicked.connect(self.make_selected_unique)
         users.addWidget(self.unique_button)
         layout.addLayout(users)
+
+    def _build_bands(self, layout: QVBoxLayout) -> None:
+        """One editor per band (ToF, radar, visible), stacked when the column is narrow."""
         bands = WrapRow()  # band columns stack when narrow: none is cut off (issue #34)
         self.tof_editor = BandEditor("tof")
         self.radar_editor = BandEditor("radar")
@@ -338,6 +356,9 @@ class MaterialEditor(QWidget):
             bands.add(ed)
         layout.addWidget(bands)
         self.bands = bands
+
+    def _build_buttons(self, layout: QVBoxLayout) -> None:
+        """Invisible to radar / ToF, Save into project as…, Revert to library."""
         buttons = QHBoxLayout()
         self.radar_invisible = QPushButton("Invisible to radar")
         self.radar_invisible.setCheckable(True)
@@ -360,11 +381,6 @@ class MaterialEditor(QWidget):
             buttons.addWidget(b)
         buttons.addStretch(1)
         layout.addLayout(buttons)
-        layout.addStretch(1)
-        self.setStyleSheet(STYLE_SHEET)
-        document.projectChanged.connect(self.refresh)
-        document.selectionChanged.connect(self._follow_selection)
-        self.refresh()
 
     @property
     def current(self) -> str:

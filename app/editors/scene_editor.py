@@ -305,7 +305,20 @@ class ObjectInspector(QScrollArea):
         self.heading.setStyleSheet("font-weight: bold;")
         outer.addWidget(self.heading)
 
-        # Object box: name, material, geometry.
+        self._build_object_box(outer)
+        self._build_pose_box(outer)
+        self._build_motion_box(outer)
+        outer.addStretch(1)
+        self._fit_narrow_column(body)
+
+        #: Current time of the time controls (s); set by the main window.
+        self.time_source: Any = None
+        document.projectChanged.connect(self.refresh)
+        document.selectionChanged.connect(self.refresh)
+        self.refresh()
+
+    def _build_object_box(self, outer: QVBoxLayout) -> None:
+        """The Object box: name, material (with its Edit… button) and geometry rows."""
         self.object_box = QGroupBox("Object")
         form = QFormLayout(self.object_box)
         self.name_edit = QLineEdit()
@@ -333,7 +346,8 @@ class ObjectInspector(QScrollArea):
         self._geometry_widgets: dict[str, Any] = {}
         outer.addWidget(self.object_box)
 
-        # Pose.
+    def _build_pose_box(self, outer: QVBoxLayout) -> None:
+        """The Pose box: position and rotation in the world frame."""
         self.pose_box = QGroupBox("Pose (world frame, x-y-z extrinsic Euler)")
         pform = QFormLayout(self.pose_box)
         self.position_edit = VectorEdit(suffix="m", decimals=3, step=0.05,
@@ -347,7 +361,8 @@ class ObjectInspector(QScrollArea):
         pform.addRow("rotation", self.rotation_edit)
         outer.addWidget(self.pose_box)
 
-        # Motion.
+    def _build_motion_box(self, outer: QVBoxLayout) -> None:
+        """The Motion box: constant velocities, the keyframe repeat mode and keyframes."""
         self.motion_box = QGroupBox("Motion")
         mform = QFormLayout(self.motion_box)
         self.velocity_edit = VectorEdit(suffix="m/s", decimals=3, step=0.1,
@@ -366,6 +381,11 @@ class ObjectInspector(QScrollArea):
         mform.addRow("velocity", self.velocity_edit)
         mform.addRow("angular velocity", self.angular_edit)
         mform.addRow("keyframes repeat", self.repeat_combo)
+        self._build_keyframes(mform)
+        outer.addWidget(self.motion_box)
+
+    def _build_keyframes(self, form: QFormLayout) -> None:
+        """The keyframe table and its Add / Remove buttons, as rows of ``form``."""
         self.keyframe_table = QTableWidget(0, 7)
         self.keyframe_table.setHorizontalHeaderLabels(
             ["t (s)", "x (m)", "y (m)", "z (m)", "rx (°)", "ry (°)", "rz (°)"])
@@ -376,7 +396,7 @@ class ObjectInspector(QScrollArea):
                                        "Use either keyframes or constant velocities.")
         self.keyframe_table.setMinimumHeight(90)
         self.keyframe_table.itemChanged.connect(self._on_keyframe_edited)
-        mform.addRow(self.keyframe_table)
+        form.addRow(self.keyframe_table)
         kf_buttons = QHBoxLayout()
         self.add_keyframe_button = QPushButton("Add keyframe")
         self.add_keyframe_button.setToolTip(
@@ -389,9 +409,11 @@ class ObjectInspector(QScrollArea):
         kf_buttons.addWidget(self.add_keyframe_button)
         kf_buttons.addWidget(self.remove_keyframe_button)
         kf_buttons.addStretch(1)
-        mform.addRow(kf_buttons)
-        outer.addWidget(self.motion_box)
-        outer.addStretch(1)
+        form.addRow(kf_buttons)
+
+    @staticmethod
+    def _fit_narrow_column(body: QWidget) -> None:
+        """Let long form rows wrap and vector boxes fit their text (narrow Scene column)."""
         # In a narrow Scene column (1366×768) a row whose label and fields do not fit puts
         # its fields under the label instead of pushing them past the dock's edge (issue
         # #34: position, rotation and velocity were cut off behind a horizontal scroll bar).
@@ -399,12 +421,6 @@ class ObjectInspector(QScrollArea):
             form_layout.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
         for vector in body.findChildren(VectorEdit):
             vector.fit_text()
-
-        #: Current time of the time controls (s); set by the main window.
-        self.time_source: Any = None
-        document.projectChanged.connect(self.refresh)
-        document.selectionChanged.connect(self.refresh)
-        self.refresh()
 
     # --- paths ------------------------------------------------------------------------
     def _base_path(self) -> str | None:
