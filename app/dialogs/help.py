@@ -72,7 +72,7 @@ keys.</p>
 
 def docs_folder() -> Path | None:
     """The documentation folder of a source checkout (``None`` in an installed wheel)."""
-    folder = Path(__file__).resolve().parent.parent / "docs"
+    folder = Path(__file__).resolve().parents[2] / "docs"  # app/dialogs/help.py → checkout
     return folder if (folder / "gui.md").is_file() else None
 
 
