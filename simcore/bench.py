@@ -20,6 +20,7 @@ import threading
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -274,55 +275,81 @@ def run_benchmark(project_path: str | Path, *, frames: int, subset: int = 1000,
     """
     path = Path(project_path)
     project = load_project(path)
-    radar = first_of_kind(project, "radar")
     load_before = _load()
     with Simulator(project, base_dir=path.parent) as sim:
         n_frames = max(sim.n_frames, 1)
         sim.frame(0)
-        stage_times: dict[str, list[float]] = {}
-        walls, cpus, latencies, transformed = [], [], [], []
         indices = [(i + 1) % n_frames for i in range(frames)]
         index = indices[-1]
-        c0, t0 = time.process_time(), time.perf_counter()
-        # As a headless run computes them: consecutive frames overlapped (Simulator.frames).
-        with thread_cpu(frames) as threads:
-            for frame in sim.frames(indices):
-                c1, t1 = time.process_time(), time.perf_counter()
-                walls.append((t1 - t0) * 1e3)
-                cpus.append((c1 - c0) * 1e3)
-                c0, t0 = c1, t1
-                latencies.append(frame.timings_ms["total"])
-                if radar in frame.outputs:
-                    transformed.append(frame.outputs[radar].raw.transformed_scatterers)
-                for name, value in frame.timings_ms.items():
-                    if name != "total":
-                        stage_times.setdefault(name, []).append(value)
+        timed = _time_frames(sim, indices, first_of_kind(project, "radar"))
         load_after = _load()
         latency = antenna_edit_latency(sim, index, edits=antenna_edits) if antenna_edits \
             else float("nan")
-        radar_stats = _radar_stats(sim, frame, index, subset=subset)
+        radar_stats = _radar_stats(sim, timed.last, index, subset=subset)
         triangles = len(sim.engine.renderer.geometry.triangles)
-    frame_ms = _median(walls)
     return {
         "project": str(path),
         "frames": frames,
-        "fps": 1e3 / frame_ms if frame_ms > 0 else float("inf"),
-        "frame_ms_median": frame_ms,
-        "frame_ms_p90": float(np.percentile(walls, 90)) if walls else float("nan"),
-        "cpu_ms_median": _median(cpus),
-        "thread_cpu_ms": threads["thread_cpu_ms"],
-        "two_core_floor_ms": threads["two_core_floor_ms"],
-        "latency_ms_median": _median(latencies),
-        "stages_ms": {name: _median(values) for name, values in stage_times.items()},
+        **timed.summary(),
         **radar_stats,
         "antenna_edit_ms": latency,
-        "scatterers_transformed": (_median([float(x) for x in transformed]) if transformed
-                                   else float("nan")),
+        "scatterers_transformed": (_median([float(x) for x in timed.transformed])
+                                   if timed.transformed else float("nan")),
         "triangles": triangles,
         "sensors": {name: sensor_kind(cfg) for name, cfg in project.sensor_configs().items()},
         "config": _bench_config(project),
         "machine": {**_machine(), "load_before": load_before, "load_after": load_after},
     }
+
+
+@dataclass
+class _FrameTimes:
+    """What :func:`_time_frames` measured, one entry per timed frame."""
+
+    walls: list[float] = field(default_factory=list)        # frame intervals (ms)
+    cpus: list[float] = field(default_factory=list)         # process CPU per frame (ms)
+    latencies: list[float] = field(default_factory=list)    # start to result (ms)
+    transformed: list[int] = field(default_factory=list)    # scatterers transformed
+    stages: dict[str, list[float]] = field(default_factory=dict)  # stage wall times (ms)
+    threads: dict[str, Any] = field(default_factory=dict)   # :func:`thread_cpu`'s figures
+    last: Any = None                                        # the last frame computed
+
+    def summary(self) -> dict[str, Any]:
+        """Frame rate, medians and percentiles, per-thread CPU and per-stage times."""
+        frame_ms = _median(self.walls)
+        return {
+            "fps": 1e3 / frame_ms if frame_ms > 0 else float("inf"),
+            "frame_ms_median": frame_ms,
+            "frame_ms_p90": float(np.percentile(self.walls, 90)) if self.walls
+            else float("nan"),
+            "cpu_ms_median": _median(self.cpus),
+            "thread_cpu_ms": self.threads["thread_cpu_ms"],
+            "two_core_floor_ms": self.threads["two_core_floor_ms"],
+            "latency_ms_median": _median(self.latencies),
+            "stages_ms": {name: _median(values) for name, values in self.stages.items()},
+        }
+
+
+def _time_frames(sim: Simulator, indices: list[int], radar: str | None) -> _FrameTimes:
+    """Time frames ``indices`` as a headless run computes them (Simulator.frames)."""
+    timed = _FrameTimes()
+    c0, t0 = time.process_time(), time.perf_counter()
+    # Consecutive frames overlapped, as in a headless run.
+    with thread_cpu(len(indices)) as threads:
+        for frame in sim.frames(indices):
+            c1, t1 = time.process_time(), time.perf_counter()
+            timed.walls.append((t1 - t0) * 1e3)
+            timed.cpus.append((c1 - c0) * 1e3)
+            c0, t0 = c1, t1
+            timed.latencies.append(frame.timings_ms["total"])
+            if radar in frame.outputs:
+                timed.transformed.append(frame.outputs[radar].raw.transformed_scatterers)
+            for name, value in frame.timings_ms.items():
+                if name != "total":
+                    timed.stages.setdefault(name, []).append(value)
+            timed.last = frame
+    timed.threads = threads
+    return timed
 
 
 def _radar_stats(sim: Simulator, frame: Any, index: int, *, subset: int) -> dict[str, Any]:

@@ -496,9 +496,16 @@ LINK_BUDGET = [
               "random phase of each surface facet's diffuse part, fixed to the surface "
               "(rough-surface speckle)", kind="bool"),
     FieldSpec("rig.radar.multipath_order", "multipath order", "",
-              "radar ghosts via flat metal reflectors (image method): 0 none, 1 one "
-              "bounce on the wall (either leg), 2 both legs; order 1 costs about 1.5× the "
-              "synthesis, order 2 about 2.7×", kind="int"),
+              "radar ghosts via every smooth planar face (image method, Fresnel at the "
+              "path's angle): 0 none; 1 one bounce on either leg, the room's edges "
+              "(two faces); 2 also both legs, two different faces, the room's corners",
+              kind="int"),
+    FieldSpec("rig.radar.polarization", "polarisation", "",
+              "linear polarisation of the antennas (V: board y, H: board x): the Fresnel "
+              "TE/TM mix of every multipath bounce", kind="choice", choices=("V", "H")),
+    FieldSpec("rig.radar.ideal", "ideal sensor", "",
+              "no receiver noise and no ADC quantisation (validation, ground truth)",
+              kind="bool"),
     FieldSpec("rig.radar.rig_front_width_m", "rig front width", "mm",
               "width of the rig's own front around the antennas (board or radome), which "
               "returns a flat metal reflector's echo to it once more: an echo at twice the "

@@ -816,36 +816,11 @@ def estimate_angles(
     """
     x = np.asarray(snapshots).astype(np.complex128, copy=False)
     n = x.shape[0]
-    zeros = np.zeros(n)
     if n == 0:
-        return zeros, zeros.copy()
+        return np.zeros(n), np.zeros(n)
     if method in ("monopulse", "fft"):
-        el = zeros.copy()
-        if layout.vertical_pairs.size:
-            a, b = layout.vertical_pairs[:, 0], layout.vertical_pairs[:, 1]
-            z = np.sum(x[:, a] * np.conj(x[:, b]), axis=1)
-            u_y = monopulse_direction_cosine(z, np.ones_like(z),
-                                             baseline_m=layout.vertical_spacing_m,
-                                             wavelength_m=wavelength_m)
-            el = np.arcsin(-u_y)
-        if method == "monopulse":
-            if not layout.horizontal_pairs.size:
-                return zeros, el
-            a, b = layout.horizontal_pairs[:, 0], layout.horizontal_pairs[:, 1]
-            z = np.sum(x[:, a] * np.conj(x[:, b]), axis=1)
-            u_x = monopulse_direction_cosine(z, np.ones_like(z),
-                                             baseline_m=layout.horizontal_spacing_m,
-                                             wavelength_m=wavelength_m)
-        else:
-            spec, freq = fft_beamform(x, layout, fft_size=fft_size)
-            p_db = 10.0 * np.log10(np.maximum(np.abs(spec.astype(np.complex128)) ** 2, 1e-300))
-            k = np.argmax(p_db, axis=1)
-            f = _refine_grid_peak(p_db, k, freq)
-            u_x = -f * wavelength_m / layout.row_spacing_m
-        cos_el = np.maximum(np.cos(el), 1e-9)
-        az = np.arcsin(np.clip(u_x / cos_el, -1.0, 1.0))
-        return az, el
-
+        return _phase_angles(x, layout, wavelength_m=wavelength_m, method=method,
+                             fft_size=fft_size)
     az_grid = np.asarray(azimuth_grid_rad, dtype=np.float64)
     el_grid = np.asarray(elevation_grid_rad, dtype=np.float64)
     if not layout.has_horizontal_extent:
@@ -854,27 +829,89 @@ def estimate_angles(
         el_grid = np.zeros(1)
     grid = _grid_steering(np.asarray(layout.positions_m, dtype=np.float64), wavelength_m,
                           az_grid, el_grid)
-
-    def db(p: NDArray[np.float64]) -> NDArray[np.float64]:
-        return 10.0 * np.log10(np.maximum(p, 1e-300))
-
     if method == "bartlett":
-        # Compiled search: the maximum and its four neighbours, no (n, grid) temporaries.
-        flat = np.empty(n, dtype=np.int64)
-        cut = np.empty((n, 5))
-        _bartlett_grid_peaks(np.ascontiguousarray(x), grid.steer_h_re, grid.steer_h_im,
-                             az_grid.size, flat, cut)
-        i_el, i_az = np.divmod(flat, az_grid.size)
-        cut_db = db(cut)
-        az = _refine_peak_3(cut_db[:, 1], cut_db[:, 0], cut_db[:, 2], i_az, az_grid)
-        el = _refine_peak_3(cut_db[:, 3], cut_db[:, 0], cut_db[:, 4], i_el, el_grid)
-        return az, el
+        return _bartlett_angles(x, grid, az_grid, el_grid)
     if method != "capon":
         raise ValueError(f"unknown angle method {method!r}")
     if covariances is None:
         raise ValueError("Capon angle estimation needs the covariances")
+    return _capon_angles(x, np.asarray(covariances), grid, az_grid, el_grid,
+                         diagonal_loading=diagonal_loading)
+
+
+def _db(p: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Power in dB, floored at 1e-300 before the logarithm."""
+    return 10.0 * np.log10(np.maximum(p, 1e-300))
+
+
+def _pair_phase(x: NDArray[np.complex128], pairs: NDArray[np.int64]) -> NDArray[np.complex128]:
+    """Sum over element ``pairs`` (k, 2) of ``x[:, a] * conj(x[:, b])``, per snapshot."""
+    a, b = pairs[:, 0], pairs[:, 1]
+    return np.sum(x[:, a] * np.conj(x[:, b]), axis=1)
+
+
+def _phase_angles(x: NDArray[np.complex128], layout: ArrayLayout, *, wavelength_m: float,
+                  method: AngleMethod, fft_size: int) -> tuple[NDArray[np.float64],
+                                                              NDArray[np.float64]]:
+    """Monopulse or FFT angles: elevation by vertical monopulse, then azimuth."""
+    n = x.shape[0]
+    el = np.zeros(n)
+    if layout.vertical_pairs.size:
+        z = _pair_phase(x, layout.vertical_pairs)
+        u_y = monopulse_direction_cosine(z, np.ones_like(z),
+                                         baseline_m=layout.vertical_spacing_m,
+                                         wavelength_m=wavelength_m)
+        el = np.arcsin(-u_y)
+    if method == "monopulse":
+        if not layout.horizontal_pairs.size:
+            return np.zeros(n), el
+        z = _pair_phase(x, layout.horizontal_pairs)
+        u_x = monopulse_direction_cosine(z, np.ones_like(z),
+                                         baseline_m=layout.horizontal_spacing_m,
+                                         wavelength_m=wavelength_m)
+    else:
+        u_x = _fft_direction_cosine(x, layout, wavelength_m=wavelength_m, fft_size=fft_size)
+    cos_el = np.maximum(np.cos(el), 1e-9)
+    az = np.arcsin(np.clip(u_x / cos_el, -1.0, 1.0))
+    return az, el
+
+
+def _fft_direction_cosine(x: NDArray[np.complex128], layout: ArrayLayout, *,
+                          wavelength_m: float, fft_size: int) -> NDArray[np.float64]:
+    """``sin az cos el`` from the refined peak of the zero-padded FFT over the row."""
+    spec, freq = fft_beamform(x, layout, fft_size=fft_size)
+    p_db = 10.0 * np.log10(np.maximum(np.abs(spec.astype(np.complex128)) ** 2, 1e-300))
+    k = np.argmax(p_db, axis=1)
+    f = _refine_grid_peak(p_db, k, freq)
+    u_x: NDArray[np.float64] = -f * wavelength_m / layout.row_spacing_m
+    return u_x
+
+
+def _bartlett_angles(x: NDArray[np.complex128], grid: _GridSteering,
+                     az_grid: NDArray[np.float64], el_grid: NDArray[np.float64]) -> tuple[
+        NDArray[np.float64], NDArray[np.float64]]:
+    """Maximum of the Bartlett spectrum over the grid, refined along both cuts."""
+    n = x.shape[0]
+    # Compiled search: the maximum and its four neighbours, no (n, grid) temporaries.
+    flat = np.empty(n, dtype=np.int64)
+    cut = np.empty((n, 5))
+    _bartlett_grid_peaks(np.ascontiguousarray(x), grid.steer_h_re, grid.steer_h_im,
+                         az_grid.size, flat, cut)
+    i_el, i_az = np.divmod(flat, az_grid.size)
+    cut_db = _db(cut)
+    az = _refine_peak_3(cut_db[:, 1], cut_db[:, 0], cut_db[:, 2], i_az, az_grid)
+    el = _refine_peak_3(cut_db[:, 3], cut_db[:, 0], cut_db[:, 4], i_el, el_grid)
+    return az, el
+
+
+def _capon_angles(x: NDArray[np.complex128], covariances: NDArray[np.generic],
+                  grid: _GridSteering, az_grid: NDArray[np.float64],
+                  el_grid: NDArray[np.float64], *, diagonal_loading: float) -> tuple[
+        NDArray[np.float64], NDArray[np.float64]]:
+    """Maximum of the Capon (MVDR) spectrum over the grid, refined along both cuts."""
+    n = x.shape[0]
     steer = grid.steer  # (n_el * n_az, channels), elevation-major
-    r_inv = _loaded_inverse(np.asarray(covariances), diagonal_loading)  # (n, M, M)
+    r_inv = _loaded_inverse(covariances, diagonal_loading)  # (n, M, M)
     ria = np.einsum("nij,dj->ndi", r_inv, steer)
     denom = np.real(np.einsum("di,ndi->nd", np.conj(steer), ria))
     w = ria / np.maximum(denom, 1e-300)[..., None]  # (n, dirs, M)
@@ -885,8 +922,8 @@ def estimate_angles(
     flat = np.argmax(power.reshape(n, -1), axis=1)
     i_el, i_az = np.unravel_index(flat, (el_grid.size, az_grid.size))
     rows = np.arange(n)
-    az = _refine_grid_peak(db(power[rows, i_el, :]), i_az.astype(np.int64), az_grid)
-    el = _refine_grid_peak(db(power[rows, :, i_az]), i_el.astype(np.int64), el_grid)
+    az = _refine_grid_peak(_db(power[rows, i_el, :]), i_az.astype(np.int64), az_grid)
+    el = _refine_grid_peak(_db(power[rows, :, i_az]), i_el.astype(np.int64), el_grid)
     return az, el
 
 
@@ -950,27 +987,41 @@ def secondary_azimuth_peaks(
     x = np.asarray(snapshots).astype(np.complex128, copy=False)
     grid = np.asarray(azimuth_grid_rad, dtype=np.float64)
     el = np.broadcast_to(np.asarray(elevation_rad, dtype=np.float64), (x.shape[0],))
-    empty = (np.zeros(0, np.int64), np.zeros(0), np.zeros(0))
     if x.shape[0] == 0 or grid.size < 3:
-        return empty
+        return np.zeros(0, np.int64), np.zeros(0), np.zeros(0)
+    p_db = _azimuth_spectrum_db(x, positions_m, wavelength_m=wavelength_m, grid=grid,
+                                elevation_rad=el)
+    top = np.max(p_db, axis=1, keepdims=True)
+    rows, cols = _further_peaks(p_db, top, within_db=within_db)
+    az = _refine_grid_peak(p_db[rows], cols.astype(np.int64), grid)
+    return rows.astype(np.int64), az, (p_db[rows, cols] - top[rows, 0])
+
+
+def _azimuth_spectrum_db(x: NDArray[np.complex128], positions_m: ArrayLike, *,
+                         wavelength_m: float, grid: NDArray[np.float64],
+                         elevation_rad: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Bartlett spectrum ``|a^H x|^2`` (dB), shape (n, n_az), at each snapshot's elevation."""
     # In chunks of snapshots: the steering block is (chunk, n_az, channels).
     chunk = max(1, 2_000_000 // max(1, grid.size * x.shape[1]))
     resp = np.empty((x.shape[0], grid.size), dtype=np.complex128)
     for lo in range(0, x.shape[0], chunk):
         steer = steering_vectors(positions_m, wavelength_m=wavelength_m,
                                  azimuth_rad=grid[None, :],
-                                 elevation_rad=el[lo:lo + chunk, None])
+                                 elevation_rad=elevation_rad[lo:lo + chunk, None])
         resp[lo:lo + chunk] = np.einsum("nai,ni->na", np.conj(steer), x[lo:lo + chunk])
-    p_db = 10.0 * np.log10(np.maximum(np.abs(resp) ** 2, 1e-300))  # (n, n_az)
+    p_db: NDArray[np.float64] = 10.0 * np.log10(np.maximum(np.abs(resp) ** 2, 1e-300))
+    return p_db
+
+
+def _further_peaks(p_db: NDArray[np.float64], top: NDArray[np.float64], *,
+                   within_db: float) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """(row, column) of interior local maxima within ``within_db`` of ``top``, not the top."""
     mid = p_db[:, 1:-1]
     is_max = (mid > p_db[:, :-2]) & (mid >= p_db[:, 2:])
-    top = np.max(p_db, axis=1, keepdims=True)
     rel = mid - top
     is_max &= rel >= -within_db
     best = np.argmax(p_db, axis=1) - 1  # the largest peak, as an index of ``mid``
     inner = (best >= 0) & (best < mid.shape[1])
     is_max[np.flatnonzero(inner), best[inner]] = False
     rows, cols = np.nonzero(is_max)
-    cols = cols + 1
-    az = _refine_grid_peak(p_db[rows], cols.astype(np.int64), grid)
-    return rows.astype(np.int64), az, (p_db[rows, cols] - top[rows, 0])
+    return rows, cols + 1

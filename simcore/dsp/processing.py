@@ -301,61 +301,15 @@ def process_frame(
     x = np.asarray(cube)
     _check_cube(x, rc)
     const = _frame_constants(rc, dc)
-    axes, layout, az_rad = const.axes, const.layout, const.azimuth_rad
-    n_range = axes.range_m.size
-    lam = rc.wavelength_m
-
-    if dc.interference_mitigation != "off":
-        x = mitigate_interference(x, method=dc.interference_mitigation,
-                                  threshold=dc.interference_threshold)
-    range_cube = range_fft(x, window=dc.range_window, sidelobe_db=dc.range_window_sidelobe_db,
-                           fft_size=axes.range_fft_size, remove_dc=dc.remove_dc,
-                           n_bins=n_range)
+    range_cube, rd = _spectra(x, const.axes, rc, dc)
     profile = range_profile_power(range_cube)
-    rd = doppler_fft(range_cube, window=dc.doppler_window,
-                     sidelobe_db=dc.doppler_window_sidelobe_db, fft_size=axes.doppler_fft_size,
-                     static_clutter_removal=dc.static_clutter_removal)
-    n_tx = len(rc.tx)
-    if n_tx > 1 and dc.tdm_doppler_compensation:
-        rd = compensate_tdm_doppler(rd, velocity_axis_mps=axes.velocity_mps, n_tx=n_tx,
-                                    chirp_repetition_time_s=rc.chirp_repetition_time_s,
-                                    wavelength_m=lam)
     rd_power = range_doppler_power(rd)
-    n_ch = rd.shape[1]
-
-    # Range–azimuth map (Doppler bins as snapshots, Parseval-scaled to per-chirp power).
-    ra_method = "bartlett" if dc.angle_method == "monopulse" else dc.angle_method
-    ra_power = range_azimuth_power(rd, layout, wavelength_m=lam, azimuth_rad=az_rad,
-                                   method=ra_method,
-                                   diagonal_loading=dc.capon_diagonal_loading,
-                                   fft_size=dc.angle_fft_size) * np.float32(const.n_eff)
-    ra_db = power_to_db(ra_power)
-    bev = bird_eye_image(ra_db, range_axis_m=axes.range_m, azimuth_axis_rad=az_rad,
-                         x_axis_m=axes.bev_x_m, z_axis_m=axes.bev_z_m)
-
-    # Detection.
-    if dc.cfar_dimensions == 2:
-        cfar = cfar_2d(rd_power, method=dc.cfar_method,
-                       train=(dc.cfar_train_doppler, dc.cfar_train_range),
-                       guard=(dc.cfar_guard_doppler, dc.cfar_guard_range), pfa=dc.cfar_pfa,
-                       rank=dc.cfar_os_rank, n_integrated=n_ch, circular=(True, False))
-    else:
-        cfar = cfar_1d(rd_power, method=dc.cfar_method, train=dc.cfar_train_range,
-                       guard=dc.cfar_guard_range, pfa=dc.cfar_pfa, rank=dc.cfar_os_rank,
-                       n_integrated=n_ch, axis=-1, circular=False)
-    peaks = group_peaks(rd_power, cfar.detections, method=dc.peak_grouping,
-                        neighbourhood=dc.peak_neighbourhood, circular=(True, False))
-    if dc.doppler_sidelobe_margin_db is not None:
-        peaks = suppress_sidelobes(rd_power, peaks, axis=0, sidelobe_db=const.doppler_sidelobe_db,
-                                   margin_db=dc.doppler_sidelobe_margin_db,
-                                   spread=dc.peak_neighbourhood[1] // 2)
-    if dc.max_dynamic_range_db is not None:
-        floor = float(np.max(rd_power)) * 10.0 ** (-dc.max_dynamic_range_db / 10.0)
-        peaks = peaks & (rd_power > floor)
-    detections = _detections(rd, rd_power, cfar, peaks, axes, layout, rc, dc, radar_to_world)
-
+    ra_db, bev = _range_azimuth_maps(rd, const, rc, dc)
+    cfar, peaks = _detect_peaks(rd_power, const, dc, n_integrated=rd.shape[1])
+    detections = _detections(rd, rd_power, cfar, peaks, const.axes, const.layout, rc, dc,
+                             radar_to_world)
     return RadarProducts(
-        axes=axes,
+        axes=const.axes,
         range_cube=range_cube,
         range_doppler_cube=rd,
         range_profile_db=power_to_db(profile),
@@ -369,6 +323,67 @@ def process_frame(
     )
 
 
+def _spectra(x: NDArray[np.generic], axes: RadarAxes, rc: RadarConfig, dc: DspConfig
+             ) -> tuple[NDArray[np.complex64], NDArray[np.complex64]]:
+    """Interference mitigation, range FFT, Doppler FFT, TDM phase compensation."""
+    if dc.interference_mitigation != "off":
+        x = mitigate_interference(x, method=dc.interference_mitigation,
+                                  threshold=dc.interference_threshold)
+    range_cube = range_fft(x, window=dc.range_window, sidelobe_db=dc.range_window_sidelobe_db,
+                           fft_size=axes.range_fft_size, remove_dc=dc.remove_dc,
+                           n_bins=axes.range_m.size)
+    rd = doppler_fft(range_cube, window=dc.doppler_window,
+                     sidelobe_db=dc.doppler_window_sidelobe_db, fft_size=axes.doppler_fft_size,
+                     static_clutter_removal=dc.static_clutter_removal)
+    n_tx = len(rc.tx)
+    if n_tx > 1 and dc.tdm_doppler_compensation:
+        rd = compensate_tdm_doppler(rd, velocity_axis_mps=axes.velocity_mps, n_tx=n_tx,
+                                    chirp_repetition_time_s=rc.chirp_repetition_time_s,
+                                    wavelength_m=rc.wavelength_m)
+    return range_cube, rd
+
+
+def _range_azimuth_maps(rd: NDArray[np.complex64], const: _FrameConstants, rc: RadarConfig,
+                        dc: DspConfig) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+    """Range–azimuth map (dB) and its bird's-eye resampling."""
+    axes, az_rad = const.axes, const.azimuth_rad
+    # Doppler bins as snapshots, Parseval-scaled to per-chirp power.
+    ra_method = "bartlett" if dc.angle_method == "monopulse" else dc.angle_method
+    ra_power = range_azimuth_power(rd, const.layout, wavelength_m=rc.wavelength_m,
+                                   azimuth_rad=az_rad, method=ra_method,
+                                   diagonal_loading=dc.capon_diagonal_loading,
+                                   fft_size=dc.angle_fft_size) * np.float32(const.n_eff)
+    ra_db = power_to_db(ra_power)
+    bev = bird_eye_image(ra_db, range_axis_m=axes.range_m, azimuth_axis_rad=az_rad,
+                         x_axis_m=axes.bev_x_m, z_axis_m=axes.bev_z_m)
+    return ra_db, bev
+
+
+def _detect_peaks(rd_power: NDArray[np.float32], const: _FrameConstants, dc: DspConfig, *,
+                  n_integrated: int) -> tuple[CfarResult, NDArray[np.bool_]]:
+    """CFAR, peak grouping, Doppler sidelobe suppression and the dynamic-range floor."""
+    if dc.cfar_dimensions == 2:
+        cfar = cfar_2d(rd_power, method=dc.cfar_method,
+                       train=(dc.cfar_train_doppler, dc.cfar_train_range),
+                       guard=(dc.cfar_guard_doppler, dc.cfar_guard_range), pfa=dc.cfar_pfa,
+                       rank=dc.cfar_os_rank, n_integrated=n_integrated,
+                       circular=(True, False))
+    else:
+        cfar = cfar_1d(rd_power, method=dc.cfar_method, train=dc.cfar_train_range,
+                       guard=dc.cfar_guard_range, pfa=dc.cfar_pfa, rank=dc.cfar_os_rank,
+                       n_integrated=n_integrated, axis=-1, circular=False)
+    peaks = group_peaks(rd_power, cfar.detections, method=dc.peak_grouping,
+                        neighbourhood=dc.peak_neighbourhood, circular=(True, False))
+    if dc.doppler_sidelobe_margin_db is not None:
+        peaks = suppress_sidelobes(rd_power, peaks, axis=0, sidelobe_db=const.doppler_sidelobe_db,
+                                   margin_db=dc.doppler_sidelobe_margin_db,
+                                   spread=dc.peak_neighbourhood[1] // 2)
+    if dc.max_dynamic_range_db is not None:
+        floor = float(np.max(rd_power)) * 10.0 ** (-dc.max_dynamic_range_db / 10.0)
+        peaks = peaks & (rd_power > floor)
+    return cfar, peaks
+
+
 def _detections(
     rd: NDArray[np.complex64],
     rd_power: NDArray[np.float32],
@@ -380,6 +395,35 @@ def _detections(
     dc: DspConfig,
     radar_to_world: ArrayLike | None,
 ) -> Detections:
+    """Point cloud of the peak cells: refined range and velocity, angles, SNR."""
+    i_d, i_r, p = _detection_cells(peaks, rd_power, axes, rc, dc)
+    if i_d.size == 0:
+        return Detections.empty(with_world=radar_to_world is not None)
+    rng, vel = _refined_range_velocity(rd_power, i_d, i_r, axes, dc)
+    snapshots = _cell_snapshots(rd, i_d, i_r, vel, axes, rc, dc)
+    cov = None
+    if dc.angle_method == "capon":
+        cov = spatial_covariance(rd[:, :, i_r])  # (n, ch, ch)
+    az, el = estimate_angles(
+        snapshots, layout, wavelength_m=rc.wavelength_m, method=dc.angle_method,
+        azimuth_grid_rad=np.deg2rad(axes.azimuth_deg),
+        elevation_grid_rad=np.deg2rad(axes.elevation_deg), covariances=cov,
+        diagonal_loading=dc.capon_diagonal_loading, fft_size=dc.angle_fft_size)
+    noise = cfar.noise[i_d, i_r].astype(np.float64)
+    if dc.angle_peaks_within_db is not None and layout.has_horizontal_extent:
+        idx, az2, p2 = _shared_cell_peaks(snapshots, p, i_d, i_r, el, cfar, axes, layout,
+                                          rc, within_db=dc.angle_peaks_within_db)
+        sel = np.concatenate([np.arange(i_d.size), idx])
+        i_d, i_r, rng, vel, el, noise = (a[sel] for a in (i_d, i_r, rng, vel, el, noise))
+        p = p[sel] * p2
+        az = np.concatenate([az, az2])
+    return _detections_table(i_d, i_r, rng, vel, az, el, p, noise, radar_to_world)
+
+
+def _detection_cells(peaks: NDArray[np.bool_], rd_power: NDArray[np.float32],
+                     axes: RadarAxes, rc: RadarConfig, dc: DspConfig) -> tuple[
+        NDArray[np.intp], NDArray[np.intp], NDArray[np.float64]]:
+    """Peak cells (Doppler, range index, power) inside the range limits, strongest first."""
     i_d, i_r = np.nonzero(peaks)
     keep = axes.range_m[i_r] >= dc.min_range_m
     if rc.complex_iq:
@@ -391,32 +435,42 @@ def _detections(
     i_d, i_r = i_d[keep], i_r[keep]
     p = rd_power[i_d, i_r].astype(np.float64)
     order = np.argsort(-p, kind="stable")[: dc.max_detections]
-    i_d, i_r, p = i_d[order], i_r[order], p[order]
-    if i_d.size == 0:
-        return Detections.empty(with_world=radar_to_world is not None)
+    return i_d[order], i_r[order], p[order]
 
+
+def _refined_range_velocity(rd_power: NDArray[np.float32], i_d: NDArray[np.intp],
+                            i_r: NDArray[np.intp], axes: RadarAxes, dc: DspConfig) -> tuple[
+        NDArray[np.float64], NDArray[np.float64]]:
+    """Range and velocity of the cells, parabolically interpolated when asked."""
     n_dop, n_rng = rd_power.shape
     rng = axes.range_m[i_r].astype(np.float64)
     vel = axes.velocity_mps[i_d].astype(np.float64)
-    if dc.interpolate_peaks:
+    if not dc.interpolate_peaks:
+        return rng, vel
 
-        def pdb(rows: NDArray[np.intp], cols: NDArray[np.intp]) -> NDArray[np.float64]:
-            """The map in dB at some cells (only those the refinement reads)."""
-            return 10.0 * np.log10(np.maximum(rd_power[rows, cols].astype(np.float64), 1e-30))
+    def pdb(rows: NDArray[np.intp], cols: NDArray[np.intp]) -> NDArray[np.float64]:
+        """The map in dB at some cells (only those the refinement reads)."""
+        return 10.0 * np.log10(np.maximum(rd_power[rows, cols].astype(np.float64), 1e-30))
 
-        dr = axes.range_m[1] - axes.range_m[0]
-        inner = (i_r > 0) & (i_r < n_rng - 1)
-        r_l, r_r = np.clip(i_r - 1, 0, n_rng - 1), np.clip(i_r + 1, 0, n_rng - 1)
-        mid = pdb(i_d, i_r)
-        off_r = np.where(
-            inner, parabolic_peak_offset(pdb(i_d, r_l), mid, pdb(i_d, r_r)), 0.0)
-        rng = rng + off_r * dr
-        if n_dop >= 3:
-            dv = axes.velocity_mps[1] - axes.velocity_mps[0]
-            off_v = parabolic_peak_offset(pdb((i_d - 1) % n_dop, i_r), mid,
-                                          pdb((i_d + 1) % n_dop, i_r))
-            vel = vel + off_v * dv
+    dr = axes.range_m[1] - axes.range_m[0]
+    inner = (i_r > 0) & (i_r < n_rng - 1)
+    r_l, r_r = np.clip(i_r - 1, 0, n_rng - 1), np.clip(i_r + 1, 0, n_rng - 1)
+    mid = pdb(i_d, i_r)
+    off_r = np.where(
+        inner, parabolic_peak_offset(pdb(i_d, r_l), mid, pdb(i_d, r_r)), 0.0)
+    rng = rng + off_r * dr
+    if n_dop >= 3:
+        dv = axes.velocity_mps[1] - axes.velocity_mps[0]
+        off_v = parabolic_peak_offset(pdb((i_d - 1) % n_dop, i_r), mid,
+                                      pdb((i_d + 1) % n_dop, i_r))
+        vel = vel + off_v * dv
+    return rng, vel
 
+
+def _cell_snapshots(rd: NDArray[np.complex64], i_d: NDArray[np.intp], i_r: NDArray[np.intp],
+                    vel: NDArray[np.float64], axes: RadarAxes, rc: RadarConfig,
+                    dc: DspConfig) -> NDArray[np.complex128]:
+    """Channel responses of the cells, shape (n, channels), TDM phase finished."""
     snapshots = np.asarray(rd[i_d, :, i_r]).astype(np.complex128)  # (n, channels)
     n_tx = len(rc.tx)
     if n_tx > 1 and dc.tdm_doppler_compensation:
@@ -425,28 +479,36 @@ def _detections(
         dv = vel - axes.velocity_mps[i_d]
         snapshots *= np.exp(-4j * np.pi * dv[:, None] * tx_index[None, :]
                             * rc.chirp_repetition_time_s / rc.wavelength_m)
-    cov = None
-    if dc.angle_method == "capon":
-        cov = spatial_covariance(rd[:, :, i_r])  # (n, ch, ch)
-    az, el = estimate_angles(
-        snapshots, layout, wavelength_m=rc.wavelength_m, method=dc.angle_method,
-        azimuth_grid_rad=np.deg2rad(axes.azimuth_deg),
-        elevation_grid_rad=np.deg2rad(axes.elevation_deg), covariances=cov,
-        diagonal_loading=dc.capon_diagonal_loading, fft_size=dc.angle_fft_size)
-    noise = cfar.noise[i_d, i_r].astype(np.float64)
-    if dc.angle_peaks_within_db is not None and layout.has_horizontal_extent:
-        # Targets sharing a range–Doppler cell: one detection per azimuth peak.
-        idx, az2, rel_db = secondary_azimuth_peaks(
-            snapshots, layout.positions_m, wavelength_m=rc.wavelength_m,
-            azimuth_grid_rad=np.deg2rad(axes.azimuth_deg), elevation_rad=el,
-            within_db=dc.angle_peaks_within_db)
-        # A further peak must pass the CFAR threshold on its own share of the power.
-        strong = p[idx] * 10.0 ** (rel_db / 10.0) > cfar.threshold[i_d[idx], i_r[idx]]
-        idx, az2, rel_db = idx[strong], az2[strong], rel_db[strong]
-        sel = np.concatenate([np.arange(i_d.size), idx])
-        i_d, i_r, rng, vel, el, noise = (a[sel] for a in (i_d, i_r, rng, vel, el, noise))
-        p = p[sel] * 10.0 ** (np.concatenate([np.zeros(az.size), rel_db]) / 10.0)
-        az = np.concatenate([az, az2])
+    return snapshots
+
+
+def _shared_cell_peaks(snapshots: NDArray[np.complex128], p: NDArray[np.float64],
+                       i_d: NDArray[np.intp], i_r: NDArray[np.intp], el: NDArray[np.float64],
+                       cfar: CfarResult, axes: RadarAxes, layout: ArrayLayout,
+                       rc: RadarConfig, *, within_db: float) -> tuple[
+        NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
+    """Targets sharing a range–Doppler cell: one further detection per azimuth peak.
+
+    Returns the cell of each further peak, its azimuth (rad), and the power factor of
+    every detection, the main ones (1) followed by the further ones.
+    """
+    idx, az2, rel_db = secondary_azimuth_peaks(
+        snapshots, layout.positions_m, wavelength_m=rc.wavelength_m,
+        azimuth_grid_rad=np.deg2rad(axes.azimuth_deg), elevation_rad=el,
+        within_db=within_db)
+    # A further peak must pass the CFAR threshold on its own share of the power.
+    strong = p[idx] * 10.0 ** (rel_db / 10.0) > cfar.threshold[i_d[idx], i_r[idx]]
+    idx, az2, rel_db = idx[strong], az2[strong], rel_db[strong]
+    factor = 10.0 ** (np.concatenate([np.zeros(i_d.size), rel_db]) / 10.0)
+    return idx, az2, factor
+
+
+def _detections_table(i_d: NDArray[np.intp], i_r: NDArray[np.intp], rng: NDArray[np.float64],
+                      vel: NDArray[np.float64], az: NDArray[np.float64],
+                      el: NDArray[np.float64], p: NDArray[np.float64],
+                      noise: NDArray[np.float64], radar_to_world: ArrayLike | None
+                      ) -> Detections:
+    """The point cloud: positions, SNR and power of every detection."""
     snr_db = 10.0 * np.log10(np.maximum(p, 1e-30) / np.maximum(noise, 1e-30))
     xyz = spherical_to_radar_xyz(rng, az, el)
     world = None if radar_to_world is None else transform_points(xyz, radar_to_world)

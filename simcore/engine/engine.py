@@ -29,6 +29,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 import numpy as np
+from numpy.typing import NDArray
 
 from simcore.engine.cache import StageCache
 from simcore.render.buffers import RenderBuffers
@@ -40,6 +41,8 @@ from simcore.sensors import Sensor, SensorContext, SensorOutput, active_sensors,
 from simcore.sensors.base import Background, DeferredOutput
 
 T = TypeVar("T")
+#: A background pass, its shading and the flat indices of the pixels that differ from it.
+_Changed = tuple[Raster, RenderBuffers, NDArray[np.intp]]
 
 
 @dataclass
@@ -363,12 +366,8 @@ class FrameEngine:
                                   timings=timings, label=f"render_{sensor.name}_see_through"))
         bg_raster = (None if plain or not self._background_for(sensor.name)
                      else self._background_raster(snap, request, timings))
-        bg_through = None
-        if bg_raster is not None and hide is not None:
-            assert self.background is not None and self.background.hide is not None
-            both = tuple(a or b for a, b in zip(self.background.hide, hide, strict=True))
-            bg_through = self._raster(snap, request, timings, "render_background",
-                                      hide=both, kind="background_see_through")
+        bg_through = (None if bg_raster is None or hide is None
+                      else self._background_see_through(snap, request, hide, timings))
 
         def chain() -> tuple[RenderBuffers, SensorOutput]:
             background = None
@@ -381,23 +380,8 @@ class FrameEngine:
             buffers = self._shade(raster, bg_pair, timings, label)
             see_through = bg_see_through = None
             if through is not None:
-                # The see-through pass is shaded over the background's where that applies,
-                # else over the frame's own pass: it differs from that only where it shows
-                # a hidden object (same instant, same labels).
-                through_pair = (raster, buffers)
-                if bg_through is not None and background is not None:
-                    bg_see_through = self._shade(bg_through, None, timings, "render_background",
-                                                 kind="background_see_through")
-                    more = changed_pixels(through, (bg_through, bg_see_through))
-                    if more is None:
-                        background = bg_see_through = None
-                    else:
-                        through_pair = (bg_through, bg_see_through)
-                        background = (background[0], background[1],
-                                      np.union1d(background[2], more))
-                see_through = self._shade(through, through_pair, timings,
-                                          f"render_{sensor.name}_see_through",
-                                          kind="see_through")
+                see_through, bg_see_through, background = self._shade_see_through(
+                    sensor.name, (raster, buffers), through, bg_through, background, timings)
                 through_out[sensor.name] = see_through
             sample_buffers = tuple(self._shade(r, bg_pair, timings, label) for r in samples)
 
@@ -417,6 +401,41 @@ class FrameEngine:
             return buffers, sensor.simulate(ctx)
 
         return chain
+
+    def _background_see_through(self, snap: SceneSnapshot, request: RenderRequest,
+                                hide: tuple[bool, ...], timings: dict[str, float]) -> Raster:
+        """The still background's pass with the sensor's see-through objects hidden too."""
+        assert self.background is not None and self.background.hide is not None
+        both = tuple(a or b for a, b in zip(self.background.hide, hide, strict=True))
+        return self._raster(snap, request, timings, "render_background",
+                            hide=both, kind="background_see_through")
+
+    def _shade_see_through(self, name: str, frame: tuple[Raster, RenderBuffers],
+                           through: Raster, bg_through: Raster | None,
+                           background: _Changed | None, timings: dict[str, float]
+                           ) -> tuple[RenderBuffers, RenderBuffers | None, _Changed | None]:
+        """Shade sensor ``name``'s see-through pass.
+
+        It is shaded over the background's see-through pass where that applies, else over
+        the frame's own pass (``frame``): it differs from that only where it shows a
+        hidden object (same instant, same labels). Returns the see-through buffers, the
+        background's see-through buffers (None where unused) and the background with the
+        pixels that differ from either.
+        """
+        through_pair = frame
+        bg_see_through = None
+        if bg_through is not None and background is not None:
+            bg_see_through = self._shade(bg_through, None, timings, "render_background",
+                                         kind="background_see_through")
+            more = changed_pixels(through, (bg_through, bg_see_through))
+            if more is None:
+                background = bg_see_through = None
+            else:
+                through_pair = (bg_through, bg_see_through)
+                background = (background[0], background[1], np.union1d(background[2], more))
+        see_through = self._shade(through, through_pair, timings, f"render_{name}_see_through",
+                                  kind="see_through")
+        return see_through, bg_see_through, background
 
     def _raster(self, snap: SceneSnapshot, request: RenderRequest, timings: dict[str, float],
                 label: str, hide: tuple[bool, ...] | None = None,

@@ -51,6 +51,7 @@ from simcore.dsp.processing import radar_axes
 from simcore.dsp.spectrum import range_fft
 from simcore.dsp.vitals import VitalSigns, estimate_vital_signs, select_vital_bin
 from simcore.scene.dsp_config import DspConfig
+from simcore.scene.model import Project
 from simcore.scene.project_io import project_from_dict
 from simcore.scene.radar_config import RadarConfig
 
@@ -236,13 +237,7 @@ def write_radar_products(path: str | os.PathLike[str], *,
         chirp_ds = _require(f, f"/{radar}/chirp_start_time")
         project = project_from_dict(json.loads(f["meta"].attrs["project_json"]),
                                     check_files=False)
-        try:
-            rc = project.sensor_config(radar)
-        except KeyError as exc:
-            raise ProductsError(f"{f.filename}: {exc.args[0]}") from None
-        if not isinstance(rc, RadarConfig):
-            raise ProductsError(f"{f.filename}: sensor {radar!r} is not a radar (radars: "
-                                f"{', '.join(project.sensors_of_kind('radar'))})")
+        rc = _radar_config(f, project, radar)
         dc = project.dsp
         rows, frames = _captured_rows(f, radar, int(adc.shape[0]))
         chirp_t = np.asarray(chirp_ds[:, :, 0], dtype=np.float64)[rows]
@@ -256,61 +251,110 @@ def write_radar_products(path: str | os.PathLike[str], *,
         gates, lo, hi = _gates(dc, r, centre, n)
         union = np.unique(np.concatenate(gates))
         ch = min(dc.vitals_channel, int(adc.shape[2]) - 1)
-        gated, profiles = [], []
-        for k in rows:  # one frame in memory at a time
-            cube = range_fft(adc[k], window=dc.range_window,
-                             sidelobe_db=dc.range_window_sidelobe_db, remove_dc=dc.remove_dc,
-                             n_bins=r.size)
-            gated.append(cube[:, :, union])
-            profiles.append(cube[:, ch, :].mean(axis=0))
-        local = [np.searchsorted(union, g) for g in gates]
-        sg = _spectrogram(dc, rc, gated, chirp_t, local)
-        g = _replace_group(f, f"/{radar}/spectrogram")
-        _put(g, "power", sg.power_db, "dB")
-        _put(g, "time", sg.time_s, "s")
-        _put(g, "velocity_axis", sg.velocity_mps, "m/s")
-        g.attrs.update({"mode": dc.spectrogram_mode, "window": dc.spectrogram_window,
-                        "range_min_m": lo, "range_max_m": hi})
-        if centre is not None:
-            _put(g, "gate_center", centre, "m")
-
-        slow = np.stack(profiles)
-        v_lo, v_hi = ((float(np.mean(centre)) - 0.3, float(np.mean(centre)) + 0.3)
-                      if centre is not None else dc.vitals_range_m
-                      or (dc.min_range_m, float(r[-1])))
-        k = select_vital_bin(slow, range_axis_m=r, min_range_m=v_lo, max_range_m=v_hi)
-        times = chirp_t.mean(axis=1)
-        rate = float(1.0 / np.median(np.diff(times)))
-        whole = estimate_vital_signs(
-            slow[:, k], sample_rate_hz=rate, wavelength_m=rc.wavelength_m,
-            breathing_band_hz=dc.vitals_breathing_band_hz,
-            heart_band_hz=dc.vitals_heart_band_hz, window=dc.vitals_window,
-            static_offset=dc.vitals_static_offset, range_bin=k) if n >= 8 else None
-        g = _replace_group(f, f"/{radar}/vitals")
-        n_frames = int(f[f"/{radar}/captured"].shape[0]) if f"/{radar}/captured" in f else n
-
-        def per_frame(values: NDArray[np.float64]) -> NDArray[np.float64]:
-            """One value per frame of the dataset: NaN where the radar did not capture."""
-            if n_frames == n:
-                return values
-            out = np.full(n_frames, np.nan)
-            out[frames] = values
-            return out
-
-        _put(g, "time", per_frame(times), "s")
-        if whole is not None:
-            _put(g, "displacement", per_frame(whole.displacement_m), "m")
-            sliding = _sliding_vitals(slow[:, k], rate, rc, dc)
-            for j, (name, unit) in enumerate((("breathing_rate", "Hz"),
-                                              ("breathing_amplitude", "m"),
-                                              ("heart_rate", "Hz"), ("heart_amplitude", "m"))):
-                _put(g, name, per_frame(sliding[:, j]), unit)
-            g.attrs.update({"breathing_rate_hz": whole.breathing_rate_hz,
-                            "breathing_amplitude_m": whole.breathing_amplitude_m,
-                            "heart_rate_hz": whole.heart_rate_hz,
-                            "heart_amplitude_m": whole.heart_amplitude_m})
-        g.attrs.update({"range_bin": k, "range_m": float(r[k])})
+        gated, slow = _range_spectra(adc, rows, dc, n_bins=r.size, union=union, channel=ch)
+        sg = _spectrogram(dc, rc, gated, chirp_t, [np.searchsorted(union, g) for g in gates])
+        _write_spectrogram(f, radar, sg, dc, lo, hi, centre)
+        k, rate, times, whole = _whole_run_vitals(slow, chirp_t, r, rc, dc, centre)
+        _write_vitals(f, radar, slow[:, k], times, rate, whole, frames, rc, dc,
+                      range_bin=k, range_m=float(r[k]))
         return RadarProductsSummary(sg, whole, float(r[k]))
+
+
+def _radar_config(f: h5py.File, project: Project, radar: str) -> RadarConfig:
+    """The configuration of the project's radar ``radar`` (ProductsError if none)."""
+    try:
+        rc = project.sensor_config(radar)
+    except KeyError as exc:
+        raise ProductsError(f"{f.filename}: {exc.args[0]}") from None
+    if not isinstance(rc, RadarConfig):
+        raise ProductsError(f"{f.filename}: sensor {radar!r} is not a radar (radars: "
+                            f"{', '.join(project.sensors_of_kind('radar'))})")
+    return rc
+
+
+def _range_spectra(adc: h5py.Dataset, rows: NDArray[np.intp], dc: DspConfig, *, n_bins: int,
+                   union: NDArray[np.intp], channel: int) -> tuple[
+        list[NDArray[np.complex64]], NDArray[np.complex64]]:
+    """Range spectra of the gate bins, per frame, and the channel's slow-time profiles.
+
+    Returns the (chirps, channels, gate bins) cube of each frame and the (frames, range)
+    chirp-mean range profile of ``channel``; one frame in memory at a time.
+    """
+    gated, profiles = [], []
+    for k in rows:
+        cube = range_fft(adc[k], window=dc.range_window,
+                         sidelobe_db=dc.range_window_sidelobe_db, remove_dc=dc.remove_dc,
+                         n_bins=n_bins)
+        gated.append(cube[:, :, union])
+        profiles.append(cube[:, channel, :].mean(axis=0))
+    return gated, np.stack(profiles)
+
+
+def _write_spectrogram(f: h5py.File, radar: str, sg: Spectrogram, dc: DspConfig, lo: float,
+                       hi: float, centre: NDArray[np.float64] | None) -> None:
+    """Replace ``/<radar>/spectrogram`` with ``sg`` and its gate."""
+    g = _replace_group(f, f"/{radar}/spectrogram")
+    _put(g, "power", sg.power_db, "dB")
+    _put(g, "time", sg.time_s, "s")
+    _put(g, "velocity_axis", sg.velocity_mps, "m/s")
+    g.attrs.update({"mode": dc.spectrogram_mode, "window": dc.spectrogram_window,
+                    "range_min_m": lo, "range_max_m": hi})
+    if centre is not None:
+        _put(g, "gate_center", centre, "m")
+
+
+def _whole_run_vitals(slow: NDArray[np.complex64], chirp_t: NDArray[np.float64],
+                      r: NDArray[np.float64], rc: RadarConfig, dc: DspConfig,
+                      centre: NDArray[np.float64] | None) -> tuple[
+        int, float, NDArray[np.float64], VitalSigns | None]:
+    """Chest bin, frame rate (Hz), frame times (s) and the whole-run vital signs.
+
+    The vital signs are None with fewer than 8 frames.
+    """
+    v_lo, v_hi = ((float(np.mean(centre)) - 0.3, float(np.mean(centre)) + 0.3)
+                  if centre is not None else dc.vitals_range_m
+                  or (dc.min_range_m, float(r[-1])))
+    k = select_vital_bin(slow, range_axis_m=r, min_range_m=v_lo, max_range_m=v_hi)
+    times = chirp_t.mean(axis=1)
+    rate = float(1.0 / np.median(np.diff(times)))
+    whole = estimate_vital_signs(
+        slow[:, k], sample_rate_hz=rate, wavelength_m=rc.wavelength_m,
+        breathing_band_hz=dc.vitals_breathing_band_hz,
+        heart_band_hz=dc.vitals_heart_band_hz, window=dc.vitals_window,
+        static_offset=dc.vitals_static_offset, range_bin=k) if slow.shape[0] >= 8 else None
+    return k, rate, times, whole
+
+
+def _write_vitals(f: h5py.File, radar: str, chest: NDArray[np.complex64],
+                  times: NDArray[np.float64], rate: float, whole: VitalSigns | None,
+                  frames: NDArray[np.intp], rc: RadarConfig, dc: DspConfig, *,
+                  range_bin: int, range_m: float) -> None:
+    """Replace ``/<radar>/vitals``: times, displacement, sliding estimates, chest bin."""
+    g = _replace_group(f, f"/{radar}/vitals")
+    n = chest.size
+    n_frames = int(f[f"/{radar}/captured"].shape[0]) if f"/{radar}/captured" in f else n
+
+    def per_frame(values: NDArray[np.float64]) -> NDArray[np.float64]:
+        """One value per frame of the dataset: NaN where the radar did not capture."""
+        if n_frames == n:
+            return values
+        out = np.full(n_frames, np.nan)
+        out[frames] = values
+        return out
+
+    _put(g, "time", per_frame(times), "s")
+    if whole is not None:
+        _put(g, "displacement", per_frame(whole.displacement_m), "m")
+        sliding = _sliding_vitals(chest, rate, rc, dc)
+        for j, (name, unit) in enumerate((("breathing_rate", "Hz"),
+                                          ("breathing_amplitude", "m"),
+                                          ("heart_rate", "Hz"), ("heart_amplitude", "m"))):
+            _put(g, name, per_frame(sliding[:, j]), unit)
+        g.attrs.update({"breathing_rate_hz": whole.breathing_rate_hz,
+                        "breathing_amplitude_m": whole.breathing_amplitude_m,
+                        "heart_rate_hz": whole.heart_rate_hz,
+                        "heart_amplitude_m": whole.heart_amplitude_m})
+    g.attrs.update({"range_bin": range_bin, "range_m": range_m})
 
 
 __all__ = [

@@ -92,8 +92,6 @@ def open_dataset(path: str | os.PathLike[str], *,
 
     if is_zarr_target(path):
         return open_zarr_dataset(os.fspath(path), storage_options=storage_options)
-    import xarray as xr
-
     f = h5py.File(path, "r")
     try:
         n_frames = int(f["meta"].attrs["n_frames"])
@@ -103,59 +101,91 @@ def open_dataset(path: str | os.PathLike[str], *,
         variables: dict[str, Any] = {}
         coords: dict[str, Any] = {}
         for ds in _datasets(f):
-            name = ds.name
-            unit = str(ds.attrs.get("unit", ""))
-            attrs = {"units": unit, "unit": unit, "hdf5_path": name}
             if ds.attrs.get("table_rows", False):  # per-frame rows, padded: lazy, by field
-                rows = _lazy(ds)
-                base = name.strip("/").replace("/", "_")
-                slot = table_dims(name, kinds)[1]
-                for field in ds.dtype.names or ():
-                    variables[f"{base}_{field}"] = xr.Variable(
-                        ("frame", slot), rows[field],
-                        attrs={"units": DETECTION_UNITS.get(field, ""), "hdf5_path": name})
-                continue
-            if ds.attrs.get("table", False):  # the detections: rows of all frames, read now
-                table = ds[()]
-                detection = table_dims(name, kinds)[0]
-                for field in ds.dtype.names or ():
-                    variables[f"{detection}_{field}"] = xr.Variable(
-                        (detection,), table[field],
-                        attrs={"units": DETECTION_UNITS.get(field, ""), "hdf5_path": name})
-                continue
-            per_frame = bool(ds.attrs.get("per_frame", False)) or (
-                name == "/time" and ds.shape == (n_frames,))
-            inner = dims_of(name, kinds) or tuple(
-                f"{name.strip('/').replace('/', '_')}_dim{i}"
-                for i in range(ds.ndim - per_frame))
-            dims = (("frame",) if per_frame else ()) + inner
-            if len(dims) != ds.ndim:
-                raise ValueError(f"{path}: {name} has shape {ds.shape}, expected dims {dims}")
-            coord = coord_of(name, kinds)
-            if name == "/time" or coord is not None:  # small: read now, as coordinates
-                values = ds.asstr()[()] if ds.dtype.kind == "O" else ds[()]
-                coords[coord or "time"] = xr.Variable(dims, values, attrs=attrs)
-            elif getattr(h5py.check_string_dtype(ds.dtype), "length", 0) is None:
-                # Names (variable-length strings): str, as from a Zarr store.
-                variables[name.strip("/").replace("/", "_")] = xr.Variable(
-                    dims, ds.asstr()[()].astype(str), attrs=attrs)
+                variables.update(_table_rows_variables(ds, kinds))
+            elif ds.attrs.get("table", False):  # the detections: rows of all frames, read now
+                variables.update(_table_variables(ds, kinds))
             else:
-                var = xr.Variable(dims, _lazy(ds), attrs=attrs)
-                variables[name.strip("/").replace("/", "_")] = var
-        coords["frame"] = xr.Variable(("frame",), np.arange(n_frames))
-        for dim, labels in _LABELS.items():
-            coords.setdefault(dim, xr.Variable((dim,), np.array(labels)))
-        meta = {k: (v.decode() if isinstance(v, bytes) else v)
-                for k, v in f["meta"].attrs.items()}
-        dataset = xr.Dataset(variables, coords=coords, attrs=meta)
-        # Only dims that some variable uses keep their label coordinates.
-        unused = [d for d in _LABELS if d not in dataset.dims]
-        dataset = dataset.drop_vars(unused)
+                key, is_coord, var = _array_variable(ds, path, n_frames, kinds)
+                (coords if is_coord else variables)[key] = var
+        dataset = _hdf5_xarray(f, variables, coords, n_frames)
     except Exception:
         f.close()
         raise
     dataset.set_close(f.close)
     return dataset
+
+
+def _table_rows_variables(ds: h5py.Dataset, kinds: dict[str, str]) -> dict[str, Any]:
+    """A per-frame table (padded rows) as lazy ``<path>_<field>`` variables (frame, slot)."""
+    import xarray as xr
+
+    name = ds.name
+    rows = _lazy(ds)
+    base = name.strip("/").replace("/", "_")
+    slot = table_dims(name, kinds)[1]
+    return {f"{base}_{field}": xr.Variable(
+        ("frame", slot), rows[field],
+        attrs={"units": DETECTION_UNITS.get(field, ""), "hdf5_path": name})
+        for field in ds.dtype.names or ()}
+
+
+def _table_variables(ds: h5py.Dataset, kinds: dict[str, str]) -> dict[str, Any]:
+    """The detections table (rows of all frames), read now, one variable per field."""
+    import xarray as xr
+
+    table = ds[()]
+    detection = table_dims(ds.name, kinds)[0]
+    return {f"{detection}_{field}": xr.Variable(
+        (detection,), table[field],
+        attrs={"units": DETECTION_UNITS.get(field, ""), "hdf5_path": ds.name})
+        for field in ds.dtype.names or ()}
+
+
+def _array_variable(ds: h5py.Dataset, path: str | os.PathLike[str], n_frames: int,
+                    kinds: dict[str, str]) -> tuple[str, bool, Any]:
+    """(name, whether a coordinate, variable) of one array, with its named dimensions.
+
+    Coordinates and names are read now; every other array stays lazy in the file.
+    """
+    import xarray as xr
+
+    name = ds.name
+    unit = str(ds.attrs.get("unit", ""))
+    attrs = {"units": unit, "unit": unit, "hdf5_path": name}
+    per_frame = bool(ds.attrs.get("per_frame", False)) or (
+        name == "/time" and ds.shape == (n_frames,))
+    inner = dims_of(name, kinds) or tuple(
+        f"{name.strip('/').replace('/', '_')}_dim{i}"
+        for i in range(ds.ndim - per_frame))
+    dims = (("frame",) if per_frame else ()) + inner
+    if len(dims) != ds.ndim:
+        raise ValueError(f"{path}: {name} has shape {ds.shape}, expected dims {dims}")
+    coord = coord_of(name, kinds)
+    if name == "/time" or coord is not None:  # small: read now, as coordinates
+        values = ds.asstr()[()] if ds.dtype.kind == "O" else ds[()]
+        return coord or "time", True, xr.Variable(dims, values, attrs=attrs)
+    if getattr(h5py.check_string_dtype(ds.dtype), "length", 0) is None:
+        # Names (variable-length strings): str, as from a Zarr store.
+        return name.strip("/").replace("/", "_"), False, xr.Variable(
+            dims, ds.asstr()[()].astype(str), attrs=attrs)
+    return name.strip("/").replace("/", "_"), False, xr.Variable(dims, _lazy(ds), attrs=attrs)
+
+
+def _hdf5_xarray(f: h5py.File, variables: dict[str, Any], coords: dict[str, Any],
+                 n_frames: int) -> Any:
+    """The ``xarray.Dataset``: frame and label coordinates, ``/meta`` as attributes."""
+    import xarray as xr
+
+    coords["frame"] = xr.Variable(("frame",), np.arange(n_frames))
+    for dim, labels in _LABELS.items():
+        coords.setdefault(dim, xr.Variable((dim,), np.array(labels)))
+    meta = {k: (v.decode() if isinstance(v, bytes) else v)
+            for k, v in f["meta"].attrs.items()}
+    dataset = xr.Dataset(variables, coords=coords, attrs=meta)
+    # Only dims that some variable uses keep their label coordinates.
+    unused = [d for d in _LABELS if d not in dataset.dims]
+    return dataset.drop_vars(unused)
 
 
 def _zarr_arrays(group: Any) -> list[tuple[str, Any]]:

@@ -35,6 +35,11 @@ _ONE32 = np.float32(1.0)
 
 #: Columns of the per-object material table of :func:`shade_surface`.
 MATERIAL_COLUMNS = ("reflectance", "specular", "roughness", "metallic", "retro_gain")
+#: What :func:`shade_surface` returns: range, points, normals, cos_incidence, object
+#: index, object id, intensity, velocity, radial velocity (flat, per pixel).
+SurfaceFields = tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32],
+                      NDArray[np.float32], NDArray[np.int32], NDArray[np.int32],
+                      NDArray[np.float32], NDArray[np.float32], NDArray[np.float32]]
 
 
 @kernel
@@ -226,6 +231,12 @@ def _smooth_normal(tri: int, t: float, r0: float, r1: float,
     return n0 * sign, n1 * sign, n2 * sign
 
 
+# A named exception to the 80-line rule (issue 41): the per-pixel loop stays one body.
+# Moving its hit refinement (smooth normal, sphere) into a helper kernel, with or without
+# numba's inline="always", made the kernel 11 % slower (thread CPU time of the 7 shading
+# passes of office, walking-person and glTF office frames, median of 60 interleaved
+# repeats: 9.5 ms against 8.5 ms); the steps that split at no measurable cost (8.5 ms
+# against 8.5 ms) are the helper kernels below.
 @kernel
 def shade_surface(labels: NDArray[np.uint32], pixels: NDArray[np.int64], subset: bool,
                   width: int, camera: NDArray[np.float64], u: NDArray[np.float32],
@@ -237,10 +248,7 @@ def shade_surface(labels: NDArray[np.uint32], pixels: NDArray[np.int64], subset:
                   origin: NDArray[np.float64], sphere_radius: NDArray[np.float64],
                   sphere_centre: NDArray[np.float64], lin: NDArray[np.float64],
                   ang: NDArray[np.float64], material: NDArray[np.float64],
-                  ids: NDArray[np.int32]
-                  ) -> tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32],
-                             NDArray[np.float32], NDArray[np.int32], NDArray[np.int32],
-                             NDArray[np.float32], NDArray[np.float32], NDArray[np.float32]]:
+                  ids: NDArray[np.int32]) -> SurfaceFields:
     """Every per-pixel field of a full pass in one pass over the pixels.
 
     Parameters
@@ -257,14 +265,12 @@ def shade_surface(labels: NDArray[np.uint32], pixels: NDArray[np.int64], subset:
         Vertex indices of each triangle.
     vertices, vnormals : ndarray, shape (vertices, 3), float64
         World vertex positions (m) and vertex normals.
-    rot : ndarray, shape (3, 3), float64
-        Sensor rotation (optical frame → world, columns are the optical axes).
-    origin : ndarray, shape (3,), float64
-        Sensor position in the world (m).
-    sphere_radius : ndarray, shape (objects + 1,), float64
-        Radius of each object that is a sphere (m), 0 for the others and the last row.
-    sphere_centre : ndarray, shape (objects + 1, 3), float64
-        Object origins in the optical frame (m).
+    rot, origin : ndarray, shape (3, 3) and (3,), float64
+        Sensor rotation (optical frame → world, columns are the optical axes) and
+        position in the world (m).
+    sphere_radius, sphere_centre : ndarray, shape (objects + 1,) and (objects + 1, 3)
+        Radius of each object that is a sphere (m; 0 for the others and the last row)
+        and the object origins in the optical frame (m), float64.
     lin, ang : ndarray, shape (objects + 1, 3), float64
         Rigid motion relative to the sensor in the optical frame: the velocity of a point
         ``X`` of object ``k`` is ``lin[k] + ang[k] × X`` (m/s); the last rows are 0.
@@ -283,7 +289,6 @@ def shade_surface(labels: NDArray[np.uint32], pixels: NDArray[np.int64], subset:
         The fields of :class:`~simcore.render.buffers.RenderBuffers`, flat.
     """
     n = pixels.size if subset else labels.size
-    n_obj = lin.shape[0]
     range_m = np.empty(n, dtype=np.float32)
     points = np.empty((n, 3), dtype=np.float32)
     normals = np.empty((n, 3), dtype=np.float32)
@@ -293,12 +298,8 @@ def shade_surface(labels: NDArray[np.uint32], pixels: NDArray[np.int64], subset:
     intensity = np.empty(n, dtype=np.float32)
     velocity = np.zeros((n, 3), dtype=np.float32)
     radial = np.zeros(n, dtype=np.float32)
-    moving = np.zeros(n_obj, dtype=np.bool_)
-    for k in range(n_obj):
-        for j in range(3):
-            if lin[k, j] != 0.0 or ang[k, j] != 0.0:
-                moving[k] = True
-    seen = np.zeros(n_obj, dtype=np.bool_)
+    moving = _moving_objects(lin, ang)
+    seen = np.zeros(lin.shape[0], dtype=np.bool_)
     for i in range(n):
         p = pixels[i] if subset else i
         label = labels[p]
@@ -313,19 +314,8 @@ def shade_surface(labels: NDArray[np.uint32], pixels: NDArray[np.int64], subset:
                                         vertices, vnormals, rot, origin)
             nx, ny, nz = np.float32(s0), np.float32(s1), np.float32(s2)
         if valid and sphere_radius[obj] > 0:
-            r = sphere_radius[obj]
-            r0, r1 = _pixel_ray(p, width, camera)
-            c0, c1, c2 = sphere_centre[obj, 0], sphere_centre[obj, 1], sphere_centre[obj, 2]
-            a = _dot(r0, r1, 1.0, r0, r1, 1.0)
-            b = -_dot(r0, r1, 1.0, c0, c1, c2)
-            c = _dot(c0, c1, c2, c0, c1, c2) - r * r
-            disc = b * b - a * c
-            if disc >= 0:       # rays through the facets but past the true limb keep them
-                root = (-b - math.sqrt(disc)) / a
-                t = np.float32(root)
-                nx = np.float32((root * r0 - c0) / r)
-                ny = np.float32((root * r1 - c1) / r)
-                nz = np.float32((root * 1.0 - c2) / r)
+            t, nx, ny, nz = _sphere_hit(p, width, camera, sphere_radius[obj],
+                                        sphere_centre[obj], t, nx, ny, nz)
         points[i, 0] = t * uu
         points[i, 1] = t * vv
         points[i, 2] = t
@@ -334,14 +324,7 @@ def shade_surface(labels: NDArray[np.uint32], pixels: NDArray[np.int64], subset:
         obj_out[i] = obj
         id_out[i] = ids[obj]
         if valid:
-            ci = nx * uu
-            ci = ci + ny * vv
-            ci = ci + nz
-            ci = ci / -rn
-            if ci < 0:
-                ci = _ZERO32
-            elif ci > 1:
-                ci = _ONE32
+            ci = _cos_incidence(nx, ny, nz, uu, vv, rn)
             cos_inc[i] = ci
             intensity[i] = np.float32(band_response_one(
                 np.float64(ci), material[obj, 0], material[obj, 1], material[obj, 2],
@@ -351,16 +334,77 @@ def shade_surface(labels: NDArray[np.uint32], pixels: NDArray[np.int64], subset:
         else:
             cos_inc[i] = _ZERO32
             intensity[i] = _ZERO32
+    if seen.any():
+        _rigid_velocities(obj_out, points, pixels, subset, width, camera, lin, ang, moving,
+                          seen, velocity, radial)
+    return range_m, points, normals, cos_inc, obj_out, id_out, intensity, velocity, radial
+
+
+@kernel
+def _moving_objects(lin: NDArray[np.float64], ang: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Whether each object moves relative to the sensor (any non-zero lin or ang)."""
+    n_obj = lin.shape[0]
+    moving = np.zeros(n_obj, dtype=np.bool_)
+    for k in range(n_obj):
+        for j in range(3):
+            if lin[k, j] != 0.0 or ang[k, j] != 0.0:
+                moving[k] = True
+    return moving
+
+
+@kernel
+def _sphere_hit(p: int, width: int, camera: NDArray[np.float64], r: float,
+                centre: NDArray[np.float64], t: np.float32, nx: np.float32, ny: np.float32,
+                nz: np.float32) -> tuple[np.float32, np.float32, np.float32, np.float32]:
+    """Pixel ``p``'s ray on the true sphere of radius ``r`` about ``centre``: ``t``, normal.
+
+    Rays through the facets but past the true limb keep the facet's ``t`` and normal.
+    """
+    r0, r1 = _pixel_ray(p, width, camera)
+    c0, c1, c2 = centre[0], centre[1], centre[2]
+    a = _dot(r0, r1, 1.0, r0, r1, 1.0)
+    b = -_dot(r0, r1, 1.0, c0, c1, c2)
+    c = _dot(c0, c1, c2, c0, c1, c2) - r * r
+    disc = b * b - a * c
+    if disc >= 0:
+        root = (-b - math.sqrt(disc)) / a
+        t = np.float32(root)
+        nx = np.float32((root * r0 - c0) / r)
+        ny = np.float32((root * r1 - c1) / r)
+        nz = np.float32((root * 1.0 - c2) / r)
+    return t, nx, ny, nz
+
+
+@kernel
+def _cos_incidence(nx: np.float32, ny: np.float32, nz: np.float32, uu: np.float32,
+                   vv: np.float32, rn: np.float32) -> np.float32:
+    """Cosine of incidence of the ray ``(u, v, 1)`` of length ``rn`` on normal ``n``, in [0, 1]."""
+    ci = nx * uu
+    ci = ci + ny * vv
+    ci = ci + nz
+    ci = ci / -rn
+    if ci < 0:
+        ci = _ZERO32
+    elif ci > 1:
+        ci = _ONE32
+    return ci
+
+
+@kernel
+def _rigid_velocities(obj_out: NDArray[np.int32], points: NDArray[np.float32],
+                      pixels: NDArray[np.int64], subset: bool, width: int,
+                      camera: NDArray[np.float64], lin: NDArray[np.float64],
+                      ang: NDArray[np.float64], moving: NDArray[np.bool_],
+                      seen: NDArray[np.bool_], velocity: NDArray[np.float32],
+                      radial: NDArray[np.float32]) -> None:
+    """Velocity and radial velocity of every pixel of a moving object (in place)."""
     # The rotational term is added to every moving pixel when any moving pixel rotates
     # (adding a zero cross product only ever changes the sign of a zero).
     spin = False
-    for k in range(n_obj):
+    for k in range(lin.shape[0]):
         if seen[k] and (ang[k, 0] != 0.0 or ang[k, 1] != 0.0 or ang[k, 2] != 0.0):
             spin = True
-    if not seen.any():
-        return (range_m, points, normals, cos_inc, obj_out, id_out, intensity, velocity,
-                radial)
-    for i in range(n):
+    for i in range(obj_out.size):
         obj = obj_out[i]
         if obj < 0 or not moving[obj]:
             continue
@@ -376,7 +420,6 @@ def shade_surface(labels: NDArray[np.uint32], pixels: NDArray[np.int64], subset:
         r0, r1 = _pixel_ray(pixels[i] if subset else i, width, camera)
         norm = math.sqrt((r0 * r0 + r1 * r1) + 1.0 * 1.0)
         radial[i] = _dot(v0, v1, v2, r0, r1, 1.0) / norm
-    return range_m, points, normals, cos_inc, obj_out, id_out, intensity, velocity, radial
 
 
 __all__ = ["MATERIAL_COLUMNS", "band_response_one", "shade_geometry", "shade_surface"]

@@ -83,7 +83,12 @@ def generate_report(out_dir: str | Path, *, quick: bool = False,
         result.figures.append(Figure(file, title, text, section="Multipath"))
     fig_tof, nums_tof = tof_multipath_figure(out)
     result.figures.append(Figure(*fig_tof, section="Multipath"))
-    result.numbers["multipath"] = {"radar": nums, "tof": nums_tof}
+    from simcore.report.sionna import sionna_section
+
+    figures, nums_sionna = sionna_section(out)
+    for file, title, text in figures:
+        result.figures.append(Figure(file, title, text, section="Multipath"))
+    result.numbers["multipath"] = {"radar": nums, "tof": nums_tof, "sionna": nums_sionna}
     from simcore.report.tof_reference import tof_reference_section
 
     figures, nums = tof_reference_section(out)

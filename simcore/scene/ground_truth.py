@@ -190,76 +190,112 @@ def object_ground_truth(project: Project, snapshot: SceneSnapshot,
     k = len(project.objects)
     if len(local_points) != k or len(snapshot.objects) != k:
         raise ValueError("one set of local points and one state per object expected")
+    triangles = [None if local_triangles is None or pts is None else local_triangles[i]
+                 for i, pts in enumerate(local_points)]
+    boxes = _object_boxes(snapshot, local_points, triangles, cache)
+    rot = np.tile(np.eye(3), (k, 1, 1))
+    origin = np.zeros((k, 3))
     vel = np.zeros((k, 3))
     ang = np.zeros((k, 3))
-    aabb = np.zeros((k, 2, 3))
-    center = np.zeros((k, 3))
-    rot = np.tile(np.eye(3), (k, 1, 1))
-    size = np.zeros((k, 3))
     ref = np.zeros((k, 3))
-    origin = np.zeros((k, 3))
+    for i, (obj, state) in enumerate(zip(project.objects, snapshot.objects, strict=True)):
+        rot[i] = state.transform[:3, :3]
+        origin[i] = state.transform[:3, 3]
+        vel[i] = state.velocity_mps
+        ang[i] = state.angular_velocity_rps
+        analytic = isinstance(obj.geometry, (CornerReflector, PointTarget))
+        ref[i] = state.origin if analytic else boxes.center[i]
     radar = snapshot.sensors.get(sensor)
-    radar_key = None if radar is None else np.asarray(radar.position, np.float64).tobytes()
     nearest = np.full(k, np.nan)
+    if radar is not None:
+        nearest = _nearest_surface_ranges(np.asarray(radar.position, np.float64), snapshot,
+                                          local_points, triangles, boxes, ref)
+    if cache is not None:
+        cache._objects = boxes.kept
+    # Each reference point's velocity as a point of its body (RigidState.point_velocity).
+    ref_vel = vel + np.cross(ang, ref - origin)
+    rng, v_r, az, el = _relative_to(snapshot, sensor, ref, ref_vel)
+    return ObjectTruth(vel, ang, boxes.aabb, boxes.center, rot, boxes.size, ref, rng, v_r, az,
+                       el, nearest)
+
+
+@dataclass
+class _Boxes:
+    """Every object's boxes, the world points computed for them, and what the cache keeps."""
+
+    aabb: NDArray[np.float64]                       # (K, 2, 3)
+    center: NDArray[np.float64]                     # (K, 3)
+    size: NDArray[np.float64]                       # (K, 3)
+    world: list[NDArray[np.float64] | None]         # world points where computed
+    kept: dict[int, _Kept]                          # the cache's entries for this frame
+
+
+def _object_boxes(snapshot: SceneSnapshot,
+                  local_points: Sequence[NDArray[np.floating] | None],
+                  triangles: Sequence[NDArray[np.integer] | None],
+                  cache: TruthCache | None) -> _Boxes:
+    """Axis-aligned and oriented boxes of every object, from the cache where still valid."""
+    k = len(local_points)
+    boxes = _Boxes(np.zeros((k, 2, 3)), np.zeros((k, 3)), np.zeros((k, 3)), [None] * k, {})
     kept_before = {} if cache is None else cache._objects
-    kept_now: dict[int, _Kept] = {}
-    todo: list[int] = []
-    surfaces: list[tuple[NDArray[np.float64], NDArray[np.integer] | None]] = []
-    for i, (obj, state, pts) in enumerate(zip(project.objects, snapshot.objects, local_points,
-                                              strict=True)):
+    for i, (state, pts) in enumerate(zip(snapshot.objects, local_points, strict=True)):
         t = state.transform
-        tri = None if local_triangles is None or pts is None else local_triangles[i]
+        tri = triangles[i]
         t_key = np.ascontiguousarray(t, dtype=np.float64).tobytes()
         kept = kept_before.get(i)
         if kept is not None and not (pts is not None and kept.points is pts
                                      and kept.triangles is tri and kept.transform == t_key):
             kept = None
-        world = None
         if kept is None:
             p = np.zeros((1, 3)) if pts is None or len(pts) == 0 else np.asarray(pts, np.float64)
             lo, hi = (cache.local_box(i, pts) if cache is not None and pts is not None
                       and len(pts) else (p.min(axis=0), p.max(axis=0)))
             world = p @ t[:3, :3].T + t[:3, 3]
-            aabb[i] = world.min(axis=0), world.max(axis=0)
-            center[i] = t[:3, :3] @ (0.5 * (lo + hi)) + t[:3, 3]
-            size[i] = hi - lo
+            boxes.world[i] = world
+            boxes.aabb[i] = world.min(axis=0), world.max(axis=0)
+            boxes.center[i] = t[:3, :3] @ (0.5 * (lo + hi)) + t[:3, 3]
+            boxes.size[i] = hi - lo
             if pts is not None and cache is not None:
-                kept = _Kept(pts, tri, t_key, aabb[i].copy(), center[i].copy(), size[i].copy())
+                kept = _Kept(pts, tri, t_key, boxes.aabb[i].copy(), boxes.center[i].copy(),
+                             boxes.size[i].copy())
         else:
-            aabb[i], center[i], size[i] = kept.aabb, kept.center, kept.size
-        rot[i] = t[:3, :3]
-        origin[i] = t[:3, 3]
-        vel[i] = state.velocity_mps
-        ang[i] = state.angular_velocity_rps
-        analytic = isinstance(obj.geometry, (CornerReflector, PointTarget))
-        ref[i] = state.origin if analytic else center[i]
+            boxes.aabb[i], boxes.center[i], boxes.size[i] = kept.aabb, kept.center, kept.size
         if kept is not None:
-            kept_now[i] = kept
-        if radar is None:
-            continue
+            boxes.kept[i] = kept
+    return boxes
+
+
+def _nearest_surface_ranges(radar_position: NDArray[np.float64], snapshot: SceneSnapshot,
+                            local_points: Sequence[NDArray[np.floating] | None],
+                            triangles: Sequence[NDArray[np.integer] | None], boxes: _Boxes,
+                            ref: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Nearest range of every object's surface from the radar; kept ones from the cache."""
+    radar_key = radar_position.tobytes()
+    nearest = np.full(len(local_points), np.nan)
+    todo: list[int] = []
+    surfaces: list[tuple[NDArray[np.float64], NDArray[np.integer] | None]] = []
+    for i, (state, pts) in enumerate(zip(snapshot.objects, local_points, strict=True)):
+        kept = boxes.kept.get(i)
         if kept is not None and kept.radar == radar_key:
             nearest[i] = kept.nearest
             continue
         if pts is None:
             surfaces.append((ref[i:i + 1], None))
         else:
+            world = boxes.world[i]
             if world is None:
+                t = state.transform
                 p = np.zeros((1, 3)) if len(pts) == 0 else np.asarray(pts, np.float64)
                 world = p @ t[:3, :3].T + t[:3, 3]
-            surfaces.append((world, tri))
+            surfaces.append((world, triangles[i]))
         todo.append(i)
-    if radar is not None and todo:
-        nearest[todo] = nearest_ranges(radar.position, surfaces)
+    if todo:
+        nearest[todo] = nearest_ranges(radar_position, surfaces)
         for i in todo:
-            kept = kept_now.get(i)
+            kept = boxes.kept.get(i)
             if kept is not None:
                 kept.radar, kept.nearest = radar_key, float(nearest[i])
-    if cache is not None:
-        cache._objects = kept_now
-    # Each reference point's velocity as a point of its body (RigidState.point_velocity).
-    ref_vel = vel + np.cross(ang, ref - origin)
-    rng, v_r, az, el = _relative_to(snapshot, sensor, ref, ref_vel)
-    return ObjectTruth(vel, ang, aabb, center, rot, size, ref, rng, v_r, az, el, nearest)
+    return nearest
 
 
 def nearest_range(origin: NDArray[np.floating], points: NDArray[np.floating],

@@ -94,6 +94,23 @@ class BandMaterial(Model):
         return slab_coefficients(self.permittivity, self.loss_tangent, self.thickness_m,
                                  frequency_hz)
 
+    def oblique_coefficients(self, frequency_hz: float, cos_theta: NDArray[np.floating]
+                             ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+        """Reflection (Γ_TE, Γ_TM) at incidence angles θ (``cos_theta``), Born & Wolf signs.
+
+        A metal gives (−1, +1); a material without a permittivity (0, 0); otherwise
+        :func:`oblique_slab_coefficients` (the same slab as :meth:`coefficients`, at the
+        angle). At normal incidence Γ_TE = :meth:`coefficients`' Γ = −Γ_TM.
+        """
+        c = np.asarray(cos_theta, dtype=np.float64)
+        if self.metallic >= 1.0:
+            return np.full(c.shape, -1.0 + 0j), np.full(c.shape, 1.0 + 0j)
+        if self.permittivity is None:
+            zero = np.zeros(c.shape, dtype=np.complex128)
+            return zero, zero.copy()
+        return oblique_slab_coefficients(self.permittivity, self.loss_tangent,
+                                         self.thickness_m, frequency_hz, c)
+
     def coherent_factor(self, cos_theta: NDArray[np.floating], wavelength_m: float
                         ) -> NDArray[np.float64]:
         """Kirchhoff coherent power fraction ``exp(-(4π h cos θ / λ)²)`` of a rough interface."""
@@ -208,6 +225,53 @@ def slab_coefficients(permittivity: float, loss_tangent: float, thickness_m: flo
     gamma = r * (1.0 - e2) / den
     trans = (1.0 - r * r) * e1 / den * cmath.exp(1j * k0 * thickness_m)
     return gamma, trans
+
+
+def oblique_slab_coefficients(permittivity: float, loss_tangent: float,
+                              thickness_m: float | None, frequency_hz: float,
+                              cos_theta: NDArray[np.floating]
+                              ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """Fresnel reflection of a dielectric half-space or slab at oblique incidence, TE and TM.
+
+    With ``n = √(ε′ (1 − j tan δ))`` and ``κ = √(n² − sin²θ)`` (n cos θ_t), the interface
+    reflects (Born & Wolf, *Principles of Optics*, §1.5.2, eqs. 21a–b; field amplitudes,
+    the TM reflected field's reference direction mirrored)::
+
+        r_TE = (cos θ − κ) / (cos θ + κ)        r_TM = (n² cos θ − κ) / (n² cos θ + κ)
+
+    and a slab of thickness ``d`` (one-way phase ``δ = k₀ κ d``) sums its internal
+    reflections as at normal incidence (Orfanidis, *Electromagnetic Waves and Antennas*,
+    §7.6): ``Γ = r (1 − e^{−2jδ}) / (1 − r² e^{−2jδ})`` for each polarisation. At θ = 0
+    r_TE = (1 − n)/(1 + n) (:func:`slab_coefficients`) and r_TM = −r_TE; r_TM vanishes at
+    Brewster's angle ``tan θ_B = n`` (lossless).
+
+    Parameters
+    ----------
+    permittivity, loss_tangent : float
+        ε′ and tan δ.
+    thickness_m : float or None
+        Slab thickness (m); None: a half-space.
+    frequency_hz : float
+        Frequency (Hz).
+    cos_theta : ndarray
+        Cosines of the incidence angles (from the normal), any shape.
+
+    Returns
+    -------
+    (ndarray, ndarray), complex128, the shape of ``cos_theta``
+        Γ_TE and Γ_TM.
+    """
+    c = np.clip(np.asarray(cos_theta, dtype=np.float64), 0.0, 1.0)
+    n2 = permittivity * (1.0 - 1j * loss_tangent)
+    kappa = np.sqrt(n2 - (1.0 - c * c) + 0j)
+    r_te = (c - kappa) / (c + kappa)
+    r_tm = (n2 * c - kappa) / (n2 * c + kappa)
+    if thickness_m is None:
+        return r_te, r_tm
+    k0 = 2.0 * math.pi * frequency_hz / 299_792_458.0
+    e2 = np.exp(-2j * k0 * kappa * thickness_m)
+    return (r_te * (1.0 - e2) / (1.0 - r_te * r_te * e2),
+            r_tm * (1.0 - e2) / (1.0 - r_tm * r_tm * e2))
 
 
 def summarize_band(band: str, m: BandMaterial, radar_frequency_hz: float = 60e9) -> str:

@@ -268,6 +268,18 @@ class RadarConfig(SensorTiming):
                     "target → reflector → radar (× Γ²). Reflectors are large planar faces "
                     "of smooth, strongly reflecting materials (metal); off by default for "
                     "its cost (docs/physics_radar.md)")
+    ideal: bool = Field(
+        False,
+        description="ideal sensor for validation and ground truth: no receiver noise and "
+                    "no ADC quantisation (nor clipping); the IF filters, leakage and every "
+                    "path stay")
+    polarization: Literal["V", "H"] = Field(
+        "V",
+        description="linear polarisation of the Tx and Rx antennas in the board frame: "
+                    "V = E along board y (vertical with the board upright), H = along board "
+                    "x. Sets the Fresnel TE/TM mix of every multipath reflection at its "
+                    "incidence angle (a floor reflects V near Brewster's angle weakly); "
+                    "no effect on single-bounce returns")
     # The rig's own front (evaluation board or radome) as a multipath reflector.
     rig_front_width_m: float = Field(
         0.025, ge=0, le=2.0, allow_inf_nan=False,

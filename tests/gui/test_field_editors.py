@@ -21,6 +21,7 @@ NEW_VALUES = {
     "rig.radar.leakage_path_mm": 38.0, "rig.radar.adc_noise_fs": 4.5e-4,
     "rig.radar.if_highpass_hz": 150e3, "rig.radar.if_lowpass_hz": 900e3,
     "rig.radar.speckle": False, "rig.radar.multipath_order": 2,
+    "rig.radar.polarization": "H", "rig.radar.ideal": True,
     "rig.radar.rig_front_width_m": 0.06, "rig.radar.rig_front_height_m": 0.04,
     "rig.radar.rig_front_material": "wood",
     "rig.radar.chirp_jitter_s": 2e-6, "rig.radar.hop_step_hz": 250e6,

@@ -309,16 +309,11 @@ def mix_paths(victim: RadarConfig, aggressor: RadarConfig, paths: PathSet, *,
     n_v_tx, n_rx = len(victim.tx), len(victim.rx)
     if oversample is None:
         oversample = default_oversample(victim)
-    rate = victim.sample_rate_hz * oversample
-    t_n = np.arange(victim.samples_per_chirp * oversample) / rate
-    out = np.zeros((victim.chirps_per_frame, n_v_tx * n_rx, t_n.size), dtype=np.complex128)
+    grid = _mix_grid(victim, aggressor, oversample)
+    out = np.zeros((victim.chirps_per_frame, n_v_tx * n_rx, grid.t_n.size),
+                   dtype=np.complex128)
     if paths.n_paths == 0:
         return np.ascontiguousarray(out[..., ::oversample])
-    k_v, k_a = victim.slope_hz_per_s, aggressor.slope_hz_per_s
-    f_v0, f_a0 = victim.start_frequency_hz, aggressor.start_frequency_hz
-    t_a = aggressor.chirp_time_s
-    span = t_n[-1]
-    own = 2 * np.pi * (f_v0 * t_n + 0.5 * k_v * t_n**2)
     for j in range(len(aggressor.tx)):
         for r in range(n_rx):
             amp, tau0, tau_dot = (paths.amplitude_fs[j, r], paths.delay_s[j, r],
@@ -328,48 +323,102 @@ def mix_paths(victim: RadarConfig, aggressor: RadarConfig, paths: PathSet, *,
                 continue
             amp, tau0, tau_dot = amp[live], tau0[live], tau_dot[live]
             lo, hi = float(tau0.min()), float(tau0.max())
-            pairs = []                   # (victim chirp, victim tx, aggressor chirp start)
-            for k in range(v_starts.shape[0]):
-                for t in range(n_v_tx):
-                    t_k = v_starts[k, t]
-                    for s in a_starts[:, j]:
-                        if s + lo <= t_k + span and s + hi + t_a >= t_k:
-                            # The difference frequency is linear over the chirp: skip
-                            # pairs whose beat stays beyond the gate all along.
-                            f0 = f_v0 - f_a0 - k_a * (t_k - s - lo)
-                            f1 = f0 + (k_v - k_a) * span
-                            if f0 * f1 > 0 and min(abs(f0), abs(f1)) >= GATE_FRACTION * rate:
-                                continue
-                            pairs.append((k, t, t_k, s))
+            pairs = _chirp_pairs(grid, v_starts, n_v_tx, a_starts[:, j], lo, hi)
             if not pairs:
                 continue
-            t_k_arr = np.array([p[2] for p in pairs])
-            s_arr = np.array([p[3] for p in pairs])
-            lag = t_k_arr - s_arr                                 # (Q,)
-            tau = tau0[None, :] + tau_dot[None, :] * t_k_arr[:, None]   # (Q, P)
-            weights = amp[None, :] * np.exp(2j * np.pi * (
-                tau * (f_a0 + k_a * lag[:, None]) - 0.5 * k_a * tau**2))
-            # The gate first (real arithmetic), then the signal on the grid's columns
-            # that any pair has inside it (the bursts: a small part of the chirp).
-            u = t_n[None, :] + lag[:, None]             # since the aggressor chirp's send
-            ta = u - lo
-            on = (ta >= 0) & (ta <= t_a)
-            f_diff = f_v0 + k_v * t_n[None, :] - (f_a0 + k_a * ta)
-            taper = _gate_taper(np.abs(f_diff) / rate)
-            on &= taper > 0
-            cols = np.flatnonzero(on.any(axis=0))
-            if cols.size == 0:
+            burst = _pair_bursts(grid, pairs, amp, tau0, tau_dot, lo)
+            if burst is None:
                 continue
-            t_c = t_n[cols]
-            tones = np.exp(2j * np.pi * k_a * tau0[:, None] * t_c[None, :])   # (P, C)
-            summed = weights @ tones                                          # (Q, C)
-            u_c = u[:, cols]
-            phase = own[None, cols] - 2 * np.pi * (f_a0 * u_c + 0.5 * k_a * u_c**2)
-            sig = np.where(on[:, cols], taper[:, cols] * summed * np.exp(1j * phase), 0.0)
+            cols, sig = burst
             for q, (k, t, _, _) in enumerate(pairs):
                 out[k, t * n_rx + r, cols] += sig[q]
-    filtered = _filtered(out, rate, victim)
+    filtered = _filtered(out, grid.rate, victim)
     return np.ascontiguousarray(filtered[..., ::oversample])
+
+
+@dataclass(frozen=True)
+class _MixGrid:
+    """The simulation grid of one victim chirp and the two radars' chirp parameters."""
+
+    rate: float                     # grid rate (Hz)
+    t_n: NDArray[np.float64]        # (N,) grid times from the victim chirp's start (s)
+    own: NDArray[np.float64]        # (N,) the victim chirp's phase on the grid (rad)
+    k_v: float                      # victim slope (Hz/s)
+    k_a: float                      # aggressor slope (Hz/s)
+    f_v0: float                     # victim start frequency (Hz)
+    f_a0: float                     # aggressor start frequency (Hz)
+    t_a: float                      # aggressor chirp duration (s)
+
+
+def _mix_grid(victim: RadarConfig, aggressor: RadarConfig, oversample: int) -> _MixGrid:
+    """The grid ``oversample`` times the victim's ADC rate, and the chirp parameters."""
+    rate = victim.sample_rate_hz * oversample
+    t_n = np.arange(victim.samples_per_chirp * oversample) / rate
+    k_v, f_v0 = victim.slope_hz_per_s, victim.start_frequency_hz
+    own = 2 * np.pi * (f_v0 * t_n + 0.5 * k_v * t_n**2)
+    return _MixGrid(rate, t_n, own, k_v, aggressor.slope_hz_per_s, f_v0,
+                    aggressor.start_frequency_hz, aggressor.chirp_time_s)
+
+
+def _chirp_pairs(grid: _MixGrid, v_starts: NDArray[np.float64], n_v_tx: int,
+                 a_starts: NDArray[np.float64], lo: float, hi: float
+                 ) -> list[tuple[int, int, float, float]]:
+    """(victim chirp, victim tx, its start, aggressor chirp start) of the overlapping pairs.
+
+    Pairs whose chirps overlap for some path delay in ``[lo, hi]`` and whose beat enters
+    the gate somewhere along the victim chirp.
+    """
+    k_v, k_a, f_v0, f_a0 = grid.k_v, grid.k_a, grid.f_v0, grid.f_a0
+    span = grid.t_n[-1]
+    pairs = []
+    for k in range(v_starts.shape[0]):
+        for t in range(n_v_tx):
+            t_k = v_starts[k, t]
+            for s in a_starts:
+                if s + lo <= t_k + span and s + hi + grid.t_a >= t_k:
+                    # The difference frequency is linear over the chirp: skip
+                    # pairs whose beat stays beyond the gate all along.
+                    f0 = f_v0 - f_a0 - k_a * (t_k - s - lo)
+                    f1 = f0 + (k_v - k_a) * span
+                    if f0 * f1 > 0 and min(abs(f0), abs(f1)) >= GATE_FRACTION * grid.rate:
+                        continue
+                    pairs.append((k, t, t_k, s))
+    return pairs
+
+
+def _pair_bursts(grid: _MixGrid, pairs: list[tuple[int, int, float, float]],
+                 amp: NDArray[np.complex128], tau0: NDArray[np.float64],
+                 tau_dot: NDArray[np.float64], lo: float
+                 ) -> tuple[NDArray[np.intp], NDArray[np.complex128]] | None:
+    """Grid columns inside any pair's gate and each pair's signal there, shape (Q, C).
+
+    None when no pair's beat enters the gate.
+    """
+    k_v, k_a, f_v0, f_a0, t_n = grid.k_v, grid.k_a, grid.f_v0, grid.f_a0, grid.t_n
+    t_k_arr = np.array([p[2] for p in pairs])
+    s_arr = np.array([p[3] for p in pairs])
+    lag = t_k_arr - s_arr                                 # (Q,)
+    tau = tau0[None, :] + tau_dot[None, :] * t_k_arr[:, None]   # (Q, P)
+    weights = amp[None, :] * np.exp(2j * np.pi * (
+        tau * (f_a0 + k_a * lag[:, None]) - 0.5 * k_a * tau**2))
+    # The gate first (real arithmetic), then the signal on the grid's columns
+    # that any pair has inside it (the bursts: a small part of the chirp).
+    u = t_n[None, :] + lag[:, None]             # since the aggressor chirp's send
+    ta = u - lo
+    on = (ta >= 0) & (ta <= grid.t_a)
+    f_diff = f_v0 + k_v * t_n[None, :] - (f_a0 + k_a * ta)
+    taper = _gate_taper(np.abs(f_diff) / grid.rate)
+    on &= taper > 0
+    cols = np.flatnonzero(on.any(axis=0))
+    if cols.size == 0:
+        return None
+    t_c = t_n[cols]
+    tones = np.exp(2j * np.pi * k_a * tau0[:, None] * t_c[None, :])   # (P, C)
+    summed = weights @ tones                                          # (Q, C)
+    u_c = u[:, cols]
+    phase = grid.own[None, cols] - 2 * np.pi * (f_a0 * u_c + 0.5 * k_a * u_c**2)
+    sig = np.where(on[:, cols], taper[:, cols] * summed * np.exp(1j * phase), 0.0)
+    return cols, sig
 
 
 def interference_if(

@@ -1,7 +1,8 @@
 """Radar multipath by the image method: ghosts of targets seen via planar specular reflectors.
 
-A large, smooth, strongly reflecting planar face (a metal wall, a metal plate) acts as a
-mirror at 60 GHz. A target ``p`` in front of it is then also reached over the paths
+A large smooth planar face (a wall of concrete, plaster, wood or glass, a metal plate)
+acts as a mirror at 60 GHz, with its Fresnel reflection at the path's angle. A target
+``p`` in front of it is then also reached over the paths
 
 * (a) Tx → plane → p → Rx and (b) Tx → p → plane → Rx (order 1, amplitude × Γ), and
 * (c) Tx → plane → p → plane → Rx (order 2, amplitude × Γ²),
@@ -18,11 +19,19 @@ image and, for (c), the angle of the image; their IF is added to the ideal IF be
 receiver, so every DSP stage sees them.
 
 Reflectors (:func:`find_reflectors`) are the planar faces of ``Box`` and ``Plane`` objects
-whose radar material has ``|Γ| ≥`` :data:`MIN_REFLECTION` at normal incidence and whose
+whose radar material has ``|Γ| ≥`` :data:`MIN_REFLECTION` at normal incidence (any
+material with a smooth interface: a bounce more than 26 dB down is dropped) and whose
 area is at least :data:`MIN_AREA_M2`; a ``Plane`` reflects on both sides, a box face on
 its outer side. Curved surfaces (spheres, cylinders) and mesh files are left single-bounce.
-The Kirchhoff coherent factor of the material's rms height at the path's incidence angle
-scales Γ.
+Each path's Γ is the Fresnel TE/TM coefficient of the material's slab at the path's
+incidence angle, mixed by the radar's ``polarization`` (:func:`polarised_reflection`),
+times the Kirchhoff coherent factor of the material's rms height at that angle.
+
+Order 2 also adds the ghosts over two different surfaces (Tx → face A → target → face B
+→ Rx, :func:`two_surface_ghosts`); from order 1 the room's own bounces between its faces
+(edges, corners, echoes: :func:`simcore.sensors.radar.room.room_returns`) are added.
+Facets of planar objects get no image ghosts (:func:`image_ghost_rows`): their paths
+between faces are the room's returns, which exist only where the geometry allows.
 
 A path counts only when (1) the radar and the target are on the reflecting side of the
 plane, (2) the mirrored leg (from the array origin towards the image) crosses the plane
@@ -37,10 +46,10 @@ mirrored leg. Path (c) gets this from the image position; for (a) and (b), synth
 the real position, the mirrored leg's gain ratio ``g(image)/g(target)`` (of the first Tx or
 Rx's pattern) is folded into the ghost's RCS. Target aspect: a trihedral corner reflector
 takes its RCS in the direction of the image radar for (c) and the geometric mean of the two
-directions for the bistatic (a) and (b); surface facets keep the amplitude of their direct
-(monostatic) return. The reflector's motion relative to the radar along its normal is
-included for (c) (the image velocity) and neglected for (a) and (b) (exact when the radar
-moves parallel to the reflector or not at all).
+directions for the bistatic (a) and (b); facets of curved or meshed objects keep the
+amplitude of their direct (monostatic) return. The reflector's motion relative to the
+radar along its normal is included for (c) (the image velocity) and neglected for (a) and
+(b) (exact when the radar moves parallel to the reflector or not at all).
 
 The rig's own front (``RadarConfig.rig_front_*``, a flat rectangle in the board plane) is a
 reflector for the reflectors' own echoes: :func:`rig_front_ghosts` adds, from order 1, the
@@ -50,6 +59,7 @@ front (twice the reflector's distance, flat-plate RCS × Γ² × Γ_front).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -65,6 +75,14 @@ from simcore.scene.geometry import Box, CornerReflector, Plane, corner_reflector
 from simcore.scene.materials import DualBandMaterial
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.sensors.radar.equation import element_gain
+from simcore.sensors.radar.reflectors import (
+    MIN_DISTANCE_M,
+    GhostSet,
+    Reflector,
+    _reflector_seen,
+    polarization_vector,
+)
+from simcore.sensors.radar.room import room_returns
 from simcore.sensors.radar.scatterers import (
     KIND_CORNER_REFLECTOR,
     KIND_FACET,
@@ -75,60 +93,14 @@ from simcore.sensors.radar.scatterers import (
 from simcore.sensors.radar.scene import RadarScene
 from simcore.sensors.radar.synthesis import ComplexCube, synthesize_if
 
-#: Smallest normal-incidence |Γ| of a reflector's material (metal 1, concrete ≈ 0.4).
-MIN_REFLECTION = 0.5
+#: Smallest normal-incidence |Γ| of a reflector's material (metal 1, glass ≈ 0.5, concrete
+#: ≈ 0.4, an 18 mm wood panel ≈ 0.2): a bounce 26 dB down, below which a ghost of even the
+#: strongest target sinks under the clutter of the direct returns.
+MIN_REFLECTION = 0.05
 #: Smallest area of a reflecting face (m²).
 MIN_AREA_M2 = 0.04
-#: A target nearer to the plane than this (m), or behind it, has no image path.
-MIN_DISTANCE_M = 1e-3
 #: Smallest gain of a direct leg for the pattern ratio of a mirrored one (power).
 MIN_GAIN = 1e-9
-
-
-@dataclass(frozen=True)
-class Reflector:
-    """One planar specular reflector (a rectangle), in the radar optical frame.
-
-    Attributes
-    ----------
-    object_index : int
-        Index of its object in the scene's objects.
-    center_m : ndarray, shape (3,)
-        Rectangle centre (m).
-    axes : ndarray, shape (2, 3)
-        Unit in-plane edge directions.
-    half_size_m : ndarray, shape (2,)
-        Half extents along ``axes`` (m).
-    normal : ndarray, shape (3,)
-        Unit normal of the reflecting side (outward for a box face).
-    two_sided : bool
-        Reflects on both sides (a ``Plane``).
-    gamma : complex
-        Normal-incidence reflection coefficient of the material (metal −1).
-    height_rms_m : float
-        Rms surface height of the material (m).
-    normal_speed_mps : float
-        Speed of the plane along ``normal`` relative to the radar (m/s).
-    """
-
-    object_index: int
-    center_m: NDArray[np.float64]
-    axes: NDArray[np.float64]
-    half_size_m: NDArray[np.float64]
-    normal: NDArray[np.float64]
-    two_sided: bool
-    gamma: complex
-    height_rms_m: float
-    normal_speed_mps: float
-
-    def mirror(self, points: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Mirror images of ``points`` (..., 3) in the reflector's plane."""
-        s = (points - self.center_m) @ self.normal
-        return np.asarray(points - 2.0 * s[..., None] * self.normal)
-
-    def mirror_vectors(self, vectors: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Mirror free vectors (..., 3) (velocities, accelerations) in the plane."""
-        return np.asarray(vectors - 2.0 * (vectors @ self.normal)[..., None] * self.normal)
 
 
 def _faces(geometry: Box | Plane) -> list[tuple[NDArray[np.float64], NDArray[np.float64],
@@ -201,7 +173,7 @@ def find_reflectors(scene: RadarScene, wavelength_m: float, *,
                 object_index=i, center_m=(c_w - p_rad) @ r_rad,
                 axes=(ax_w / scale[:, None]) @ r_rad, half_size_m=half_w, normal=normal,
                 two_sided=two, gamma=gamma, height_rms_m=float(band.height_rms_m),
-                normal_speed_mps=float(rel_v @ normal)))
+                normal_speed_mps=float(rel_v @ normal), band=band, frequency_hz=freq))
     return out
 
 
@@ -241,16 +213,57 @@ def _facing_radar(refl: Reflector) -> tuple[Reflector, float] | None:
     if s0 < 0:
         if not refl.two_sided:
             return None
-        refl = Reflector(refl.object_index, refl.center_m, refl.axes, refl.half_size_m,
-                         -refl.normal, True, refl.gamma, refl.height_rms_m,
-                         -refl.normal_speed_mps)
+        refl = dataclasses.replace(refl, normal=-refl.normal,
+                                   normal_speed_mps=-refl.normal_speed_mps)
         s0 = -s0
     return refl, s0
 
 
+def polarised_reflection(reflector: Reflector, directions: NDArray[np.float64],
+                         polarization: NDArray[np.float64]) -> NDArray[np.complex128]:
+    """Co-polar reflection coefficient of each leg's bounce on ``reflector``, shape (K,).
+
+    ``directions`` (K, 3) are the legs from the radar to the reflection points and
+    ``polarization`` the antennas' E direction (radar frame). The wave's E (the antenna's,
+    made transverse to the leg) splits into TE (along ``ŝ = n × d̂``, parallel to the
+    surface) and TM (in the plane of incidence); the reflected wave, received by the same
+    polarisation in the image geometry (the image of a dipole ``p`` in a perfect conductor
+    is ``−M p``, M the mirror), is
+
+        Γ = Γ_TE c_TE² − Γ_TM cos 2θ (1 − c_TE²),      c_TE = p̂⊥ · ŝ,
+
+    with Born & Wolf's Γ_TE, Γ_TM at the leg's incidence angle θ
+    (:meth:`~simcore.scene.materials.BandMaterial.oblique_coefficients`). At normal
+    incidence it is the material's Γ; a metal gives −1 for E parallel to the surface (H
+    on a side wall, either on a front wall) and +1 for E in the plane of incidence at
+    grazing (V over a metal floor); a dielectric gives −1 at grazing for both. Without a
+    band (:class:`Reflector` made by hand) the reflector's ``gamma``.
+    """
+    d = directions / np.maximum(np.linalg.norm(directions, axis=1, keepdims=True), 1e-300)
+    cos_i = np.abs(d @ reflector.normal)
+    if reflector.band is None:
+        return np.full(len(d), complex(reflector.gamma))
+    r_te, r_tm = reflector.band.oblique_coefficients(reflector.frequency_hz, cos_i)
+    s = np.cross(reflector.normal, d)
+    s_norm = np.linalg.norm(s, axis=1)
+    p_perp = polarization[None, :] - (d @ polarization)[:, None] * d
+    p_norm = np.linalg.norm(p_perp, axis=1)
+    ok = (s_norm > 1e-9) & (p_norm > 1e-9)
+    c_te2 = np.ones(len(d))
+    c_te2[ok] = (np.einsum("ij,ij->i", p_perp[ok], s[ok]) / (s_norm[ok] * p_norm[ok])) ** 2
+    return np.asarray(r_te * c_te2 - r_tm * (2.0 * cos_i**2 - 1.0) * (1.0 - c_te2),
+                      dtype=np.complex128)
+
+
 def image_paths(reflector: Reflector, scatterers: Scatterers, buffers: RenderBuffers | None,
-                wavelength_m: float) -> ImagePaths | None:
-    """Primary scatterers with a valid path via ``reflector`` (module docstring), or None."""
+                wavelength_m: float, *, polarization: NDArray[np.float64] | None = None,
+                eligible: NDArray[np.bool_] | None = None) -> ImagePaths | None:
+    """Primary scatterers with a valid path via ``reflector`` (module docstring), or None.
+
+    ``polarization``: the antennas' E direction (radar frame; default V,
+    :func:`polarization_vector`) for the Fresnel coefficient at each path's angle.
+    ``eligible`` (scatterers,): the rows that may have a path (default all).
+    """
     facing = _facing_radar(reflector)
     if facing is None:
         return None
@@ -262,7 +275,9 @@ def image_paths(reflector: Reflector, scatterers: Scatterers, buffers: RenderBuf
     rows, images, q = _image_candidates(
         np.ascontiguousarray(scatterers.positions_m, dtype=np.float64),
         np.ascontiguousarray(scatterers.object_index, dtype=np.int64),
-        np.ascontiguousarray(scatterers.rcs_m2, dtype=np.float64),
+        np.ascontiguousarray(scatterers.rcs_m2 if eligible is None
+                             else np.where(eligible, scatterers.rcs_m2, 0.0),
+                             dtype=np.float64),
         np.ascontiguousarray(refl.center_m, dtype=np.float64),
         np.ascontiguousarray(refl.normal, dtype=np.float64),
         np.ascontiguousarray(refl.axes, dtype=np.float64),
@@ -274,7 +289,8 @@ def image_paths(reflector: Reflector, scatterers: Scatterers, buffers: RenderBuf
         return None
     cos_i = s0 / np.maximum(np.linalg.norm(q, axis=1), 1e-300)
     g = 4.0 * np.pi * refl.height_rms_m * cos_i / wavelength_m
-    gamma = refl.gamma * np.exp(-0.5 * g * g)
+    pol = polarization_vector("V") if polarization is None else polarization
+    gamma = polarised_reflection(refl, q, pol) * np.exp(-0.5 * g * g)
     return ImagePaths(refl, rows, images, gamma.astype(np.complex128), q)
 
 
@@ -332,24 +348,6 @@ def _image_candidates(pos: NDArray[np.float64], object_index: NDArray[np.int64],
     return rows[:k].copy(), images[:k].copy(), crossing[:k].copy()
 
 
-def _reflector_seen(buffers: RenderBuffers, points: NDArray[np.float64], object_index: int
-                    ) -> NDArray[np.bool_]:
-    """Whether the render shows the reflector at each point (outside the render: True)."""
-    intr = buffers.intrinsics
-    out = np.ones(len(points), dtype=bool)
-    front = points[:, 2] > 0
-    if not np.any(front):
-        return out
-    uv = intr.project(points[front])
-    col = np.floor(uv[:, 0]).astype(np.int64)
-    row = np.floor(uv[:, 1]).astype(np.int64)
-    within = (col >= 0) & (col < intr.width) & (row >= 0) & (row < intr.height)
-    seen = np.ones(len(uv), dtype=bool)
-    seen[within] = buffers.object_index[row[within], col[within]] == object_index
-    out[front] = seen
-    return out
-
-
 #: The second leg (reflection point → target) ends this far before the target (m): a
 #: scatterer lies on its object's surface (a tessellated curve: up to a few mm inside it).
 LEG_END_MARGIN_M = 0.005
@@ -402,7 +400,52 @@ def _segments_hit_box(a: NDArray[np.float64], b: NDArray[np.float64],
 
 def _segments_hit_triangles(a: NDArray[np.float64], b: NDArray[np.float64],
                             tri: NDArray[np.float64]) -> NDArray[np.bool_]:
-    """Whether segments a → b (n, 3) cross any of the triangles (T, 3, 3) (Möller–Trumbore)."""
+    """Whether segments a → b (n, 3) cross any of the triangles (T, 3, 3) (Möller–Trumbore).
+
+    One compiled pass (:func:`_hit_kernel`), each segment stopping at its first hit;
+    :func:`_segments_hit_triangles_numpy` is the same test in numpy.
+    """
+    hit = np.zeros(len(a), dtype=np.bool_)
+    if len(a) and len(tri):
+        _hit_kernel(np.ascontiguousarray(a, dtype=np.float64),
+                    np.ascontiguousarray(b, dtype=np.float64),
+                    np.ascontiguousarray(tri, dtype=np.float64), hit)
+    return hit
+
+
+@kernel
+def _hit_kernel(a: NDArray[np.float64], b: NDArray[np.float64], tri: NDArray[np.float64],
+                hit: NDArray[np.bool_]) -> None:
+    """``hit[i]`` = segment ``a[i] → b[i]`` crosses a triangle (0 < t < 1, inclusive edges)."""
+    for i in range(a.shape[0]):
+        dx, dy, dz = b[i, 0] - a[i, 0], b[i, 1] - a[i, 1], b[i, 2] - a[i, 2]
+        for t in range(tri.shape[0]):
+            e1x, e1y, e1z = tri[t, 1, 0] - tri[t, 0, 0], tri[t, 1, 1] - tri[t, 0, 1], \
+                tri[t, 1, 2] - tri[t, 0, 2]
+            e2x, e2y, e2z = tri[t, 2, 0] - tri[t, 0, 0], tri[t, 2, 1] - tri[t, 0, 1], \
+                tri[t, 2, 2] - tri[t, 0, 2]
+            px, py, pz = dy * e2z - dz * e2y, dz * e2x - dx * e2z, dx * e2y - dy * e2x
+            det = px * e1x + py * e1y + pz * e1z
+            if abs(det) <= 1e-12:
+                continue
+            inv = 1.0 / det
+            sx, sy, sz = a[i, 0] - tri[t, 0, 0], a[i, 1] - tri[t, 0, 1], a[i, 2] - tri[t, 0, 2]
+            u = (sx * px + sy * py + sz * pz) * inv
+            if u < 0.0 or u > 1.0:
+                continue
+            qx, qy, qz = sy * e1z - sz * e1y, sz * e1x - sx * e1z, sx * e1y - sy * e1x
+            v = (dx * qx + dy * qy + dz * qz) * inv
+            if v < 0.0 or u + v > 1.0:
+                continue
+            tt = (qx * e2x + qy * e2y + qz * e2z) * inv
+            if 0.0 < tt < 1.0:
+                hit[i] = True
+                break
+
+
+def _segments_hit_triangles_numpy(a: NDArray[np.float64], b: NDArray[np.float64],
+                                  tri: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """:func:`_segments_hit_triangles` in numpy (the reference of the compiled pass)."""
     hit = np.zeros(len(a), dtype=bool)
     e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
     step = max(1, 200_000 // max(len(tri), 1))
@@ -523,19 +566,107 @@ def _ghosts(scatterers: Scatterers, rows: NDArray[np.intp], positions: NDArray[n
         accelerations_mps2=accelerations)
 
 
-@dataclass(frozen=True)
-class GhostSet:
-    """Ghost scatterers of one kind of path, with the antenna positions to synthesise them.
+def image_ghost_rows(scene: RadarScene, scatterers: Scatterers) -> NDArray[np.bool_]:
+    """The scatterers that get image ghosts: all but the facets of planar objects.
 
-    ``tx_positions_m`` / ``rx_positions_m`` None = the configuration's (real) antennas.
-    ``order`` is 1 or 2, ``reflector`` the object index of the reflector.
+    A facet keeps its monostatic amplitude on a ghost path, which is right for a small
+    or curved scatterer but not for a facet of a large flat face: mirrored in another
+    face, the facets of a wall's specular spot would add ghosts where no geometric path
+    exists. Paths between planar faces are the room's own returns instead
+    (:func:`~simcore.sensors.radar.room.room_returns`: the specular geometry of each
+    pair or triple of faces).
     """
+    planar = np.array([isinstance(o.geometry, (Box, Plane)) for o in scene.objects] + [False],
+                      dtype=bool)
+    return ~((scatterers.kind == KIND_FACET) & planar[scatterers.object_index])
 
-    scatterers: Scatterers
-    order: int
-    reflector: int
-    tx_positions_m: NDArray[np.float64] | None = None
-    rx_positions_m: NDArray[np.float64] | None = None
+
+def ghost_sources(scatterers: Scatterers, eligible: NDArray[np.bool_]) -> Scatterers:
+    """The scatterers whose ghosts are drawn: each curved object's facets as one scatterer.
+
+    The eligible facets (:func:`image_ghost_rows`) of one object are summed coherently
+    into one point scatterer at their power-weighted centroid: its amplitude is the
+    object's monostatic return (the phasors ``√σ e^{j(2k r + φ)}`` summed, referred to the
+    centroid's range), its velocity and acceleration the power-weighted means. A curved
+    object's specular return is about the same on a bistatic path as on the monostatic one
+    (a sphere's is πr² either way, geometric optics), which its facets, each with its
+    monostatic amplitude on the bistatic path, do not reproduce; and a person's thousands
+    of facets become a dozen ghost sources. Corner reflectors and point targets stay as
+    they are.
+
+    Returns
+    -------
+    Scatterers
+        The eligible non-facet rows, then one row per object with eligible facets
+        (kind point target: it scatters from its centroid, not from a facet's face).
+    """
+    keep = np.flatnonzero(eligible & (scatterers.kind != KIND_FACET))
+    facets = np.flatnonzero(eligible & (scatterers.kind == KIND_FACET))
+    if not len(facets):
+        return scatterers.subset(keep)
+    k = 2.0 * np.pi / scatterers.wavelength_m
+    obj = scatterers.object_index[facets]
+    owners, group = np.unique(obj, return_inverse=True)
+    pos = scatterers.positions_m[facets]
+    power = scatterers.rcs_m2[facets]
+    weight = np.bincount(group, power, minlength=len(owners))
+    weight = np.where(weight > 0, weight, 1.0)
+
+    def mean(values: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.stack([np.bincount(group, power * values[:, c], minlength=len(owners))
+                         for c in range(3)], axis=1) / weight[:, None]
+
+    centroid = mean(pos)
+    r = np.linalg.norm(pos, axis=1)
+    phasor = np.sqrt(power) * np.exp(1j * (2.0 * k * r + scatterers.phase_rad[facets]))
+    total = (np.bincount(group, phasor.real, minlength=len(owners))
+             + 1j * np.bincount(group, phasor.imag, minlength=len(owners)))
+    total *= np.exp(-2j * k * np.linalg.norm(centroid, axis=1))
+    acc = scatterers.accelerations_mps2
+    merged = Scatterers(
+        time_s=scatterers.time_s, wavelength_m=scatterers.wavelength_m,
+        positions_m=centroid, velocities_mps=mean(scatterers.velocities_mps[facets]),
+        rcs_m2=np.abs(total) ** 2, phase_rad=np.angle(total),
+        object_index=owners.astype(np.int32),
+        kind=np.full(len(owners), KIND_POINT_TARGET, dtype=np.int8),
+        accelerations_mps2=None if acc is None else mean(acc[facets]))
+    return _concat([scatterers.subset(keep), merged])
+
+
+def _subset_paths(paths: ImagePaths, keep: NDArray[np.bool_]) -> ImagePaths:
+    return ImagePaths(paths.reflector, paths.rows[keep], paths.images_m[keep],
+                      paths.gamma[keep], paths.crossing_m[keep])
+
+
+def two_surface_ghosts(scatterers: Scatterers, paths: Sequence[ImagePaths],
+                       tx_positions_m: NDArray[np.float64], rx_positions_m: NDArray[np.float64]
+                       ) -> list[GhostSet]:
+    """Ghosts over two different surfaces: Tx → face A → target → face B → Rx.
+
+    For every ordered pair of reflectors (A, B), A ≠ B, and every target with a valid
+    path via each (:func:`image_paths`, :func:`second_leg_clear`), the path's length is
+    ``|p − Tx_A| + |p − Rx_B|`` with the Tx mirrored in A and the Rx in B (the image
+    method on each leg), its amplitude Γ_A Γ_B (each at its leg's angle and
+    polarisation): synthesised at the real position with both antenna sets mirrored.
+    """
+    out: list[GhostSet] = []
+    for a in paths:
+        for b in paths:
+            if a is b or a.reflector.object_index == b.reflector.object_index and \
+                    np.allclose(a.reflector.normal, b.reflector.normal):
+                continue
+            rows, ia, ib = np.intersect1d(a.rows, b.rows, return_indices=True)
+            if not len(rows):
+                continue
+            vel = scatterers.velocities_mps[rows]
+            acc = (None if scatterers.accelerations_mps2 is None
+                   else scatterers.accelerations_mps2[rows])
+            out.append(GhostSet(
+                _ghosts(scatterers, rows, scatterers.positions_m[rows], vel, acc,
+                        a.gamma[ia] * b.gamma[ib]),
+                2, a.reflector.object_index, tx_positions_m=a.reflector.mirror(tx_positions_m),
+                rx_positions_m=b.reflector.mirror(rx_positions_m)))
+    return out
 
 
 def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
@@ -575,16 +706,21 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
     p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()
     pat_t = config.tx[0].pattern or config.element_pattern
     pat_r = config.rx[0].pattern or config.element_pattern
+    scatterers = ghost_sources(scatterers, image_ghost_rows(scene, scatterers))
+    eligible = None
     out: list[GhostSet] = []
+    valid: list[ImagePaths] = []
     for refl in reflectors:
-        paths = image_paths(refl, scatterers, buffers, lam)
+        paths = image_paths(refl, scatterers, buffers, lam, eligible=eligible,
+                            polarization=polarization_vector(config.polarization))
         if paths is None:
             continue
         clear = second_leg_clear(scene, paths, scatterers, lam)
         if not np.any(clear):
             continue
-        rows, images, gamma, r = (paths.rows[clear], paths.images_m[clear],
-                                  paths.gamma[clear], paths.reflector)
+        paths = _subset_paths(paths, clear)
+        valid.append(paths)
+        rows, images, gamma, r = paths.rows, paths.images_m, paths.gamma, paths.reflector
         pos = scatterers.positions_m[rows]
         vel = scatterers.velocities_mps[rows]
         acc = (None if scatterers.accelerations_mps2 is None
@@ -610,6 +746,11 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
             out.append(GhostSet(
                 _ghosts(scatterers, rows, images, v_img, a_img, gamma**2 * np.sqrt(aspect2)),
                 2, r.object_index))
+    if order >= 2:
+        out += two_surface_ghosts(scatterers, valid, p_tx, p_rx)
+    # The room's own multiple bounces between its faces: edges, corners, echoes.
+    out += room_returns(scene, config, reflectors, buffers=buffers, order=order,
+                        time_s=scatterers.time_s)
     # The rig's own front returns every reflector's echo to it once more (from order 1).
     out += rig_front_ghosts(scene.materials, config, reflectors, time_s=scatterers.time_s,
                             buffers=buffers)
@@ -744,14 +885,27 @@ def synthesize_ghosts(sets: Sequence[GhostSet], config: RadarConfig, *,
     out = np.zeros((config.chirps_per_frame, len(config.tx) * len(config.rx),
                     config.samples_per_chirp), dtype=np.complex128)
     for g in sets:
-        if g.order == 1 and len(g.scatterers):
-            out += synthesize_if(g.scatterers, config, threads=threads,
+        mirrored = g.tx_positions_m is not None or g.rx_positions_m is not None
+        if mirrored and len(g.scatterers):
+            out += synthesize_if(g.scatterers, config, threads=_threads(threads, g.scatterers),
                                  tx_positions_m=g.tx_positions_m,
                                  rx_positions_m=g.rx_positions_m)
-    second = [g.scatterers for g in sets if g.order == 2 and len(g.scatterers)]
+    second = [g.scatterers for g in sets if len(g.scatterers)
+              and g.tx_positions_m is None and g.rx_positions_m is None]
     if second:
-        out += synthesize_if(_concat(second), config, threads=threads)
+        merged = _concat(second)
+        out += synthesize_if(merged, config, threads=_threads(threads, merged))
     return out
+
+
+#: Ghost sets smaller than this are synthesised on the calling thread: a few dozen ghost
+#: sources cost less than handing their transforms to the pool (2–20× less, measured).
+SMALL_SET = 512
+
+
+def _threads(threads: int | None, scatterers: Scatterers) -> int | None:
+    """The synthesis threads for a ghost set (the output does not depend on them)."""
+    return threads if threads is not None or len(scatterers) >= SMALL_SET else 1
 
 
 def _concat(sets: list[Scatterers]) -> Scatterers:

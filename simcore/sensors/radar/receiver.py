@@ -138,6 +138,8 @@ def receiver_chain(ideal: ComplexCube, config: RadarConfig, rng: np.random.Gener
                    ) -> tuple[NDArray[np.float32] | NDArray[np.complex64], int]:
     """Leakage, noise, quantization: the ADC cube from the noise-free complex IF.
 
+    With ``config.ideal`` the noise and the quantisation are left out (leakage stays).
+
     Parameters
     ----------
     ideal : ndarray, shape (chirps, tx*rx, samples), complex128
@@ -155,13 +157,16 @@ def receiver_chain(ideal: ComplexCube, config: RadarConfig, rng: np.random.Gener
         Number of real values (I and Q counted separately) clipped at full scale.
     """
     x = ideal + leakage_if(config)
-    noise = receiver_noise(config, x.shape, rng)
+    # The ideal sensor (config.ideal): no noise drawn, no ADC grid, no clipping.
+    noise = (np.zeros_like(x) if config.ideal
+             else receiver_noise(config, x.shape, rng))
+    bits = None if config.ideal else config.adc_bits
     if config.complex_iq:
         z = x + noise
-        i_q, c_i = quantize(z.real, config.adc_bits)
-        q_q, c_q = quantize(z.imag, config.adc_bits)
+        i_q, c_i = quantize(z.real, bits)
+        q_q, c_q = quantize(z.imag, bits)
         return (i_q + 1j * q_q).astype(np.complex64), c_i + c_q
-    real, clipped = quantize(x.real + noise.real, config.adc_bits)
+    real, clipped = quantize(x.real + noise.real, bits)
     return real.astype(np.float32), clipped
 
 

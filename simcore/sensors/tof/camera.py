@@ -1045,40 +1045,11 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
     """
     k = config.supersampling
     noise = noise and not config.ideal
-    expected = (config.height * k, config.width * k)
-    if buffers.shape != expected:
-        raise ValueError(
-            f"ToF render is {buffers.shape[1]}×{buffers.shape[0]} px; the camera needs "
-            f"{expected[1]}×{expected[0]} (sensor {config.width}×{config.height} × "
-            f"supersampling {k})")
-
-    if sample_buffers is not None and len(sample_buffers) != 4:
-        raise ValueError(f"sample_buffers needs the 4 correlation samples' renders, "
-                         f"got {len(sample_buffers)}")
-
+    _check_render(buffers, config, sample_buffers)
     pinhole = buffers      # the light's shadow map for room multipath: the undistorted render
     if config.distortion:
-        # The albedo is per render pixel like the buffers: it follows the lens with them.
-        albedo = None if albedo is None else np.asarray(distort_image(
-            albedo, buffers.intrinsics, config.distortion_coefficients), dtype=FLOAT)
-        # Buffers the camera model never reads stay as rendered (the distorted render
-        # does not leave this function); the velocities only for motion reprojection.
-        skip: tuple[str, ...] = ("cos_incidence", "radial_velocity_mps")
-        if not (config.motion_artifacts and config.motion_sampling == "reprojection"):
-            skip += ("velocity_mps",)
-        buffers = distort_buffers(buffers, config, skip=skip)
-        sample_buffers = (None if sample_buffers is None
-                          else [distort_buffers(b, config, skip=skip) for b in sample_buffers])
-        see_through = (None if see_through is None
-                       else distort_buffers(see_through, config, skip=skip))
-        if exposure_reference is not None:
-            # Auto-exposure reads only these three (auto_exposure_s): the reference never
-            # leaves this function, so its other buffers are not resampled.
-            ref, lens = exposure_reference, config.distortion_coefficients
-            exposure_reference = dataclasses.replace(
-                ref, range_m=distort_image(ref.range_m, ref.intrinsics, lens, np.nan),
-                intensity=distort_image(ref.intensity, ref.intrinsics, lens, 0),
-                object_index=distort_image(ref.object_index, ref.intrinsics, lens, -1))
+        buffers, sample_buffers, see_through, exposure_reference, albedo = _through_the_lens(
+            config, buffers, sample_buffers, see_through, exposure_reference, albedo)
     if (sample_buffers is None and config.motion_artifacts
             and config.motion_sampling == "reprojection"):
         sample_buffers = _moved_samples(buffers, config)   # after the lens: cheaper
@@ -1094,31 +1065,9 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
                                    extra_response=None if spec is None
                                    else spec[0].sum(axis=0))
         config = config.model_copy(update={"exposure_time_s": exposure})
-
-
-    # Multipath interference (the one-bounce light), mirror paths and the returns seen
-    # through panes, added as phasors before read-out.
-    indirect = None
-    if config.multipath:
-        if albedo is None:
-            raise ValueError("multipath needs the diffuse albedo of the render (albedo=...)")
-        if config.multipath_model == "room" and room is None:
-            raise ValueError("'room' multipath needs the scene's surfaces (room=...)")
-        indirect = _multipath_planes(buffers, config, albedo, shadow_map=pinhole,
-                                     room=room if config.multipath_model == "room" else None)
-    if spec is not None:
-        mirrored = _specular_planes(spec[0], spec[1], config)
-        indirect = mirrored if indirect is None else indirect + mirrored
-    if see_through is not None:
-        if transmittance is None:
-            raise ValueError("see_through needs the objects' transmittance (transmittance=...)")
-        if see_through.shape != buffers.shape:
-            raise ValueError("the see-through render must have the render's shape")
-        through = _transmitted_planes(buffers, see_through, transmittance, config)
-        indirect = through if indirect is None else indirect + through
-    if illuminators:
-        foreign = interference_planes(buffers, config, illuminators)
-        indirect = foreign if indirect is None else indirect + foreign
+    indirect = _indirect_light(buffers, config, albedo=albedo, pinhole=pinhole, room=room,
+                               spec=spec, see_through=see_through,
+                               transmittance=transmittance, illuminators=illuminators)
     mixed = None
     if sample_buffers is None:
         # 1.–2. Per sub-pixel signal/ambient electrons, range and phase, summed per sensor
@@ -1145,3 +1094,86 @@ def simulate_tof(buffers: RenderBuffers, config: TofCameraConfig, *,
         gt_object_id=gt_id,
         exposure_time_s=float(config.exposure_time_s),
     )
+
+
+def _check_render(buffers: RenderBuffers, config: TofCameraConfig,
+                  sample_buffers: Sequence[RenderBuffers] | None) -> None:
+    """The render is the supersampled sensor grid; four sample renders when given."""
+    k = config.supersampling
+    expected = (config.height * k, config.width * k)
+    if buffers.shape != expected:
+        raise ValueError(
+            f"ToF render is {buffers.shape[1]}×{buffers.shape[0]} px; the camera needs "
+            f"{expected[1]}×{expected[0]} (sensor {config.width}×{config.height} × "
+            f"supersampling {k})")
+    if sample_buffers is not None and len(sample_buffers) != 4:
+        raise ValueError(f"sample_buffers needs the 4 correlation samples' renders, "
+                         f"got {len(sample_buffers)}")
+
+
+def _through_the_lens(config: TofCameraConfig, buffers: RenderBuffers,
+                      sample_buffers: Sequence[RenderBuffers] | None,
+                      see_through: RenderBuffers | None,
+                      exposure_reference: RenderBuffers | None,
+                      albedo: NDArray[np.float32] | None
+                      ) -> tuple[RenderBuffers, Sequence[RenderBuffers] | None,
+                                 RenderBuffers | None, RenderBuffers | None,
+                                 NDArray[np.float32] | None]:
+    """The renders (and the albedo) as the distorting lens maps them onto the sensor."""
+    # The albedo is per render pixel like the buffers: it follows the lens with them.
+    albedo = None if albedo is None else np.asarray(distort_image(
+        albedo, buffers.intrinsics, config.distortion_coefficients), dtype=FLOAT)
+    # Buffers the camera model never reads stay as rendered (the distorted render
+    # does not leave this function); the velocities only for motion reprojection.
+    skip: tuple[str, ...] = ("cos_incidence", "radial_velocity_mps")
+    if not (config.motion_artifacts and config.motion_sampling == "reprojection"):
+        skip += ("velocity_mps",)
+    buffers = distort_buffers(buffers, config, skip=skip)
+    sample_buffers = (None if sample_buffers is None
+                      else [distort_buffers(b, config, skip=skip) for b in sample_buffers])
+    see_through = (None if see_through is None
+                   else distort_buffers(see_through, config, skip=skip))
+    if exposure_reference is not None:
+        # Auto-exposure reads only these three (auto_exposure_s): the reference never
+        # leaves this function, so its other buffers are not resampled.
+        ref, lens = exposure_reference, config.distortion_coefficients
+        exposure_reference = dataclasses.replace(
+            ref, range_m=distort_image(ref.range_m, ref.intrinsics, lens, np.nan),
+            intensity=distort_image(ref.intensity, ref.intrinsics, lens, 0),
+            object_index=distort_image(ref.object_index, ref.intrinsics, lens, -1))
+    return buffers, sample_buffers, see_through, exposure_reference, albedo
+
+
+def _indirect_light(buffers: RenderBuffers, config: TofCameraConfig, *,
+                    albedo: NDArray[np.float32] | None, pinhole: RenderBuffers,
+                    room: Room | None,
+                    spec: tuple[NDArray[np.float32], NDArray[np.float32]] | None,
+                    see_through: RenderBuffers | None,
+                    transmittance: NDArray[np.floating] | None,
+                    illuminators: Sequence[Illuminator]) -> NDArray[np.float32] | None:
+    """Multipath, mirror paths, returns through panes and other cameras' light, as planes.
+
+    Added as phasors before read-out; None when there is none.
+    """
+    indirect = None
+    if config.multipath:
+        if albedo is None:
+            raise ValueError("multipath needs the diffuse albedo of the render (albedo=...)")
+        if config.multipath_model == "room" and room is None:
+            raise ValueError("'room' multipath needs the scene's surfaces (room=...)")
+        indirect = _multipath_planes(buffers, config, albedo, shadow_map=pinhole,
+                                     room=room if config.multipath_model == "room" else None)
+    if spec is not None:
+        mirrored = _specular_planes(spec[0], spec[1], config)
+        indirect = mirrored if indirect is None else indirect + mirrored
+    if see_through is not None:
+        if transmittance is None:
+            raise ValueError("see_through needs the objects' transmittance (transmittance=...)")
+        if see_through.shape != buffers.shape:
+            raise ValueError("the see-through render must have the render's shape")
+        through = _transmitted_planes(buffers, see_through, transmittance, config)
+        indirect = through if indirect is None else indirect + through
+    if illuminators:
+        foreign = interference_planes(buffers, config, illuminators)
+        indirect = foreign if indirect is None else indirect + foreign
+    return indirect

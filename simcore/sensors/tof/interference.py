@@ -220,87 +220,144 @@ def interference_planes(buffers: RenderBuffers, config: TofCameraConfig,
     ndarray, shape (1 + 2F, H, W), float32
         Offset, then (re, im) per modulation frequency, at sensor resolution.
     """
-    k = config.supersampling
     freqs = config.modulation_frequencies_hz
-    hs, ws = buffers.shape
-    # One render sub-pixel per sensor pixel (the one at (k//2, k//2) of its block): the
-    # foreign light varies slowly over the scene, and this is k² times cheaper.
-    o = k // 2
-    hit_full = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
-    hit = hit_full[o::k, o::k].reshape(-1)
     h, w_px = config.height, config.width
+    victim = _victim_pixels(buffers, config.supersampling)
     planes = np.zeros((1 + 2 * len(freqs), h * w_px), np.float64)
-    idx = np.flatnonzero(hit)
-
-    def pick(a: NDArray[np.generic], last: int | None = None) -> NDArray[np.float32]:
-        v = np.asarray(a, np.float32)[o::k, o::k]
-        return v.reshape(-1, last)[idx] if last else v.reshape(-1)[idx]
-
-    # Everything in the victim's optical frame, on the pixels that show a surface.
-    pts, nrm = pick(buffers.points_m, 3), pick(buffers.normals, 3)
-    rng, response = pick(buffers.range_m), pick(buffers.intensity)
-    cos_v = np.maximum(pick(buffers.cos_incidence), np.float32(0.05))
-    pose = buffers.sensor.transform
-    rot, origin = pose[:3, :3], pose[:3, 3]
-    epr = config.electrons_per_radiance
-    m = config.demodulation_contrast
     for ill in illuminators:
         rho = overlap_fraction(config, ill.config, ill.start_s)
         if rho <= 0:
             continue
-        a_pos = (ill.pose[:3, 3] - origin) @ rot          # emitter in the victim's frame
-        a_rot = rot.T @ ill.pose[:3, :3]                  # its axes in the victim's frame
-        intensity_a = ill.config.illumination_power_w / ill.config.illumination_solid_angle_sr
-        tan_h = np.tan(np.radians(ill.config.fov_h_deg) / 2)
-        tan_v = np.tan(np.radians(ill.config.fov_v_deg) / 2)
+        view = _emitter_view(ill, buffers.sensor.transform)
         cs = [cross_correlation_factor(f_v, _paired(ill.config, j),
                                        exposure_s=config.exposure_time_s,
                                        overlap_fraction=rho) for j, f_v in enumerate(freqs)]
-        w = pts - a_pos.astype(np.float32)
-        d_a = np.maximum(np.sqrt(np.einsum("ij,ij->i", w, w)), np.float32(1e-3))
-        loc = w @ a_rot.astype(np.float32)
-        z = loc[:, 2]
-        lit = (z > 0) & (np.abs(loc[:, 0]) <= tan_h * z) & (np.abs(loc[:, 1]) <= tan_v * z)
-        cos_a = -np.einsum("ij,ij->i", nrm, w) / d_a
-        lit &= cos_a > 0
-        sel = np.flatnonzero(lit)
-        if sel.size:
-            da = d_a[sel].astype(np.float64)
-            s_a = (response[sel] * cos_a[sel] / cos_v[sel]).astype(np.float64) * (
-                intensity_a / np.pi * epr) / da**2
-            path = da + rng[sel]
-            where = idx[sel]
-            planes[0, where] += rho * s_a
-            for j in range(len(freqs)):
-                f_a = _paired(ill.config, j)
-                phase = 2 * np.pi * f_a * (path / SPEED_OF_LIGHT - ill.start_s)
-                ph = m * s_a * cs[j] * np.exp(1j * phase)
-                planes[1 + 2 * j, where] += ph.real
-                planes[2 + 2 * j, where] += ph.imag
-        # Direct: the emitter itself in the victim's view.
-        d = float(np.linalg.norm(a_pos))
-        b_loc = -a_pos @ a_rot                            # victim in the emitter's frame
-        if a_pos[2] > 0 and b_loc[2] > 0 and abs(b_loc[0]) <= tan_h * b_loc[2] \
-                and abs(b_loc[1]) <= tan_v * b_loc[2]:
-            intr = buffers.intrinsics
-            col = int(np.floor(intr.fx * a_pos[0] / a_pos[2] + intr.cx))
-            row = int(np.floor(intr.fy * a_pos[1] / a_pos[2] + intr.cy))
-            if 0 <= row < hs and 0 <= col < ws and not (
-                    hit_full[row, col] and buffers.range_m[row, col] < d - 1e-3):
-                focal = config.intrinsics().fx * config.pixel_pitch_um * 1e-6
-                aperture = np.pi * (focal / (2 * config.f_number)) ** 2
-                photons = config.wavelength_nm * 1e-9 / (PLANCK * SPEED_OF_LIGHT)
-                e = (intensity_a / d**2 * aperture * config.exposure_time_s
-                     * config.quantum_efficiency * photons)
-                at = (row // k) * w_px + col // k
-                planes[0, at] += rho * e
-                for j in range(len(freqs)):
-                    f_a = _paired(ill.config, j)
-                    ph = m * e * cs[j] * np.exp(
-                        1j * (2 * np.pi * f_a * (d / SPEED_OF_LIGHT - ill.start_s)))
-                    planes[1 + 2 * j, at] += ph.real
-                    planes[2 + 2 * j, at] += ph.imag
+        light = _Light(ill, cs, config.demodulation_contrast, rho)
+        _add_lit_surfaces(planes, victim, view, light, config)
+        _add_direct_light(planes, buffers, victim.hit_full, view, light, config)
     return planes.reshape(-1, h, w_px).astype(np.float32)
+
+
+@dataclass(frozen=True)
+class _VictimPixels:
+    """The victim's pixels that show a surface, one render sub-pixel each, optical frame."""
+
+    hit_full: NDArray[np.bool_]     # (Hs, Ws) render sub-pixels that show a surface
+    idx: NDArray[np.intp]           # (n,) flat sensor pixels that do
+    points: NDArray[np.float32]     # (n, 3) their surface points (m)
+    normals: NDArray[np.float32]    # (n, 3)
+    range_m: NDArray[np.float32]    # (n,)
+    response: NDArray[np.float32]   # (n,) the render's response ``f``
+    cos_v: NDArray[np.float32]      # (n,) cosine of incidence from the victim, ≥ 0.05
+
+
+def _victim_pixels(buffers: RenderBuffers, k: int) -> _VictimPixels:
+    """The sub-pixel at ``(k//2, k//2)`` of each sensor pixel's block that shows a surface.
+
+    The foreign light varies slowly over the scene, and this is k² times cheaper than
+    every sub-pixel.
+    """
+    o = k // 2
+    hit_full = (buffers.object_index >= 0) & np.isfinite(buffers.range_m)
+    hit = hit_full[o::k, o::k].reshape(-1)
+    idx = np.flatnonzero(hit)
+
+    def pick(a: NDArray[np.generic], last: int | None = None) -> NDArray[np.float32]:
+        """The chosen sub-pixels' values of a render buffer."""
+        v = np.asarray(a, np.float32)[o::k, o::k]
+        return v.reshape(-1, last)[idx] if last else v.reshape(-1)[idx]
+
+    return _VictimPixels(hit_full, idx, pick(buffers.points_m, 3), pick(buffers.normals, 3),
+                         pick(buffers.range_m), pick(buffers.intensity),
+                         np.maximum(pick(buffers.cos_incidence), np.float32(0.05)))
+
+
+@dataclass(frozen=True)
+class _EmitterView:
+    """An illuminator's emitter seen from the victim's optical frame."""
+
+    position: NDArray[np.float64]   # (3,) emitter position (m)
+    rotation: NDArray[np.float64]   # (3, 3) its axes
+    intensity_w_sr: float           # radiant intensity I_a (W/sr)
+    tan_h: float                    # tangent of its half field of view, horizontal
+    tan_v: float                    # and vertical
+
+
+def _emitter_view(ill: Illuminator, victim_pose: NDArray[np.float64]) -> _EmitterView:
+    """Illuminator ``ill``'s emitter in the frame of the victim at ``victim_pose``."""
+    rot, origin = victim_pose[:3, :3], victim_pose[:3, 3]
+    return _EmitterView(
+        (ill.pose[:3, 3] - origin) @ rot, rot.T @ ill.pose[:3, :3],
+        ill.config.illumination_power_w / ill.config.illumination_solid_angle_sr,
+        np.tan(np.radians(ill.config.fov_h_deg) / 2),
+        np.tan(np.radians(ill.config.fov_v_deg) / 2))
+
+
+@dataclass(frozen=True)
+class _Light:
+    """What a pixel's phasor gains per electron of an illuminator's light."""
+
+    ill: Illuminator
+    cs: list[complex]               # cross-correlation factor per victim frequency
+    contrast: float                 # the victim's demodulation contrast m
+    rho: float                      # exposure overlap fraction
+
+    def add(self, planes: NDArray[np.float64], where: NDArray[np.intp] | int,
+            electrons: NDArray[np.float64] | float, path_m: NDArray[np.float64] | float
+            ) -> None:
+        """Add ``electrons`` over paths ``path_m`` to the offset and phasor planes."""
+        planes[0, where] += self.rho * electrons
+        for j in range(len(self.cs)):
+            f_a = _paired(self.ill.config, j)
+            phase = 2 * np.pi * f_a * (path_m / SPEED_OF_LIGHT - self.ill.start_s)
+            ph = self.contrast * electrons * self.cs[j] * np.exp(1j * phase)
+            planes[1 + 2 * j, where] += ph.real
+            planes[2 + 2 * j, where] += ph.imag
+
+
+def _add_lit_surfaces(planes: NDArray[np.float64], victim: _VictimPixels, view: _EmitterView,
+                      light: _Light, config: TofCameraConfig) -> None:
+    """The emitter's light scattered by the surfaces in its field that face it."""
+    w = victim.points - view.position.astype(np.float32)
+    d_a = np.maximum(np.sqrt(np.einsum("ij,ij->i", w, w)), np.float32(1e-3))
+    loc = w @ view.rotation.astype(np.float32)
+    z = loc[:, 2]
+    lit = (z > 0) & (np.abs(loc[:, 0]) <= view.tan_h * z) & (np.abs(loc[:, 1]) <= view.tan_v * z)
+    cos_a = -np.einsum("ij,ij->i", victim.normals, w) / d_a
+    lit &= cos_a > 0
+    sel = np.flatnonzero(lit)
+    if not sel.size:
+        return
+    da = d_a[sel].astype(np.float64)
+    s_a = (victim.response[sel] * cos_a[sel] / victim.cos_v[sel]).astype(np.float64) * (
+        view.intensity_w_sr / np.pi * config.electrons_per_radiance) / da**2
+    light.add(planes, victim.idx[sel], s_a, da + victim.range_m[sel])
+
+
+def _add_direct_light(planes: NDArray[np.float64], buffers: RenderBuffers,
+                      hit_full: NDArray[np.bool_], view: _EmitterView, light: _Light,
+                      config: TofCameraConfig) -> None:
+    """The emitter itself in the victim's view, unoccluded, the victim in its field."""
+    a_pos = view.position
+    d = float(np.linalg.norm(a_pos))
+    b_loc = -a_pos @ view.rotation                    # victim in the emitter's frame
+    if not (a_pos[2] > 0 and b_loc[2] > 0 and abs(b_loc[0]) <= view.tan_h * b_loc[2]
+            and abs(b_loc[1]) <= view.tan_v * b_loc[2]):
+        return
+    hs, ws = buffers.shape
+    intr = buffers.intrinsics
+    col = int(np.floor(intr.fx * a_pos[0] / a_pos[2] + intr.cx))
+    row = int(np.floor(intr.fy * a_pos[1] / a_pos[2] + intr.cy))
+    if not (0 <= row < hs and 0 <= col < ws) or (
+            hit_full[row, col] and buffers.range_m[row, col] < d - 1e-3):
+        return
+    k = config.supersampling
+    focal = config.intrinsics().fx * config.pixel_pitch_um * 1e-6
+    aperture = np.pi * (focal / (2 * config.f_number)) ** 2
+    photons = config.wavelength_nm * 1e-9 / (PLANCK * SPEED_OF_LIGHT)
+    e = (view.intensity_w_sr / d**2 * aperture * config.exposure_time_s
+         * config.quantum_efficiency * photons)
+    light.add(planes, (row // k) * config.width + col // k, e, d)
 
 
 def _paired(aggressor: TofCameraConfig, j: int) -> float:

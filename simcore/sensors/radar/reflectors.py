@@ -1,0 +1,114 @@
+"""Planar reflectors and ghost sets: what the image method and the room's paths share.
+
+A :class:`Reflector` is one planar face that reflects specularly (its rectangle, normal,
+material and motion, in the radar optical frame); a :class:`GhostSet` is the ghost
+scatterers of one kind of path with the antenna positions to synthesise them.
+:mod:`simcore.sensors.radar.multipath` (targets' ghosts) and
+:mod:`simcore.sensors.radar.room` (the room's own multiple bounces) both build on this
+module and not on each other.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simcore.render.buffers import RenderBuffers
+from simcore.scene.materials import BandMaterial
+from simcore.sensors.radar.scatterers import Scatterers
+
+#: A target nearer to the plane than this (m), or behind it, has no image path.
+MIN_DISTANCE_M = 1e-3
+
+
+@dataclass(frozen=True)
+class Reflector:
+    """One planar specular reflector (a rectangle), in the radar optical frame.
+
+    Attributes
+    ----------
+    object_index : int
+        Index of its object in the scene's objects.
+    center_m : ndarray, shape (3,)
+        Rectangle centre (m).
+    axes : ndarray, shape (2, 3)
+        Unit in-plane edge directions.
+    half_size_m : ndarray, shape (2,)
+        Half extents along ``axes`` (m).
+    normal : ndarray, shape (3,)
+        Unit normal of the reflecting side (outward for a box face).
+    two_sided : bool
+        Reflects on both sides (a ``Plane``).
+    gamma : complex
+        Normal-incidence reflection coefficient of the material (metal −1).
+    height_rms_m : float
+        Rms surface height of the material (m).
+    normal_speed_mps : float
+        Speed of the plane along ``normal`` relative to the radar (m/s).
+    band : BandMaterial or None
+        The material's radar band (Fresnel TE/TM at the path's angle,
+        :func:`polarised_reflection`); None: ``gamma`` at every angle.
+    frequency_hz : float
+        Carrier frequency the coefficients are evaluated at (Hz).
+    """
+
+    object_index: int
+    center_m: NDArray[np.float64]
+    axes: NDArray[np.float64]
+    half_size_m: NDArray[np.float64]
+    normal: NDArray[np.float64]
+    two_sided: bool
+    gamma: complex
+    height_rms_m: float
+    normal_speed_mps: float
+    band: BandMaterial | None = None
+    frequency_hz: float = 0.0
+
+    def mirror(self, points: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Mirror images of ``points`` (..., 3) in the reflector's plane."""
+        s = (points - self.center_m) @ self.normal
+        return np.asarray(points - 2.0 * s[..., None] * self.normal)
+
+    def mirror_vectors(self, vectors: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Mirror free vectors (..., 3) (velocities, accelerations) in the plane."""
+        return np.asarray(vectors - 2.0 * (vectors @ self.normal)[..., None] * self.normal)
+
+
+def polarization_vector(polarization: str) -> NDArray[np.float64]:
+    """The antennas' E-field direction in the radar optical frame (V: board y, H: board x)."""
+    return np.array([0.0, 1.0, 0.0]) if polarization == "V" else np.array([1.0, 0.0, 0.0])
+
+
+def _reflector_seen(buffers: RenderBuffers, points: NDArray[np.float64], object_index: int
+                    ) -> NDArray[np.bool_]:
+    """Whether the render shows the reflector at each point (outside the render: True)."""
+    intr = buffers.intrinsics
+    out = np.ones(len(points), dtype=bool)
+    front = points[:, 2] > 0
+    if not np.any(front):
+        return out
+    uv = intr.project(points[front])
+    col = np.floor(uv[:, 0]).astype(np.int64)
+    row = np.floor(uv[:, 1]).astype(np.int64)
+    within = (col >= 0) & (col < intr.width) & (row >= 0) & (row < intr.height)
+    seen = np.ones(len(uv), dtype=bool)
+    seen[within] = buffers.object_index[row[within], col[within]] == object_index
+    out[front] = seen
+    return out
+
+
+@dataclass(frozen=True)
+class GhostSet:
+    """Ghost scatterers of one kind of path, with the antenna positions to synthesise them.
+
+    ``tx_positions_m`` / ``rx_positions_m`` None = the configuration's (real) antennas.
+    ``order`` is 1 or 2, ``reflector`` the object index of the reflector.
+    """
+
+    scatterers: Scatterers
+    order: int
+    reflector: int
+    tx_positions_m: NDArray[np.float64] | None = None
+    rx_positions_m: NDArray[np.float64] | None = None
