@@ -19,7 +19,8 @@ after moving an object and after changing an object's material. Then the main wi
   (through the document, as the editors do) until the panels show the frame of the new
   state — antenna move, object move, material change — with two parts of it: the GUI's
   own handling of the edit until the frame is requested (validation, preflight, every
-  view's update) and the frame's wall time in the simulation process.
+  view's update) and the frame's wall time in the simulation process;
+- **cancel**: the time from cancelling a costly frame until the event loop runs again.
 
 The load average is printed: on a shared machine compare runs only at similar load. No
 number here is asserted anywhere; the acceptance ratios are printed for reading.
@@ -139,6 +140,26 @@ def _wait(app: Any, predicate: Any, timeout_s: float = 60.0) -> None:
         time.sleep(0.001)
 
 
+def _cancel_ms(app: Any, window: Any) -> float:
+    """Time from cancelling a costly frame (1024 chirps) until the event loop runs again.
+
+    The GUI test of cancelling (tests/gui/test_robustness.py) shows that control comes back
+    while the frame cannot end; this is how long it takes.
+    """
+    from PyQt6.QtCore import QTimer
+
+    window.document.set_value("rig.radar.chirps_per_frame", 1024)
+    _wait(app, lambda: window.sim.busy)
+    ticked: list[float] = []
+    t0 = time.perf_counter()
+    window.cancel_frame()
+    QTimer.singleShot(0, lambda: ticked.append(time.perf_counter()))
+    _wait(app, lambda: bool(ticked))
+    window.undo_action.trigger()
+    _wait(app, window.frame_is_current)
+    return (ticked[0] - t0) * 1e3
+
+
 def gui_figures(path: Path, *, seconds: float, edits: int) -> dict[str, Any]:
     """Playback rate, main-thread cost per frame and edit latencies of the main window."""
     from PyQt6.QtCore import QSettings
@@ -235,7 +256,8 @@ def gui_figures(path: Path, *, seconds: float, edits: int) -> dict[str, Any]:
             latency[name] = statistics.median(times)
             parts[name] = {"edit_to_request_ms": statistics.median(before),
                            "simulation_process_ms": statistics.median(compute)}
-        return {"playback": playback, "latency": latency, "latency_parts": parts}
+        return {"playback": playback, "latency": latency, "latency_parts": parts,
+                "cancel_ms": _cancel_ms(app, window)}
     finally:
         window.document.undo_stack.setClean()
         window.close()
@@ -273,7 +295,8 @@ def main() -> None:
           f"{p['on_frame_ms_median']:.1f} ms), GUI process {p['gui_process_cpu_ms_per_frame']:.1f}"
           f" ms CPU per frame; 3D view {p['view_renders_per_frame']:.2f} renders per frame, "
           f"{p['view_render_ms_median']:.0f} ms each; input delay max "
-          f"{p['posted_event_ms_max']:.0f} ms, p99 {p['posted_event_ms_p99']:.0f} ms")
+          f"{p['posted_event_ms_max']:.0f} ms, p99 {p['posted_event_ms_p99']:.0f} ms; "
+          f"cancelling a costly frame gives control back in {gui['cancel_ms']:.0f} ms")
     for name, core_key in (("antenna_edit_ms", "antenna_edit_ms"),
                            ("object_move_ms", "frame_ms"),
                            ("material_change_ms", "frame_ms")):

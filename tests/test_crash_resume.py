@@ -320,10 +320,11 @@ def test_a_worker_dying_mid_result_breaks_the_pool_instead_of_hanging():
         os.write(writer.fileno(), struct.pack("!i", 1000) + b"0123456789")
         time.sleep(0.3)
         os.kill(next(iter(pool._processes)), signal.SIGKILL)
-        start = time.monotonic()
-        with pytest.raises(BrokenProcessPool):
+        with pytest.raises(BrokenProcessPool) as broken:
             _pool_result(pool, fut)
-        assert time.monotonic() - start < 35
+        # The pool broke by itself once the pipe was closed (its own message), not by the
+        # runner's 30 s fallback ("a worker process died"); a hang meets the test timeout.
+        assert str(broken.value) != "a worker process died", broken.value
     finally:
         for p in list(pool._processes.values()):
             p.kill()

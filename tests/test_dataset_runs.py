@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import json
-import resource
 from pathlib import Path
 
 import h5py
 import numpy as np
 import pytest
+from fresh_process import peak_rss_per_frame
 from h5data import assert_same_data, datasets
 
 from simcore.cli import main
@@ -90,14 +90,8 @@ def test_resume_refuses_a_different_project(tmp_path, capsys):
 def test_memory_stays_flat_over_200_frames(tmp_path):
     project_path = small_project(tmp_path)
     text = project_to_json(load_project(project_path))
-    rss: list[float] = []
-
-    def sample(done: int, total: int, result: object) -> bool:
-        rss.append(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)  # MiB
-        return True
-
-    run_dataset(text, tmp_path, tmp_path / "long.h5", n_frames=200, seed=1,
-                on_frame=sample)
+    _, rss = peak_rss_per_frame("simcore.runs.runner.run_dataset", text, tmp_path,
+                                tmp_path / "long.h5", n_frames=200, seed=1)
     growth = rss[-1] - rss[9]        # after warm-up (windows, caches) to the end
     assert growth < 50, f"peak RSS grew {growth:.1f} MiB over 190 frames"
 

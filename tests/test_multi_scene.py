@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fresh_process import peak_rss_per_frame
 from hostile import base_project_dict, write_project
 
 from simcore.cli import main
@@ -132,23 +133,15 @@ def test_memory_stays_flat_over_a_1000_frame_run_of_50_scenes(tmp_path):
     and its seed's speckle phases are released when the run moves on, and the engine's
     bounded caches (radar sweeps and DSP constants of the last 8 configurations) are
     full after the first 20 scenes (measured: +55 MiB over those, +4 MiB after)."""
-    import resource
-
-    from simcore.runs.runner import run_scenes
     from simcore.scene import load_project
     from simcore.scene.project_io import project_to_json
 
     folder = scenes(tmp_path, 50)
     todo = [(project_to_json(load_project(p)), p.parent)
             for p in sorted(folder.glob("scene_*.json"))]
-    rss: list[float] = []
-
-    def sample(done: int, total: int, result: object) -> bool:
-        rss.append(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)  # MiB
-        return True
-
-    report = run_scenes(todo, tmp_path / "long.zarr", frames_per_scene=20, on_frame=sample,
-                        shard_frames=16)
+    report, rss = peak_rss_per_frame("simcore.runs.runner.run_scenes", todo,
+                                     tmp_path / "long.zarr", frames_per_scene=20,
+                                     shard_frames=16)
     assert report.frames_done == 1000 and len(rss) == 1000
     growth = rss[-1] - rss[399]
     assert growth < 25, f"peak RSS grew {growth:.1f} MiB over the last 600 frames (30 scenes)"

@@ -192,8 +192,9 @@ def test_surfels_tile_the_triangles():
 
 def test_too_many_surfels_is_one_clear_error(monkeypatch):
     from simcore.sensors.tof import radiosity as module
+    from simcore.sensors.tof import room_cache
 
     room, _ = _plates(1.0)
     monkeypatch.setattr(module, "MAX_TRANSFER_BYTES", 1000)
     with pytest.raises(ValueError, match=r"multipath_surfel_m = 0.05 m .* use larger surfels"):
-        module._room_transfer(room, 0.05)
+        room_cache._room_transfer(room, 0.05)

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 import pytest
 import xarray as xr
+from fresh_process import peak_rss_per_frame
 from hostile import base_project_dict, write_project
 
 from simcore.cli import main
@@ -369,18 +370,11 @@ def test_sigkill_of_driver_and_worker_on_s3_then_resume_is_bit_identical(tmp_pat
 
 @pytest.mark.slow
 def test_memory_stays_flat_over_200_frames_into_zarr(tmp_path):
-    import resource
-
     project_path = tiny_project(tmp_path)
     text = project_to_json(load_project(project_path))
-    rss: list[float] = []
-
-    def sample(done: int, total: int, result: object) -> bool:
-        rss.append(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)  # MiB
-        return True
-
-    report = run_dataset(text, project_path.parent, tmp_path / "long.zarr", n_frames=200,
-                         seed=1, on_frame=sample, shard_frames=16)
+    report, rss = peak_rss_per_frame("simcore.runs.runner.run_dataset", text, project_path.parent,
+                                     tmp_path / "long.zarr", n_frames=200, seed=1,
+                                     shard_frames=16)
     assert report.frames_done == 200
     growth = rss[-1] - rss[31]       # after two shards (warm-up) to the end
     assert growth < 50, f"peak RSS grew {growth:.1f} MiB over 168 frames"

@@ -11,16 +11,27 @@ PYTHON=${1:-python3}
 unset PYTHONPATH PYTHONHOME
 REPO=$(pwd)
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/tofradar-wheel.XXXXXX")
-# An in-tree build leaves build/ and tofradar.egg-info/ behind: remove them unless they
-# were there before, so that the repository stays as it was.
+SRC=$REPO
 CLEAN=""
-for d in build tofradar.egg-info; do [ -e "$REPO/$d" ] || CLEAN="$CLEAN $REPO/$d"; done
+if git -C "$REPO" rev-parse --is-inside-work-tree >/dev/null 2>&1; then
+    # Built from a copy of the working tree's files (tracked ones, and new ones git does not
+    # ignore): an in-tree build writes build/ and tofradar.egg-info/ into the repository,
+    # and `make test` runs this check beside the test suites, which import from there.
+    SRC=$WORK/src
+    mkdir -p "$SRC"
+    git -C "$REPO" ls-files -z --cached --others --exclude-standard \
+        | (cd "$REPO" && tar --null --ignore-failed-read -T - -cf -) | tar -xf - -C "$SRC"
+else
+    # No git: an in-tree build leaves build/ and tofradar.egg-info/ behind; remove them
+    # unless they were there before, so that the repository stays as it was.
+    for d in build tofradar.egg-info; do [ -e "$REPO/$d" ] || CLEAN="$CLEAN $REPO/$d"; done
+fi
 trap 'rm -rf "$WORK" $CLEAN' EXIT
 
 step() { echo "check-wheel: $*"; }
 
-step "building the wheel into $WORK/dist"
-"$PYTHON" -m pip wheel --no-deps -q -w "$WORK/dist" "$REPO"
+step "building the wheel of $SRC into $WORK/dist"
+"$PYTHON" -m pip wheel --no-deps -q -w "$WORK/dist" "$SRC"
 WHEEL=$(ls "$WORK"/dist/tofradar-*.whl)
 BUNDLED=$("$PYTHON" -c "import sys, zipfile; print(sum(n.startswith('simcore/_resources/') \
     for n in zipfile.ZipFile(sys.argv[1]).namelist()))" "$WHEEL")

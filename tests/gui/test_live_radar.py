@@ -129,44 +129,39 @@ def test_dragging_an_rx_changes_azimuth_without_rerender(make_window, wait_frame
     assert doc.project.rig.radar.rx[0].position_mm == rx0
 
 
-def test_latest_request_wins_and_gui_stays_responsive(make_window, wait_frame, qtbot):
+def test_latest_request_wins_and_gui_stays_responsive(make_window, wait_frame, qtbot,
+                                                       frozen_simulation):
+    """A burst of 8 edits while the simulation process is frozen: the first edit's frame is
+    in flight and cannot end, the event loop keeps running through every edit (a GUI thread
+    that computed or awaited frames would stop until the frame ended, which it cannot), and
+    once the process goes on, the stale frame is dropped and the last edit's is shown.
+    Was: the event loop's longest stall < 1 s and 90th percentile < 0.6 s of wall time
+    (load-dependent; ``benchmarks/bench_gui.py`` measures those figures)."""
+    from PyQt6.QtCore import QTimer
+
     window = make_window()
     wait_frame(window)
     doc = window.document
     doc.set_value("rig.pose.position_m", (0.01, 0.0, 1.2))  # warm-up edit
     wait_frame(window)
     dropped_before = window.sim.dropped
-    gaps = []
-    last = [time.perf_counter()]
-
-    def tick():
-        now = time.perf_counter()
-        gaps.append(now - last[0])
-        last[0] = now
-
-    from PyQt6.QtCore import QTimer
-
+    ticks: list[bool] = []
     timer = QTimer()
-    timer.timeout.connect(tick)
+    timer.timeout.connect(lambda: ticks.append(True))
     timer.start(10)
-    qtbot.wait(30)
-    gaps.clear()
-    # A burst of edits: every one requests a frame, only the last may be shown.
-    for i in range(8):
-        doc.set_value("rig.pose.position_m", (0.02 * (i + 1), 0.0, 1.2))
-        qtbot.wait(60)
-    serial = window.sim.latest_serial
-    wait_frame(window)
-    timer.stop()
+    try:
+        with frozen_simulation(window):
+            # A burst of edits: every one requests a frame, only the last may be shown.
+            for i in range(8):
+                doc.set_value("rig.pose.position_m", (0.02 * (i + 1), 0.0, 1.2))
+                ticks.clear()
+                qtbot.waitUntil(lambda: len(ticks) >= 3, timeout=30_000)
+            serial = window.sim.latest_serial
+            assert window.sim.busy and not window.frame_is_current()
+        wait_frame(window)
+    finally:
+        timer.stop()
     assert window.last_view.request_serial == serial
-    assert window.sim.dropped > dropped_before or window.sim.latest_serial - serial == 0
+    assert window.sim.dropped == dropped_before + 1, "the first edit's frame, stale on arrival"
     shown = window.viewport._snapshot.rig.origin
     np.testing.assert_allclose(shown, (0.16, 0.0, 1.2))
-    p90 = float(np.percentile(gaps, 90))
-    print(f"event loop during a burst of edits: longest stall {max(gaps) * 1e3:.0f} ms, "
-          f"90th percentile {p90 * 1e3:.0f} ms")
-    # Thresholds leave room for a 2-core machine where software OpenGL repaints the whole
-    # window on the same cores (p90 ≈ 330 ms measured in CI); a GUI thread that computed
-    # the frames itself would stall for whole frame times on every edit of the burst.
-    assert max(gaps) < 1.0, f"event loop blocked for {max(gaps) * 1e3:.0f} ms"
-    assert p90 < 0.6, f"event loop sluggish: 90th percentile {p90 * 1e3:.0f} ms"

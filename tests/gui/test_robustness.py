@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import time
 
 import numpy as np
 import pytest
@@ -67,8 +66,17 @@ def test_invalid_radar_value_is_refused_at_the_field(make_window, wait_frame, qt
 
 
 def test_huge_tof_needs_confirmation_or_is_refused(make_window, wait_frame, qtbot):
+    """The office's ToF camera (224 × 171, 2× supersampling) grown one field at a time, with
+    the memory budget pinned (it was 80 % of whatever memory was free, so whether the big
+    camera was refused or offered depended on the machine's load): 4096 rows (≈ 1.5 GiB a
+    frame) is applied; 4096 columns (≈ 17.1 GiB, ≈ 4.1 s a frame) is under a 32 GiB budget
+    but over the confirmation limits, so it is offered and, declined, not applied; 8×
+    supersampling breaks the per-axis render limit; and under a 16 GiB budget 4000 columns
+    (≈ 16.7 GiB) is refused outright, without asking. Undo then takes back the rows, and
+    the panels and playback go on."""
     window = make_window()
     wait_frame(window)
+    window.memory_budget_bytes = lambda: 32 * 2**30
     asked = []
 
     def decline(cost):
@@ -78,9 +86,8 @@ def test_huge_tof_needs_confirmation_or_is_refused(make_window, wait_frame, qtbo
     window.confirm_costly = decline
     editor = window.sensor_editor
     doc = window.document
-    refusals: list[str] = []
-    for widget, value in ((editor.tof_height, 4096), (editor.tof_width, 4096),
-                          (editor.tof_ss, 8)):
+
+    def edit(widget, value: int) -> str | None:
         steps = doc.undo_stack.count()
         widget.setValue(value)
         message = field_error(widget)
@@ -89,12 +96,28 @@ def test_huge_tof_needs_confirmation_or_is_refused(make_window, wait_frame, qtbo
         else:
             assert doc.undo_stack.count() == steps, "a refused value is no undo step"
             assert "{" not in message, message
-            refusals.append(message)
+        return message
+
+    assert edit(editor.tof_height, 4096) is None
+    declined = edit(editor.tof_width, 4096)
+    assert declined is not None and "not applied (declined)" in declined, declined
+    assert "17.1 GiB" in declined, declined
+    assert len(asked) == 1 and 17 * 2**30 < asked[0].memory_bytes < 17.2 * 2**30, asked
+    too_fine = edit(editor.tof_ss, 8)
+    assert too_fine is not None and "at most 16384 per axis" in too_fine, too_fine
+    window.memory_budget_bytes = lambda: 16 * 2**30
+    over = edit(editor.tof_width, 4000)
+    assert over is not None and "over the budget of 16.0 GiB" in over, over
+    assert "rig.tof render" in over, over
+    assert len(asked) == 1, "a frame over the budget is not offered for confirmation"
     tof = doc.project.rig.tof
-    assert tof.width * tof.height * tof.supersampling**2 < 4096 * 4096, tof
-    assert field_error(editor.tof_width) and field_error(editor.tof_ss)
-    assert asked, "the costly configuration was offered for confirmation"
-    assert any("not applied (declined)" in m and "GiB" in m for m in refusals), refusals
+    assert (tof.height, tof.width, tof.supersampling) == (4096, 224, 2), tof
+    # Stop the 4096-row frame (10-40 s on a loaded 2-core machine; no need to compute it
+    # here) and undo the one applied step (no refused edit left an undo step to take
+    # instead): the window goes on with the office's camera.
+    window.sim.cancel()
+    window.undo_action.trigger()
+    assert doc.project.rig.tof.height == 171
     _assert_panels_current(window, wait_frame)
     _assert_playback_goes_on(window, qtbot)
 
@@ -165,21 +188,23 @@ def test_a_radar_with_a_tiny_range_still_draws(make_window, wait_frame, qtbot):
     _assert_playback_goes_on(window, qtbot)
 
 
-def test_cancelling_a_long_frame_returns_control_at_once(make_window, wait_frame, qtbot):
+def test_cancelling_a_long_frame_returns_control_at_once(make_window, wait_frame, qtbot,
+                                                         frozen_simulation):
+    """A costly frame (1024 chirps) whose simulation process is frozen cannot end at all:
+    cancelling it gives control back (the event loop runs the next timer) without it, and
+    the simulation process is a new one. Was: control back within 1 s of wall time, and a
+    wait for the frame to have run 0.5 s (both depend on the machine's load)."""
     window = make_window()
     wait_frame(window)
     doc = window.document
     doc.set_value("rig.radar.chirps_per_frame", 1024)  # seconds per frame
-    qtbot.waitUntil(lambda: window.sim.busy_for_s > 0.5, timeout=10_000)
-    pid = window.sim.process_id
-    t0 = time.perf_counter()
-    assert window.cancel_frame()
-    ticked: list[float] = []
-    QTimer.singleShot(0, lambda: ticked.append(time.perf_counter()))
-    qtbot.waitUntil(lambda: bool(ticked), timeout=1000)
-    elapsed = ticked[0] - t0
-    assert elapsed < 1.0, f"control came back after {elapsed:.2f} s"
-    assert not window.sim.busy and window.sim.process_id != pid
+    qtbot.waitUntil(lambda: window.sim.busy, timeout=10_000)
+    with frozen_simulation(window) as pid:
+        assert window.cancel_frame()
+        ticked: list[bool] = []
+        QTimer.singleShot(0, lambda: ticked.append(True))
+        qtbot.waitUntil(lambda: bool(ticked), timeout=10_000)
+        assert not window.sim.busy and window.sim.process_id != pid
     assert all(p.error and "stopped" in p.error for p in window.panels.values()
                if p.isVisible())
     assert not window.time.playing
@@ -190,27 +215,37 @@ def test_cancelling_a_long_frame_returns_control_at_once(make_window, wait_frame
     _assert_panels_current(window, wait_frame)
 
 
-def test_window_handles_input_while_playing(make_window, wait_frame, qtbot):
+def test_window_handles_input_while_playing(make_window, wait_frame, qtbot, frozen_simulation):
+    """While playing, the GUI thread never waits for a frame: with the simulation process
+    frozen mid-playback (its frame cannot end), posted events are still answered and the
+    time can still be moved; once the process goes on,
+    playback goes on. Input delays while frames are drawn are timings, measured by
+    ``benchmarks/bench_gui.py`` (was: median < 0.5 s and worst < 3 s here)."""
     window = make_window()
     wait_frame(window)
-    delays: list[float] = []
+    answered: list[bool] = []
 
     def probe():
-        sent = time.perf_counter()
-        QTimer.singleShot(0, lambda: delays.append(time.perf_counter() - sent))
+        QTimer.singleShot(0, lambda: answered.append(True))
 
     timer = QTimer()
     timer.timeout.connect(probe)
     timer.start(50)
-    _assert_playback_goes_on(window, qtbot, frames=6)
-    timer.stop()
-    assert len(delays) > 10
-    ordered = sorted(delays)
-    median, worst = ordered[len(ordered) // 2], ordered[-1]
-    # Generous margins: the machine is shared (the X server and software OpenGL compete
-    # with other jobs for 2 cores); benchmarks/bench_gui.py measures the real figure.
-    assert median < 0.5 and worst < 3.0, (
-        f"input delay while playing: median {median * 1e3:.0f} ms, max {worst * 1e3:.0f} ms")
+    try:
+        _assert_playback_goes_on(window, qtbot, frames=2)
+        window.time.set_playing(True)
+        qtbot.waitUntil(lambda: window.sim.busy, timeout=10_000)
+        with frozen_simulation(window):
+            answered.clear()
+            qtbot.waitUntil(lambda: len(answered) > 10, timeout=30_000)
+            assert window.sim.busy, "the frozen frame cannot have ended"
+            window.time.set_playing(False)
+            target = 0 if window.time.index else 1
+            window.time.set_index(target)
+            assert window.time.index == target
+        _assert_playback_goes_on(window, qtbot, frames=3)
+    finally:
+        timer.stop()
 
 
 def test_a_crashed_simulation_process_is_restarted(make_window, wait_frame, qtbot):

@@ -65,7 +65,8 @@ from simcore.sensors.tof.optics import (
     vignetting,
     wiggling_planes,
 )
-from simcore.sensors.tof.radiosity import Room, room_indirect
+from simcore.sensors.tof.radiosity import Room
+from simcore.sensors.tof.room_cache import room_indirect
 from simcore.sensors.tof.specular import specular_paths
 
 #: Float dtype of every sensor-resolution ToF image.

@@ -39,8 +39,6 @@ from __future__ import annotations
 
 import hashlib
 import math
-import threading
-from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -48,14 +46,6 @@ from numpy.typing import NDArray
 
 from simcore.jit import kernel
 from simcore.scene.camera import PinholeIntrinsics
-from simcore.scene.tof_config import SPEED_OF_LIGHT
-from simcore.sensors.tof.multipath import (
-    RECEIVER_STEP,
-    _blend_nodes,
-    _cell_of,
-    _node_axis,
-    _node_weights,
-)
 
 F64 = NDArray[np.float64]
 #: Surfels are displaced this far along their normal before a visibility test (m), so a
@@ -65,6 +55,8 @@ LIFT_M = 1e-4
 #: ``A cos θ_i cos θ_j / (π d²)`` (within 1 % of the exact one there) instead of the exact
 #: contour integral.
 FAR_SIZES = 4.0
+#: Pieces smaller than ``patch_m² / SLIVER_PARTS`` join a cluster (:func:`surfels_from_room`).
+SLIVER_PARTS = 16.0
 
 
 @dataclass(frozen=True)
@@ -161,17 +153,53 @@ class Surfels:
     size: F64
 
 
-def surfels_from_room(room: Room, *, patch_m: float) -> Surfels:
+def surfels_from_room(room: Room, *, patch_m: float,
+                      facing: NDArray[np.bool_] | None = None) -> Surfels:
     """Cut the triangles of ``room`` that can exchange light into pieces of about ``patch_m``.
 
     Each triangle is bisected at the midpoint of its longest edge until no edge exceeds
     ``√2 · patch_m`` (a square of side ``patch_m`` ends as two right triangles; the pieces
     tile the triangle exactly; a long sliver becomes a row of pieces, not a grid of
     slivers). Triangles that face no other triangle (:func:`facing_any`: the outer
-    faces of a room's walls) are left out: no light reaches them.
+    faces of a room's walls) are left out: no light reaches them. Triangles much smaller
+    than a surfel (longest edge under ``patch_m / 2``: a fine mesh such as a person's) and
+    slivers (pieces of area under ``patch_m² / SLIVER_PARTS``: the thin sides of a slab, a
+    thin cylinder's facets) are merged per object into clusters (:func:`_clusters`), each
+    one surfel.
+
+    Parameters
+    ----------
+    facing : ndarray of bool, shape (T,), optional, keyword-only
+        The triangles kept (default :func:`facing_any` over the whole room).
     """
-    keep = facing_any(room.triangles, room.normals)
-    tris, normals, albedo = room.triangles[keep], room.normals[keep], room.albedo[keep]
+    keep = facing_any(room.triangles, room.normals) if facing is None else facing
+    group = np.repeat(np.arange(len(room.occluder_start) - 1), np.diff(room.occluder_start))
+    longest = np.linalg.norm(np.roll(room.triangles, -1, axis=1) - room.triangles,
+                             axis=2).max(axis=1) if len(room.triangles) else np.zeros(0)
+    tiny = keep & (longest < patch_m / 2)
+    big = keep & ~tiny
+    cut, owner = _cut(room.triangles[big], room.normals[big], room.albedo[big],
+                      patch_m=patch_m)
+    sliver = cut.area < patch_m**2 / SLIVER_PARTS
+    if not tiny.any() and not sliver.any():
+        return cut
+    v = np.concatenate([room.triangles[tiny], cut.vertices[sliver]])
+    merged = _clusters(v, np.concatenate([room.normals[tiny], cut.normal[sliver]]),
+                       np.concatenate([room.albedo[tiny], cut.albedo[sliver]]),
+                       np.concatenate([group[tiny], group[big][owner[sliver]]]),
+                       patch_m=patch_m)
+    return Surfels(*(np.concatenate([a[~sliver], b]) for a, b in zip(
+        (cut.vertices, cut.centre, cut.normal, cut.area, cut.albedo, cut.size),
+        (merged.vertices, merged.centre, merged.normal, merged.area, merged.albedo,
+         merged.size), strict=True)))
+
+
+def _cut(tris: F64, normals: F64, albedo: F64, *, patch_m: float
+         ) -> tuple[Surfels, NDArray[np.int64]]:
+    """Bisect triangles (shape (T, 3, 3)) into surfels (:func:`surfels_from_room`).
+
+    Returns the surfels and, per surfel, the index of the triangle it was cut from.
+    """
     owner = np.arange(len(tris))
     done_v, done_o = [], []
     while len(tris):
@@ -194,7 +222,50 @@ def surfels_from_room(room: Room, *, patch_m: float) -> Surfels:
     size = np.linalg.norm(v - np.roll(v, 1, axis=1), axis=2).max(axis=1) if len(v) \
         else np.zeros(0)
     return Surfels(vertices=v, centre=v.mean(axis=1), normal=normals[who], area=area,
-                   albedo=albedo[who], size=size)
+                   albedo=albedo[who], size=size), who
+
+
+def _clusters(tris: F64, normals: F64, albedo: F64, group: NDArray[np.int64], *,
+              patch_m: float) -> Surfels:
+    """Merge small triangles into one surfel per object, ``patch_m`` cube and facing.
+
+    Triangles of one object whose centroids fall in the same cube of side ``patch_m`` and
+    whose normals share their dominant axis and its sign form a cluster. Its surfel is the
+    equilateral triangle, centred on the area-weighted centroid, whose area vector is the
+    cluster's (``Σ a_i n_i``: the area it shows in every direction it faces, to first
+    order), albedo the area-weighted mean.
+    """
+    a = 0.5 * np.linalg.norm(np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]),
+                             axis=1)
+    c = tris.mean(axis=1)
+    axis = np.abs(normals).argmax(axis=1)
+    face = 2 * axis + (normals[np.arange(len(axis)), axis] < 0)
+    cell = np.floor(c / patch_m).astype(np.int64)
+    key = np.column_stack([group, face, cell])
+    _, label = np.unique(key, axis=0, return_inverse=True)
+    label = label.ravel()
+    k = label.max() + 1
+    vec = np.zeros((k, 3))
+    np.add.at(vec, label, a[:, None] * normals)
+    area = np.linalg.norm(vec, axis=1)
+    weight = np.bincount(label, weights=a, minlength=k)
+    centre = np.stack([np.bincount(label, weights=a * c[:, d], minlength=k)
+                       for d in range(3)], axis=1) / np.maximum(weight, 1e-300)[:, None]
+    rho = np.bincount(label, weights=a * albedo, minlength=k) / np.maximum(weight, 1e-300)
+    ok = area > 1e-12
+    vec, area, centre, rho = vec[ok], area[ok], centre[ok], rho[ok]
+    n = vec / area[:, None]
+    helper = np.where((np.abs(n[:, 0]) < 0.9)[:, None], [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    t1 = np.cross(n, helper)
+    t1 /= np.linalg.norm(t1, axis=1)[:, None]
+    t2 = np.cross(n, t1)
+    side = np.sqrt(4.0 * area / math.sqrt(3.0))
+    radius = side / math.sqrt(3.0)
+    angles = np.array([0.0, 2.0 * math.pi / 3.0, 4.0 * math.pi / 3.0])
+    v = (centre[:, None, :] + radius[:, None, None]
+         * (np.cos(angles)[None, :, None] * t1[:, None, :]
+            + np.sin(angles)[None, :, None] * t2[:, None, :]))
+    return Surfels(vertices=v, centre=centre, normal=n, area=area, albedo=rho, size=side)
 
 
 def facing_any(triangles: F64, normals: F64, *, eps_m: float = 1e-6) -> NDArray[np.bool_]:
@@ -207,26 +278,34 @@ def facing_any(triangles: F64, normals: F64, *, eps_m: float = 1e-6) -> NDArray[
     -------
     ndarray of bool, shape (T,)
     """
-    t = len(triangles)
-    out = np.zeros(t, dtype=bool)
-    if t == 0:
-        return out
+    if len(triangles) == 0:
+        return np.zeros(0, dtype=bool)
     offset = np.einsum("ij,ij->i", normals, triangles[:, 0])                  # n_i · a_i
-    # height[i, j, v]: vertex v of triangle j above triangle i's plane.
-    for lo in range(0, t, 64):
-        n = normals[lo:lo + 64]
-        height = np.einsum("ic,jvc->ijv", n, triangles) - offset[lo:lo + 64, None, None]
-        front = (height > eps_m).any(axis=2)                                   # j before i
-        out[lo:lo + 64] = (front & _front_of(triangles, normals, offset, lo, len(n))).any(axis=1)
+    return _facing(np.ascontiguousarray(triangles, dtype=np.float64),
+                   np.ascontiguousarray(normals, dtype=np.float64), offset, eps_m)
+
+
+@kernel
+def _above(n: F64, offset: float, v: F64, eps_m: float) -> bool:
+    """Whether a vertex of triangle ``v`` lies more than ``eps_m`` before plane ``(n, offset)``."""
+    for a in range(3):
+        if n[0] * v[a, 0] + n[1] * v[a, 1] + n[2] * v[a, 2] - offset > eps_m:
+            return True
+    return False
+
+
+@kernel
+def _facing(triangles: F64, normals: F64, offset: F64, eps_m: float) -> NDArray[np.bool_]:
+    """:func:`facing_any`'s pair test, stopping at the first triangle found."""
+    t = triangles.shape[0]
+    out = np.zeros(t, dtype=np.bool_)
+    for i in range(t):
+        for j in range(t):
+            if (_above(normals[i], offset[i], triangles[j], eps_m)
+                    and _above(normals[j], offset[j], triangles[i], eps_m)):
+                out[i] = True
+                break
     return out
-
-
-def _front_of(triangles: F64, normals: F64, offset: F64, lo: int, count: int
-              ) -> NDArray[np.bool_]:
-    """``[i, j]``: triangle ``lo + i`` has a vertex in front of triangle ``j``'s plane."""
-    height = (np.einsum("jc,ivc->ijv", normals, triangles[lo:lo + count])
-              - offset[None, :, None])
-    return (height > 1e-6).any(axis=2)
 
 
 def occluder_boxes(room: Room) -> tuple[F64, F64]:
@@ -432,12 +511,12 @@ def radiosity(factor: NDArray[np.float32], distance: NDArray[np.float32], albedo
     total = np.array(emitted, dtype=np.complex128)
     weighted = factor * albedo[:, None].astype(np.float32)           # ρ_i F_ij V_ij
     for row, k in enumerate(wavenumbers):
+        kernel_k: NDArray[np.float32] | NDArray[np.complex64]
         if k == 0.0 and not np.any(total[row].imag):                  # the intensity: real
             kernel_k = weighted
             term = total[row].real.astype(np.float32)
         else:
-            phase = np.float32(k) * distance
-            kernel_k = weighted * (np.cos(phase) + 1j * np.sin(phase)).astype(np.complex64)
+            kernel_k = _phase_kernel(weighted, distance, k)
             term = total[row].astype(np.complex64)
         order = 1
         scale = max(float(np.abs(term).sum()), 1e-300)
@@ -449,6 +528,21 @@ def radiosity(factor: NDArray[np.float32], distance: NDArray[np.float32], albedo
                                  or order > 10_000):
                 break
     return total
+
+
+@kernel
+def _phase_kernel(weighted: NDArray[np.float32], distance: NDArray[np.float32], k: float
+                  ) -> NDArray[np.complex64]:
+    """``weighted · e^{i k distance}`` (complex64) in one pass, zero where ``weighted`` is."""
+    n, m = weighted.shape
+    out = np.zeros((n, m), dtype=np.complex64)
+    for i in range(n):
+        for j in range(m):
+            w = weighted[i, j]
+            if w != 0.0:
+                phase = k * distance[i, j]
+                out[i, j] = complex(w * math.cos(phase), w * math.sin(phase))
+    return out
 
 
 @kernel
@@ -565,114 +659,9 @@ def first_exitance(surfels: Surfels, camera: F64, intrinsics: PinholeIntrinsics,
     return np.stack([base * np.exp(1j * k * r) for k in wavenumbers])
 
 
-#: Surfel-to-surfel transfer of the last rooms (the geometry of a still scene is reused).
-_TRANSFER: OrderedDict[bytes, tuple[Surfels, NDArray[np.float32], NDArray[np.float32]]] = \
-    OrderedDict()
-_TRANSFER_KEEP = 1
 #: Largest surfel-to-surfel matrices built (bytes, both of them together).
 MAX_TRANSFER_BYTES = 4 * 2**30
-_TRANSFER_LOCK = threading.Lock()
-
-
-def _room_transfer(room: Room, patch_m: float
-                   ) -> tuple[Surfels, NDArray[np.float32], NDArray[np.float32]]:
-    """:func:`surfels_from_room` and :func:`transfer`, kept for the same room and patch."""
-    key = room.key() + repr(patch_m).encode()
-    with _TRANSFER_LOCK:
-        if key in _TRANSFER:
-            _TRANSFER.move_to_end(key)
-            return _TRANSFER[key]
-    surfels = surfels_from_room(room, patch_m=patch_m)
-    need = 2 * 4 * len(surfels.area) ** 2
-    if need > MAX_TRANSFER_BYTES:
-        raise ValueError(
-            f"rig.tof.multipath_surfel_m = {patch_m} m cuts the scene into "
-            f"{len(surfels.area)} surfels, whose exchange needs {need / 2**30:.1f} GiB "
-            f"(at most {MAX_TRANSFER_BYTES / 2**30:.0f}): use larger surfels")
-    factor, distance = transfer(surfels, room)
-    with _TRANSFER_LOCK:
-        _TRANSFER[key] = (surfels, factor, distance)
-        while len(_TRANSFER) > _TRANSFER_KEEP:
-            _TRANSFER.popitem(last=False)
-    return surfels, factor, distance
-
-
-def room_indirect(room: Room, *, camera: F64, intrinsics: PinholeIntrinsics,
-                  range_m: NDArray[np.floating], points_m: NDArray[np.floating],
-                  normals: NDArray[np.floating], seen: NDArray[np.bool_],
-                  frequencies_hz: list[float], patch_m: float, bounces: int = 0,
-                  step: int = RECEIVER_STEP
-                  ) -> tuple[NDArray[np.float32], list[tuple[NDArray[np.float32],
-                                                            NDArray[np.float32]]]]:
-    """Indirect light at the camera's pixels from the whole room, as :func:`one_bounce_image`.
-
-    Parameters
-    ----------
-    room : Room
-    camera : ndarray, shape (4, 4)
-        Optical frame → world.
-    intrinsics, range_m
-        The render's grid and range (the light's shadow map, :func:`first_exitance`).
-    points_m, normals : ndarray, shape (H, W, 3)
-        Receivers: each pixel's surface point and unit normal (optical frame).
-    seen : ndarray of bool, shape (H, W)
-    frequencies_hz : list of float
-    patch_m : float, keyword-only
-        Surfel size.
-    bounces : int, keyword-only
-        Indirect bounces (1: one bounce); 0: all (to convergence).
-    step : int, keyword-only
-        Receiver node spacing (pixels): the sum is exact on every ``step``-th row and
-        column and at the pixels without a node on their surface or next to a concave
-        crease, and blended in between (the node scheme of
-        :func:`simcore.sensors.tof.multipath.one_bounce_image`); 1: every pixel.
-
-    Returns
-    -------
-    magnitude : ndarray, shape (H, W), float32
-        Indirect irradiance at each pixel's surface in units of the illumination's
-        ``cos θ / R²`` (multiply by ``k ρ_P`` for electrons).
-    phasors : list of (re, im), each ndarray of shape (H, W), float32
-        Per frequency, the same with each path's phase ``e^{i 2π f L / c}`` (``L`` the whole
-        optical path, camera leg included).
-    """
-    surfels, factor, distance = _room_transfer(room, patch_m)
-    ks = [0.0] + [2.0 * np.pi * f / SPEED_OF_LIGHT for f in frequencies_hz]
-    emitted = first_exitance(surfels, camera, intrinsics, range_m, ks)
-    total = radiosity(factor, distance, surfels.albedo, emitted, ks, bounces=bounces)
-    pts = np.ascontiguousarray(points_m, dtype=np.float32)
-    nrm = np.ascontiguousarray(normals, dtype=np.float32)
-    seen = np.ascontiguousarray(seen)
-    h, w = seen.shape
-    rows, cols = _node_axis(h, step), _node_axis(w, step)
-    node_seen = np.ascontiguousarray(seen[np.ix_(rows, cols)])
-    cy, fy = _cell_of(h, rows)
-    cx, fx = _cell_of(w, cols)
-    weights, missing = _node_weights(pts, nrm, seen, rows, cols, node_seen, cy, fy, cx, fx)
-    node_index = (rows[:, None] * w + cols[None, :])[node_seen]
-    index = np.concatenate([node_index, np.flatnonzero(missing & ~_on_nodes(seen, rows, cols))])
-    rot, origin = camera[:3, :3], camera[:3, 3]
-    world = pts.reshape(-1, 3)[index].astype(np.float64) @ rot.T + origin
-    nrm_world = nrm.reshape(-1, 3)[index].astype(np.float64) @ rot.T
-    irradiance = gather(world, nrm_world, surfels, room, total, ks)       # (1 + F, M)
-    sums = np.empty((len(index), 2 * len(ks) - 1), dtype=np.float32)
-    sums[:, 0] = irradiance[0].real
-    sums[:, 1::2] = irradiance[1:].real.T
-    sums[:, 2::2] = irradiance[1:].imag.T
-    values = np.zeros((len(rows), len(cols), sums.shape[1]), dtype=np.float32)
-    values[node_seen] = sums[:len(node_index)]
-    out = _blend_nodes(seen, weights, missing, values, cy, cx, index, sums, pts,
-                       np.asarray(ks[1:], dtype=np.float32))
-    return out[0], [(out[1 + 2 * j], out[2 + 2 * j]) for j in range(len(frequencies_hz))]
-
-
-def _on_nodes(seen: NDArray[np.bool_], rows: NDArray[np.int64], cols: NDArray[np.int64]
-              ) -> NDArray[np.bool_]:
-    """The pixels of the node grid (already summed as nodes)."""
-    grid = np.zeros(seen.shape, dtype=bool)
-    grid[np.ix_(rows, cols)] = True
-    return grid & seen
 
 
 __all__ = ["Room", "Surfels", "first_exitance", "gather", "radiosity", "room_from_meshes",
-           "room_indirect", "surfels_from_room", "transfer"]
+           "surfels_from_room", "transfer"]

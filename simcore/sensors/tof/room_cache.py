@@ -1,0 +1,575 @@
+"""The room's surfel exchange, kept for the objects that stand still between frames.
+
+A room changes between frames only where something moves (the office's walker). The
+exchange between surfels of objects that stand still — their form factors, and their
+visibility past every other still object — is computed once and kept; each frame then
+computes only what a moving object changes:
+
+- the pairs that involve one of its surfels (both form factors, visibility past everything);
+- the shadow it casts on the still pairs: a still pair whose segment crosses a moving
+  object's bounding box is tested against that object's triangles.
+
+The result is the exchange a full recomputation gives, pair for pair (the same kernels on
+the same surfels; only the order of the surfels differs). An object counts as still when
+its triangles are the ones of the kept exchange bit for bit, so no pose is ever taken from a
+stale cache. When an object that stood still starts to move, the kept block is cut down to
+the objects still standing, and the still pairs that the object used to shadow are
+recomputed.
+
+Surfels of still objects are cut with :func:`~simcore.sensors.tof.radiosity.facing_any`
+among still objects only (a still triangle that faces nothing but a moving object is left
+out: it would have to face it and nothing else in the room).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import threading
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simcore.jit import kernel
+from simcore.scene.camera import PinholeIntrinsics
+from simcore.scene.tof_config import SPEED_OF_LIGHT
+from simcore.sensors.tof import radiosity as _radiosity
+from simcore.sensors.tof.multipath import (
+    RECEIVER_STEP,
+    _blend_nodes,
+    _cell_of,
+    _node_axis,
+    _node_weights,
+)
+from simcore.sensors.tof.radiosity import (
+    LIFT_M,
+    Room,
+    Surfels,
+    _exchange,
+    _segment_clear,
+    facing_any,
+    first_exitance,
+    occluder_boxes,
+    radiosity,
+    surfels_from_room,
+)
+
+F64 = NDArray[np.float64]
+F32 = NDArray[np.float32]
+
+
+@dataclass(frozen=True)
+class StillBlock:
+    """The exchange among the surfels of the objects that stand still.
+
+    Attributes
+    ----------
+    digests : tuple of bytes
+        Each still object's geometry digest (:func:`group_digests`), in room order.
+    room : Room
+        The still objects alone.
+    surfels : Surfels
+        Their surfels (``S``).
+    factor, distance : ndarray, shape (S, S), float32
+        Form factor × visibility past the still objects, and centre distances (m).
+    """
+
+    digests: tuple[bytes, ...]
+    room: Room
+    surfels: Surfels
+    factor: F32
+    distance: F32
+
+
+def group_digests(room: Room) -> list[bytes]:
+    """A digest of each object's triangles, normals and albedo."""
+    out = []
+    for g in range(len(room.occluder_start) - 1):
+        sl = slice(room.occluder_start[g], room.occluder_start[g + 1])
+        out.append(hashlib.sha1(b"".join((room.triangles[sl].tobytes(),
+                                          room.normals[sl].tobytes(),
+                                          room.albedo[sl].tobytes()))).digest())
+    return out
+
+
+def sub_room(room: Room, groups: list[int]) -> Room:
+    """The objects ``groups`` of ``room`` (in that order)."""
+    parts = [slice(room.occluder_start[g], room.occluder_start[g + 1]) for g in groups]
+    sizes = [p.stop - p.start for p in parts]
+    start = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+    if not parts:
+        return Room(np.zeros((0, 3, 3)), np.zeros((0, 3)), np.zeros(0), start)
+    return Room(np.concatenate([room.triangles[p] for p in parts]),
+                np.concatenate([room.normals[p] for p in parts]),
+                np.concatenate([room.albedo[p] for p in parts]), start)
+
+
+def join(a: Surfels, b: Surfels) -> Surfels:
+    """Surfels ``a`` then ``b``."""
+    return Surfels(*(np.concatenate([x, y]) for x, y in zip(
+        (a.vertices, a.centre, a.normal, a.area, a.albedo, a.size),
+        (b.vertices, b.centre, b.normal, b.area, b.albedo, b.size), strict=True)))
+
+
+def _surfel_arrays(s: Surfels) -> tuple[F64, F64, F64, F64, F64]:
+    return (np.ascontiguousarray(s.centre), np.ascontiguousarray(s.normal),
+            np.ascontiguousarray(s.vertices), np.ascontiguousarray(s.area),
+            np.ascontiguousarray(s.size))
+
+
+@kernel
+def _pair(i: int, j: int, centre: F64, normal: F64, vertices: F64, area: F64, size: F64,
+          tris: F64, start: NDArray[np.int64], lo: F64, hi: F64, a: F64, b: F64
+          ) -> tuple[float, float]:
+    """Both form factors of surfels ``i`` and ``j`` with their visibility (0 when blocked)."""
+    fij = _exchange(centre[i], normal[i], j, centre, normal, vertices, area, size)
+    fji = _exchange(centre[j], normal[j], i, centre, normal, vertices, area, size)
+    if fij == 0.0 and fji == 0.0:
+        return 0.0, 0.0
+    for c in range(3):
+        a[c] = centre[i, c] + LIFT_M * normal[i, c]
+        b[c] = centre[j, c] + LIFT_M * normal[j, c]
+    if _segment_clear(a, b, tris, start, lo, hi):
+        return fij, fji
+    return 0.0, 0.0
+
+
+@kernel
+def _crosses(a: F64, b: F64, lo: F64, hi: F64) -> bool:
+    """Whether the segment ``a → b`` meets any of the boxes ``lo``–``hi`` (slab test)."""
+    for g in range(lo.shape[0]):
+        t0, t1 = 0.0, 1.0
+        miss = False
+        for c in range(3):
+            d = b[c] - a[c]
+            if abs(d) < 1e-300:
+                if a[c] < lo[g, c] or a[c] > hi[g, c]:
+                    miss = True
+                    break
+            else:
+                ta, tb = (lo[g, c] - a[c]) / d, (hi[g, c] - a[c]) / d
+                if ta > tb:
+                    ta, tb = tb, ta
+                t0, t1 = max(t0, ta), min(t1, tb)
+                if t0 > t1:
+                    miss = True
+                    break
+        if not miss:
+            return True
+    return False
+
+
+@kernel
+def _moving_pairs(centre: F64, normal: F64, vertices: F64, area: F64, size: F64, first: int,
+                  tris: F64, start: NDArray[np.int64], lo: F64, hi: F64,
+                  factor: F32, dist: F32) -> None:
+    """Fill the pairs with a surfel ``≥ first`` (the moving ones) into ``factor``/``dist``."""
+    nn = centre.shape[0]
+    a = np.empty(3)
+    b = np.empty(3)
+    for j in range(first, nn):
+        for i in range(j):
+            dx, dy, dz = centre[j, 0] - centre[i, 0], centre[j, 1] - centre[i, 1], \
+                centre[j, 2] - centre[i, 2]
+            dist[i, j] = dist[j, i] = np.sqrt(dx * dx + dy * dy + dz * dz)
+            fij, fji = _pair(i, j, centre, normal, vertices, area, size, tris, start, lo, hi,
+                             a, b)
+            factor[i, j] = fij
+            factor[j, i] = fji
+
+
+@kernel
+def _shadow(centre: F64, normal: F64, count: int, factor: F32, tris: F64,
+            start: NDArray[np.int64], lo: F64, hi: F64, all_lo: F64, all_hi: F64) -> None:
+    """Zero the pairs among the first ``count`` surfels that the triangles block."""
+    a = np.empty(3)
+    b = np.empty(3)
+    for i in range(count):
+        for j in range(i + 1, count):
+            if factor[i, j] == 0.0 and factor[j, i] == 0.0:
+                continue
+            for c in range(3):
+                a[c] = centre[i, c] + LIFT_M * normal[i, c]
+                b[c] = centre[j, c] + LIFT_M * normal[j, c]
+            if not _crosses(a, b, all_lo, all_hi):
+                continue
+            if not _segment_clear(a, b, tris, start, lo, hi):
+                factor[i, j] = 0.0
+                factor[j, i] = 0.0
+
+
+@kernel
+def _unshadow(centre: F64, normal: F64, vertices: F64, area: F64, size: F64, factor: F32,
+              tris: F64, start: NDArray[np.int64], lo: F64, hi: F64, gone_lo: F64,
+              gone_hi: F64, all_lo: F64, all_hi: F64) -> None:
+    """Recompute the pairs whose segment crosses a box of ``gone`` (objects taken out)."""
+    nn = centre.shape[0]
+    a = np.empty(3)
+    b = np.empty(3)
+    for i in range(nn):
+        for j in range(i + 1, nn):
+            for c in range(3):
+                a[c] = centre[i, c] + LIFT_M * normal[i, c]
+                b[c] = centre[j, c] + LIFT_M * normal[j, c]
+            if not _crosses(a, b, all_lo, all_hi) or not _crosses(a, b, gone_lo, gone_hi):
+                continue
+            fij, fji = _pair(i, j, centre, normal, vertices, area, size, tris, start, lo, hi,
+                             a, b)
+            factor[i, j] = fij
+            factor[j, i] = fji
+
+
+def _full_block(room: Room, digests: tuple[bytes, ...], patch_m: float) -> StillBlock:
+    """The exchange among all the objects of ``room`` (every one standing still)."""
+    surfels = surfels_from_room(room, patch_m=patch_m)
+    _check_size(len(surfels.area), patch_m)
+    factor, distance = _radiosity.transfer(surfels, room)
+    return StillBlock(digests, room, surfels, factor, distance)
+
+
+def _narrow(block: StillBlock, keep: list[int], patch_m: float) -> StillBlock:
+    """``block`` cut down to its objects ``keep``; the pairs the others shadowed recomputed."""
+    room = sub_room(block.room, keep)
+    surfels = surfels_from_room(room, patch_m=patch_m)
+    old = _index_of(block.surfels, surfels)
+    if old is None:                        # the cut changed (a triangle faced a removed one)
+        return _full_block(room, tuple(block.digests[g] for g in keep), patch_m)
+    factor = np.ascontiguousarray(block.factor[np.ix_(old, old)])
+    distance = np.ascontiguousarray(block.distance[np.ix_(old, old)])
+    gone = [g for g in range(len(block.digests)) if g not in set(keep)]
+    glo, ghi = occluder_boxes(sub_room(block.room, gone))
+    lo, hi = occluder_boxes(room)
+    _unshadow(*_surfel_arrays(surfels), factor, room.triangles, room.occluder_start, lo, hi,
+              glo, ghi, *_union(glo, ghi))
+    return StillBlock(tuple(block.digests[g] for g in keep), room, surfels, factor, distance)
+
+
+def _union(lo: F64, hi: F64) -> tuple[F64, F64]:
+    """The box (shape (1, 3) corners) around the boxes ``lo``–``hi``."""
+    if len(lo) == 0:
+        return np.full((1, 3), np.inf), np.full((1, 3), -np.inf)
+    return lo.min(axis=0)[None], hi.max(axis=0)[None]
+
+
+def _index_of(big: Surfels, small: Surfels) -> NDArray[np.int64] | None:
+    """Where each surfel of ``small`` is in ``big`` (None when one is not there)."""
+    table = {v.tobytes(): i for i, v in enumerate(big.vertices)}
+    out = [table.get(v.tobytes(), -1) for v in small.vertices]
+    if any(i < 0 for i in out):
+        return None
+    return np.asarray(out, dtype=np.int64)
+
+
+def _check_size(count: int, patch_m: float) -> None:
+    """One clear error when the exchange would need more than ``MAX_TRANSFER_BYTES``."""
+    need = 2 * 4 * count ** 2
+    limit = _radiosity.MAX_TRANSFER_BYTES
+    if need > limit:
+        raise ValueError(
+            f"rig.tof.multipath_surfel_m = {patch_m} m cuts the scene into "
+            f"{count} surfels, whose exchange needs {need / 2**30:.1f} GiB "
+            f"(at most {limit / 2**30:.0f}): use larger surfels")
+
+
+_BLOCK: dict[float, StillBlock] = {}
+_LOCK = threading.Lock()
+
+
+def room_transfer(room: Room, patch_m: float) -> tuple[Surfels, F32, F32]:
+    """Surfels of ``room`` and their exchange (form factor × visibility, distance).
+
+    As :func:`~simcore.sensors.tof.radiosity.surfels_from_room` followed by
+    :func:`~simcore.sensors.tof.radiosity.transfer`, with the still objects' block kept
+    from the last call (see the module's description).
+
+    Returns
+    -------
+    surfels : Surfels
+        ``N`` surfels: the still objects' first.
+    factor, distance : ndarray, shape (N, N), float32
+    """
+    digests = group_digests(room)
+    with _LOCK:
+        block = _BLOCK.get(patch_m)
+    kept = set() if block is None else set(block.digests)
+    still = [g for g, d in enumerate(digests) if d in kept]
+    if block is None or not still:
+        block = _full_block(room, tuple(digests), patch_m)
+        still = list(range(len(digests)))
+    elif len(still) < len(block.digests):
+        where = {d: g for g, d in enumerate(block.digests)}
+        block = _narrow(block, [where[digests[g]] for g in still], patch_m)
+    with _LOCK:
+        _BLOCK.clear()
+        _BLOCK[patch_m] = block
+    moving = [g for g in range(len(digests)) if g not in set(still)]
+    if not moving:
+        return block.surfels, block.factor, block.distance
+    return _with_moving(room, block, moving, patch_m)
+
+
+def _with_moving(room: Room, block: StillBlock, moving: list[int], patch_m: float
+                 ) -> tuple[Surfels, F32, F32]:
+    """The still block with the moving objects' surfels, pairs and shadows added."""
+    ordered = sub_room(room, [g for g in range(len(room.occluder_start) - 1)
+                              if g not in set(moving)] + moving)
+    first_tri = int(block.room.occluder_start[-1])
+    facing = facing_any(ordered.triangles, ordered.normals)        # movers' against all
+    mover_room = sub_room(room, moving)
+    movers = surfels_from_room(mover_room, patch_m=patch_m, facing=facing[first_tri:])
+    surfels = join(block.surfels, movers)
+    ns, nn = len(block.surfels.area), len(surfels.area)
+    _check_size(nn, patch_m)
+    factor = np.zeros((nn, nn), dtype=np.float32)
+    distance = np.zeros((nn, nn), dtype=np.float32)
+    factor[:ns, :ns] = block.factor
+    distance[:ns, :ns] = block.distance
+    mlo, mhi = occluder_boxes(mover_room)
+    arrays = _surfel_arrays(surfels)
+    _shadow(arrays[0], arrays[1], ns, factor, mover_room.triangles, mover_room.occluder_start,
+            mlo, mhi, *_union(mlo, mhi))
+    lo, hi = occluder_boxes(ordered)
+    _moving_pairs(*arrays, ns, ordered.triangles, ordered.occluder_start, lo, hi, factor,
+                  distance)
+    return surfels, factor, distance
+
+
+@kernel
+def _receiver_rows(points: F64, normals: F64, centre: F64, normal: F64, vertices: F64,
+                   area: F64, size: F64, count: int, tris: F64, start: NDArray[np.int64],
+                   lo: F64, hi: F64) -> tuple[F32, F32]:
+    """Form factor × visibility and distance from each receiver to the first ``count`` surfels."""
+    m = points.shape[0]
+    factor = np.zeros((m, count), dtype=np.float32)
+    dist = np.zeros((m, count), dtype=np.float32)
+    a = np.empty(3)
+    b = np.empty(3)
+    for r in range(m):
+        for j in range(count):
+            f = _exchange(points[r], normals[r], j, centre, normal, vertices, area, size)
+            if f == 0.0:
+                continue
+            for c in range(3):
+                a[c] = points[r, c] + LIFT_M * normals[r, c]
+                b[c] = centre[j, c] + LIFT_M * normal[j, c]
+            if not _segment_clear(a, b, tris, start, lo, hi):
+                continue
+            factor[r, j] = f
+            dist[r, j] = np.sqrt((centre[j, 0] - points[r, 0]) ** 2
+                                 + (centre[j, 1] - points[r, 1]) ** 2
+                                 + (centre[j, 2] - points[r, 2]) ** 2)
+    return factor, dist
+
+
+@kernel
+def _blocked(points: F64, normals: F64, rows: NDArray[np.int64], centre: F64, normal: F64,
+             factor: F32, dist: F32, exitance: NDArray[np.complex128], k: F64, tris: F64,
+             start: NDArray[np.int64], lo: F64, hi: F64, all_lo: F64, all_hi: F64
+             ) -> NDArray[np.complex128]:
+    """The kept receivers' irradiance from still senders that the triangles now block."""
+    out = np.zeros((k.shape[0], points.shape[0]), dtype=np.complex128)
+    a = np.empty(3)
+    b = np.empty(3)
+    for r in range(points.shape[0]):
+        row = rows[r]
+        for j in range(factor.shape[1]):
+            f = factor[row, j]
+            if f == 0.0:
+                continue
+            for c in range(3):
+                a[c] = points[r, c] + LIFT_M * normals[r, c]
+                b[c] = centre[j, c] + LIFT_M * normal[j, c]
+            if not _crosses(a, b, all_lo, all_hi):
+                continue
+            if _segment_clear(a, b, tris, start, lo, hi):
+                continue
+            d = dist[row, j]
+            for q in range(k.shape[0]):
+                out[q, r] += f * exitance[q, j] * complex(np.cos(k[q] * d), np.sin(k[q] * d))
+    return out
+
+
+@dataclass(frozen=True)
+class _Receivers:
+    """The exchange of a still camera's receiver points with the still surfels."""
+
+    digests: tuple[bytes, ...]
+    keys: dict[bytes, int]
+    factor: F32
+    distance: F32
+    kernels: tuple[NDArray[np.complex64], ...]
+    wavenumbers: tuple[float, ...]
+
+
+_RECEIVERS: dict[float, _Receivers] = {}
+
+
+def room_gather(points: F64, normals: F64, surfels: Surfels, room: Room,
+                exitance: NDArray[np.complex128], wavenumbers: list[float], *, patch_m: float
+                ) -> NDArray[np.complex128]:
+    """:func:`~simcore.sensors.tof.radiosity.gather`, the still part kept between frames.
+
+    Receivers whose point and normal are those of the last frame (a still camera on still
+    surfaces) reuse their form factors and visibility to the still objects' surfels; the
+    light that a moving object now blocks is taken off pair by pair, and the moving
+    objects' surfels and the new receivers are summed afresh. Equal to the full gather to
+    float32 rounding of the kept factors.
+    """
+    with _LOCK:
+        block = _BLOCK.get(patch_m)
+    ns = 0 if block is None else len(block.surfels.area)
+    if block is None or ns == 0 or ns > len(surfels.area) \
+            or not np.array_equal(block.surfels.vertices, surfels.vertices[:ns]):
+        return _radiosity.gather(points, normals, surfels, room, exitance, wavenumbers)
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    normals = np.ascontiguousarray(normals, dtype=np.float64)
+    keys = [p.tobytes() + n.tobytes() for p, n in zip(points, normals, strict=True)]
+    with _LOCK:
+        kept = _RECEIVERS.get(patch_m)
+    if kept is None or kept.digests != block.digests \
+            or kept.wavenumbers != tuple(wavenumbers) \
+            or sum(key in kept.keys for key in keys) < len(keys) // 2:
+        kept = _keep_receivers(points, normals, keys, block, wavenumbers)
+        with _LOCK:
+            _RECEIVERS.clear()
+            _RECEIVERS[patch_m] = kept
+    rows = np.array([kept.keys.get(key, -1) for key in keys], dtype=np.int64)
+    hit = rows >= 0
+    out = np.zeros((len(wavenumbers), len(points)), dtype=np.complex128)
+    still = exitance[:, :ns]
+    for q, k in enumerate(wavenumbers):
+        if k == 0.0:          # the intensity: the factors themselves (no phase)
+            out[q, hit] = (kept.factor @ still[q].real.astype(np.float32)
+                           + 1j * (kept.factor @ still[q].imag.astype(np.float32)))[rows[hit]]
+        else:
+            out[q, hit] = (kept.kernels[q] @ still[q].astype(np.complex64))[rows[hit]]
+    movers = sub_room(room, [g for g in range(len(room.occluder_start) - 1)
+                             if not _in_block(room, g, block)])
+    ks = np.asarray(wavenumbers, dtype=np.float64)
+    if len(movers.triangles):
+        mlo, mhi = occluder_boxes(movers)
+        whole_lo, whole_hi = _union(mlo, mhi)
+        arrays = _surfel_arrays(surfels)
+        out[:, hit] -= _blocked(points[hit], normals[hit], rows[hit], arrays[0], arrays[1],
+                                kept.factor, kept.distance, np.ascontiguousarray(still), ks,
+                                movers.triangles, movers.occluder_start, mlo, mhi,
+                                whole_lo, whole_hi)
+    moving = np.zeros_like(exitance)
+    moving[:, ns:] = exitance[:, ns:]
+    if ns < len(surfels.area):
+        out[:, hit] += _radiosity.gather(points[hit], normals[hit], surfels, room, moving,
+                                         wavenumbers)
+    if (~hit).any():
+        out[:, ~hit] = _radiosity.gather(points[~hit], normals[~hit], surfels, room, exitance,
+                                         wavenumbers)
+    return out
+
+
+def _in_block(room: Room, g: int, block: StillBlock) -> bool:
+    sl = slice(room.occluder_start[g], room.occluder_start[g + 1])
+    digest = hashlib.sha1(b"".join((room.triangles[sl].tobytes(), room.normals[sl].tobytes(),
+                                    room.albedo[sl].tobytes()))).digest()
+    return digest in set(block.digests)
+
+
+def _keep_receivers(points: F64, normals: F64, keys: list[bytes], block: StillBlock,
+                    wavenumbers: list[float]) -> _Receivers:
+    """Form factors and visibility (past the still objects) of receivers to still surfels."""
+    lo, hi = occluder_boxes(block.room)
+    arrays = _surfel_arrays(block.surfels)
+    factor, distance = _receiver_rows(points, normals, *arrays, len(block.surfels.area),
+                                      block.room.triangles, block.room.occluder_start, lo, hi)
+    kernels = [_radiosity._phase_kernel(factor, distance, k) if k != 0.0
+               else np.zeros((0, 0), dtype=np.complex64) for k in wavenumbers]
+    return _Receivers(block.digests, {key: i for i, key in enumerate(keys)}, factor, distance,
+                      tuple(kernels), tuple(wavenumbers))
+
+
+__all__ = ["StillBlock", "group_digests", "room_gather", "room_indirect", "room_transfer"]
+
+
+def _room_transfer(room: Room, patch_m: float
+                   ) -> tuple[Surfels, NDArray[np.float32], NDArray[np.float32]]:
+    """:func:`surfels_from_room` and :func:`transfer`, the still objects' part kept.
+
+    Kept in this module (:func:`room_transfer`).
+    """
+    return room_transfer(room, patch_m)
+
+
+def room_indirect(room: Room, *, camera: F64, intrinsics: PinholeIntrinsics,
+                  range_m: NDArray[np.floating], points_m: NDArray[np.floating],
+                  normals: NDArray[np.floating], seen: NDArray[np.bool_],
+                  frequencies_hz: list[float], patch_m: float, bounces: int = 0,
+                  step: int = RECEIVER_STEP
+                  ) -> tuple[NDArray[np.float32], list[tuple[NDArray[np.float32],
+                                                            NDArray[np.float32]]]]:
+    """Indirect light at the camera's pixels from the whole room, as :func:`one_bounce_image`.
+
+    Parameters
+    ----------
+    room : Room
+    camera : ndarray, shape (4, 4)
+        Optical frame → world.
+    intrinsics, range_m
+        The render's grid and range (the light's shadow map, :func:`first_exitance`).
+    points_m, normals : ndarray, shape (H, W, 3)
+        Receivers: each pixel's surface point and unit normal (optical frame).
+    seen : ndarray of bool, shape (H, W)
+    frequencies_hz : list of float
+    patch_m : float, keyword-only
+        Surfel size.
+    bounces : int, keyword-only
+        Indirect bounces (1: one bounce); 0: all (to convergence).
+    step : int, keyword-only
+        Receiver node spacing (pixels): the sum is exact on every ``step``-th row and
+        column and at the pixels without a node on their surface or next to a concave
+        crease, and blended in between (the node scheme of
+        :func:`simcore.sensors.tof.multipath.one_bounce_image`); 1: every pixel.
+
+    Returns
+    -------
+    magnitude : ndarray, shape (H, W), float32
+        Indirect irradiance at each pixel's surface in units of the illumination's
+        ``cos θ / R²`` (multiply by ``k ρ_P`` for electrons).
+    phasors : list of (re, im), each ndarray of shape (H, W), float32
+        Per frequency, the same with each path's phase ``e^{i 2π f L / c}`` (``L`` the whole
+        optical path, camera leg included).
+    """
+    surfels, factor, distance = _room_transfer(room, patch_m)
+    ks = [0.0] + [2.0 * np.pi * f / SPEED_OF_LIGHT for f in frequencies_hz]
+    emitted = first_exitance(surfels, camera, intrinsics, range_m, ks)
+    total = radiosity(factor, distance, surfels.albedo, emitted, ks, bounces=bounces)
+    pts = np.ascontiguousarray(points_m, dtype=np.float32)
+    nrm = np.ascontiguousarray(normals, dtype=np.float32)
+    seen = np.ascontiguousarray(seen)
+    h, w = seen.shape
+    rows, cols = _node_axis(h, step), _node_axis(w, step)
+    node_seen = np.ascontiguousarray(seen[np.ix_(rows, cols)])
+    cy, fy = _cell_of(h, rows)
+    cx, fx = _cell_of(w, cols)
+    weights, missing = _node_weights(pts, nrm, seen, rows, cols, node_seen, cy, fy, cx, fx)
+    node_index = (rows[:, None] * w + cols[None, :])[node_seen]
+    index = np.concatenate([node_index, np.flatnonzero(missing & ~_on_nodes(seen, rows, cols))])
+    rot, origin = camera[:3, :3], camera[:3, 3]
+    world = pts.reshape(-1, 3)[index].astype(np.float64) @ rot.T + origin
+    nrm_world = nrm.reshape(-1, 3)[index].astype(np.float64) @ rot.T
+    irradiance = room_gather(world, nrm_world, surfels, room, total, ks,
+                             patch_m=patch_m)                               # (1 + F, M)
+    sums = np.empty((len(index), 2 * len(ks) - 1), dtype=np.float32)
+    sums[:, 0] = irradiance[0].real
+    sums[:, 1::2] = irradiance[1:].real.T
+    sums[:, 2::2] = irradiance[1:].imag.T
+    values = np.zeros((len(rows), len(cols), sums.shape[1]), dtype=np.float32)
+    values[node_seen] = sums[:len(node_index)]
+    out = _blend_nodes(seen, weights, missing, values, cy, cx, index, sums, pts,
+                       np.asarray(ks[1:], dtype=np.float32))
+    return out[0], [(out[1 + 2 * j], out[2 + 2 * j]) for j in range(len(frequencies_hz))]
+
+
+def _on_nodes(seen: NDArray[np.bool_], rows: NDArray[np.int64], cols: NDArray[np.int64]
+              ) -> NDArray[np.bool_]:
+    """The pixels of the node grid (already summed as nodes)."""
+    grid = np.zeros(seen.shape, dtype=bool)
+    grid[np.ix_(rows, cols)] = True
+    return grid & seen
