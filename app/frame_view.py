@@ -368,7 +368,9 @@ def _sensor_transform(frame: Any, project: Project, name: str) -> F64:
     buffer = getattr(frame, "buffers", {}).get(name)
     if buffer is not None:
         return np.asarray(buffer.sensor.transform, dtype=np.float64)
-    from app.sensors import sensor_states  # the GUI's rigs: only for a sensor without buffer
+    from app.document.sensors import (
+        sensor_states,  # the GUI's rigs: only for a sensor without buffer
+    )
 
     return sensor_states(project, float(frame.time_s))[name].transform
 

@@ -16,7 +16,7 @@ def main(project_path: str | Path | None = None) -> int:
     """
     from PyQt6.QtWidgets import QApplication
 
-    from app.help import maybe_show_first_run_guide
+    from app.dialogs.help import maybe_show_first_run_guide
     from app.main_window import MainWindow
     from app.theme import apply_dark_theme
 

@@ -45,32 +45,29 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.antenna_editor import AntennaEditor
-from app.document import EditError, ProjectDocument, ProjectError, remember_last_folder
-from app.export import DatasetExportJob, ExportDialog, completion_box, export_panel_images
+from app.dialogs.export import DatasetExportJob, ExportDialog, completion_box, export_panel_images
+from app.dialogs.help import install_help_menu
+from app.dialogs.recording_compare import add_compare_recording_action
+from app.dialogs.scenario_export import add_export_spec_action
+from app.dialogs.scene_import import build_import_scene_action
+from app.document.document import EditError, ProjectDocument, ProjectError, remember_last_folder
+from app.document.validation import describe_problem
+from app.editors.antenna_editor import AntennaEditor
+from app.editors.material_editor import MaterialEditor
+from app.editors.scene_editor import ObjectInspector, ObjectListPanel, build_add_menu
+from app.editors.sensor_editor import SensorEditor
+from app.editors.timeline_editor import TimelineEditor
 from app.frame_view import FrameView
-from app.help import install_help_menu
-from app.material_editor import MaterialEditor
-from app.panels import (
-    LivePanel,
-    RangeAzimuthPanel,
-    RangeDopplerPanel,
-    RangeProfilePanel,
-    TofPanel,
-    cache_axes,
-)
-from app.recording_compare import add_compare_recording_action
-from app.rgb_panel import RgbPanel
-from app.scenario_export import add_export_spec_action
-from app.scene_editor import ObjectInspector, ObjectListPanel, build_add_menu
-from app.scene_import import build_import_scene_action
-from app.sensor_editor import SensorEditor
+from app.panels.base import LivePanel, cache_axes
+from app.panels.range_azimuth import RangeAzimuthPanel
+from app.panels.range_doppler import RangeDopplerPanel
+from app.panels.range_profile import RangeProfilePanel
+from app.panels.rgb import RgbPanel
+from app.panels.spectrogram import SpectrogramPanel
+from app.panels.tof import TofPanel
 from app.simulation import SimulationController
-from app.spectrogram_panel import SpectrogramPanel
-from app.time_controls import TimeBar, TimeController
-from app.timeline_editor import TimelineEditor
-from app.validation import describe_problem
-from app.viewport import SceneViewport
+from app.view.viewport import SceneViewport
+from app.widgets.time_controls import TimeBar, TimeController
 from simcore import preflight
 from simcore.resources import EXAMPLES_DIR
 from simcore.scene import Project
@@ -1036,7 +1033,7 @@ class MainWindow(QMainWindow):
 
         ``seed`` defaults to the project's; ``preview_dir`` also writes PNG previews of
         every frame there (as ``tofradar run --preview``). The export ends with a dialog
-        that opens the folder or the dataset (:func:`app.export.completion_box`).
+        that opens the folder or the dataset (:func:`app.dialogs.export.completion_box`).
         """
         job = DatasetExportJob(self.document.project, self.document.base_dir, Path(out),
                                n_frames=n_frames, seed=seed, preview_dir=preview_dir,

@@ -16,7 +16,7 @@ from collections.abc import Iterator  # noqa: E402
 from PyQt6 import sip  # noqa: E402
 from PyQt6.QtGui import QGuiApplication  # noqa: E402
 
-from app.document import RIG, EditError, ProjectDocument  # noqa: E402
+from app.document.document import RIG, EditError, ProjectDocument  # noqa: E402
 from simcore.resources import example_path  # noqa: E402
 from simcore.scene import load_project  # noqa: E402
 
@@ -92,7 +92,7 @@ def test_selection_follows_the_objects(doc: ProjectDocument) -> None:
 
 
 def test_time_controller_clamps_steps_and_waits_for_each_frame(doc: ProjectDocument) -> None:
-    from app.time_controls import TimeController
+    from app.widgets.time_controls import TimeController
 
     time = TimeController(doc)
     n = doc.project.timeline.n_frames            # point_targets: 10 frames at 10 Hz

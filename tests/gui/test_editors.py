@@ -8,8 +8,8 @@ import pytest
 import pyvista as pv
 from PyQt6.QtWidgets import QMessageBox
 
-from app.scene_edits import import_mesh
-from app.widgets import field_error
+from app.document.scene_edits import import_mesh
+from app.widgets.inputs import field_error
 
 pytestmark = pytest.mark.gui
 
@@ -214,7 +214,7 @@ def test_export_dataset_and_panel_images(make_window, wait_frame, qtbot, tmp_pat
 def test_motion_editing_in_inspector_and_shortcuts(make_window, qtbot):
     from PyQt6.QtCore import Qt
 
-    from app.scene_edits import add_object
+    from app.document.scene_edits import add_object
 
     window = make_window(None)
     doc = window.document

@@ -8,8 +8,8 @@ from PyQt6.QtCore import QEvent, QPointF, Qt
 from PyQt6.QtGui import QMouseEvent
 from PyQt6.QtWidgets import QApplication
 
-from app.antenna_editor import AntennaEditor
-from app.document import ProjectDocument
+from app.document.document import ProjectDocument
+from app.editors.antenna_editor import AntennaEditor
 from simcore.resources import EXAMPLES_DIR
 from simcore.scene import load_project
 
@@ -245,7 +245,7 @@ def test_ctrl_s_on_an_opened_example_does_not_modify_it(make_window, qtbot, tmp_
                                                          monkeypatch):
     from PyQt6.QtWidgets import QFileDialog
 
-    import app.document as document_module
+    import app.document.document as document_module
 
     example_bytes = OFFICE.read_bytes()
     docs = tmp_path / "Documents"
@@ -296,7 +296,7 @@ def test_ctrl_s_on_an_opened_example_does_not_modify_it(make_window, qtbot, tmp_
 # --- materials ------------------------------------------------------------------------------
 @pytest.fixture
 def material_editor(qtbot):
-    from app.material_editor import MaterialEditor
+    from app.editors.material_editor import MaterialEditor
 
     doc = ProjectDocument()
     doc.open(OFFICE)
@@ -387,7 +387,7 @@ def test_band_toggles_read_at_a_glance(material_editor, qtbot):
 
 # --- timeline, seed, keyframes, placement, help -------------------------------------------
 def test_timeline_and_seed_editor_round_trip_and_undo(qtbot, tmp_path):
-    from app.timeline_editor import TimelineEditor
+    from app.editors.timeline_editor import TimelineEditor
 
     doc = ProjectDocument()
     ed = TimelineEditor(doc)
@@ -421,7 +421,7 @@ def test_timeline_and_seed_editor_round_trip_and_undo(qtbot, tmp_path):
 
 
 def test_new_keyframes_land_inside_the_timeline():
-    from app.scene_editor import new_keyframes
+    from app.editors.scene_editor import new_keyframes
     from simcore.scene.model import Timeline
 
     tl = Timeline()  # 1 s at 10 Hz: frames at 0 … 0.9 s
@@ -444,7 +444,7 @@ def test_new_keyframes_land_inside_the_timeline():
 def test_added_objects_sit_on_the_boresight_facing_the_sensors(make_window):
     from scipy.spatial.transform import Rotation
 
-    from app.scene_edits import add_object
+    from app.document.scene_edits import add_object
     from simcore.scene.snapshot import take_snapshot
 
     window = make_window(None)
@@ -476,8 +476,8 @@ def test_added_objects_sit_on_the_boresight_facing_the_sensors(make_window):
 
 def test_help_menu_timeline_dock_and_keyframe_at_current_time(make_window, qtbot):
     import simcore
-    from app.help import about_text, shortcut_rows
-    from app.scene_edits import add_object
+    from app.dialogs.help import about_text, shortcut_rows
+    from app.document.scene_edits import add_object
 
     window = make_window(None)
     assert "timeline" in window.docks

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import pytest
 
-from app.document import ProjectDocument
-from app.field_editors import DETECTION, LINK_BUDGET, PROCESSING, FieldSpec
-from app.sensor_editor import PfaSpin, SensorEditor
-from app.widgets import field_error
+from app.document.document import ProjectDocument
+from app.editors.field_editors import DETECTION, LINK_BUDGET, PROCESSING, FieldSpec
+from app.editors.sensor_editor import PfaSpin, SensorEditor
+from app.widgets.inputs import field_error
 from simcore.scene import fieldpath, load_project
 
 pytestmark = pytest.mark.gui

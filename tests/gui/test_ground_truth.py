@@ -12,7 +12,7 @@ import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 from PyQt6.QtCore import QPointF, Qt
 
-from app.panels import OUTLINE_RGBA, OUTLINE_SELECTED_RGBA, SELECTED_PEN, object_outlines
+from app.panels.base import OUTLINE_RGBA, OUTLINE_SELECTED_RGBA, SELECTED_PEN, object_outlines
 from simcore.resources import example_path
 
 pytestmark = pytest.mark.gui

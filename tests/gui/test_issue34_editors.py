@@ -12,12 +12,12 @@ import re
 import pytest
 from PyQt6.QtCore import Qt
 
-from app.document import ProjectDocument
-from app.material_editor import MaterialEditor
-from app.scene_editor import ObjectInspector
-from app.sensor_editor import SensorEditor
-from app.timeline_editor import TimelineEditor
-from app.widgets import field_error
+from app.document.document import ProjectDocument
+from app.editors.material_editor import MaterialEditor
+from app.editors.scene_editor import ObjectInspector
+from app.editors.sensor_editor import SensorEditor
+from app.editors.timeline_editor import TimelineEditor
+from app.widgets.inputs import field_error
 from simcore.resources import EXAMPLES_DIR
 from simcore.scene import load_project
 
@@ -272,7 +272,7 @@ def test_unit_conversion_stores_the_decimal_typed(typed, scale, exponent):
     """The SI value is the double nearest to the typed decimal × 10^k, and back again."""
     from decimal import Decimal
 
-    from app.field_editors import FieldSpec
+    from app.editors.field_editors import FieldSpec
 
     spec = FieldSpec("rig.radar.bandwidth_hz", "bandwidth", scale=scale)
     si = spec.to_si(float(typed))

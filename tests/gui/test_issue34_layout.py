@@ -20,7 +20,7 @@ import pytest
 from PyQt6.QtCore import QPointF, QRect, Qt, QUrl
 from PyQt6.QtWidgets import QApplication, QMessageBox, QPushButton
 
-from app.widgets import field_error
+from app.widgets.inputs import field_error
 from simcore.resources import EXAMPLES_DIR
 
 pytestmark = pytest.mark.gui
@@ -28,7 +28,7 @@ pytestmark = pytest.mark.gui
 
 def _columns() -> tuple[int, int, int, int]:
     """The antenna table's columns (imported here: the table is new in issue #34)."""
-    from app.antenna_table import NAME, PATTERN, X, Y
+    from app.editors.antenna_table import NAME, PATTERN, X, Y
 
     return NAME, X, Y, PATTERN
 
@@ -393,7 +393,7 @@ def test_office_demo_and_docs_agree_about_static_clutter_removal():
 
 
 def test_completion_box_without_a_dataset_offers_only_the_folder(qtbot, tmp_path):
-    from app.export import completion_box
+    from app.dialogs.export import completion_box
 
     parent = QMessageBox()
     box = completion_box(parent, "Cancelled", tmp_path / "missing.h5", None, lambda u: None)

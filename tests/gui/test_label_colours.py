@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.panels import NOISE_BRUSH, label_brush
+from app.panels.base import NOISE_BRUSH, label_brush
 from simcore.resources import example_path
 
 pytestmark = pytest.mark.gui

@@ -9,8 +9,8 @@ import pytest
 from PyQt6.QtCore import QPointF, Qt
 from PyQt6.QtWidgets import QApplication
 
-from app.antenna_editor import snap_to_grid
-from app.scene_edits import add_object
+from app.document.scene_edits import add_object
+from app.editors.antenna_editor import snap_to_grid
 from simcore.scene.snapshot import take_snapshot
 
 pytestmark = pytest.mark.gui

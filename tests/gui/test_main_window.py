@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from PyQt6.QtWidgets import QDockWidget
 
-from app.document import RIG
+from app.document.document import RIG
 from simcore.resources import EXAMPLES_DIR
 from simcore.scene import load_project
 
@@ -84,7 +84,7 @@ def test_save_reopen_compare_equal(make_window, wait_frame, tmp_path):
 
 
 def test_undo_redo_every_kind_of_edit(make_window, wait_frame, qtbot):
-    from app.scene_edits import add_object, delete_object, duplicate_object, rename_object
+    from app.document.scene_edits import add_object, delete_object, duplicate_object, rename_object
 
     window = make_window()
     doc = window.document

@@ -8,9 +8,9 @@ import pyvista as pv
 from PyQt6.QtCore import QTimer
 from PyQt6.QtWidgets import QApplication, QFileDialog, QWidget
 
-from app.document import ProjectDocument
-from app.mesh_import import MeshImportDialog, guess_unit, mesh_extent, size_text
-from app.scene_editor import build_add_menu
+from app.dialogs.mesh_import import MeshImportDialog, guess_unit, mesh_extent, size_text
+from app.document.document import ProjectDocument
+from app.editors.scene_editor import build_add_menu
 
 pytestmark = pytest.mark.gui
 

@@ -7,10 +7,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-from app.document import ProjectDocument
+from app.document.document import ProjectDocument
+from app.document.sensors import rig_states, sensor_path, sensor_states
 from app.frame_view import FrameView, RadarView, TofView
-from app.sensors import rig_states, sensor_path, sensor_states
-from app.widgets import field_error
+from app.widgets.inputs import field_error
 from simcore.scene import Project
 from simcore.scene.radar_config import SPEED_OF_LIGHT
 from simcore.scene.snapshot import take_snapshot
@@ -256,7 +256,7 @@ def test_inspector_and_3d_view_show_every_rig_and_sensor(make_window, qtbot):
 
 def test_document_follows_the_current_sensor_without_a_window():
     """The editors' sensor follows renames through undo/redo; a removed one falls back."""
-    from app import sensors
+    from app.document import sensors
 
     doc = ProjectDocument(Project())
     sensors.add_rig(doc)

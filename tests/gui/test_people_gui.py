@@ -11,7 +11,7 @@ pytestmark = pytest.mark.gui
 
 
 def test_add_person_faces_the_sensors_and_draws(make_window, tmp_path):
-    from app.scene_edits import NEW_OBJECTS, add_object
+    from app.document.scene_edits import NEW_OBJECTS, add_object
     from simcore.resources import example_path
     from simcore.scene.people import Person
 

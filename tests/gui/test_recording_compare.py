@@ -6,7 +6,7 @@ import h5py
 import numpy as np
 import pytest
 
-from app.recording_compare import recording_frame_view, set_recording_reference
+from app.dialogs.recording_compare import recording_frame_view, set_recording_reference
 from simcore.dsp import process_frame
 from simcore.io.recordings import read_recording
 from simcore.report.real import shared_recording

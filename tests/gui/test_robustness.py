@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from PyQt6.QtCore import QTimer
 
-from app.widgets import field_error
+from app.widgets.inputs import field_error
 
 pytestmark = pytest.mark.gui
 

@@ -7,7 +7,7 @@ import stat
 
 import pytest
 
-from app.document import ProjectDocument
+from app.document.document import ProjectDocument
 from simcore.resources import EXAMPLES_DIR
 
 pytestmark = pytest.mark.gui

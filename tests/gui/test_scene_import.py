@@ -9,8 +9,13 @@ import pytest
 from gltf_assets import Gltf, box
 from PyQt6.QtWidgets import QWidget
 
-from app.document import ProjectDocument
-from app.scene_import import SceneImportDialog, import_scene, open_import_dialog, preview_text
+from app.dialogs.scene_import import (
+    SceneImportDialog,
+    import_scene,
+    open_import_dialog,
+    preview_text,
+)
+from app.document.document import ProjectDocument
 from simcore.scene.materials import load_material_library
 from simcore.scene.model import Project
 from simcore.scene.project_io import save_project

@@ -6,8 +6,8 @@ import pytest
 from PyQt6.QtCore import Qt
 from PyQt6.QtWidgets import QApplication, QStyle
 
-from app.panels import EMPTY_SCENE_HINT, plural
-from app.scene_edits import add_object
+from app.document.scene_edits import add_object
+from app.panels.base import EMPTY_SCENE_HINT, plural
 
 pytestmark = pytest.mark.gui
 

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from app.frame_view import FrameView, ObjectMarks, TofView, radar_view_from_products
-from app.spectrogram_panel import SpectrogramPanel
+from app.panels.spectrogram import SpectrogramPanel
 from simcore.dsp import DspConfig, process_frame
 from simcore.scene import Project
 from simcore.scene.model import SensorRig, Timeline
@@ -119,10 +119,10 @@ def test_main_window_has_the_micro_doppler_dock(make_window, wait_frame, qtbot) 
 
 
 def test_products_options_in_the_sensor_editor_round_trip(qtbot, tmp_path) -> None:
-    from app.document import ProjectDocument
-    from app.field_editors import PRODUCTS
-    from app.sensor_editor import SensorEditor
-    from app.widgets import field_error
+    from app.document.document import ProjectDocument
+    from app.editors.field_editors import PRODUCTS
+    from app.editors.sensor_editor import SensorEditor
+    from app.widgets.inputs import field_error
     from simcore.scene import fieldpath, load_project
 
     new = {"dsp.spectrogram_mode": "stft", "dsp.spectrogram_window": "blackman",

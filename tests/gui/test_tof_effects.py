@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from app.document import ProjectDocument
-from app.sensor_editor import SensorEditor
-from app.tof_effects import TOF_EFFECTS
+from app.document.document import ProjectDocument
+from app.editors.sensor_editor import SensorEditor
+from app.editors.tof_effects import TOF_EFFECTS
 
 pytestmark = pytest.mark.gui
 

@@ -5,7 +5,12 @@ from __future__ import annotations
 import pytest
 from pydantic import ValidationError
 
-from app.validation import describe_validation_error, format_number, humanize_quantities, in_words
+from app.document.validation import (
+    describe_validation_error,
+    format_number,
+    humanize_quantities,
+    in_words,
+)
 from simcore.resources import EXAMPLES_DIR
 from simcore.scene import Project, load_project
 

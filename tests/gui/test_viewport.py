@@ -248,7 +248,7 @@ def test_a_change_renders_at_half_resolution_then_full(make_window, wait_frame, 
     from PyQt6.QtCore import QPoint, Qt
     from PyQt6.QtTest import QTest
 
-    from app.offscreen_view import INTERACTIVE_SCALE, SETTLE_S
+    from app.view.offscreen_view import INTERACTIVE_SCALE, SETTLE_S
 
     window = make_window()
     wait_frame(window)
