@@ -20,6 +20,7 @@ import numpy as np
 from PyQt6.QtGui import QAction
 from PyQt6.QtWidgets import QFileDialog, QMenu, QMessageBox, QWidget
 
+import simcore.sensors  # noqa: F401  (registers the kinds' schemas)
 from app.frame_view import FrameView, radar_view_from_products
 from simcore.dsp import process_frame
 from simcore.scene import Project

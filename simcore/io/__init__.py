@@ -8,6 +8,10 @@ from __future__ import annotations
 
 from typing import Any
 
+# The sensor kinds declare their output schemas when registered: every reader and writer
+# here works from them.
+import simcore.sensors  # noqa: F401
+
 
 def open_dataset(path: Any, *, storage_options: dict[str, Any] | None = None) -> Any:
     """Open a tofradar dataset (HDF5 file or Zarr store) as a lazy ``xarray.Dataset``.

@@ -12,6 +12,7 @@ built-in one.
 
 Examples
 --------
+>>> import simcore.sensors  # registers the built-in kinds and their schemas
 >>> from simcore.sensors.schema import schema_of
 >>> out = schema_of("tof").output("depth")
 >>> out.dims, out.unit, out.per_frame
@@ -46,18 +47,23 @@ def declare(schema: SensorSchema) -> SensorSchema:
 
 
 def schema_of(kind: str) -> SensorSchema:
-    """The output schema of sensor kind ``kind``."""
-    if not _SCHEMAS:
-        import simcore.sensors  # noqa: F401  (the built-in kinds declare theirs)
+    """The output schema of sensor kind ``kind``.
+
+    The kinds declare theirs when ``simcore.sensors`` registers them; this module does not
+    import that package (it sits below it), so a caller imports it first (``simcore.io``
+    does).
+    """
     try:
         return _SCHEMAS[kind]
     except KeyError:
-        raise KeyError(f"unknown sensor kind {kind!r} (kinds: {', '.join(_SCHEMAS)})") from None
+        known = ", ".join(_SCHEMAS) or "none: import simcore.sensors to register the kinds"
+        raise KeyError(f"unknown sensor kind {kind!r} (kinds: {known})") from None
 
 
 def schemas() -> dict[str, SensorSchema]:
     """Every declared schema, by kind."""
-    schema_of(next(iter(_SCHEMAS), "tof"))
+    if not _SCHEMAS:
+        raise LookupError("no sensor kind is registered: import simcore.sensors first")
     return dict(_SCHEMAS)
 
 
