@@ -20,7 +20,11 @@ the whole sequence (the faces unfolded along the path and projected across it, t
 intersection), ``√σ = 2√π A / λ`` (Knott, Shaeffer & Tuley, *Radar Cross Section*, 2nd
 ed., §5.4: a dihedral's 8πa²b²/λ², a square trihedral's 12πa⁴/λ² summed over its
 orders). Each order of faces is its own path (a sequence and its reverse are both
-counted: they have equal lengths and add coherently).
+counted: they have equal lengths and add coherently). Near an edge or a corner the orders
+of its faces share one image (mirrors in perpendicular faces commute; image theory of a
+90° wedge or corner), so each order's ``√π D`` is that image's share: half at an edge, a
+sixth at a corner (:func:`_same_image_orders`; checked against Sionna RT in
+``tests/test_radar_sionna_targets.py``).
 
 Single-face returns are the faces' own surface facets (:mod:`~simcore.sensors.radar.
 surfaces`), not repeated here. Limits: edge diffraction (UTD) and the transition of a
@@ -30,6 +34,7 @@ is all there or not); the faces are taken still relative to the radar (no Dopple
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from functools import lru_cache
@@ -236,8 +241,10 @@ def _trace(faces: Sequence[Reflector], seq: tuple[int, ...], wavelength_m: float
     if float(np.linalg.norm(direction + unfolded)) < 1e-6:
         # A retro-directive sequence (a plane wave comes back on itself: dihedral across its
         # edge, trihedral): its far-field return is the GO aperture's.
-        size = min(near, 2.0 * math.sqrt(math.pi) * _aperture(oriented, images[-1])
-                   / wavelength_m)
+        # Near it, the radar's image: one image for all the orders of the same faces
+        # (mirrors in perpendicular faces commute), each order a share of it.
+        size = min(near / _same_image_orders(faces, seq, images[-1]),
+                   2.0 * math.sqrt(math.pi) * _aperture(oriented, images[-1]) / wavelength_m)
     else:
         # Otherwise only the image exists (no far-field return): full where the first
         # Fresnel zone around each reflection point lies on its face.
@@ -245,6 +252,33 @@ def _trace(faces: Sequence[Reflector], seq: tuple[int, ...], wavelength_m: float
     last = points[-1]
     position = half * last / max(float(np.linalg.norm(last)), 1e-300)
     return seq, points[0], last, position, amplitude * size
+
+
+def _same_image_orders(faces: Sequence[Reflector], seq: tuple[int, ...],
+                       image: NDArray[np.float64]) -> int:
+    """How many orders of the faces ``seq`` give the radar the same image ``image`` (m).
+
+    Orders with a face twice in a row do not count: a 90° edge has two, a corner six, an
+    echo between facing walls one.
+
+    Image theory of a right-angled wedge or corner (exact for perfect conductors): the
+    radar's double (triple) image in its faces is one image, whichever face it is
+    mirrored in first; at its edge (corner) every order's reflection points meet, each
+    order carrying a share of that one image's return.
+    """
+    count = 0
+    for order in set(itertools.permutations(seq)):
+        if any(a == b for a, b in itertools.pairwise(order)):
+            continue
+        point = np.zeros(3)
+        for i in order:
+            face = _oriented(faces[i], point)
+            if face is None:
+                break
+            point = face.mirror(point)
+        else:
+            count += int(np.linalg.norm(point - image) < 1e-6)
+    return max(count, 1)
 
 
 def _fresnel_fit(faces: Sequence[Reflector], points: Sequence[NDArray[np.float64]],

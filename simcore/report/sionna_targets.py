@@ -1,0 +1,249 @@
+"""tofradar's range profile of targets in a room against Sionna RT (issue 42, radar acceptance).
+
+The reference (``tools/references/sionna/target_paths.py``, cached in
+``resources/references/sionna_target_paths.npz``) holds, for a 6 × 4 × 3 m smooth concrete
+room with and without a metal left wall and one target about 2.5 m ahead of the radar (a
+point scatterer of 1 m², a metal sphere of radius 0.2 m, a metal trihedral of edge 0.12 m),
+every specular path radar → room → radar and radar → room → target → room → radar that
+Sionna RT 2.2 traces (up to three face bounces for the room, two per leg for the target),
+with its length and complex coefficient (isotropic V antennas at 60 GHz).
+
+Both are turned into the same range profile here: the reference's paths weighted by the
+radar's element pattern (the configured cosine pattern, on the path's departure and
+return directions) and synthesised as a dechirped complex IF on tofradar's sample grid;
+tofradar's is the complex IF of its ideal radar (no noise, no leakage, no IF filters) over
+the same room built as a project (walls as boxes, smooth concrete of the table's
+permittivity and loss, the table's aluminium), multipath order 2. Both IFs go through the
+same Hann window and 16-fold zero-padded FFT; levels are in units of Sionna's |a| (dB),
+tofradar's scaled once by a point target of 1 m² alone at 3 m on boresight (the radar
+equation's constant; no room), so every level in a room is compared absolutely.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from simcore.resources import RESOURCES_DIR
+from simcore.scene import Box, CornerReflector, PointTarget, Pose, Project, SceneObject, Sphere
+from simcore.scene.geometry import corner_reflector_axes
+from simcore.scene.materials import BandMaterial, DualBandMaterial, load_material_library
+from simcore.scene.model import SensorRig
+from simcore.scene.radar_config import SPEED_OF_LIGHT, Antenna, RadarConfig
+
+REFERENCE = RESOURCES_DIR / "references" / "sionna_target_paths.npz"
+ROOMS = ("concrete", "metal_left")
+TARGETS = ("point", "sphere", "corner")
+#: Zero padding of the range FFT (bin = range resolution / 16 ≈ 1.6 mm).
+PAD = 16
+#: The acceptance's tolerances (issue 42).
+RANGE_TOLERANCE_M = 0.03
+LEVEL_TOLERANCE_DB = 3.0
+SPAN_DB = 20.0
+_WALL = 0.2                                          # wall thickness of the project's boxes (m)
+
+
+def radar_config() -> RadarConfig:
+    """One Tx, one Rx at the array origin, complex IF to 25 m, ideal, multipath order 2."""
+    return RadarConfig(
+        start_frequency_hz=57e9, bandwidth_hz=6e9, chirp_time_s=256e-6, sample_rate_hz=4e6,
+        samples_per_chirp=1024, chirps_per_frame=1, chirp_repetition_time_s=300e-6,
+        complex_iq=True, tx=[Antenna(name="tx1")], rx=[Antenna(name="rx1")], ideal=True,
+        leakage_dbc=None, leakage_echoes=[], if_highpass_hz=0.0, if_lowpass_hz=0.0,
+        adc_bits=None, speckle=False, multipath_order=2, polarization="V",
+        rig_front_width_m=0.0, rig_front_height_m=0.0)
+
+
+def _materials() -> list[DualBandMaterial]:
+    """Smooth concrete (the table's ε′ and loss, no roughness, no diffuse part)."""
+    table = load_material_library()["concrete"]
+    radar = table.band("radar")
+    smooth = BandMaterial(reflectance=0.0, specular=radar.specular, roughness=radar.roughness,
+                          permittivity=radar.permittivity, loss_tangent=radar.loss_tangent,
+                          height_rms_m=0.0)
+    return [table.model_copy(update={"name": "concrete_smooth",
+                                     "bands": {**table.bands, "radar": smooth}})]
+
+
+def _room(ref: Any, room: str) -> list[SceneObject]:
+    lx, ly, lz = (float(v) for v in ref["room_m"])
+    w = _WALL
+    metal = "aluminium" if room == "metal_left" else "concrete_smooth"
+    spec = [("floor", (lx, ly, w), (lx / 2, ly / 2, -w / 2), "concrete_smooth"),
+            ("ceiling", (lx, ly, w), (lx / 2, ly / 2, lz + w / 2), "concrete_smooth"),
+            ("front", (w, ly, lz), (lx + w / 2, ly / 2, lz / 2), "concrete_smooth"),
+            ("back", (w, ly, lz), (-w / 2, ly / 2, lz / 2), "concrete_smooth"),
+            ("left", (lx, w, lz), (lx / 2, ly + w / 2, lz / 2), metal),
+            ("right", (lx, w, lz), (lx / 2, -w / 2, lz / 2), "concrete_smooth")]
+    return [SceneObject(id=i + 1, name=n, geometry=Box(size_m=s), pose=Pose(position_m=p),
+                        material=m) for i, (n, s, p, m) in enumerate(spec)]
+
+
+def _corner_pose(ref: Any, centre: NDArray[np.float64]) -> Pose:
+    """The trihedral of the reference: its edges as Sionna's script placed them."""
+    from scipy.spatial.transform import Rotation
+
+    s = np.ones(3) / np.sqrt(3)
+    t = np.asarray(ref["radar_m"], float) - centre
+    t /= np.linalg.norm(t)
+    v, c = np.cross(s, t), float(s @ t)
+    vx = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+    edges = (np.eye(3) + vx + vx @ vx / (1 + c)).T          # rows: world edge directions
+    rot = edges.T @ corner_reflector_axes()                 # local edge k → world edge k
+    angles = Rotation.from_matrix(rot).as_euler("xyz", degrees=True)
+    return Pose(position_m=tuple(float(x) for x in centre),
+                rotation_deg=tuple(float(a) for a in angles))
+
+
+def scene_project(ref: Any, room: str, target: str | None) -> Project:
+    """The reference scene as a tofradar project (``target`` None: the empty room)."""
+    objs = _room(ref, room)
+    if target is not None:
+        centre = np.asarray(ref[f"target_{target}_m"], dtype=float)
+        size = float(ref[f"target_{target}_size"])
+        pose = Pose(position_m=tuple(float(x) for x in centre))
+        if target == "point":
+            geom: Any = PointTarget(rcs_m2=size)
+        elif target == "sphere":
+            geom = Sphere(radius_m=size)
+        else:
+            geom, pose = CornerReflector(edge_m=size), _corner_pose(ref, centre)
+        objs.append(SceneObject(id=10, name=target, geometry=geom, pose=pose,
+                                material="aluminium"))
+    rig = SensorRig(pose=Pose(position_m=tuple(float(x) for x in ref["radar_m"])),
+                    radar=radar_config())
+    return Project(objects=objs, rig=rig, materials=_materials())
+
+
+def _profile(iq: NDArray[np.complexfloating]) -> NDArray[np.complex128]:
+    """Hann-windowed, zero-padded range FFT of one chirp's complex IF (window-normalised)."""
+    win = np.hanning(iq.size)
+    spec = np.fft.fft(iq * win, PAD * iq.size)
+    return np.asarray(spec / win.sum(), dtype=np.complex128)
+
+
+def range_axis(cfg: RadarConfig) -> NDArray[np.float64]:
+    """Range (m) of each bin of :func:`_profile`."""
+    n = PAD * cfg.samples_per_chirp
+    beat = np.fft.fftfreq(n, 1.0 / cfg.sample_rate_hz)
+    slope = cfg.bandwidth_hz / cfg.chirp_time_s
+    return np.asarray(beat * SPEED_OF_LIGHT / (2 * slope), dtype=np.float64)
+
+
+def _tofradar_iq(project: Project) -> NDArray[np.complex128]:
+    from simcore.pipeline import Simulator
+
+    with Simulator(project, reuse_static=False) as sim:
+        adc = sim.frame(0).outputs["radar"].raw.adc
+    return np.asarray(adc, dtype=np.complex128).reshape(-1)[: project.rig.radar.samples_per_chirp]
+
+
+def pattern_amplitude(cfg: RadarConfig, world_dirs: NDArray[np.float64]) -> NDArray[np.float64]:
+    """√ of the cosine element pattern's power gain; radar facing world +x, z up."""
+    d = np.asarray(world_dirs, dtype=float)
+    x, z = -d[:, 1], d[:, 0]                  # radar frame: right (x), forward (z)
+    horiz = np.hypot(x, z)
+    cos_az = np.where(horiz > 0, z / np.where(horiz > 0, horiz, 1), 1.0)
+    cos_el = horiz / np.linalg.norm(d, axis=1)
+    pat = cfg.element_pattern
+    g = np.maximum(cos_az, 0) ** pat.exponent_az * np.maximum(cos_el, 0) ** pat.exponent_el
+    return np.asarray(np.sqrt(g), dtype=np.float64)
+
+
+def reference_iq(ref: Any, room: str, target: str | None, cfg: RadarConfig
+                 ) -> NDArray[np.complex128]:
+    """Dechirped IF of the reference's paths (units of Sionna's |a|), tofradar's grid."""
+    keys = [f"{room}_room"] + ([f"{room}_{target}"] if target else [])
+    t = np.arange(cfg.samples_per_chirp) / cfg.sample_rate_hz
+    slope = cfg.bandwidth_hz / cfg.chirp_time_s
+    iq = np.zeros(t.size, dtype=np.complex128)
+    for key in keys:
+        tau = ref[f"{key}_length_m"] / SPEED_OF_LIGHT
+        amp = (np.conj(ref[f"{key}_a"]) * pattern_amplitude(cfg, ref[f"{key}_out"])
+               * pattern_amplitude(cfg, ref[f"{key}_back"]))
+        freq = cfg.start_frequency_hz + slope * t[:, None]
+        iq += (amp[None, :] * np.exp(2j * np.pi * freq * tau[None, :])).sum(axis=1)
+    return iq
+
+
+@lru_cache(maxsize=1)
+def _calibration() -> float:
+    """IF amplitude of tofradar per unit Sionna |a|: a 1 m² point target at 3 m, alone."""
+    cfg = radar_config().model_copy(update={"multipath_order": 0})
+    obj = SceneObject(id=1, name="cal", geometry=PointTarget(rcs_m2=1.0),
+                      pose=Pose(position_m=(3.0, 0.0, 1.0)))
+    proj = Project(objects=[obj], rig=SensorRig(pose=Pose(position_m=(0.0, 0.0, 1.0)),
+                                                radar=cfg))
+    tof = np.max(np.abs(_profile(_tofradar_iq(proj))))
+    lam = SPEED_OF_LIGHT / (cfg.start_frequency_hz + 0.5 * cfg.bandwidth_hz)
+    return float(tof / (lam / ((4 * np.pi) ** 1.5 * 9.0)))
+
+
+def peaks(rng: NDArray[np.float64], prof_db: NDArray[np.float64], floor_db: float
+          ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Local maxima of a profile (dB) above ``floor_db`` at positive ranges: (range, dB)."""
+    p = prof_db
+    m = (p[1:-1] > p[:-2]) & (p[1:-1] >= p[2:]) & (p[1:-1] > floor_db) & (rng[1:-1] > 0.2)
+    i = np.flatnonzero(m) + 1
+    return rng[i], p[i]
+
+
+def profiles(ref: Any, room: str, target: str | None
+             ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Range (m) and the two range profiles (dB re Sionna |a| = 1): reference, tofradar."""
+    cfg = radar_config()
+    rng = range_axis(cfg)
+    ref_db = 20 * np.log10(np.abs(_profile(reference_iq(ref, room, target, cfg))) + 1e-30)
+    tof = _profile(_tofradar_iq(scene_project(ref, room, target))) / _calibration()
+    tof_db = 20 * np.log10(np.abs(tof) + 1e-30)
+    order = np.argsort(rng)
+    return rng[order], ref_db[order], tof_db[order]
+
+
+def compare_scene(ref: Any, room: str, target: str) -> dict[str, Any]:
+    """The acceptance's comparison of one scene (module docstring of the test).
+
+    Returns the levels (dB re |a| = 1) of the target's direct return and the front wall's,
+    ``matched``: per reference peak within 20 dB of either, its range, level, and
+    tofradar's nearest peak within ±3 cm (range error cm, level error dB; None: none);
+    ``spurious``: tofradar's peaks within 20 dB of the stronger of the two with no
+    reference peak within ±3 cm.
+    """
+    rng, ref_db, tof_db = profiles(ref, room, target)
+    radar = np.asarray(ref["radar_m"], float)
+    centre = np.asarray(ref[f"target_{target}_m"], float)
+    r_target = float(np.linalg.norm(centre - radar))
+    if target == "sphere":
+        r_target -= float(ref["target_sphere_size"])
+    r_front = float(ref["room_m"][0] - radar[0])
+
+    def level_at(r: float) -> float:
+        near = np.abs(rng - r) <= RANGE_TOLERANCE_M
+        return float(np.max(ref_db[near]))
+
+    direct, front = level_at(r_target), level_at(r_front)
+    r_pk, r_lv = peaks(rng, ref_db, min(direct, front) - SPAN_DB)
+    t_pk, t_lv = peaks(rng, tof_db, max(direct, front) - SPAN_DB - 10.0)
+    rows = []
+    for r, lv in zip(r_pk, r_lv, strict=True):
+        near = np.flatnonzero(np.abs(t_pk - r) <= RANGE_TOLERANCE_M)
+        row: dict[str, Any] = {"range_m": float(r), "sionna_db": float(lv),
+                               "tofradar_db": None, "range_error_cm": None}
+        if near.size:
+            j = near[np.argmin(np.abs(t_lv[near] - lv))]
+            row.update(tofradar_db=float(t_lv[j]), range_error_cm=float(100 * (t_pk[j] - r)))
+        rows.append(row)
+    all_ref, _ = peaks(rng, ref_db, max(direct, front) - SPAN_DB - LEVEL_TOLERANCE_DB)
+    spurious = [{"range_m": float(r), "tofradar_db": float(lv)}
+                for r, lv in zip(t_pk, t_lv, strict=True)
+                if lv >= max(direct, front) - SPAN_DB
+                and not np.any(np.abs(all_ref - r) <= RANGE_TOLERANCE_M)]
+    return {"direct_db": direct, "front_db": front, "matched": rows, "spurious": spurious,
+            "range_m": rng, "sionna_profile_db": ref_db, "tofradar_profile_db": tof_db}
+
+
+__all__ = ["REFERENCE", "ROOMS", "TARGETS", "compare_scene", "peaks", "profiles",
+           "radar_config", "reference_iq", "scene_project"]
