@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from simcore.render import RenderRequest, SceneRenderer
-from simcore.scene import Box, CornerReflector, Plane, Pose, Project, SceneObject
+from simcore.scene import Box, CornerReflector, Plane, PointTarget, Pose, Project, SceneObject
 from simcore.scene.model import SensorRig
 from simcore.scene.motion import Motion
 from simcore.scene.radar_config import SPEED_OF_LIGHT, Antenna, RadarConfig
@@ -45,9 +45,13 @@ def radar_config(**kw: object) -> RadarConfig:
 
 
 def scene(plate_material: str = "aluminium", *, rig_y: float = 0.0, plate: bool = True,
-          occluder: bool = False, velocity: float = 0.0, **kw: object) -> Project:
+          occluder: bool = False, velocity: float = 0.0, point: bool = False,
+          **kw: object) -> Project:
+    """The corner (or, ``point``, a 10 m² point target: it scatters bistatically as it does
+    back, where a trihedral returns a wave only towards where it came from)."""
     cfg = radar_config(**kw)
-    objs = [SceneObject(id=1, name="corner", geometry=CornerReflector(edge_m=0.1),
+    geometry = PointTarget(rcs_m2=10.0) if point else CornerReflector(edge_m=0.1)
+    objs = [SceneObject(id=1, name="corner", geometry=geometry,
                         pose=Pose(position_m=(R, 0.0, Z), rotation_deg=(0, -90, 0)),
                         material="radar_retroreflector",
                         motion=Motion(velocity_mps=(velocity, 0.0, 0.0)))]
@@ -127,8 +131,9 @@ def db(a: float, b: float) -> float:
 
 
 def test_ghosts_at_image_range_angle_and_power(make_renderer: Renderer) -> None:
-    """Acceptance: R, (R+R_m)/2, R_m within ¼ bin, image angles ±2°, power ±1 dB."""
-    project = scene()
+    """Acceptance: R, (R+R_m)/2, R_m within ¼ bin, image angles ±2°, power ±1 dB (a point
+    target: its order-1 ghosts are the bistatic radar equation's geometric mean)."""
+    project = scene(point=True)
     cfg = project.rig.radar
     sc, direct, ghost = frame(make_renderer, project)
     r_m, az_img, _ = image_geometry()
@@ -141,7 +146,7 @@ def test_ghosts_at_image_range_angle_and_power(make_renderer: Renderer) -> None:
     assert abs(best_angle(cfg, total, R, 0.0)) < 2.0
 
     # The same corner seen by a radar at the mirrored position (the image geometry).
-    mirror = scene(rig_y=2 * H, plate=False)
+    mirror = scene(rig_y=2 * H, plate=False, point=True)
     _, direct_m, _ = frame(make_renderer, mirror)
     _, a_mirror = peak(cfg, direct_m, -az_img, r_m)   # seen at +θ_m from there
     gamma = 1.0                                        # aluminium, height 10 µm: |Γ| ≈ 1
@@ -169,6 +174,26 @@ def test_ghosts_at_image_range_angle_and_power(make_renderer: Renderer) -> None:
               f"{best_angle(cfg, ghost, r1, az):+.1f}°, {db(a1, expect1):+.2f} dB")
     rr, _ = peak(cfg, total, 0.0, r1)
     assert abs(rr - r1) < quarter
+
+
+def test_a_trihedral_returns_its_order_one_ghosts_only_as_its_diffraction_lobe(
+        make_renderer: Renderer) -> None:
+    """A trihedral sends a wave back where it came from (GO: no triple-bounce path to the
+    radar from the image 34° away; its aperture's lobe |2J₁(x)/x|² at x = k r sin β ≈ 28 is
+    −40 dB): its order-1 ghosts lie 30 dB or more under the bistatic radar equation's
+    geometric mean, while its order-2 ghost (the image radar's own return) is full."""
+    project = scene()
+    cfg = project.rig.radar
+    _, direct, ghost = frame(make_renderer, project)
+    r_m, az_img, _ = image_geometry()
+    _, a_direct = peak(cfg, direct, 0.0, R)
+    _, direct_m, _ = frame(make_renderer, scene(rig_y=2 * H, plate=False))
+    _, a_mirror = peak(cfg, direct_m, -az_img, r_m)
+    _, a2 = peak(cfg, direct + ghost, az_img, r_m)
+    assert abs(db(a2, a_mirror)) < 1.0
+    for az in (0.0, az_img):
+        _, a1 = peak(cfg, ghost, az, 0.5 * (R + r_m))
+        assert db(a1, np.sqrt(a_direct * a_mirror)) < -30.0, db(a1, np.sqrt(a_direct * a_mirror))
 
 
 def test_absorber_and_occluder_remove_the_ghosts(make_renderer: Renderer) -> None:
@@ -402,7 +427,8 @@ def test_detections_of_ghosts_are_labelled_ghost_of_the_object_they_mirror() -> 
     r_m, az, _ = image_geometry()
     expected = ((R, 0.0, False), (0.5 * (R + r_m), None, True), (r_m, az, True))
     for order in (2, 0):
-        project = scene(render_width=120, render_height=120, multipath_order=order)
+        project = scene(render_width=120, render_height=120, multipath_order=order,
+                        point=True)
         with Simulator(project) as sim:
             out = sim.frame(0).outputs["radar"]
         det, labels = out.dsp.detections, out.labels
@@ -460,15 +486,17 @@ def test_bistatic_label_terms_reduce_to_the_monostatic_ones_and_follow_the_image
 
 def test_report_section_marks_the_ghost_where_the_map_shows_it(tmp_path) -> None:
     """multipath_section on the bundled corridor: the figure is written, and the map's power
-    at each predicted order-1 ghost rises by more than 20 dB when multipath is on."""
+    at the corner's order-2 ghost (its image in the metal wall) rises by more than 20 dB
+    when multipath is on (a trihedral has no order-1 ghost worth the name: it returns a
+    wave only towards where it came from)."""
     from simcore.report.multipath import multipath_section
 
     figures, numbers = multipath_section(tmp_path, quick=True)
     assert (tmp_path / figures[0][0]).stat().st_size > 10_000
     # Every smooth face reflects now (concrete end walls too); the metal wall's are the
     # ghosts that must stand out.
-    ghosts = [m for m in numbers["marks"] if m["order"] == 1 and "metal_wall" in m["label"]]
-    assert len(ghosts) == 2
+    ghosts = [m for m in numbers["marks"] if m["order"] == 2 and "metal_wall" in m["label"]]
+    assert len(ghosts) == 1
     for m in ghosts:
         assert m["power_on_db"] - m["power_off_db"] > 20.0, m
     target = [m for m in numbers["marks"] if m["order"] == 0][0]

@@ -106,7 +106,9 @@ def multipath_section(out_dir: str | Path, *, quick: bool = False
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     project = load_project(example_path(EXAMPLE))
-    order = max(project.radar().multipath_order, 1)
+    # Order 2: the trihedral's ghost is its image's own return (order 2); a trihedral
+    # sends nothing towards the other ends of the order-1 paths (retro-reflection).
+    order = 2
     maps = {}
     for k in (0, order):
         p = project.model_copy(deep=True)
@@ -154,11 +156,13 @@ def multipath_section(out_dir: str | Path, *, quick: bool = False
     fig.savefig(out / name, dpi=110)
     plt.close(fig)
     text = ("Range–azimuth map (Bartlett) of the multipath_corridor example without and with "
-            "radar multipath. Circles: the corner reflector; squares: its order-1 ghosts at "
-            "(R + R_m)/2, towards the target (path via the wall on the way out) and towards "
-            "its mirror image in the aluminium wall (via the wall on the way back); diamonds: "
-            "order 2 at R_m. The ghost appears only with multipath on, where the image "
-            "geometry puts it; the L-shaped 3-Rx array resolves azimuth only coarsely.")
+            "radar multipath (order 2). Circles: the corner reflector; squares: where the "
+            "order-1 paths would put ghosts, at (R + R_m)/2 (via the wall on the way out or "
+            "back); a trihedral returns a wave only towards where it came from, so these "
+            "are 30–40 dB under a point target's; diamonds: order 2 at R_m, the corner seen "
+            "by the radar's image in the aluminium wall. The ghost appears only with "
+            "multipath on, where the image geometry puts it; the L-shaped 3-Rx array "
+            "resolves azimuth only coarsely.")
     return [(name, "Radar multipath: ghost of the corner reflector", text)], numbers
 
 

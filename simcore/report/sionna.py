@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 
 from simcore.resources import RESOURCES_DIR
 from simcore.scene.materials import BandMaterial
-from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
+from simcore.scene.radar_config import SPEED_OF_LIGHT, CosinePattern, RadarConfig
 from simcore.sensors.radar.multipath import Reflector
 from simcore.sensors.radar.room import room_returns
 
@@ -68,7 +68,10 @@ def tofradar_room_paths(ref: Any, *, metal_left: bool
     plane's σ = π D² |Γ|² gives ``λ |Γ| / (4π · 2D)``).
     """
     lam = SPEED_OF_LIGHT / float(ref["frequency_hz"])
-    cfg = RadarConfig(polarization="V", multipath_order=2)
+    # Sionna's antennas are isotropic: so is the element here (room_returns weighs each
+    # path's legs by the pattern).
+    cfg = RadarConfig(polarization="V", multipath_order=2,
+                      element_pattern=CosinePattern(exponent_az=0.0, exponent_el=0.0))
     sets = room_returns(None, cfg, room_reflectors(ref, metal_left=metal_left),
                         buffers=None, order=2, time_s=0.0)
     d = np.array([np.linalg.norm(g.scatterers.positions_m[0]) for g in sets])

@@ -43,6 +43,9 @@ PAD = 16
 RANGE_TOLERANCE_M = 0.03
 LEVEL_TOLERANCE_DB = 3.0
 SPAN_DB = 20.0
+#: A peak this much weaker (dB) within this range (m) of a stronger one is its sidelobe.
+SIDELOBE_DB = 25.0
+SIDELOBE_M = 0.10
 _WALL = 0.2                                          # wall thickness of the project's boxes (m)
 
 
@@ -184,11 +187,21 @@ def _calibration() -> float:
 
 def peaks(rng: NDArray[np.float64], prof_db: NDArray[np.float64], floor_db: float
           ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Local maxima of a profile (dB) above ``floor_db`` at positive ranges: (range, dB)."""
+    """Local maxima of a profile (dB) above ``floor_db`` at positive ranges: (range, dB).
+
+    A maximum within :data:`SIDELOBE_M` of one :data:`SIDELOBE_DB` stronger is that one's
+    window sidelobe (the Hann window's first sidelobe: −31.5 dB, 2.5 bins out) and is not
+    a return: the profile cannot resolve one there.
+    """
     p = prof_db
-    m = (p[1:-1] > p[:-2]) & (p[1:-1] >= p[2:]) & (p[1:-1] > floor_db) & (rng[1:-1] > 0.2)
+    m = (p[1:-1] > p[:-2]) & (p[1:-1] >= p[2:]) & (p[1:-1] > floor_db - SIDELOBE_DB) \
+        & (rng[1:-1] > 0.2)
     i = np.flatnonzero(m) + 1
-    return rng[i], p[i]
+    r, lv = rng[i], p[i]
+    lobe = np.array([np.any((np.abs(r - r[k]) <= SIDELOBE_M) & (lv >= lv[k] + SIDELOBE_DB))
+                     for k in range(r.size)], dtype=bool)
+    keep = ~lobe & (lv > floor_db)
+    return r[keep], lv[keep]
 
 
 def profiles(ref: Any, room: str, target: str | None
@@ -226,7 +239,7 @@ def compare_scene(ref: Any, room: str, target: str) -> dict[str, Any]:
 
     direct, front = level_at(r_target), level_at(r_front)
     r_pk, r_lv = peaks(rng, ref_db, min(direct, front) - SPAN_DB)
-    t_pk, t_lv = peaks(rng, tof_db, max(direct, front) - SPAN_DB - 10.0)
+    t_pk, t_lv = peaks(rng, tof_db, min(direct, front) - SPAN_DB - 10.0)
     rows = []
     for r, lv in zip(r_pk, r_lv, strict=True):
         near = np.flatnonzero(np.abs(t_pk - r) <= RANGE_TOLERANCE_M)

@@ -46,6 +46,7 @@ from numpy.typing import NDArray
 from simcore.render.buffers import RenderBuffers
 from simcore.scene.materials import BandMaterial
 from simcore.scene.radar_config import RadarConfig
+from simcore.sensors.radar.equation import element_gain
 from simcore.sensors.radar.reflectors import (
     MIN_DISTANCE_M,
     GhostSet,
@@ -105,9 +106,17 @@ def room_returns(scene: RadarScene | None, config: RadarConfig, reflectors: Sequ
                                         and any(_reflector_seen(buffers, last[None], o)[0]
                                                 for o in objects)):
             continue
+        # The scatterer sits towards the last reflection point, where the wave comes back
+        # from, so the synthesis weighs both legs by the pattern there; the wave left
+        # towards the first: that leg's gain ratio goes into the RCS (an echo between
+        # facing walls leaves forwards and comes back from behind).
+        gains = element_gain(config.element_pattern, np.array([first, last]))
+        if gains[1] <= 1e-12:
+            continue
         out.append(GhostSet(Scatterers(
             time_s=time_s, wavelength_m=lam, positions_m=position[None],
-            velocities_mps=np.zeros((1, 3)), rcs_m2=np.array([abs(amplitude) ** 2]),
+            velocities_mps=np.zeros((1, 3)),
+            rcs_m2=np.array([abs(amplitude) ** 2 * gains[0] / gains[1]]),
             phase_rad=np.array([float(np.angle(amplitude))]),
             object_index=np.array([reflectors[seq[0]].object_index], dtype=np.int32),
             kind=np.array([KIND_POINT_TARGET], dtype=np.int8)), len(seq),

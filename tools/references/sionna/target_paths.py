@@ -133,14 +133,18 @@ FACES = {"floor": (2, 0.0), "ceiling": (2, ROOM[2]), "front": (0, ROOM[0]), "bac
          "left": (1, ROOM[1]), "right": (1, 0.0)}
 
 
-def monostatic_length(faces: tuple[str, ...]) -> float:
-    """Exact length (m) of the path radar → faces → radar: the radar's image in them."""
-    p = np.array(RADAR, dtype=float)
-    img = p.copy()
+def _image(faces: tuple[str, ...]) -> np.ndarray:
+    """The radar mirrored in ``faces`` in turn (m)."""
+    img = np.array(RADAR, dtype=float)
     for name in faces:
         axis, c = FACES[name]
         img[axis] = 2 * c - img[axis]
-    return float(np.linalg.norm(img - p))
+    return img
+
+
+def monostatic_length(faces: tuple[str, ...]) -> float:
+    """Exact length (m) of the path radar → faces → radar: the radar's image in them."""
+    return float(np.linalg.norm(_image(faces) - np.array(RADAR)))
 
 
 def room_returns(*, metal_left: bool) -> dict[str, np.ndarray]:
@@ -152,15 +156,18 @@ def room_returns(*, metal_left: bool) -> dict[str, np.ndarray]:
     Mirrors in perpendicular faces commute: the orders of one set of faces (an edge's
     two, a corner's six) are one image, of which each bistatic trace realises one order
     (the reflection points of the others fall outside the faces) and the image theory of
-    a 90° wedge or corner counts once. So the key is the faces' multiset.
+    a 90° wedge or corner counts once. So the key is the image (mirrors in parallel faces
+    do not commute: front then back wall and back then front are two images).
     """
     seen: dict[tuple[str, ...], int] = {}
     rows: dict[str, list] = {"length_m": [], "a": [], "bounces": [], "out": [], "back": []}
     for off in RX_OFFSETS:
         res = _solve(RADAR, tuple(np.add(RADAR, off)), "V", 3, metal_left=metal_left)
         for i, faces in enumerate(res["faces"]):
-            key = tuple(sorted(faces))
-            if res["bounces"][i] == 0 or key in seen or len(faces) != res["bounces"][i]:
+            if res["bounces"][i] == 0 or len(faces) != res["bounces"][i]:
+                continue
+            key = tuple(np.round(_image(faces), 4))
+            if key in seen:
                 continue
             seen[key] = 1
             rows["length_m"].append(monostatic_length(faces))
