@@ -166,7 +166,10 @@ def sionna_section(out_dir: str | Path) -> tuple[list[tuple[str, str, str]], dic
         "monostatic geometry (their reflection points lie on the edges). Single-bounce "
         "returns (the walls' own) are the surface facets, held against the exact PO "
         "integral and the image method in tests/test_radar_po_plate.py.")
-    return [(name, "Radar multipath against Sionna RT", text)], numbers
+    from simcore.report.sionna_targets import targets_figure
+
+    targets, numbers["targets"] = targets_figure(out)
+    return [(name, "Radar multipath against Sionna RT", text), targets], numbers
 
 
 __all__ = ["REFERENCE", "compare", "room_reflectors", "sionna_section", "tofradar_room_paths"]

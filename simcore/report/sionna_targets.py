@@ -258,5 +258,86 @@ def compare_scene(ref: Any, room: str, target: str) -> dict[str, Any]:
             "range_m": rng, "sionna_profile_db": ref_db, "tofradar_profile_db": tof_db}
 
 
+def summary(res: dict[str, Any]) -> dict[str, Any]:
+    """A scene's comparison in numbers: returns compared, largest errors, misses, extras."""
+    rows = res["matched"]
+    found = [r for r in rows if r["tofradar_db"] is not None]
+    return {
+        "returns": len(rows), "missing": len(rows) - len(found),
+        "max_range_error_cm": max((abs(r["range_error_cm"]) for r in found), default=0.0),
+        "max_level_error_db": max((abs(r["tofradar_db"] - r["sionna_db"]) for r in found),
+                                  default=0.0),
+        "failed": sum(r["tofradar_db"] is None or abs(r["range_error_cm"]) > 3.0
+                      or abs(r["tofradar_db"] - r["sionna_db"]) > LEVEL_TOLERANCE_DB
+                      for r in rows),
+        "spurious": len(res["spurious"]), "direct_db": res["direct_db"],
+        "front_db": res["front_db"],
+        "rows": [{k: v for k, v in r.items()} for r in rows],
+    }
+
+
+def targets_figure(out_dir: Any) -> tuple[tuple[str, str, str], dict[str, Any]]:
+    """Both range profiles of every scene (one panel each) and the comparison's numbers."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from pathlib import Path
+
+    import matplotlib.pyplot as plt
+
+    ref = np.load(REFERENCE)
+    numbers: dict[str, Any] = {}
+    fig, axes = plt.subplots(len(TARGETS), len(ROOMS), figsize=(12, 10), sharex=True)
+    for i, target in enumerate(TARGETS):
+        for j, room in enumerate(ROOMS):
+            res = compare_scene(ref, room, target)
+            num = numbers[f"{room}/{target}"] = summary(res)
+            ax = axes[i, j]
+            top = max(res["direct_db"], res["front_db"])
+            ax.plot(res["range_m"], res["sionna_profile_db"], lw=1.6, label="Sionna RT 2.2")
+            ax.plot(res["range_m"], res["tofradar_profile_db"], lw=1.0, ls="--",
+                    label="tofradar")
+            ax.axhline(min(res["direct_db"], res["front_db"]) - SPAN_DB, color="grey",
+                       lw=0.6, ls=":")
+            for r in res["matched"]:
+                bad = r["tofradar_db"] is None or abs(r["range_error_cm"]) > 3.0 or \
+                    abs(r["tofradar_db"] - r["sionna_db"]) > LEVEL_TOLERANCE_DB
+                ax.plot(r["range_m"], r["sionna_db"], "o", mfc="none",
+                        color="red" if bad else "green", ms=6)
+            for r in res["spurious"]:
+                ax.plot(r["range_m"], r["tofradar_db"], "x", color="red", ms=7)
+            ax.set_xlim(1.5, 7.0)
+            ax.set_ylim(top - 45, top + 5)
+            ax.set_title(f"{room.replace('_', ' ')}, {target}: {num['failed']} of "
+                         f"{num['returns']} off, {num['spurious']} extra", fontsize=9)
+            ax.grid(alpha=0.3)
+            if i == len(TARGETS) - 1:
+                ax.set_xlabel("range (m)")
+            if j == 0:
+                ax.set_ylabel("level (dB re |a| = 1)")
+    axes[0, 0].legend(fontsize=8)
+    fig.tight_layout()
+    name = "fig10_multipath_sionna_targets.png"
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out / name, dpi=100)
+    plt.close(fig)
+    rows = "; ".join(
+        f"{k}: {v['returns']} returns, {v['failed']} off (largest "
+        f"{v['max_range_error_cm']:.1f} cm, {v['max_level_error_db']:.1f} dB among those "
+        f"found), {v['spurious']} extra" for k, v in numbers.items())
+    text = ("Range profiles (one chirp, Hann window, 16× zero padding; levels in Sionna's "
+            "path-coefficient units) of tofradar's ideal radar and of Sionna RT 2.2's "
+            "specular paths (targets by geometric optics: a 1 m² point, a metal sphere of "
+            "0.2 m radius, a metal trihedral of 0.12 m edge, about 2.5 m ahead) in a 6 × 4 "
+            "× 3 m smooth concrete room with and without a metal left wall; the radar 1 m "
+            "above the floor, 4.5 m from the front wall, both weighted by the same cosine "
+            "element pattern. Circles: the reference's returns within 20 dB of the target's "
+            "direct return or the front wall's (dotted line), green where tofradar has a "
+            "peak within ±3 cm and 3 dB; crosses: tofradar's peaks within 20 dB of the "
+            f"stronger of the two where the reference has none. {rows}.")
+    return (name, "Radar multipath with targets against Sionna RT", text), numbers
+
+
 __all__ = ["REFERENCE", "ROOMS", "TARGETS", "compare_scene", "peaks", "profiles",
-           "radar_config", "reference_iq", "scene_project"]
+           "radar_config", "reference_iq", "scene_project", "summary", "targets_figure"]

@@ -73,7 +73,7 @@ from simcore.render.buffers import RenderBuffers
 from simcore.scene.base import Model
 from simcore.scene.geometry import Box, CornerReflector, Plane, corner_reflector_axes
 from simcore.scene.materials import DualBandMaterial
-from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
+from simcore.scene.radar_config import SPEED_OF_LIGHT, ElementPattern, RadarConfig
 from simcore.sensors.radar.equation import element_gain
 from simcore.sensors.radar.reflectors import (
     MIN_DISTANCE_M,
@@ -693,7 +693,8 @@ def _subset_paths(paths: ImagePaths, keep: NDArray[np.bool_]) -> ImagePaths:
 
 def two_surface_ghosts(scatterers: Scatterers, paths: Sequence[ImagePaths],
                        tx_positions_m: NDArray[np.float64], rx_positions_m: NDArray[np.float64],
-                       *, scene: RadarScene | None = None, wavelength_m: float = 0.0
+                       *, scene: RadarScene | None = None, wavelength_m: float = 0.0,
+                       patterns: tuple[ElementPattern, ElementPattern] | None = None
                        ) -> list[GhostSet]:
     """Ghosts over two different surfaces: Tx → face A → target → face B → Rx.
 
@@ -703,7 +704,9 @@ def two_surface_ghosts(scatterers: Scatterers, paths: Sequence[ImagePaths],
     method on each leg), its amplitude Γ_A Γ_B (each at its leg's angle and
     polarisation): synthesised at the real position with both antenna sets mirrored.
     With ``scene``, a corner reflector's is its bistatic return between the radar's two
-    images (:func:`_corner_bistatic`).
+    images (:func:`_corner_bistatic`). With ``patterns`` (Tx, Rx element patterns), each
+    leg's gain ratio towards its reflection point (the target's image in its face) over
+    the target's direction, where the ghost is synthesised.
     """
     out: list[GhostSet] = []
     for a in paths:
@@ -718,6 +721,13 @@ def two_surface_ghosts(scatterers: Scatterers, paths: Sequence[ImagePaths],
             acc = (None if scatterers.accelerations_mps2 is None
                    else scatterers.accelerations_mps2[rows])
             amp = a.gamma[ia] * b.gamma[ib]
+            if patterns is not None:
+                pos = scatterers.positions_m[rows]
+                amp = amp * np.sqrt(
+                    element_gain(patterns[0], a.images_m[ia])
+                    / np.maximum(element_gain(patterns[0], pos), MIN_GAIN)
+                    * element_gain(patterns[1], b.images_m[ib])
+                    / np.maximum(element_gain(patterns[1], pos), MIN_GAIN))
             if scene is not None:
                 n = len(rows)
                 amp = amp * np.sqrt(_corner_bistatic(
@@ -811,7 +821,8 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
                 _ghosts(scatterers, rows, images, v_img, a_img, gamma**2 * np.sqrt(aspect2)),
                 2, r.object_index))
     if order >= 2:
-        out += two_surface_ghosts(scatterers, valid, p_tx, p_rx, scene=scene, wavelength_m=lam)
+        out += two_surface_ghosts(scatterers, valid, p_tx, p_rx, scene=scene, wavelength_m=lam,
+                                  patterns=(pat_t, pat_r))
     # The room's own multiple bounces between its faces: edges, corners, echoes.
     out += room_returns(scene, config, reflectors, buffers=buffers, order=order,
                         time_s=scatterers.time_s)
