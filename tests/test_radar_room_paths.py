@@ -150,6 +150,37 @@ def test_a_ghost_over_two_surfaces_has_the_image_methods_length_and_level() -> N
     assert first.scatterers.phase_rad[0] == pytest.approx(np.angle(ga[0] * gb[0]))
 
 
+def test_a_ghost_over_two_faces_on_one_leg_is_the_double_image_of_the_tx() -> None:
+    """Tx → side wall → front wall → target → Rx (metal, V across the faces: TE twice):
+    length ``|p − Tx_AB| + |p − Rx|`` with the Tx mirrored in the side wall and then in the
+    front wall, amplitude |Γ|² = 1; the reverse (Rx mirrored) the same."""
+    from simcore.scene.radar_config import CosinePattern
+    from simcore.sensors.radar.legs import one_leg_double_ghosts
+
+    p = np.array([[0.5, 0.0, 2.0]])
+    sc = Scatterers.from_arrays(p, np.array([1.0]))
+    # Side wall at x = −1 (normal +x), front wall at z = 4 (normal −z), both 8 m × 8 m.
+    side = plate(0, np.array([-1.0, -4.0, -4.0]), np.array([0, 8.0, 0]),
+                 np.array([0, 0, 8.0]), np.array([1.0, 0, 0]))
+    front = plate(1, np.array([-1.0, -4.0, 4.0]), np.array([8.0, 0, 0]),
+                  np.array([0, 8.0, 0]), np.array([0, 0, -1.0]))
+    tx, rx = CONFIG.tx_positions_m(), CONFIG.rx_positions_m()
+    iso = CosinePattern(exponent_az=0.0, exponent_el=0.0)
+    sets = one_leg_double_ghosts(sc, [side, front], polarization="V", wavelength_m=LAM,
+                                 tx_positions_m=tx, rx_positions_m=rx, patterns=(iso, iso),
+                                 buffers=None)
+    # One order of the two perpendicular faces has a path (both have the same image; the
+    # line from the target to it crosses one of them first), with the Tx and the Rx mirrored.
+    assert len(sets) == 2
+    tx_ab = tx[0] * [-1, 1, -1] + np.array([-2.0, 0.0, 8.0])   # x → −2 − x, z → 8 − z
+    lengths = sorted(np.linalg.norm(p[0] - g.tx_positions_m[0]) + np.linalg.norm(p[0] - rx[0])
+                     for g in sets if g.tx_positions_m is not None)
+    assert lengths == pytest.approx([np.linalg.norm(p[0] - tx_ab)
+                                     + np.linalg.norm(p[0] - rx[0])], abs=1e-12)
+    for g in sets:
+        assert g.scatterers.rcs_m2[0] == pytest.approx(1.0, abs=1e-6)
+
+
 def test_no_ghost_where_no_geometric_path_exists() -> None:
     """A concrete front wall 3 m ahead and a metal side wall 1 m to the left (the issue's
     case): before, the front wall's facets mirrored in the metal wall made ghosts at

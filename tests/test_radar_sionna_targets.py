@@ -30,13 +30,10 @@ from simcore.report.sionna_targets import (
 
 #: Scenes that fail today, with the reason (tofradar physics not yet right; see
 #: docs/physics_radar.md, "Against an independent ray tracer").
-_LEG = ("ghosts over two faces on one leg (radar → wall → wall → target → radar, "
-        "Sionna 5.00 m and 5.19 m, −16 dB of the direct return) are not modelled")
 _SPHERE = ("a curved object's facets keep their monostatic amplitude on bistatic paths: the "
            "sphere's ghosts miss the bistatic specular point (none within ±3 cm at 2.90, "
            "3.27 and 3.92 m)")
 KNOWN: dict[tuple[str, str], str] = {
-    ("concrete", "point"): _LEG, ("metal_left", "point"): _LEG,
     ("concrete", "sphere"): _SPHERE, ("metal_left", "sphere"): _SPHERE,
 }
 

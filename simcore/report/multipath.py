@@ -16,7 +16,7 @@ maps against the rendered range and the MPI's depth shift per object.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -108,7 +108,7 @@ def multipath_section(out_dir: str | Path, *, quick: bool = False
     project = load_project(example_path(EXAMPLE))
     # Order 2: the trihedral's ghost is its image's own return (order 2); a trihedral
     # sends nothing towards the other ends of the order-1 paths (retro-reflection).
-    order = 2
+    order: Literal[0, 1, 2] = 2
     maps = {}
     for k in (0, order):
         p = project.model_copy(deep=True)

@@ -32,7 +32,7 @@ from simcore.scene import Box, CornerReflector, PointTarget, Pose, Project, Scen
 from simcore.scene.geometry import corner_reflector_axes
 from simcore.scene.materials import BandMaterial, DualBandMaterial, load_material_library
 from simcore.scene.model import SensorRig
-from simcore.scene.radar_config import SPEED_OF_LIGHT, Antenna, RadarConfig
+from simcore.scene.radar_config import SPEED_OF_LIGHT, Antenna, CosinePattern, RadarConfig
 
 REFERENCE = RESOURCES_DIR / "references" / "sionna_target_paths.npz"
 ROOMS = ("concrete", "metal_left")
@@ -141,7 +141,8 @@ def _tofradar_iq(project: Project) -> NDArray[np.complex128]:
 
     with Simulator(project, reuse_static=False) as sim:
         adc = sim.frame(0).outputs["radar"].raw.adc
-    return np.asarray(adc, dtype=np.complex128).reshape(-1)[: project.rig.radar.samples_per_chirp]
+    n = radar_config().samples_per_chirp
+    return np.asarray(adc, dtype=np.complex128).reshape(-1)[:n]
 
 
 def pattern_amplitude(cfg: RadarConfig, world_dirs: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -152,6 +153,7 @@ def pattern_amplitude(cfg: RadarConfig, world_dirs: NDArray[np.float64]) -> NDAr
     cos_az = np.where(horiz > 0, z / np.where(horiz > 0, horiz, 1), 1.0)
     cos_el = horiz / np.linalg.norm(d, axis=1)
     pat = cfg.element_pattern
+    assert isinstance(pat, CosinePattern)
     g = np.maximum(cos_az, 0) ** pat.exponent_az * np.maximum(cos_el, 0) ** pat.exponent_el
     return np.asarray(np.sqrt(g), dtype=np.float64)
 

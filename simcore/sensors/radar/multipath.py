@@ -75,6 +75,7 @@ from simcore.scene.geometry import Box, CornerReflector, Plane, corner_reflector
 from simcore.scene.materials import DualBandMaterial
 from simcore.scene.radar_config import SPEED_OF_LIGHT, ElementPattern, RadarConfig
 from simcore.sensors.radar.equation import element_gain
+from simcore.sensors.radar.legs import one_leg_double_ghosts
 from simcore.sensors.radar.reflectors import (
     MIN_DISTANCE_M,
     GhostSet,
@@ -823,6 +824,12 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
     if order >= 2:
         out += two_surface_ghosts(scatterers, valid, p_tx, p_rx, scene=scene, wavelength_m=lam,
                                   patterns=(pat_t, pat_r))
+        sc = scatterers
+        out += one_leg_double_ghosts(
+            sc, reflectors, polarization=config.polarization, wavelength_m=lam,
+            tx_positions_m=p_tx, rx_positions_m=p_rx, patterns=(pat_t, pat_r),
+            buffers=buffers, aspect=lambda rows, src: _corner_bistatic(
+                scene, sc, rows, src, np.zeros_like(src), lam))
     # The room's own multiple bounces between its faces: edges, corners, echoes.
     out += room_returns(scene, config, reflectors, buffers=buffers, order=order,
                         time_s=scatterers.time_s)
