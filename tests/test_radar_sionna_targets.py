@@ -28,15 +28,6 @@ from simcore.report.sionna_targets import (
     compare_scene,
 )
 
-#: Scenes that fail today, with the reason (tofradar physics not yet right; see
-#: docs/physics_radar.md, "Against an independent ray tracer").
-_SPHERE = ("a curved object's facets keep their monostatic amplitude on bistatic paths: the "
-           "sphere's ghosts miss the bistatic specular point (none within ±3 cm at 2.90, "
-           "3.27 and 3.92 m)")
-KNOWN: dict[tuple[str, str], str] = {
-    ("concrete", "sphere"): _SPHERE, ("metal_left", "sphere"): _SPHERE,
-}
-
 
 @pytest.fixture(scope="module")
 def ref() -> np.lib.npyio.NpzFile:
@@ -46,8 +37,6 @@ def ref() -> np.lib.npyio.NpzFile:
 @pytest.mark.parametrize("room", ROOMS)
 @pytest.mark.parametrize("target", TARGETS)
 def test_every_strong_return_is_in_the_range_profile(ref, room: str, target: str) -> None:
-    if (room, target) in KNOWN:
-        pytest.xfail(KNOWN[room, target])
     res = compare_scene(ref, room, target)
     assert len(res["matched"]) >= 5                      # target, front wall, room, ghosts
     bad = [r for r in res["matched"] if r["tofradar_db"] is None

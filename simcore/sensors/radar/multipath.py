@@ -75,7 +75,7 @@ from simcore.scene.geometry import Box, CornerReflector, Plane, corner_reflector
 from simcore.scene.materials import DualBandMaterial
 from simcore.scene.radar_config import SPEED_OF_LIGHT, ElementPattern, RadarConfig
 from simcore.sensors.radar.equation import element_gain
-from simcore.sensors.radar.legs import one_leg_double_ghosts
+from simcore.sensors.radar.legs import Place, one_leg_double_ghosts, sphere_placement
 from simcore.sensors.radar.reflectors import (
     MIN_DISTANCE_M,
     GhostSet,
@@ -695,8 +695,8 @@ def _subset_paths(paths: ImagePaths, keep: NDArray[np.bool_]) -> ImagePaths:
 def two_surface_ghosts(scatterers: Scatterers, paths: Sequence[ImagePaths],
                        tx_positions_m: NDArray[np.float64], rx_positions_m: NDArray[np.float64],
                        *, scene: RadarScene | None = None, wavelength_m: float = 0.0,
-                       patterns: tuple[ElementPattern, ElementPattern] | None = None
-                       ) -> list[GhostSet]:
+                       patterns: tuple[ElementPattern, ElementPattern] | None = None,
+                       place: Place | None = None) -> list[GhostSet]:
     """Ghosts over two different surfaces: Tx → face A → target → face B → Rx.
 
     For every ordered pair of reflectors (A, B), A ≠ B, and every target with a valid
@@ -707,7 +707,8 @@ def two_surface_ghosts(scatterers: Scatterers, paths: Sequence[ImagePaths],
     With ``scene``, a corner reflector's is its bistatic return between the radar's two
     images (:func:`_corner_bistatic`). With ``patterns`` (Tx, Rx element patterns), each
     leg's gain ratio towards its reflection point (the target's image in its face) over
-    the target's direction, where the ghost is synthesised.
+    the target's direction, where the ghost is synthesised. ``place``: where each target
+    scatters between the two images (:func:`~simcore.sensors.radar.legs.sphere_placement`).
     """
     out: list[GhostSet] = []
     for a in paths:
@@ -736,8 +737,14 @@ def two_surface_ghosts(scatterers: Scatterers, paths: Sequence[ImagePaths],
                     np.broadcast_to(a.reflector.mirror(np.zeros(3)), (n, 3)).copy(),
                     np.broadcast_to(b.reflector.mirror(np.zeros(3)), (n, 3)).copy(),
                     wavelength_m))
+            where = scatterers.positions_m[rows]
+            if place is not None:
+                n = len(rows)
+                where = place(rows, where,
+                              np.broadcast_to(a.reflector.mirror(np.zeros(3)), (n, 3)),
+                              np.broadcast_to(b.reflector.mirror(np.zeros(3)), (n, 3)))
             out.append(GhostSet(
-                _ghosts(scatterers, rows, scatterers.positions_m[rows], vel, acc, amp),
+                _ghosts(scatterers, rows, where, vel, acc, amp),
                 2, a.reflector.object_index, tx_positions_m=a.reflector.mirror(tx_positions_m),
                 rx_positions_m=b.reflector.mirror(rx_positions_m)))
     return out
@@ -781,6 +788,7 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
     pat_t = config.tx[0].pattern or config.element_pattern
     pat_r = config.rx[0].pattern or config.element_pattern
     scatterers = ghost_sources(scatterers, image_ghost_rows(scene, scatterers))
+    place = sphere_placement(scene, scatterers)
     eligible = None
     out: list[GhostSet] = []
     valid: list[ImagePaths] = []
@@ -809,27 +817,31 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
         ratio_r = element_gain(pat_r, images) / g_direct_r
         aspect1 = _corner_bistatic(scene, scatterers, rows, np.zeros_like(images),
                                    np.broadcast_to(origin_image, images.shape).copy(), lam)
+        zero = np.zeros_like(images)
+        image_of_radar = np.broadcast_to(origin_image, images.shape)
+        bistatic = place(rows, pos, image_of_radar, zero)
         out.append(GhostSet(
-            _ghosts(scatterers, rows, pos, vel, acc, gamma * np.sqrt(ratio_t * aspect1)),
+            _ghosts(scatterers, rows, bistatic, vel, acc, gamma * np.sqrt(ratio_t * aspect1)),
             1, r.object_index, tx_positions_m=r.mirror(p_tx)))
         out.append(GhostSet(
-            _ghosts(scatterers, rows, pos, vel, acc, gamma * np.sqrt(ratio_r * aspect1)),
+            _ghosts(scatterers, rows, bistatic, vel, acc, gamma * np.sqrt(ratio_r * aspect1)),
             1, r.object_index, rx_positions_m=r.mirror(p_rx)))
         if order >= 2:
             v_img = r.mirror_vectors(vel) + 2.0 * r.normal_speed_mps * r.normal
             a_img = None if acc is None else r.mirror_vectors(acc)
+            seen = r.mirror(place(rows, pos, image_of_radar, image_of_radar))
             out.append(GhostSet(
-                _ghosts(scatterers, rows, images, v_img, a_img, gamma**2 * np.sqrt(aspect2)),
+                _ghosts(scatterers, rows, seen, v_img, a_img, gamma**2 * np.sqrt(aspect2)),
                 2, r.object_index))
     if order >= 2:
         out += two_surface_ghosts(scatterers, valid, p_tx, p_rx, scene=scene, wavelength_m=lam,
-                                  patterns=(pat_t, pat_r))
+                                  patterns=(pat_t, pat_r), place=place)
         sc = scatterers
         out += one_leg_double_ghosts(
             sc, reflectors, polarization=config.polarization, wavelength_m=lam,
             tx_positions_m=p_tx, rx_positions_m=p_rx, patterns=(pat_t, pat_r),
             buffers=buffers, aspect=lambda rows, src: _corner_bistatic(
-                scene, sc, rows, src, np.zeros_like(src), lam))
+                scene, sc, rows, src, np.zeros_like(src), lam), place=place)
     # The room's own multiple bounces between its faces: edges, corners, echoes.
     out += room_returns(scene, config, reflectors, buffers=buffers, order=order,
                         time_s=scatterers.time_s)
