@@ -40,10 +40,7 @@ from simcore.sensors.radar.reflectors import (
 )
 from simcore.sensors.radar.room import (
     EDGE_TOLERANCE_M,
-    _blocked,
     _oriented,
-    _transverse,
-    reflect_field,
 )
 from simcore.sensors.radar.scatterers import KIND_POINT_TARGET, Scatterers, _radar_frame
 from simcore.sensors.radar.scene import RadarScene
@@ -99,29 +96,51 @@ def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
     return v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
 
 
-def _crossing(face: Reflector, a: NDArray[np.float64], b: NDArray[np.float64]
-              ) -> NDArray[np.float64] | None:
-    """Where the segments a → b (K, 3) cross the face's plane inside it (NaN rows: not)."""
-    s_a = (a - face.center_m) @ face.normal
-    s_b = (b - face.center_m) @ face.normal
-    ok = (s_a > MIN_DISTANCE_M) & (s_b < -1e-9)
-    t = np.where(ok, s_a / np.where(ok, s_a - s_b, 1.0), np.nan)
-    x = a + t[:, None] * (b - a)
-    local = np.abs((x - face.center_m) @ face.axes.T)
-    inside = ok & np.all(local <= face.half_size_m + EDGE_TOLERANCE_M, axis=1)
-    if not np.any(inside):
-        return None
-    x[~inside] = np.nan
-    return np.asarray(x)
+def _gammas(a: Reflector, b: Reflector, x_a: NDArray[np.float64], x_b: NDArray[np.float64],
+            p: NDArray[np.float64], pol: NDArray[np.float64], wavelength_m: float
+            ) -> NDArray[np.complex128]:
+    """Co-polar Γ of the two bounces (K,), received across the ray arriving at ``p``.
+
+    :func:`~simcore.sensors.radar.room.reflect_field` twice, for K paths at once.
+    """
+    field = _transverse_many(pol, x_a).astype(np.complex128)
+    field = _reflect_many(a, x_a, field, wavelength_m)
+    field = _reflect_many(b, x_b - x_a, field, wavelength_m)
+    return np.asarray(np.einsum("kd,kd->k", field, _transverse_many(pol, p - x_b)))
 
 
-def _gamma(a: Reflector, b: Reflector, x_a: NDArray[np.float64], x_b: NDArray[np.float64],
-           p: NDArray[np.float64], pol: NDArray[np.float64], wavelength_m: float) -> complex:
-    """Co-polar Γ of the two bounces, received across the ray arriving at ``p``."""
-    field = _transverse(pol.astype(np.complex128), x_a)
-    field = reflect_field(a, x_a, field, wavelength_m)
-    field = reflect_field(b, x_b - x_a, field, wavelength_m)
-    return complex(field @ _transverse(pol.astype(np.complex128), p - x_b))
+def _transverse_many(pol: NDArray[np.float64], d: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``pol`` made transverse to each direction (K, 3), unit (:func:`room._transverse`)."""
+    d = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
+    out = pol[None] - (d @ pol)[:, None] * d
+    norm = np.linalg.norm(out, axis=1)
+    pole = norm < 1e-9
+    out[pole] = np.array([0.0, 0.0, 1.0]) - d[pole, 2:3] * d[pole]
+    return np.asarray(out / np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-300))
+
+
+def _reflect_many(face: Reflector, leg: NDArray[np.float64], field: NDArray[np.complex128],
+                  wavelength_m: float) -> NDArray[np.complex128]:
+    """:func:`~simcore.sensors.radar.room.reflect_field` for K legs and fields at once."""
+    n = face.normal
+    d = leg / np.maximum(np.linalg.norm(leg, axis=1, keepdims=True), 1e-300)
+    cos_i = np.abs(d @ n)
+    g = 4.0 * np.pi * face.height_rms_m * cos_i / wavelength_m
+    coherent = np.exp(-0.5 * g * g)[:, None]
+
+    def mirror(v: NDArray[np.complex128]) -> NDArray[np.complex128]:
+        return np.asarray(v - 2.0 * (v @ n)[:, None] * n[None])
+
+    if face.band is None:
+        return np.asarray(coherent * complex(face.gamma) * mirror(field))
+    r_te, r_tm = face.band.oblique_coefficients(face.frequency_hz, cos_i)
+    s = np.cross(n, d)
+    norm = np.linalg.norm(s, axis=1)
+    s[norm <= 1e-9] = _transverse_many(np.array([1.0, 0.0, 0.0]), n[None])[0]
+    s = s / np.maximum(np.linalg.norm(s, axis=1, keepdims=True), 1e-300)
+    e_te = np.einsum("kd,kd->k", field, s)[:, None] * s
+    scaled = -r_te[:, None] * e_te + r_tm[:, None] * (field - e_te)
+    return np.asarray(-coherent * mirror(scaled))
 
 
 def one_leg_double_ghosts(scatterers: Scatterers, reflectors: Sequence[Reflector], *,
@@ -166,42 +185,99 @@ def one_leg_double_ghosts(scatterers: Scatterers, reflectors: Sequence[Reflector
     pos = scatterers.positions_m
     out: list[GhostSet] = []
     origin = np.zeros((len(pos), 3))
-    for ia, face_a in enumerate(reflectors):
-        a = _oriented(face_a, np.zeros(3))
-        if a is None:
+    ia_all, ib_all, row_all, xa_all, xb_all = _candidates(reflectors, pos)
+    for ia, ib in sorted(set(zip(ia_all.tolist(), ib_all.tolist(), strict=True))):
+        sel = np.flatnonzero((ia_all == ia) & (ib_all == ib))
+        a = _oriented(reflectors[ia], np.zeros(3))
+        assert a is not None
+        b = _oriented(reflectors[ib], a.mirror(np.zeros(3)))
+        assert b is not None
+        rows, x_a, x_b = row_all[sel], xa_all[sel], xb_all[sel]
+        if buffers is not None:
+            seen = _reflector_seen(buffers, x_a, a.object_index)
+            rows, x_a, x_b = rows[seen], x_a[seen], x_b[seen]
+        skip = np.zeros(len(reflectors), dtype=bool)
+        skip[[ia, ib]] = True
+        clear = ~_blocked_many(reflectors, x_a, x_b, skip)
+        skip[ia] = False
+        clear &= ~_blocked_many(reflectors, x_b, pos[rows], skip)
+        rows, x_a, x_b = rows[clear], x_a[clear], x_b[clear]
+        gamma = _gammas(a, b, x_a, x_b, pos[rows], pol, wavelength_m)
+        strong = np.abs(gamma) >= MIN_PRODUCT
+        if not np.any(strong):
             continue
-        src_a = a.mirror(np.zeros(3))
-        for ib, face_b in enumerate(reflectors):
-            if ib == ia:
-                continue
-            b = _oriented(face_b, src_a)
-            if b is None:
-                continue
-            src_ab = b.mirror(src_a)
-            x_b = _crossing(b, pos, np.broadcast_to(src_ab, pos.shape))
-            if x_b is None:
-                continue
-            x_a = _crossing(a, x_b, np.broadcast_to(src_a, pos.shape))
-            if x_a is None:
-                continue
-            rows = np.flatnonzero(np.isfinite(x_a[:, 0]) & np.isfinite(x_b[:, 0]))
-            if buffers is not None and len(rows):
-                rows = rows[_reflector_seen(buffers, x_a[rows], a.object_index)]
-            keep = [k for k in rows
-                    if not _blocked(reflectors, x_a[k], x_b[k], {ia, ib})
-                    and not _blocked(reflectors, x_b[k], pos[k], {ib})]
-            if not keep:
-                continue
-            rows = np.array(keep, dtype=np.intp)
-            gamma = np.array([_gamma(a, b, x_a[k], x_b[k], pos[k], pol, wavelength_m)
-                              for k in rows])
-            strong = np.abs(gamma) >= MIN_PRODUCT
-            rows, gamma = rows[strong], gamma[strong]
-            if not len(rows):
-                continue
-            out += _sets(scatterers, rows, gamma, x_a[rows], a, b, tx_positions_m,
-                         rx_positions_m, patterns, aspect, origin[rows], place)
+        out += _sets(scatterers, rows[strong], gamma[strong], x_a[strong], a, b,
+                     tx_positions_m, rx_positions_m, patterns, aspect, origin[rows[strong]],
+                     place)
     return out
+
+
+def _candidates(reflectors: Sequence[Reflector], pos: NDArray[np.float64]
+                ) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp],
+                           NDArray[np.float64], NDArray[np.float64]]:
+    """Every (face A, face B, target) with the geometry of a path, all pairs at once.
+
+    Returns the faces' and the targets' indices and the reflection points on A and B
+    (K, 3), radar frame: the radar and the target on the faces' reflecting sides, the
+    unfolded leg crossing B, then A, inside their rectangles.
+    """
+    empty = (np.zeros(0, np.intp),) * 3 + (np.zeros((0, 3)),) * 2
+    if len(reflectors) < 2 or not len(pos):
+        return empty
+    c = np.array([r.center_m for r in reflectors])
+    n = np.array([r.normal for r in reflectors])
+    two = np.array([r.two_sided for r in reflectors])
+    half = np.array([r.half_size_m for r in reflectors]) + EDGE_TOLERANCE_M
+    axes = np.array([r.axes for r in reflectors])
+    s0 = -np.einsum("fd,fd->f", c, n)                       # the radar's side of each face
+    ok_a = (np.abs(s0) > MIN_DISTANCE_M) & ((s0 > 0) | two)
+    n_a = n * np.sign(s0)[:, None]
+    src_a = -2.0 * np.abs(s0)[:, None] * n_a                 # the radar mirrored in A
+    ia, ib = np.nonzero(ok_a[:, None] & ~np.eye(len(reflectors), dtype=bool))
+    s_b = np.einsum("pd,pd->p", src_a[ia] - c[ib], n[ib])
+    ok = (np.abs(s_b) > MIN_DISTANCE_M) & ((s_b > 0) | two[ib])
+    ia, ib, s_b = ia[ok], ib[ok], s_b[ok]
+    n_b = n[ib] * np.sign(s_b)[:, None]
+    src_ab = src_a[ia] - 2.0 * np.abs(s_b)[:, None] * n_b    # … then in B
+    x_b, hit_b = _cross(pos[None], src_ab[:, None], c[ib], n_b, axes[ib], half[ib])
+    x_a, hit_a = _cross(x_b, src_a[ia][:, None], c[ia], n_a[ia], axes[ia], half[ia])
+    pair, row = np.nonzero(hit_b & hit_a)
+    return ia[pair], ib[pair], row, x_a[pair, row], x_b[pair, row]
+
+
+def _blocked_many(reflectors: Sequence[Reflector], a: NDArray[np.float64],
+                  b: NDArray[np.float64], skip: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Whether each leg a → b (K, 3) crosses a face not in ``skip`` inside its rectangle.
+
+    :func:`~simcore.sensors.radar.room._blocked` for many legs at once.
+    """
+    faces = [r for r, s in zip(reflectors, skip, strict=True) if not s]
+    if not faces or not len(a):
+        return np.zeros(len(a), dtype=bool)
+    c = np.array([f.center_m for f in faces])
+    n = np.array([f.normal for f in faces])
+    axes = np.array([f.axes for f in faces])
+    half = np.array([f.half_size_m for f in faces]) - EDGE_TOLERANCE_M
+    s_a = np.einsum("kfd,fd->kf", a[:, None] - c[None], n)
+    s_b = np.einsum("kfd,fd->kf", b[:, None] - c[None], n)
+    across = s_a * s_b < 0
+    t = np.where(across, s_a / np.where(across, s_a - s_b, 1.0), 0.0)
+    x = a[:, None] + t[..., None] * (b - a)[:, None]
+    local = np.abs(np.einsum("kfd,fad->kfa", x - c[None], axes))
+    return np.asarray(np.any(across & np.all(local < half[None], axis=2), axis=1))
+
+
+def _cross(p: NDArray[np.float64], img: NDArray[np.float64], c: NDArray[np.float64],
+           n: NDArray[np.float64], axes: NDArray[np.float64], half: NDArray[np.float64]
+           ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Crossings (P, K, 3) of the segments p → img with the faces (P) and whether inside."""
+    s_p = np.einsum("pkd,pd->pk", p - c[:, None], n)
+    s_i = np.einsum("pkd,pd->pk", img - c[:, None], n)
+    ok = (s_p > MIN_DISTANCE_M) & (s_i < -1e-9)
+    t = np.where(ok, s_p / np.where(ok, s_p - s_i, 1.0), 0.0)
+    x = p + t[..., None] * (img - p)
+    local = np.abs(np.einsum("pkd,pad->pka", x - c[:, None], axes))
+    return x, ok & np.all(local <= half[:, None], axis=2)
 
 
 def _sets(scatterers: Scatterers, rows: NDArray[np.intp], gamma: NDArray[np.complex128],
