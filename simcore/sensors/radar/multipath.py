@@ -28,7 +28,8 @@ incidence angle, mixed by the radar's ``polarization`` (:func:`polarised_reflect
 times the Kirchhoff coherent factor of the material's rms height at that angle.
 
 Order 2 also adds the ghosts over two different surfaces (Tx → face A → target → face B
-→ Rx, :func:`two_surface_ghosts`); from order 1 the room's own bounces between its faces
+→ Rx, :func:`two_surface_ghosts`) and over two faces on one leg (Tx → A → B → target → Rx,
+:func:`~simcore.sensors.radar.legs.one_leg_double_ghosts`); from order 1 the room's own bounces between its faces
 (edges, corners, echoes: :func:`simcore.sensors.radar.room.room_returns`) are added.
 Facets of planar objects get no image ghosts (:func:`image_ghost_rows`): their paths
 between faces are the room's returns, which exist only where the geometry allows.
@@ -45,9 +46,11 @@ towards the real target for a direct leg and towards the image (the reflection p
 mirrored leg. Path (c) gets this from the image position; for (a) and (b), synthesised at
 the real position, the mirrored leg's gain ratio ``g(image)/g(target)`` (of the first Tx or
 Rx's pattern) is folded into the ghost's RCS. Target aspect: a trihedral corner reflector
-takes its RCS in the direction of the image radar for (c) and the geometric mean of the two
-directions for the bistatic (a) and (b); facets of curved or meshed objects keep the
-amplitude of their direct (monostatic) return. The reflector's motion relative to the
+takes its RCS in the direction of the image radar for (c) and, a retro-reflector, its
+aperture's diffraction lobe between the two directions on the bistatic paths
+(:func:`_corner_bistatic`); a curved object's facets are one ghost source with the
+object's monostatic return (:func:`ghost_sources`), a sphere's at its bistatic specular
+point on each path (:func:`~simcore.sensors.radar.legs.sphere_placement`). The reflector's motion relative to the
 radar along its normal is included for (c) (the image velocity) and neglected for (a) and
 (b) (exact when the radar moves parallel to the reflector or not at all).
 
