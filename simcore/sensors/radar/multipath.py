@@ -29,8 +29,9 @@ times the Kirchhoff coherent factor of the material's rms height at that angle.
 
 Order 2 also adds the ghosts over two different surfaces (Tx → face A → target → face B
 → Rx, :func:`two_surface_ghosts`) and over two faces on one leg (Tx → A → B → target → Rx,
-:func:`~simcore.sensors.radar.legs.one_leg_double_ghosts`); from order 1 the room's own bounces between its faces
-(edges, corners, echoes: :func:`simcore.sensors.radar.room.room_returns`) are added.
+:func:`~simcore.sensors.radar.legs.one_leg_double_ghosts`); from order 1 the room's own
+bounces between its faces (edges, corners, echoes:
+:func:`simcore.sensors.radar.room.room_returns`) are added.
 Facets of planar objects get no image ghosts (:func:`image_ghost_rows`): their paths
 between faces are the room's returns, which exist only where the geometry allows.
 
@@ -50,9 +51,10 @@ takes its RCS in the direction of the image radar for (c) and, a retro-reflector
 aperture's diffraction lobe between the two directions on the bistatic paths
 (:func:`_corner_bistatic`); a curved object's facets are one ghost source with the
 object's monostatic return (:func:`ghost_sources`), a sphere's at its bistatic specular
-point on each path (:func:`~simcore.sensors.radar.legs.sphere_placement`). The reflector's motion relative to the
-radar along its normal is included for (c) (the image velocity) and neglected for (a) and
-(b) (exact when the radar moves parallel to the reflector or not at all).
+point on each path (:func:`~simcore.sensors.radar.legs.sphere_placement`). The
+reflector's motion relative to the radar along its normal is included for (c) (the image
+velocity) and neglected for (a) and (b) (exact when the radar moves parallel to the
+reflector or not at all).
 
 The rig's own front (``RadarConfig.rig_front_*``, a flat rectangle in the board plane) is a
 reflector for the reflectors' own echoes: :func:`rig_front_ghosts` adds, from order 1, the
