@@ -228,3 +228,37 @@ def test_no_ghost_where_no_geometric_path_exists() -> None:
     off = [r for r in ranges if np.min(np.abs(geometric - r)) > 0.01]
     assert off == [], f"multipath returns without a geometric path at {off} m"
     assert np.sum(np.abs(np.array(ranges) - np.sqrt(10.0)) < 0.01) == 2
+
+
+def test_a_spheres_ghost_scatters_from_its_bistatic_specular_point() -> None:
+    """Lit from one point and seen from another, a sphere reflects where its normal bisects
+    the two directions (law of reflection), ``a |û₁ + û₂|`` closer than its centre (GO)."""
+    from simcore.scene import Pose, Project, SceneObject, Sphere
+    from simcore.scene.model import SensorRig
+    from simcore.scene.snapshot import take_snapshot
+    from simcore.sensors.radar.legs import sphere_placement
+    from simcore.sensors.radar.scatterers import KIND_POINT_TARGET
+    from simcore.sensors.radar.scene import RadarScene
+
+    a = 0.2
+    project = Project(objects=[SceneObject(id=1, name="ball", geometry=Sphere(radius_m=a),
+                                           pose=Pose(position_m=(3.0, 0.5, 1.3)),
+                                           material="aluminium")],
+                      rig=SensorRig(pose=Pose(position_m=(0.0, 0.0, 1.0))))
+    scene = RadarScene.from_project(project, take_snapshot(project, 0.0))
+    centre = np.array([-0.5, -0.3, 3.0])                    # radar frame: right, down, ahead
+    sc = Scatterers(time_s=0.0, wavelength_m=LAM, positions_m=centre[None] + [[0, 0, -a]],
+                    velocities_mps=np.zeros((1, 3)), rcs_m2=np.array([np.pi * a * a]),
+                    phase_rad=np.zeros(1), object_index=np.zeros(1, np.int32),
+                    kind=np.array([KIND_POINT_TARGET], np.int8))
+    src, rcv = np.array([[0.0, 2.0, 0.0]]), np.zeros((1, 3))  # the radar's floor image, radar
+    s = sphere_placement(scene, sc)(np.array([0]), sc.positions_m, src, rcv)[0]
+    assert np.linalg.norm(s - centre) == pytest.approx(a, abs=1e-12)
+    n = (s - centre) / a
+    u_in, u_out = (src[0] - s) / np.linalg.norm(src[0] - s), -s / np.linalg.norm(s)
+    assert np.degrees(abs(np.arccos(u_in @ n) - np.arccos(u_out @ n))) < 0.5
+    assert np.cross(n, u_in) @ u_out == pytest.approx(0.0, abs=1e-3)       # one plane
+    u1, u2 = (src[0] - centre), -centre
+    d1, d2 = np.linalg.norm(u1), np.linalg.norm(u2)
+    go = d1 + d2 - a * np.linalg.norm(u1 / d1 + u2 / d2)
+    assert np.linalg.norm(src[0] - s) + np.linalg.norm(s) == pytest.approx(go, abs=2e-3)
