@@ -16,38 +16,43 @@ target about 2.5 m ahead, off boresight and off the room's symmetry planes:
   radar (GO: σ = 4π A² / λ², A the triple-bounce effective area).
 
 How the paths are found. Sionna RT's image-method solver (specular reflections,
-polarimetric, the room's faces one-sided) traces
+polarimetric, the room's faces one-sided) traces, for a V- and for an H-polarised radar,
 
 1. the room's own returns: every path radar → faces → radar up to three bounces (Tx at the
-   radar, Rx 1 mm beside it, line of sight dropped), and
-2. every one-way path radar → faces → target (Rx at the target's centre, up to two bounces,
-   isotropic V-polarised Tx and a dual-polarised V/H Rx).
+   radar, Rx 1 cm beside it in each of the eight diagonal directions, the union taken one
+   path per image of the radar: exactly beside the Tx the reflection points of the room's
+   edges and corners fall on the edges and Sionna drops the paths), and
+2. every one-way path radar → faces → target (Rx at the target's centre, up to two
+   bounces, isotropic Tx, a dual-polarised V/H Rx).
 
 The targets are not meshed in Sionna: its image method reflects a path in a facet's plane as
 if the plane were infinite, which gives a faceted sphere the return of an infinite plane
 (π D² instead of π a²) and a small trihedral that of an infinite corner (π D²), so a
 curved or small metal target's monostatic return is not a ray-tracing result. Instead each
 target's two-way returns combine the one-way paths ``i`` (out) and ``j`` (back, by
-reciprocity the same channel) with the target's geometric-optics scattering amplitude::
+reciprocity the same channel) with the target's geometric-optics scattering::
 
-    a_ij = (h_i · h_j) √(4π σ_ij) / λ · s,     L_ij = L_i + L_j − Δ_ij
+    a_ij = (E_j · S E_i) √(4π σ_ij) / λ,     L_ij = L_i + L_j − Δ_ij
 
-with ``h`` the (V, H) field components at the target (Sionna's coefficients, the target's
-scattering matrix the identity in the arrival basis: polarisation kept, the plain
-point-scatterer convention), ``s`` the sign of its reflections (−1 per metal bounce) and
-``Δ_ij = a |u_i + u_j|`` for the sphere (its specular point lies a·cos(β/2) in front of
-the centre, β the bistatic angle between the legs' directions ``u``). A direct line
-``h = λ / (4π d)`` gives the radar equation ``|a| = λ √σ / ((4π)^{3/2} d²)``. The
-trihedral is a retro-reflector: for ``i = j`` its σ is the GO effective area in the
-leg's direction (the entrance triangle projected across the ray and intersected with its
-own point reflection through the apex), and between two different legs the aperture's
-diffraction lobe ``|2 J₁(x)/x|²``, ``x = k r sin β``, ``r = √(A/π)``, which is below
-−30 dB for the bistatic angles of a room's ghosts: a trihedral's ghosts are the ``i = j``
-paths (out and back over the same faces). What this leaves out: the target's shadow on
-the room's returns and paths between target and room faces with the target reflecting
-more than once.
+with ``E`` a leg's field at the target as a world vector (Sionna's V and H coefficients on
+θ̂ and φ̂ of its direction of arrival ``u``) and ``S``: for the point target tofradar's
+convention (its co-polar RCS towards every direction: the co-polar parts of both legs,
+the radar's polarisation made transverse to each), for the sphere a perfect conductor's
+mirror at its specular point (``−M``, the normal bisecting the legs; ``Δ_ij = a |u_i +
+u_j|``, the specular point lying ``a cos(β/2)`` in front of the centre), for the
+trihedral ``−1`` (it keeps E). A direct line ``|E| = λ / (4π d)`` gives the radar
+equation ``|a| = λ √σ / ((4π)^{3/2} d²)``. The trihedral is a retro-reflector: for
+``i = j`` its σ is the GO effective area in the leg's direction (the entrance triangle
+projected across the ray and intersected with its own point reflection through the
+apex), and between two different legs the aperture's diffraction lobe ``|2 J₁(x)/x|²``,
+``x = k r sin β``, ``r = √(A/π)``, which is below −30 dB for the bistatic angles of a
+room's ghosts. What this leaves out: the target's shadow on the room's returns, paths
+between target and room faces with the target reflecting more than once, and the room
+corners Sionna's solver does not find (the front–left–ceiling one and those behind the
+radar). Target paths more than 50 dB under the direct return are dropped.
 
-Each path is written to ``resources/references/sionna_target_paths.npz`` with its length
+Each path is written to ``resources/references/sionna_target_paths.npz`` (keys
+``{room}_{room|point|sphere|corner}_…`` for V, ``H_{room}_…`` for H) with its length
 (m), coefficient (complex, V → V, without the propagation phase ``e^{-jkL}``: Sionna's
 ``a``), number of face bounces, and the unit directions in which it leaves and returns to
 the radar (world frame), so that the comparison can weigh them by tofradar's element
@@ -66,6 +71,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from room_paths import ROOM, room_xml  # noqa: E402
 
 RADAR = (1.5, 1.6, 1.0)
+#: Rays shot per source to find the candidate sequences of faces.
+SAMPLES = 10**6
 FREQUENCY_HZ = 60e9
 C = 299_792_458.0
 LAMBDA = C / FREQUENCY_HZ
@@ -77,6 +84,8 @@ TARGETS = {
     "corner": ((2.6, 0.5, -0.25), 0.12),
 }
 ROOMS = ("concrete", "metal_left")
+#: Target paths kept: within 50 dB of the scene's strongest (the direct return).
+KEEP = 10 ** (-50 / 20)
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -90,7 +99,7 @@ def _direction(theta: np.ndarray, phi: np.ndarray) -> np.ndarray:
 
 
 def _solve(tx: tuple[float, ...], rx: tuple[float, ...], rx_pol: str, max_depth: int, *,
-           metal_left: bool) -> dict[str, np.ndarray]:
+           metal_left: bool, tx_pol: str = "V") -> dict[str, np.ndarray]:
     """Sionna's specular paths tx → room → rx: a [rx_ant, path], tau, bounces, directions."""
     import sionna.rt as rt
 
@@ -99,13 +108,13 @@ def _solve(tx: tuple[float, ...], rx: tuple[float, ...], rx_pol: str, max_depth:
         xml.write_text(room_xml(metal_left=metal_left))
         scene = rt.load_scene(str(xml), merge_shapes=False)
     scene.frequency = FREQUENCY_HZ
-    scene.tx_array = rt.PlanarArray(num_rows=1, num_cols=1, pattern="iso", polarization="V")
+    scene.tx_array = rt.PlanarArray(num_rows=1, num_cols=1, pattern="iso", polarization=tx_pol)
     scene.rx_array = rt.PlanarArray(num_rows=1, num_cols=1, pattern="iso", polarization=rx_pol)
     scene.add(rt.Transmitter("tx", position=[float(v) for v in tx]))
     scene.add(rt.Receiver("rx", position=[float(v) for v in rx]))
     paths = rt.PathSolver()(scene, max_depth=max_depth, los=True, specular_reflection=True,
                             diffuse_reflection=False, refraction=False, synthetic_array=True,
-                            samples_per_src=10**6)
+                            samples_per_src=SAMPLES)
     names = {obj.object_id: name for name, obj in scene.objects.items()}
     a_re, a_im = paths.a
     a = (np.asarray(a_re) + 1j * np.asarray(a_im))[0, :, 0, 0, :]       # [rx_ant, path]
@@ -125,9 +134,9 @@ def _solve(tx: tuple[float, ...], rx: tuple[float, ...], rx_pol: str, max_depth:
 
 #: Rx offsets from the Tx (m) of the room's monostatic traces: with the Rx exactly beside
 #: the Tx, the reflection points of a room edge's (corner's) double (triple) bounce lie on
-#: the edge, and Sionna's solver drops the path; 1 cm off in every axis it finds them.
-RX_OFFSETS = ((0.01, 0.01, 0.01), (-0.01, 0.01, -0.01), (0.01, -0.01, -0.01),
-              (-0.01, -0.01, 0.01))
+#: the edge, and Sionna's solver drops the path; 1 cm off in every axis it finds most.
+RX_OFFSETS = tuple((0.01 * sx, 0.01 * sy, 0.01 * sz) for sx in (1, -1) for sy in (1, -1)
+                   for sz in (1, -1))
 #: The room's faces: (axis, coordinate) of each plane, by name.
 FACES = {"floor": (2, 0.0), "ceiling": (2, ROOM[2]), "front": (0, ROOM[0]), "back": (0, 0.0),
          "left": (1, ROOM[1]), "right": (1, 0.0)}
@@ -147,7 +156,7 @@ def monostatic_length(faces: tuple[str, ...]) -> float:
     return float(np.linalg.norm(_image(faces) - np.array(RADAR)))
 
 
-def room_returns(*, metal_left: bool) -> dict[str, np.ndarray]:
+def room_returns(*, metal_left: bool, pol: str = "V") -> dict[str, np.ndarray]:
     """The room's own monostatic returns (up to three bounces, line of sight dropped).
 
     The union over the Rx offsets :data:`RX_OFFSETS` of Sionna's paths, one per image of
@@ -162,7 +171,8 @@ def room_returns(*, metal_left: bool) -> dict[str, np.ndarray]:
     seen: dict[tuple[str, ...], int] = {}
     rows: dict[str, list] = {"length_m": [], "a": [], "bounces": [], "out": [], "back": []}
     for off in RX_OFFSETS:
-        res = _solve(RADAR, tuple(np.add(RADAR, off)), "V", 3, metal_left=metal_left)
+        res = _solve(RADAR, tuple(np.add(RADAR, off)), pol, 3, metal_left=metal_left,
+                     tx_pol=pol)
         for i, faces in enumerate(res["faces"]):
             if res["bounces"][i] == 0 or len(faces) != res["bounces"][i]:
                 continue
@@ -236,62 +246,76 @@ def corner_axes(towards: np.ndarray) -> np.ndarray:
     return (rot @ np.eye(3)).T
 
 
-def target_returns(name: str, *, metal_left: bool) -> dict[str, np.ndarray]:
+def _fields(h: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """The legs' E at the target as world vectors (K, 3).
+
+    Sionna's V and H coefficients on the receiving antenna's θ̂ and φ̂ of each leg's
+    direction of arrival ``u``.
+    """
+    theta = np.arccos(np.clip(u[:, 2], -1, 1))
+    phi = np.arctan2(u[:, 1], u[:, 0])
+    t_hat = np.stack([np.cos(theta) * np.cos(phi), np.cos(theta) * np.sin(phi),
+                      -np.sin(theta)], axis=1)
+    p_hat = np.stack([-np.sin(phi), np.cos(phi), np.zeros_like(phi)], axis=1)
+    return h[0][:, None] * t_hat + h[1][:, None] * p_hat
+
+
+def _copolar(u: np.ndarray, pol: str) -> np.ndarray:
+    """The radar's polarisation (V: world z, H: world y) made transverse to each ``u``."""
+    p = np.array([0.0, 0.0, 1.0]) if pol == "V" else np.array([0.0, 1.0, 0.0])
+    return _unit(p[None] - (u @ p)[:, None] * u)
+
+
+def target_returns(name: str, *, metal_left: bool, pol: str = "V") -> dict[str, np.ndarray]:
     """Two-way paths radar → faces → target → faces → radar (module docstring)."""
     from scipy.special import j1
 
     offset, size = TARGETS[name]
     centre = np.array(RADAR) + np.array(offset)
-    one = _solve(RADAR, tuple(centre), "VH", 2, metal_left=metal_left)
+    one = _solve(RADAR, tuple(centre), "VH", 2, metal_left=metal_left, tx_pol=pol)
     h, length = one["a"], one["length_m"]                 # h [2, n]
     u = one["arr"]                                        # Sionna: direction of arrival
     k = 2 * np.pi / LAMBDA
     axes = corner_axes(np.array(RADAR) - centre)
     n = length.size
     rows: dict[str, list] = {"length_m": [], "a": [], "bounces": [], "out": [], "back": []}
+    field = _fields(h, u)                                  # E at the target per leg (world)
+    copol = np.einsum("kd,kd->k", field, _copolar(u, pol))
     for i in range(n):
         for j in range(n):
-            pol = complex(h[0, i] * h[0, j] + h[1, i] * h[1, j])
             cosb = float(np.clip(u[i] @ u[j], -1, 1))
             if name == "point":
+                # tofradar's point target: its co-polar RCS towards every direction.
+                s_ij = complex(copol[i] * copol[j])
                 amp, delta = np.sqrt(size), 0.0
             elif name == "sphere":
-                amp, delta = -np.sqrt(np.pi) * size, size * float(np.linalg.norm(u[i] + u[j]))
+                # GO: the specular point's mirror (a perfect conductor: −M) on E.
+                nrm = _unit(u[i] + u[j])
+                s_ij = -complex(field[i] @ field[j] - 2 * (field[i] @ nrm) * (field[j] @ nrm))
+                amp, delta = np.sqrt(np.pi) * size, size * float(np.linalg.norm(u[i] + u[j]))
             else:
+                s_ij = -complex(field[i] @ field[j])          # retro-reflection keeps E
                 ai, aj = trihedral_area(u[i], size, axes), trihedral_area(u[j], size, axes)
                 area = np.sqrt(ai * aj)
                 x = k * np.sqrt(area / np.pi) * np.sqrt(max(0.0, 1 - cosb**2))
                 lobe = 1.0 if x < 1e-9 else float(2 * j1(x) / x)
-                amp, delta = -np.sqrt(4 * np.pi) * area / LAMBDA * lobe, 0.0
+                amp, delta = np.sqrt(4 * np.pi) * area / LAMBDA * lobe, 0.0
             rows["length_m"].append(length[i] + length[j] - delta)
-            rows["a"].append(pol * np.sqrt(4 * np.pi) / LAMBDA * amp)
+            rows["a"].append(s_ij * np.sqrt(4 * np.pi) / LAMBDA * amp)
             rows["bounces"].append(one["bounces"][i] + one["bounces"][j])
             rows["out"].append(one["dep"][i])
             rows["back"].append(one["dep"][j])
-    return {key: np.array(v) for key, v in rows.items()}
+    out = {key: np.array(v) for key, v in rows.items()}
+    strong = np.abs(out["a"]) >= KEEP * np.max(np.abs(out["a"]))
+    return {key: v[strong] for key, v in out.items()}
 
 
 def main() -> int:
     """Trace every scene and write the cached arrays."""
     out: dict[str, np.ndarray] = {}
-    for room in ROOMS:
-        metal = room == "metal_left"
-        for key, v in room_returns(metal_left=metal).items():
-            out[f"{room}_room_{key}"] = v
-        for name in TARGETS:
-            res = target_returns(name, metal_left=metal)
-            for key, v in res.items():
-                out[f"{room}_{name}_{key}"] = v
-            a = np.abs(res["a"])
-            if name == "point":
-                room_a = np.abs(out[f"{room}_room_a"])
-                print(room, "room", room_a.size, "paths:", ", ".join(
-                    f"{out[f'{room}_room_length_m'][i] / 2:.3f} m {20 * np.log10(room_a[i]):.1f}"
-                    for i in np.argsort(-room_a)[:20]))
-            order = np.argsort(-a)[:8]
-            print(room, name, res["length_m"].size, "paths; strongest:",
-                  ", ".join(f"{res['length_m'][i] / 2:.3f} m {20 * np.log10(a[i]):.1f} dB"
-                            for i in order))
+    for pol, plain in (("V", ""), ("H", "H_")):
+        for name in ROOMS:
+            _scene(out, name, f"{plain}{name}", pol)
     out["radar_m"] = np.array(RADAR)
     out["room_m"] = np.array(ROOM)
     out["frequency_hz"] = np.array(FREQUENCY_HZ)
@@ -299,9 +323,33 @@ def main() -> int:
         out[f"target_{name}_m"] = np.array(RADAR) + np.array(offset)
         out[f"target_{name}_size"] = np.array(size)
     OUT.parent.mkdir(parents=True, exist_ok=True)
-    np.savez_compressed(OUT, **out)
+    # Single precision (lengths to 1 µm, levels to 1e-7): the file stays small.
+    small = {k: v.astype(np.complex64 if np.iscomplexobj(v) else np.float32)
+             if v.dtype.kind in "fc" and v.ndim else v for k, v in out.items()}
+    np.savez_compressed(OUT, **small)
     print("wrote", OUT, OUT.stat().st_size, "bytes")
     return 0
+
+
+def _scene(out: dict[str, np.ndarray], which: str, room: str, pol: str) -> None:
+    """One room at one polarisation: its own returns and each target's, into ``out``."""
+    metal = which == "metal_left"
+    for key, v in room_returns(metal_left=metal, pol=pol).items():
+        out[f"{room}_room_{key}"] = v
+    for target in TARGETS:
+        res = target_returns(target, metal_left=metal, pol=pol)
+        for key, v in res.items():
+            out[f"{room}_{target}_{key}"] = v
+        a = np.abs(res["a"])
+        if target == "point":
+            room_a = np.abs(out[f"{room}_room_a"])
+            print(room, "room", room_a.size, "paths:", ", ".join(
+                f"{out[f'{room}_room_length_m'][i] / 2:.3f} m {20 * np.log10(room_a[i]):.1f}"
+                for i in np.argsort(-room_a)[:20]))
+        order = np.argsort(-a)[:8]
+        print(room, target, res["length_m"].size, "paths; strongest:",
+              ", ".join(f"{res['length_m'][i] / 2:.3f} m {20 * np.log10(a[i]):.1f} dB"
+                        for i in order))
 
 
 if __name__ == "__main__":
