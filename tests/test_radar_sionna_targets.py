@@ -72,3 +72,31 @@ def test_the_reference_target_levels_are_the_formulas(ref) -> None:
         assert direct.size == 1
         expected = lam * np.sqrt(sigma) / ((4 * np.pi) ** 1.5 * d**2)
         assert 20 * np.log10(direct[0] / expected) == pytest.approx(0.0, abs=0.01)
+
+
+@pytest.mark.parametrize("polarization", ["V", "H"])
+def test_the_direct_returns_have_the_reference_phase(ref, polarization: str) -> None:
+    """Where returns share a range cell their phases decide the sum: the targets' direct
+    returns and the front wall's carry the reference's phase within 15° (a trihedral's
+    opposite to a plate's: three conductor mirrors against one)."""
+    from simcore.report.sionna_targets import (
+        _profile,
+        _tofradar_iq,
+        radar_config,
+        range_axis,
+        reference_iq,
+        scene_project,
+    )
+
+    cfg = radar_config(polarization)
+    rng = range_axis(cfg)
+    radar = np.asarray(ref["radar_m"], dtype=float)
+    for target in TARGETS:
+        r = _profile(reference_iq(ref, "concrete", target, cfg))
+        t = _profile(_tofradar_iq(scene_project(ref, "concrete", target, polarization)))
+        d = float(np.linalg.norm(np.asarray(ref[f"target_{target}_m"]) - radar))
+        d -= float(ref["target_sphere_size"]) if target == "sphere" else 0.0
+        for at in (d, float(ref["room_m"][0]) - radar[0]):
+            near = np.flatnonzero(np.abs(rng - at) <= 0.02)
+            i = near[np.argmax(np.abs(r[near]))]
+            assert abs(np.degrees(np.angle(t[i] / r[i]))) < 15.0, (target, at)

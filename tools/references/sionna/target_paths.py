@@ -40,7 +40,8 @@ convention (its co-polar RCS towards every direction: the co-polar parts of both
 the radar's polarisation made transverse to each), for the sphere a perfect conductor's
 mirror at its specular point (``−M``, the normal bisecting the legs; ``Δ_ij = a |u_i +
 u_j|``, the specular point lying ``a cos(β/2)`` in front of the centre), for the
-trihedral ``−1`` (it keeps E). A direct line ``|E| = λ / (4π d)`` gives the radar
+trihedral ``+1`` (three conductor mirrors, ``(−M₃)(−M₂)(−M₁) = +I``: its return has the
+opposite sign to a plate's). A direct line ``|E| = λ / (4π d)`` gives the radar
 equation ``|a| = λ √σ / ((4π)^{3/2} d²)``. The trihedral is a retro-reflector: for
 ``i = j`` its σ is the GO effective area in the leg's direction (the entrance triangle
 projected across the ray and intersected with its own point reflection through the
@@ -294,7 +295,9 @@ def target_returns(name: str, *, metal_left: bool, pol: str = "V") -> dict[str, 
                 s_ij = -complex(field[i] @ field[j] - 2 * (field[i] @ nrm) * (field[j] @ nrm))
                 amp, delta = np.sqrt(np.pi) * size, size * float(np.linalg.norm(u[i] + u[j]))
             else:
-                s_ij = -complex(field[i] @ field[j])          # retro-reflection keeps E
+                # Three conductor mirrors: −M₃ −M₂ −M₁ = +I (the triple image of a dipole
+                # is the dipole itself; a plate's single image is −p: opposite signs).
+                s_ij = complex(field[i] @ field[j])
                 ai, aj = trihedral_area(u[i], size, axes), trihedral_area(u[j], size, axes)
                 area = np.sqrt(ai * aj)
                 x = k * np.sqrt(area / np.pi) * np.sqrt(max(0.0, 1 - cosb**2))
