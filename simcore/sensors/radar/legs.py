@@ -56,6 +56,40 @@ _Patterns = tuple[ElementPattern, ElementPattern]
 _Aspect = Callable[[NDArray[np.intp], NDArray[np.float64]], NDArray[np.float64]]
 
 
+def sphere_centres(scene: RadarScene, scatterers: Scatterers
+                   ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Centre (N, 3; NaN: not a sphere) and radius (N,) of each sphere's ghost source row."""
+    centre = np.full((len(scatterers), 3), np.nan)
+    radius = np.zeros(len(scatterers))
+    for i, obj in enumerate(scene.objects):
+        if not isinstance(obj.geometry, Sphere):
+            continue
+        rows = np.flatnonzero((scatterers.object_index == i)
+                              & (scatterers.kind == KIND_POINT_TARGET))
+        world = scene.snapshot.objects[i].transform[:3, 3]
+        centre[rows] = _radar_frame(scene.radar, world[None])[0]
+        radius[rows] = obj.geometry.radius_m
+    return centre, radius
+
+
+def sphere_factor(e_in: NDArray[np.complex128], e_out: NDArray[np.complex128],
+                  u_in: NDArray[np.float64], u_out: NDArray[np.float64]
+                  ) -> NDArray[np.complex128]:
+    """A metal sphere's bistatic co-polar factor relative to its monostatic return (K,).
+
+    ``e_in``: the field arriving over one leg, ``e_out``: the field the receiver would send
+    over the other (reciprocity), both at the sphere (K, 3); ``u_in``, ``u_out``: from the
+    sphere's centre towards each leg's far end. Geometric optics: the specular point's
+    normal ``n`` bisects the legs and a perfect conductor mirrors the whole field there,
+    ``e_out · (−M_n e_in)``, over the monostatic ``−1``: ``e_out · M_n e_in``. Where the
+    bounces before have rotated the field, the sphere turns it back into the radar's
+    polarisation, which the legs' co-polar parts alone (a point target) miss.
+    """
+    n = _unit(_unit(u_in) + _unit(u_out))
+    mirrored = e_in - 2.0 * np.einsum("kd,kd->k", e_in, n)[:, None] * n
+    return np.asarray(np.einsum("kd,kd->k", e_out, mirrored), dtype=np.complex128)
+
+
 def sphere_placement(scene: RadarScene, scatterers: Scatterers) -> Place:
     """Bistatic specular points of the spheres among the ghost sources (``place``).
 
@@ -67,16 +101,7 @@ def sphere_placement(scene: RadarScene, scatterers: Scatterers) -> Place:
     for any bistatic angle but forward scatter). Through the monostatic point a ghost over
     a side wall came out 3 cm long against Sionna RT. Other rows keep their positions.
     """
-    centre = np.full((len(scatterers), 3), np.nan)
-    radius = np.zeros(len(scatterers))
-    for i, obj in enumerate(scene.objects):
-        if not isinstance(obj.geometry, Sphere):
-            continue
-        rows = np.flatnonzero((scatterers.object_index == i)
-                              & (scatterers.kind == KIND_POINT_TARGET))
-        world = scene.snapshot.objects[i].transform[:3, 3]
-        centre[rows] = _radar_frame(scene.radar, world[None])[0]
-        radius[rows] = obj.geometry.radius_m
+    centre, radius = sphere_centres(scene, scatterers)
 
     def place(rows: NDArray[np.intp], positions: NDArray[np.float64],
               src: NDArray[np.float64], rcv: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -98,18 +123,19 @@ def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
 
 def _gammas(a: Reflector, b: Reflector, x_a: NDArray[np.float64], x_b: NDArray[np.float64],
             p: NDArray[np.float64], pol: NDArray[np.float64], wavelength_m: float
-            ) -> NDArray[np.complex128]:
-    """Co-polar Γ of the two bounces (K,), received across the ray arriving at ``p``.
+            ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """Co-polar Γ of the two bounces (K,) and the field arriving at ``p`` (K, 3).
 
-    :func:`~simcore.sensors.radar.room.reflect_field` twice, for K paths at once.
+    :func:`~simcore.sensors.radar.room.reflect_field` twice, for K paths at once; the
+    co-polar part is received across the ray arriving at ``p``.
     """
-    field = _transverse_many(pol, x_a).astype(np.complex128)
-    field = _reflect_many(a, x_a, field, wavelength_m)
-    field = _reflect_many(b, x_b - x_a, field, wavelength_m)
-    return np.asarray(np.einsum("kd,kd->k", field, _transverse_many(pol, p - x_b)))
+    field = transverse_many(pol, x_a).astype(np.complex128)
+    field = reflect_many(a, x_a, field, wavelength_m)
+    field = reflect_many(b, x_b - x_a, field, wavelength_m)
+    return np.asarray(np.einsum("kd,kd->k", field, transverse_many(pol, p - x_b))), field
 
 
-def _transverse_many(pol: NDArray[np.float64], d: NDArray[np.float64]) -> NDArray[np.float64]:
+def transverse_many(pol: NDArray[np.float64], d: NDArray[np.float64]) -> NDArray[np.float64]:
     """``pol`` made transverse to each direction (K, 3), unit (:func:`room._transverse`)."""
     d = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
     out = pol[None] - (d @ pol)[:, None] * d
@@ -119,7 +145,7 @@ def _transverse_many(pol: NDArray[np.float64], d: NDArray[np.float64]) -> NDArra
     return np.asarray(out / np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-300))
 
 
-def _reflect_many(face: Reflector, leg: NDArray[np.float64], field: NDArray[np.complex128],
+def reflect_many(face: Reflector, leg: NDArray[np.float64], field: NDArray[np.complex128],
                   wavelength_m: float) -> NDArray[np.complex128]:
     """:func:`~simcore.sensors.radar.room.reflect_field` for K legs and fields at once."""
     n = face.normal
@@ -136,7 +162,7 @@ def _reflect_many(face: Reflector, leg: NDArray[np.float64], field: NDArray[np.c
     r_te, r_tm = face.band.oblique_coefficients(face.frequency_hz, cos_i)
     s = np.cross(n, d)
     norm = np.linalg.norm(s, axis=1)
-    s[norm <= 1e-9] = _transverse_many(np.array([1.0, 0.0, 0.0]), n[None])[0]
+    s[norm <= 1e-9] = transverse_many(np.array([1.0, 0.0, 0.0]), n[None])[0]
     s = s / np.maximum(np.linalg.norm(s, axis=1, keepdims=True), 1e-300)
     e_te = np.einsum("kd,kd->k", field, s)[:, None] * s
     scaled = -r_te[:, None] * e_te + r_tm[:, None] * (field - e_te)
@@ -148,8 +174,8 @@ def one_leg_double_ghosts(scatterers: Scatterers, reflectors: Sequence[Reflector
                           tx_positions_m: NDArray[np.float64],
                           rx_positions_m: NDArray[np.float64],
                           patterns: _Patterns, buffers: RenderBuffers | None,
-                          aspect: _Aspect | None = None, place: Place | None = None
-                          ) -> list[GhostSet]:
+                          aspect: _Aspect | None = None, place: Place | None = None,
+                          centres: NDArray[np.float64] | None = None) -> list[GhostSet]:
     """Ghost sets of the paths radar → A → B → target → radar and their reverse.
 
     Parameters
@@ -175,6 +201,9 @@ def one_leg_double_ghosts(scatterers: Scatterers, reflectors: Sequence[Reflector
     place : callable, optional
         Where each target scatters on the path (:func:`sphere_placement`); default its
         position.
+    centres : ndarray, shape (N, 3), optional
+        The spheres' centres (:func:`sphere_centres`): their rows take the whole field
+        (:func:`sphere_factor`), not its co-polar part.
 
     Returns
     -------
@@ -202,7 +231,14 @@ def one_leg_double_ghosts(scatterers: Scatterers, reflectors: Sequence[Reflector
         skip[ia] = False
         clear &= ~_blocked_many(reflectors, x_b, pos[rows], skip)
         rows, x_a, x_b = rows[clear], x_a[clear], x_b[clear]
-        gamma = _gammas(a, b, x_a, x_b, pos[rows], pol, wavelength_m)
+        gamma, field = _gammas(a, b, x_a, x_b, pos[rows], pol, wavelength_m)
+        if centres is not None:
+            sph = np.isfinite(centres[rows, 0])
+            if np.any(sph):
+                c = centres[rows[sph]]
+                src = b.mirror(a.mirror(np.zeros(3)))
+                gamma[sph] = sphere_factor(field[sph], transverse_many(pol, pos[rows[sph]])
+                                           .astype(np.complex128), src - c, -c)
         strong = np.abs(gamma) >= MIN_PRODUCT
         if not np.any(strong):
             continue
@@ -311,4 +347,5 @@ def _sets(scatterers: Scatterers, rows: NDArray[np.intp], gamma: NDArray[np.comp
     return out
 
 
-__all__ = ["Place", "one_leg_double_ghosts", "sphere_placement"]
+__all__ = ["Place", "one_leg_double_ghosts", "reflect_many", "sphere_centres",
+           "sphere_factor", "sphere_placement", "transverse_many"]

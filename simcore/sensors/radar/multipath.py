@@ -80,7 +80,15 @@ from simcore.scene.geometry import Box, CornerReflector, Plane, corner_reflector
 from simcore.scene.materials import DualBandMaterial
 from simcore.scene.radar_config import SPEED_OF_LIGHT, ElementPattern, RadarConfig
 from simcore.sensors.radar.equation import element_gain
-from simcore.sensors.radar.legs import Place, one_leg_double_ghosts, sphere_placement
+from simcore.sensors.radar.legs import (
+    Place,
+    one_leg_double_ghosts,
+    reflect_many,
+    sphere_centres,
+    sphere_factor,
+    sphere_placement,
+    transverse_many,
+)
 from simcore.sensors.radar.reflectors import (
     MIN_DISTANCE_M,
     GhostSet,
@@ -199,6 +207,10 @@ class ImagePaths:
         Effective reflection coefficient of each path (Γ × coherent factor).
     crossing_m : ndarray, shape (K, 3)
         The reflection points: where the leg towards the image crosses the plane (m).
+    fields : ndarray, shape (K, 3), complex128, or None
+        The reflected E at the target for a unit co-polar E sent (radar frame): ``gamma``
+        is its co-polar part; a metal sphere mirrors all of it (:func:`~simcore.sensors.
+        radar.legs.sphere_factor`).
     """
 
     reflector: Reflector
@@ -206,6 +218,7 @@ class ImagePaths:
     images_m: NDArray[np.float64]
     gamma: NDArray[np.complex128]
     crossing_m: NDArray[np.float64]
+    fields: NDArray[np.complex128] | None = None
 
 
 def _facing_radar(refl: Reflector) -> tuple[Reflector, float] | None:
@@ -315,7 +328,8 @@ def image_paths(reflector: Reflector, scatterers: Scatterers, buffers: RenderBuf
     g = 4.0 * np.pi * refl.height_rms_m * cos_i / wavelength_m
     pol = polarization_vector("V") if polarization is None else polarization
     gamma = polarised_reflection(refl, q, pol) * np.exp(-0.5 * g * g)
-    return ImagePaths(refl, rows, images, gamma.astype(np.complex128), q)
+    fields = reflect_many(refl, q, transverse_many(pol, q).astype(np.complex128), wavelength_m)
+    return ImagePaths(refl, rows, images, gamma.astype(np.complex128), q, fields)
 
 
 @kernel
@@ -612,6 +626,24 @@ def _corner_bistatic(scene: RadarScene, scatterers: Scatterers, rows: NDArray[np
     return mean
 
 
+def _sphere_gammas(paths: ImagePaths, pos: NDArray[np.float64], centres: NDArray[np.float64],
+                   pol: NDArray[np.float64], origin_image: NDArray[np.float64]
+                   ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """The paths' amplitudes over one bounce (a, b) and two (c), the spheres' whole-field.
+
+    Γ and Γ² for most targets; a metal sphere mirrors the whole field, not only its
+    co-polar part (:func:`~simcore.sensors.radar.legs.sphere_factor`).
+    """
+    gamma, gamma2 = paths.gamma.copy(), paths.gamma**2
+    sph = np.isfinite(centres[paths.rows, 0])
+    if np.any(sph) and paths.fields is not None:
+        c, f = centres[paths.rows[sph]], paths.fields[sph]
+        direct = transverse_many(pol, pos[sph]).astype(np.complex128)
+        gamma[sph] = sphere_factor(f, direct, origin_image - c, -c)
+        gamma2[sph] = sphere_factor(f, f, origin_image - c, origin_image - c)
+    return gamma, gamma2
+
+
 def _ghosts(scatterers: Scatterers, rows: NDArray[np.intp], positions: NDArray[np.float64],
             velocities: NDArray[np.float64], accelerations: NDArray[np.float64] | None,
             amplitude: NDArray[np.complex128]) -> Scatterers:
@@ -694,14 +726,16 @@ def ghost_sources(scatterers: Scatterers, eligible: NDArray[np.bool_]) -> Scatte
 
 def _subset_paths(paths: ImagePaths, keep: NDArray[np.bool_]) -> ImagePaths:
     return ImagePaths(paths.reflector, paths.rows[keep], paths.images_m[keep],
-                      paths.gamma[keep], paths.crossing_m[keep])
+                      paths.gamma[keep], paths.crossing_m[keep],
+                      None if paths.fields is None else paths.fields[keep])
 
 
 def two_surface_ghosts(scatterers: Scatterers, paths: Sequence[ImagePaths],
                        tx_positions_m: NDArray[np.float64], rx_positions_m: NDArray[np.float64],
                        *, scene: RadarScene | None = None, wavelength_m: float = 0.0,
                        patterns: tuple[ElementPattern, ElementPattern] | None = None,
-                       place: Place | None = None) -> list[GhostSet]:
+                       place: Place | None = None,
+                       centres: NDArray[np.float64] | None = None) -> list[GhostSet]:
     """Ghosts over two different surfaces: Tx → face A → target → face B → Rx.
 
     For every ordered pair of reflectors (A, B), A ≠ B, and every target with a valid
@@ -713,7 +747,9 @@ def two_surface_ghosts(scatterers: Scatterers, paths: Sequence[ImagePaths],
     images (:func:`_corner_bistatic`). With ``patterns`` (Tx, Rx element patterns), each
     leg's gain ratio towards its reflection point (the target's image in its face) over
     the target's direction, where the ghost is synthesised. ``place``: where each target
-    scatters between the two images (:func:`~simcore.sensors.radar.legs.sphere_placement`).
+    scatters between the two images (:func:`~simcore.sensors.radar.legs.sphere_placement`);
+    ``centres``: the spheres' (:func:`~simcore.sensors.radar.legs.sphere_centres`), whose
+    rows take the legs' whole fields (:func:`~simcore.sensors.radar.legs.sphere_factor`).
     """
     out: list[GhostSet] = []
     for a in paths:
@@ -728,6 +764,13 @@ def two_surface_ghosts(scatterers: Scatterers, paths: Sequence[ImagePaths],
             acc = (None if scatterers.accelerations_mps2 is None
                    else scatterers.accelerations_mps2[rows])
             amp = a.gamma[ia] * b.gamma[ib]
+            if centres is not None and a.fields is not None and b.fields is not None:
+                sph = np.isfinite(centres[rows, 0])
+                if np.any(sph):
+                    c = centres[rows[sph]]
+                    amp[sph] = sphere_factor(a.fields[ia][sph], b.fields[ib][sph],
+                                             a.reflector.mirror(np.zeros(3)) - c,
+                                             b.reflector.mirror(np.zeros(3)) - c)
             if patterns is not None:
                 pos = scatterers.positions_m[rows]
                 amp = amp * np.sqrt(
@@ -794,6 +837,8 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
     pat_r = config.rx[0].pattern or config.element_pattern
     scatterers = ghost_sources(scatterers, image_ghost_rows(scene, scatterers))
     place = sphere_placement(scene, scatterers)
+    centres = sphere_centres(scene, scatterers)[0]
+    pol = polarization_vector(config.polarization)
     eligible = None
     out: list[GhostSet] = []
     valid: list[ImagePaths] = []
@@ -824,6 +869,7 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
                                    np.broadcast_to(origin_image, images.shape).copy(), lam)
         zero = np.zeros_like(images)
         image_of_radar = np.broadcast_to(origin_image, images.shape)
+        gamma, gamma2 = _sphere_gammas(paths, pos, centres, pol, origin_image)
         bistatic = place(rows, pos, image_of_radar, zero)
         out.append(GhostSet(
             _ghosts(scatterers, rows, bistatic, vel, acc, gamma * np.sqrt(ratio_t * aspect1)),
@@ -836,17 +882,17 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
             a_img = None if acc is None else r.mirror_vectors(acc)
             seen = r.mirror(place(rows, pos, image_of_radar, image_of_radar))
             out.append(GhostSet(
-                _ghosts(scatterers, rows, seen, v_img, a_img, gamma**2 * np.sqrt(aspect2)),
+                _ghosts(scatterers, rows, seen, v_img, a_img, gamma2 * np.sqrt(aspect2)),
                 2, r.object_index))
     if order >= 2:
         out += two_surface_ghosts(scatterers, valid, p_tx, p_rx, scene=scene, wavelength_m=lam,
-                                  patterns=(pat_t, pat_r), place=place)
+                                  patterns=(pat_t, pat_r), place=place, centres=centres)
         sc = scatterers
         out += one_leg_double_ghosts(
             sc, reflectors, polarization=config.polarization, wavelength_m=lam,
             tx_positions_m=p_tx, rx_positions_m=p_rx, patterns=(pat_t, pat_r),
             buffers=buffers, aspect=lambda rows, src: _corner_bistatic(
-                scene, sc, rows, src, np.zeros_like(src), lam), place=place)
+                scene, sc, rows, src, np.zeros_like(src), lam), place=place, centres=centres)
     # The room's own multiple bounces between its faces: edges, corners, echoes.
     out += room_returns(scene, config, reflectors, buffers=buffers, order=order,
                         time_s=scatterers.time_s)
