@@ -605,7 +605,11 @@ def _mover_corrections(nodes: _Nodes, off: NDArray[np.int64], rows: NDArray[np.i
 @kernel
 def _row_dots(matrix: NDArray[np.generic], rows: NDArray[np.int64], vector: NDArray[np.generic]
               ) -> NDArray[np.complex128]:
-    """``matrix[rows] @ vector``, each row summed in the same order wherever it is kept."""
+    """``matrix[rows] @ vector``, each row summed in the same order wherever it is kept.
+
+    (Bound by reading the matrix: an explicit unrolling into four partial sums, or BLAS,
+    is no faster here, and BLAS's rounding may depend on the row's place.)
+    """
     out = np.zeros(rows.shape[0], dtype=np.complex128)
     for r in range(rows.shape[0]):
         acc = 0j
@@ -833,17 +837,17 @@ def _first_order(room: Room, moving: list[int], nodes: _Nodes, camera: F64,
                  ks: list[float], *, patch_m: float, bounces: int) -> NDArray[np.complex128]:
     """The receivers' irradiance with the moving objects to first order (:mod:`.room_movers`).
 
-    The still light is exact at every receiver; the moving objects' corrections (light
-    they send and block) are summed at the grid nodes and taken from the nearest node on
-    the same surface at the other receivers. Nothing depends on earlier frames but what
-    is kept to save time.
+    The still light is exact at every receiver but those beside a moving object
+    (:func:`_beside_movers`); the moving objects' corrections (light they send and block)
+    are summed at coarse grid nodes and spread to the others on the same surface. Nothing
+    depends on earlier frames but what is kept to save time.
     """
     still_groups = [g for g in range(len(room.occluder_start) - 1) if g not in set(moving)]
     block = _still_objects(room, still_groups, patch_m)
     mover_room = sub_room(room, moving)
     one = Room(mover_room.triangles, mover_room.normals, mover_room.albedo,
                np.array([0, len(mover_room.triangles)], dtype=np.int64))
-    movers = _movers.mover_surfels(sub_room(room, still_groups + moving), one, patch_m)
+    movers = _movers.mover_surfels(one, patch_m)
     still = block.surfels
     emitted = first_exitance(join(still, movers), camera, intrinsics, range_m, ks)
     ns = len(still.area)
@@ -857,17 +861,47 @@ def _first_order(room: Room, moving: list[int], nodes: _Nodes, camera: F64,
     if on.any() and len(movers.area):
         near = _movers.nearest_mover(nodes.world[on], nodes.normals[on], movers)
         out[:, on] = received[:, near]
-    off = np.flatnonzero(~on)
-    kept, rows = _grown_receivers(nodes.world[off], nodes.normals[off], block, ks)
+    beside = _beside_movers(nodes, on)
+    exact = np.flatnonzero(~on & ~beside)
+    kept, rows = _grown_receivers(nodes.world[exact], nodes.normals[exact], block, ks)
     for q, k in enumerate(ks):
         if k == 0.0:
-            out[q, off] = _row_dots(kept.factor, rows, still_total[q].real.astype(np.float32))
+            out[q, exact] = _row_dots(kept.factor, rows, still_total[q].real.astype(np.float32))
         else:
-            out[q, off] = _row_dots(kept.kernels[q], rows, still_total[q].astype(np.complex64))
-    if len(movers.area) and len(off):
-        out[:, off] += _mover_corrections(nodes, off, rows, kept, block, movers, still_total,
-                                          mover_total, ks)
+            out[q, exact] = _row_dots(kept.kernels[q], rows,
+                                      still_total[q].astype(np.complex64))
+    if len(movers.area) and len(exact):
+        out[:, exact] += _mover_corrections(nodes, exact, rows, kept, block, movers,
+                                            still_total, mover_total, ks)
+    grid = exact[exact < nodes.node_count]
+    if beside.any() and len(grid):
+        index, weight = _movers.spread(nodes.world[beside], nodes.normals[beside],
+                                       nodes.world[grid], nodes.normals[grid])
+        out[:, beside] = np.einsum("qrk,rk->qr", out[:, grid][:, index], weight)
     return out
+
+
+#: Receivers off the grid within this many pixels of a receiver on a moving object take
+#: their light from the grid nodes on their surface (:func:`_beside_movers`).
+BESIDE_PX = 2 * RECEIVER_STEP
+
+
+def _beside_movers(nodes: _Nodes, on: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Receivers off the grid, on still surfaces, within :data:`BESIDE_PX` of a moving object.
+
+    The node scheme sums them exactly because a moving object covers a node of their cell
+    (the still surface around them has no node there); they take their light from the
+    grid nodes on their own surface instead, so the receivers summed exactly are, frame
+    after frame, the same ones (their rows are computed once).
+    """
+    from scipy.ndimage import maximum_filter
+
+    h, w = len(nodes.cell_y), len(nodes.cell_x)
+    mark = np.zeros(h * w, dtype=bool)
+    mark[nodes.index[on]] = True
+    grown = maximum_filter(mark.reshape(h, w), size=2 * BESIDE_PX + 1).ravel()
+    off_grid = np.arange(len(nodes.index)) >= nodes.node_count
+    return np.asarray(grown[nodes.index] & off_grid & ~on, dtype=bool)
 
 
 def _on_nodes(seen: NDArray[np.bool_], rows: NDArray[np.int64], cols: NDArray[np.int64]

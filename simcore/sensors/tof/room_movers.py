@@ -43,7 +43,6 @@ from simcore.sensors.tof import radiosity as _radiosity
 from simcore.sensors.tof.radiosity import (
     Room,
     Surfels,
-    facing_any,
     occluder_boxes,
     surfels_from_room,
 )
@@ -154,14 +153,13 @@ def still_radiosity(operator: StillOperator, emitted: C128, wavenumbers: list[fl
     return out
 
 
-def mover_surfels(ordered: Room, mover_room: Room, patch_m: float) -> Surfels:
-    """The moving objects' surfels: their faces that face anything in the room.
+def mover_surfels(mover_room: Room, patch_m: float) -> Surfels:
+    """The moving objects' surfels: all their faces, cut and clustered as the still ones.
 
-    ``ordered`` is the whole room with the moving objects last, ``mover_room`` those alone.
+    A face that faces nothing exchanges no light (its form factors are zero).
     """
-    first = len(ordered.triangles) - len(mover_room.triangles)
-    facing = facing_any(ordered.triangles, ordered.normals)
-    return surfels_from_room(mover_room, patch_m=patch_m, facing=facing[first:])
+    return surfels_from_room(mover_room, patch_m=patch_m,
+                             facing=np.ones(len(mover_room.triangles), dtype=bool))
 
 
 def mover_exitance(movers: Surfels, still: Surfels, still_room: Room, still_total: C128,
@@ -201,11 +199,15 @@ def proxy_occluders(movers: Surfels) -> tuple[F64, NDArray[np.int64], F64, F64]:
 def on_movers(points: F64, mover_room: Room) -> NDArray[np.bool_]:
     """Which receiver points lie on a moving object (inside one of its grown boxes)."""
     lo, hi = occluder_boxes(mover_room)
+    out = np.zeros(len(points), dtype=bool)
     if len(lo) == 0:
-        return np.zeros(len(points), dtype=bool)
-    inside = ((points[:, None, :] >= lo[None] - ON_MOVER_M)
-              & (points[:, None, :] <= hi[None] + ON_MOVER_M))
-    return np.asarray(np.all(inside, axis=2).any(axis=1), dtype=bool)
+        return out
+    near = np.flatnonzero(((points >= lo.min(axis=0) - ON_MOVER_M)
+                           & (points <= hi.max(axis=0) + ON_MOVER_M)).all(axis=1))
+    p = points[near]
+    inside = (p[:, None, :] >= lo[None] - ON_MOVER_M) & (p[:, None, :] <= hi[None] + ON_MOVER_M)
+    out[near] = np.all(inside, axis=2).any(axis=1)
+    return out
 
 
 def nearest_mover(points: F64, normals: F64, movers: Surfels) -> NDArray[np.int64]:
