@@ -91,7 +91,7 @@ from simcore.sensors.radar.scatterers import (
     trihedral_effective_area,
 )
 from simcore.sensors.radar.scene import RadarScene
-from simcore.sensors.radar.synthesis import ComplexCube, synthesize_if
+from simcore.sensors.radar.synthesis import ComplexCube, synthesize_if_sets
 
 #: Smallest normal-incidence |Γ| of a reflector's material (metal 1, glass ≈ 0.5, concrete
 #: ≈ 0.4, an 18 mm wood panel ≈ 0.2): a bounce 26 dB down, below which a ghost of even the
@@ -874,38 +874,27 @@ def synthesize_ghosts(sets: Sequence[GhostSet], config: RadarConfig, *,
                       threads: int | None = None) -> ComplexCube:
     """Ideal IF of ghost sets (:func:`ghost_scatterers`).
 
-    Each order-1 set is synthesised with its own (mirrored) antennas, the order-2 sets of
-    every reflector in one call (real antennas).
+    Every set keeps its own (mirrored or real) antennas, and all of them share one
+    transform per Tx–Rx pair (:func:`~simcore.sensors.radar.synthesis.synthesize_if_sets`):
+    the sets are many (two per reflector, one per pair of faces at order 2) and small (a
+    curved object's facets are one ghost source), so a transform each cost far more than
+    their points.
 
     Returns
     -------
     ndarray, shape (chirps, tx*rx, samples), complex128
         Zeros when there are no ghosts.
     """
-    out = np.zeros((config.chirps_per_frame, len(config.tx) * len(config.rx),
-                    config.samples_per_chirp), dtype=np.complex128)
-    for g in sets:
-        mirrored = g.tx_positions_m is not None or g.rx_positions_m is not None
-        if mirrored and len(g.scatterers):
-            out += synthesize_if(g.scatterers, config, threads=_threads(threads, g.scatterers),
-                                 tx_positions_m=g.tx_positions_m,
-                                 rx_positions_m=g.rx_positions_m)
-    second = [g.scatterers for g in sets if len(g.scatterers)
-              and g.tx_positions_m is None and g.rx_positions_m is None]
-    if second:
-        merged = _concat(second)
-        out += synthesize_if(merged, config, threads=_threads(threads, merged))
-    return out
+    parts = [(g.scatterers, g.tx_positions_m, g.rx_positions_m) for g in sets
+             if len(g.scatterers)]
+    n = sum(len(sc) for sc, _, _ in parts)
+    return synthesize_if_sets(parts, config,
+                              threads=threads if threads is not None or n >= SMALL_SET else 1)
 
 
 #: Ghost sets smaller than this are synthesised on the calling thread: a few dozen ghost
 #: sources cost less than handing their transforms to the pool (2–20× less, measured).
 SMALL_SET = 512
-
-
-def _threads(threads: int | None, scatterers: Scatterers) -> int | None:
-    """The synthesis threads for a ghost set (the output does not depend on them)."""
-    return threads if threads is not None or len(scatterers) >= SMALL_SET else 1
 
 
 def _concat(sets: list[Scatterers]) -> Scatterers:
