@@ -465,6 +465,38 @@ def _segments_hit_triangles_numpy(a: NDArray[np.float64], b: NDArray[np.float64]
     return hit
 
 
+#: An object that stops a second leg: (object index, its triangles (T, 3, 3) and AABB (2, 3)
+#: in its local frame, radar frame → local frame (4, 4)).
+_Blocker = tuple[int, NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
+
+
+def leg_blockers(scene: RadarScene, wavelength_m: float) -> list[_Blocker]:
+    """The objects that stop a second leg (:func:`second_leg_clear`), once per frame.
+
+    Every object that the radar band sees, that transmits nothing and that has triangles
+    (a mesh file given by a path relative to the project folder has none here), with its
+    triangles and the transform from the radar frame to its local frame.
+    """
+    table = scene.materials
+    world_to_radar = np.linalg.inv(scene.radar.transform)
+    freq = SPEED_OF_LIGHT / wavelength_m
+    out: list[_Blocker] = []
+    for i, o in enumerate(scene.objects):
+        mat = table.get(o.material)
+        if mat is None:
+            continue
+        band = mat.band("radar")
+        if band.opacity <= 0 or abs(band.coefficients(freq)[1]) > 0:
+            continue
+        local = _local_triangles(o.geometry)
+        if local is None:
+            continue
+        # Radar frame → the object's local frame (its transform may scale).
+        m = np.linalg.inv(world_to_radar @ scene.snapshot.objects[i].transform)
+        out.append((i, local[0], local[1], m))
+    return out
+
+
 def second_leg_clear(scene: RadarScene, paths: ImagePaths, scatterers: Scatterers,
                      wavelength_m: float) -> NDArray[np.bool_]:
     """Whether the leg from each path's reflection point to its target is unobstructed.
@@ -482,33 +514,40 @@ def second_leg_clear(scene: RadarScene, paths: ImagePaths, scatterers: Scatterer
     ndarray of bool, shape (K,)
         One flag per row of ``paths``.
     """
-    table = scene.materials
-    world_to_radar = np.linalg.inv(scene.radar.transform)
-    freq = SPEED_OF_LIGHT / wavelength_m
-    a = paths.crossing_m
-    p = scatterers.positions_m[paths.rows]
+    return second_legs_clear(scene, [paths], scatterers, wavelength_m)[0]
+
+
+def second_legs_clear(scene: RadarScene, group: Sequence[ImagePaths], scatterers: Scatterers,
+                      wavelength_m: float, *, blockers: Sequence[_Blocker] | None = None
+                      ) -> list[NDArray[np.bool_]]:
+    """:func:`second_leg_clear` of several reflectors' paths, tested together.
+
+    One pass per blocking object over every reflector's legs (the objects' triangles and
+    transforms, :func:`leg_blockers`, found once: ``blockers`` when the caller has them).
+
+    Returns
+    -------
+    list of ndarray of bool
+        One flag per row of each of ``group``.
+    """
+    if not group:
+        return []
+    if blockers is None:
+        blockers = leg_blockers(scene, wavelength_m)
+    a = np.concatenate([g.crossing_m for g in group])
+    rows = np.concatenate([g.rows for g in group])
+    reflector = np.concatenate([np.full(len(g.rows), g.reflector.object_index)
+                                for g in group])
+    p = scatterers.positions_m[rows]
     d = p - a
     length = np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-12)
     b = p - d / length * np.minimum(LEG_END_MARGIN_M, 0.5 * length)
-    own = scatterers.object_index[paths.rows]
-    own_ok = scatterers.kind[paths.rows] != KIND_FACET
+    own = scatterers.object_index[rows]
+    own_ok = scatterers.kind[rows] != KIND_FACET
     clear = np.ones(len(a), dtype=bool)
-    for i, o in enumerate(scene.objects):
-        if i == paths.reflector.object_index:
-            continue
-        mat = table.get(o.material)
-        if mat is None:
-            continue
-        band = mat.band("radar")
-        if band.opacity <= 0 or abs(band.coefficients(freq)[1]) > 0:
-            continue
-        local = _local_triangles(o.geometry)
-        if local is None:
-            continue
-        tri, box = local
-        # Radar frame → the object's local frame (its transform may scale).
-        m = np.linalg.inv(world_to_radar @ scene.snapshot.objects[i].transform)
-        sel = clear & ~((own == i) & own_ok)
+    for i, tri, box, m in blockers:
+        # The reflector does not stop its own legs; a segment hit once stays hit.
+        sel = clear & ~((own == i) & own_ok) & (reflector != i)
         if not np.any(sel):
             continue
         idx = np.flatnonzero(sel)
@@ -518,7 +557,7 @@ def second_leg_clear(scene: RadarScene, paths: ImagePaths, scatterers: Scatterer
         if np.any(near):
             k = idx[near]
             clear[k] = ~_segments_hit_triangles(la[near], lb[near], tri)
-    return clear
+    return np.split(clear, np.cumsum([len(g.rows) for g in group])[:-1])
 
 
 def _corner_aspect(scene: RadarScene, scatterers: Scatterers,
@@ -707,19 +746,14 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
     pat_t = config.tx[0].pattern or config.element_pattern
     pat_r = config.rx[0].pattern or config.element_pattern
     scatterers = ghost_sources(scatterers, image_ghost_rows(scene, scatterers))
-    eligible = None
     out: list[GhostSet] = []
-    valid: list[ImagePaths] = []
-    for refl in reflectors:
-        paths = image_paths(refl, scatterers, buffers, lam, eligible=eligible,
-                            polarization=polarization_vector(config.polarization))
-        if paths is None:
-            continue
-        clear = second_leg_clear(scene, paths, scatterers, lam)
-        if not np.any(clear):
-            continue
-        paths = _subset_paths(paths, clear)
-        valid.append(paths)
+    pol = polarization_vector(config.polarization)
+    found = [p for p in (image_paths(refl, scatterers, buffers, lam, polarization=pol)
+                         for refl in reflectors) if p is not None]
+    # Every reflector's second legs in one test (one pass per blocking object).
+    flags = second_legs_clear(scene, found, scatterers, lam)
+    valid = [_subset_paths(p, c) for p, c in zip(found, flags, strict=True) if np.any(c)]
+    for paths in valid:
         rows, images, gamma, r = paths.rows, paths.images_m, paths.gamma, paths.reflector
         pos = scatterers.positions_m[rows]
         vel = scatterers.velocities_mps[rows]
@@ -921,4 +955,5 @@ def _concat(sets: list[Scatterers]) -> Scatterers:
 
 __all__ = ["MIN_AREA_M2", "MIN_REFLECTION", "GhostSet", "ImagePaths", "Reflector",
            "find_reflectors", "flat_plate_rcs", "ghost_scatterers", "image_paths",
-           "multipath_if", "rig_front_ghosts", "second_leg_clear", "synthesize_ghosts"]
+           "leg_blockers", "multipath_if", "rig_front_ghosts", "second_leg_clear",
+           "second_legs_clear", "synthesize_ghosts"]

@@ -45,7 +45,6 @@ from simcore.sensors.radar.reflectors import (
     MIN_DISTANCE_M,
     GhostSet,
     Reflector,
-    _reflector_seen,
     polarization_vector,
 )
 from simcore.sensors.radar.scatterers import KIND_POINT_TARGET, Scatterers
@@ -91,14 +90,10 @@ def room_returns(scene: RadarScene | None, config: RadarConfig, reflectors: Sequ
     lam = config.wavelength_m
     paths = _room_paths(_key(reflectors), lam, config.polarization, min(order + 1, MAX_FACES))
     out: list[GhostSet] = []
-    for seq, first, last, position, amplitude in paths:
-        # The first and last reflection points seen in the render as one of the path's
-        # faces (at an edge or a corner the points are on every face's border).
-        objects = {reflectors[i].object_index for i in seq}
-        if buffers is not None and not (any(_reflector_seen(buffers, first[None], o)[0]
-                                            for o in objects)
-                                        and any(_reflector_seen(buffers, last[None], o)[0]
-                                                for o in objects)):
+    seen = (np.ones(len(paths), dtype=bool) if buffers is None
+            else _paths_seen(buffers, paths, reflectors))
+    for (seq, _, _, position, amplitude), ok in zip(paths, seen, strict=True):
+        if not ok:
             continue
         out.append(GhostSet(Scatterers(
             time_s=time_s, wavelength_m=lam, positions_m=position[None],
@@ -112,6 +107,38 @@ def room_returns(scene: RadarScene | None, config: RadarConfig, reflectors: Sequ
 
 _Path = tuple[tuple[int, ...], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
               complex]
+
+
+def _paths_seen(buffers: RenderBuffers, paths: Sequence[_Path],
+                reflectors: Sequence[Reflector]) -> NDArray[np.bool_]:
+    """Whether each path's first and last reflection points are seen in the render.
+
+    Seen as one of the path's faces (at an edge or a corner the points are on every face's
+    border); a point behind the radar or outside the render counts as seen, as in
+    :func:`~simcore.sensors.radar.reflectors._reflector_seen` (one projection of every
+    path's two points instead of one call per point and face).
+    """
+    if not paths:
+        return np.zeros(0, dtype=bool)
+    points = np.array([[first, last] for _, first, last, _, _ in paths]).reshape(-1, 3)
+    label = np.zeros(len(points), dtype=np.int64)
+    shown = np.zeros(len(points), dtype=bool)          # in front and inside the render
+    front = points[:, 2] > 0
+    if np.any(front):
+        intr = buffers.intrinsics
+        uv = intr.project(points[front])
+        col = np.floor(uv[:, 0]).astype(np.int64)
+        row = np.floor(uv[:, 1]).astype(np.int64)
+        within = (col >= 0) & (col < intr.width) & (row >= 0) & (row < intr.height)
+        inside = np.flatnonzero(front)[within]
+        shown[inside] = True
+        label[inside] = buffers.object_index[row[within], col[within]]
+    label, shown = label.reshape(-1, 2), shown.reshape(-1, 2)
+    out = np.empty(len(paths), dtype=bool)
+    for k, (seq, _, _, _, _) in enumerate(paths):
+        objects = {reflectors[i].object_index for i in seq}
+        out[k] = all(not shown[k, j] or int(label[k, j]) in objects for j in range(2))
+    return out
 
 
 def _key(reflectors: Sequence[Reflector]) -> tuple[object, ...]:
