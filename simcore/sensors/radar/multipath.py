@@ -138,7 +138,8 @@ def find_reflectors(scene: RadarScene, wavelength_m: float, *,
     """
     table = scene.materials
     radar = scene.radar
-    r_rad, p_rad = radar.rotation, radar.position
+    radar_key = tuple(np.ascontiguousarray(a, dtype=np.float64).tobytes()
+                      for a in (radar.rotation, radar.position, radar.velocity_mps))
     freq = SPEED_OF_LIGHT / wavelength_m
     out: list[Reflector] = []
     for i, o in enumerate(scene.objects):
@@ -154,27 +155,59 @@ def find_reflectors(scene: RadarScene, wavelength_m: float, *,
         if abs(gamma) < min_reflection:
             continue
         state = scene.snapshot.objects[i]
-        t = state.transform
-        rel_v = (np.asarray(state.velocity_mps) - radar.velocity_mps) @ r_rad
-        for c, axes, half, n, two in _faces(o.geometry):
-            # World (object transforms may scale), then the radar frame.
-            c_w = t[:3, :3] @ c + t[:3, 3]
-            ax_w = axes @ t[:3, :3].T
-            scale = np.linalg.norm(ax_w, axis=1)
-            half_w = half * scale
-            if 4.0 * half_w[0] * half_w[1] < min_area_m2:
-                continue
-            n_w = np.cross(ax_w[0], ax_w[1])
-            n_w /= max(float(np.linalg.norm(n_w)), 1e-300)
-            if n_w @ (t[:3, :3] @ n) < 0:
-                n_w = -n_w
-            normal = n_w @ r_rad
+        faces = _world_faces(
+            "plane" if isinstance(o.geometry, Plane) else "box",
+            tuple(float(v) for v in o.geometry.size_m),
+            np.ascontiguousarray(state.transform, dtype=np.float64).tobytes(),
+            np.ascontiguousarray(state.velocity_mps, dtype=np.float64).tobytes(), radar_key,
+            float(min_area_m2))
+        for center, axes, half_w, normal, two, speed in faces:
             out.append(Reflector(
-                object_index=i, center_m=(c_w - p_rad) @ r_rad,
-                axes=(ax_w / scale[:, None]) @ r_rad, half_size_m=half_w, normal=normal,
+                object_index=i, center_m=center, axes=axes, half_size_m=half_w, normal=normal,
                 two_sided=two, gamma=gamma, height_rms_m=float(band.height_rms_m),
-                normal_speed_mps=float(rel_v @ normal), band=band, frequency_hz=freq))
+                normal_speed_mps=speed, band=band, frequency_hz=freq))
     return out
+
+
+#: One face of :func:`_world_faces`: centre, axes, half sizes, normal (radar frame), whether
+#: two-sided, speed along the normal relative to the radar.
+_Face = tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
+              NDArray[np.float64], bool, float]
+
+
+@lru_cache(maxsize=1024)
+def _world_faces(kind: str, size_m: tuple[float, ...], transform: bytes, velocity: bytes,
+                 radar: tuple[bytes, ...], min_area_m2: float) -> tuple[_Face, ...]:
+    """The faces of a box or plane (``kind``) in the radar frame, by size, pose and the radar's.
+
+    Cached: a still object seen by a still radar has the same faces every frame. The
+    arrays are read-only (shared by the frames' reflectors).
+    """
+    t = np.frombuffer(transform).reshape(4, 4)
+    r_rad = np.frombuffer(radar[0]).reshape(3, 3)
+    p_rad, v_rad = np.frombuffer(radar[1]), np.frombuffer(radar[2])
+    rel_v = (np.frombuffer(velocity) - v_rad) @ r_rad
+    out = []
+    shape = (Plane(size_m=size_m) if kind == "plane"  # type: ignore[arg-type]
+             else Box(size_m=size_m))  # type: ignore[arg-type]
+    for c, axes, half, n, two in _faces(shape):
+        # World (object transforms may scale), then the radar frame.
+        c_w = t[:3, :3] @ c + t[:3, 3]
+        ax_w = axes @ t[:3, :3].T
+        scale = np.linalg.norm(ax_w, axis=1)
+        half_w = half * scale
+        if 4.0 * half_w[0] * half_w[1] < min_area_m2:
+            continue
+        n_w = np.cross(ax_w[0], ax_w[1])
+        n_w /= max(float(np.linalg.norm(n_w)), 1e-300)
+        if n_w @ (t[:3, :3] @ n) < 0:
+            n_w = -n_w
+        normal = n_w @ r_rad
+        arrays = ((c_w - p_rad) @ r_rad, (ax_w / scale[:, None]) @ r_rad, half_w, normal)
+        for a in arrays:
+            a.setflags(write=False)
+        out.append((*arrays, two, float(rel_v @ normal)))
+    return tuple(out)
 
 
 @dataclass(frozen=True)
