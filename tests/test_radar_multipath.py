@@ -384,6 +384,44 @@ def test_sets_with_their_own_antennas_share_one_synthesis() -> None:
     assert not np.any(synthesize_if_sets([(empty, None, None)], cfg))
 
 
+def test_ghost_label_sets_have_the_terms_of_one_call_per_set() -> None:
+    """prepare_scatterer_sets: the sets with real antennas as one, those with their own
+    (mirrored) antennas as another; every row has the terms (range, radial velocity,
+    power, steering, object, Doppler) of prepare_scatterers on its own set, bit for bit."""
+    from simcore.sensors.radar.labels import prepare_scatterer_sets, prepare_scatterers
+
+    cfg = radar_config()
+    rng = np.random.default_rng(5)
+
+    def one(m: int, obj: int) -> Scatterers:
+        return Scatterers(
+            time_s=0.0, wavelength_m=cfg.wavelength_m,
+            positions_m=np.column_stack([rng.uniform(-1, 1, m), rng.uniform(-0.5, 0.5, m),
+                                         rng.uniform(1, 4, m)]),
+            velocities_mps=rng.uniform(-2, 2, (m, 3)), rcs_m2=rng.uniform(0.1, 1, m),
+            phase_rad=np.zeros(m), object_index=np.full(m, obj, np.int32),
+            kind=np.zeros(m, np.int8))
+
+    tx, rx = cfg.tx_positions_m(), cfg.rx_positions_m()
+    shift = np.array([0.0, 1.6, 0.0])
+    sets = [(one(4, 0), tx * np.array([1.0, -1.0, 1.0]) + shift, None),
+            (one(3, 1), None, None),
+            (one(5, 2), None, rx * np.array([-1.0, 1.0, 1.0]) + 2 * shift),
+            (one(2, 3), tx + shift, rx - shift), (one(1, 4), None, None)]
+    joined = prepare_scatterer_sets(sets, cfg)
+    apart = [prepare_scatterers(sc, cfg, tx_positions_m=t, rx_positions_m=r) for sc, t, r in sets]
+
+    def rows(prepared: list) -> list:
+        return sorted((float(p.range_m[i]), float(p.velocity_mps[i]), float(p.power[i]),
+                       int(p.object_index[i]), float(p.doppler_cycles[i]),
+                       p.steering[i].tobytes()) for p in prepared for i in range(len(p)))
+
+    assert len(joined) == 2
+    assert rows(joined) == rows(apart)
+    for p in joined:
+        assert np.all(np.diff(p.range_m) >= 0)          # sorted by range, as each set
+
+
 def test_simulator_adds_the_ghosts_on_the_plain_and_the_background_path() -> None:
     """The radar_multipath stage: both the plain path and the still-background
     accelerator add the same ghosts to the raw cube (a small box moves, the rest is still)."""

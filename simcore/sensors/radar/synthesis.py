@@ -984,12 +984,13 @@ def synthesize_if_sets(sets: Sequence[tuple[Scatterers, NDArray[np.floating] | N
                              rx_positions_m=rx)
     merged = Scatterers.concatenate([sc for sc, _, _ in sets])
     prep = prepare(merged)
-    per_row = []
-    for k in range(2):
-        # (n, 3, M): each set's antennas repeated over its rows, in prepared order.
-        cols = [np.repeat(antenna_positions(config, tx, rx)[k][:, :, None], len(sc), axis=2)
-                for sc, tx, rx in sets]
-        per_row.append(np.ascontiguousarray(np.concatenate(cols, axis=2)[:, :, prep.order]))
+    sizes = np.array([len(sc) for sc, _, _ in sets])
+    tx0, rx0 = antenna_positions(config, None, None)
+    given = ([tx0 if tx is None else antenna_positions(config, tx, None)[0] for _, tx, _ in sets],
+             [rx0 if rx is None else antenna_positions(config, None, rx)[1] for _, _, rx in sets])
+    # (n, 3, M): each set's antennas repeated over its rows, in prepared order.
+    per_row = [np.ascontiguousarray(np.repeat(np.stack(g, axis=2), sizes, axis=2)[:, :, prep.order])
+               for g in given]
     return _synthesize(prep, config, (per_row[0], per_row[1]), threads, None)
 
 
