@@ -188,8 +188,7 @@ def _world_faces(kind: str, size_m: tuple[float, ...], transform: bytes, velocit
     p_rad, v_rad = np.frombuffer(radar[1]), np.frombuffer(radar[2])
     rel_v = (np.frombuffer(velocity) - v_rad) @ r_rad
     out = []
-    shape = (Plane(size_m=size_m) if kind == "plane"  # type: ignore[arg-type]
-             else Box(size_m=size_m))  # type: ignore[arg-type]
+    shape = Plane(size_m=size_m) if kind == "plane" else Box(size_m=size_m)
     for c, axes, half, n, two in _faces(shape):
         # World (object transforms may scale), then the radar frame.
         c_w = t[:3, :3] @ c + t[:3, 3]
@@ -526,7 +525,7 @@ def leg_blockers(scene: RadarScene, wavelength_m: float) -> list[_Blocker]:
             continue
         # Radar frame → the object's local frame (its transform may scale).
         m = np.linalg.inv(world_to_radar @ scene.snapshot.objects[i].transform)
-        out.append((i, local[0], local[1], m))
+        out.append((i, local[0], local[1], np.asarray(m, dtype=np.float64)))
     return out
 
 

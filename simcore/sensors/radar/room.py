@@ -134,11 +134,11 @@ def _paths_seen(buffers: RenderBuffers, paths: Sequence[_Path],
         inside = np.flatnonzero(front)[within]
         shown[inside] = True
         label[inside] = buffers.object_index[row[within], col[within]]
-    label, shown = label.reshape(-1, 2), shown.reshape(-1, 2)
+    label2, shown2 = label.reshape(-1, 2), shown.reshape(-1, 2)
     out = np.empty(len(paths), dtype=bool)
     for k, (seq, _, _, _, _) in enumerate(paths):
         objects = {reflectors[i].object_index for i in seq}
-        out[k] = all(not shown[k, j] or int(label[k, j]) in objects for j in range(2))
+        out[k] = all(not shown2[k, j] or int(label2[k, j]) in objects for j in range(2))
     return out
 
 
