@@ -575,3 +575,35 @@ def test_compiled_leg_test_equals_the_numpy_reference() -> None:
     hit = _segments_hit_triangles(a, b, tri)
     np.testing.assert_array_equal(hit, _segments_hit_triangles_numpy(a, b, tri))
     assert 0 < hit.sum() < len(hit)
+
+
+def test_one_pass_leg_test_equals_the_per_object_numpy_tests() -> None:
+    """legs_blocked (every leg, every blocking object, one compiled pass) clears exactly the
+    legs that the per-object numpy slab test and triangle test find blocked, objects in
+    order, with the legs each object skips; segments parallel to a slab included."""
+    from simcore.sensors.radar.leg_kernel import legs_blocked
+    from simcore.sensors.radar.multipath import _segments_hit_box, _segments_hit_triangles_numpy
+
+    rng = np.random.default_rng(4)
+    n_legs, n_obj = 600, 5
+    a, b = 2 * rng.normal(size=(n_legs, 3)), 2 * rng.normal(size=(n_legs, 3))
+    b[::7, 0] = a[::7, 0]                     # parallel to the x slabs
+    b[::11, 1:] = a[::11, 1:]                 # along x only
+    tris = [rng.normal(size=(int(rng.integers(4, 60)), 3, 3)) * 0.8 for _ in range(n_obj)]
+    boxes = np.stack([np.array([t.reshape(-1, 3).min(0), t.reshape(-1, 3).max(0)]) for t in tris])
+    mats = [np.linalg.qr(rng.normal(size=(3, 3)))[0] for _ in range(n_obj)]
+    la = np.stack([a @ m.T for m in mats])
+    lb = np.stack([b @ m.T for m in mats])
+    skip = rng.random((n_obj, n_legs)) < 0.2
+    expected = np.ones(n_legs, dtype=bool)
+    for o in range(n_obj):
+        idx = np.flatnonzero(expected & ~skip[o])
+        near = _segments_hit_box(la[o, idx], lb[o, idx], boxes[o])
+        expected[idx[near]] = ~_segments_hit_triangles_numpy(la[o, idx[near]], lb[o, idx[near]],
+                                                              tris[o])
+    clear = np.ones(n_legs, dtype=bool)
+    legs_blocked(la, lb, skip, boxes, np.concatenate(tris),
+                 np.concatenate([[0], np.cumsum([len(t) for t in tris])]).astype(np.int64),
+                 clear)
+    np.testing.assert_array_equal(clear, expected)
+    assert 0 < expected.sum() < n_legs

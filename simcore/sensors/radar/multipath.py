@@ -75,6 +75,7 @@ from simcore.scene.geometry import Box, CornerReflector, Plane, corner_reflector
 from simcore.scene.materials import DualBandMaterial
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.sensors.radar.equation import element_gain
+from simcore.sensors.radar.leg_kernel import legs_blocked
 from simcore.sensors.radar.reflectors import (
     MIN_DISTANCE_M,
     GhostSet,
@@ -577,18 +578,20 @@ def second_legs_clear(scene: RadarScene, group: Sequence[ImagePaths], scatterers
     own = scatterers.object_index[rows]
     own_ok = scatterers.kind[rows] != KIND_FACET
     clear = np.ones(len(a), dtype=bool)
-    for i, tri, box, m in blockers:
-        # The reflector does not stop its own legs; a segment hit once stays hit.
-        sel = clear & ~((own == i) & own_ok) & (reflector != i)
-        if not np.any(sel):
-            continue
-        idx = np.flatnonzero(sel)
-        la = a[idx] @ m[:3, :3].T + m[:3, 3]
-        lb = b[idx] @ m[:3, :3].T + m[:3, 3]
-        near = _segments_hit_box(la, lb, box)
-        if np.any(near):
-            k = idx[near]
-            clear[k] = ~_segments_hit_triangles(la[near], lb[near], tri)
+    if blockers:
+        # Every leg in every blocker's local frame, then one compiled pass: the reflector
+        # does not stop its own legs, nor a target's own object where it scatters from
+        # outside it (corner reflectors, point targets); a leg hit once stays hit.
+        index = np.array([i for i, _, _, _ in blockers])
+        la = np.stack([a @ m[:3, :3].T + m[:3, 3] for _, _, _, m in blockers])
+        lb = np.stack([b @ m[:3, :3].T + m[:3, 3] for _, _, _, m in blockers])
+        skip = ((own[None, :] == index[:, None]) & own_ok[None, :]) | (
+            reflector[None, :] == index[:, None])
+        tri = np.concatenate([t for _, t, _, _ in blockers])
+        starts = np.concatenate([[0], np.cumsum([len(t) for _, t, _, _ in blockers])])
+        legs_blocked(la, lb, skip, np.stack([box for _, _, box, _ in blockers]),
+                     np.ascontiguousarray(tri, dtype=np.float64), starts.astype(np.int64),
+                     clear)
     return np.split(clear, np.cumsum([len(g.rows) for g in group])[:-1])
 
 
