@@ -144,9 +144,13 @@ def _paths_seen(buffers: RenderBuffers, paths: Sequence[_Path],
 
 def _key(reflectors: Sequence[Reflector]) -> tuple[object, ...]:
     """A hashable description of the faces (their geometry and material), for the cache."""
+    bands: dict[int, str] = {}          # the faces of one material share its band
+    for r in reflectors:
+        if r.band is not None and id(r.band) not in bands:
+            bands[id(r.band)] = r.band.model_dump_json()
     return tuple((r.center_m.tobytes(), r.axes.tobytes(), r.half_size_m.tobytes(),
                   r.normal.tobytes(), r.two_sided, complex(r.gamma), r.height_rms_m,
-                  None if r.band is None else r.band.model_dump_json(), r.frequency_hz,
+                  None if r.band is None else bands[id(r.band)], r.frequency_hz,
                   r.object_index) for r in reflectors)
 
 
