@@ -108,19 +108,38 @@ def _faces(geometry: Box | Plane) -> list[tuple[NDArray[np.float64], NDArray[np.
                                                 NDArray[np.float64], NDArray[np.float64],
                                                 bool]]:
     """(centre, axes (2, 3), half sizes (2,), normal, two-sided) of a shape's faces, local."""
+    return list(_local_faces("plane" if isinstance(geometry, Plane) else "box",
+                             tuple(float(v) for v in geometry.size_m)))
+
+
+@lru_cache(maxsize=256)
+def _local_faces(kind: str, size_m: tuple[float, ...]) -> tuple[
+        tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
+              NDArray[np.float64], bool], ...]:
+    """:func:`_faces` of a plane or box (``kind``) of a size, cached (read-only arrays)."""
     eye = np.eye(3)
-    if isinstance(geometry, Plane):
-        a, b = geometry.size_m
-        return [(np.zeros(3), eye[:2].copy(), 0.5 * np.array([a, b]), eye[2].copy(), True)]
-    size = np.asarray(geometry.size_m, dtype=np.float64)
     out = []
-    for k in range(3):
-        i, j = (k + 1) % 3, (k + 2) % 3
-        half = 0.5 * np.array([size[i], size[j]])
-        for sign in (1.0, -1.0):
-            out.append((sign * 0.5 * size[k] * eye[k], eye[[i, j]].copy(), half,
-                        sign * eye[k], False))
-    return out
+    if kind == "plane":
+        a, b = size_m
+        out.append((np.zeros(3), eye[:2].copy(), 0.5 * np.array([a, b]), eye[2].copy(), True))
+    else:
+        size = np.asarray(size_m, dtype=np.float64)
+        for k in range(3):
+            i, j = (k + 1) % 3, (k + 2) % 3
+            half = 0.5 * np.array([size[i], size[j]])
+            for sign in (1.0, -1.0):
+                out.append((sign * 0.5 * size[k] * eye[k], eye[[i, j]].copy(), half,
+                            sign * eye[k], False))
+    for face in out:
+        for a in face[:4]:
+            a.setflags(write=False)
+    return tuple(out)
+
+
+def _cross3(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``np.cross`` of two 3-vectors, in its order of operations (without its overhead)."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                     a[0] * b[1] - a[1] * b[0]])
 
 
 def find_reflectors(scene: RadarScene, wavelength_m: float, *,
@@ -189,8 +208,7 @@ def _world_faces(kind: str, size_m: tuple[float, ...], transform: bytes, velocit
     p_rad, v_rad = np.frombuffer(radar[1]), np.frombuffer(radar[2])
     rel_v = (np.frombuffer(velocity) - v_rad) @ r_rad
     out = []
-    shape = Plane(size_m=size_m) if kind == "plane" else Box(size_m=size_m)
-    for c, axes, half, n, two in _faces(shape):
+    for c, axes, half, n, two in _local_faces(kind, size_m):
         # World (object transforms may scale), then the radar frame.
         c_w = t[:3, :3] @ c + t[:3, 3]
         ax_w = axes @ t[:3, :3].T
@@ -198,7 +216,7 @@ def _world_faces(kind: str, size_m: tuple[float, ...], transform: bytes, velocit
         half_w = half * scale
         if 4.0 * half_w[0] * half_w[1] < min_area_m2:
             continue
-        n_w = np.cross(ax_w[0], ax_w[1])
+        n_w = _cross3(ax_w[0], ax_w[1])
         n_w /= max(float(np.linalg.norm(n_w)), 1e-300)
         if n_w @ (t[:3, :3] @ n) < 0:
             n_w = -n_w
