@@ -97,3 +97,17 @@ def test_filtered_search_finds_the_paths_of_the_full_search(seed: int, max_faces
         for u, v in zip(a[1:4], b[1:4], strict=True):
             np.testing.assert_array_equal(u, v)
         assert a[4] == b[4]
+
+
+def test_a_bare_room_has_more_paths_than_the_filter_first_holds() -> None:
+    """Six faces, 108 paths at three faces (more than the 4 × faces rows the compiled pass
+    starts with): the same paths as the full search."""
+    faces = box_faces(np.array([0.3, -0.2, 1.2]), np.array([3.0, 2.0, 1.5]), 0, CONCRETE,
+                      inward=True)
+    room._room_paths.cache_clear()
+    found = room._room_paths(room._key(faces), LAM, "H", 3)
+    own = [room._face_of(k) for k in room._key(faces)]
+    reference = room._search(own, follows(own), 3, LAM, polarization_vector("H"))
+    assert len(found) > 4 * len(faces)
+    assert [p[0] for p in found] == [p[0] for p in reference]
+    assert [p[4] for p in found] == [p[4] for p in reference]
