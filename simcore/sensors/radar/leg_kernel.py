@@ -5,8 +5,8 @@
 leg_blockers`): a slab test on the object's bounding box in its local frame, then
 Möller–Trumbore on its triangles. :func:`legs_blocked` runs both for all the legs and all
 the objects in one pass, with the arithmetic of the numpy reference
-(``multipath._segments_hit_box``, ``multipath._hit_kernel``), instead of a round of numpy
-calls per object.
+(``multipath._segments_hit_box``; the triangles' test is :func:`triangle_hit`, also that of
+``multipath._hit_kernel``), instead of a round of numpy calls per object.
 """
 
 from __future__ import annotations
@@ -45,9 +45,13 @@ def _box_hit(a: NDArray[np.float64], b: NDArray[np.float64], box: NDArray[np.flo
 
 
 @kernel
-def _triangle_hit(a: NDArray[np.float64], b: NDArray[np.float64], tri: NDArray[np.float64],
+def triangle_hit(a: NDArray[np.float64], b: NDArray[np.float64], tri: NDArray[np.float64],
                   lo: int, hi: int) -> bool:
-    """Whether segment a → b crosses one of triangles ``lo … hi−1`` (``_hit_kernel``'s test)."""
+    """Whether segment a → b crosses one of triangles ``lo … hi−1`` (Möller–Trumbore).
+
+    0 < t < 1 along the segment, edges included; a triangle seen edge-on (|det| ≤ 1e-12)
+    is not hit.
+    """
     dx, dy, dz = b[0] - a[0], b[1] - a[1], b[2] - a[2]
     for t in range(lo, hi):
         e1x, e1y, e1z = tri[t, 1, 0] - tri[t, 0, 0], tri[t, 1, 1] - tri[t, 0, 1], \
@@ -100,8 +104,8 @@ def legs_blocked(la: NDArray[np.float64], lb: NDArray[np.float64],
                 continue
             if not _box_hit(la[o, k], lb[o, k], boxes[o]):
                 continue
-            if _triangle_hit(la[o, k], lb[o, k], triangles, starts[o], starts[o + 1]):
+            if triangle_hit(la[o, k], lb[o, k], triangles, starts[o], starts[o + 1]):
                 clear[k] = False
 
 
-__all__ = ["legs_blocked"]
+__all__ = ["legs_blocked", "triangle_hit"]

@@ -75,7 +75,7 @@ from simcore.scene.geometry import Box, CornerReflector, Plane, corner_reflector
 from simcore.scene.materials import DualBandMaterial
 from simcore.scene.radar_config import SPEED_OF_LIGHT, RadarConfig
 from simcore.sensors.radar.equation import element_gain
-from simcore.sensors.radar.leg_kernel import legs_blocked
+from simcore.sensors.radar.leg_kernel import legs_blocked, triangle_hit
 from simcore.sensors.radar.reflectors import (
     MIN_DISTANCE_M,
     GhostSet,
@@ -469,29 +469,8 @@ def _hit_kernel(a: NDArray[np.float64], b: NDArray[np.float64], tri: NDArray[np.
                 hit: NDArray[np.bool_]) -> None:
     """``hit[i]`` = segment ``a[i] → b[i]`` crosses a triangle (0 < t < 1, inclusive edges)."""
     for i in range(a.shape[0]):
-        dx, dy, dz = b[i, 0] - a[i, 0], b[i, 1] - a[i, 1], b[i, 2] - a[i, 2]
-        for t in range(tri.shape[0]):
-            e1x, e1y, e1z = tri[t, 1, 0] - tri[t, 0, 0], tri[t, 1, 1] - tri[t, 0, 1], \
-                tri[t, 1, 2] - tri[t, 0, 2]
-            e2x, e2y, e2z = tri[t, 2, 0] - tri[t, 0, 0], tri[t, 2, 1] - tri[t, 0, 1], \
-                tri[t, 2, 2] - tri[t, 0, 2]
-            px, py, pz = dy * e2z - dz * e2y, dz * e2x - dx * e2z, dx * e2y - dy * e2x
-            det = px * e1x + py * e1y + pz * e1z
-            if abs(det) <= 1e-12:
-                continue
-            inv = 1.0 / det
-            sx, sy, sz = a[i, 0] - tri[t, 0, 0], a[i, 1] - tri[t, 0, 1], a[i, 2] - tri[t, 0, 2]
-            u = (sx * px + sy * py + sz * pz) * inv
-            if u < 0.0 or u > 1.0:
-                continue
-            qx, qy, qz = sy * e1z - sz * e1y, sz * e1x - sx * e1z, sx * e1y - sy * e1x
-            v = (dx * qx + dy * qy + dz * qz) * inv
-            if v < 0.0 or u + v > 1.0:
-                continue
-            tt = (qx * e2x + qy * e2y + qz * e2z) * inv
-            if 0.0 < tt < 1.0:
-                hit[i] = True
-                break
+        if triangle_hit(a[i], b[i], tri, 0, tri.shape[0]):
+            hit[i] = True
 
 
 def _segments_hit_triangles_numpy(a: NDArray[np.float64], b: NDArray[np.float64],

@@ -149,6 +149,16 @@ def _may_trace(seq: NDArray[np.int64], n: int, normals: NDArray[np.float64],
 
 
 @kernel
+def _append(out: NDArray[np.int64], row: int, i: int, j: int, m: int, flag: int
+            ) -> NDArray[np.int64]:
+    """``out`` with row ``row`` set to (i, j, m, flag), doubled first when full."""
+    if row == out.shape[0]:
+        out = np.concatenate((out, np.full_like(out, -1)))
+    out[row, 0], out[row, 1], out[row, 2], out[row, 3] = i, j, m, flag
+    return out
+
+
+@kernel
 def room_candidates(centers: NDArray[np.float64], face_normals: NDArray[np.float64],
                     axes: NDArray[np.float64], halves: NDArray[np.float64],
                     two_sided: NDArray[np.bool_], follows: NDArray[np.bool_],
@@ -192,9 +202,7 @@ def room_candidates(centers: NDArray[np.float64], face_normals: NDArray[np.float
             flag = _may_trace(seq, 2, normals, images, centers, axes, halves, face_normals,
                               edge_tolerance, min_distance)
             if flag:
-                if k_out == out.shape[0]:
-                    out = np.concatenate((out, np.full_like(out, -1)))
-                out[k_out, 0], out[k_out, 1], out[k_out, 2], out[k_out, 3] = i, j, -1, flag
+                out = _append(out, k_out, i, j, -1, flag)
                 k_out += 1
             if max_faces < 3:
                 continue
@@ -209,9 +217,7 @@ def room_candidates(centers: NDArray[np.float64], face_normals: NDArray[np.float
                 flag = _may_trace(seq, 3, normals, images, centers, axes, halves,
                                   face_normals, edge_tolerance, min_distance)
                 if flag:
-                    if k_out == out.shape[0]:
-                        out = np.concatenate((out, np.full_like(out, -1)))
-                    out[k_out, 0], out[k_out, 1], out[k_out, 2], out[k_out, 3] = i, j, m, flag
+                    out = _append(out, k_out, i, j, m, flag)
                     k_out += 1
             seq[2] = -1
     return out[:k_out].copy()
