@@ -131,8 +131,8 @@ def _local_faces(kind: str, size_m: tuple[float, ...]) -> tuple[
                 out.append((sign * 0.5 * size[k] * eye[k], eye[[i, j]].copy(), half,
                             sign * eye[k], False))
     for face in out:
-        for a in face[:4]:
-            a.setflags(write=False)
+        for arr in face[:4]:
+            arr.setflags(write=False)
     return tuple(out)
 
 
