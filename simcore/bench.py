@@ -423,17 +423,22 @@ TOF_EFFECTS = ("multipath", "motion_artifacts", "specular", "wiggling", "distort
                "vignetting", "stray_light", "ambient_light")
 
 
-def with_effects(project: Project, *, on: bool, person: bool = True) -> Project:
+def with_effects(project: Project, *, on: bool, person: bool = True,
+                 room: bool = False) -> Project:
     """The project with every ToF effect switch and radar multipath (order 1) on or off.
 
-    Motion artefacts use reprojection (no extra ToF renders).
+    Motion artefacts use reprojection (no extra ToF renders). ``room``: ToF multipath from
+    the whole room (``multipath_model = "room"``, its moving objects to first order)
+    instead of the project's model.
 
     ``person`` False also removes the objects named ``person`` (today's plain office).
     """
     update: dict[str, Any] = {}
     if project.rig.tof is not None:
+        model = {"multipath_model": "room", "multipath_moving": "first_order"} if room else {}
         update["tof"] = project.rig.tof.model_copy(
-            update={**dict.fromkeys(TOF_EFFECTS, on), "motion_sampling": "reprojection"})
+            update={**dict.fromkeys(TOF_EFFECTS, on), "motion_sampling": "reprojection",
+                    **model})
     if project.rig.radar is not None:
         update["radar"] = project.rig.radar.model_copy(
             update={"multipath_order": 1 if on else 0})
@@ -473,7 +478,8 @@ def effect_variants(project_path: str | Path, *, frames: int) -> dict[str, Any]:
     Returns
     -------
     dict
-        ``all_effects`` and ``plain``: each ``fps``, ``frame_ms_median``, ``stages_ms``;
+        ``all_effects``, ``all_effects_room`` (the same with ToF multipath from the whole
+        room) and ``plain``: each ``fps``, ``frame_ms_median``, ``stages_ms``;
         ``load`` (load average before and after).
     """
     path = Path(project_path)
@@ -481,6 +487,8 @@ def effect_variants(project_path: str | Path, *, frames: int) -> dict[str, Any]:
     before = _load()
     result: dict[str, Any] = {
         "all_effects": _time_variant(with_effects(project, on=True), path.parent, frames),
+        "all_effects_room": _time_variant(with_effects(project, on=True, room=True),
+                                          path.parent, frames),
         "plain": _time_variant(with_effects(project, on=False, person=False), path.parent,
                                frames),
     }

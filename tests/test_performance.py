@@ -84,11 +84,12 @@ def test_bench_cli_prints_one_json_object(capsys: pytest.CaptureFixture[str]) ->
 
 
 def test_bench_json_carries_the_effect_variants(capsys: pytest.CaptureFixture[str]) -> None:
-    """``--effects --json``: the all-effects and plain variants are in the one object."""
+    """``--effects --json``: the all-effects (own and whole-room ToF multipath) and plain
+    variants are in the one object."""
     assert main(["bench", str(example_path("wall")), "--frames", "1", "--json",
                  "--effects"]) == 0
     effects = json.loads(capsys.readouterr().out)["effects"]
-    for name in ("all_effects", "plain"):
+    for name in ("all_effects", "all_effects_room", "plain"):
         assert effects[name]["fps"] > 0
         assert {"tof", "dsp"} <= set(effects[name]["stages_ms"])
 

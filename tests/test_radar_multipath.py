@@ -359,6 +359,94 @@ def test_order_two_sets_of_several_reflectors_sum_like_separate_syntheses() -> N
     assert np.max(np.abs(joined - apart)) < 1e-4 * np.max(np.abs(apart))
 
 
+def test_sets_with_their_own_antennas_share_one_synthesis() -> None:
+    """synthesize_if_sets: sets with their own (mirrored) antennas, static, moving and
+    accelerating rows, 2 Tx × 3 Rx, synthesised together, equal the sum of each set's
+    direct sum with its antennas (the image method's ghost sets)."""
+    from simcore.sensors.radar.multipath import GhostSet, synthesize_ghosts
+    from simcore.sensors.radar.synthesis import synthesize_if_sets
+
+    lam = SPEED_OF_LIGHT / 63e9
+    cfg = radar_config(chirps_per_frame=4, samples_per_chirp=128, chirp_time_s=64e-6,
+                       sample_rate_hz=2e6, chirp_repetition_time_s=100e-6,
+                       tx=[Antenna(name="tx1", position_mm=(0.0, 0.0)),
+                           Antenna(name="tx2", position_mm=(0.0, 2 * lam * 1e3))],
+                       rx=[Antenna(name=f"rx{i}", position_mm=(i * 0.5 * lam * 1e3, 0.0))
+                           for i in range(3)])
+    rng = np.random.default_rng(11)
+
+    def one(m: int, *, moving: bool, accelerating: bool) -> Scatterers:
+        vel = rng.uniform(-2, 2, (m, 3)) if moving else np.zeros((m, 3))
+        return Scatterers(
+            time_s=0.0, wavelength_m=cfg.wavelength_m,
+            positions_m=np.column_stack([rng.uniform(-1, 1, m), rng.uniform(-0.5, 0.5, m),
+                                         rng.uniform(1, 4, m)]),
+            velocities_mps=vel, rcs_m2=rng.uniform(0.1, 1, m),
+            phase_rad=rng.uniform(-np.pi, np.pi, m), object_index=np.zeros(m, np.int32),
+            kind=np.zeros(m, np.int8),
+            accelerations_mps2=rng.uniform(-20, 20, (m, 3)) if accelerating else None)
+
+    tx, rx = cfg.tx_positions_m(), cfg.rx_positions_m()
+    mirror = np.array([1.0, -1.0, 1.0])          # a wall at y = 0.8 m: p → (x, 1.6 − y, z)
+    shift = np.array([0.0, 1.6, 0.0])
+    sets = [(one(6, moving=True, accelerating=True), tx * mirror + shift, None),
+            (one(5, moving=False, accelerating=False), None, rx * mirror + shift),
+            (one(7, moving=True, accelerating=False), tx * mirror + shift,
+             rx + np.array([0.0, 0.0, -1.2])),
+            (one(4, moving=True, accelerating=False), None, None)]
+    joined = synthesize_if_sets(sets, cfg)
+    apart = sum(synthesize_if_direct(sc, cfg, tx_positions_m=t, rx_positions_m=r)
+                for sc, t, r in sets)
+    err = np.max(np.abs(joined - apart)) / np.max(np.abs(apart))
+    print(f"sets: one synthesis vs the sets' direct sums, max error {err:.2e} of the peak")
+    assert err < 1e-4            # the moving-scatterer budget (MOTION_TOLERANCE_FLOOR)
+    # Each set's antennas act: the same rows with the configuration's antennas differ.
+    plain = sum(synthesize_if_direct(sc, cfg) for sc, _, _ in sets)
+    assert np.max(np.abs(plain - apart)) > 0.1 * np.max(np.abs(apart))
+    ghosts = [GhostSet(sc, 1, 0, tx_positions_m=t, rx_positions_m=r) for sc, t, r in sets]
+    assert np.max(np.abs(synthesize_ghosts(ghosts, cfg) - apart)) < 1e-4 * np.max(np.abs(apart))
+    empty = sets[1][0].subset(np.zeros(0, dtype=np.intp))
+    assert not np.any(synthesize_if_sets([(empty, None, None)], cfg))
+
+
+def test_ghost_label_sets_have_the_terms_of_one_call_per_set() -> None:
+    """prepare_scatterer_sets: the sets with real antennas as one, those with their own
+    (mirrored) antennas as another; every row has the terms (range, radial velocity,
+    power, steering, object, Doppler) of prepare_scatterers on its own set, bit for bit."""
+    from simcore.sensors.radar.labels import prepare_scatterer_sets, prepare_scatterers
+
+    cfg = radar_config()
+    rng = np.random.default_rng(5)
+
+    def one(m: int, obj: int) -> Scatterers:
+        return Scatterers(
+            time_s=0.0, wavelength_m=cfg.wavelength_m,
+            positions_m=np.column_stack([rng.uniform(-1, 1, m), rng.uniform(-0.5, 0.5, m),
+                                         rng.uniform(1, 4, m)]),
+            velocities_mps=rng.uniform(-2, 2, (m, 3)), rcs_m2=rng.uniform(0.1, 1, m),
+            phase_rad=np.zeros(m), object_index=np.full(m, obj, np.int32),
+            kind=np.zeros(m, np.int8))
+
+    tx, rx = cfg.tx_positions_m(), cfg.rx_positions_m()
+    shift = np.array([0.0, 1.6, 0.0])
+    sets = [(one(4, 0), tx * np.array([1.0, -1.0, 1.0]) + shift, None),
+            (one(3, 1), None, None),
+            (one(5, 2), None, rx * np.array([-1.0, 1.0, 1.0]) + 2 * shift),
+            (one(2, 3), tx + shift, rx - shift), (one(1, 4), None, None)]
+    joined = prepare_scatterer_sets(sets, cfg)
+    apart = [prepare_scatterers(sc, cfg, tx_positions_m=t, rx_positions_m=r) for sc, t, r in sets]
+
+    def rows(prepared: list) -> list:
+        return sorted((float(p.range_m[i]), float(p.velocity_mps[i]), float(p.power[i]),
+                       int(p.object_index[i]), float(p.doppler_cycles[i]),
+                       p.steering[i].tobytes()) for p in prepared for i in range(len(p)))
+
+    assert len(joined) == 2
+    assert rows(joined) == rows(apart)
+    for p in joined:
+        assert np.all(np.diff(p.range_m) >= 0)          # sorted by range, as each set
+
+
 def test_simulator_adds_the_ghosts_on_the_plain_and_the_background_path() -> None:
     """The radar_multipath stage: both the plain path and the still-background
     accelerator add the same ghosts to the raw cube (a small box moves, the rest is still)."""
@@ -515,3 +603,35 @@ def test_compiled_leg_test_equals_the_numpy_reference() -> None:
     hit = _segments_hit_triangles(a, b, tri)
     np.testing.assert_array_equal(hit, _segments_hit_triangles_numpy(a, b, tri))
     assert 0 < hit.sum() < len(hit)
+
+
+def test_one_pass_leg_test_equals_the_per_object_numpy_tests() -> None:
+    """legs_blocked (every leg, every blocking object, one compiled pass) clears exactly the
+    legs that the per-object numpy slab test and triangle test find blocked, objects in
+    order, with the legs each object skips; segments parallel to a slab included."""
+    from simcore.sensors.radar.leg_kernel import legs_blocked
+    from simcore.sensors.radar.multipath import _segments_hit_box, _segments_hit_triangles_numpy
+
+    rng = np.random.default_rng(4)
+    n_legs, n_obj = 600, 5
+    a, b = 2 * rng.normal(size=(n_legs, 3)), 2 * rng.normal(size=(n_legs, 3))
+    b[::7, 0] = a[::7, 0]                     # parallel to the x slabs
+    b[::11, 1:] = a[::11, 1:]                 # along x only
+    tris = [rng.normal(size=(int(rng.integers(4, 60)), 3, 3)) * 0.8 for _ in range(n_obj)]
+    boxes = np.stack([np.array([t.reshape(-1, 3).min(0), t.reshape(-1, 3).max(0)]) for t in tris])
+    mats = [np.linalg.qr(rng.normal(size=(3, 3)))[0] for _ in range(n_obj)]
+    la = np.stack([a @ m.T for m in mats])
+    lb = np.stack([b @ m.T for m in mats])
+    skip = rng.random((n_obj, n_legs)) < 0.2
+    expected = np.ones(n_legs, dtype=bool)
+    for o in range(n_obj):
+        idx = np.flatnonzero(expected & ~skip[o])
+        near = _segments_hit_box(la[o, idx], lb[o, idx], boxes[o])
+        expected[idx[near]] = ~_segments_hit_triangles_numpy(la[o, idx[near]], lb[o, idx[near]],
+                                                              tris[o])
+    clear = np.ones(n_legs, dtype=bool)
+    legs_blocked(la, lb, skip, boxes, np.concatenate(tris),
+                 np.concatenate([[0], np.cumsum([len(t) for t in tris])]).astype(np.int64),
+                 clear)
+    np.testing.assert_array_equal(clear, expected)
+    assert 0 < expected.sum() < n_legs

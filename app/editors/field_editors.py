@@ -531,6 +531,24 @@ LINK_BUDGET = [
               "seed of this radar's jitter and hopping sequence (equal seeds hop in step)",
               kind="int"),
 ]
+#: A ToF camera's multipath model (docs/physics_tof.md), beside its on/off switch.
+TOF_MULTIPATH = [
+    FieldSpec("rig.tof.multipath_model", "multipath model", "",
+              "screen: one bounce from the surfaces the camera sees (fast); room: every "
+              "bounce from every surface of the scene, with occlusion (surfel radiosity)",
+              kind="choice", choices=("screen", "room")),
+    FieldSpec("rig.tof.multipath_surfel_m", "surfel size", "m",
+              "room model: the scene's surfaces are cut into triangles of at most this edge "
+              "(smaller: finer and slower)", step=0.05, decimals=3),
+    FieldSpec("rig.tof.multipath_bounces", "bounces", "",
+              "room model: indirect bounces summed (1: one bounce; 0: all, to convergence)",
+              kind="int"),
+    FieldSpec("rig.tof.multipath_moving", "moving objects", "",
+              "room model with moving objects: first_order keeps the still room's exact "
+              "solution and adds what they change to first order (fast); exact recomputes "
+              "every pair each frame (seconds a frame)", kind="choice",
+              choices=("first_order", "exact")),
+]
 #: A ToF camera's interference mitigation (issue #30, docs/interference.md).
 TOF_INTERFERENCE = [
     FieldSpec("rig.tof.hop_step_hz", "hopping step", "MHz",

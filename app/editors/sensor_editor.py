@@ -35,6 +35,7 @@ from app.editors.field_editors import (
     PROCESSING,
     PRODUCTS,
     TOF_INTERFERENCE,
+    TOF_MULTIPATH,
     FieldForm,
     FieldSpec,
     bind_number_box,
@@ -339,7 +340,7 @@ class SensorEditor(QScrollArea):
         form.addRow(self.tof_derived)
         self.tof_effects = TofEffectsBox(self._set)
         form.addRow(self.tof_effects)
-        self.tof_interference_form = FieldForm(self.document, TOF_INTERFERENCE,
+        self.tof_interference_form = FieldForm(self.document, TOF_MULTIPATH + TOF_INTERFERENCE,
                                                path_map=self._path)
         self.tof_interference_form.editFailed.connect(self.editFailed)
         form.addRow(self.tof_interference_form)

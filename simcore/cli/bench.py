@@ -121,11 +121,14 @@ def _print_rig_variants(rigs: dict[str, Any]) -> None:
 
 
 def _print_effect_variants(variants: dict[str, Any]) -> None:
-    """``bench --effects``: the project with every effect on, and plain (all off, no person)."""
-    for name in ("all_effects", "plain"):
+    """``bench --effects``: every effect on, twice, and plain (all off, no person).
+
+    Every effect on with ToF multipath by the project's model, then from the whole room.
+    """
+    for name in ("all_effects", "all_effects_room", "plain"):
         v = variants[name]
         stages = ", ".join(f"{k} {t:.1f}" for k, t in v["stages_ms"].items())
-        print(f"{name:<12} {v['frame_ms_median']:7.1f} ms/frame ({v['fps']:.2f} frames/s); "
+        print(f"{name:<16} {v['frame_ms_median']:7.1f} ms/frame ({v['fps']:.2f} frames/s); "
               f"stages (ms): {stages}")
     print(f"  load average before/after: {variants['load']['before']} / "
           f"{variants['load']['after']}")

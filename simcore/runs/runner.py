@@ -611,6 +611,33 @@ def _pool_result(pool: ProcessPoolExecutor, fut: Future[FrameResult]) -> FrameRe
 def _iter_dask(spec: AnySpec, indices: Sequence[int], *, workers: int, scheduler: str,
                window: int, task_timeout_s: float, connect_timeout_s: float
                ) -> Iterator[FrameResult]:
+    with _dask_client(scheduler, workers=workers, connect_timeout_s=connect_timeout_s
+                      ) as client:
+        spec_future = client.scatter(spec, broadcast=True)
+
+        def submit() -> Iterator[tuple[int, Callable[[], FrameResult]]]:
+            for i in indices:
+                fut = client.submit(compute_frame, spec_future, i, pure=False)
+
+                def get(fut: Any = fut, i: int = i) -> FrameResult:
+                    try:
+                        result: FrameResult = fut.result(timeout=task_timeout_s)
+                    except (TimeoutError, asyncio.TimeoutError):
+                        raise SchedulerError(f"frame {i} did not finish within "
+                                             f"{task_timeout_s:g} s on {scheduler}") from None
+                    return result
+                yield i, get
+        yield from _in_order(submit(), window)
+
+
+@contextlib.contextmanager
+def _dask_client(scheduler: str, *, workers: int, connect_timeout_s: float
+                 ) -> Iterator[Any]:
+    """A Dask client of ``scheduler``, closed with its cluster on exit.
+
+    ``"local"``: an embedded cluster of ``workers`` processes. One clear error when it
+    cannot connect.
+    """
     check_scheduler_address(scheduler)
     if scheduler != "local":
         probe_scheduler(scheduler, timeout_s=connect_timeout_s)
@@ -630,21 +657,7 @@ def _iter_dask(spec: AnySpec, indices: Sequence[int], *, workers: int, scheduler
         raise SchedulerError(f"cannot connect to the Dask scheduler at {scheduler} within "
                              f"{connect_timeout_s:g} s: {exc}") from None
     try:
-        spec_future = client.scatter(spec, broadcast=True)
-
-        def submit() -> Iterator[tuple[int, Callable[[], FrameResult]]]:
-            for i in indices:
-                fut = client.submit(compute_frame, spec_future, i, pure=False)
-
-                def get(fut: Any = fut, i: int = i) -> FrameResult:
-                    try:
-                        result: FrameResult = fut.result(timeout=task_timeout_s)
-                    except (TimeoutError, asyncio.TimeoutError):
-                        raise SchedulerError(f"frame {i} did not finish within "
-                                             f"{task_timeout_s:g} s on {scheduler}") from None
-                    return result
-                yield i, get
-        yield from _in_order(submit(), window)
+        yield client
     finally:
         client.close()
         if cluster is not None:
@@ -980,25 +993,10 @@ def _shards_on_dask(spec: AnySpec, target: Any, shards: list[list[int]], *, work
                     scheduler: str, window: int, task_timeout_s: float,
                     connect_timeout_s: float) -> Generator[list[int], None, None]:
     """Shards written by Dask workers, yielded as they complete."""
-    check_scheduler_address(scheduler)
-    if scheduler != "local":
-        probe_scheduler(scheduler, timeout_s=connect_timeout_s)
-    from dask.distributed import Client, LocalCluster, as_completed
+    with _dask_client(scheduler, workers=workers, connect_timeout_s=connect_timeout_s
+                      ) as client:
+        from dask.distributed import as_completed
 
-    cluster = None
-    try:
-        if scheduler == "local":
-            cluster = LocalCluster(n_workers=max(1, workers), threads_per_worker=1,
-                                   processes=True, dashboard_address=None)
-            client = Client(cluster, timeout=connect_timeout_s)
-        else:
-            client = Client(scheduler, timeout=connect_timeout_s)
-    except (OSError, TimeoutError) as exc:
-        if cluster is not None:
-            cluster.close()
-        raise SchedulerError(f"cannot connect to the Dask scheduler at {scheduler} within "
-                             f"{connect_timeout_s:g} s: {exc}") from None
-    try:
         spec_future = client.scatter(spec, broadcast=True)
         todo = list(shards)
         running = as_completed()
@@ -1021,10 +1019,6 @@ def _shards_on_dask(spec: AnySpec, target: Any, shards: list[list[int]], *, work
             yield frames_of.pop(fut.key)
             if todo:
                 submit()
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
 
 
 __all__ = ["ArraySlot", "FrameResult", "NonFiniteOutputError", "RunReport", "RunSpec",

@@ -138,6 +138,12 @@ class TofCameraConfig(SensorTiming):
         0, ge=0, le=1000,
         description="'room' multipath: indirect bounces summed (1: one bounce); 0: all, "
                     "until the series converges")
+    multipath_moving: Literal["first_order", "exact"] = Field(
+        "first_order",
+        description="'room' multipath where objects move: 'first_order' keeps the still "
+                    "objects' exact solution and adds what the moving ones change to first "
+                    "order in them (milliseconds; simcore.sensors.tof.room_movers); 'exact' "
+                    "recomputes every pair with them each frame (seconds per frame)")
     ideal: bool = Field(
         False, description="ideal sensor for validation and ground truth: no shot or read "
                            "noise and no ADC quantisation")

@@ -5,7 +5,13 @@ from __future__ import annotations
 import pytest
 
 from app.document.document import ProjectDocument
-from app.editors.field_editors import DETECTION, LINK_BUDGET, PROCESSING, FieldSpec
+from app.editors.field_editors import (
+    DETECTION,
+    LINK_BUDGET,
+    PROCESSING,
+    TOF_MULTIPATH,
+    FieldSpec,
+)
 from app.editors.sensor_editor import PfaSpin, SensorEditor
 from app.widgets.inputs import field_error
 from simcore.scene import fieldpath, load_project
@@ -34,6 +40,8 @@ NEW_VALUES = {
     "dsp.azimuth_min_deg": -60.0, "dsp.azimuth_max_deg": 60.0, "dsp.azimuth_step_deg": 0.5,
     "dsp.angle_fft_size": 128, "dsp.angle_peaks_within_db": 3.0,
     "dsp.interference_mitigation": "interpolate", "dsp.interference_threshold": 8.0,
+    "rig.tof.multipath_model": "room", "rig.tof.multipath_surfel_m": 0.5,
+    "rig.tof.multipath_bounces": 2, "rig.tof.multipath_moving": "exact",
 }
 
 
@@ -64,7 +72,8 @@ def test_every_field_round_trips_through_save_load_and_undo(editor, tmp_path):
     doc = editor.document
     specs = [(editor.link_form, s) for s in LINK_BUDGET] + [
         (editor.detection_form, s) for s in DETECTION] + [
-        (editor.processing_form, s) for s in PROCESSING]
+        (editor.processing_form, s) for s in PROCESSING] + [
+        (editor.tof_interference_form, s) for s in TOF_MULTIPATH]
     assert {s.path for _, s in specs} == set(NEW_VALUES)
     before = doc.project
     for form, spec in specs:

@@ -417,8 +417,22 @@ def _prepare_bistatic(scatterers: Scatterers, rc: RadarConfig,
                                                                           dtype=np.float64)
     p_rx = rc.rx_positions_m() if rx_positions_m is None else np.asarray(rx_positions_m,
                                                                           dtype=np.float64)
+    m = len(scatterers)
+    return _prepare_rows(scatterers, rc, *(
+        (np.broadcast_to(p, (m, *p.shape)), np.broadcast_to(np.mean(p, axis=0), (m, 3)))
+        for p in (p_tx, p_rx)))
+
+
+def _prepare_rows(scatterers: Scatterers, rc: RadarConfig,
+                  tx: tuple[NDArray[np.float64], NDArray[np.float64]],
+                  rx: tuple[NDArray[np.float64], NDArray[np.float64]]) -> LabelScatterers:
+    """:func:`_prepare_bistatic` with each row's own antennas.
+
+    ``tx`` and ``rx``: the antenna positions of each row, (M, n, 3), and their centroid,
+    (M, 3) (m).
+    """
     pos = scatterers.positions_m
-    legs = [pos - np.mean(p, axis=0) for p in (p_tx, p_rx)]
+    legs = [pos - centroid for _, centroid in (tx, rx)]
     r_t, r_r = (np.maximum(np.linalg.norm(leg, axis=1), 1e-9) for leg in legs)
     r = 0.5 * (r_t + r_r)
     order = np.argsort(r, kind="stable")
@@ -430,14 +444,52 @@ def _prepare_bistatic(scatterers: Scatterers, rc: RadarConfig,
     power = amplitude_scale_fs(rc) ** 2 * scatterers.rcs_m2[order] * _mean_pair_gain(rc, pos)
     power /= (r_t * r_r) ** 2
     power *= _receiver_response(rc, r)
-    d_tx = np.linalg.norm(pos[:, None, :] - p_tx[None], axis=2)          # (M, n_tx)
-    d_rx = np.linalg.norm(pos[:, None, :] - p_rx[None], axis=2)          # (M, n_rx)
+    d_tx = np.linalg.norm(pos[:, None, :] - tx[0][order], axis=2)          # (M, n_tx)
+    d_rx = np.linalg.norm(pos[:, None, :] - rx[0][order], axis=2)          # (M, n_rx)
     path = (d_tx[:, :, None] + d_rx[:, None, :]).reshape(len(pos), -1) - 2.0 * r[:, None]
     # The IF phase is +2π f_c τ (synthesis), so the steering is exp(+j 2π/λ · Δpath).
     steering = np.exp(2j * np.pi / rc.wavelength_m * path).astype(np.complex64)
     cycles = v_radial * 2.0 * len(rc.tx) * rc.chirp_repetition_time_s / rc.wavelength_m
     return LabelScatterers(r, v_radial, power, steering,
                            scatterers.object_index[order].astype(np.intp), cycles)
+
+
+def prepare_scatterer_sets(sets: Sequence[tuple[Scatterers, NDArray[np.floating] | None,
+                                                NDArray[np.floating] | None]],
+                           radar_config: RadarConfig) -> list[LabelScatterers]:
+    """:func:`prepare_scatterers` of several sets, each with its antennas, as few as possible.
+
+    ``sets`` holds ``(scatterers, tx_positions_m, rx_positions_m)`` (None: the
+    configuration's). A detection cell's power is a sum over scatterers
+    (:func:`cell_power_by_object`), so the sets with the configuration's antennas are
+    prepared as one, and those with antennas of their own as another, each row with its
+    set's antennas (the same terms row by row as one call per set; the multipath ghosts'
+    dozens of small sets cost one call each otherwise).
+
+    Returns
+    -------
+    list of LabelScatterers
+        At most two.
+    """
+    sets = [s for s in sets if len(s[0])]
+    own = [s for s in sets if s[1] is not None or s[2] is not None]
+    plain = [s[0] for s in sets if s[1] is None and s[2] is None]
+    out = [prepare_scatterers(Scatterers.concatenate(plain), radar_config)] if plain else []
+    if len(own) == 1:
+        out.append(prepare_scatterers(own[0][0], radar_config, tx_positions_m=own[0][1],
+                                      rx_positions_m=own[0][2]))
+    elif own:
+        rows = []
+        for k, default in ((1, radar_config.tx_positions_m()), (2, radar_config.rx_positions_m())):
+            given = [default if s[k] is None else np.asarray(s[k], dtype=np.float64) for s in own]
+            sizes = [len(s[0]) for s in own]
+            rows.append((np.concatenate([np.broadcast_to(p, (n, *p.shape))
+                                         for p, n in zip(given, sizes, strict=True)]),
+                         np.concatenate([np.broadcast_to(np.mean(p, axis=0), (n, 3))
+                                         for p, n in zip(given, sizes, strict=True)])))
+        out.append(_prepare_rows(Scatterers.concatenate([s[0] for s in own]), radar_config,
+                                 rows[0], rows[1]))
+    return out
 
 
 def cell_power_by_object(prepared: LabelScatterers, detections: Detections, n_objects: int,

@@ -51,9 +51,9 @@ from simcore.sensors.radar.reflectors import (
     MIN_DISTANCE_M,
     GhostSet,
     Reflector,
-    _reflector_seen,
     polarization_vector,
 )
+from simcore.sensors.radar.room_kernel import room_candidates
 from simcore.sensors.radar.scatterers import KIND_POINT_TARGET, Scatterers
 from simcore.sensors.radar.scene import RadarScene
 
@@ -97,14 +97,10 @@ def room_returns(scene: RadarScene | None, config: RadarConfig, reflectors: Sequ
     lam = config.wavelength_m
     paths = _room_paths(_key(reflectors), lam, config.polarization, min(order + 1, MAX_FACES))
     out: list[GhostSet] = []
-    for seq, first, last, position, amplitude in paths:
-        # The first and last reflection points seen in the render as one of the path's
-        # faces (at an edge or a corner the points are on every face's border).
-        objects = {reflectors[i].object_index for i in seq}
-        if buffers is not None and not (any(_reflector_seen(buffers, first[None], o)[0]
-                                            for o in objects)
-                                        and any(_reflector_seen(buffers, last[None], o)[0]
-                                                for o in objects)):
+    seen = (np.ones(len(paths), dtype=bool) if buffers is None
+            else _paths_seen(buffers, paths, reflectors))
+    for (seq, first, last, position, amplitude), ok in zip(paths, seen, strict=True):
+        if not ok:
             continue
         # The scatterer sits towards the last reflection point, where the wave comes back
         # from, so the synthesis weighs both legs by the pattern there; the wave left
@@ -128,11 +124,47 @@ _Path = tuple[tuple[int, ...], NDArray[np.float64], NDArray[np.float64], NDArray
               complex]
 
 
+def _paths_seen(buffers: RenderBuffers, paths: Sequence[_Path],
+                reflectors: Sequence[Reflector]) -> NDArray[np.bool_]:
+    """Whether each path's first and last reflection points are seen in the render.
+
+    Seen as one of the path's faces (at an edge or a corner the points are on every face's
+    border); a point behind the radar or outside the render counts as seen, as in
+    :func:`~simcore.sensors.radar.reflectors._reflector_seen` (one projection of every
+    path's two points instead of one call per point and face).
+    """
+    if not paths:
+        return np.zeros(0, dtype=bool)
+    points = np.array([[first, last] for _, first, last, _, _ in paths]).reshape(-1, 3)
+    label = np.zeros(len(points), dtype=np.int64)
+    shown = np.zeros(len(points), dtype=bool)          # in front and inside the render
+    front = points[:, 2] > 0
+    if np.any(front):
+        intr = buffers.intrinsics
+        uv = intr.project(points[front])
+        col = np.floor(uv[:, 0]).astype(np.int64)
+        row = np.floor(uv[:, 1]).astype(np.int64)
+        within = (col >= 0) & (col < intr.width) & (row >= 0) & (row < intr.height)
+        inside = np.flatnonzero(front)[within]
+        shown[inside] = True
+        label[inside] = buffers.object_index[row[within], col[within]]
+    label2, shown2 = label.reshape(-1, 2), shown.reshape(-1, 2)
+    out = np.empty(len(paths), dtype=bool)
+    for k, (seq, _, _, _, _) in enumerate(paths):
+        objects = {reflectors[i].object_index for i in seq}
+        out[k] = all(not shown2[k, j] or int(label2[k, j]) in objects for j in range(2))
+    return out
+
+
 def _key(reflectors: Sequence[Reflector]) -> tuple[object, ...]:
     """A hashable description of the faces (their geometry and material), for the cache."""
+    bands: dict[int, str] = {}          # the faces of one material share its band
+    for r in reflectors:
+        if r.band is not None and id(r.band) not in bands:
+            bands[id(r.band)] = r.band.model_dump_json()
     return tuple((r.center_m.tobytes(), r.axes.tobytes(), r.half_size_m.tobytes(),
                   r.normal.tobytes(), r.two_sided, complex(r.gamma), r.height_rms_m,
-                  None if r.band is None else r.band.model_dump_json(), r.frequency_hz,
+                  None if r.band is None else bands[id(r.band)], r.frequency_hz,
                   r.object_index) for r in reflectors)
 
 
@@ -159,6 +191,27 @@ def _room_paths(key: tuple[object, ...], wavelength_m: float, polarization: str,
     front = np.any(signed > -EDGE_TOLERANCE_M, axis=2)      # corner of j before plane i
     back = np.any(signed < EDGE_TOLERANCE_M, axis=2)        # … or behind (two-sided)
     follows = front | (np.array([f.two_sided for f in faces])[:, None] & back)
+
+    # The sequences in depth-first order (each first face, each second, the pair then its
+    # triples); a compiled pass drops those that certainly have no path, the trace decides.
+    for row in room_candidates(
+            np.array([f.center_m for f in faces]).reshape(-1, 3),
+            np.array([f.normal for f in faces]).reshape(-1, 3),
+            np.array([f.axes for f in faces]).reshape(-1, 2, 3),
+            np.array([f.half_size_m for f in faces]).reshape(-1, 2),
+            np.array([f.two_sided for f in faces], dtype=bool), follows, max_faces,
+            EDGE_TOLERANCE_M, MIN_DISTANCE_M):
+        path = _trace(faces, tuple(int(i) for i in row[:3] if i >= 0), wavelength_m, pol,
+                      legs_clear=bool(row[3] == 1))
+        if path is not None:
+            out.append(path)
+    return out
+
+
+def _search(faces: Sequence[Reflector], follows: NDArray[np.bool_], max_faces: int,
+            wavelength_m: float, pol: NDArray[np.float64]) -> list[_Path]:
+    """Every sequence traced in Python, in the same order: the reference of the filter."""
+    out: list[_Path] = []
 
     def extend(seq: tuple[int, ...], image: NDArray[np.float64]) -> None:
         for i, face in enumerate(faces):
@@ -204,8 +257,13 @@ def _oriented(face: Reflector, point: NDArray[np.float64]) -> Reflector | None:
 
 
 def _trace(faces: Sequence[Reflector], seq: tuple[int, ...], wavelength_m: float,
-           pol: NDArray[np.float64]) -> _Path | None:
-    """The path radar → faces ``seq`` → radar by the image method, or None."""
+           pol: NDArray[np.float64], *, legs_clear: bool = False) -> _Path | None:
+    """The path radar → faces ``seq`` → radar by the image method, or None.
+
+    ``legs_clear``: no other face can block a leg between the reflection points (the
+    compiled filter, :func:`~simcore.sensors.radar.room_kernel.room_candidates`, found it
+    with a margin), so that test is skipped.
+    """
     images = [np.zeros(3)]
     oriented: list[Reflector] = []
     for i in seq:
@@ -231,7 +289,7 @@ def _trace(faces: Sequence[Reflector], seq: tuple[int, ...], wavelength_m: float
     points.reverse()                                     # reflection points in path order
     if min(np.linalg.norm(points[0]), np.linalg.norm(points[-1])) < MIN_DISTANCE_M:
         return None
-    for k in range(len(points) - 1):
+    for k in range(len(points) - 1 if not legs_clear else 0):
         if _blocked(faces, points[k], points[k + 1], {seq[k], seq[k + 1]}):
             return None
     # The wave's E vector through the bounces (each face mirrors it, scaling its TE and TM
@@ -338,13 +396,19 @@ def reflect_field(face: Reflector, leg: NDArray[np.float64], field: NDArray[np.c
     if face.band is None:
         return coherent * complex(face.gamma) * _mirror(face, field)
     r_te, r_tm = face.band.oblique_coefficients(face.frequency_hz, np.array([cos_i]))
-    s = np.cross(face.normal, d)
+    s = _cross3(face.normal, d)
     norm = float(np.linalg.norm(s))
     s = s / norm if norm > 1e-9 else _transverse(np.array([1.0, 0.0, 0.0]), face.normal).real
     e_te = (field @ s) * s
     e_tm = field - e_te
     scaled = -complex(r_te[0]) * e_te + complex(r_tm[0]) * e_tm
     return -coherent * _mirror(face, scaled)
+
+
+def _cross3(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``np.cross`` of two 3-vectors, in its order of operations (without its overhead)."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                     a[0] * b[1] - a[1] * b[0]])
 
 
 def _mirror(face: Reflector, vector: NDArray[np.complex128]) -> NDArray[np.complex128]:
@@ -377,9 +441,9 @@ def _aperture(faces: Sequence[Reflector], image: NDArray[np.float64]) -> float:
     projected on the plane across the unfolded direction; the area of their intersection.
     """
     u = image / max(float(np.linalg.norm(image)), 1e-300)
-    e1 = np.cross(u, [1.0, 0.0, 0.0] if abs(u[0]) < 0.9 else [0.0, 1.0, 0.0])
+    e1 = _cross3(u, np.array([1.0, 0.0, 0.0] if abs(u[0]) < 0.9 else [0.0, 1.0, 0.0]))
     e1 /= np.linalg.norm(e1)
-    e2 = np.cross(u, e1)
+    e2 = _cross3(u, e1)
     polygon: NDArray[np.float64] | None = None
     mirrors: list[Reflector] = []
     for face in faces:
@@ -407,13 +471,17 @@ def _convex(points: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _clip(subject: NDArray[np.float64], clip: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Sutherland–Hodgman: ``subject`` ∩ the convex counter-clockwise polygon ``clip``."""
-    out = list(subject)
-    for a, b in zip(clip, np.roll(clip, -1, axis=0), strict=True):
+    """Sutherland–Hodgman: ``subject`` ∩ the convex counter-clockwise polygon ``clip``.
+
+    On Python floats (the same IEEE operations as on numpy scalars, without their cost).
+    """
+    out = [(float(p[0]), float(p[1])) for p in subject]
+    corners = [(float(p[0]), float(p[1])) for p in clip]
+    for a, b in zip(corners, corners[1:] + corners[:1], strict=True):
         if not out:
             break
-        edge = b - a
-        inside = [float(edge[0] * (p[1] - a[1]) - edge[1] * (p[0] - a[0])) >= 0 for p in out]
+        e0, e1 = b[0] - a[0], b[1] - a[1]
+        inside = [e0 * (p[1] - a[1]) - e1 * (p[0] - a[0]) >= 0 for p in out]
         new = []
         for i, p in enumerate(out):
             q = out[i - 1]
@@ -424,18 +492,19 @@ def _clip(subject: NDArray[np.float64], clip: NDArray[np.float64]) -> NDArray[np
             elif inside[i - 1]:
                 new.append(_cross_point(q, p, a, b))
         out = new
-    return np.array(out).reshape(-1, 2)
+    return np.array(out, dtype=np.float64).reshape(-1, 2)
 
 
-def _cross_point(p: NDArray[np.float64], q: NDArray[np.float64], a: NDArray[np.float64],
-                 b: NDArray[np.float64]) -> NDArray[np.float64]:
+def _cross_point(p: tuple[float, float], q: tuple[float, float], a: tuple[float, float],
+                 b: tuple[float, float]) -> tuple[float, float]:
     """Where segment p → q crosses the line through a and b."""
-    d, e = q - p, b - a
-    den = d[0] * e[1] - d[1] * e[0]
+    d0, d1 = q[0] - p[0], q[1] - p[1]
+    e0, e1 = b[0] - a[0], b[1] - a[1]
+    den = d0 * e1 - d1 * e0
     if abs(den) < 1e-300:
         return p
-    t = ((a[0] - p[0]) * e[1] - (a[1] - p[1]) * e[0]) / den
-    return np.asarray(p + t * d)
+    t = ((a[0] - p[0]) * e1 - (a[1] - p[1]) * e0) / den
+    return p[0] + t * d0, p[1] + t * d1
 
 
 __all__ = ["EDGE_TOLERANCE_M", "MAX_FACES", "reflect_field", "room_returns"]

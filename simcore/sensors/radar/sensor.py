@@ -39,6 +39,7 @@ from simcore.sensors.radar.labels import (
     DetectionLabels,
     LabelScatterers,
     label_detections,
+    prepare_scatterer_sets,
     prepare_scatterers,
 )
 from simcore.sensors.radar.multipath import ghost_scatterers, synthesize_ghosts
@@ -215,9 +216,10 @@ def _with_multipath(ctx: SensorContext, scene: RadarScene, cfg: RadarConfig,
                     ) -> tuple[ComplexCube, list[LabelScatterers]]:
     """``ideal`` plus the IF of the frame's multipath ghosts, and the ghosts for the labels.
 
-    Stage ``radar_multipath``. The ghosts are prepared for the detection labels one set
-    per kind of path, with its bistatic ranges, so a detection of a ghost is labelled
-    ``ghost`` with the id of the object it is a ghost of.
+    Stage ``radar_multipath``. The ghosts are prepared for the detection labels with each
+    path's antennas, so with its bistatic ranges (:func:`prepare_scatterer_sets`: the sets
+    with the real antennas as one, those with mirrored ones as another), and a detection
+    of a ghost is labelled ``ghost`` with the id of the object it is a ghost of.
 
     The ghosts come from all the frame's scatterers (over the still background: the
     background's facets outside the changed cells and the frame's own in them), so both
@@ -229,9 +231,8 @@ def _with_multipath(ctx: SensorContext, scene: RadarScene, cfg: RadarConfig,
             sc = radar_scatterers(scene, ctx.buffers, seed=ctx.seed,
                                   see_through=ctx.see_through, config=cfg)
         sets = ghost_scatterers(scene, sc, cfg, buffers=ctx.buffers)
-        labels = [prepare_scatterers(g.scatterers, cfg, tx_positions_m=g.tx_positions_m,
-                                     rx_positions_m=g.rx_positions_m)
-                  for g in sets if len(g.scatterers)]
+        labels = prepare_scatterer_sets(
+            [(g.scatterers, g.tx_positions_m, g.rx_positions_m) for g in sets], cfg)
         return ideal + synthesize_ghosts(sets, cfg), labels
 
     to_world = scene.radar.transform

@@ -745,13 +745,13 @@ def _multipath_planes(buffers: RenderBuffers, config: TofCameraConfig,
         magnitude, phasors = _cached_one_bounce(
             (pts, nrm, seen, range_m, transform),
             (h, w, tuple(config.modulation_frequencies_hz), receiver_step, room.key(),
-             config.multipath_surfel_m, config.multipath_bounces),
+             config.multipath_surfel_m, config.multipath_bounces, config.multipath_moving),
             lambda: room_indirect(
                 room, camera=transform, intrinsics=light.intrinsics, range_m=range_m,
                 points_m=pts, normals=nrm, seen=seen,
                 frequencies_hz=list(config.modulation_frequencies_hz),
                 patch_m=config.multipath_surfel_m, bounces=config.multipath_bounces,
-                step=receiver_step))
+                step=receiver_step, moving=config.multipath_moving))
     else:
         senders = senders_from_render(
             buffers.points_m, buffers.normals, lit_albedo,

@@ -76,22 +76,26 @@ class Room:
         The triangles form ``B`` groups (objects): group ``b`` is
         ``triangles[occluder_start[b]:occluder_start[b + 1]]``; visibility tests skip a group
         whose bounding box a segment misses.
+    moving : ndarray of bool, shape (B,), optional
+        Which groups the project moves (a motion, a person's body); None: none is known to.
     """
 
     triangles: F64
     normals: F64
     albedo: F64
     occluder_start: NDArray[np.int64]
+    moving: NDArray[np.bool_] | None = None
 
     def key(self) -> bytes:
         """A digest of the room's arrays (cache keys)."""
+        moving = b"" if self.moving is None else self.moving.tobytes()
         return hashlib.sha1(b"".join((self.triangles.tobytes(), self.normals.tobytes(),
                                       self.albedo.tobytes(),
-                                      self.occluder_start.tobytes()))).digest()
+                                      self.occluder_start.tobytes(), moving))).digest()
 
 
 def room_from_meshes(meshes: list[tuple[F64, NDArray[np.int64], F64]], albedo: list[float],
-                     *, two_sided: list[bool]) -> Room:
+                     *, two_sided: list[bool], moving: list[bool] | None = None) -> Room:
     """A :class:`Room` from world-frame triangle meshes, one per object.
 
     Parameters
@@ -103,6 +107,8 @@ def room_from_meshes(meshes: list[tuple[F64, NDArray[np.int64], F64]], albedo: l
         Each object's diffuse albedo.
     two_sided : list of bool, keyword-only
         Objects whose triangles reflect on both sides (open surfaces such as planes).
+    moving : list of bool, optional, keyword-only
+        Objects the project moves (:attr:`Room.moving`).
     """
     tris, nrms, rhos, start = [], [], [], [0]
     for (points, faces, vnormals), rho, both in zip(meshes, albedo, two_sided, strict=True):
@@ -124,7 +130,8 @@ def room_from_meshes(meshes: list[tuple[F64, NDArray[np.int64], F64]], albedo: l
         return Room(np.zeros((0, 3, 3)), np.zeros((0, 3)), np.zeros(0),
                     np.zeros(1, dtype=np.int64))
     return Room(np.concatenate(tris), np.concatenate(nrms), np.concatenate(rhos),
-                np.asarray(start, dtype=np.int64))
+                np.asarray(start, dtype=np.int64),
+                None if moving is None else np.asarray(moving, dtype=bool))
 
 
 @dataclass(frozen=True)

@@ -24,8 +24,10 @@ out: it would have to face it and nothing else in the room).
 from __future__ import annotations
 
 import hashlib
+import math
 import threading
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -34,6 +36,7 @@ from simcore.jit import kernel
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.tof_config import SPEED_OF_LIGHT
 from simcore.sensors.tof import radiosity as _radiosity
+from simcore.sensors.tof import room_movers as _movers
 from simcore.sensors.tof.multipath import (
     RECEIVER_STEP,
     _blend_nodes,
@@ -97,11 +100,12 @@ def sub_room(room: Room, groups: list[int]) -> Room:
     parts = [slice(room.occluder_start[g], room.occluder_start[g + 1]) for g in groups]
     sizes = [p.stop - p.start for p in parts]
     start = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+    moving = None if room.moving is None else room.moving[np.asarray(groups, dtype=np.int64)]
     if not parts:
-        return Room(np.zeros((0, 3, 3)), np.zeros((0, 3)), np.zeros(0), start)
+        return Room(np.zeros((0, 3, 3)), np.zeros((0, 3)), np.zeros(0), start, moving)
     return Room(np.concatenate([room.triangles[p] for p in parts]),
                 np.concatenate([room.normals[p] for p in parts]),
-                np.concatenate([room.albedo[p] for p in parts]), start)
+                np.concatenate([room.albedo[p] for p in parts]), start, moving)
 
 
 def join(a: Surfels, b: Surfels) -> Surfels:
@@ -275,18 +279,17 @@ _BLOCK: dict[float, StillBlock] = {}
 _LOCK = threading.Lock()
 
 
-def room_transfer(room: Room, patch_m: float) -> tuple[Surfels, F32, F32]:
-    """Surfels of ``room`` and their exchange (form factor × visibility, distance).
+def still_block(room: Room, patch_m: float) -> tuple[StillBlock, list[int]]:
+    """The kept exchange of the objects of ``room`` that stand still, and those that move.
 
-    As :func:`~simcore.sensors.tof.radiosity.surfels_from_room` followed by
-    :func:`~simcore.sensors.tof.radiosity.transfer`, with the still objects' block kept
-    from the last call (see the module's description).
+    The first call keeps every object; later calls keep the objects whose geometry is the
+    kept one bit for bit (the block cut down when one of them starts to move).
 
     Returns
     -------
-    surfels : Surfels
-        ``N`` surfels: the still objects' first.
-    factor, distance : ndarray, shape (N, N), float32
+    block : StillBlock
+    moving : list of int
+        The groups of ``room`` that are not in the block.
     """
     digests = group_digests(room)
     with _LOCK:
@@ -302,7 +305,23 @@ def room_transfer(room: Room, patch_m: float) -> tuple[Surfels, F32, F32]:
     with _LOCK:
         _BLOCK.clear()
         _BLOCK[patch_m] = block
-    moving = [g for g in range(len(digests)) if g not in set(still)]
+    return block, [g for g in range(len(digests)) if g not in set(still)]
+
+
+def room_transfer(room: Room, patch_m: float) -> tuple[Surfels, F32, F32]:
+    """Surfels of ``room`` and their exchange (form factor × visibility, distance).
+
+    As :func:`~simcore.sensors.tof.radiosity.surfels_from_room` followed by
+    :func:`~simcore.sensors.tof.radiosity.transfer`, with the still objects' block kept
+    from the last call (see the module's description).
+
+    Returns
+    -------
+    surfels : Surfels
+        ``N`` surfels: the still objects' first.
+    factor, distance : ndarray, shape (N, N), float32
+    """
+    block, moving = still_block(room, patch_m)
     if not moving:
         return block.surfels, block.factor, block.distance
     return _with_moving(room, block, moving, patch_m)
@@ -362,31 +381,105 @@ def _receiver_rows(points: F64, normals: F64, centre: F64, normal: F64, vertices
 
 
 @kernel
+def _cluster_misses(px: float, py: float, pz: float, centre: F64, radius: float,
+                    wx: float, wy: float, wz: float, w2: float, radius2: float) -> bool:
+    """Whether no segment from ``p`` into the sphere (``centre``, ``radius``) can meet another.
+
+    The other sphere is centred at ``p + w`` with squared radius ``radius2``: their cones
+    from ``p`` are apart, or the first lies wholly nearer than the second.
+    """
+    vx, vy, vz = centre[0] - px, centre[1] - py, centre[2] - pz
+    v = math.sqrt(vx * vx + vy * vy + vz * vz)
+    w = math.sqrt(w2)
+    if v <= radius or w2 <= radius2:
+        return False
+    if v + radius < w - math.sqrt(radius2):
+        return True
+    sin_c, sin_m = radius / v, math.sqrt(radius2) / w
+    cos_c, cos_m = math.sqrt(1.0 - sin_c * sin_c), math.sqrt(1.0 - sin_m * sin_m)
+    cos_vw = (vx * wx + vy * wy + vz * wz) / (v * w)
+    return cos_vw < cos_c * cos_m - sin_c * sin_m
+
+
+@kernel
 def _blocked(points: F64, normals: F64, rows: NDArray[np.int64], centre: F64, normal: F64,
              factor: F32, dist: F32, exitance: NDArray[np.complex128], k: F64, tris: F64,
-             start: NDArray[np.int64], lo: F64, hi: F64, all_lo: F64, all_hi: F64
+             start: NDArray[np.int64], lo: F64, hi: F64, all_lo: F64, all_hi: F64,
+             clusters: tuple[NDArray[np.int64], NDArray[np.int64], F64, F64]
              ) -> NDArray[np.complex128]:
-    """The kept receivers' irradiance from still senders that the triangles now block."""
+    """The kept receivers' irradiance from still senders that the triangles now block.
+
+    ``clusters`` (:func:`sender_clusters`) group the senders in space: a receiver skips a
+    group whose bounding sphere cannot put a segment through the triangles' bounding
+    sphere.
+    """
+    order, cstart, ccentre, cradius = clusters
     out = np.zeros((k.shape[0], points.shape[0]), dtype=np.complex128)
     a = np.empty(3)
     b = np.empty(3)
+    mid = np.empty(3)
+    radius2 = 0.0
+    for c in range(3):
+        mid[c] = 0.5 * (all_lo[0, c] + all_hi[0, c])
+        radius2 += (0.5 * (all_hi[0, c] - all_lo[0, c])) ** 2
     for r in range(points.shape[0]):
         row = rows[r]
-        for j in range(factor.shape[1]):
-            f = factor[row, j]
-            if f == 0.0:
+        wx, wy, wz = mid[0] - points[r, 0], mid[1] - points[r, 1], mid[2] - points[r, 2]
+        w2 = wx * wx + wy * wy + wz * wz
+        for g in range(cstart.shape[0] - 1):
+            if _cluster_misses(points[r, 0], points[r, 1], points[r, 2], ccentre[g],
+                               cradius[g], wx, wy, wz, w2, radius2):
                 continue
-            for c in range(3):
-                a[c] = points[r, c] + LIFT_M * normals[r, c]
-                b[c] = centre[j, c] + LIFT_M * normal[j, c]
-            if not _crosses(a, b, all_lo, all_hi):
-                continue
-            if _segment_clear(a, b, tris, start, lo, hi):
-                continue
-            d = dist[row, j]
-            for q in range(k.shape[0]):
-                out[q, r] += f * exitance[q, j] * complex(np.cos(k[q] * d), np.sin(k[q] * d))
+            for s in range(cstart[g], cstart[g + 1]):
+                j = order[s]
+                f = factor[row, j]
+                if f == 0.0:
+                    continue
+                for c in range(3):
+                    a[c] = points[r, c] + LIFT_M * normals[r, c]
+                    b[c] = centre[j, c] + LIFT_M * normal[j, c]
+                if not _crosses(a, b, all_lo, all_hi):
+                    continue
+                if _segment_clear(a, b, tris, start, lo, hi):
+                    continue
+                d = dist[row, j]
+                for q in range(k.shape[0]):
+                    out[q, r] += f * exitance[q, j] * complex(np.cos(k[q] * d),
+                                                              np.sin(k[q] * d))
     return out
+
+
+#: Senders are grouped for :func:`_blocked` in cubes of this side (m).
+CLUSTER_M = 1.0
+
+
+def sender_clusters(centre: F64, *, cube_m: float = CLUSTER_M
+                    ) -> tuple[NDArray[np.int64], NDArray[np.int64], F64, F64]:
+    """Surfels grouped by the cube of side ``cube_m`` their centre falls in.
+
+    Returns
+    -------
+    order : ndarray of int, shape (S,)
+        Surfel indices, group after group.
+    start : ndarray of int, shape (G + 1,)
+        Group ``g`` is ``order[start[g]:start[g + 1]]``.
+    centre, radius : ndarray, shapes (G, 3) and (G,)
+        Each group's bounding sphere (its centres' mean, the farthest centre) (m).
+    """
+    if len(centre) == 0:
+        return (np.zeros(0, dtype=np.int64), np.zeros(1, dtype=np.int64), np.zeros((0, 3)),
+                np.zeros(0))
+    cell = np.floor(centre / cube_m).astype(np.int64)
+    _, label = np.unique(cell, axis=0, return_inverse=True)
+    label = label.ravel()
+    order = np.argsort(label, kind="stable").astype(np.int64)
+    counts = np.bincount(label)
+    start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    mean = np.stack([np.bincount(label, weights=centre[:, c]) for c in range(3)],
+                    axis=1) / counts[:, None]
+    radius = np.zeros(len(counts))
+    np.maximum.at(radius, label, np.linalg.norm(centre - mean[label], axis=1))
+    return order, start, mean, radius
 
 
 @dataclass(frozen=True)
@@ -453,7 +546,7 @@ def room_gather(points: F64, normals: F64, surfels: Surfels, room: Room,
         out[:, hit] -= _blocked(points[hit], normals[hit], rows[hit], arrays[0], arrays[1],
                                 kept.factor, kept.distance, np.ascontiguousarray(still), ks,
                                 movers.triangles, movers.occluder_start, mlo, mhi,
-                                whole_lo, whole_hi)
+                                whole_lo, whole_hi, sender_clusters(arrays[0][:ns]))
     moving = np.zeros_like(exitance)
     moving[:, ns:] = exitance[:, ns:]
     if ns < len(surfels.area):
@@ -470,6 +563,120 @@ def _in_block(room: Room, g: int, block: StillBlock) -> bool:
     digest = hashlib.sha1(b"".join((room.triangles[sl].tobytes(), room.normals[sl].tobytes(),
                                     room.albedo[sl].tobytes()))).digest()
     return digest in set(block.digests)
+
+
+#: The moving objects' corrections are summed on every this-many-th node of the receiver
+#: grid (in both directions) and spread to the other receivers.
+CORRECTION_STRIDE = 2
+
+
+def _mover_corrections(nodes: _Nodes, off: NDArray[np.int64], rows: NDArray[np.int64],
+                       kept: _Receivers, block: StillBlock, movers: Surfels,
+                       still_total: NDArray[np.complex128], mover_total: NDArray[np.complex128],
+                       ks: list[float]) -> NDArray[np.complex128]:
+    """Light the moving surfels send minus still light they block, at receivers ``off``.
+
+    Summed exactly on the coarse nodes (every :data:`CORRECTION_STRIDE`-th node of the
+    grid that lies on a still surface) and spread to every receiver from the coarse nodes
+    on its surface nearest to it (:func:`~simcore.sensors.tof.room_movers.spread`).
+
+    Returns
+    -------
+    ndarray of complex, shape (K, len(off))
+    """
+    coarse = ((np.arange(len(nodes.rows)) % CORRECTION_STRIDE == 0)[:, None]
+              & (np.arange(len(nodes.cols)) % CORRECTION_STRIDE == 0)[None, :])
+    is_coarse = np.zeros(len(nodes.index), dtype=bool)
+    is_coarse[:nodes.node_count] = coarse[nodes.node_seen]
+    at = np.flatnonzero(is_coarse[off])
+    at = at if len(at) else np.arange(len(off))
+    tris, start, lo, hi = _movers.proxy_occluders(movers)
+    arrays = _surfel_arrays(block.surfels)
+    points, normals = nodes.world[off[at]], nodes.normals[off[at]]
+    change = _radiosity.gather(points, normals, movers, block.room, mover_total, ks)
+    change -= _blocked(points, normals, rows[at], arrays[0], arrays[1], kept.factor,
+                       kept.distance, np.ascontiguousarray(still_total), np.asarray(ks),
+                       tris, start, lo, hi, *_union(lo, hi),
+                       sender_clusters(block.surfels.centre))
+    index, weight = _movers.spread(nodes.world[off], nodes.normals[off], points, normals)
+    return np.einsum("qrk,rk->qr", change[:, index], weight)
+
+
+@kernel
+def _row_dots(matrix: NDArray[np.generic], rows: NDArray[np.int64], vector: NDArray[np.generic]
+              ) -> NDArray[np.complex128]:
+    """``matrix[rows] @ vector``, each row summed in the same order wherever it is kept.
+
+    (Bound by reading the matrix: an explicit unrolling into four partial sums, or BLAS,
+    is no faster here, and BLAS's rounding may depend on the row's place.)
+    """
+    out = np.zeros(rows.shape[0], dtype=np.complex128)
+    for r in range(rows.shape[0]):
+        acc = 0j
+        row = rows[r]
+        for j in range(vector.shape[0]):
+            acc += matrix[row, j] * vector[j]
+        out[r] = acc
+    return out
+
+
+def _grown_receivers(points: F64, normals: F64, block: StillBlock, wavenumbers: list[float]
+                     ) -> tuple[_Receivers, NDArray[np.int64]]:
+    """The kept receivers' exchange with the still surfels, new receivers added to it.
+
+    A still camera sees, frame after frame, the same points of the still objects; those a
+    moving object uncovers are added as they appear (their rows computed once, written
+    into spare rows: the arrays double when full). The kept set is started afresh when it
+    outgrows four times the receivers asked for (the camera moved).
+
+    Returns
+    -------
+    kept : _Receivers
+        Its first ``len(kept.keys)`` rows are filled.
+    rows : ndarray of int, shape (R,)
+        Each receiver's row in ``kept``.
+    """
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    normals = np.ascontiguousarray(normals, dtype=np.float64)
+    keys = [p.tobytes() + n.tobytes() for p, n in zip(points, normals, strict=True)]
+    with _LOCK:
+        kept = _RECEIVERS.get(-1.0)
+    if kept is None or kept.digests != block.digests \
+            or kept.wavenumbers != tuple(wavenumbers) or len(kept.keys) > 4 * len(keys) + 64:
+        kept = _keep_receivers(points, normals, keys, block, wavenumbers)
+    else:
+        new = [i for i, key in enumerate(keys) if key not in kept.keys]
+        if new:
+            more = _keep_receivers(points[new], normals[new], [keys[i] for i in new], block,
+                                   wavenumbers)
+            kept = _append_rows(kept, more)
+    with _LOCK:
+        _RECEIVERS[-1.0] = kept
+    return kept, np.array([kept.keys[key] for key in keys], dtype=np.int64)
+
+
+def _append_rows(kept: _Receivers, more: _Receivers) -> _Receivers:
+    """``kept`` with the rows of ``more`` after its filled ones (capacity doubled if needed)."""
+    base, extra = len(kept.keys), len(more.keys)
+    arrays: list[Any] = [kept.factor, kept.distance, *kept.kernels]
+    if base + extra > len(kept.factor):
+        size = max(2 * len(kept.factor), base + extra)
+        grown: list[Any] = []
+        for a in arrays:
+            if a.size == 0:                          # the k = 0 placeholder
+                grown.append(a)
+                continue
+            b = np.zeros((size, a.shape[1]), dtype=a.dtype)
+            b[:base] = a[:base]
+            grown.append(b)
+        arrays = grown
+    for a, m in zip(arrays, [more.factor, more.distance, *more.kernels], strict=True):
+        if m.size:
+            a[base:base + extra] = m
+    keys = dict(kept.keys)
+    keys.update({key: base + i for key, i in more.keys.items()})
+    return _Receivers(kept.digests, keys, arrays[0], arrays[1], tuple(arrays[2:]),
+                      kept.wavenumbers)
 
 
 def _keep_receivers(points: F64, normals: F64, keys: list[bytes], block: StillBlock,
@@ -497,13 +704,63 @@ def _room_transfer(room: Room, patch_m: float
     return room_transfer(room, patch_m)
 
 
+@dataclass(frozen=True)
+class _Nodes:
+    """The receivers of :func:`room_indirect`: grid nodes and pixels summed exactly."""
+
+    rows: NDArray[np.int64]
+    cols: NDArray[np.int64]
+    node_seen: NDArray[np.bool_]
+    cell_y: NDArray[np.int64]
+    cell_x: NDArray[np.int64]
+    weights: NDArray[np.float64]
+    missing: NDArray[np.bool_]
+    node_count: int
+    index: NDArray[np.int64]
+    world: F64
+    normals: F64
+
+
+def _receiver_nodes(points: F32, normals: F32, seen: NDArray[np.bool_], camera: F64,
+                    step: int) -> _Nodes:
+    """The node scheme of :func:`~simcore.sensors.tof.multipath.one_bounce_image`, world frame."""
+    h, w = seen.shape
+    rows, cols = _node_axis(h, step), _node_axis(w, step)
+    node_seen = np.ascontiguousarray(seen[np.ix_(rows, cols)])
+    cy, fy = _cell_of(h, rows)
+    cx, fx = _cell_of(w, cols)
+    weights, missing = _node_weights(points, normals, seen, rows, cols, node_seen, cy, fy,
+                                     cx, fx)
+    node_index = (rows[:, None] * w + cols[None, :])[node_seen]
+    index = np.concatenate([node_index, np.flatnonzero(missing & ~_on_nodes(seen, rows, cols))])
+    rot, origin = camera[:3, :3], camera[:3, 3]
+    world = points.reshape(-1, 3)[index].astype(np.float64) @ rot.T + origin
+    nrm_world = normals.reshape(-1, 3)[index].astype(np.float64) @ rot.T
+    return _Nodes(rows, cols, node_seen, cy, cx, weights, missing, len(node_index), index,
+                  np.ascontiguousarray(world), np.ascontiguousarray(nrm_world))
+
+
+def _to_image(nodes: _Nodes, irradiance: NDArray[np.complex128], seen: NDArray[np.bool_],
+              points: F32, ks: list[float]
+              ) -> tuple[F32, list[tuple[F32, F32]]]:
+    """The receivers' irradiance (shape (1 + F, R)) blended to the camera's pixels."""
+    sums = np.empty((len(nodes.index), 2 * len(ks) - 1), dtype=np.float32)
+    sums[:, 0] = irradiance[0].real
+    sums[:, 1::2] = irradiance[1:].real.T
+    sums[:, 2::2] = irradiance[1:].imag.T
+    values = np.zeros((len(nodes.rows), len(nodes.cols), sums.shape[1]), dtype=np.float32)
+    values[nodes.node_seen] = sums[:nodes.node_count]
+    out = _blend_nodes(seen, nodes.weights, nodes.missing, values, nodes.cell_y, nodes.cell_x,
+                       nodes.index, sums, points, np.asarray(ks[1:], dtype=np.float32))
+    return out[0], [(out[1 + 2 * j], out[2 + 2 * j]) for j in range(len(ks) - 1)]
+
+
 def room_indirect(room: Room, *, camera: F64, intrinsics: PinholeIntrinsics,
                   range_m: NDArray[np.floating], points_m: NDArray[np.floating],
                   normals: NDArray[np.floating], seen: NDArray[np.bool_],
                   frequencies_hz: list[float], patch_m: float, bounces: int = 0,
-                  step: int = RECEIVER_STEP
-                  ) -> tuple[NDArray[np.float32], list[tuple[NDArray[np.float32],
-                                                            NDArray[np.float32]]]]:
+                  step: int = RECEIVER_STEP, moving: str = "first_order"
+                  ) -> tuple[F32, list[tuple[F32, F32]]]:
     """Indirect light at the camera's pixels from the whole room, as :func:`one_bounce_image`.
 
     Parameters
@@ -526,6 +783,9 @@ def room_indirect(room: Room, *, camera: F64, intrinsics: PinholeIntrinsics,
         column and at the pixels without a node on their surface or next to a concave
         crease, and blended in between (the node scheme of
         :func:`simcore.sensors.tof.multipath.one_bounce_image`); 1: every pixel.
+    moving : {"first_order", "exact"}, keyword-only
+        Objects that moved since the last frame: to first order in them
+        (:mod:`simcore.sensors.tof.room_movers`), or exactly (every pair recomputed).
 
     Returns
     -------
@@ -536,35 +796,112 @@ def room_indirect(room: Room, *, camera: F64, intrinsics: PinholeIntrinsics,
         Per frequency, the same with each path's phase ``e^{i 2π f L / c}`` (``L`` the whole
         optical path, camera leg included).
     """
-    surfels, factor, distance = _room_transfer(room, patch_m)
     ks = [0.0] + [2.0 * np.pi * f / SPEED_OF_LIGHT for f in frequencies_hz]
-    emitted = first_exitance(surfels, camera, intrinsics, range_m, ks)
-    total = radiosity(factor, distance, surfels.albedo, emitted, ks, bounces=bounces)
     pts = np.ascontiguousarray(points_m, dtype=np.float32)
     nrm = np.ascontiguousarray(normals, dtype=np.float32)
     seen = np.ascontiguousarray(seen)
-    h, w = seen.shape
-    rows, cols = _node_axis(h, step), _node_axis(w, step)
-    node_seen = np.ascontiguousarray(seen[np.ix_(rows, cols)])
-    cy, fy = _cell_of(h, rows)
-    cx, fx = _cell_of(w, cols)
-    weights, missing = _node_weights(pts, nrm, seen, rows, cols, node_seen, cy, fy, cx, fx)
-    node_index = (rows[:, None] * w + cols[None, :])[node_seen]
-    index = np.concatenate([node_index, np.flatnonzero(missing & ~_on_nodes(seen, rows, cols))])
-    rot, origin = camera[:3, :3], camera[:3, 3]
-    world = pts.reshape(-1, 3)[index].astype(np.float64) @ rot.T + origin
-    nrm_world = nrm.reshape(-1, 3)[index].astype(np.float64) @ rot.T
-    irradiance = room_gather(world, nrm_world, surfels, room, total, ks,
+    nodes = _receiver_nodes(pts, nrm, seen, camera, step)
+    flags = room.moving
+    if moving == "first_order" and flags is not None and flags.any() and not flags.all():
+        irradiance = _first_order(room, [int(g) for g in np.flatnonzero(flags)], nodes,
+                                  camera, intrinsics, range_m, ks, patch_m=patch_m,
+                                  bounces=bounces)
+        return _to_image(nodes, irradiance, seen, pts, ks)
+    surfels, factor, distance = _room_transfer(room, patch_m)
+    emitted = first_exitance(surfels, camera, intrinsics, range_m, ks)
+    total = radiosity(factor, distance, surfels.albedo, emitted, ks, bounces=bounces)
+    irradiance = room_gather(nodes.world, nodes.normals, surfels, room, total, ks,
                              patch_m=patch_m)                               # (1 + F, M)
-    sums = np.empty((len(index), 2 * len(ks) - 1), dtype=np.float32)
-    sums[:, 0] = irradiance[0].real
-    sums[:, 1::2] = irradiance[1:].real.T
-    sums[:, 2::2] = irradiance[1:].imag.T
-    values = np.zeros((len(rows), len(cols), sums.shape[1]), dtype=np.float32)
-    values[node_seen] = sums[:len(node_index)]
-    out = _blend_nodes(seen, weights, missing, values, cy, cx, index, sums, pts,
-                       np.asarray(ks[1:], dtype=np.float32))
-    return out[0], [(out[1 + 2 * j], out[2 + 2 * j]) for j in range(len(frequencies_hz))]
+    return _to_image(nodes, irradiance, seen, pts, ks)
+
+
+def _still_objects(room: Room, groups: list[int], patch_m: float) -> StillBlock:
+    """The exchange among the objects ``groups`` of ``room`` (kept while they are the same)."""
+    still = sub_room(room, groups)
+    digests = tuple(group_digests(still))
+    with _LOCK:
+        block = _STILL.get(patch_m)
+    if block is None or block.digests != digests:
+        block = _full_block(still, digests, patch_m)
+        with _LOCK:
+            _STILL.clear()
+            _STILL[patch_m] = block
+    return block
+
+
+_STILL: dict[float, StillBlock] = {}
+
+
+def _first_order(room: Room, moving: list[int], nodes: _Nodes, camera: F64,
+                 intrinsics: PinholeIntrinsics, range_m: NDArray[np.floating],
+                 ks: list[float], *, patch_m: float, bounces: int) -> NDArray[np.complex128]:
+    """The receivers' irradiance with the moving objects to first order (:mod:`.room_movers`).
+
+    The still light is exact at every receiver but those beside a moving object
+    (:func:`_beside_movers`); the moving objects' corrections (light they send and block)
+    are summed at coarse grid nodes and spread to the others on the same surface. Nothing
+    depends on earlier frames but what is kept to save time.
+    """
+    still_groups = [g for g in range(len(room.occluder_start) - 1) if g not in set(moving)]
+    block = _still_objects(room, still_groups, patch_m)
+    mover_room = sub_room(room, moving)
+    one = Room(mover_room.triangles, mover_room.normals, mover_room.albedo,
+               np.array([0, len(mover_room.triangles)], dtype=np.int64))
+    movers = _movers.mover_surfels(one, patch_m)
+    still = block.surfels
+    emitted = first_exitance(join(still, movers), camera, intrinsics, range_m, ks)
+    ns = len(still.area)
+    operator = _movers.still_operator((block.digests, patch_m), block.factor, block.distance,
+                                      still.albedo, ks)
+    still_total = _movers.still_radiosity(operator, emitted[:, :ns], ks, bounces=bounces)
+    mover_total, received = _movers.mover_exitance(movers, still, block.room, still_total,
+                                                   emitted[:, ns:], ks, bounces=bounces)
+    out = np.zeros((len(ks), len(nodes.index)), dtype=np.complex128)
+    on = _movers.on_movers(nodes.world, mover_room)
+    if on.any() and len(movers.area):
+        near = _movers.nearest_mover(nodes.world[on], nodes.normals[on], movers)
+        out[:, on] = received[:, near]
+    beside = _beside_movers(nodes, on)
+    exact = np.flatnonzero(~on & ~beside)
+    kept, rows = _grown_receivers(nodes.world[exact], nodes.normals[exact], block, ks)
+    for q, k in enumerate(ks):
+        if k == 0.0:
+            out[q, exact] = _row_dots(kept.factor, rows, still_total[q].real.astype(np.float32))
+        else:
+            out[q, exact] = _row_dots(kept.kernels[q], rows,
+                                      still_total[q].astype(np.complex64))
+    if len(movers.area) and len(exact):
+        out[:, exact] += _mover_corrections(nodes, exact, rows, kept, block, movers,
+                                            still_total, mover_total, ks)
+    grid = exact[exact < nodes.node_count]
+    if beside.any() and len(grid):
+        index, weight = _movers.spread(nodes.world[beside], nodes.normals[beside],
+                                       nodes.world[grid], nodes.normals[grid])
+        out[:, beside] = np.einsum("qrk,rk->qr", out[:, grid][:, index], weight)
+    return out
+
+
+#: Receivers off the grid within this many pixels of a receiver on a moving object take
+#: their light from the grid nodes on their surface (:func:`_beside_movers`).
+BESIDE_PX = 2 * RECEIVER_STEP
+
+
+def _beside_movers(nodes: _Nodes, on: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Receivers off the grid, on still surfaces, within :data:`BESIDE_PX` of a moving object.
+
+    The node scheme sums them exactly because a moving object covers a node of their cell
+    (the still surface around them has no node there); they take their light from the
+    grid nodes on their own surface instead, so the receivers summed exactly are, frame
+    after frame, the same ones (their rows are computed once).
+    """
+    from scipy.ndimage import maximum_filter
+
+    h, w = len(nodes.cell_y), len(nodes.cell_x)
+    mark = np.zeros(h * w, dtype=bool)
+    mark[nodes.index[on]] = True
+    grown = maximum_filter(mark.reshape(h, w), size=2 * BESIDE_PX + 1).ravel()
+    off_grid = np.arange(len(nodes.index)) >= nodes.node_count
+    return np.asarray(grown[nodes.index] & off_grid & ~on, dtype=bool)
 
 
 def _on_nodes(seen: NDArray[np.bool_], rows: NDArray[np.int64], cols: NDArray[np.int64]

@@ -98,10 +98,13 @@ class TofSensor(SensorBase):
         mirrors = mirror_table(bands) if cfg.specular else None
         room = None
         if cfg.multipath and cfg.multipath_model == "room":
+            parts_of = body_part_table(ctx.project)
             room = room_from_scene(object_meshes(ctx.project, ctx.buffers),
                                    [state.transform for state in ctx.snapshot.objects], bands,
                                    closed=[isinstance(o.geometry, CLOSED) for o in
-                                           ctx.project.objects])
+                                           ctx.project.objects],
+                                   moving=[not o.motion.is_static or parts_of[i] >= 0
+                                           for i, o in enumerate(ctx.project.objects)])
         out: TofOutput = ctx.stage(
             "tof", lambda: simulate_tof(ctx.buffers, cfg, rng=ctx.rng, sample_buffers=samples,
                                         albedo=albedo, exposure_reference=previous,
@@ -221,7 +224,8 @@ CLOSED = (Box, Sphere, Cylinder, Ellipsoid, Person)
 
 def room_from_scene(meshes: Sequence[TriangleMesh | None],
                     transforms: Sequence[NDArray[np.float64]],
-                    bands: Sequence[BandMaterial | None], *, closed: Sequence[bool]) -> Room:
+                    bands: Sequence[BandMaterial | None], *, closed: Sequence[bool],
+                    moving: Sequence[bool] | None = None) -> Room:
     """Every surface the near-IR light can bounce off, in the world frame (:class:`Room`).
 
     Parameters
@@ -236,16 +240,22 @@ def room_from_scene(meshes: Sequence[TriangleMesh | None],
     closed : sequence of bool, keyword-only
         Objects whose meshes are closed with outward normals (boxes, spheres, …): their
         triangles reflect on their outer side only; the others on both sides.
+    moving : sequence of bool, optional, keyword-only
+        Objects the project moves (their rigid motion, a person's body).
     """
-    parts, albedo, two_sided = [], [], []
-    for mesh, t, band, shut in zip(meshes, transforms, bands, closed, strict=True):
+    parts, albedo, two_sided, movers = [], [], [], []
+    flags = [False] * len(closed) if moving is None else list(moving)
+    for mesh, t, band, shut, moves in zip(meshes, transforms, bands, closed, flags,
+                                          strict=True):
         if mesh is None or band is None or band.opacity <= 0 or len(mesh.triangles) == 0:
             continue
+        movers.append(bool(moves))
         points = mesh.points @ t[:3, :3].T + t[:3, 3]
         parts.append((points, mesh.triangles, mesh.normals @ t[:3, :3].T))
         albedo.append((1.0 - band.metallic) * band.reflectance)
         two_sided.append(not shut)
-    return room_from_meshes(parts, albedo, two_sided=two_sided)
+    return room_from_meshes(parts, albedo, two_sided=two_sided,
+                            moving=None if moving is None else movers)
 
 
 def object_meshes(project: Project, buffers: RenderBuffers
