@@ -156,6 +156,11 @@ def test_version_1_files_still_load(tmp_path):
                  "stray_light"):
         assert getattr(office_v1.rig.tof, name) is False
         setattr(office.rig.tof, name, False)
+    # Multipath from the room's surfaces in both sensors (issue 42): the v1 file has none.
+    assert office_v1.rig.radar.multipath_order == 0
+    assert office_v1.rig.tof.multipath_surfel_m == 0.25
+    office.rig.radar.multipath_order = 0
+    office.rig.tof.multipath_surfel_m = 0.25
     # Motion artefacts too, by reprojection in the office (renders in the v1 defaults).
     assert office_v1.rig.tof.motion_artifacts is False
     assert office_v1.rig.tof.motion_sampling == "renders"
