@@ -265,9 +265,12 @@ class RadarConfig(SensorTiming):
         description="specular multipath by the image method (simcore.sensors.radar."
                     "multipath): 0 = single bounce only; 1 = add radar → reflector → target "
                     "→ radar and its reverse (ghosts × Γ); 2 = also radar → reflector → "
-                    "target → reflector → radar (× Γ²). Reflectors are large planar faces "
-                    "of smooth, strongly reflecting materials (metal); off by default for "
-                    "its cost (docs/physics_radar.md)")
+                    "target → reflector → radar (× Γ²), paths over two different faces and "
+                    "two bounces on one leg, the room's corners. Reflectors are the smooth "
+                    "planar faces of any material (|Γ| ≥ 0.05: concrete, plaster, wood, "
+                    "glass, metal), with the Fresnel coefficient at each bounce's angle; the "
+                    "room's edges come with order 1. 0 for files that do not say (older "
+                    "projects); the bundled examples with walls use 1 (docs/physics_radar.md)")
     ideal: bool = Field(
         False,
         description="ideal sensor for validation and ground truth: no receiver noise and "
