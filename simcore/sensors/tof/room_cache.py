@@ -25,7 +25,9 @@ from __future__ import annotations
 
 import hashlib
 import math
+import os
 import threading
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
 
@@ -38,11 +40,13 @@ from simcore.scene.tof_config import SPEED_OF_LIGHT
 from simcore.sensors.tof import radiosity as _radiosity
 from simcore.sensors.tof import room_movers as _movers
 from simcore.sensors.tof.multipath import (
+    CREASE_GUARD_PX,
     RECEIVER_STEP,
     _blend_nodes,
     _cell_of,
     _node_axis,
     _node_weights,
+    _update_node_weights,
 )
 from simcore.sensors.tof.radiosity import (
     LIFT_M,
@@ -570,36 +574,40 @@ def _in_block(room: Room, g: int, block: StillBlock) -> bool:
 CORRECTION_STRIDE = 2
 
 
-def _mover_corrections(nodes: _Nodes, off: NDArray[np.int64], rows: NDArray[np.int64],
-                       kept: _Receivers, block: StillBlock, movers: Surfels,
-                       still_total: NDArray[np.complex128], mover_total: NDArray[np.complex128],
-                       ks: list[float]) -> NDArray[np.complex128]:
-    """Light the moving surfels send minus still light they block, at receivers ``off``.
+def _coarse_nodes(nodes: _Nodes, exact: NDArray[np.int64]) -> NDArray[np.int64]:
+    """Where in ``exact`` the coarse nodes are.
 
-    Summed exactly on the coarse nodes (every :data:`CORRECTION_STRIDE`-th node of the
-    grid that lies on a still surface) and spread to every receiver from the coarse nodes
-    on its surface nearest to it (:func:`~simcore.sensors.tof.room_movers.spread`).
-
-    Returns
-    -------
-    ndarray of complex, shape (K, len(off))
+    Every :data:`CORRECTION_STRIDE`-th node of the grid; all of ``exact`` when none is.
     """
     coarse = ((np.arange(len(nodes.rows)) % CORRECTION_STRIDE == 0)[:, None]
               & (np.arange(len(nodes.cols)) % CORRECTION_STRIDE == 0)[None, :])
     is_coarse = np.zeros(len(nodes.index), dtype=bool)
     is_coarse[:nodes.node_count] = coarse[nodes.node_seen]
-    at = np.flatnonzero(is_coarse[off])
-    at = at if len(at) else np.arange(len(off))
+    at = np.flatnonzero(is_coarse[exact])
+    return at if len(at) else np.arange(len(exact))
+
+
+def _blocked_light(nodes: _Nodes, at: NDArray[np.int64], rows: NDArray[np.int64],
+                   kept: _Receivers, block: StillBlock, movers: Surfels,
+                   still_total: NDArray[np.complex128], ks: list[float]
+                   ) -> NDArray[np.complex128]:
+    """The still light the moving surfels block at receivers ``at`` (kept ``rows``).
+
+    Summed on the coarse nodes; :func:`_first_order` spreads it (with the moving surfels'
+    own light) to every receiver from the coarse nodes on its surface nearest to it
+    (:func:`~simcore.sensors.tof.room_movers.spread`).
+
+    Returns
+    -------
+    ndarray of complex, shape (K, len(at))
+    """
     tris, start, lo, hi = _movers.proxy_occluders(movers)
     arrays = _surfel_arrays(block.surfels)
-    points, normals = nodes.world[off[at]], nodes.normals[off[at]]
-    change = _radiosity.gather(points, normals, movers, block.room, mover_total, ks)
-    change -= _blocked(points, normals, rows[at], arrays[0], arrays[1], kept.factor,
-                       kept.distance, np.ascontiguousarray(still_total), np.asarray(ks),
-                       tris, start, lo, hi, *_union(lo, hi),
-                       sender_clusters(block.surfels.centre))
-    index, weight = _movers.spread(nodes.world[off], nodes.normals[off], points, normals)
-    return np.einsum("qrk,rk->qr", change[:, index], weight)
+    out: NDArray[np.complex128] = _blocked(
+        nodes.world[at], nodes.normals[at], rows, arrays[0], arrays[1], kept.factor,
+        kept.distance, np.ascontiguousarray(still_total), np.asarray(ks), tris, start, lo, hi,
+        *_union(lo, hi), sender_clusters(block.surfels.centre))
+    return out
 
 
 @kernel
@@ -721,16 +729,41 @@ class _Nodes:
     normals: F64
 
 
+_WEIGHTS: dict[tuple[object, ...], tuple[F32, F32, NDArray[np.bool_], NDArray[np.float64],
+                                          NDArray[np.bool_]]] = {}
+
+
 def _receiver_nodes(points: F32, normals: F32, seen: NDArray[np.bool_], camera: F64,
                     step: int) -> _Nodes:
-    """The node scheme of :func:`~simcore.sensors.tof.multipath.one_bounce_image`, world frame."""
+    """The node scheme of :func:`~simcore.sensors.tof.multipath.one_bounce_image`, world frame.
+
+    A still camera's weights are redone only around the pixels whose receiver changed
+    (:func:`~simcore.sensors.tof.multipath._update_node_weights`: the same numbers).
+    """
     h, w = seen.shape
     rows, cols = _node_axis(h, step), _node_axis(w, step)
     node_seen = np.ascontiguousarray(seen[np.ix_(rows, cols)])
     cy, fy = _cell_of(h, rows)
     cx, fx = _cell_of(w, cols)
-    weights, missing = _node_weights(points, normals, seen, rows, cols, node_seen, cy, fy,
-                                     cx, fx)
+    key = (camera.tobytes(), h, w, step)
+    with _LOCK:
+        last = _WEIGHTS.pop(key, None)      # taken out: an exception leaves none behind
+    if last is None:
+        weights, missing = _node_weights(points, normals, seen, rows, cols, node_seen, cy, fy,
+                                         cx, fx)
+        last = (points.copy(), normals.copy(), seen.copy(), weights, missing)
+    else:                                   # redone only around the receivers that changed
+        last_points, last_normals, last_seen, weights, missing = last
+        _update_node_weights(points, normals, seen, rows, cols, node_seen, cy, fy, cx, fx,
+                             last_points, last_normals, last_seen, weights, missing,
+                             step + CREASE_GUARD_PX)
+        np.copyto(last_points, points)
+        np.copyto(last_normals, normals)
+        np.copyto(last_seen, seen)
+    with _LOCK:
+        _WEIGHTS.clear()
+        _WEIGHTS[key] = last
+    weights, missing = weights.copy(), missing.copy()
     node_index = (rows[:, None] * w + cols[None, :])[node_seen]
     index = np.concatenate([node_index, np.flatnonzero(missing & ~_on_nodes(seen, rows, cols))])
     rot, origin = camera[:3, :3], camera[:3, 3]
@@ -800,13 +833,14 @@ def room_indirect(room: Room, *, camera: F64, intrinsics: PinholeIntrinsics,
     pts = np.ascontiguousarray(points_m, dtype=np.float32)
     nrm = np.ascontiguousarray(normals, dtype=np.float32)
     seen = np.ascontiguousarray(seen)
-    nodes = _receiver_nodes(pts, nrm, seen, camera, step)
     flags = room.moving
     if moving == "first_order" and flags is not None and flags.any() and not flags.all():
-        irradiance = _first_order(room, [int(g) for g in np.flatnonzero(flags)], nodes,
+        grid = _pool().submit(_receiver_nodes, pts, nrm, seen, camera, step)
+        irradiance = _first_order(room, [int(g) for g in np.flatnonzero(flags)], grid,
                                   camera, intrinsics, range_m, ks, patch_m=patch_m,
                                   bounces=bounces)
-        return _to_image(nodes, irradiance, seen, pts, ks)
+        return _to_image(grid.result(), irradiance, seen, pts, ks)
+    nodes = _receiver_nodes(pts, nrm, seen, camera, step)
     surfels, factor, distance = _room_transfer(room, patch_m)
     emitted = first_exitance(surfels, camera, intrinsics, range_m, ks)
     total = radiosity(factor, distance, surfels.albedo, emitted, ks, bounces=bounces)
@@ -832,7 +866,7 @@ def _still_objects(room: Room, groups: list[int], patch_m: float) -> StillBlock:
 _STILL: dict[float, StillBlock] = {}
 
 
-def _first_order(room: Room, moving: list[int], nodes: _Nodes, camera: F64,
+def _first_order(room: Room, moving: list[int], grid: Future[_Nodes], camera: F64,
                  intrinsics: PinholeIntrinsics, range_m: NDArray[np.floating],
                  ks: list[float], *, patch_m: float, bounces: int) -> NDArray[np.complex128]:
     """The receivers' irradiance with the moving objects to first order (:mod:`.room_movers`).
@@ -840,7 +874,8 @@ def _first_order(room: Room, moving: list[int], nodes: _Nodes, camera: F64,
     The still light is exact at every receiver but those beside a moving object
     (:func:`_beside_movers`); the moving objects' corrections (light they send and block)
     are summed at coarse grid nodes and spread to the others on the same surface. Nothing
-    depends on earlier frames but what is kept to save time.
+    depends on earlier frames but what is kept to save time. ``grid``: the receivers, being
+    made on the helper thread meanwhile.
     """
     still_groups = [g for g in range(len(room.occluder_start) - 1) if g not in set(moving)]
     block = _still_objects(room, still_groups, patch_m)
@@ -854,31 +889,76 @@ def _first_order(room: Room, moving: list[int], nodes: _Nodes, camera: F64,
     operator = _movers.still_operator((block.digests, patch_m), block.factor, block.distance,
                                       still.albedo, ks)
     still_total = _movers.still_radiosity(operator, emitted[:, :ns], ks, bounces=bounces)
-    mover_total, received = _movers.mover_exitance(movers, still, block.room, still_total,
-                                                   emitted[:, ns:], ks, bounces=bounces)
-    out = np.zeros((len(ks), len(nodes.index)), dtype=np.complex128)
+    # The moving surfels' light and the still light at the receivers run on a helper
+    # thread beside the blocked light (compiled kernels without the GIL: two cores).
+    exiting = _pool().submit(_movers.mover_exitance, movers, still, block.room, still_total,
+                             emitted[:, ns:], ks, bounces=bounces)
+    nodes = grid.result()
     on = _movers.on_movers(nodes.world, mover_room)
-    if on.any() and len(movers.area):
-        near = _movers.nearest_mover(nodes.world[on], nodes.normals[on], movers)
-        out[:, on] = received[:, near]
     beside = _beside_movers(nodes, on)
     exact = np.flatnonzero(~on & ~beside)
     kept, rows = _grown_receivers(nodes.world[exact], nodes.normals[exact], block, ks)
+    lighting = _pool().submit(_still_light, kept, rows, still_total, ks)
+    at = _coarse_nodes(nodes, exact)
+    blocked = None
+    if len(movers.area) and len(exact):
+        # The helper thread takes the first part of the coarse nodes, this one the rest.
+        cut = int(len(at) * HELPER_SHARE)
+        first = _pool().submit(_blocked_light, nodes, exact[at[:cut]], rows[at[:cut]], kept,
+                               block, movers, still_total, ks)
+        rest = _blocked_light(nodes, exact[at[cut:]], rows[at[cut:]], kept, block, movers,
+                              still_total, ks)
+        blocked = np.concatenate([first.result(), rest], axis=1)
+    mover_total, received = exiting.result()
+    out = np.zeros((len(ks), len(nodes.index)), dtype=np.complex128)
+    if on.any() and len(movers.area):
+        near = _movers.nearest_mover(nodes.world[on], nodes.normals[on], movers)
+        out[:, on] = received[:, near]
+    out[:, exact] = lighting.result()
+    if blocked is not None:
+        points, normals = nodes.world[exact[at]], nodes.normals[exact[at]]
+        change = _radiosity.gather(points, normals, movers, block.room, mover_total, ks)
+        index, weight = _movers.spread(nodes.world[exact], nodes.normals[exact], points,
+                                       normals)
+        out[:, exact] += np.einsum("qrk,rk->qr", (change - blocked)[:, index], weight)
+    on_grid = exact[exact < nodes.node_count]
+    if beside.any() and len(on_grid):
+        index, weight = _movers.spread(nodes.world[beside], nodes.normals[beside],
+                                       nodes.world[on_grid], nodes.normals[on_grid])
+        out[:, beside] = np.einsum("qrk,rk->qr", out[:, on_grid][:, index], weight)
+    return out
+
+
+def _still_light(kept: _Receivers, rows: NDArray[np.int64], still_total: NDArray[np.complex128],
+                 ks: list[float]) -> NDArray[np.complex128]:
+    """The still radiosity's light at the kept receivers ``rows``, shape (K, R)."""
+    out = np.zeros((len(ks), len(rows)), dtype=np.complex128)
     for q, k in enumerate(ks):
         if k == 0.0:
-            out[q, exact] = _row_dots(kept.factor, rows, still_total[q].real.astype(np.float32))
+            out[q] = _row_dots(kept.factor, rows, still_total[q].real.astype(np.float32))
         else:
-            out[q, exact] = _row_dots(kept.kernels[q], rows,
-                                      still_total[q].astype(np.complex64))
-    if len(movers.area) and len(exact):
-        out[:, exact] += _mover_corrections(nodes, exact, rows, kept, block, movers,
-                                            still_total, mover_total, ks)
-    grid = exact[exact < nodes.node_count]
-    if beside.any() and len(grid):
-        index, weight = _movers.spread(nodes.world[beside], nodes.normals[beside],
-                                       nodes.world[grid], nodes.normals[grid])
-        out[:, beside] = np.einsum("qrk,rk->qr", out[:, grid][:, index], weight)
+            out[q] = _row_dots(kept.kernels[q], rows, still_total[q].astype(np.complex64))
     return out
+
+
+#: The share of the blocked light's coarse nodes summed on the helper thread (which also
+#: sums the moving surfels' exitance and the still light meanwhile).
+HELPER_SHARE = 0.25
+
+_POOL: list[ThreadPoolExecutor] = []
+_POOL_LOCK = threading.Lock()
+
+
+def _pool() -> ThreadPoolExecutor:
+    """One helper thread for the room model's work beside the calling thread."""
+    with _POOL_LOCK:
+        if not _POOL:
+            _POOL.append(ThreadPoolExecutor(max_workers=1, thread_name_prefix="tof-room"))
+        return _POOL[0]
+
+
+if hasattr(os, "register_at_fork"):      # a forked child has the pool but not its thread
+    os.register_at_fork(after_in_child=_POOL.clear)
 
 
 #: Receivers off the grid within this many pixels of a receiver on a moving object take
