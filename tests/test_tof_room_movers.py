@@ -30,7 +30,7 @@ def _project(moving: str, *, multipath: bool = True):
 
 
 def _forget():
-    for cache in (room_cache._STILL, room_cache._RECEIVERS, room_cache._BLOCK,
+    for cache in (room_cache._STILL, room_cache._GROWN, room_cache._BLOCK,
                   room_movers._OPERATOR):
         cache.clear()
 

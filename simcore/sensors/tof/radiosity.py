@@ -525,16 +525,28 @@ def radiosity(factor: NDArray[np.float32], distance: NDArray[np.float32], albedo
         else:
             kernel_k = _phase_kernel(weighted, distance, k)
             term = total[row].astype(np.complex64)
-        order = 1
-        scale = max(float(np.abs(term).sum()), 1e-300)
-        while bounces == 0 or order < bounces:
-            term = kernel_k @ term
-            total[row] += term
-            order += 1
-            if bounces == 0 and (float(np.abs(term).sum()) < tolerance * scale
-                                 or order > 10_000):
-                break
+        neumann_into(total[row], kernel_k, term, orders=bounces, tolerance=tolerance)
     return total
+
+
+def neumann_into(total: NDArray[np.complex128],
+                 kernel: NDArray[np.float32] | NDArray[np.complex64],
+                 term: NDArray[np.float32] | NDArray[np.complex64], *, orders: int,
+                 tolerance: float) -> None:
+    """Add ``K term``, ``K² term``, … to ``total`` (in place): ``orders − 1`` products.
+
+    ``orders`` 0: until a product adds less than ``tolerance`` of the first term's
+    absolute sum (at most 10 000).
+    """
+    order = 1
+    scale = max(float(np.abs(term).sum()), 1e-300)
+    while orders == 0 or order < orders:
+        term = kernel @ term
+        total += term
+        order += 1
+        if orders == 0 and (float(np.abs(term).sum()) < tolerance * scale
+                            or order > 10_000):
+            break
 
 
 @kernel

@@ -499,6 +499,9 @@ class _Receivers:
 
 
 _RECEIVERS: dict[float, _Receivers] = {}
+#: The first-order path's kept receivers (:func:`_grown_receivers`), apart from the exact
+#: path's (:func:`room_gather` starts its own afresh).
+_GROWN: dict[str, _Receivers] = {}
 
 
 def room_gather(points: F64, normals: F64, surfels: Surfels, room: Room,
@@ -648,7 +651,7 @@ def _grown_receivers(points: F64, normals: F64, block: StillBlock, wavenumbers: 
     normals = np.ascontiguousarray(normals, dtype=np.float64)
     keys = [p.tobytes() + n.tobytes() for p, n in zip(points, normals, strict=True)]
     with _LOCK:
-        kept = _RECEIVERS.get(-1.0)
+        kept = _GROWN.get("still")
     if kept is None or kept.digests != block.digests \
             or kept.wavenumbers != tuple(wavenumbers) or len(kept.keys) > 4 * len(keys) + 64:
         kept = _keep_receivers(points, normals, keys, block, wavenumbers)
@@ -659,7 +662,7 @@ def _grown_receivers(points: F64, normals: F64, block: StillBlock, wavenumbers: 
                                    wavenumbers)
             kept = _append_rows(kept, more)
     with _LOCK:
-        _RECEIVERS[-1.0] = kept
+        _GROWN["still"] = kept
     return kept, np.array([kept.keys[key] for key in keys], dtype=np.int64)
 
 

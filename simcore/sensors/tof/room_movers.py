@@ -99,15 +99,7 @@ def series(kernels: tuple[NDArray[np.float32] | NDArray[np.complex64], ...],
     for q, k in enumerate(wavenumbers):
         term: NDArray[np.float32] | NDArray[np.complex64]
         term = start[q].real.astype(np.float32) if k == 0.0 else start[q].astype(np.complex64)
-        size = max(float(np.abs(term).sum()), 1e-300)
-        order = 1
-        while (orders == 0 or order < orders) and np.any(term):
-            term = kernels[q] @ term
-            total[q] += term
-            order += 1
-            if orders == 0 and (float(np.abs(term).sum()) < tolerance * size
-                                or order > 10_000):
-                break
+        _radiosity.neumann_into(total[q], kernels[q], term, orders=orders, tolerance=tolerance)
     return total
 
 
