@@ -917,38 +917,9 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
     flags = second_legs_clear(scene, found, scatterers, lam)
     valid = [_subset_paths(p, c) for p, c in zip(found, flags, strict=True) if np.any(c)]
     for paths in valid:
-        rows, images, gamma, r = paths.rows, paths.images_m, paths.gamma, paths.reflector
-        pos = scatterers.positions_m[rows]
-        vel = scatterers.velocities_mps[rows]
-        acc = (None if scatterers.accelerations_mps2 is None
-               else scatterers.accelerations_mps2[rows])
-        origin_image = r.mirror(np.zeros(3))
-        aspect2 = _corner_aspect(scene, scatterers, rows,
-                                 np.broadcast_to(origin_image, images.shape).copy())
-        # Order 1: real positions, one mirrored antenna set; pattern ratio on that leg.
-        g_direct_t = np.maximum(element_gain(pat_t, pos), MIN_GAIN)
-        g_direct_r = np.maximum(element_gain(pat_r, pos), MIN_GAIN)
-        ratio_t = element_gain(pat_t, images) / g_direct_t
-        ratio_r = element_gain(pat_r, images) / g_direct_r
-        aspect1 = _corner_bistatic(scene, scatterers, rows, np.zeros_like(images),
-                                   np.broadcast_to(origin_image, images.shape).copy(), lam)
-        zero = np.zeros_like(images)
-        image_of_radar = np.broadcast_to(origin_image, images.shape)
-        gamma, gamma2 = _sphere_gammas(paths, pos, centres, pol, origin_image)
-        bistatic = place(rows, pos, image_of_radar, zero)
-        out.append(GhostSet(
-            _ghosts(scatterers, rows, bistatic, vel, acc, gamma * np.sqrt(ratio_t * aspect1)),
-            1, r.object_index, tx_positions_m=r.mirror(p_tx)))
-        out.append(GhostSet(
-            _ghosts(scatterers, rows, bistatic, vel, acc, gamma * np.sqrt(ratio_r * aspect1)),
-            1, r.object_index, rx_positions_m=r.mirror(p_rx)))
-        if order >= 2:
-            v_img = r.mirror_vectors(vel) + 2.0 * r.normal_speed_mps * r.normal
-            a_img = None if acc is None else r.mirror_vectors(acc)
-            seen = r.mirror(place(rows, pos, image_of_radar, image_of_radar))
-            out.append(GhostSet(
-                _ghosts(scatterers, rows, seen, v_img, a_img, gamma2 * np.sqrt(aspect2)),
-                2, r.object_index))
+        out += _reflector_ghosts(paths, scene, scatterers, antennas=(p_tx, p_rx),
+                                 patterns=(pat_t, pat_r), place=place, centres=centres,
+                                 pol=pol, wavelength_m=lam, order=order)
     if order >= 2:
         out += two_surface_ghosts(scatterers, valid, p_tx, p_rx, scene=scene, wavelength_m=lam,
                                   patterns=(pat_t, pat_r), place=place, centres=centres)
@@ -964,6 +935,53 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
     # The rig's own front returns every reflector's echo to it once more (from order 1).
     out += rig_front_ghosts(scene.materials, config, reflectors, time_s=scatterers.time_s,
                             buffers=buffers)
+    return out
+
+
+def _reflector_ghosts(paths: ImagePaths, scene: RadarScene, scatterers: Scatterers, *,
+                      antennas: tuple[NDArray[np.float64], NDArray[np.float64]],
+                      patterns: tuple[ElementPattern, ElementPattern], place: Place,
+                      centres: NDArray[np.float64], pol: NDArray[np.float64],
+                      wavelength_m: float, order: int) -> list[GhostSet]:
+    """One reflector's ghost sets (:func:`ghost_scatterers`): paths (a) and (b), and (c).
+
+    (a) Tx mirrored and (b) Rx mirrored (order 1): the scatterers at their real (bistatic)
+    positions, weighted by the pattern ratio on the mirrored leg; (c) (order 2): the
+    scatterers' images seen with the real antennas.
+    """
+    (p_tx, p_rx), (pat_t, pat_r), lam = antennas, patterns, wavelength_m
+    rows, images, r = paths.rows, paths.images_m, paths.reflector
+    pos = scatterers.positions_m[rows]
+    vel = scatterers.velocities_mps[rows]
+    acc = (None if scatterers.accelerations_mps2 is None
+           else scatterers.accelerations_mps2[rows])
+    origin_image = r.mirror(np.zeros(3))
+    aspect2 = _corner_aspect(scene, scatterers, rows,
+                             np.broadcast_to(origin_image, images.shape).copy())
+    # Order 1: real positions, one mirrored antenna set; pattern ratio on that leg.
+    g_direct_t = np.maximum(element_gain(pat_t, pos), MIN_GAIN)
+    g_direct_r = np.maximum(element_gain(pat_r, pos), MIN_GAIN)
+    ratio_t = element_gain(pat_t, images) / g_direct_t
+    ratio_r = element_gain(pat_r, images) / g_direct_r
+    aspect1 = _corner_bistatic(scene, scatterers, rows, np.zeros_like(images),
+                               np.broadcast_to(origin_image, images.shape).copy(), lam)
+    zero = np.zeros_like(images)
+    image_of_radar = np.broadcast_to(origin_image, images.shape)
+    gamma, gamma2 = _sphere_gammas(paths, pos, centres, pol, origin_image)
+    bistatic = place(rows, pos, image_of_radar, zero)
+    out = [GhostSet(_ghosts(scatterers, rows, bistatic, vel, acc,
+                            gamma * np.sqrt(ratio_t * aspect1)),
+                    1, r.object_index, tx_positions_m=r.mirror(p_tx)),
+           GhostSet(_ghosts(scatterers, rows, bistatic, vel, acc,
+                            gamma * np.sqrt(ratio_r * aspect1)),
+                    1, r.object_index, rx_positions_m=r.mirror(p_rx))]
+    if order >= 2:
+        v_img = r.mirror_vectors(vel) + 2.0 * r.normal_speed_mps * r.normal
+        a_img = None if acc is None else r.mirror_vectors(acc)
+        seen = r.mirror(place(rows, pos, image_of_radar, image_of_radar))
+        out.append(GhostSet(
+            _ghosts(scatterers, rows, seen, v_img, a_img, gamma2 * np.sqrt(aspect2)),
+            2, r.object_index))
     return out
 
 
