@@ -98,18 +98,13 @@ def multipath_section(out_dir: str | Path, *, quick: bool = False
         The figure (file name in ``out_dir``, title, reading paragraph) and the numbers:
         the predicted positions and the map's power there with multipath off and on.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     project = load_project(example_path(EXAMPLE))
     # Order 2: the trihedral's ghost is its image's own return (order 2); a trihedral
     # sends nothing towards the other ends of the order-1 paths (retro-reflection).
     order: Literal[0, 1, 2] = 2
-    maps = {}
+    maps: dict[int, Any] = {}
     for k in (0, order):
         p = project.model_copy(deep=True)
         p.radar().multipath_order = k
@@ -124,6 +119,31 @@ def multipath_section(out_dir: str | Path, *, quick: bool = False
                                                                  m["azimuth_deg"]),
                                  "power_on_db": _power_at(maps[order], m["range_m"],
                                                           m["azimuth_deg"])})
+    name = "fig10_multipath_range_azimuth.png"
+    _draw_maps(out / name, maps, marks, order)
+    text = ("Range–azimuth map (Bartlett) of the multipath_corridor example without and with "
+            "radar multipath (order 2). Circles: the corner reflector; squares: where the "
+            "order-1 paths would put ghosts, at (R + R_m)/2 (via the wall on the way out or "
+            "back); a trihedral returns a wave only towards where it came from, so these "
+            "are 30–40 dB under a point target's; diamonds: order 2 at R_m, the corner seen "
+            "by the radar's image in the aluminium wall. The ghost appears only with "
+            "multipath on, where the image geometry puts it; the L-shaped 3-Rx array "
+            "resolves azimuth only coarsely.")
+    return [(name, "Radar multipath: ghost of the corner reflector", text)], numbers
+
+
+def _draw_maps(path: Path, maps: dict[int, Any], marks: list[dict[str, Any]], order: int
+               ) -> None:
+    """:func:`multipath_section`'s figure, written to ``path``.
+
+    The range–azimuth fans without and with multipath (order ``order``), with the
+    predicted target and ghost positions marked.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.6), constrained_layout=True)
     top = max(float(np.max(maps[k].range_azimuth_db)) for k in maps)
     styles = {0: ("o", "cyan", "target"), 1: ("s", "lime", "order-1 ghost (predicted)"),
@@ -152,18 +172,8 @@ def multipath_section(out_dir: str | Path, *, quick: bool = False
         ax.set_ylim(0, 6)
         ax.set_title(f"multipath_order = {k}")
         ax.legend(loc="upper right", fontsize=8)
-    name = "fig10_multipath_range_azimuth.png"
-    fig.savefig(out / name, dpi=110)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
-    text = ("Range–azimuth map (Bartlett) of the multipath_corridor example without and with "
-            "radar multipath (order 2). Circles: the corner reflector; squares: where the "
-            "order-1 paths would put ghosts, at (R + R_m)/2 (via the wall on the way out or "
-            "back); a trihedral returns a wave only towards where it came from, so these "
-            "are 30–40 dB under a point target's; diamonds: order 2 at R_m, the corner seen "
-            "by the radar's image in the aluminium wall. The ghost appears only with "
-            "multipath on, where the image geometry puts it; the L-shaped 3-Rx array "
-            "resolves azimuth only coarsely.")
-    return [(name, "Radar multipath: ghost of the corner reflector", text)], numbers
 
 
 def tof_multipath_figure(out_dir: str | Path, example: str = "office"
