@@ -553,15 +553,22 @@ def neumann_into(total: NDArray[np.complex128],
 def _phase_kernel(weighted: NDArray[np.float32], distance: NDArray[np.float32], k: float
                   ) -> NDArray[np.complex64]:
     """``weighted · e^{i k distance}`` (complex64) in one pass, zero where ``weighted`` is."""
+    out = np.zeros(weighted.shape, dtype=np.complex64)
+    _phase_kernel_into(weighted, distance, k, out)
+    return out
+
+
+@kernel
+def _phase_kernel_into(weighted: NDArray[np.float32], distance: NDArray[np.float32], k: float,
+                       out: NDArray[np.complex64]) -> None:
+    """:func:`_phase_kernel` written into ``out`` (zeros) of the same shape."""
     n, m = weighted.shape
-    out = np.zeros((n, m), dtype=np.complex64)
     for i in range(n):
         for j in range(m):
             w = weighted[i, j]
             if w != 0.0:
                 phase = k * distance[i, j]
                 out[i, j] = complex(w * math.cos(phase), w * math.sin(phase))
-    return out
 
 
 @kernel
