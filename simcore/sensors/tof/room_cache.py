@@ -235,10 +235,24 @@ def _unshadow(centre: F64, normal: F64, vertices: F64, area: F64, size: F64, fac
 
 
 def _full_block(room: Room, digests: tuple[bytes, ...], patch_m: float) -> StillBlock:
-    """The exchange among all the objects of ``room`` (every one standing still)."""
+    """The exchange among all the objects of ``room`` (every one standing still).
+
+    :func:`~simcore.sensors.tof.radiosity.transfer` on two threads: the first
+    ``n (1 − 1/√2)`` rows hold half the pairs ``(i, j > i)``.
+    """
     surfels = surfels_from_room(room, patch_m=patch_m)
-    _check_size(len(surfels.area), patch_m)
-    factor, distance = _radiosity.transfer(surfels, room)
+    n = len(surfels.area)
+    _check_size(n, patch_m)
+    factor = np.zeros((n, n), dtype=np.float32)
+    distance = np.zeros((n, n), dtype=np.float32)
+    lo, hi = occluder_boxes(room)
+    arrays = _surfel_arrays(surfels)
+
+    def rows(sl: slice) -> None:
+        _radiosity._transfer_rows(*arrays, room.triangles, room.occluder_start, lo, hi,
+                                  sl.start, sl.stop, factor, distance)
+
+    _by_halves(n, rows, cut=int(n * (1.0 - math.sqrt(0.5))))
     return StillBlock(digests, room, surfels, factor, distance)
 
 
@@ -426,16 +440,18 @@ def _kernels_into(factor: F32, distance: F32, wavenumbers: tuple[float, ...] | l
 SPLIT_ROWS = 64
 
 
-def _by_halves(count: int, rows: Callable[[slice], None]) -> None:
-    """``rows(slice(0, count))``, its first half on the helper thread (compiled, no GIL).
+def _by_halves(count: int, rows: Callable[[slice], None], *, cut: int | None = None
+               ) -> None:
+    """``rows(slice(0, count))``, its first part on the helper thread (compiled, no GIL).
 
-    ``rows`` writes each row on its own, so the halves are the whole bit for bit. Serial on
-    the helper thread itself, and for fewer than :data:`SPLIT_ROWS` rows.
+    ``rows`` writes each row on its own, so the parts are the whole bit for bit. ``cut``:
+    where the parts meet (default half way). Serial on the helper thread itself, and for
+    fewer than :data:`SPLIT_ROWS` rows.
     """
     if count < SPLIT_ROWS or threading.current_thread().name.startswith("tof-room"):
         rows(slice(0, count))
         return
-    half = count // 2
+    half = count // 2 if cut is None else cut
     first = _pool().submit(rows, slice(0, half))
     rows(slice(half, count))
     first.result()
