@@ -59,7 +59,8 @@ Per polarisation ``P`` the file holds ``P_room_…`` and ``P_corner<k>_…``: ``
 ``bounces`` (reflections), ``crossings`` (slab crossings), ``out`` and ``back`` (unit
 directions in which the path leaves and returns to the radar, world frame); and
 ``radar_m``, ``radar_to_world`` (3 × 3: the radar's optical axes x right, y down,
-z forward as columns), ``frequency_hz``, ``traced`` and ``left_out`` (object names).
+z forward as columns), ``frequency_hz``, ``traced``, ``left_out`` and ``corners`` (object
+names), ``project`` and ``time_s`` (the exported project and instant).
 """
 
 from __future__ import annotations
@@ -351,6 +352,8 @@ def trace(scene_dir: Path, *, pols: tuple[str, ...] = ("V", "H"), max_depth: int
     out["traced"] = np.array(traced)
     out["left_out"] = np.array(left_out)
     out["corners"] = np.array([name for name, _ in corners])
+    out["project"] = np.array(desc["project"])
+    out["time_s"] = np.array(float(desc["time_s"]))
     return out
 
 
