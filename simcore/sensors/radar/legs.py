@@ -22,6 +22,7 @@ the front wall (or the floor) and reach the target from there; against Sionna RT
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -72,6 +73,31 @@ def sphere_centres(scene: RadarScene, scatterers: Scatterers
     return centre, radius
 
 
+def sphere_sources(scene: RadarScene, scatterers: Scatterers) -> Scatterers:
+    """Each sphere's ghost source moved to its monostatic specular point, phase kept.
+
+    :func:`~simcore.sensors.radar.multipath.ghost_sources` merges a sphere's facets at
+    their power-weighted centroid, inside the sphere (8.9 mm behind the surface for
+    a = 0.2 m at 2.5 m, 60 GHz), and refers the sum's phase to the centroid's range.
+    Every ghost of a sphere is drawn at its specular point on the path
+    (:func:`sphere_placement`), so the source must be the return of that point: moved to
+    ``c − a ĉ`` (the point nearest the radar) with ``2 k r + φ`` unchanged, the same
+    monostatic return, ``φ`` now referred to the surface. With the centroid's phase a
+    sphere's ghosts came out ``2 k δ`` off (197° for δ = 8.9 mm). Other rows unchanged.
+    """
+    centre, radius = sphere_centres(scene, scatterers)
+    on = np.isfinite(centre[:, 0])
+    if not np.any(on):
+        return scatterers
+    spec = centre[on] - radius[on, None] * _unit(centre[on])
+    k = 2.0 * np.pi / scatterers.wavelength_m
+    pos = scatterers.positions_m.copy()
+    phase = scatterers.phase_rad.copy()
+    phase[on] += 2.0 * k * (np.linalg.norm(pos[on], axis=1) - np.linalg.norm(spec, axis=1))
+    pos[on] = spec
+    return dataclasses.replace(scatterers, positions_m=pos, phase_rad=phase)
+
+
 def sphere_factor(e_in: NDArray[np.complex128], e_out: NDArray[np.complex128],
                   u_in: NDArray[np.float64], u_out: NDArray[np.float64]
                   ) -> NDArray[np.complex128]:
@@ -94,7 +120,8 @@ def sphere_placement(scene: RadarScene, scatterers: Scatterers) -> Place:
     """Bistatic specular points of the spheres among the ghost sources (``place``).
 
     A sphere's ghost source (its facets merged, :func:`~simcore.sensors.radar.multipath.
-    ghost_sources`) sits at its monostatic specular point; lit from ``src`` and seen from
+    ghost_sources`, then moved by :func:`sphere_sources`) sits at its monostatic specular
+    point; lit from ``src`` and seen from
     ``rcv`` (an image of the radar on either leg) it scatters from the point where its
     normal bisects the two directions, ``c + a (û_src + û_rcv)/|û_src + û_rcv|``: the path
     is ``a |û_src + û_rcv|`` shorter than through the centre (geometric optics, σ = πa²
@@ -348,4 +375,4 @@ def _sets(scatterers: Scatterers, rows: NDArray[np.intp], gamma: NDArray[np.comp
 
 
 __all__ = ["Place", "one_leg_double_ghosts", "reflect_many", "sphere_centres",
-           "sphere_factor", "sphere_placement", "transverse_many"]
+           "sphere_factor", "sphere_placement", "sphere_sources", "transverse_many"]

@@ -88,6 +88,7 @@ from simcore.sensors.radar.legs import (
     sphere_centres,
     sphere_factor,
     sphere_placement,
+    sphere_sources,
     transverse_many,
 )
 from simcore.sensors.radar.reflectors import (
@@ -906,7 +907,8 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
     p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()
     pat_t = config.tx[0].pattern or config.element_pattern
     pat_r = config.rx[0].pattern or config.element_pattern
-    scatterers = ghost_sources(scatterers, image_ghost_rows(scene, scatterers))
+    scatterers = sphere_sources(scene, ghost_sources(scatterers,
+                                                     image_ghost_rows(scene, scatterers)))
     place = sphere_placement(scene, scatterers)
     centres = sphere_centres(scene, scatterers)[0]
     out: list[GhostSet] = []
