@@ -37,6 +37,7 @@ from simcore.sensors.radar.reflectors import (
     GhostSet,
     Reflector,
     _reflector_seen,
+    antenna_fields,
     polarization_vector,
 )
 from simcore.sensors.radar.room import (
@@ -156,14 +157,17 @@ def _gammas(a: Reflector, b: Reflector, x_a: NDArray[np.float64], x_b: NDArray[n
     :func:`~simcore.sensors.radar.room.reflect_field` twice, for K paths at once; the
     co-polar part is received across the ray arriving at ``p``.
     """
-    field = transverse_many(pol, x_a).astype(np.complex128)
+    field = antenna_fields(pol, x_a).astype(np.complex128)
     field = reflect_many(a, x_a, field, wavelength_m)
     field = reflect_many(b, x_b - x_a, field, wavelength_m)
-    return np.asarray(np.einsum("kd,kd->k", field, transverse_many(pol, p - x_b))), field
+    return np.asarray(np.einsum("kd,kd->k", field, antenna_fields(pol, p - x_b))), field
 
 
 def transverse_many(pol: NDArray[np.float64], d: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``pol`` made transverse to each direction (K, 3), unit (:func:`room._transverse`)."""
+    """``pol`` made transverse to each direction (K, 3), unit (:func:`room._transverse`).
+
+    A dipole's E; the antennas' is :func:`~simcore.sensors.radar.reflectors.antenna_fields`.
+    """
     d = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
     out = pol[None] - (d @ pol)[:, None] * d
     norm = np.linalg.norm(out, axis=1)
@@ -264,7 +268,7 @@ def one_leg_double_ghosts(scatterers: Scatterers, reflectors: Sequence[Reflector
             if np.any(sph):
                 c = centres[rows[sph]]
                 src = b.mirror(a.mirror(np.zeros(3)))
-                gamma[sph] = sphere_factor(field[sph], transverse_many(pol, pos[rows[sph]])
+                gamma[sph] = sphere_factor(field[sph], antenna_fields(pol, pos[rows[sph]])
                                            .astype(np.complex128), src - c, -c)
         strong = np.abs(gamma) >= MIN_PRODUCT
         if not np.any(strong):

@@ -77,8 +77,34 @@ class Reflector:
 
 
 def polarization_vector(polarization: str) -> NDArray[np.float64]:
-    """The antennas' E-field direction in the radar optical frame (V: board y, H: board x)."""
+    """The antennas' E-field direction on boresight, radar optical frame (V: board y, H: x)."""
     return np.array([0.0, 1.0, 0.0]) if polarization == "V" else np.array([1.0, 0.0, 0.0])
+
+
+def antenna_fields(polarization: NDArray[np.float64], directions: NDArray[np.float64]
+                   ) -> NDArray[np.float64]:
+    """The antennas' unit E towards each direction (K, 3), radar optical frame.
+
+    ``polarization``: the E direction on boresight (:func:`polarization_vector`), in the
+    board plane. Ludwig's second definition about the board's y axis, the polarised
+    element of 3GPP TR 38.901 §7.3.2 (model 2; Sionna RT's ``"V"`` and ``"H"``): V is
+    ``θ̂`` about board y, ``v̂ = (ŷ − (ŷ·d̂) d̂)/|…|`` (a y dipole's E), H is ``φ̂`` about it,
+    ``ĥ = ŷ × d̂/|…| = v̂ × d̂`` (E ⊥ board y in every direction, not an x dipole's E); a
+    slant polarisation ``p`` is ``p_y v̂ + p_x ĥ``. V and H are orthogonal in every
+    direction (an x dipole's E is not orthogonal to V off the principal planes, and tilts
+    39° out of the board's horizontal towards 65° right, 22° down). Along ±y (the pole)
+    ``v̂`` is boresight made transverse.
+    """
+    d = directions / np.maximum(np.linalg.norm(directions, axis=1, keepdims=True), 1e-300)
+    v = -d[:, 1:2] * d
+    v[:, 1] += 1.0
+    norm = np.linalg.norm(v, axis=1)
+    pole = norm < 1e-9
+    v[pole] = np.array([0.0, 0.0, 1.0]) - d[pole, 2:3] * d[pole]
+    v /= np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
+    h = np.cross(v, d)
+    out = float(polarization[1]) * v + float(polarization[0]) * h
+    return np.asarray(out / np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-300))
 
 
 def _reflector_seen(buffers: RenderBuffers, points: NDArray[np.float64], object_index: int
