@@ -38,6 +38,7 @@ from simcore.sensors.radar.reflectors import (
     Reflector,
     _reflector_seen,
     antenna_fields,
+    copolar_fields,
     polarization_vector,
 )
 from simcore.sensors.radar.room import (
@@ -160,7 +161,7 @@ def _gammas(a: Reflector, b: Reflector, x_a: NDArray[np.float64], x_b: NDArray[n
     field = antenna_fields(pol, x_a).astype(np.complex128)
     field = reflect_many(a, x_a, field, wavelength_m)
     field = reflect_many(b, x_b - x_a, field, wavelength_m)
-    return np.asarray(np.einsum("kd,kd->k", field, antenna_fields(pol, p - x_b))), field
+    return np.asarray(np.einsum("kd,kd->k", field, copolar_fields(pol, p - x_b))), field
 
 
 def transverse_many(pol: NDArray[np.float64], d: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -96,6 +96,7 @@ from simcore.sensors.radar.reflectors import (
     Reflector,
     _reflector_seen,
     antenna_fields,
+    copolar_fields,
     polarization_vector,
 )
 from simcore.sensors.radar.room import room_returns
@@ -328,7 +329,7 @@ def polarised_reflection(reflector: Reflector, directions: NDArray[np.float64],
     s_norm = np.linalg.norm(s, axis=1)
     e = antenna_fields(polarization, d)
     d_r = d - 2.0 * (d @ n)[:, None] * n[None, :]
-    e_r = antenna_fields(polarization, d_r)
+    e_r = copolar_fields(polarization, d_r)
     ok = s_norm > 1e-9
     out = np.asarray(r_te, dtype=np.complex128).copy()       # normal incidence: Γ_TE
     s_hat = s[ok] / s_norm[ok, None]

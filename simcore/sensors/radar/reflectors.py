@@ -107,6 +107,21 @@ def antenna_fields(polarization: NDArray[np.float64], directions: NDArray[np.flo
     return np.asarray(out / np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-300))
 
 
+def copolar_fields(polarization: NDArray[np.float64], directions: NDArray[np.float64]
+                   ) -> NDArray[np.float64]:
+    """The co-polar unit vector of a wave along each direction (K, 3), at a target.
+
+    :func:`antenna_fields` turned to the side of ``polarization`` (``ê · p ≥ 0``), so the
+    same for a wave and for one in the opposite direction: ``φ̂`` reverses with the
+    direction, and a point target's co-polar part taken on it would flip the sign of a
+    wave coming back towards the radar (H off a front wall near normal incidence came out
+    ``−Γ`` where V gives ``Γ``; at normal incidence the two are the same wave). V's ``θ̂``
+    needs no turn. On the direction from the radar to a target ahead it is the antennas' E.
+    """
+    e = antenna_fields(polarization, directions)
+    return np.asarray(np.where((e @ polarization)[:, None] < 0.0, -e, e))
+
+
 def _reflector_seen(buffers: RenderBuffers, points: NDArray[np.float64], object_index: int
                     ) -> NDArray[np.bool_]:
     """Whether the render shows the reflector at each point (outside the render: True)."""

@@ -288,16 +288,19 @@ def _fields(h: np.ndarray, u: np.ndarray) -> np.ndarray:
 
 
 def _copolar(u: np.ndarray, pol: str) -> np.ndarray:
-    """The radar's polarisation towards each ``u``: V ∝ θ̂ (world z made transverse), H = φ̂.
+    """The co-polar unit vector at the target of a leg arriving from ``u``: V ∝ θ̂, H ∝ φ̂.
 
-    tofradar's convention (``simcore.sensors.radar.reflectors.antenna_fields``): Ludwig's
+    tofradar's convention (``simcore.sensors.radar.reflectors.copolar_fields``): Ludwig's
     second definition about the vertical, the same as Sionna's ``"V"`` and ``"H"``
-    antennas (3GPP TR 38.901 §7.3.2): H is horizontal in every direction.
+    antennas (3GPP TR 38.901 §7.3.2; H horizontal in every direction), turned to the side
+    of the radar's polarisation (V: world z, H: world y), the same for ``u`` and ``−u``.
     """
+    p = np.array([0.0, 0.0, 1.0]) if pol == "V" else np.array([0.0, 1.0, 0.0])
     if pol == "V":
-        p = np.array([0.0, 0.0, 1.0])
-        return _unit(p[None] - (u @ p)[:, None] * u)
-    return _unit(np.cross(np.array([0.0, 0.0, 1.0])[None], u))
+        e = _unit(p[None] - (u @ p)[:, None] * u)
+    else:
+        e = _unit(np.cross(np.array([0.0, 0.0, 1.0])[None], u))
+    return np.where((e @ p)[:, None] < 0.0, -e, e)
 
 
 def target_returns(name: str, *, metal_left: bool, pol: str = "V") -> dict[str, np.ndarray]:
