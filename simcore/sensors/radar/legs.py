@@ -123,12 +123,12 @@ def sphere_placement(scene: RadarScene, scatterers: Scatterers) -> Place:
 
     A sphere's ghost source (its facets merged, :func:`~simcore.sensors.radar.multipath.
     ghost_sources`, then moved by :func:`sphere_sources`) sits at its monostatic specular
-    point; lit from ``src`` and seen from
-    ``rcv`` (an image of the radar on either leg) it scatters from the point where its
-    normal bisects the two directions, ``c + a (û_src + û_rcv)/|û_src + û_rcv|``: the path
-    is ``a |û_src + û_rcv|`` shorter than through the centre (geometric optics, σ = πa²
-    for any bistatic angle but forward scatter). Through the monostatic point a ghost over
-    a side wall came out 3 cm long against Sionna RT. Other rows keep their positions.
+    point; lit from ``src`` and seen from ``rcv`` (an image of the radar on either leg) it
+    scatters from the point where its normal bisects the two directions, ``c + a (û_src +
+    û_rcv)/|û_src + û_rcv|``: the path is ``a |û_src + û_rcv|`` shorter than through the
+    centre (geometric optics, σ = πa² for any bistatic angle but forward scatter). Through
+    the monostatic point a ghost over a side wall came out 3 cm long against Sionna RT.
+    Other rows keep their positions.
     """
     centre, radius = sphere_centres(scene, scatterers)
 
