@@ -10,6 +10,7 @@ module and not on each other.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -105,6 +106,26 @@ def antenna_fields(polarization: NDArray[np.float64], directions: NDArray[np.flo
     h = np.cross(v, d)
     out = float(polarization[1]) * v + float(polarization[0]) * h
     return np.asarray(out / np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-300))
+
+
+def antenna_field(polarization: NDArray[np.float64], direction: NDArray[np.float64]
+                  ) -> NDArray[np.float64]:
+    """:func:`antenna_fields` for one direction (3,), without array overhead (a room path)."""
+    norm = math.sqrt(float(direction[0]) ** 2 + float(direction[1]) ** 2
+                     + float(direction[2]) ** 2)
+    dx, dy, dz = (float(direction[0]) / norm, float(direction[1]) / norm,
+                  float(direction[2]) / norm)
+    vx, vy, vz = -dy * dx, 1.0 - dy * dy, -dy * dz
+    size = math.sqrt(vx * vx + vy * vy + vz * vz)
+    if size < 1e-9:                                      # along ±y: boresight transverse
+        vx, vy, vz = -dz * dx, -dz * dy, 1.0 - dz * dz
+        size = math.sqrt(vx * vx + vy * vy + vz * vz)
+    vx, vy, vz = vx / size, vy / size, vz / size
+    hx, hy, hz = vy * dz - vz * dy, vz * dx - vx * dz, vx * dy - vy * dx
+    p_v, p_h = float(polarization[1]), float(polarization[0])
+    ex, ey, ez = p_v * vx + p_h * hx, p_v * vy + p_h * hy, p_v * vz + p_h * hz
+    size = max(math.sqrt(ex * ex + ey * ey + ez * ez), 1e-300)
+    return np.array([ex / size, ey / size, ez / size])
 
 
 def copolar_fields(polarization: NDArray[np.float64], directions: NDArray[np.float64]
