@@ -27,7 +27,7 @@ from simcore.report.sionna_targets import radar_config
 from simcore.scene import Box, Pose, Project, SceneObject, Sphere
 from simcore.scene.model import SensorRig
 from simcore.scene.radar_config import SPEED_OF_LIGHT
-from simcore.sensors.radar.reflectors import antenna_fields
+from simcore.sensors.radar.reflectors import antenna_field, antenna_fields
 
 A = 0.2                                   # sphere radius (m)
 D = 2.5                                   # sphere centre ahead of the radar (m)
@@ -127,6 +127,11 @@ def test_the_antennas_e_is_theta_and_phi_about_the_boards_vertical() -> None:
     h = antenna_fields(np.array([1.0, 0.0, 0.0]), d)
     np.testing.assert_allclose(np.abs(np.einsum("kd,kd->k", v, theta_hat)), 1.0, atol=1e-12)
     np.testing.assert_allclose(np.einsum("kd,kd->k", h, phi_hat), 1.0, atol=1e-12)
+    # The one-direction form (the room's paths) on the same directions.
+    np.testing.assert_allclose([antenna_field(np.array([1.0, 0.0, 0.0]), x) @ ph
+                                for x, ph in zip(d, phi_hat, strict=True)], 1.0, atol=1e-12)
+    np.testing.assert_allclose([abs(antenna_field(np.array([0.0, 1.0, 0.0]), x) @ th)
+                                for x, th in zip(d, theta_hat, strict=True)], 1.0, atol=1e-12)
     boresight = np.array([[0.0, 0.0, 1.0]])
     np.testing.assert_allclose(antenna_fields(np.array([0.0, 1.0, 0.0]), boresight),
                                [[0.0, 1.0, 0.0]], atol=1e-15)
