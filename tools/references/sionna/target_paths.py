@@ -36,23 +36,23 @@ reciprocity the same channel) with the target's geometric-optics scattering::
 
 with ``E`` a leg's field at the target as a world vector (Sionna's V and H coefficients on
 θ̂ and φ̂ of its direction of arrival ``u``) and ``S``: for the point target tofradar's
-convention (its co-polar RCS towards every direction: the co-polar parts of both legs, the
-radar's polarisation made transverse to each), for the sphere a perfect conductor's mirror
-at its specular point (``−M``; the point ``P`` on the sphere whose normal bisects the
-directions from ``P`` to the radar's images along both legs, ``L_ij`` the exact length
-through it, :func:`sphere_specular`; σ = πa² with the legs' distances to the centre, the
-far-field radar equation), for the trihedral ``+1`` (three conductor mirrors,
-``(−M₃)(−M₂)(−M₁) = +I``: its return has the opposite sign to a plate's). A direct line
-``|E| = λ / (4π d)`` gives the radar equation ``|a| = λ √σ / ((4π)^{3/2} d²)``. The
-trihedral is a retro-reflector: for ``i = j`` its σ is the GO effective area in the leg's
-direction (the entrance triangle projected across the ray and intersected with its own
-point reflection through the apex), and between two different legs the aperture's
-diffraction lobe ``|2 J₁(x)/x|²``, ``x = k r sin β``, ``r = √(A/π)``, which is below −30 dB
-for the bistatic angles of a room's ghosts. What this leaves out: the target's shadow on
-the room's returns, paths between target and room faces with the target reflecting more
-than once, and the room corners Sionna's solver does not find (the front–left–ceiling one
-and those behind the radar). Target paths more than 50 dB under the direct return are
-dropped.
+convention (its co-polar RCS towards every direction: the co-polar parts of both legs, on
+θ̂ for V and φ̂ for H turned to the polarisation's side, :func:`_copolar`), for the sphere
+a perfect conductor's mirror at its specular point (``−M``; the point ``P`` on the sphere
+whose normal bisects the directions from ``P`` to the radar's images along both legs,
+``L_ij`` the exact length through it, :func:`sphere_specular`; σ = πa² with the legs'
+distances to the centre, the far-field radar equation), for the trihedral ``+1`` (three
+conductor mirrors, ``(−M₃)(−M₂)(−M₁) = +I``: its return has the opposite sign to a
+plate's). A direct line ``|E| = λ / (4π d)`` gives the radar equation ``|a| = λ √σ /
+((4π)^{3/2} d²)``. The trihedral is a retro-reflector: for ``i = j`` its σ is the GO
+effective area in the leg's direction (the entrance triangle projected across the ray and
+intersected with its own point reflection through the apex), and between two different legs
+the aperture's diffraction lobe ``|2 J₁(x)/x|²``, ``x = k r sin β``, ``r = √(A/π)``, which
+is below −30 dB for the bistatic angles of a room's ghosts. What this leaves out: the
+target's shadow on the room's returns, paths between target and room faces with the target
+reflecting more than once, and the room corners Sionna's solver does not find (the
+front–left–ceiling one and those behind the radar). Target paths more than 50 dB under the
+direct return are dropped.
 
 Each path is written to ``resources/references/sionna_target_paths.npz`` (keys
 ``{room}_{room|point|sphere|corner}_…`` for V, ``H_{room}_…`` for H) with its length
