@@ -262,3 +262,30 @@ def test_a_spheres_ghost_scatters_from_its_bistatic_specular_point() -> None:
     d1, d2 = np.linalg.norm(u1), np.linalg.norm(u2)
     go = d1 + d2 - a * np.linalg.norm(u1 / d1 + u2 / d2)
     assert np.linalg.norm(src[0] - s) + np.linalg.norm(s) == pytest.approx(go, abs=2e-3)
+
+
+@pytest.mark.parametrize("edge", ["vertical", "horizontal"])
+def test_a_metal_edges_double_bounce_has_the_image_methods_sign(edge: str) -> None:
+    """The radar's double image in two perpendicular perfect conductors is its dipole
+    mirrored twice, ``(−M_B)(−M_A) p``: a half turn about the edge, ``+p`` for E along the
+    edge and ``−p`` across it, so a metal dihedral returns ``+√π D`` (a point target's
+    sign) for E along its edge and ``−√π D`` across it (S = diag(1, −1), the dihedral's
+    polarimetric signature; Knott, Shaeffer & Tuley §5.4). A vertical edge: V along it,
+    H across; a horizontal one (floor and wall): the other way. H's E (``φ̂`` about board
+    y) reverses with the direction, so the radar receives it by its field towards where
+    the wave comes from, not along the wave (that gave H the plate's sign)."""
+    front = plate(0, np.array([-3.0, 1.0, 3.0]), np.array([6.0, 0, 0]),
+                  np.array([0, -3.0, 0]), np.array([0, 0, -1.0]))
+    if edge == "vertical":                          # the right wall at x = 1
+        other = plate(1, np.array([1.0, -2.0, -1.0]), np.array([0, 4.0, 0]),
+                      np.array([0, 0, 4.0]), np.array([-1.0, 0, 0]))
+    else:                                           # the floor at y = 1 (y down)
+        other = plate(1, np.array([-3.0, 1.0, -1.0]), np.array([6.0, 0, 0]),
+                      np.array([0, 0, 4.0]), np.array([0, -1.0, 0]))
+    d = np.hypot(1.0, 3.0)
+    along = "V" if edge == "vertical" else "H"
+    across = "H" if edge == "vertical" else "V"
+    amp_along, _ = total_return([front, other], order=1, polarization=along)
+    amp_across, _ = total_return([front, other], order=1, polarization=across)
+    assert amp_along == pytest.approx(np.sqrt(np.pi) * d, rel=1e-9, abs=1e-9)
+    assert amp_across == pytest.approx(-np.sqrt(np.pi) * d, rel=1e-9, abs=1e-9)

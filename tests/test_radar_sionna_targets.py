@@ -36,20 +36,11 @@ def ref() -> np.lib.npyio.NpzFile:
     return np.load(REFERENCE)
 
 
-#: Scenes that fail, with the reason (docs/physics_radar.md, "Targets in the room").
-KNOWN = {("H", "metal_left", "sphere"): (
-    "H, metal wall: the sphere's ghost radar → metal wall → front wall → sphere → radar "
-    "(5.35 m, a bistatic angle near 140°) is 3.6 dB under Sionna's and 165° off in phase, "
-    "which leaves its peak 4.6 dB low")}
-
-
 @pytest.mark.parametrize("polarization", ["V", "H"])
 @pytest.mark.parametrize("room", ROOMS)
 @pytest.mark.parametrize("target", TARGETS)
 def test_every_strong_return_is_in_the_range_profile(ref, room: str, target: str,
                                                      polarization: str) -> None:
-    if (polarization, room, target) in KNOWN:
-        pytest.xfail(KNOWN[polarization, room, target])
     res = compare_scene(ref, room, target, polarization)
     assert len(res["matched"]) >= 5                      # target, front wall, room, ghosts
     bad = [r for r in res["matched"] if r["tofradar_db"] is None

@@ -6,7 +6,7 @@ room with and without a metal left wall and one target about 2.5 m ahead of the 
 point scatterer of 1 m², a metal sphere of radius 0.2 m, a metal trihedral of edge 0.12 m),
 every specular path radar → room → radar and radar → room → target → room → radar that
 Sionna RT 2.2 traces (up to three face bounces for the room, two per leg for the target),
-with its length and complex coefficient (isotropic V antennas at 60 GHz).
+with its length and complex coefficient (isotropic V or H antennas at 60 GHz).
 
 Both are turned into the same range profile here: the reference's paths weighted by the
 radar's element pattern (the configured cosine pattern, on the path's departure and

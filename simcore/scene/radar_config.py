@@ -280,7 +280,9 @@ class RadarConfig(SensorTiming):
         "V",
         description="linear polarisation of the Tx and Rx antennas in the board frame: "
                     "V = E along board y (vertical with the board upright), H = along board "
-                    "x. Sets the Fresnel TE/TM mix of every multipath reflection at its "
+                    "x, on boresight; off it θ̂ (V) and φ̂ (H) about board y (3GPP TR "
+                    "38.901 §7.3.2, as Sionna RT's V/H: H stays across board y). Sets the "
+                    "Fresnel TE/TM mix of every multipath reflection at its "
                     "incidence angle (a floor reflects V near Brewster's angle weakly); "
                     "no effect on single-bounce returns")
     # The rig's own front (evaluation board or radome) as a multipath reflector.

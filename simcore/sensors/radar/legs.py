@@ -22,6 +22,7 @@ the front wall (or the floor) and reach the target from there; against Sionna RT
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -36,6 +37,8 @@ from simcore.sensors.radar.reflectors import (
     GhostSet,
     Reflector,
     _reflector_seen,
+    antenna_fields,
+    copolar_fields,
     polarization_vector,
 )
 from simcore.sensors.radar.room import (
@@ -72,6 +75,31 @@ def sphere_centres(scene: RadarScene, scatterers: Scatterers
     return centre, radius
 
 
+def sphere_sources(scene: RadarScene, scatterers: Scatterers) -> Scatterers:
+    """Each sphere's ghost source moved to its monostatic specular point, phase kept.
+
+    :func:`~simcore.sensors.radar.multipath.ghost_sources` merges a sphere's facets at
+    their power-weighted centroid, inside the sphere (8.9 mm behind the surface for
+    a = 0.2 m at 2.5 m, 60 GHz), and refers the sum's phase to the centroid's range.
+    Every ghost of a sphere is drawn at its specular point on the path
+    (:func:`sphere_placement`), so the source must be the return of that point: moved to
+    ``c − a ĉ`` (the point nearest the radar) with ``2 k r + φ`` unchanged, the same
+    monostatic return, ``φ`` now referred to the surface. With the centroid's phase a
+    sphere's ghosts came out ``2 k δ`` off (197° for δ = 8.9 mm). Other rows unchanged.
+    """
+    centre, radius = sphere_centres(scene, scatterers)
+    on = np.isfinite(centre[:, 0])
+    if not np.any(on):
+        return scatterers
+    spec = centre[on] - radius[on, None] * _unit(centre[on])
+    k = 2.0 * np.pi / scatterers.wavelength_m
+    pos = scatterers.positions_m.copy()
+    phase = scatterers.phase_rad.copy()
+    phase[on] += 2.0 * k * (np.linalg.norm(pos[on], axis=1) - np.linalg.norm(spec, axis=1))
+    pos[on] = spec
+    return dataclasses.replace(scatterers, positions_m=pos, phase_rad=phase)
+
+
 def sphere_factor(e_in: NDArray[np.complex128], e_out: NDArray[np.complex128],
                   u_in: NDArray[np.float64], u_out: NDArray[np.float64]
                   ) -> NDArray[np.complex128]:
@@ -94,12 +122,13 @@ def sphere_placement(scene: RadarScene, scatterers: Scatterers) -> Place:
     """Bistatic specular points of the spheres among the ghost sources (``place``).
 
     A sphere's ghost source (its facets merged, :func:`~simcore.sensors.radar.multipath.
-    ghost_sources`) sits at its monostatic specular point; lit from ``src`` and seen from
-    ``rcv`` (an image of the radar on either leg) it scatters from the point where its
-    normal bisects the two directions, ``c + a (û_src + û_rcv)/|û_src + û_rcv|``: the path
-    is ``a |û_src + û_rcv|`` shorter than through the centre (geometric optics, σ = πa²
-    for any bistatic angle but forward scatter). Through the monostatic point a ghost over
-    a side wall came out 3 cm long against Sionna RT. Other rows keep their positions.
+    ghost_sources`, then moved by :func:`sphere_sources`) sits at its monostatic specular
+    point; lit from ``src`` and seen from ``rcv`` (an image of the radar on either leg) it
+    scatters from the point where its normal bisects the two directions, ``c + a (û_src +
+    û_rcv)/|û_src + û_rcv|``: the path is ``a |û_src + û_rcv|`` shorter than through the
+    centre (geometric optics, σ = πa² for any bistatic angle but forward scatter). Through
+    the monostatic point a ghost over a side wall came out 3 cm long against Sionna RT.
+    Other rows keep their positions.
     """
     centre, radius = sphere_centres(scene, scatterers)
 
@@ -129,14 +158,17 @@ def _gammas(a: Reflector, b: Reflector, x_a: NDArray[np.float64], x_b: NDArray[n
     :func:`~simcore.sensors.radar.room.reflect_field` twice, for K paths at once; the
     co-polar part is received across the ray arriving at ``p``.
     """
-    field = transverse_many(pol, x_a).astype(np.complex128)
+    field = antenna_fields(pol, x_a).astype(np.complex128)
     field = reflect_many(a, x_a, field, wavelength_m)
     field = reflect_many(b, x_b - x_a, field, wavelength_m)
-    return np.asarray(np.einsum("kd,kd->k", field, transverse_many(pol, p - x_b))), field
+    return np.asarray(np.einsum("kd,kd->k", field, copolar_fields(pol, p - x_b))), field
 
 
 def transverse_many(pol: NDArray[np.float64], d: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``pol`` made transverse to each direction (K, 3), unit (:func:`room._transverse`)."""
+    """``pol`` made transverse to each direction (K, 3), unit (:func:`room._transverse`).
+
+    A dipole's E; the antennas' is :func:`~simcore.sensors.radar.reflectors.antenna_fields`.
+    """
     d = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
     out = pol[None] - (d @ pol)[:, None] * d
     norm = np.linalg.norm(out, axis=1)
@@ -237,7 +269,7 @@ def one_leg_double_ghosts(scatterers: Scatterers, reflectors: Sequence[Reflector
             if np.any(sph):
                 c = centres[rows[sph]]
                 src = b.mirror(a.mirror(np.zeros(3)))
-                gamma[sph] = sphere_factor(field[sph], transverse_many(pol, pos[rows[sph]])
+                gamma[sph] = sphere_factor(field[sph], antenna_fields(pol, pos[rows[sph]])
                                            .astype(np.complex128), src - c, -c)
         strong = np.abs(gamma) >= MIN_PRODUCT
         if not np.any(strong):
@@ -348,4 +380,4 @@ def _sets(scatterers: Scatterers, rows: NDArray[np.intp], gamma: NDArray[np.comp
 
 
 __all__ = ["Place", "one_leg_double_ghosts", "reflect_many", "sphere_centres",
-           "sphere_factor", "sphere_placement", "transverse_many"]
+           "sphere_factor", "sphere_placement", "sphere_sources", "transverse_many"]

@@ -88,13 +88,15 @@ from simcore.sensors.radar.legs import (
     sphere_centres,
     sphere_factor,
     sphere_placement,
-    transverse_many,
+    sphere_sources,
 )
 from simcore.sensors.radar.reflectors import (
     MIN_DISTANCE_M,
     GhostSet,
     Reflector,
     _reflector_seen,
+    antenna_fields,
+    copolar_fields,
     polarization_vector,
 )
 from simcore.sensors.radar.room import room_returns
@@ -294,15 +296,16 @@ def polarised_reflection(reflector: Reflector, directions: NDArray[np.float64],
     """Co-polar reflection coefficient of each leg's bounce on ``reflector``, shape (K,).
 
     ``directions`` (K, 3) are the legs from the radar to the reflection points and
-    ``polarization`` the antennas' E direction (radar frame). The wave's E (the antenna's,
-    made transverse to the leg: ``ê = p̂⊥(d̂)``) splits into TE (along ``ŝ = n × d̂``,
-    parallel to the surface) and TM (in the plane of incidence); the reflected E
-    (:func:`~simcore.sensors.radar.room.reflect_field`: ``−M (−Γ_TE E_TE + Γ_TM E_TM)``,
-    the image of a dipole ``p`` in a perfect conductor being ``−M p``, M the mirror)
-    arrives at the target along the reflected ray ``d̂_r = M d̂`` and is received there by
-    the same polarisation across that ray, ``p̂⊥(d̂_r)`` (the target keeps the polarisation
-    in the ray's own frame, as a sphere or a trihedral does). Since ``M ê = ±p̂⊥(d̂_r)``
-    up to the TE/TM split this is
+    ``polarization`` the antennas' E direction on boresight (radar frame). The wave's E
+    (the antenna's towards the leg, ``ê = p̂(d̂)``,
+    :func:`~simcore.sensors.radar.reflectors.antenna_fields`) splits into TE (along
+    ``ŝ = n × d̂``, parallel to the surface) and TM (in the plane of incidence); the
+    reflected E (:func:`~simcore.sensors.radar.room.reflect_field`:
+    ``−M (−Γ_TE E_TE + Γ_TM E_TM)``, the image of a dipole ``p`` in a perfect conductor
+    being ``−M p``, M the mirror) arrives at the target along the reflected ray
+    ``d̂_r = M d̂`` and is received there by the same polarisation in that ray's frame,
+    ``p̂(d̂_r)`` (the target keeps the polarisation in the ray's own frame, as a sphere or
+    a trihedral does). Where ``M ê = ±p̂(d̂_r)`` up to the TE/TM split this is
 
         Γ = Γ_TE c_TE² ∓ Γ_TM (1 − c_TE²),      c_TE = ê · ŝ,
 
@@ -311,7 +314,7 @@ def polarised_reflection(reflector: Reflector, directions: NDArray[np.float64],
     vectors. At normal incidence it is the material's Γ; a metal gives −1 for E parallel to
     the surface (H on a side wall, either on a front wall) and +1 for E in the plane of
     incidence at grazing (V over a metal floor); a dielectric gives −1 at grazing for both.
-    (Received along the incident leg instead, ``p̂⊥(d̂)``, the TM part carried a spurious
+    (Received along the incident leg instead, ``p̂(d̂)``, the TM part carried a spurious
     ``cos 2θ``: a V ghost via a concrete floor 49° off its normal came out 17 dB low
     against Sionna RT, ``tests/test_radar_sionna_targets.py``.) Without a band
     (:class:`Reflector` made by hand) the reflector's ``gamma``.
@@ -324,10 +327,10 @@ def polarised_reflection(reflector: Reflector, directions: NDArray[np.float64],
     n = reflector.normal
     s = np.cross(n, d)
     s_norm = np.linalg.norm(s, axis=1)
-    e = _unit_rows(polarization[None, :] - (d @ polarization)[:, None] * d)
+    e = antenna_fields(polarization, d)
     d_r = d - 2.0 * (d @ n)[:, None] * n[None, :]
-    e_r = _unit_rows(polarization[None, :] - (d_r @ polarization)[:, None] * d_r)
-    ok = (s_norm > 1e-9) & (np.linalg.norm(e, axis=1) > 0.5) & (np.linalg.norm(e_r, axis=1) > 0.5)
+    e_r = copolar_fields(polarization, d_r)
+    ok = s_norm > 1e-9
     out = np.asarray(r_te, dtype=np.complex128).copy()       # normal incidence: Γ_TE
     s_hat = s[ok] / s_norm[ok, None]
     e_te = np.einsum("ij,ij->i", e[ok], s_hat)[:, None] * s_hat
@@ -335,12 +338,6 @@ def polarised_reflection(reflector: Reflector, directions: NDArray[np.float64],
     mirrored = scaled - 2.0 * (scaled @ n)[:, None] * n[None, :]
     out[ok] = -np.einsum("ij,ij->i", mirrored, e_r[ok])
     return out
-
-
-def _unit_rows(v: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Rows scaled to unit length (zero rows stay zero)."""
-    norm = np.linalg.norm(v, axis=1, keepdims=True)
-    return np.where(norm > 1e-9, v / np.maximum(norm, 1e-300), 0.0)
 
 
 def image_paths(reflector: Reflector, scatterers: Scatterers, buffers: RenderBuffers | None,
@@ -379,7 +376,7 @@ def image_paths(reflector: Reflector, scatterers: Scatterers, buffers: RenderBuf
     g = 4.0 * np.pi * refl.height_rms_m * cos_i / wavelength_m
     pol = polarization_vector("V") if polarization is None else polarization
     gamma = polarised_reflection(refl, q, pol) * np.exp(-0.5 * g * g)
-    fields = reflect_many(refl, q, transverse_many(pol, q).astype(np.complex128), wavelength_m)
+    fields = reflect_many(refl, q, antenna_fields(pol, q).astype(np.complex128), wavelength_m)
     return ImagePaths(refl, rows, images, gamma.astype(np.complex128), q, fields)
 
 
@@ -709,7 +706,7 @@ def _sphere_gammas(paths: ImagePaths, pos: NDArray[np.float64], centres: NDArray
     sph = np.isfinite(centres[paths.rows, 0])
     if np.any(sph) and paths.fields is not None:
         c, f = centres[paths.rows[sph]], paths.fields[sph]
-        direct = transverse_many(pol, pos[sph]).astype(np.complex128)
+        direct = antenna_fields(pol, pos[sph]).astype(np.complex128)
         gamma[sph] = sphere_factor(f, direct, origin_image - c, -c)
         gamma2[sph] = sphere_factor(f, f, origin_image - c, origin_image - c)
     return gamma, gamma2
@@ -906,7 +903,8 @@ def ghost_scatterers(scene: RadarScene, scatterers: Scatterers,
     p_tx, p_rx = config.tx_positions_m(), config.rx_positions_m()
     pat_t = config.tx[0].pattern or config.element_pattern
     pat_r = config.rx[0].pattern or config.element_pattern
-    scatterers = ghost_sources(scatterers, image_ghost_rows(scene, scatterers))
+    scatterers = sphere_sources(scene, ghost_sources(scatterers,
+                                                     image_ghost_rows(scene, scatterers)))
     place = sphere_placement(scene, scatterers)
     centres = sphere_centres(scene, scatterers)[0]
     out: list[GhostSet] = []

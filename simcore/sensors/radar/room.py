@@ -51,6 +51,7 @@ from simcore.sensors.radar.reflectors import (
     MIN_DISTANCE_M,
     GhostSet,
     Reflector,
+    antenna_field,
     polarization_vector,
 )
 from simcore.sensors.radar.room_kernel import room_candidates
@@ -303,11 +304,12 @@ def _trace(faces: Sequence[Reflector], seq: tuple[int, ...], wavelength_m: float
     # two reflection points meet at an edge).
     unfolded = images[-1] / float(np.linalg.norm(images[-1]))
     direction = unfolded
-    field = _transverse(pol.astype(np.complex128), direction)
+    field = antenna_field(pol, direction).astype(np.complex128)
     for face in oriented:
         field = reflect_field(face, direction, field, wavelength_m)
         direction = face.mirror_vectors(direction)
-    amplitude = complex(field @ _transverse(pol.astype(np.complex128), direction))
+    # Received by the antenna's field towards where the wave comes from (reciprocity).
+    amplitude = complex(field @ antenna_field(pol, -direction))
     half = 0.5 * float(np.linalg.norm(images[-1]))
     near = math.sqrt(math.pi) * half
     if float(np.linalg.norm(direction + unfolded)) < 1e-6:

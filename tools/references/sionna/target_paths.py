@@ -32,25 +32,27 @@ curved or small metal target's monostatic return is not a ray-tracing result. In
 target's two-way returns combine the one-way paths ``i`` (out) and ``j`` (back, by
 reciprocity the same channel) with the target's geometric-optics scattering::
 
-    a_ij = (E_j · S E_i) √(4π σ_ij) / λ,     L_ij = L_i + L_j − Δ_ij
+    a_ij = (E_j · S E_i) √(4π σ_ij) / λ,     L_ij = L_i + L_j  (a sphere: less, below)
 
 with ``E`` a leg's field at the target as a world vector (Sionna's V and H coefficients on
 θ̂ and φ̂ of its direction of arrival ``u``) and ``S``: for the point target tofradar's
-convention (its co-polar RCS towards every direction: the co-polar parts of both legs,
-the radar's polarisation made transverse to each), for the sphere a perfect conductor's
-mirror at its specular point (``−M``, the normal bisecting the legs; ``Δ_ij = a |u_i +
-u_j|``, the specular point lying ``a cos(β/2)`` in front of the centre), for the
-trihedral ``+1`` (three conductor mirrors, ``(−M₃)(−M₂)(−M₁) = +I``: its return has the
-opposite sign to a plate's). A direct line ``|E| = λ / (4π d)`` gives the radar
-equation ``|a| = λ √σ / ((4π)^{3/2} d²)``. The trihedral is a retro-reflector: for
-``i = j`` its σ is the GO effective area in the leg's direction (the entrance triangle
-projected across the ray and intersected with its own point reflection through the
-apex), and between two different legs the aperture's diffraction lobe ``|2 J₁(x)/x|²``,
-``x = k r sin β``, ``r = √(A/π)``, which is below −30 dB for the bistatic angles of a
-room's ghosts. What this leaves out: the target's shadow on the room's returns, paths
-between target and room faces with the target reflecting more than once, and the room
-corners Sionna's solver does not find (the front–left–ceiling one and those behind the
-radar). Target paths more than 50 dB under the direct return are dropped.
+convention (its co-polar RCS towards every direction: the co-polar parts of both legs, on
+θ̂ for V and φ̂ for H turned to the polarisation's side, :func:`_copolar`), for the sphere
+a perfect conductor's mirror at its specular point (``−M``; the point ``P`` on the sphere
+whose normal bisects the directions from ``P`` to the radar's images along both legs,
+``L_ij`` the exact length through it, :func:`sphere_specular`; σ = πa² with the legs'
+distances to the centre, the far-field radar equation), for the trihedral ``+1`` (three
+conductor mirrors, ``(−M₃)(−M₂)(−M₁) = +I``: its return has the opposite sign to a
+plate's). A direct line ``|E| = λ / (4π d)`` gives the radar equation ``|a| = λ √σ /
+((4π)^{3/2} d²)``. The trihedral is a retro-reflector: for ``i = j`` its σ is the GO
+effective area in the leg's direction (the entrance triangle projected across the ray and
+intersected with its own point reflection through the apex), and between two different legs
+the aperture's diffraction lobe ``|2 J₁(x)/x|²``, ``x = k r sin β``, ``r = √(A/π)``, which
+is below −30 dB for the bistatic angles of a room's ghosts. What this leaves out: the
+target's shadow on the room's returns, paths between target and room faces with the target
+reflecting more than once, and the room corners Sionna's solver does not find (the
+front–left–ceiling one and those behind the radar). Target paths more than 50 dB under the
+direct return are dropped.
 
 Each path is written to ``resources/references/sionna_target_paths.npz`` (keys
 ``{room}_{room|point|sphere|corner}_…`` for V, ``H_{room}_…`` for H) with its length
@@ -247,6 +249,30 @@ def corner_axes(towards: np.ndarray) -> np.ndarray:
     return (rot @ np.eye(3)).T
 
 
+def sphere_specular(centre: np.ndarray, radius: float, src: np.ndarray, rcv: np.ndarray
+                    ) -> tuple[np.ndarray, float]:
+    """The specular point of a sphere between two points: its normal and the path's length.
+
+    ``src`` and ``rcv``: the radar's images along the two legs (each leg unfolded through
+    its faces, a straight line from the sphere). The point ``P = c + a n`` where the normal
+    ``n`` bisects the directions from ``P`` (not from the centre) to both, found by fixed-
+    point iteration from the centre's bisector; the length ``|src − P| + |P − rcv|`` is
+    stationary there (Fermat). The first-order ``L_i + L_j − a |u_i + u_j|`` (distances to
+    the centre) is short by about ``a² sin²(β/2) (1/L_i + 1/L_j) / 2``: 9 mm (≈ 2λ at
+    60 GHz) for a = 0.2 m, 2.5 m and 8.4 m legs at β = 132°.
+    """
+    n = _unit(_unit(src - centre) + _unit(rcv - centre))
+    for _ in range(100):
+        p = centre + radius * n
+        new = _unit(_unit(src - p) + _unit(rcv - p))
+        done = float(np.linalg.norm(new - n)) < 1e-13
+        n = new
+        if done:
+            break
+    p = centre + radius * n
+    return n, float(np.linalg.norm(src - p) + np.linalg.norm(rcv - p))
+
+
 def _fields(h: np.ndarray, u: np.ndarray) -> np.ndarray:
     """The legs' E at the target as world vectors (K, 3).
 
@@ -262,9 +288,19 @@ def _fields(h: np.ndarray, u: np.ndarray) -> np.ndarray:
 
 
 def _copolar(u: np.ndarray, pol: str) -> np.ndarray:
-    """The radar's polarisation (V: world z, H: world y) made transverse to each ``u``."""
+    """The co-polar unit vector at the target of a leg arriving from ``u``: V ∝ θ̂, H ∝ φ̂.
+
+    tofradar's convention (``simcore.sensors.radar.reflectors.copolar_fields``): Ludwig's
+    second definition about the vertical, the same as Sionna's ``"V"`` and ``"H"``
+    antennas (3GPP TR 38.901 §7.3.2; H horizontal in every direction), turned to the side
+    of the radar's polarisation (V: world z, H: world y), the same for ``u`` and ``−u``.
+    """
     p = np.array([0.0, 0.0, 1.0]) if pol == "V" else np.array([0.0, 1.0, 0.0])
-    return _unit(p[None] - (u @ p)[:, None] * u)
+    if pol == "V":
+        e = _unit(p[None] - (u @ p)[:, None] * u)
+    else:
+        e = _unit(np.cross(np.array([0.0, 0.0, 1.0])[None], u))
+    return np.where((e @ p)[:, None] < 0.0, -e, e)
 
 
 def target_returns(name: str, *, metal_left: bool, pol: str = "V") -> dict[str, np.ndarray]:
@@ -291,9 +327,10 @@ def target_returns(name: str, *, metal_left: bool, pol: str = "V") -> dict[str, 
                 amp, delta = np.sqrt(size), 0.0
             elif name == "sphere":
                 # GO: the specular point's mirror (a perfect conductor: −M) on E.
-                nrm = _unit(u[i] + u[j])
+                nrm, two_way = sphere_specular(centre, size, centre + length[i] * u[i],
+                                               centre + length[j] * u[j])
                 s_ij = -complex(field[i] @ field[j] - 2 * (field[i] @ nrm) * (field[j] @ nrm))
-                amp, delta = np.sqrt(np.pi) * size, size * float(np.linalg.norm(u[i] + u[j]))
+                amp, delta = np.sqrt(np.pi) * size, length[i] + length[j] - two_way
             else:
                 # Three conductor mirrors: −M₃ −M₂ −M₁ = +I (the triple image of a dipole
                 # is the dipole itself; a plate's single image is −p: opposite signs).
