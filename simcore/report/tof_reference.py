@@ -260,8 +260,12 @@ def simulate_exported(name: str, *, multipath: bool, **settings: Any
                             moving=True)
 
 
-def compare_exported(name: str, **settings: Any) -> dict[str, Any]:
+def compare_exported(name: str, *, reference_key: str = "all", **settings: Any
+                     ) -> dict[str, Any]:
     """:func:`compare` on exported scene ``name``, with ``multipath_*`` ``settings``.
+
+    ``reference_key``: the reference's phasor with multipath (``all``; ``one_bounce``
+    against ``multipath_bounces = 1``).
 
     "Near a crease" reaches :data:`EXPORTED` pixels. Besides :func:`compare`'s regions:
     ``moving``, the pixels whose sub-pixels all see objects the project moves (a person:
@@ -271,7 +275,8 @@ def compare_exported(name: str, **settings: Any) -> dict[str, Any]:
     freq = exported_scene(name)["reference_camera"]["modulation_frequency_hz"]
     off = simulate_exported(name, multipath=False, **settings)
     on = simulate_exported(name, multipath=True, **settings)
-    result = measure(reference_phasors(name), off, on, freq, reach_px=EXPORTED[name])
+    result = measure(reference_phasors(name), off, on, freq, reach_px=EXPORTED[name],
+                     reference_key=reference_key)
     maps = result["maps"]
     mover = maps["lit"] & off["moving"]
     maps["moving"] = mover
