@@ -425,7 +425,8 @@ def measure(ref: dict[str, NDArray[np.complex64]], off: dict[str, NDArray[Any]],
     lit = (np.abs(ref["direct"]) > 0) & (off["amplitude"] > 0)
     valid = off["valid"] & on["valid"] & lit & off["pure"]
     ref_direct = phasor_depth(ref["direct"], frequency_hz)
-    ref_bias = phasor_depth(ref[reference_key] / ref["direct"], frequency_hz)
+    with np.errstate(divide="ignore", invalid="ignore"):     # unlit pixels: left out
+        ref_bias = phasor_depth(ref[reference_key] / ref["direct"], frequency_hz)
     ref_bias = np.where(ref_bias > SPEED_OF_LIGHT / (4 * frequency_hz), ref_bias
                         - SPEED_OF_LIGHT / (2 * frequency_hz), ref_bias)
     ours = on["depth"].astype(np.float64) - off["depth"]
