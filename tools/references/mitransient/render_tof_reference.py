@@ -10,10 +10,18 @@ The illumination is a projector at the camera's centre filling the camera's rect
 field of view with uniform radiant intensity (its image-plane irradiance ∝ cos³ of the
 ray's angle to the axis, so that intensity per steradian is flat), as tofradar's camera.
 
+With ``--export DIR --name NAME`` it renders instead a scene exported from any tofradar
+project by ``tools/references/export_scene.py`` (its meshes as Lambertian surfaces of the
+ToF band's albedo, its ToF camera's pose and fields of view at ``--width`` pixels) to
+``tof_NAME.npz`` and ``tof_NAME_scene.json`` (see README.md).
+
 Usage::
 
     tools/references/mitransient/.venv/bin/python \
         tools/references/mitransient/render_tof_reference.py [--spp 4096] [scene ...]
+    tools/references/mitransient/.venv/bin/python \
+        tools/references/mitransient/render_tof_reference.py --export /tmp/office_scene \
+        --name office --spp 65536
 """
 
 from __future__ import annotations
