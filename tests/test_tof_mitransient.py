@@ -91,3 +91,23 @@ def test_the_sensor_plugin_builds_the_room_from_the_snapshot():
         frame = sim.frame(0)
     tof = next(out for out in frame.outputs.values() if hasattr(out, "depth_m"))
     np.testing.assert_array_equal(tof.depth_m, simulate("corner", multipath=True)["depth"])
+
+
+def test_the_engine_gives_the_office_frame_compared():
+    """The office's comparison is of the engine's own frame 0 (the walker expanded and
+    flagged as moving, the first-order path taken), bit for bit."""
+    from simcore.pipeline import Simulator
+    from simcore.report.tof_reference import (
+        exported_camera_config,
+        exported_project,
+        exported_project_path,
+        simulate_exported,
+    )
+
+    cfg = exported_camera_config("office", multipath=True, multipath_model="room")
+    with Simulator(exported_project("office", cfg),
+                   base_dir=exported_project_path("office").parent) as sim:
+        frame = sim.frame(0)
+    tof = next(out for out in frame.outputs.values() if hasattr(out, "depth_m"))
+    np.testing.assert_array_equal(tof.depth_m,
+                                  simulate_exported("office", multipath=True)["depth"])
