@@ -111,3 +111,27 @@ def test_the_engine_gives_the_office_frame_compared():
     tof = next(out for out in frame.outputs.values() if hasattr(out, "depth_m"))
     np.testing.assert_array_equal(tof.depth_m,
                                   simulate_exported("office", multipath=True)["depth"])
+
+
+def test_an_edited_office_is_not_compared_with_the_old_reference():
+    """The reference is the office as exported: a desk moved 1 cm, or a wall's albedo
+    changed, and the comparison refuses (export and render again)."""
+    from simcore.report import tof_reference as ref
+
+    cfg = ref.exported_camera_config("office", multipath=False)
+    project = ref.exported_project("office", cfg)
+    ref._check_scene("office", project)                      # as exported: accepted
+    desk = next(o for o in project.objects if o.name == "desk1_top")
+    pose = desk.pose.model_copy(update={"position_m": (
+        desk.pose.position_m[0] + 0.01, *desk.pose.position_m[1:])})
+    moved = project.model_copy(update={"objects": [
+        o.model_copy(update={"pose": pose}) if o is desk else o for o in project.objects]})
+    with pytest.raises(ValueError, match="not the scene the path tracer rendered"):
+        ref._check_scene("office", moved)
+    paint = next(m for m in project.materials if m.name == "white_paint")
+    tof = paint.band("tof").model_copy(update={"reflectance": 0.8})
+    repainted = project.model_copy(update={"materials": [
+        m.model_copy(update={"bands": {**m.bands, "tof": tof}}) if m is paint else m
+        for m in project.materials]})
+    with pytest.raises(ValueError, match="not the scene the path tracer rendered"):
+        ref._check_scene("office", repainted)

@@ -215,30 +215,42 @@ def exported_project(name: str, tof: TofCameraConfig) -> Project:
         raise ValueError(f"{name}: the compared camera {cam!r} is not on the first rig")
     project = project.model_copy(update={
         "rig": new_rig, "rigs": rigs, "materials": lambertian_materials(project)})
-    _check_bounds(name, project)
+    _check_scene(name, project)
     return project
 
 
-def _check_bounds(name: str, project: Project) -> None:
-    """The project's objects lie where the exported scene had them (within 1 mm)."""
+def _check_scene(name: str, project: Project) -> None:
+    """The project is the scene the path tracer rendered (else ValueError).
+
+    Each object's world bounds within 1 mm, its ToF albedo ``(1 − metallic) ·
+    reflectance`` within 1e-6 and the camera's pose within 1 mm / 1e-6, at the export's
+    time.
+    """
     from simcore.render.meshes import build_mesh
     from simcore.scene.people.expand import expand_people
+    from simcore.sensors.tof.sensor import tof_bands
 
     scene = exported_scene(name)
-    expanded = expand_people(project)
+    expanded = expand_people(project, base_dir=exported_project_path(name).parent)
     snap = take_snapshot(expanded, scene["time_s"])
-    boxes = []
-    for obj, state in zip(expanded.objects, snap.objects, strict=True):
+    ours = []
+    for obj, state, band in zip(expanded.objects, snap.objects, tof_bands(expanded),
+                                strict=True):
         mesh = build_mesh(obj.geometry)
         if mesh is None or len(mesh.triangles) == 0:
             continue
         t = state.transform
         world = mesh.points @ t[:3, :3].T + t[:3, 3]
-        boxes.append((obj.name, np.array([world.min(axis=0), world.max(axis=0)])))
-    expected = [(o["name"], np.asarray(o["bounds_m"])) for o in scene["objects"]]
-    same = len(boxes) == len(expected) and all(
+        albedo = None if band is None else (1.0 - band.metallic) * band.reflectance
+        ours.append((obj.name, np.array([world.min(axis=0), world.max(axis=0)]), albedo))
+    theirs = [(o["name"], np.asarray(o["bounds_m"]), o["albedo"]) for o in scene["objects"]]
+    same = len(ours) == len(theirs) and all(
         a == b and np.allclose(x, y, atol=1e-3)
-        for (a, x), (b, y) in zip(boxes, expected, strict=True))
+        and (p is None) == (q is None) and (p is None or abs(p - q) < 1e-6)
+        for (a, x, p), (b, y, q) in zip(ours, theirs, strict=True))
+    cam = scene["reference_camera"]
+    pose = snap.sensor(cam["name"]).transform
+    same = same and np.allclose(pose, np.asarray(cam["optical_to_world"]), atol=1e-6)
     if not same:
         raise ValueError(f"{exported_project_path(name)} is not the scene the path tracer "
                          f"rendered (tof_{name}_scene.json): export and render it again "
