@@ -159,8 +159,11 @@ def test_version_1_files_still_load(tmp_path):
     # Multipath from the room's surfaces in both sensors (issue 42): the v1 file has none.
     assert office_v1.rig.radar.multipath_order == 0
     assert office_v1.rig.tof.multipath_surfel_m == 0.25
+    assert office_v1.rig.tof.multipath_model == "screen"
     office.rig.radar.multipath_order = 0
     office.rig.tof.multipath_surfel_m = 0.25
+    office.rig.tof.multipath_model = "screen"
+    office.description = office_v1.description      # which now names both multipaths
     # Motion artefacts too, by reprojection in the office (renders in the v1 defaults).
     assert office_v1.rig.tof.motion_artifacts is False
     assert office_v1.rig.tof.motion_sampling == "renders"

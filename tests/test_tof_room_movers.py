@@ -12,7 +12,7 @@ import pytest
 
 from simcore.pipeline import Simulator
 from simcore.report.tof_reference import camera_config, reference_project
-from simcore.sensors.tof import room_cache, room_movers
+from simcore.sensors.tof import camera, room_cache, room_movers
 from simcore.sensors.tof.radiosity import radiosity
 
 
@@ -30,8 +30,9 @@ def _project(moving: str, *, multipath: bool = True):
 
 
 def _forget():
-    for cache in (room_cache._STILL, room_cache._GROWN, room_cache._BLOCK,
-                  room_movers._OPERATOR):
+    """Every kept result, so that a frame is computed afresh (the one-bounce result too)."""
+    for cache in (room_cache._STILL, room_cache._GROWN, room_cache._BLOCK, room_cache._EDITS,
+                  room_movers._OPERATOR, camera._ONE_BOUNCE_CACHE):
         cache.clear()
 
 
@@ -81,6 +82,43 @@ def test_a_frame_does_not_depend_on_the_frames_before_it():
     _forget()
     alone = _depths(_project("first_order"), [3])[0][0]
     np.testing.assert_array_equal(after, alone)
+
+
+def _moved(project, name, dx_m):
+    objects = [o.model_copy(update={"pose": o.pose.model_copy(update={"position_m": (
+        o.pose.position_m[0] + dx_m, *o.pose.position_m[1:])})}) if o.name == name else o
+        for o in project.objects]
+    return project.model_copy(update={"objects": objects})
+
+
+def test_an_edit_of_a_still_object_gives_the_frame_a_fresh_start_gives():
+    """Moving a still object (an edit in the GUI) re-uses the kept exchange and receivers
+    where the edit cannot change them, and the frame is the one computed afresh on the
+    edited project, bit for bit (kept exchange, receivers and depth)."""
+    _forget()
+    before = _project("first_order")
+    edited = _moved(_moved(before, "table", 0.3), "crate", -0.2)
+    with Simulator(before) as sim:
+        sim.frame(0)
+        sim.frame(1)
+        sim.set_project(edited)
+        got = next(o for o in sim.frame(2).outputs.values() if hasattr(o, "depth_m"))
+    assert room_cache._EDITS, "the edit was not taken from the kept exchange"
+    block, kept = room_cache._STILL[0.5], room_cache._GROWN[0.5]
+    _forget()
+    with Simulator(edited) as sim:
+        want = next(o for o in sim.frame(2).outputs.values() if hasattr(o, "depth_m"))
+    assert not room_cache._EDITS
+    fresh, rows = room_cache._STILL[0.5], room_cache._GROWN[0.5]
+    np.testing.assert_array_equal(block.factor, fresh.factor)
+    np.testing.assert_array_equal(block.distance, fresh.distance)
+    assert block.factor.any()
+    same = [key for key in rows.keys if key in kept.keys]
+    assert len(same) == len(rows.keys)
+    ours, theirs = [kept.keys[k] for k in same], [rows.keys[k] for k in same]
+    np.testing.assert_array_equal(kept.factor[ours], rows.factor[theirs])
+    np.testing.assert_array_equal(kept.kernels[-1][ours], rows.kernels[-1][theirs])
+    np.testing.assert_array_equal(got.depth_m, want.depth_m)
 
 
 def test_the_factorised_solve_is_the_neumann_series():

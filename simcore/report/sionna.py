@@ -169,7 +169,10 @@ def sionna_section(out_dir: str | Path) -> tuple[list[tuple[str, str, str]], dic
     from simcore.report.sionna_targets import targets_figure
 
     targets, numbers["targets"] = targets_figure(out)
-    return [(name, "Radar multipath against Sionna RT", text), targets], numbers
+    from simcore.report.sionna_office import office_figure
+
+    office, numbers["office"] = office_figure(out)
+    return [(name, "Radar multipath against Sionna RT", text), targets, office], numbers
 
 
 __all__ = ["REFERENCE", "compare", "room_reflectors", "sionna_section", "tofradar_room_paths"]

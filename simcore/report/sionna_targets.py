@@ -49,15 +49,29 @@ SIDELOBE_M = 0.10
 _WALL = 0.2                                          # wall thickness of the project's boxes (m)
 
 
+#: A configuration's ideal, monostatic, complex IF for the comparison: one Tx and one Rx at
+#: the array origin, 1024 complex samples at 4 MHz (no range aliasing to 25 m), one chirp,
+#: no noise, leakage, IF filters, quantisation, speckle or rig front.
+IDEAL_IF: dict[str, Any] = {
+    "sample_rate_hz": 4e6, "samples_per_chirp": 1024, "chirps_per_frame": 1,
+    "chirp_repetition_time_s": 300e-6, "complex_iq": True, "ideal": True,
+    "leakage_dbc": None, "leakage_echoes": [], "if_highpass_hz": 0.0, "if_lowpass_hz": 0.0,
+    "adc_bits": None, "speckle": False, "rig_front_width_m": 0.0, "rig_front_height_m": 0.0}
+
+
+def ideal_config(cfg: RadarConfig, *, polarization: str, multipath_order: int
+                 ) -> RadarConfig:
+    """``cfg`` made the comparison's ideal monostatic radar (:data:`IDEAL_IF`)."""
+    data = {**cfg.model_dump(), **IDEAL_IF, "multipath_order": multipath_order,
+            "polarization": polarization, "chirp_time_s": 256e-6}
+    data["tx"], data["rx"] = [Antenna(name="tx1")], [Antenna(name="rx1")]
+    return RadarConfig(**data)
+
+
 def radar_config(polarization: str = "V") -> RadarConfig:
     """One Tx, one Rx at the array origin, complex IF to 25 m, ideal, multipath order 2."""
-    return RadarConfig(
-        start_frequency_hz=57e9, bandwidth_hz=6e9, chirp_time_s=256e-6, sample_rate_hz=4e6,
-        samples_per_chirp=1024, chirps_per_frame=1, chirp_repetition_time_s=300e-6,
-        complex_iq=True, tx=[Antenna(name="tx1")], rx=[Antenna(name="rx1")], ideal=True,
-        leakage_dbc=None, leakage_echoes=[], if_highpass_hz=0.0, if_lowpass_hz=0.0,
-        adc_bits=None, speckle=False, multipath_order=2, polarization=polarization,
-        rig_front_width_m=0.0, rig_front_height_m=0.0)
+    return ideal_config(RadarConfig(start_frequency_hz=57e9, bandwidth_hz=6e9),
+                        polarization=polarization, multipath_order=2)
 
 
 def _materials() -> list[DualBandMaterial]:
@@ -142,14 +156,26 @@ def _tofradar_iq(project: Project) -> NDArray[np.complex128]:
 
     with Simulator(project, reuse_static=False) as sim:
         adc = sim.frame(0).outputs["radar"].raw.adc
-    n = radar_config().samples_per_chirp
+    radar = project.rig.radar
+    assert radar is not None
+    n = radar.samples_per_chirp
     return np.asarray(adc, dtype=np.complex128).reshape(-1)[:n]
 
 
-def pattern_amplitude(cfg: RadarConfig, world_dirs: NDArray[np.float64]) -> NDArray[np.float64]:
-    """√ of the cosine element pattern's power gain; radar facing world +x, z up."""
-    d = np.asarray(world_dirs, dtype=float)
-    x, z = -d[:, 1], d[:, 0]                  # radar frame: right (x), forward (z)
+#: The radar's optical axes (x right, y down, z forward) in the world, as columns: facing
+#: world +x with z up, as in the reference rooms.
+FACING_X = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+
+
+def pattern_amplitude(cfg: RadarConfig, world_dirs: NDArray[np.float64],
+                      radar_to_world: NDArray[np.float64] = FACING_X) -> NDArray[np.float64]:
+    """√ of the cosine element pattern's power gain towards ``world_dirs`` (n, 3).
+
+    ``radar_to_world`` (3 × 3): the radar's optical axes as columns (default: facing +x,
+    z up).
+    """
+    d = np.asarray(world_dirs, dtype=float) @ np.asarray(radar_to_world, dtype=float)
+    x, z = d[:, 0], d[:, 2]                   # radar frame: right (x), forward (z)
     horiz = np.hypot(x, z)
     cos_az = np.where(horiz > 0, z / np.where(horiz > 0, horiz, 1), 1.0)
     cos_el = horiz / np.linalg.norm(d, axis=1)
@@ -167,22 +193,43 @@ def reference_iq(ref: Any, room: str, target: str | None, cfg: RadarConfig
     """
     room = room if cfg.polarization == "V" else f"H_{room}"
     keys = [f"{room}_room"] + ([f"{room}_{target}"] if target else [])
+    return paths_iq(ref, keys, cfg)
+
+
+def paths_iq(ref: Any, keys: list[str], cfg: RadarConfig,
+             radar_to_world: NDArray[np.float64] = FACING_X) -> NDArray[np.complex128]:
+    """Dechirped complex IF (samples,) of cached paths, in units of Sionna's |a|.
+
+    Each ``key`` names a set of paths in ``ref``: ``{key}_length_m`` (two-way, m),
+    ``{key}_a`` (Sionna's coefficient), ``{key}_out`` and ``{key}_back`` (world unit
+    directions leaving and returning to the radar), each weighted by the element pattern
+    on both directions and synthesised on ``cfg``'s sample grid.
+    """
     t = np.arange(cfg.samples_per_chirp) / cfg.sample_rate_hz
     slope = cfg.bandwidth_hz / cfg.chirp_time_s
     iq = np.zeros(t.size, dtype=np.complex128)
     for key in keys:
         tau = ref[f"{key}_length_m"] / SPEED_OF_LIGHT
-        amp = (np.conj(ref[f"{key}_a"]) * pattern_amplitude(cfg, ref[f"{key}_out"])
-               * pattern_amplitude(cfg, ref[f"{key}_back"]))
+        amp = (np.conj(ref[f"{key}_a"])
+               * pattern_amplitude(cfg, ref[f"{key}_out"], radar_to_world)
+               * pattern_amplitude(cfg, ref[f"{key}_back"], radar_to_world))
         freq = cfg.start_frequency_hz + slope * t[:, None]
         iq += (amp[None, :] * np.exp(2j * np.pi * freq * tau[None, :])).sum(axis=1)
     return iq
 
 
-@lru_cache(maxsize=1)
-def _calibration() -> float:
-    """IF amplitude of tofradar per unit Sionna |a|: a 1 m² point target at 3 m, alone."""
-    cfg = radar_config().model_copy(update={"multipath_order": 0})
+def _calibration(cfg: RadarConfig | None = None) -> float:
+    """IF amplitude of tofradar per unit Sionna |a|: a 1 m² point target at 3 m, alone.
+
+    With ``cfg`` (default :func:`radar_config`'s) and its multipath off.
+    """
+    cfg = radar_config() if cfg is None else cfg
+    return _calibration_of(cfg.model_copy(update={"multipath_order": 0}).model_dump_json())
+
+
+@lru_cache(maxsize=4)
+def _calibration_of(cfg_json: str) -> float:
+    cfg = RadarConfig.model_validate_json(cfg_json)
     obj = SceneObject(id=1, name="cal", geometry=PointTarget(rcs_m2=1.0),
                       pose=Pose(position_m=(3.0, 0.0, 1.0)))
     proj = Project(objects=[obj], rig=SensorRig(pose=Pose(position_m=(0.0, 0.0, 1.0)),
@@ -239,30 +286,24 @@ def untraced_corners(ref: Any, key: str) -> NDArray[np.float64]:
     return np.array([r for r in ranges if not np.any(np.abs(traced - r) < 2e-3)])
 
 
-def compare_scene(ref: Any, room: str, target: str, polarization: str = "V"
-                  ) -> dict[str, Any]:
-    """The acceptance's comparison of one scene (module docstring of the test).
+def compare_profiles(rng: NDArray[np.float64], ref_db: NDArray[np.float64],
+                     tof_db: NDArray[np.float64], *, direct_m: float, front_m: float,
+                     excused_m: NDArray[np.float64] | None = None) -> dict[str, Any]:
+    """The acceptance's comparison of two range profiles (dB on the range axis ``rng``, m).
 
-    Returns the levels (dB re |a| = 1) of the target's direct return and the front wall's,
-    ``matched``: per reference peak within 20 dB of either, its range, level, and
-    tofradar's nearest peak within ±3 cm (range error cm, level error dB; None: none);
-    ``spurious``: tofradar's peaks within 20 dB of the stronger of the two with no
-    reference peak within ±3 cm, except ``untraced_corners``: those at a room corner the
-    reference lacks (:func:`untraced_corners`).
+    ``direct_m`` and ``front_m``: the ranges (m) of the target's direct return and of the
+    front wall's; their levels in the reference (the largest within ±3 cm) set the span.
+    Returns those levels, ``matched``: per reference peak within 20 dB of either, its
+    range, level, and tofradar's nearest peak within ±3 cm (range error cm, level error
+    dB; None: none); ``spurious``: tofradar's peaks within 20 dB of the stronger of the two
+    with no reference peak within ±3 cm and 23 dB, except those within ±3 cm of a range in
+    ``excused_m`` (listed as ``untraced_corners``: returns the reference cannot trace).
     """
-    rng, ref_db, tof_db = profiles(ref, room, target, polarization)
-    radar = np.asarray(ref["radar_m"], float)
-    centre = np.asarray(ref[f"target_{target}_m"], float)
-    r_target = float(np.linalg.norm(centre - radar))
-    if target == "sphere":
-        r_target -= float(ref["target_sphere_size"])
-    r_front = float(ref["room_m"][0] - radar[0])
-
     def level_at(r: float) -> float:
         near = np.abs(rng - r) <= RANGE_TOLERANCE_M
         return float(np.max(ref_db[near]))
 
-    direct, front = level_at(r_target), level_at(r_front)
+    direct, front = level_at(direct_m), level_at(front_m)
     r_pk, r_lv = peaks(rng, ref_db, min(direct, front) - SPAN_DB)
     t_pk, t_lv = peaks(rng, tof_db, min(direct, front) - SPAN_DB - 10.0)
     rows = []
@@ -279,14 +320,33 @@ def compare_scene(ref: Any, room: str, target: str, polarization: str = "V"
              for r, lv in zip(t_pk, t_lv, strict=True)
              if lv >= max(direct, front) - SPAN_DB
              and not np.any(np.abs(all_ref - r) <= RANGE_TOLERANCE_M)]
-    corners = untraced_corners(ref, room if polarization == "V" else f"H_{room}")
-    at_corner = [bool(np.any(np.abs(corners - e["range_m"]) <= RANGE_TOLERANCE_M))
+    excused = np.zeros(0) if excused_m is None else np.asarray(excused_m, dtype=float)
+    at_corner = [bool(np.any(np.abs(excused - e["range_m"]) <= RANGE_TOLERANCE_M))
                  for e in extra]
-    spurious = [e for e, c in zip(extra, at_corner, strict=True) if not c]
-    untraced = [e for e, c in zip(extra, at_corner, strict=True) if c]
-    return {"direct_db": direct, "front_db": front, "matched": rows, "spurious": spurious,
-            "untraced_corners": untraced,
+    return {"direct_db": direct, "front_db": front, "matched": rows,
+            "spurious": [e for e, c in zip(extra, at_corner, strict=True) if not c],
+            "untraced_corners": [e for e, c in zip(extra, at_corner, strict=True) if c],
             "range_m": rng, "sionna_profile_db": ref_db, "tofradar_profile_db": tof_db}
+
+
+def compare_scene(ref: Any, room: str, target: str, polarization: str = "V"
+                  ) -> dict[str, Any]:
+    """The acceptance's comparison of one scene (:func:`compare_profiles`).
+
+    The target's direct range is its centre's (a sphere's less its radius), the front
+    wall's the radar's distance to it; tofradar's peaks at a room corner the reference
+    lacks (:func:`untraced_corners`) are not counted as spurious.
+    """
+    rng, ref_db, tof_db = profiles(ref, room, target, polarization)
+    radar = np.asarray(ref["radar_m"], float)
+    centre = np.asarray(ref[f"target_{target}_m"], float)
+    r_target = float(np.linalg.norm(centre - radar))
+    if target == "sphere":
+        r_target -= float(ref["target_sphere_size"])
+    r_front = float(ref["room_m"][0] - radar[0])
+    corners = untraced_corners(ref, room if polarization == "V" else f"H_{room}")
+    return compare_profiles(rng, ref_db, tof_db, direct_m=r_target, front_m=r_front,
+                            excused_m=corners)
 
 
 def summary(res: dict[str, Any]) -> dict[str, Any]:
@@ -375,5 +435,7 @@ def targets_figure(out_dir: Any) -> tuple[tuple[str, str, str], dict[str, Any]]:
     return (name, "Radar multipath with targets against Sionna RT", text), numbers
 
 
-__all__ = ["REFERENCE", "ROOMS", "TARGETS", "compare_scene", "peaks", "profiles",
-           "radar_config", "reference_iq", "scene_project", "summary", "targets_figure"]
+__all__ = ["FACING_X", "IDEAL_IF", "REFERENCE", "ROOMS", "TARGETS", "compare_profiles",
+           "compare_scene", "ideal_config", "paths_iq", "pattern_amplitude", "peaks",
+           "profiles", "radar_config", "range_axis", "reference_iq", "scene_project",
+           "summary", "targets_figure"]

@@ -274,6 +274,37 @@ def oblique_slab_coefficients(permittivity: float, loss_tangent: float,
             r_tm * (1.0 - e2) / (1.0 - r_tm * r_tm * e2))
 
 
+def oblique_slab_transmission(permittivity: float, loss_tangent: float, thickness_m: float,
+                              frequency_hz: float, cos_theta: NDArray[np.floating]
+                              ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """One-way transmission of a slab at oblique incidence, TE and TM, relative to air.
+
+    The slab of :func:`oblique_slab_coefficients` (interface ``r`` per polarisation,
+    one-way phase ``δ = k₀ κ d``) transmits, summing its internal reflections (Airy;
+    Stokes: ``t t′ = 1 − r²``)::
+
+        T = (1 − r²) e^{−jδ} / (1 − r² e^{−2jδ}) · e^{+j k₀ d cos θ}
+
+    the last factor the phase of the same straight path through air (the ray is not
+    displaced: a thin sheet). At θ = 0 both equal :func:`slab_coefficients`' T.
+
+    Returns
+    -------
+    (ndarray, ndarray), complex128, the shape of ``cos_theta``
+        T_TE and T_TM.
+    """
+    c = np.clip(np.asarray(cos_theta, dtype=np.float64), 0.0, 1.0)
+    n2 = permittivity * (1.0 - 1j * loss_tangent)
+    kappa = np.sqrt(n2 - (1.0 - c * c) + 0j)
+    k0 = 2.0 * math.pi * frequency_hz / 299_792_458.0
+    e1 = np.exp(-1j * k0 * kappa * thickness_m)
+    air = np.exp(1j * k0 * thickness_m * c)
+    out = []
+    for r in ((c - kappa) / (c + kappa), (n2 * c - kappa) / (n2 * c + kappa)):
+        out.append((1.0 - r * r) * e1 / (1.0 - r * r * e1 * e1) * air)
+    return out[0], out[1]
+
+
 def summarize_band(band: str, m: BandMaterial, radar_frequency_hz: float = 60e9) -> str:
     """One phrase on what ``m`` does in ``band``, computed from its values (not prose).
 

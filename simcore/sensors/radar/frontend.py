@@ -120,7 +120,8 @@ def radar_scatterers(scene: RadarScene, buffers: RenderBuffers, *, config: Radar
     return scatterers_from_render(
         scene, buffers, wavelength_m=config.wavelength_m,
         facets=config.facet_intrinsics(), speckle=config.speckle,
-        seed=scene.seed if seed is None else seed, pixels=pixels, see_through=see_through)
+        seed=scene.seed if seed is None else seed, pixels=pixels, see_through=see_through,
+        polarization=config.polarization)
 
 
 def radar_output(ideal: ComplexCube, config: RadarConfig, *, rng: np.random.Generator,

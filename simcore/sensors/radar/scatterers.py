@@ -29,6 +29,7 @@ from simcore.render.buffers import RenderBuffers
 from simcore.render.meshes import TriangleMesh, build_mesh
 from simcore.scene.camera import PinholeIntrinsics
 from simcore.scene.geometry import CornerReflector, PointTarget, corner_reflector_axes
+from simcore.scene.materials import oblique_slab_transmission
 from simcore.scene.model import SceneObject
 from simcore.scene.snapshot import SensorState
 from simcore.sensors.radar.kinematics import motion_maps_batch
@@ -342,21 +343,120 @@ def _in_front(buffers: RenderBuffers, point_radar: NDArray[np.float64], object_i
 
 def _path_factor(buffers: RenderBuffers, see_through: RenderBuffers | None,
                  trans: NDArray[np.complex128], point_radar: NDArray[np.float64],
-                 object_index: int) -> complex:
-    """Two-way amplitude factor of the path to an analytic target: 1, T², or 0 (hidden)."""
+                 object_index: int, *, scene: RadarScene | None = None,
+                 wavelength_m: float = 0.005, polarization: str = "V",
+                 retro: bool = False) -> complex:
+    """Two-way amplitude factor of the path to an analytic target: 1, T², or 0 (hidden).
+
+    With ``scene``, a partly transparent object in front is crossed face by face
+    (:func:`_crossing_factor`: each sheet's TE/TM transmission at the ray's angle, the
+    radar's polarisation followed); without, its normal-incidence T².
+    """
     if see_through is None:
         return 1.0 if _unoccluded(buffers, point_radar, object_index) else 0.0
     if not _unoccluded(see_through, point_radar, object_index):
         return 0.0
     front = _in_front(buffers, point_radar, object_index)
-    return 1.0 if front < 0 else complex(trans[front]) ** 2
+    if front < 0:
+        return 1.0
+    if scene is not None:
+        found = _crossing_factor(scene, front, point_radar, wavelength_m=wavelength_m,
+                                 polarization=polarization, retro=retro)
+        if found is not None:
+            return found
+    return complex(trans[front]) ** 2
+
+
+def _crossings(scene: RadarScene, index: int, point_radar: NDArray[np.float64]
+               ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Where the line radar → ``point_radar`` crosses object ``index``'s triangles.
+
+    Returns the distances from the radar (m, sorted, one per crossing: a hit on an edge
+    two triangles share counts once) and the faces' unit normals there, radar frame.
+    """
+    mesh = build_mesh(scene.objects[index].geometry)
+    if mesh is None or len(mesh.triangles) == 0:
+        return np.zeros(0), np.zeros((0, 3))
+    t = scene.snapshot.objects[index].transform
+    pts = _radar_frame(scene.radar, mesh.points @ t[:3, :3].T + t[:3, 3])
+    tri = pts[mesh.triangles]
+    length = float(np.linalg.norm(point_radar))
+    d = point_radar / length
+    e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    p = np.cross(d, e2)
+    det = np.einsum("ij,ij->i", e1, p)
+    ok = np.abs(det) > 1e-15
+    inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+    s0 = -tri[:, 0]
+    u = np.einsum("ij,ij->i", s0, p) * inv
+    q = np.cross(s0, e1)
+    v = (q @ d) * inv
+    dist = np.einsum("ij,ij->i", e2, q) * inv
+    hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (dist > 0) & (dist < length)
+    normal = np.cross(e1[hit], e2[hit])
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    dist = dist[hit]
+    order = np.argsort(dist)
+    dist, normal = dist[order], normal[order]
+    keep = np.ones(dist.size, dtype=bool)
+    keep[1:] = np.diff(dist) > 1e-6
+    return dist[keep], normal[keep]
+
+
+def _crossing_factor(scene: RadarScene, index: int, point_radar: NDArray[np.float64], *,
+                     wavelength_m: float, polarization: str, retro: bool) -> complex | None:
+    """Two-way transmission through a partly transparent object's faces, or None.
+
+    Each face the line radar → target crosses is a sheet of the material's slab (a hollow
+    box: the office's paper box is crossed twice each way), unless the object is no
+    thicker than twice the slab (a pane modelled as a box of its own thickness: one slab).
+    At each sheet the wave's E vector (the radar's polarisation, made transverse to the
+    ray) is split into its TE part (along ``n × d``) and the rest (TM) and scaled by the
+    slab's T_TE and T_TM at the crossing angle (:func:`~simcore.scene.materials.
+    oblique_slab_transmission`); the ray goes on straight. The way back crosses the same
+    sheets: a retro-reflector (a trihedral returns the field itself) gives ``E · E``, a
+    co-polar target (point target) ``(E · p̂)²``. None where no face is crossed.
+    """
+    material = scene.materials.get(scene.objects[index].material)
+    if material is None:
+        return None
+    band = material.band("radar")
+    if band.permittivity is None or band.thickness_m is None:
+        return None
+    dist, normals = _crossings(scene, index, point_radar)
+    if dist.size == 0:
+        return None
+    mesh = build_mesh(scene.objects[index].geometry)
+    assert mesh is not None
+    if float(np.min(np.ptp(mesh.points, axis=0))) <= 2.0 * band.thickness_m:
+        normals = normals[:1]
+    d = point_radar / float(np.linalg.norm(point_radar))
+    pol = np.array([0.0, 1.0, 0.0]) if polarization == "V" else np.array([1.0, 0.0, 0.0])
+    copol = pol - (pol @ d) * d
+    copol /= np.linalg.norm(copol)
+    cos = np.abs(normals @ d)
+    t_te, t_tm = oblique_slab_transmission(band.permittivity, band.loss_tangent,
+                                           band.thickness_m, 299_792_458.0 / wavelength_m,
+                                           cos)
+    field = copol.astype(np.complex128)
+    for n, te_t, tm_t in zip(normals, t_te, t_tm, strict=True):
+        te = np.cross(n, d)
+        size = float(np.linalg.norm(te))
+        if size < 1e-9:                                  # normal incidence: no TE/TM split
+            field = field * te_t
+            continue
+        te /= size
+        part = (field @ te) * te
+        field = te_t * part + tm_t * (field - part)
+    return complex(field @ field) if retro else complex(field @ copol) ** 2
 
 
 def scatterers_from_render(scene: RadarScene, buffers: RenderBuffers,
                            *, wavelength_m: float, facets: PinholeIntrinsics | None = None,
                            speckle: bool = True, seed: int = 0,
                            pixels: NDArray[np.bool_] | None = None,
-                           see_through: RenderBuffers | None = None) -> Scatterers:
+                           see_through: RenderBuffers | None = None,
+                           polarization: str = "V") -> Scatterers:
     """All radar scatterers of a frame from its snapshot and radar render.
 
     Parameters
@@ -384,6 +484,10 @@ def scatterers_from_render(scene: RadarScene, buffers: RenderBuffers,
         The render with the partially transparent objects hidden (see
         :func:`~simcore.sensors.radar.surfaces.facet_returns`): what lies behind them is
         seen through them, attenuated by their two-way transmission.
+    polarization : str
+        The radar's linear polarisation (``"V"`` or ``"H"``): corner reflectors and point
+        targets behind a partly transparent object are seen through its faces at the
+        ray's angle in that polarisation (:func:`_crossing_factor`).
 
     Returns
     -------
@@ -414,7 +518,9 @@ def scatterers_from_render(scene: RadarScene, buffers: RenderBuffers,
             material = table.get(o.material)
             if material is not None and material.band("radar").opacity <= 0:
                 continue  # not drawn in the radar pass: the radar sees through it
-            path = _path_factor(buffers, see_through, trans, apex, i)
+            path = _path_factor(buffers, see_through, trans, apex, i, scene=scene,
+                                wavelength_m=wavelength_m, polarization=polarization,
+                                retro=True)
             if path == 0:
                 continue
             to_radar_world = scene.radar.position - apex_world
@@ -424,7 +530,8 @@ def scatterers_from_render(scene: RadarScene, buffers: RenderBuffers,
             sigma = 4.0 * np.pi * float(area) ** 2 / wavelength_m**2
             kind = KIND_CORNER_REFLECTOR
         else:
-            path = _path_factor(buffers, see_through, trans, apex, i)
+            path = _path_factor(buffers, see_through, trans, apex, i, scene=scene,
+                                wavelength_m=wavelength_m, polarization=polarization)
             if path == 0:
                 continue
             sigma = geom.rcs_m2

@@ -283,7 +283,8 @@ def _interference(ctx: SensorContext, scene: RadarScene, name: str, cfg: RadarCo
 
 def _scatterer_reads(ctx: SensorContext, cfg: RadarConfig) -> object:
     """What the scatterers depend on besides the render: λ, speckle, grid, materials."""
-    return (cfg.wavelength_m, cfg.speckle, ctx.seed, cfg.render_width, cfg.render_height,
+    return (cfg.wavelength_m, cfg.speckle, cfg.polarization, ctx.seed, cfg.render_width,
+            cfg.render_height,
             cfg.render_fov_h_deg, cfg.render_supersampling,
             config_key(*ctx.project.materials), config_key(*ctx.project.objects))
 

@@ -453,9 +453,24 @@ def _transfer(centre: F64, normal: F64, vertices: F64, area: F64, size: F64, tri
     nn = centre.shape[0]
     factor = np.zeros((nn, nn), dtype=np.float32)
     dist = np.zeros((nn, nn), dtype=np.float32)
+    _transfer_rows(centre, normal, vertices, area, size, tris, start, lo, hi, 0, nn, factor,
+                   dist)
+    return factor, dist
+
+
+@kernel
+def _transfer_rows(centre: F64, normal: F64, vertices: F64, area: F64, size: F64, tris: F64,
+                   start: NDArray[np.int64], lo: F64, hi: F64, first: int, last: int,
+                   factor: NDArray[np.float32], dist: NDArray[np.float32]) -> None:
+    """:func:`_transfer`'s pairs ``(i, j > i)`` for ``first ≤ i < last``, into the arrays.
+
+    The pairs of two disjoint ranges of ``i`` touch disjoint entries: two threads may fill
+    one matrix.
+    """
+    nn = centre.shape[0]
     a = np.empty(3)
     b = np.empty(3)
-    for i in range(nn):
+    for i in range(first, last):
         for j in range(i + 1, nn):
             dx, dy, dz = centre[j, 0] - centre[i, 0], centre[j, 1] - centre[i, 1], \
                 centre[j, 2] - centre[i, 2]
@@ -470,7 +485,6 @@ def _transfer(centre: F64, normal: F64, vertices: F64, area: F64, size: F64, tri
             if _segment_clear(a, b, tris, start, lo, hi):
                 factor[i, j] = fij
                 factor[j, i] = fji
-    return factor, dist
 
 
 def transfer(surfels: Surfels, room: Room
@@ -553,15 +567,22 @@ def neumann_into(total: NDArray[np.complex128],
 def _phase_kernel(weighted: NDArray[np.float32], distance: NDArray[np.float32], k: float
                   ) -> NDArray[np.complex64]:
     """``weighted · e^{i k distance}`` (complex64) in one pass, zero where ``weighted`` is."""
+    out = np.zeros(weighted.shape, dtype=np.complex64)
+    _phase_kernel_into(weighted, distance, k, out)
+    return out
+
+
+@kernel
+def _phase_kernel_into(weighted: NDArray[np.float32], distance: NDArray[np.float32], k: float,
+                       out: NDArray[np.complex64]) -> None:
+    """:func:`_phase_kernel` written into ``out`` (zeros) of the same shape."""
     n, m = weighted.shape
-    out = np.zeros((n, m), dtype=np.complex64)
     for i in range(n):
         for j in range(m):
             w = weighted[i, j]
             if w != 0.0:
                 phase = k * distance[i, j]
                 out[i, j] = complex(w * math.cos(phase), w * math.sin(phase))
-    return out
 
 
 @kernel

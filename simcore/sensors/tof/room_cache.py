@@ -16,6 +16,12 @@ stale cache. When an object that stood still starts to move, the kept block is c
 the objects still standing, and the still pairs that the object used to shadow are
 recomputed.
 
+An edit of still objects (the GUI moves a desk) is taken the same way by the first-order
+path (:func:`_edited_block`): pairs of surfels that both were kept keep their form
+factors, and their visibility unless their segment crosses the box of an object taken out
+or put in; the kept receivers likewise (:func:`_edited_receivers`). The result is a fresh
+computation's bit for bit, so a frame never depends on the edits before it.
+
 Surfels of still objects are cut with :func:`~simcore.sensors.tof.radiosity.facing_any`
 among still objects only (a still triangle that faces nothing but a moving object is left
 out: it would have to face it and nothing else in the room).
@@ -27,6 +33,7 @@ import hashlib
 import math
 import os
 import threading
+from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
@@ -228,10 +235,24 @@ def _unshadow(centre: F64, normal: F64, vertices: F64, area: F64, size: F64, fac
 
 
 def _full_block(room: Room, digests: tuple[bytes, ...], patch_m: float) -> StillBlock:
-    """The exchange among all the objects of ``room`` (every one standing still)."""
+    """The exchange among all the objects of ``room`` (every one standing still).
+
+    :func:`~simcore.sensors.tof.radiosity.transfer` on two threads: the first
+    ``n (1 − 1/√2)`` rows hold half the pairs ``(i, j > i)``.
+    """
     surfels = surfels_from_room(room, patch_m=patch_m)
-    _check_size(len(surfels.area), patch_m)
-    factor, distance = _radiosity.transfer(surfels, room)
+    n = len(surfels.area)
+    _check_size(n, patch_m)
+    factor = np.zeros((n, n), dtype=np.float32)
+    distance = np.zeros((n, n), dtype=np.float32)
+    lo, hi = occluder_boxes(room)
+    arrays = _surfel_arrays(surfels)
+
+    def rows(sl: slice) -> None:
+        _radiosity._transfer_rows(*arrays, room.triangles, room.occluder_start, lo, hi,
+                                  sl.start, sl.stop, factor, distance)
+
+    _by_halves(n, rows, cut=int(n * (1.0 - math.sqrt(0.5))))
     return StillBlock(digests, room, surfels, factor, distance)
 
 
@@ -250,6 +271,190 @@ def _narrow(block: StillBlock, keep: list[int], patch_m: float) -> StillBlock:
     _unshadow(*_surfel_arrays(surfels), factor, room.triangles, room.occluder_start, lo, hi,
               glo, ghi, *_union(glo, ghi))
     return StillBlock(tuple(block.digests[g] for g in keep), room, surfels, factor, distance)
+
+
+@dataclass(frozen=True)
+class _Edit:
+    """How the still objects changed between two kept blocks (:func:`_edited_block`).
+
+    Attributes
+    ----------
+    before, after : tuple of bytes
+        The digests of the block before and after.
+    old : ndarray of int, shape (S,)
+        Each new surfel's index among the old block's (−1: a new surfel).
+    lo, hi : ndarray, shape (C, 3)
+        Boxes of the objects taken out (where they were) and put in (where they are).
+    """
+
+    before: tuple[bytes, ...]
+    after: tuple[bytes, ...]
+    old: NDArray[np.int64]
+    lo: F64
+    hi: F64
+
+
+def _surfel_keys(s: Surfels) -> list[bytes]:
+    """One key per surfel: its whole geometry, bit for bit."""
+    return [b"".join((v.tobytes(), c.tobytes(), n.tobytes(), a.tobytes(), z.tobytes()))
+            for v, c, n, a, z in zip(s.vertices, s.centre, s.normal, s.area, s.size,
+                                     strict=True)]
+
+
+def _edited_block(old: StillBlock, room: Room, digests: tuple[bytes, ...], patch_m: float
+                  ) -> tuple[StillBlock, _Edit] | None:
+    """The exchange of ``room``'s objects, computed from ``old`` where no edit can change it.
+
+    The still objects changed (an object moved, was reshaped, added or removed): the pairs
+    of surfels that both were in ``old`` keep their form factors, and their visibility
+    unless their segment crosses the box of an object taken out or put in; every other
+    pair is computed afresh. The result is :func:`_full_block`'s bit for bit (the same
+    kernels on the same surfels, in the same order). None when the surfels kept changed
+    order (then :func:`_full_block` is the way).
+    """
+    surfels = surfels_from_room(room, patch_m=patch_m)
+    _check_size(len(surfels.area), patch_m)
+    table = {key: i for i, key in enumerate(_surfel_keys(old.surfels))}
+    index = np.array([table.get(key, -1) for key in _surfel_keys(surfels)], dtype=np.int64)
+    matched = index[index >= 0]
+    if len(matched) == 0 or np.any(np.diff(matched) <= 0):
+        return None
+    before, after = set(old.digests), set(digests)
+    out_lo, out_hi = occluder_boxes(sub_room(old.room, [g for g, d in enumerate(old.digests)
+                                                        if d not in after]))
+    in_lo, in_hi = occluder_boxes(sub_room(room, [g for g, d in enumerate(digests)
+                                                  if d not in before]))
+    lo, hi = np.concatenate([out_lo, in_lo]), np.concatenate([out_hi, in_hi])
+    tlo, thi = occluder_boxes(room)
+    factor, distance = _patch_pairs(*_surfel_arrays(surfels), index, old.factor,
+                                    room.triangles, room.occluder_start, tlo, thi, lo, hi,
+                                    *_union(lo, hi))
+    edit = _Edit(old.digests, digests, index, lo, hi)
+    return StillBlock(digests, room, surfels, factor, distance), edit
+
+
+@kernel
+def _patch_pairs(centre: F64, normal: F64, vertices: F64, area: F64, size: F64,
+                 old: NDArray[np.int64], old_factor: F32, tris: F64, start: NDArray[np.int64],
+                 lo: F64, hi: F64, edit_lo: F64, edit_hi: F64, all_lo: F64, all_hi: F64
+                 ) -> tuple[F32, F32]:
+    """:func:`~simcore.sensors.tof.radiosity._transfer`, old pairs reused.
+
+    See :func:`_edited_block`; ``old``: each surfel's index in ``old_factor`` (−1: new).
+    """
+    nn = centre.shape[0]
+    factor = np.zeros((nn, nn), dtype=np.float32)
+    dist = np.zeros((nn, nn), dtype=np.float32)
+    a = np.empty(3)
+    b = np.empty(3)
+    for i in range(nn):
+        for j in range(i + 1, nn):
+            dx, dy, dz = centre[j, 0] - centre[i, 0], centre[j, 1] - centre[i, 1], \
+                centre[j, 2] - centre[i, 2]
+            dist[i, j] = dist[j, i] = math.sqrt(dx * dx + dy * dy + dz * dz)
+            oi, oj = old[i], old[j]
+            if oi >= 0 and oj >= 0:
+                for c in range(3):
+                    a[c] = centre[i, c] + LIFT_M * normal[i, c]
+                    b[c] = centre[j, c] + LIFT_M * normal[j, c]
+                if not _crosses(a, b, all_lo, all_hi) or not _crosses(a, b, edit_lo, edit_hi):
+                    factor[i, j] = old_factor[oi, oj]
+                    factor[j, i] = old_factor[oj, oi]
+                    continue
+            fij, fji = _pair(i, j, centre, normal, vertices, area, size, tris, start, lo, hi,
+                             a, b)
+            factor[i, j] = fij
+            factor[j, i] = fji
+    return factor, dist
+
+
+@kernel
+def _patch_rows(points: F64, normals: F64, centre: F64, normal: F64, vertices: F64,
+                area: F64, size: F64, old: NDArray[np.int64], old_factor: F32, old_dist: F32,
+                tris: F64, start: NDArray[np.int64], lo: F64, hi: F64, edit_lo: F64,
+                edit_hi: F64, all_lo: F64, all_hi: F64, factor: F32, dist: F32) -> None:
+    """:func:`_receiver_rows`, old values (rows of ``old_factor``) reused.
+
+    Where no edit can change them (:func:`_edited_block`); ``old``: each surfel's column
+    in ``old_factor`` (−1: new). Written into ``factor`` and ``dist`` (zeros).
+    """
+    m, count = points.shape[0], centre.shape[0]
+    a = np.empty(3)
+    b = np.empty(3)
+    for r in range(m):
+        for j in range(count):
+            for c in range(3):
+                a[c] = points[r, c] + LIFT_M * normals[r, c]
+                b[c] = centre[j, c] + LIFT_M * normal[j, c]
+            oj = old[j]
+            if oj >= 0 and (not _crosses(a, b, all_lo, all_hi)
+                            or not _crosses(a, b, edit_lo, edit_hi)):
+                factor[r, j] = old_factor[r, oj]
+                dist[r, j] = old_dist[r, oj]
+                continue
+            f = _exchange(points[r], normals[r], j, centre, normal, vertices, area, size)
+            if f == 0.0 or not _segment_clear(a, b, tris, start, lo, hi):
+                continue
+            factor[r, j] = f
+            dist[r, j] = np.sqrt((centre[j, 0] - points[r, 0]) ** 2
+                                 + (centre[j, 1] - points[r, 1]) ** 2
+                                 + (centre[j, 2] - points[r, 2]) ** 2)
+
+
+def _edited_receivers(kept: _Receivers, block: StillBlock, edit: _Edit) -> _Receivers:
+    """``kept``'s rows against ``block`` after ``edit`` (:func:`_patch_rows`)."""
+    tlo, thi = occluder_boxes(block.room)
+    arrays = _surfel_arrays(block.surfels)
+    ulo, uhi = _union(edit.lo, edit.hi)
+    factor, distance, kernels = _row_arrays(len(kept.factor), len(block.surfels.area),
+                                            kept.wavenumbers)
+
+    def rows(sl: slice) -> None:
+        _patch_rows(kept.points[sl], kept.normals[sl], *arrays, edit.old, kept.factor[sl],
+                    kept.distance[sl], block.room.triangles, block.room.occluder_start,
+                    tlo, thi, edit.lo, edit.hi, ulo, uhi, factor[sl], distance[sl])
+        _kernels_into(factor[sl], distance[sl], kept.wavenumbers, [k[sl] for k in kernels])
+
+    _by_halves(len(kept.keys), rows)
+    return _Receivers(block.digests, kept.keys, factor, distance, tuple(kernels),
+                      kept.wavenumbers, kept.points, kept.normals)
+
+
+def _row_arrays(rows: int, count: int, wavenumbers: tuple[float, ...] | list[float]
+                ) -> tuple[F32, F32, list[NDArray[np.complex64]]]:
+    """Zeroed receiver arrays: factor, distance, and a phase kernel per wavenumber ≠ 0."""
+    return (np.zeros((rows, count), dtype=np.float32), np.zeros((rows, count), dtype=np.float32),
+            [np.zeros((rows, count) if k != 0.0 else (0, 0), dtype=np.complex64)
+             for k in wavenumbers])
+
+
+def _kernels_into(factor: F32, distance: F32, wavenumbers: tuple[float, ...] | list[float],
+                  out: list[NDArray[np.complex64]]) -> None:
+    """The phase kernel of each wavenumber ≠ 0 into ``out`` (k = 0: an empty placeholder)."""
+    for k, o in zip(wavenumbers, out, strict=True):
+        if k != 0.0:
+            _radiosity._phase_kernel_into(factor, distance, k, o)
+
+
+#: Fewer rows than this are not split between two threads (:func:`_by_halves`).
+SPLIT_ROWS = 64
+
+
+def _by_halves(count: int, rows: Callable[[slice], None], *, cut: int | None = None
+               ) -> None:
+    """``rows(slice(0, count))``, its first part on the helper thread (compiled, no GIL).
+
+    ``rows`` writes each row on its own, so the parts are the whole bit for bit. ``cut``:
+    where the parts meet (default half way). Serial on the helper thread itself, and for
+    fewer than :data:`SPLIT_ROWS` rows.
+    """
+    if count < SPLIT_ROWS or threading.current_thread().name.startswith("tof-room"):
+        rows(slice(0, count))
+        return
+    half = count // 2 if cut is None else cut
+    first = _pool().submit(rows, slice(0, half))
+    rows(slice(half, count))
+    first.result()
 
 
 def _union(lo: F64, hi: F64) -> tuple[F64, F64]:
@@ -360,11 +565,12 @@ def _with_moving(room: Room, block: StillBlock, moving: list[int], patch_m: floa
 @kernel
 def _receiver_rows(points: F64, normals: F64, centre: F64, normal: F64, vertices: F64,
                    area: F64, size: F64, count: int, tris: F64, start: NDArray[np.int64],
-                   lo: F64, hi: F64) -> tuple[F32, F32]:
-    """Form factor × visibility and distance from each receiver to the first ``count`` surfels."""
+                   lo: F64, hi: F64, factor: F32, dist: F32) -> None:
+    """Form factor × visibility and distance from each receiver to the first ``count`` surfels.
+
+    Written into ``factor`` and ``dist`` (zeros, shape (receivers, ``count``)).
+    """
     m = points.shape[0]
-    factor = np.zeros((m, count), dtype=np.float32)
-    dist = np.zeros((m, count), dtype=np.float32)
     a = np.empty(3)
     b = np.empty(3)
     for r in range(m):
@@ -381,7 +587,6 @@ def _receiver_rows(points: F64, normals: F64, centre: F64, normal: F64, vertices
             dist[r, j] = np.sqrt((centre[j, 0] - points[r, 0]) ** 2
                                  + (centre[j, 1] - points[r, 1]) ** 2
                                  + (centre[j, 2] - points[r, 2]) ** 2)
-    return factor, dist
 
 
 @kernel
@@ -496,6 +701,8 @@ class _Receivers:
     distance: F32
     kernels: tuple[NDArray[np.complex64], ...]
     wavenumbers: tuple[float, ...]
+    points: F64
+    normals: F64
 
 
 _RECEIVERS: dict[float, _Receivers] = {}
@@ -653,6 +860,10 @@ def _grown_receivers(points: F64, normals: F64, block: StillBlock, wavenumbers: 
     keys = [p.tobytes() + n.tobytes() for p, n in zip(points, normals, strict=True)]
     with _LOCK:
         kept = _GROWN.get(patch_m)
+        edit = _EDITS.get(patch_m)
+    if kept is not None and kept.digests != block.digests and edit is not None \
+            and edit.before == kept.digests and edit.after == block.digests:
+        kept = _edited_receivers(kept, block, edit)      # the still objects were edited
     if kept is None or kept.digests != block.digests \
             or kept.wavenumbers != tuple(wavenumbers) or len(kept.keys) > 4 * len(keys) + 64:
         kept = _keep_receivers(points, normals, keys, block, wavenumbers)
@@ -671,7 +882,7 @@ def _grown_receivers(points: F64, normals: F64, block: StillBlock, wavenumbers: 
 def _append_rows(kept: _Receivers, more: _Receivers) -> _Receivers:
     """``kept`` with the rows of ``more`` after its filled ones (capacity doubled if needed)."""
     base, extra = len(kept.keys), len(more.keys)
-    arrays: list[Any] = [kept.factor, kept.distance, *kept.kernels]
+    arrays: list[Any] = [kept.points, kept.normals, kept.factor, kept.distance, *kept.kernels]
     if base + extra > len(kept.factor):
         size = max(2 * len(kept.factor), base + extra)
         grown: list[Any] = []
@@ -683,13 +894,15 @@ def _append_rows(kept: _Receivers, more: _Receivers) -> _Receivers:
             b[:base] = a[:base]
             grown.append(b)
         arrays = grown
-    for a, m in zip(arrays, [more.factor, more.distance, *more.kernels], strict=True):
+    added: list[NDArray[Any]] = [more.points, more.normals, more.factor, more.distance,
+                                 *more.kernels]
+    for a, m in zip(arrays, added, strict=True):
         if m.size:
             a[base:base + extra] = m
     keys = dict(kept.keys)
     keys.update({key: base + i for key, i in more.keys.items()})
-    return _Receivers(kept.digests, keys, arrays[0], arrays[1], tuple(arrays[2:]),
-                      kept.wavenumbers)
+    return _Receivers(kept.digests, keys, arrays[2], arrays[3], tuple(arrays[4:]),
+                      kept.wavenumbers, arrays[0], arrays[1])
 
 
 def _keep_receivers(points: F64, normals: F64, keys: list[bytes], block: StillBlock,
@@ -697,12 +910,17 @@ def _keep_receivers(points: F64, normals: F64, keys: list[bytes], block: StillBl
     """Form factors and visibility (past the still objects) of receivers to still surfels."""
     lo, hi = occluder_boxes(block.room)
     arrays = _surfel_arrays(block.surfels)
-    factor, distance = _receiver_rows(points, normals, *arrays, len(block.surfels.area),
-                                      block.room.triangles, block.room.occluder_start, lo, hi)
-    kernels = [_radiosity._phase_kernel(factor, distance, k) if k != 0.0
-               else np.zeros((0, 0), dtype=np.complex64) for k in wavenumbers]
+    count = len(block.surfels.area)
+    factor, distance, kernels = _row_arrays(len(points), count, wavenumbers)
+
+    def rows(sl: slice) -> None:
+        _receiver_rows(points[sl], normals[sl], *arrays, count, block.room.triangles,
+                       block.room.occluder_start, lo, hi, factor[sl], distance[sl])
+        _kernels_into(factor[sl], distance[sl], wavenumbers, [k[sl] for k in kernels])
+
+    _by_halves(len(points), rows)
     return _Receivers(block.digests, {key: i for i, key in enumerate(keys)}, factor, distance,
-                      tuple(kernels), tuple(wavenumbers))
+                      tuple(kernels), tuple(wavenumbers), points.copy(), normals.copy())
 
 
 __all__ = ["StillBlock", "group_digests", "room_gather", "room_indirect", "room_transfer"]
@@ -861,14 +1079,20 @@ def _still_objects(room: Room, groups: list[int], patch_m: float) -> StillBlock:
     with _LOCK:
         block = _STILL.get(patch_m)
     if block is None or block.digests != digests:
-        block = _full_block(still, digests, patch_m)
+        edited = None if block is None else _edited_block(block, still, digests, patch_m)
+        block = _full_block(still, digests, patch_m) if edited is None else edited[0]
         with _LOCK:
             _STILL.clear()
             _STILL[patch_m] = block
+            _EDITS.clear()
+            if edited is not None:
+                _EDITS[patch_m] = edited[1]
     return block
 
 
 _STILL: dict[float, StillBlock] = {}
+#: The last change of the still objects (:func:`_edited_block`), for the kept receivers.
+_EDITS: dict[float, _Edit] = {}
 
 
 def _first_order(room: Room, moving: list[int], grid: Future[_Nodes], camera: F64,
