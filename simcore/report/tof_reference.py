@@ -505,7 +505,7 @@ def tof_reference_section(out_dir: str | Path) -> tuple[list[tuple[str, str, str
     return figures, numbers
 
 
-#: The office's runs of the report: label → camera settings (the shipped screen model's
+#: The office's runs of the report: label → camera settings (the screen model's (§8)
 #: patch scaled to the reference's resolution: 8 px of 224 → 2 px of 64).
 OFFICE_RUNS: dict[str, dict[str, Any]] = {
     "room_first_order": {},
@@ -529,7 +529,7 @@ def _exported_figure(name: str, out: Path, plt: Any) -> tuple[tuple[str, str, st
     vmax = float(np.percentile(np.abs(ref["reference"][ref["valid"]]), 99) * 1e3)
     panels = (("room_first_order", "tofradar", "tofradar, room model"),
               ("room_first_order", "reference", "mitransient, all bounces"),
-              ("screen", "tofradar", "tofradar, screen model (default)"))
+              ("screen", "tofradar", "tofradar, screen model (§8)"))
     for ax, (label, key, title) in zip(axes, panels, strict=True):
         m = maps[label]
         shown = m["valid"] | m.get("moving", np.zeros_like(m["valid"]))
