@@ -12,7 +12,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from simcore.report.tof_reference import compare, phasor_depth, reference_phasors, scenes
+from simcore.report.tof_reference import (
+    compare,
+    compare_exported,
+    phasor_depth,
+    reference_phasors,
+    scenes,
+)
 
 
 def _check(result):
@@ -58,6 +64,22 @@ def test_furnished_room_mpi_bias_matches_the_path_tracer():
     _check_one_bounce("furnished")
 
 
+def test_office_mpi_bias_matches_the_path_tracer():
+    """The office example itself at t = 0 (resources/examples/office.json: its walker
+    posed at t = 0, desks, chair, open behind the camera), exported and path-traced with
+    its materials' Lambertian albedo; tofradar's side is built from the project file
+    (ideal camera, 64 × 44, glossy and retroreflective terms off, the room model at the
+    office's 0.6 m surfels). Near creases: within 3 px (nearly every pixel of a furnished
+    room lies within 10 px of a crease). The walker's pixels are not held here (see
+    docs/physics_tof.md §8b): the regions are the still surfaces'."""
+    first_order = compare_exported("office")        # the default for moving objects
+    assert first_order["moving"]["pixels"] > 10     # the walker is in view and moving
+    _check(first_order)
+    _check(compare_exported("office", multipath_moving="exact"))
+    # One indirect bounce alone against the path tracer's one-bounce paths.
+    _check(compare_exported("office", multipath_bounces=1, reference_key="one_bounce"))
+
+
 def test_the_sensor_plugin_builds_the_room_from_the_snapshot():
     """The engine's ToF sensor (``multipath_model = "room"``) gives the frame of the
     comparison above: the room comes from the frame's snapshot and the render's meshes."""
@@ -69,3 +91,47 @@ def test_the_sensor_plugin_builds_the_room_from_the_snapshot():
         frame = sim.frame(0)
     tof = next(out for out in frame.outputs.values() if hasattr(out, "depth_m"))
     np.testing.assert_array_equal(tof.depth_m, simulate("corner", multipath=True)["depth"])
+
+
+def test_the_engine_gives_the_office_frame_compared():
+    """The office's comparison is of the engine's own frame 0 (the walker expanded and
+    flagged as moving, the first-order path taken), bit for bit."""
+    from simcore.pipeline import Simulator
+    from simcore.report.tof_reference import (
+        exported_camera_config,
+        exported_project,
+        exported_project_path,
+        simulate_exported,
+    )
+
+    cfg = exported_camera_config("office", multipath=True, multipath_model="room")
+    with Simulator(exported_project("office", cfg),
+                   base_dir=exported_project_path("office").parent) as sim:
+        frame = sim.frame(0)
+    tof = next(out for out in frame.outputs.values() if hasattr(out, "depth_m"))
+    np.testing.assert_array_equal(tof.depth_m,
+                                  simulate_exported("office", multipath=True)["depth"])
+
+
+def test_an_edited_office_is_not_compared_with_the_old_reference():
+    """The reference is the office as exported: a desk moved 1 cm, or a wall's albedo
+    changed, and the comparison refuses (export and render again)."""
+    from simcore.report import tof_reference as ref
+
+    cfg = ref.exported_camera_config("office", multipath=False)
+    project = ref.exported_project("office", cfg)
+    ref._check_scene("office", project)                      # as exported: accepted
+    desk = next(o for o in project.objects if o.name == "desk1_top")
+    pose = desk.pose.model_copy(update={"position_m": (
+        desk.pose.position_m[0] + 0.01, *desk.pose.position_m[1:])})
+    moved = project.model_copy(update={"objects": [
+        o.model_copy(update={"pose": pose}) if o is desk else o for o in project.objects]})
+    with pytest.raises(ValueError, match="not the scene the path tracer rendered"):
+        ref._check_scene("office", moved)
+    paint = next(m for m in project.materials if m.name == "white_paint")
+    tof = paint.band("tof").model_copy(update={"reflectance": 0.8})
+    repainted = project.model_copy(update={"materials": [
+        m.model_copy(update={"bands": {**m.bands, "tof": tof}}) if m is paint else m
+        for m in project.materials]})
+    with pytest.raises(ValueError, match="not the scene the path tracer rendered"):
+        ref._check_scene("office", repainted)

@@ -104,12 +104,12 @@ def test_an_edit_of_a_still_object_gives_the_frame_a_fresh_start_gives():
         sim.set_project(edited)
         got = next(o for o in sim.frame(2).outputs.values() if hasattr(o, "depth_m"))
     assert room_cache._EDITS, "the edit was not taken from the kept exchange"
-    block, kept = room_cache._STILL[0.5], room_cache._GROWN["still"]
+    block, kept = room_cache._STILL[0.5], room_cache._GROWN[0.5]
     _forget()
     with Simulator(edited) as sim:
         want = next(o for o in sim.frame(2).outputs.values() if hasattr(o, "depth_m"))
     assert not room_cache._EDITS
-    fresh, rows = room_cache._STILL[0.5], room_cache._GROWN["still"]
+    fresh, rows = room_cache._STILL[0.5], room_cache._GROWN[0.5]
     np.testing.assert_array_equal(block.factor, fresh.factor)
     np.testing.assert_array_equal(block.distance, fresh.distance)
     assert block.factor.any()
@@ -137,3 +137,29 @@ def test_the_factorised_solve_is_the_neumann_series():
     np.testing.assert_allclose(got, want, rtol=2e-4, atol=1e-6 * np.abs(want).max())
     one = room_movers.still_radiosity(operator, emitted, ks, bounces=1)
     np.testing.assert_array_equal(one, emitted)
+
+
+def test_a_run_at_another_surfel_size_leaves_no_trace():
+    """The first-order path's kept receiver rows belong to one surfel size: a run at 0.5 m
+    before one at 0.4 m changes nothing of the latter (they were once reused across
+    sizes, with the other size's surfels: the office's bias came out 1.2–2.4 × too large)."""
+    from simcore.sensors.tof import camera
+
+    def depth(surfel_m):
+        project = _project("first_order")
+        tof = project.rig.tof.model_copy(update={"multipath_surfel_m": surfel_m})
+        project = project.model_copy(update={"rig": project.rig.model_copy(
+            update={"tof": tof})})
+        return _depths(project, [0])[0][0]
+
+    def forget():
+        _forget()
+        room_cache._RECEIVERS.clear()
+        camera._ONE_BOUNCE_CACHE.clear()
+
+    forget()
+    fresh = depth(0.4)
+    forget()
+    depth(0.5)
+    camera._ONE_BOUNCE_CACHE.clear()         # only the room model's own caches carry over
+    np.testing.assert_array_equal(depth(0.4), fresh)

@@ -708,7 +708,7 @@ class _Receivers:
 _RECEIVERS: dict[float, _Receivers] = {}
 #: The first-order path's kept receivers (:func:`_grown_receivers`), apart from the exact
 #: path's (:func:`room_gather` starts its own afresh).
-_GROWN: dict[str, _Receivers] = {}
+_GROWN: dict[float, _Receivers] = {}
 
 
 def room_gather(points: F64, normals: F64, surfels: Surfels, room: Room,
@@ -838,14 +838,15 @@ def _row_dots(matrix: NDArray[np.generic], rows: NDArray[np.int64], vector: NDAr
     return out
 
 
-def _grown_receivers(points: F64, normals: F64, block: StillBlock, wavenumbers: list[float]
-                     ) -> tuple[_Receivers, NDArray[np.int64]]:
+def _grown_receivers(points: F64, normals: F64, block: StillBlock, wavenumbers: list[float],
+                     *, patch_m: float) -> tuple[_Receivers, NDArray[np.int64]]:
     """The kept receivers' exchange with the still surfels, new receivers added to it.
 
     A still camera sees, frame after frame, the same points of the still objects; those a
     moving object uncovers are added as they appear (their rows computed once, written
     into spare rows: the arrays double when full). The kept set is started afresh when it
-    outgrows four times the receivers asked for (the camera moved).
+    outgrows four times the receivers asked for (the camera moved). Kept per surfel size
+    ``patch_m`` (the block's digests are those of the objects, whatever their surfels).
 
     Returns
     -------
@@ -858,8 +859,8 @@ def _grown_receivers(points: F64, normals: F64, block: StillBlock, wavenumbers: 
     normals = np.ascontiguousarray(normals, dtype=np.float64)
     keys = [p.tobytes() + n.tobytes() for p, n in zip(points, normals, strict=True)]
     with _LOCK:
-        kept = _GROWN.get("still")
-        edit = next(iter(_EDITS.values()), None)
+        kept = _GROWN.get(patch_m)
+        edit = _EDITS.get(patch_m)
     if kept is not None and kept.digests != block.digests and edit is not None \
             and edit.before == kept.digests and edit.after == block.digests:
         kept = _edited_receivers(kept, block, edit)      # the still objects were edited
@@ -873,7 +874,8 @@ def _grown_receivers(points: F64, normals: F64, block: StillBlock, wavenumbers: 
                                    wavenumbers)
             kept = _append_rows(kept, more)
     with _LOCK:
-        _GROWN["still"] = kept
+        _GROWN.clear()
+        _GROWN[patch_m] = kept
     return kept, np.array([kept.keys[key] for key in keys], dtype=np.int64)
 
 
@@ -1124,7 +1126,8 @@ def _first_order(room: Room, moving: list[int], grid: Future[_Nodes], camera: F6
     on = _movers.on_movers(nodes.world, mover_room)
     beside = _beside_movers(nodes, on)
     exact = np.flatnonzero(~on & ~beside)
-    kept, rows = _grown_receivers(nodes.world[exact], nodes.normals[exact], block, ks)
+    kept, rows = _grown_receivers(nodes.world[exact], nodes.normals[exact], block, ks,
+                                  patch_m=patch_m)
     lighting = _pool().submit(_still_light, kept, rows, still_total, ks)
     at = _coarse_nodes(nodes, exact)
     blocked = None
