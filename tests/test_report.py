@@ -86,11 +86,14 @@ def test_quick_report_figures_and_numbers(tmp_path):
     assert inter["ghost, off"]["inr_db"] > 20
     assert inter["ghost, chirp jitter"]["inr_db"] < inter["ghost, off"]["inr_db"] - 10
     assert inter["ghost, hopping"]["inr_db"] < inter["ghost, off"]["inr_db"] - 10
-    # ToF MPI (#16): without it the ideal camera measures the rendered range (0 off the
-    # depth edges); one diffuse bounce only adds longer paths, so depth reads long.
+    # ToF MPI (#16, #42): without it the ideal camera measures the rendered range (0 off the
+    # depth edges); with it the room's surfaces read long. (Not every object: light bounced
+    # several times can come more than half the 15 m modulation wavelength late, and its
+    # phasor then pulls a near object's phase short — the chair seat by a few cm; the
+    # office against the path tracer, pixel by pixel, is tests/test_tof_mitransient.py.)
     mpi = n["multipath"]["tof"]
     assert mpi["median_abs_error_off_mm"] < 1.0
     assert mpi["median_shift_mm"] > 5.0
     objs = mpi["per_object"]
-    assert all(o["median_mm"] >= -1.0 for o in objs.values()), objs
-    assert all(objs[w]["median_mm"] > 10.0 for w in ("floor", "back_wall", "left_wall")), objs
+    assert all(objs[w]["median_mm"] > 10.0 for w in ("floor", "back_wall", "left_wall",
+                                                       "right_wall", "ceiling")), objs
