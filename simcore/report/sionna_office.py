@@ -172,6 +172,22 @@ def compare_office(ref: Any, polarization: str = "V", multipath_order: int = 1
     return res
 
 
+def _legend(fig: Any, ax: Any) -> None:
+    """The figure's one legend: ``ax``'s lines and the markers of the comparison."""
+    from matplotlib.lines import Line2D
+
+    handles, _ = ax.get_legend_handles_labels()
+    handles += [Line2D([], [], marker="o", mfc="none", color="green", ls="",
+                       label="reference return, found (±3 cm, 3 dB)"),
+                Line2D([], [], marker="o", mfc="none", color="red", ls="",
+                       label="reference return, missing or off"),
+                Line2D([], [], marker="x", color="red", ls="",
+                       label="tofradar return the reference lacks"),
+                Line2D([], [], marker="^", mfc="none", color="purple", ls="",
+                       label="Sionna edge diffraction under a tofradar peak")]
+    fig.legend(handles=handles, fontsize=8, loc="lower center", ncol=4)
+
+
 def office_figure(out_dir: Any) -> tuple[tuple[str, str, str], dict[str, Any]]:
     """Both range profiles of the office (V and H, orders 1 and 2) and the numbers."""
     import matplotlib
@@ -217,18 +233,7 @@ def office_figure(out_dir: Any) -> tuple[tuple[str, str, str], dict[str, Any]]:
                 ax.set_xlabel("range (m)")
             if j == 0:
                 ax.set_ylabel("level (dB re |a| = 1)")
-    from matplotlib.lines import Line2D
-
-    handles, _ = axes[0, 0].get_legend_handles_labels()
-    handles += [Line2D([], [], marker="o", mfc="none", color="green", ls="",
-                       label="reference return, found (±3 cm, 3 dB)"),
-                Line2D([], [], marker="o", mfc="none", color="red", ls="",
-                       label="reference return, missing or off"),
-                Line2D([], [], marker="x", color="red", ls="",
-                       label="tofradar return the reference lacks"),
-                Line2D([], [], marker="^", mfc="none", color="purple", ls="",
-                       label="Sionna edge diffraction under a tofradar peak")]
-    fig.legend(handles=handles, fontsize=8, loc="lower center", ncol=4)
+    _legend(fig, axes[0, 0])
     fig.tight_layout(rect=(0.0, 0.07, 1.0, 1.0))
     name = "fig10_multipath_sionna_office.png"
     out = Path(out_dir)

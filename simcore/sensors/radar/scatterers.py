@@ -451,6 +451,63 @@ def _crossing_factor(scene: RadarScene, index: int, point_radar: NDArray[np.floa
     return complex(field @ field) if retro else complex(field @ copol) ** 2
 
 
+def _analytic_targets(scene: RadarScene, buffers: RenderBuffers,
+                      see_through: RenderBuffers | None, *, wavelength_m: float,
+                      polarization: str) -> tuple[list[Any], ...]:
+    """The corner reflectors and point targets the radar sees (:func:`scatterers_from_render`).
+
+    Returns
+    -------
+    tuple of lists
+        Positions (radar frame), velocities, RCS (m², the path's two-way factor in),
+        phases (rad), object indices and kinds, one entry per target seen.
+    """
+    objects, snapshot = scene.objects, scene.snapshot
+    table = scene.materials
+    trans = transmission_coefficients(objects, table, wavelength_m)
+    extra_pos, extra_vel, extra_rcs, extra_obj, extra_kind = [], [], [], [], []
+    extra_phase: list[float] = []
+    edge_axes = corner_reflector_axes()
+    for i, o in enumerate(objects):
+        geom = o.geometry
+        if not isinstance(geom, (CornerReflector, PointTarget)):
+            continue
+        state = snapshot.objects[i]
+        apex_world = state.origin
+        apex = _radar_frame(scene.radar, apex_world[None, :])[0]
+        if isinstance(geom, CornerReflector):
+            material = table.get(o.material)
+            if material is not None and material.band("radar").opacity <= 0:
+                continue  # not drawn in the radar pass: the radar sees through it
+            path = _path_factor(buffers, see_through, trans, apex, i, scene=scene,
+                                wavelength_m=wavelength_m, polarization=polarization,
+                                retro=True)
+            if path == 0:
+                continue
+            to_radar_world = scene.radar.position - apex_world
+            to_radar_world /= max(float(np.linalg.norm(to_radar_world)), 1e-300)
+            local_dir = state.transform[:3, :3].T @ to_radar_world
+            area = trihedral_effective_area(edge_axes @ local_dir, geom.edge_m)
+            sigma = 4.0 * np.pi * float(area) ** 2 / wavelength_m**2
+            kind = KIND_CORNER_REFLECTOR
+        else:
+            path = _path_factor(buffers, see_through, trans, apex, i, scene=scene,
+                                wavelength_m=wavelength_m, polarization=polarization)
+            if path == 0:
+                continue
+            sigma = geom.rcs_m2
+            kind = KIND_POINT_TARGET
+        if sigma <= 0:
+            continue
+        extra_pos.append(apex)
+        extra_vel.append(_relative_velocity(scene, i, apex_world))
+        extra_rcs.append(sigma * abs(path) ** 2)
+        extra_phase.append(float(np.angle(path)))
+        extra_obj.append(i)
+        extra_kind.append(kind)
+    return extra_pos, extra_vel, extra_rcs, extra_phase, extra_obj, extra_kind
+
+
 def scatterers_from_render(scene: RadarScene, buffers: RenderBuffers,
                            *, wavelength_m: float, facets: PinholeIntrinsics | None = None,
                            speckle: bool = True, seed: int = 0,
@@ -502,48 +559,8 @@ def scatterers_from_render(scene: RadarScene, buffers: RenderBuffers,
                          for o in objects], dtype=bool)
 
     # ---------------------------------------------------------------- analytic targets
-    table = scene.materials
-    trans = transmission_coefficients(objects, table, wavelength_m)
-    extra_pos, extra_vel, extra_rcs, extra_obj, extra_kind = [], [], [], [], []
-    extra_phase: list[float] = []
-    edge_axes = corner_reflector_axes()
-    for i, o in enumerate(objects):
-        geom = o.geometry
-        if not isinstance(geom, (CornerReflector, PointTarget)):
-            continue
-        state = snapshot.objects[i]
-        apex_world = state.origin
-        apex = _radar_frame(scene.radar, apex_world[None, :])[0]
-        if isinstance(geom, CornerReflector):
-            material = table.get(o.material)
-            if material is not None and material.band("radar").opacity <= 0:
-                continue  # not drawn in the radar pass: the radar sees through it
-            path = _path_factor(buffers, see_through, trans, apex, i, scene=scene,
-                                wavelength_m=wavelength_m, polarization=polarization,
-                                retro=True)
-            if path == 0:
-                continue
-            to_radar_world = scene.radar.position - apex_world
-            to_radar_world /= max(float(np.linalg.norm(to_radar_world)), 1e-300)
-            local_dir = state.transform[:3, :3].T @ to_radar_world
-            area = trihedral_effective_area(edge_axes @ local_dir, geom.edge_m)
-            sigma = 4.0 * np.pi * float(area) ** 2 / wavelength_m**2
-            kind = KIND_CORNER_REFLECTOR
-        else:
-            path = _path_factor(buffers, see_through, trans, apex, i, scene=scene,
-                                wavelength_m=wavelength_m, polarization=polarization)
-            if path == 0:
-                continue
-            sigma = geom.rcs_m2
-            kind = KIND_POINT_TARGET
-        if sigma <= 0:
-            continue
-        extra_pos.append(apex)
-        extra_vel.append(_relative_velocity(scene, i, apex_world))
-        extra_rcs.append(sigma * abs(path) ** 2)
-        extra_phase.append(float(np.angle(path)))
-        extra_obj.append(i)
-        extra_kind.append(kind)
+    extra_pos, extra_vel, extra_rcs, extra_phase, extra_obj, extra_kind = _analytic_targets(
+        scene, buffers, see_through, wavelength_m=wavelength_m, polarization=polarization)
 
     # ---------------------------------------------------------------- facets, then those
     n_extra = len(extra_rcs)
