@@ -33,13 +33,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from simcore.report.sionna_targets import (
-    LEVEL_TOLERANCE_DB,
     RANGE_TOLERANCE_M,
-    SPAN_DB,
     _calibration,
     _profile,
     _tofradar_iq,
     compare_profiles,
+    draw_comparison,
     ideal_config,
     paths_iq,
     pattern_amplitude,
@@ -209,18 +208,7 @@ def office_figure(out_dir: Any) -> tuple[tuple[str, str, str], dict[str, Any]]:
             top = max(res["direct_db"], res["front_db"])
             ax.plot(rng, rough, lw=0.7, color="0.65",
                     label="tofradar, materials as shipped (σ⁰, rough)")
-            ax.plot(res["range_m"], res["sionna_profile_db"], lw=1.6, label="Sionna RT 2.2")
-            ax.plot(res["range_m"], res["tofradar_profile_db"], lw=1.0, ls="--",
-                    label="tofradar, smooth materials")
-            ax.axhline(min(res["direct_db"], res["front_db"]) - SPAN_DB, color="grey",
-                       lw=0.6, ls=":")
-            for r in res["matched"]:
-                bad = r["tofradar_db"] is None or abs(r["range_error_cm"]) > 3.0 or \
-                    abs(r["tofradar_db"] - r["sionna_db"]) > LEVEL_TOLERANCE_DB
-                ax.plot(r["range_m"], r["sionna_db"], "o", mfc="none",
-                        color="red" if bad else "green", ms=6)
-            for r in res["spurious"]:
-                ax.plot(r["range_m"], r["tofradar_db"], "x", color="red", ms=7)
+            draw_comparison(ax, res, label="tofradar, smooth materials")
             for r in res["diffraction"]:
                 ax.plot(r["sionna_diffraction_m"], r["sionna_diffraction_db"], "^",
                         color="purple", mfc="none", ms=7)

@@ -368,6 +368,26 @@ def summary(res: dict[str, Any]) -> dict[str, Any]:
     }
 
 
+
+def draw_comparison(ax: Any, res: dict[str, Any], *, label: str) -> None:
+    """Both range profiles of one comparison on ``ax``, with its returns marked.
+
+    Sionna's and tofradar's profiles, the −20 dB line under the stronger anchor, each
+    reference return as a circle (green: found within ±3 cm and 3 dB; red: missing or
+    off) and each tofradar return the reference lacks as a red cross.
+    """
+    ax.plot(res["range_m"], res["sionna_profile_db"], lw=1.6, label="Sionna RT 2.2")
+    ax.plot(res["range_m"], res["tofradar_profile_db"], lw=1.0, ls="--", label=label)
+    ax.axhline(min(res["direct_db"], res["front_db"]) - SPAN_DB, color="grey", lw=0.6,
+               ls=":")
+    for r in res["matched"]:
+        bad = r["tofradar_db"] is None or abs(r["range_error_cm"]) > 100 * RANGE_TOLERANCE_M \
+            or abs(r["tofradar_db"] - r["sionna_db"]) > LEVEL_TOLERANCE_DB
+        ax.plot(r["range_m"], r["sionna_db"], "o", mfc="none",
+                color="red" if bad else "green", ms=6)
+    for r in res["spurious"]:
+        ax.plot(r["range_m"], r["tofradar_db"], "x", color="red", ms=7)
+
 def targets_figure(out_dir: Any) -> tuple[tuple[str, str, str], dict[str, Any]]:
     """Both range profiles of every scene (one panel each) and the comparison's numbers."""
     import matplotlib
@@ -386,18 +406,7 @@ def targets_figure(out_dir: Any) -> tuple[tuple[str, str, str], dict[str, Any]]:
             num = numbers[f"{room}/{target}"] = summary(res)
             ax = axes[i, j]
             top = max(res["direct_db"], res["front_db"])
-            ax.plot(res["range_m"], res["sionna_profile_db"], lw=1.6, label="Sionna RT 2.2")
-            ax.plot(res["range_m"], res["tofradar_profile_db"], lw=1.0, ls="--",
-                    label="tofradar")
-            ax.axhline(min(res["direct_db"], res["front_db"]) - SPAN_DB, color="grey",
-                       lw=0.6, ls=":")
-            for r in res["matched"]:
-                bad = r["tofradar_db"] is None or abs(r["range_error_cm"]) > 3.0 or \
-                    abs(r["tofradar_db"] - r["sionna_db"]) > LEVEL_TOLERANCE_DB
-                ax.plot(r["range_m"], r["sionna_db"], "o", mfc="none",
-                        color="red" if bad else "green", ms=6)
-            for r in res["spurious"]:
-                ax.plot(r["range_m"], r["tofradar_db"], "x", color="red", ms=7)
+            draw_comparison(ax, res, label="tofradar")
             ax.set_xlim(1.5, 7.0)
             ax.set_ylim(top - 45, top + 5)
             ax.set_title(f"{room.replace('_', ' ')}, {target}: {num['failed']} of "
@@ -436,6 +445,6 @@ def targets_figure(out_dir: Any) -> tuple[tuple[str, str, str], dict[str, Any]]:
 
 
 __all__ = ["FACING_X", "IDEAL_IF", "REFERENCE", "ROOMS", "TARGETS", "compare_profiles",
-           "compare_scene", "ideal_config", "paths_iq", "pattern_amplitude", "peaks",
-           "profiles", "radar_config", "range_axis", "reference_iq", "scene_project",
+           "compare_scene", "draw_comparison", "ideal_config", "paths_iq", "pattern_amplitude",
+           "peaks", "profiles", "radar_config", "range_axis", "reference_iq", "scene_project",
            "summary", "targets_figure"]

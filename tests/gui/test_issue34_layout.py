@@ -315,7 +315,7 @@ def test_export_dialog_offers_the_cli_options_and_ends_with_an_open_dialog(make_
 
 def test_export_dialog_proposes_no_destination_in_the_bundled_examples(make_window,
                                                                         wait_frame):
-    window = make_window()          # the office example, opened as a template
+    window = make_window(EXAMPLES_DIR / "office.json")   # the example, opened as a template
     assert window.document.template is not None
     wait_frame(window)
     dialog = window.export_dataset_dialog()
