@@ -44,6 +44,7 @@ from simcore.report.sionna_targets import (
     pattern_amplitude,
     range_axis,
     summary,
+    summary_text,
 )
 from simcore.resources import RESOURCES_DIR
 from simcore.scene import Project
@@ -228,10 +229,7 @@ def office_figure(out_dir: Any) -> tuple[tuple[str, str, str], dict[str, Any]]:
     out.mkdir(parents=True, exist_ok=True)
     fig.savefig(out / name, dpi=100)
     plt.close(fig)
-    rows = "; ".join(
-        f"{k}: {v['returns']} returns, {v['failed']} off (largest "
-        f"{v['max_range_error_cm']:.1f} cm, {v['max_level_error_db']:.1f} dB among those "
-        f"found), {v['spurious']} extra" for k, v in numbers.items())
+    rows = summary_text(numbers)
     text = ("Range profiles of the office without its walking person (one chirp, Hann "
             "window, 16× zero padding; levels in Sionna's path-coefficient units): "
             "tofradar's ideal radar (the office's chirp and element pattern, one Tx and one "

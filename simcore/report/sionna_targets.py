@@ -369,6 +369,14 @@ def summary(res: dict[str, Any]) -> dict[str, Any]:
 
 
 
+def summary_text(numbers: dict[str, dict[str, Any]]) -> str:
+    """The comparisons' :func:`summary` numbers as one sentence per scene, for captions."""
+    return "; ".join(
+        f"{k}: {v['returns']} returns, {v['failed']} off (largest "
+        f"{v['max_range_error_cm']:.1f} cm, {v['max_level_error_db']:.1f} dB among those "
+        f"found), {v['spurious']} extra" for k, v in numbers.items())
+
+
 def draw_comparison(ax: Any, res: dict[str, Any], *, label: str) -> None:
     """Both range profiles of one comparison on ``ax``, with its returns marked.
 
@@ -426,10 +434,7 @@ def targets_figure(out_dir: Any) -> tuple[tuple[str, str, str], dict[str, Any]]:
     for room in ROOMS:
         for target in TARGETS:
             numbers[f"H/{room}/{target}"] = summary(compare_scene(ref, room, target, "H"))
-    rows = "; ".join(
-        f"{k}: {v['returns']} returns, {v['failed']} off (largest "
-        f"{v['max_range_error_cm']:.1f} cm, {v['max_level_error_db']:.1f} dB among those "
-        f"found), {v['spurious']} extra" for k, v in numbers.items())
+    rows = summary_text(numbers)
     text = ("Range profiles (one chirp, Hann window, 16× zero padding; levels in Sionna's "
             "path-coefficient units) of tofradar's ideal radar and of Sionna RT 2.2's "
             "specular paths (targets by geometric optics: a 1 m² point, a metal sphere of "
@@ -447,4 +452,4 @@ def targets_figure(out_dir: Any) -> tuple[tuple[str, str, str], dict[str, Any]]:
 __all__ = ["FACING_X", "IDEAL_IF", "REFERENCE", "ROOMS", "TARGETS", "compare_profiles",
            "compare_scene", "draw_comparison", "ideal_config", "paths_iq", "pattern_amplitude",
            "peaks", "profiles", "radar_config", "range_axis", "reference_iq", "scene_project",
-           "summary", "targets_figure"]
+           "summary", "summary_text", "targets_figure"]
